@@ -1,0 +1,147 @@
+use super::*;
+use crate::geom::hilbert::SplitMix;
+use crate::geom::predicates::insphere;
+use crate::mesh::shapes;
+
+/// Brute force: no input point strictly inside any finite tetrahedron's circumsphere.
+fn assert_empty_spheres(dt: &Delaunay) {
+    let pts = dt.points();
+    for t in dt.finite_tets() {
+        let [a, b, c, d] = t.map(|v| pts[v as usize]);
+        for (i, &p) in pts.iter().enumerate() {
+            assert!(
+                insphere(a, b, c, d, p) <= 0.0,
+                "point {i} strictly inside the circumsphere of {t:?}"
+            );
+        }
+    }
+}
+
+fn volume(dt: &Delaunay) -> f64 {
+    let pts = dt.points();
+    dt.finite_tets()
+        .iter()
+        .map(|t| {
+            let [a, b, c, d] = t.map(|v| pts[v as usize]);
+            (b - a).dot((c - a).cross(d - a)) / 6.0
+        })
+        .sum()
+}
+
+fn random_points(n: usize, seed: u64) -> Vec<DVec3> {
+    let mut rng = SplitMix(seed);
+    let mut u = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+    (0..n).map(|_| DVec3::new(u(), u(), u())).collect()
+}
+
+#[test]
+fn random_points_satisfy_the_empty_sphere_property() {
+    for seed in 0..3 {
+        let pts = random_points(400, seed);
+        let dt = Delaunay::new(&pts).unwrap();
+        dt.check().unwrap();
+        assert_empty_spheres(&dt);
+    }
+}
+
+#[test]
+fn lattice_is_maximally_degenerate_and_still_exact() {
+    // 6x6x6 integer lattice: every cube's 8 corners are cospherical, faces coplanar.
+    let mut pts = Vec::new();
+    for x in 0..6 {
+        for y in 0..6 {
+            for z in 0..6 {
+                pts.push(DVec3::new(x as f64, y as f64, z as f64));
+            }
+        }
+    }
+    let dt = Delaunay::new(&pts).unwrap();
+    dt.check().unwrap();
+    assert_empty_spheres(&dt);
+    assert!((volume(&dt) - 125.0).abs() < 1e-9, "volume {}", volume(&dt));
+}
+
+#[test]
+fn cube_grid_surface_points() {
+    let m = shapes::cube_grid(2.0, 6);
+    let dt = Delaunay::new(&m.positions).unwrap();
+    dt.check().unwrap();
+    assert_empty_spheres(&dt);
+    assert!((volume(&dt) - 8.0).abs() < 1e-9);
+}
+
+#[test]
+fn cospherical_uv_and_ico_spheres() {
+    for m in [shapes::uv_sphere(1.0, 12, 24), shapes::icosphere(1.0, 2)] {
+        let dt = Delaunay::new(&m.positions).unwrap();
+        dt.check().unwrap();
+        assert_empty_spheres(&dt);
+    }
+}
+
+#[test]
+fn exactly_cospherical_points() {
+    // Points on the unit sphere with exactly representable coordinates (Pythagorean
+    // triples), so the degeneracy is exact, not only up to rounding.
+    let triples = [(3.0, 4.0, 0.0), (0.0, 3.0, 4.0), (4.0, 0.0, 3.0), (5.0, 0.0, 0.0)];
+    let mut pts = Vec::new();
+    for &(x, y, z) in &triples {
+        for sx in [-1.0, 1.0] {
+            for sy in [-1.0, 1.0] {
+                for sz in [-1.0, 1.0] {
+                    for p in [(x, y, z), (y, z, x), (z, x, y)] {
+                        pts.push(DVec3::new(sx * p.0, sy * p.1, sz * p.2) / 5.0);
+                    }
+                }
+            }
+        }
+    }
+    pts.sort_by(|a, b| a.to_array().partial_cmp(&b.to_array()).unwrap());
+    pts.dedup();
+    let dt = Delaunay::new(&pts).unwrap();
+    dt.check().unwrap();
+    assert_empty_spheres(&dt);
+}
+
+#[test]
+fn duplicates_are_reported_not_inserted() {
+    let mut pts = random_points(200, 9);
+    pts.extend_from_slice(&pts[..50].to_vec());
+    let dt = Delaunay::new(&pts).unwrap();
+    dt.check().unwrap();
+    let dups = (0..pts.len()).filter(|&i| dt.duplicate_of(i).is_some()).count();
+    assert_eq!(dups, 50);
+    for i in 0..pts.len() {
+        if let Some(v) = dt.duplicate_of(i) {
+            assert_eq!(pts[v as usize], pts[i]);
+        }
+    }
+}
+
+#[test]
+fn flat_inputs_are_errors_not_panics() {
+    let plane: Vec<DVec3> = (0..20)
+        .map(|i| DVec3::new((i % 5) as f64, (i / 5) as f64, 0.0))
+        .collect();
+    assert_eq!(Delaunay::new(&plane).err(), Some(DelaunayError::Flat("coplanar")));
+    let line: Vec<DVec3> = (0..9).map(|i| DVec3::splat(i as f64)).collect();
+    assert_eq!(Delaunay::new(&line).err(), Some(DelaunayError::Flat("collinear")));
+    assert_eq!(
+        Delaunay::new(&[DVec3::ONE; 5]).err(),
+        Some(DelaunayError::Flat("identical"))
+    );
+    assert_eq!(Delaunay::new(&[DVec3::ONE; 3]).err(), Some(DelaunayError::TooFew(3)));
+    let mut nan = random_points(10, 1);
+    nan[4].y = f64::NAN;
+    assert_eq!(Delaunay::new(&nan).err(), Some(DelaunayError::NonFinite(4)));
+}
+
+#[test]
+fn larger_random_set_is_locally_delaunay() {
+    let pts = random_points(20_000, 42);
+    let dt = Delaunay::new(&pts).unwrap();
+    dt.check().unwrap();
+    // Euler-type sanity: a random set in a cube has about 6.5 tetrahedra per point.
+    let per_point = dt.finite_tets().len() as f64 / pts.len() as f64;
+    assert!((6.0..7.0).contains(&per_point), "{per_point} tets per point");
+}

@@ -1,0 +1,112 @@
+//! Triangle meshes: loading (OBJ through `tobj`), welding, validation as a closed oriented
+//! 2-manifold, angle-weighted normals, analytic test shapes and subdivision.
+//!
+//! Everything downstream (skeleton, rig, simulation) takes a [`Mesh`] that passed
+//! [`validate`]: a welded, closed, consistently and outwardly oriented 2-manifold whose
+//! vertex order is the order of first occurrence in the input file.
+
+mod load;
+mod normals;
+pub mod shapes;
+mod subdivide;
+mod validate;
+mod weld;
+
+pub use load::{load_obj, parse_obj, write_obj, LoadReport};
+pub use normals::vertex_normals;
+pub use subdivide::{subdivide_loop, subdivide_midpoint};
+pub use validate::{validate, Topology};
+pub use weld::weld;
+
+use glam::DVec3;
+
+/// Largest coordinate magnitude accepted from a file. Beyond it, squared distances lose the
+/// precision the skeleton and the simulation need; such values are almost always a broken
+/// export, so they are refused instead of silently producing garbage.
+pub const MAX_COORDINATE: f64 = 1e12;
+
+/// An indexed triangle mesh in double precision.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    /// Vertex positions.
+    pub positions: Vec<DVec3>,
+    /// Triangles as vertex indices, counter-clockwise seen from outside.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// What can be wrong with a mesh. The message never names the file: the caller adds it.
+#[derive(Debug, thiserror::Error)]
+pub enum MeshError {
+    #[error("cannot read file: {0}")]
+    Io(String),
+    #[error("not a text OBJ file: {0}")]
+    NotText(String),
+    #[error("line {line}: {message}")]
+    Syntax { line: usize, message: String },
+    #[error("{0}")]
+    Parse(String),
+    #[error("no triangles: the file holds {vertices} vertices and no faces")]
+    Empty { vertices: usize },
+    #[error("vertex {vertex} has a non-finite coordinate ({value})")]
+    NonFinite { vertex: usize, value: f64 },
+    #[error("vertex {vertex} has coordinate {value:e}, beyond the supported range ±{max:e}")]
+    TooLarge { vertex: usize, value: f64, max: f64 },
+    #[error("the mesh is degenerate: {0}")]
+    Degenerate(String),
+    #[error("not a closed 2-manifold: {0}")]
+    Topology(String),
+}
+
+impl Mesh {
+    /// Axis-aligned bounding box `(min, max)`; `(0, 0)` for an empty mesh.
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        bounds(&self.positions)
+    }
+
+    /// Length of the bounding-box diagonal.
+    pub fn diagonal(&self) -> f64 {
+        let (lo, hi) = self.bounds();
+        (hi - lo).length()
+    }
+
+    /// Number of unique undirected edges.
+    pub fn edge_count(&self) -> usize {
+        unique_edges(&self.triangles).len()
+    }
+
+    /// Signed volume (positive for an outward-oriented closed mesh).
+    pub fn signed_volume(&self) -> f64 {
+        self.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| self.positions[i as usize]);
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum()
+    }
+}
+
+/// Bounding box of a point set; `(0, 0)` when empty.
+pub fn bounds(points: &[DVec3]) -> (DVec3, DVec3) {
+    if points.is_empty() {
+        return (DVec3::ZERO, DVec3::ZERO);
+    }
+    points.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    )
+}
+
+/// Unique undirected edges `(a, b)` with `a < b`, sorted.
+pub fn unique_edges(triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
+    let mut edges: Vec<(u32, u32)> = Vec::with_capacity(triangles.len() * 3);
+    for t in triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            edges.push((a.min(b), a.max(b)));
+        }
+    }
+    edges.sort_unstable();
+    edges.dedup();
+    edges
+}
