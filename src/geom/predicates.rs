@@ -21,17 +21,54 @@ fn c3(p: DVec3) -> Coord3D<f64> {
 }
 
 /// Exact orientation of `d` relative to the oriented plane `abc` (see module docs).
+///
+/// A semi-static filter answers most calls: the determinant is evaluated exactly as in
+/// Shewchuk's code, and his error bound `(7 + 56ε)ε · permanent` is bounded above by
+/// `45ε · M³`, `M` the largest coordinate difference (the permanent is at most `6M³`).
+/// Only inconclusive cases pay for the adaptive exact evaluation.
 #[inline]
 pub fn orient3d(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
-    // Shewchuk's orient3d is positive when d is *below* abc (abc counter-clockwise from
-    // above), the opposite of our convention.
+    let (ad, bd, cd) = (a - d, b - d, c - d);
+    let det = ad.z * (bd.x * cd.y - cd.x * bd.y)
+        + bd.z * (cd.x * ad.y - ad.x * cd.y)
+        + cd.z * (ad.x * bd.y - bd.x * ad.y);
+    let m = ad.abs().max(bd.abs()).max(cd.abs()).max_element();
+    let bound = 45.0 * f64::EPSILON * 0.5 * m * m * m;
+    if m > 1e-80 && (det > bound || -det > bound) {
+        // Shewchuk's orient3d is positive when d is *below* abc (abc counter-clockwise
+        // from above), the opposite of our convention.
+        return -det;
+    }
     -robust::orient3d(c3(a), c3(b), c3(c), c3(d))
 }
 
-/// Exact in-sphere test (see module docs).
+/// Exact in-sphere test (see module docs), with a semi-static filter as in [`orient3d`]:
+/// Shewchuk's bound `(16 + 224ε)ε · permanent` with the permanent at most `72 M⁵`.
 #[inline]
 pub fn insphere(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> f64 {
-    // Shewchuk's insphere expects his positive orientation, ours is its negative.
+    let (ae, be, ce, de) = (a - e, b - e, c - e, d - e);
+    let ab = ae.x * be.y - be.x * ae.y;
+    let bc = be.x * ce.y - ce.x * be.y;
+    let cd = ce.x * de.y - de.x * ce.y;
+    let da = de.x * ae.y - ae.x * de.y;
+    let ac = ae.x * ce.y - ce.x * ae.y;
+    let bd = be.x * de.y - de.x * be.y;
+    let abc = ae.z * bc - be.z * ac + ce.z * ab;
+    let bcd = be.z * cd - ce.z * bd + de.z * bc;
+    let cda = ce.z * da + de.z * ac + ae.z * cd;
+    let dab = de.z * ab + ae.z * bd + be.z * da;
+    let alift = ae.length_squared();
+    let blift = be.length_squared();
+    let clift = ce.length_squared();
+    let dlift = de.length_squared();
+    let det = (dlift * abc - clift * dab) + (blift * cda - alift * bcd);
+    let m = ae.abs().max(be.abs()).max(ce.abs()).max(de.abs()).max_element();
+    let m2 = m * m;
+    let bound = 1200.0 * f64::EPSILON * 0.5 * m2 * m2 * m;
+    if m > 1e-50 && (det > bound || -det > bound) {
+        // Shewchuk's insphere expects his positive orientation, ours is its negative.
+        return -det;
+    }
     -robust::insphere(c3(a), c3(b), c3(c), c3(d), c3(e))
 }
 
@@ -87,6 +124,30 @@ mod tests {
         assert!(insphere(a, b, c, d, DVec3::splat(5.0)) < 0.0);
         // (1,1,1) lies exactly on the sphere through the four corners.
         assert_eq!(insphere(a, b, c, d, DVec3::ONE), 0.0);
+    }
+
+    #[test]
+    fn filters_agree_with_exact_predicates_near_degeneracy() {
+        // Nearly coplanar / cospherical configurations straddle the filter bound.
+        let mut rng = crate::geom::hilbert::SplitMix(3);
+        let mut u = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+        for i in 0..20_000 {
+            let scale = 10f64.powi(i % 7 - 3);
+            let (a, b, c) = (
+                DVec3::new(u(), u(), 0.0) * scale,
+                DVec3::new(u(), u(), 0.0) * scale,
+                DVec3::new(u(), u(), 0.0) * scale,
+            );
+            let d = DVec3::new(u(), u(), u() * 1e-15) * scale;
+            let exact = -robust::orient3d(c3(a), c3(b), c3(c), c3(d));
+            assert_eq!(orient3d(a, b, c, d).signum(), exact.signum());
+            // e on (or within rounding of) the unit sphere through four sphere points.
+            let s = |v: DVec3| v.normalize() * scale;
+            let (p, q, r, t) = (s(a + DVec3::Z), s(b - DVec3::Z), s(c + DVec3::X), s(d + DVec3::Y));
+            let e = s(DVec3::new(u(), u(), u()));
+            let exact = -robust::insphere(c3(p), c3(q), c3(r), c3(t), c3(e));
+            assert_eq!(insphere(p, q, r, t, e).signum(), exact.signum());
+        }
     }
 
     #[test]
