@@ -1,0 +1,147 @@
+//! The skeleton against ground truth, containment on real meshes, and determinism.
+
+mod common;
+use common::{approx, puppet, scratch, shared_mesh};
+use puppet::geom::inside::InsideTest;
+use puppet::mesh::{load_obj, parse_obj, shapes, vertex_normals};
+use puppet::progress::silent;
+use puppet::skeleton::{build, truth, Method, SkeletonParams};
+
+fn params(method: Method) -> SkeletonParams {
+    SkeletonParams {
+        method,
+        ..SkeletonParams::default()
+    }
+}
+
+/// Error bounds per method, from the measured table in BENCHMARKS.md (with headroom): they
+/// fail if a change makes the skeleton measurably worse.
+#[test]
+fn accuracy_against_analytic_shapes() {
+    let cases = truth::cases(2);
+    let rows = truth::accuracy(&cases, &Method::ALL, SkeletonParams::default().sliver_ratio);
+    assert_eq!(rows.len(), cases.len() * Method::ALL.len());
+    for r in &rows {
+        let (med, p95) = match (r.method, r.shape.as_str()) {
+            (Method::ShrinkingBall, _) => (0.05, 0.07),
+            (Method::Pole, s) if s.starts_with("ellipsoid") => (0.20, 0.35),
+            (Method::Mean, s) if s.starts_with("ellipsoid") => (0.06, 0.30),
+            (_, _) => (0.005, 0.05),
+        };
+        assert!(
+            r.median_rel_error <= med && r.p95_rel_error <= p95,
+            "{} {} {}: median {:.4} p95 {:.4}",
+            r.shape,
+            r.resolution,
+            r.method,
+            r.median_rel_error,
+            r.p95_rel_error
+        );
+        assert_eq!(r.fallback, 0, "{} {} {}", r.shape, r.resolution, r.method);
+    }
+    // The default must be the best worst case (largest p95 over the shapes).
+    let worst = |m: Method| {
+        rows.iter()
+            .filter(|r| r.method == m)
+            .map(|r| r.p95_rel_error)
+            .fold(0.0, f64::max)
+    };
+    let default = SkeletonParams::default().method;
+    for m in Method::ALL {
+        assert!(worst(default) <= worst(m), "{default} worse than {m}");
+    }
+}
+
+#[test]
+fn sphere_skeleton_converges_to_the_centre() {
+    let m = shapes::icosphere(2.0, 4);
+    let n = vertex_normals(&m).unwrap();
+    let sk = build(&m, &n, &params(Method::Pole), silent()).unwrap();
+    for (sp, d) in sk.points.iter().zip(&sk.distance) {
+        // The discrete normal is off by ~1e-3 rad on an ico-4 sphere.
+        assert!(sp.length() < 2.5e-3, "skeletal point {sp} not at the centre");
+        assert!(approx(*d, 2.0, 1e-3));
+    }
+}
+
+#[test]
+fn skeletal_points_stay_inside_real_meshes() {
+    for name in ["spot-small.obj", "scorpion.obj", "bunny.obj"] {
+        let (m, _) = load_obj(&shared_mesh(name)).unwrap();
+        let n = vertex_normals(&m).unwrap();
+        let oracle = InsideTest::new(&m);
+        for method in Method::ALL {
+            let sk = build(&m, &n, &params(method), silent()).unwrap();
+            let outside = sk
+                .points
+                .iter()
+                .zip(&sk.distance)
+                .filter(|(p, d)| **d > 0.0 && !oracle.contains(**p))
+                .count();
+            assert_eq!(outside, 0, "{name} {method}: {outside} skeletal points outside");
+            assert!(sk.distance.iter().all(|d| d.is_finite() && *d >= 0.0));
+            assert!(sk.fallback * 100 < m.positions.len(), "{name} {method}: {} fallbacks", sk.fallback);
+        }
+    }
+}
+
+#[test]
+fn cube_grid_is_degenerate_but_fine() {
+    let m = shapes::cube_grid(2.0, 8);
+    let n = vertex_normals(&m).unwrap();
+    let sk = build(&m, &n, &SkeletonParams::default(), silent()).unwrap();
+    let oracle = InsideTest::new(&m);
+    assert!(sk.points.iter().all(|p| oracle.contains(*p)));
+    // Face centres of a 2-cube have medial radius 1.
+    let centre = m
+        .positions
+        .iter()
+        .position(|p| (*p - glam::DVec3::new(0.0, 0.0, 1.0)).length() < 1e-12)
+        .unwrap();
+    assert!(approx(sk.distance[centre], 1.0, 0.02), "d = {}", sk.distance[centre]);
+}
+
+#[test]
+fn skeleton_is_deterministic() {
+    let (m, _) = parse_obj(include_bytes!("../assets/spot.obj")).unwrap();
+    let n = vertex_normals(&m).unwrap();
+    let a = build(&m, &n, &SkeletonParams::default(), silent()).unwrap();
+    let b = build(&m, &n, &SkeletonParams::default(), silent()).unwrap();
+    assert_eq!(a.distance, b.distance);
+}
+
+#[test]
+fn skeleton_command_writes_s_with_the_mesh_connectivity() {
+    let dir = scratch("skeleton-cmd");
+    let out_path = dir.join("spot-skeleton.obj");
+    let out = puppet(&["skeleton", "--json", "-o", out_path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for key in ["vertices", "faces", "fallback", "seconds", "d_median", "d_min", "d_max", "method"] {
+        assert!(v.get(key).is_some(), "missing {key} in {v}");
+    }
+    assert_eq!(v["vertices"], 2930);
+    assert_eq!(v["faces"], 5856);
+    assert_eq!(v["method"], "shrinking-ball");
+    let text = std::fs::read_to_string(&out_path).unwrap();
+    assert_eq!(text.lines().filter(|l| l.starts_with("v ")).count(), 2930);
+    let faces: Vec<&str> = text.lines().filter(|l| l.starts_with("f ")).collect();
+    assert_eq!(faces.len(), 5856);
+    // Same faces as the input, in the same order.
+    let input = std::str::from_utf8(include_bytes!("../assets/spot.obj")).unwrap();
+    let in_faces: Vec<&str> = input.lines().filter(|l| l.starts_with("f ")).collect();
+    assert_eq!(faces, in_faces);
+    // M = S + dN: every skeletal point is p - d n with the printed distances' range.
+    let d_max = v["d_max"].as_f64().unwrap();
+    assert!(d_max > 0.1 && d_max < 1.0);
+}
+
+#[test]
+fn every_method_runs_from_the_command_line() {
+    for m in ["mean", "pole", "shrinking-ball"] {
+        let out = puppet(&["skeleton", "--method", m, "--json"]);
+        assert_eq!(out.status.code(), Some(0));
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(v["method"], m);
+    }
+}
