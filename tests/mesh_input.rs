@@ -13,7 +13,11 @@ fn run_on(dir: &Path, name: &str, bytes: &[u8]) -> (Option<i32>, String, String)
     std::fs::write(&path, bytes).unwrap();
     let p = path.to_str().unwrap().to_string();
     let out = puppet(&["skeleton", &p]);
-    (out.status.code(), String::from_utf8_lossy(&out.stderr).into_owned(), p)
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+        p,
+    )
 }
 
 fn assert_refused(name: &str, bytes: &[u8], expect: &str) {
@@ -26,7 +30,10 @@ fn assert_refused(name: &str, bytes: &[u8], expect: &str) {
         lines[0].starts_with(&format!("error: {path}: ")),
         "{name}: names the file: {err}"
     );
-    assert!(lines[0].contains(expect), "{name}: expected '{expect}' in: {err}");
+    assert!(
+        lines[0].contains(expect),
+        "{name}: expected '{expect}' in: {err}"
+    );
     assert!(!err.contains("panicked"), "{name}: panic: {err}");
 }
 
@@ -35,7 +42,10 @@ fn missing_file_and_directory() {
     let out = puppet(&["skeleton", "/nonexistent/cow.obj"]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(err.trim(), "error: /nonexistent/cow.obj: cannot read file: no such file");
+    assert_eq!(
+        err.trim(),
+        "error: /nonexistent/cow.obj: cannot read file: no such file"
+    );
     let dir = scratch("dir-input");
     let out = puppet(&["skeleton", dir.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2));
@@ -46,7 +56,9 @@ fn missing_file_and_directory() {
 fn empty_and_binary_files() {
     assert_refused("empty.obj", b"", "empty");
     assert_refused("blank.obj", b"\n  \n\t\n", "empty");
-    let mut garbage: Vec<u8> = (0..4096u32).map(|i| (i.wrapping_mul(2654435761) >> 13) as u8).collect();
+    let mut garbage: Vec<u8> = (0..4096u32)
+        .map(|i| (i.wrapping_mul(2654435761) >> 13) as u8)
+        .collect();
     garbage[10] = 0;
     assert_refused("garbage.obj", &garbage, "not a text OBJ file");
     assert_refused("latin1.obj", b"v 0 0 0\n# caf\xe9\n", "invalid UTF-8");
@@ -54,31 +66,75 @@ fn empty_and_binary_files() {
 
 #[test]
 fn malformed_lines_are_named() {
-    assert_refused("short-vertex.obj", b"v 0 0 0\nv 1 0\n", "line 2: vertex has 2 coordinates");
-    assert_refused("word.obj", b"v 0 zero 0\n", "line 1: 'zero' is not a number");
+    assert_refused(
+        "short-vertex.obj",
+        b"v 0 0 0\nv 1 0\n",
+        "line 2: vertex has 2 coordinates",
+    );
+    assert_refused(
+        "word.obj",
+        b"v 0 zero 0\n",
+        "line 1: 'zero' is not a number",
+    );
     let truncated = &TETRA.as_bytes()[..TETRA.len() - 4]; // "f 2 3 4" cut to "f 2 "
     assert_refused("truncated.obj", truncated, "line 8: face has 1 vertices");
-    assert_refused("two-vertex-face.obj", b"v 0 0 0\nv 1 0 0\nf 1 2\n", "face has 2 vertices");
-    assert_refused("bad-index.obj", b"v 0 0 0\nf 1 x 2\n", "'x' is not a vertex index");
+    assert_refused(
+        "two-vertex-face.obj",
+        b"v 0 0 0\nv 1 0 0\nf 1 2\n",
+        "face has 2 vertices",
+    );
+    assert_refused(
+        "bad-index.obj",
+        b"v 0 0 0\nf 1 x 2\n",
+        "'x' is not a vertex index",
+    );
 }
 
 #[test]
 fn out_of_range_indices() {
-    assert_refused("big-index.obj", format!("{TETRA}f 1 2 99\n").as_bytes(), "line 9: vertex index 99 is out of range");
-    assert_refused("zero-index.obj", format!("{TETRA}f 0 1 2\n").as_bytes(), "vertex index 0 is out of range");
-    assert_refused("neg-index.obj", b"v 0 0 0\nv 1 0 0\nf -1 -2 -3\n", "vertex index -3 is out of range");
+    assert_refused(
+        "big-index.obj",
+        format!("{TETRA}f 1 2 99\n").as_bytes(),
+        "line 9: vertex index 99 is out of range",
+    );
+    assert_refused(
+        "zero-index.obj",
+        format!("{TETRA}f 0 1 2\n").as_bytes(),
+        "vertex index 0 is out of range",
+    );
+    assert_refused(
+        "neg-index.obj",
+        b"v 0 0 0\nv 1 0 0\nf -1 -2 -3\n",
+        "vertex index -3 is out of range",
+    );
 }
 
 #[test]
 fn non_finite_and_huge_coordinates() {
-    assert_refused("nan.obj", TETRA.replacen("v 1 0 0", "v NaN 0 0", 1).as_bytes(), "vertex 2 has a non-finite coordinate");
-    assert_refused("inf.obj", TETRA.replacen("v 0 1 0", "v 0 inf 0", 1).as_bytes(), "vertex 3 has a non-finite coordinate");
-    assert_refused("huge.obj", TETRA.replacen("v 0 0 1", "v 0 0 1e30", 1).as_bytes(), "beyond the supported range");
+    assert_refused(
+        "nan.obj",
+        TETRA.replacen("v 1 0 0", "v NaN 0 0", 1).as_bytes(),
+        "vertex 2 has a non-finite coordinate",
+    );
+    assert_refused(
+        "inf.obj",
+        TETRA.replacen("v 0 1 0", "v 0 inf 0", 1).as_bytes(),
+        "vertex 3 has a non-finite coordinate",
+    );
+    assert_refused(
+        "huge.obj",
+        TETRA.replacen("v 0 0 1", "v 0 0 1e30", 1).as_bytes(),
+        "beyond the supported range",
+    );
 }
 
 #[test]
 fn no_faces() {
-    assert_refused("points.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no triangles: the file holds 3 vertices");
+    assert_refused(
+        "points.obj",
+        b"v 0 0 0\nv 1 0 0\nv 0 1 0\n",
+        "no triangles: the file holds 3 vertices",
+    );
 }
 
 #[test]
@@ -89,20 +145,31 @@ fn open_and_non_manifold_meshes() {
     let fin = format!("{TETRA}v 0.5 -1 0.3\nf 1 2 5\n");
     assert_refused("fin.obj", fin.as_bytes(), "non-manifold edges");
     // Two tetrahedra sharing only vertex 1.
-    let bowtie = format!(
-        "{TETRA}v -1 0 0\nv 0 -1 0\nv 0 0 -1\nf 1 5 6\nf 1 7 5\nf 1 6 7\nf 5 7 6\n"
-    );
+    let bowtie =
+        format!("{TETRA}v -1 0 0\nv 0 -1 0\nv 0 0 -1\nf 1 5 6\nf 1 7 5\nf 1 6 7\nf 5 7 6\n");
     assert_refused("bowtie.obj", bowtie.as_bytes(), "1 non-manifold vertices");
     let flipped = TETRA.replace("f 2 3 4", "f 2 4 3");
-    assert_refused("flipped-face.obj", flipped.as_bytes(), "inconsistently oriented");
+    assert_refused(
+        "flipped-face.obj",
+        flipped.as_bytes(),
+        "inconsistently oriented",
+    );
 }
 
 #[test]
 fn degenerate_meshes() {
     // Two copies of one triangle, back to back: closed and manifold but no volume.
-    assert_refused("sheet.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 3 2\n", "encloses no volume");
+    assert_refused(
+        "sheet.obj",
+        b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 3 2\n",
+        "encloses no volume",
+    );
     // Everything welds into one point.
-    assert_refused("collapsed.obj", b"v 0 0 0\nv 0 0 0\nv 0 0 0\nf 1 2 3\n", "no triangles");
+    assert_refused(
+        "collapsed.obj",
+        b"v 0 0 0\nv 0 0 0\nv 0 0 0\nf 1 2 3\n",
+        "no triangles",
+    );
 }
 
 #[test]
@@ -128,7 +195,13 @@ fn messy_but_valid_input_is_repaired() {
             obj.push_str("f -4/1/1 -3/1/1 -2/1/1 -1/1/1\n");
         } else {
             let n = 1 + 4 * k as i32 + 1;
-            obj.push_str(&format!("f {}//1 {}//1 {}//1 {}//1\n", n, n + 1, n + 2, n + 3));
+            obj.push_str(&format!(
+                "f {}//1 {}//1 {}//1 {}//1\n",
+                n,
+                n + 1,
+                n + 2,
+                n + 3
+            ));
         }
     }
     let path = dir.join("cube.obj");

@@ -59,7 +59,10 @@ fn sphere_skeleton_converges_to_the_centre() {
     let sk = build(&m, &n, &params(Method::Pole), silent()).unwrap();
     for (sp, d) in sk.points.iter().zip(&sk.distance) {
         // The discrete normal is off by ~1e-3 rad on an ico-4 sphere.
-        assert!(sp.length() < 2.5e-3, "skeletal point {sp} not at the centre");
+        assert!(
+            sp.length() < 2.5e-3,
+            "skeletal point {sp} not at the centre"
+        );
         assert!(approx(*d, 2.0, 1e-3));
     }
 }
@@ -78,9 +81,16 @@ fn skeletal_points_stay_inside_real_meshes() {
                 .zip(&sk.distance)
                 .filter(|(p, d)| **d > 0.0 && !oracle.contains(**p))
                 .count();
-            assert_eq!(outside, 0, "{name} {method}: {outside} skeletal points outside");
+            assert_eq!(
+                outside, 0,
+                "{name} {method}: {outside} skeletal points outside"
+            );
             assert!(sk.distance.iter().all(|d| d.is_finite() && *d >= 0.0));
-            assert!(sk.fallback * 100 < m.positions.len(), "{name} {method}: {} fallbacks", sk.fallback);
+            assert!(
+                sk.fallback * 100 < m.positions.len(),
+                "{name} {method}: {} fallbacks",
+                sk.fallback
+            );
         }
     }
 }
@@ -98,7 +108,11 @@ fn cube_grid_is_degenerate_but_fine() {
         .iter()
         .position(|p| (*p - glam::DVec3::new(0.0, 0.0, 1.0)).length() < 1e-12)
         .unwrap();
-    assert!(approx(sk.distance[centre], 1.0, 0.02), "d = {}", sk.distance[centre]);
+    assert!(
+        approx(sk.distance[centre], 1.0, 0.02),
+        "d = {}",
+        sk.distance[centre]
+    );
 }
 
 #[test]
@@ -115,9 +129,16 @@ fn skeleton_command_writes_s_with_the_mesh_connectivity() {
     let dir = scratch("skeleton-cmd");
     let out_path = dir.join("spot-skeleton.obj");
     let out = puppet(&["skeleton", "--json", "-o", out_path.to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    for key in ["vertices", "faces", "fallback", "seconds", "d_median", "d_min", "d_max", "method"] {
+    for key in [
+        "vertices", "faces", "fallback", "seconds", "d_median", "d_min", "d_max", "method",
+    ] {
         assert!(v.get(key).is_some(), "missing {key} in {v}");
     }
     assert_eq!(v["vertices"], 2930);

@@ -122,7 +122,10 @@ fn speed(args: &Args) -> Result<()> {
         println!("{}", serde_json::to_string(&rows)?);
         return Ok(());
     }
-    println!("skeleton speed on {name} (Loop-subdivided), default parameters, median of {} runs", args.runs.max(1));
+    println!(
+        "skeleton speed on {name} (Loop-subdivided), default parameters, median of {} runs",
+        args.runs.max(1)
+    );
     println!();
     println!("| vertices | faces | total ms | stages (ms) | peak RSS MiB |");
     println!("|---:|---:|---:|---|---:|");
@@ -139,7 +142,9 @@ fn speed(args: &Args) -> Result<()> {
             r.faces,
             r.seconds_median * 1e3,
             st.join(", "),
-            r.peak_rss_mib.map(|m| format!("{m:.0}")).unwrap_or_else(|| "?".into())
+            r.peak_rss_mib
+                .map(|m| format!("{m:.0}"))
+                .unwrap_or_else(|| "?".into())
         );
     }
     Ok(())

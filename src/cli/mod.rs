@@ -17,7 +17,11 @@ pub const DEFAULT_MESH: &[u8] = include_bytes!("../../assets/spot.obj");
 pub const DEFAULT_MESH_NAME: &str = "spot.obj (embedded)";
 
 #[derive(Parser, Debug)]
-#[command(name = "puppet", version, about = "Any closed triangle mesh as an elastic puppet")]
+#[command(
+    name = "puppet",
+    version,
+    about = "Any closed triangle mesh as an elastic puppet"
+)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,

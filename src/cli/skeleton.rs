@@ -93,7 +93,10 @@ pub fn run(args: &Args) -> Result<()> {
         println!("{}", serde_json::to_string(&summary)?);
         return Ok(());
     }
-    println!("{}: {} vertices, {} faces", name, summary.vertices, summary.faces);
+    println!(
+        "{}: {} vertices, {} faces",
+        name, summary.vertices, summary.faces
+    );
     println!(
         "skeleton ({}): d min {:.4}  median {:.4}  max {:.4}; {} fallback (sp = p), {} clamped to thickness",
         params.method, d_min, d_median, d_max, sk.fallback, sk.clamped

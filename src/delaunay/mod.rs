@@ -96,10 +96,7 @@ impl Delaunay {
     }
 
     /// As [`Delaunay::new`], calling `progress(fraction)` now and then.
-    pub fn with_progress(
-        points: &[DVec3],
-        progress: &dyn Fn(f64),
-    ) -> Result<Self, DelaunayError> {
+    pub fn with_progress(points: &[DVec3], progress: &dyn Fn(f64)) -> Result<Self, DelaunayError> {
         let n = points.len();
         if n < 4 {
             return Err(DelaunayError::TooFew(n));
@@ -238,7 +235,13 @@ impl Delaunay {
     fn sphere_conflict(&self, t: u32, q: DVec3) -> bool {
         let tv = self.tets[t as usize];
         // A tie (q cospherical) is "outside": q is the latest point (see module docs).
-        insphere(self.p(tv[0]), self.p(tv[1]), self.p(tv[2]), self.p(tv[3]), q) > 0.0
+        insphere(
+            self.p(tv[0]),
+            self.p(tv[1]),
+            self.p(tv[2]),
+            self.p(tv[3]),
+            q,
+        ) > 0.0
     }
 
     fn locate(&mut self, q: DVec3) -> Located {
@@ -291,9 +294,9 @@ impl Delaunay {
                 }
                 continue;
             }
-            let inside = FACE.iter().all(|f| {
-                orient3d(self.p(tv[f[0]]), self.p(tv[f[1]]), self.p(tv[f[2]]), q) >= 0.0
-            });
+            let inside = FACE
+                .iter()
+                .all(|f| orient3d(self.p(tv[f[0]]), self.p(tv[f[1]]), self.p(tv[f[2]]), q) >= 0.0);
             if inside {
                 if let Some(&v) = tv.iter().find(|&&v| self.p(v) == q) {
                     return Located::Vertex(v);
@@ -323,7 +326,7 @@ impl Delaunay {
         self.cavity.push(t0);
         self.stack.push(t0);
         while let Some(t) = self.stack.pop() {
-            for j in 0..4 {
+            for (j, f) in FACE.iter().enumerate() {
                 let n = self.adj[t as usize][j];
                 let m = self.mark[n as usize];
                 if m == inside {
@@ -339,7 +342,6 @@ impl Delaunay {
                     self.mark[n as usize] = outside;
                 }
                 let tv = self.tets[t as usize];
-                let f = FACE[j];
                 let slot = self.adj[n as usize]
                     .iter()
                     .position(|&x| x == t)
@@ -376,7 +378,10 @@ impl Delaunay {
         for ci in 0..self.created.len() {
             let nt = self.created[ci];
             let v = self.tets[nt as usize];
-            for (i, (x, y)) in [(v[1], v[2]), (v[0], v[2]), (v[0], v[1])].into_iter().enumerate() {
+            for (i, (x, y)) in [(v[1], v[2]), (v[0], v[2]), (v[0], v[1])]
+                .into_iter()
+                .enumerate()
+            {
                 let key = ((x.min(y) as u64) << 32) | x.max(y) as u64;
                 let mut h = (key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> shift) as usize & mask;
                 loop {
@@ -446,7 +451,8 @@ impl Delaunay {
                 }
             }
             let finite = !tv.contains(&INFINITE);
-            if finite && orient3d(self.p(tv[0]), self.p(tv[1]), self.p(tv[2]), self.p(tv[3])) <= 0.0 {
+            if finite && orient3d(self.p(tv[0]), self.p(tv[1]), self.p(tv[2]), self.p(tv[3])) <= 0.0
+            {
                 return Err(format!("tet {t} {tv:?} is not positively oriented"));
             }
             for j in 0..4 {
@@ -464,7 +470,9 @@ impl Delaunay {
                 if finite && opposite != INFINITE {
                     let [a, b, c, d] = tv.map(|v| self.p(v));
                     if insphere(a, b, c, d, self.p(opposite)) > 0.0 {
-                        return Err(format!("tet {t}: vertex {opposite} inside its circumsphere"));
+                        return Err(format!(
+                            "tet {t}: vertex {opposite} inside its circumsphere"
+                        ));
                     }
                 }
             }

@@ -83,7 +83,12 @@ fn cospherical_uv_and_ico_spheres() {
 fn exactly_cospherical_points() {
     // Points on the unit sphere with exactly representable coordinates (Pythagorean
     // triples), so the degeneracy is exact, not only up to rounding.
-    let triples = [(3.0, 4.0, 0.0), (0.0, 3.0, 4.0), (4.0, 0.0, 3.0), (5.0, 0.0, 0.0)];
+    let triples = [
+        (3.0, 4.0, 0.0),
+        (0.0, 3.0, 4.0),
+        (4.0, 0.0, 3.0),
+        (5.0, 0.0, 0.0),
+    ];
     let mut pts = Vec::new();
     for &(x, y, z) in &triples {
         for sx in [-1.0, 1.0] {
@@ -106,10 +111,12 @@ fn exactly_cospherical_points() {
 #[test]
 fn duplicates_are_reported_not_inserted() {
     let mut pts = random_points(200, 9);
-    pts.extend_from_slice(&pts[..50].to_vec());
+    pts.extend_from_within(..50);
     let dt = Delaunay::new(&pts).unwrap();
     dt.check().unwrap();
-    let dups = (0..pts.len()).filter(|&i| dt.duplicate_of(i).is_some()).count();
+    let dups = (0..pts.len())
+        .filter(|&i| dt.duplicate_of(i).is_some())
+        .count();
     assert_eq!(dups, 50);
     for i in 0..pts.len() {
         if let Some(v) = dt.duplicate_of(i) {
@@ -123,14 +130,23 @@ fn flat_inputs_are_errors_not_panics() {
     let plane: Vec<DVec3> = (0..20)
         .map(|i| DVec3::new((i % 5) as f64, (i / 5) as f64, 0.0))
         .collect();
-    assert_eq!(Delaunay::new(&plane).err(), Some(DelaunayError::Flat("coplanar")));
+    assert_eq!(
+        Delaunay::new(&plane).err(),
+        Some(DelaunayError::Flat("coplanar"))
+    );
     let line: Vec<DVec3> = (0..9).map(|i| DVec3::splat(i as f64)).collect();
-    assert_eq!(Delaunay::new(&line).err(), Some(DelaunayError::Flat("collinear")));
+    assert_eq!(
+        Delaunay::new(&line).err(),
+        Some(DelaunayError::Flat("collinear"))
+    );
     assert_eq!(
         Delaunay::new(&[DVec3::ONE; 5]).err(),
         Some(DelaunayError::Flat("identical"))
     );
-    assert_eq!(Delaunay::new(&[DVec3::ONE; 3]).err(), Some(DelaunayError::TooFew(3)));
+    assert_eq!(
+        Delaunay::new(&[DVec3::ONE; 3]).err(),
+        Some(DelaunayError::TooFew(3))
+    );
     let mut nan = random_points(10, 1);
     nan[4].y = f64::NAN;
     assert_eq!(Delaunay::new(&nan).err(), Some(DelaunayError::NonFinite(4)));
@@ -143,5 +159,8 @@ fn larger_random_set_is_locally_delaunay() {
     dt.check().unwrap();
     // Euler-type sanity: a random set in a cube has about 6.5 tetrahedra per point.
     let per_point = dt.finite_tets().len() as f64 / pts.len() as f64;
-    assert!((6.0..7.0).contains(&per_point), "{per_point} tets per point");
+    assert!(
+        (6.0..7.0).contains(&per_point),
+        "{per_point} tets per point"
+    );
 }

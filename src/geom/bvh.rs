@@ -91,7 +91,11 @@ impl Bvh {
                 let (l, r) = (idx as u32 + 1, node.start);
                 let tl = slab(&self.nodes[l as usize], origin, inv);
                 let tr = slab(&self.nodes[r as usize], origin, inv);
-                let (near, far, tn, tf) = if tl <= tr { (l, r, tl, tr) } else { (r, l, tr, tl) };
+                let (near, far, tn, tf) = if tl <= tr {
+                    (l, r, tl, tr)
+                } else {
+                    (r, l, tr, tl)
+                };
                 if tf < best.t {
                     stack[sp] = far;
                     sp += 1;
@@ -226,8 +230,12 @@ mod tests {
             .cast(DVec3::new(0.01, 0.02, 0.0), DVec3::X, 0.0, |_| false)
             .unwrap();
         assert!((hit.t - 0.99).abs() < 0.02, "t = {}", hit.t);
-        let from_out = bvh.cast(DVec3::new(-3.0, 0.01, 0.02), DVec3::X, 0.0, |_| false).unwrap();
+        let from_out = bvh
+            .cast(DVec3::new(-3.0, 0.01, 0.02), DVec3::X, 0.0, |_| false)
+            .unwrap();
         assert!((from_out.t - 2.0).abs() < 0.02);
-        assert!(bvh.cast(DVec3::new(-3.0, 5.0, 0.0), DVec3::X, 0.0, |_| false).is_none());
+        assert!(bvh
+            .cast(DVec3::new(-3.0, 5.0, 0.0), DVec3::X, 0.0, |_| false)
+            .is_none());
     }
 }

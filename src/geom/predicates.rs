@@ -62,7 +62,12 @@ pub fn insphere(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> f64 {
     let clift = ce.length_squared();
     let dlift = de.length_squared();
     let det = (dlift * abc - clift * dab) + (blift * cda - alift * bcd);
-    let m = ae.abs().max(be.abs()).max(ce.abs()).max(de.abs()).max_element();
+    let m = ae
+        .abs()
+        .max(be.abs())
+        .max(ce.abs())
+        .max(de.abs())
+        .max_element();
     let m2 = m * m;
     let bound = 1200.0 * f64::EPSILON * 0.5 * m2 * m2 * m;
     if m > 1e-50 && (det > bound || -det > bound) {
@@ -143,7 +148,12 @@ mod tests {
             assert_eq!(orient3d(a, b, c, d).signum(), exact.signum());
             // e on (or within rounding of) the unit sphere through four sphere points.
             let s = |v: DVec3| v.normalize() * scale;
-            let (p, q, r, t) = (s(a + DVec3::Z), s(b - DVec3::Z), s(c + DVec3::X), s(d + DVec3::Y));
+            let (p, q, r, t) = (
+                s(a + DVec3::Z),
+                s(b - DVec3::Z),
+                s(c + DVec3::X),
+                s(d + DVec3::Y),
+            );
             let e = s(DVec3::new(u(), u(), u()));
             let exact = -robust::insphere(c3(p), c3(q), c3(r), c3(t), c3(e));
             assert_eq!(insphere(p, q, r, t, e).signum(), exact.signum());

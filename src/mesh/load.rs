@@ -85,9 +85,8 @@ pub fn parse_obj(bytes: &[u8]) -> Result<(Mesh, LoadReport), MeshError> {
     if let Some(pos) = bytes.iter().position(|&b| b == 0) {
         return Err(MeshError::NotText(format!("NUL byte at offset {pos}")));
     }
-    let text = std::str::from_utf8(bytes).map_err(|e| {
-        MeshError::NotText(format!("invalid UTF-8 at byte {}", e.valid_up_to()))
-    })?;
+    let text = std::str::from_utf8(bytes)
+        .map_err(|e| MeshError::NotText(format!("invalid UTF-8 at byte {}", e.valid_up_to())))?;
     let file_positions = scan(text)?;
 
     let options = tobj::LoadOptions {
@@ -155,7 +154,10 @@ pub fn parse_obj(bytes: &[u8]) -> Result<(Mesh, LoadReport), MeshError> {
         }
         for value in p.to_array() {
             if !value.is_finite() {
-                return Err(MeshError::NonFinite { vertex: i + 1, value });
+                return Err(MeshError::NonFinite {
+                    vertex: i + 1,
+                    value,
+                });
             }
             if value.abs() > MAX_COORDINATE {
                 return Err(MeshError::TooLarge {

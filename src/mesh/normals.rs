@@ -22,7 +22,7 @@ pub fn vertex_normals(mesh: &Mesh) -> Result<Vec<DVec3>, MeshError> {
         for k in 0..3 {
             fallback[t[k] as usize] += n;
         }
-        if !(len > 0.0) {
+        if len.is_nan() || len <= 0.0 {
             continue;
         }
         let unit = n / len;

@@ -37,7 +37,12 @@ fn revolve(profile: &[(f64, f64)], segments: usize) -> Mesh {
     }
     for k in 0..rings.len() - 1 {
         for j in 0..segments {
-            let (a, b, c, d) = (ring(k, j), ring(k, j + 1), ring(k + 1, j), ring(k + 1, j + 1));
+            let (a, b, c, d) = (
+                ring(k, j),
+                ring(k, j + 1),
+                ring(k + 1, j),
+                ring(k + 1, j + 1),
+            );
             triangles.push([a, b, d]);
             triangles.push([a, d, c]);
         }
@@ -90,7 +95,10 @@ pub fn capsule(radius: f64, half: f64, rings: usize, len_rings: usize, segments:
         profile.push((radius * theta.sin(), half + radius * theta.cos()));
     }
     for k in 1..len_rings.max(1) {
-        profile.push((radius, half - 2.0 * half * k as f64 / len_rings.max(1) as f64));
+        profile.push((
+            radius,
+            half - 2.0 * half * k as f64 / len_rings.max(1) as f64,
+        ));
     }
     for k in 0..rings {
         let theta = 0.5 * PI * k as f64 / rings as f64;

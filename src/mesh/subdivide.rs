@@ -45,11 +45,15 @@ pub fn subdivide_loop(mesh: &Mesh) -> Mesh {
 fn split(mesh: &Mesh, edge_point: impl Fn(DVec3, DVec3, [DVec3; 2]) -> Option<DVec3>) -> Mesh {
     let p = &mesh.positions;
     // Opposite corners per undirected edge.
-    let mut opposite: HashMap<(u32, u32), Vec<u32>> = HashMap::with_capacity(mesh.triangles.len() * 2);
+    let mut opposite: HashMap<(u32, u32), Vec<u32>> =
+        HashMap::with_capacity(mesh.triangles.len() * 2);
     for t in &mesh.triangles {
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);
-            opposite.entry((a.min(b), a.max(b))).or_default().push(t[(k + 2) % 3]);
+            opposite
+                .entry((a.min(b), a.max(b)))
+                .or_default()
+                .push(t[(k + 2) % 3]);
         }
     }
     let mut positions = p.clone();

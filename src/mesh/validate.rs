@@ -66,7 +66,10 @@ pub fn validate(mesh: &mut Mesh) -> Result<Topology, MeshError> {
         i = j;
     }
     let mut problems = Vec::new();
-    let eg = |e: Option<(u32, u32)>| e.map(|(a, b)| format!(" (e.g. {a}-{b})")).unwrap_or_default();
+    let eg = |e: Option<(u32, u32)>| {
+        e.map(|(a, b)| format!(" (e.g. {a}-{b})"))
+            .unwrap_or_default()
+    };
     if boundary > 0 {
         problems.push(format!("{boundary} boundary edges{}", eg(examples[0])));
     }
@@ -104,7 +107,7 @@ pub fn validate(mesh: &mut Mesh) -> Result<Topology, MeshError> {
         .count();
     let volume = mesh.signed_volume();
     let scale = mesh.diagonal();
-    if !(volume.abs() > 1e-12 * scale * scale * scale) {
+    if volume.is_nan() || volume.abs() <= 1e-12 * scale * scale * scale {
         return Err(MeshError::Degenerate(format!(
             "it encloses no volume (signed volume {volume:e})"
         )));
@@ -156,10 +159,7 @@ fn nonmanifold_vertices(mesh: &Mesh) -> Vec<u32> {
         let first = fan[0].0;
         let mut cur = first;
         let mut steps = 0;
-        loop {
-            let Ok(k) = fan.binary_search_by_key(&cur, |e| e.0) else {
-                break;
-            };
+        while let Ok(k) = fan.binary_search_by_key(&cur, |e| e.0) {
             cur = fan[k].1;
             steps += 1;
             if cur == first || steps > fan.len() {

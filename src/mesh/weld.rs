@@ -26,8 +26,7 @@ pub fn weld(mesh: &mut Mesh, rel_tol: f64) -> WeldStats {
         let inv = 1.0 / tol;
         let cell = |x: f64| (x * inv).floor() as i64;
         let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::with_capacity(n);
-        for i in 0..n {
-            let p = mesh.positions[i];
+        for (i, &p) in mesh.positions.iter().enumerate() {
             let c = [cell(p.x), cell(p.y), cell(p.z)];
             let mut found = None;
             'search: for dx in -1..=1 {

@@ -70,7 +70,9 @@ impl std::str::FromStr for Method {
         Method::ALL
             .into_iter()
             .find(|m| m.name() == s)
-            .ok_or_else(|| format!("unknown skeleton method '{s}' (expected mean, pole or shrinking-ball)"))
+            .ok_or_else(|| {
+                format!("unknown skeleton method '{s}' (expected mean, pole or shrinking-ball)")
+            })
     }
 }
 
@@ -267,7 +269,7 @@ pub fn build(
 
     let points = pts
         .iter()
-        .zip(&normals[..])
+        .zip(normals)
         .zip(&distance)
         .map(|((p, nrm), d)| *p - *d * *nrm)
         .collect();

@@ -18,11 +18,23 @@ use std::f64::consts::{PI, TAU};
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 #[serde(tag = "shape", rename_all = "kebab-case")]
 pub enum Shape {
-    Sphere { radius: f64 },
+    Sphere {
+        radius: f64,
+    },
     /// Semi-axes along x, y (the polar axis of the generator), z.
-    Ellipsoid { a: f64, b: f64, c: f64 },
-    Capsule { radius: f64, half: f64 },
-    Torus { major: f64, minor: f64 },
+    Ellipsoid {
+        a: f64,
+        b: f64,
+        c: f64,
+    },
+    Capsule {
+        radius: f64,
+        half: f64,
+    },
+    Torus {
+        major: f64,
+        minor: f64,
+    },
 }
 
 impl Shape {
@@ -240,7 +252,11 @@ mod tests {
     #[test]
     fn ellipsoid_truth_reduces_to_the_sphere() {
         let axes = DVec3::splat(2.0);
-        for p in [DVec3::new(2.0, 0.0, 0.0), DVec3::new(0.0, 2.0, 0.0), DVec3::splat(2.0 / 3f64.sqrt())] {
+        for p in [
+            DVec3::new(2.0, 0.0, 0.0),
+            DVec3::new(0.0, 2.0, 0.0),
+            DVec3::splat(2.0 / 3f64.sqrt()),
+        ] {
             let r = ellipsoid_medial_radius(axes, p);
             assert!((r - 2.0).abs() < 1e-6, "r = {r}");
         }

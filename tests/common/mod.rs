@@ -26,7 +26,11 @@ pub fn shared_mesh(name: &str) -> PathBuf {
     let p = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../shared/meshes")
         .join(name);
-    assert!(p.exists(), "test mesh {} is missing (shared/meshes)", p.display());
+    assert!(
+        p.exists(),
+        "test mesh {} is missing (shared/meshes)",
+        p.display()
+    );
     p
 }
 
