@@ -74,7 +74,13 @@ pub fn insphere(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> f64 {
         // Shewchuk's insphere expects his positive orientation, ours is its negative.
         return -det;
     }
-    -robust::insphere(c3(a), c3(b), c3(c), c3(d), c3(e))
+    -super::exact::insphere_sign(
+        a.to_array(),
+        b.to_array(),
+        c.to_array(),
+        d.to_array(),
+        e.to_array(),
+    )
 }
 
 /// Exact 2D orientation: positive when `a, b, c` turn counter-clockwise.

@@ -77,11 +77,14 @@ fn ellipsoid_medial_radius(axes: DVec3, p: DVec3) -> f64 {
     let h = |u: DVec3, v: DVec3| (u * v * inv2).element_sum() / grad.length();
     let (m11, m12, m22) = (h(t1, t1), h(t1, t2), h(t2, t2));
     let kmax = 0.5 * (m11 + m22) + (0.25 * (m11 - m22).powi(2) + m12 * m12).sqrt();
+    // Samples very close to p lose all precision to cancellation; their limit (q -> p) is
+    // the curvature bound 1/kmax, which is in the minimum anyway.
+    let near = 1e-3 * axes.max_element();
     let f = |theta: f64, phi: f64| {
         let q = ellipsoid_point(axes, theta, phi);
         let d = q - p;
         let s = -2.0 * n.dot(d);
-        if s > 1e-12 * axes.max_element() {
+        if d.length() > near && s > 0.0 {
             d.length_squared() / s
         } else {
             f64::INFINITY
