@@ -57,12 +57,25 @@ impl Bvh {
         t_min: f64,
         skip: impl Fn(&[u32; 3]) -> bool,
     ) -> Option<Hit> {
+        self.cast_within(origin, dir, t_min, f64::INFINITY, skip)
+    }
+
+    /// As [`Bvh::cast`], but only hits with `t < t_max` count: a segment query, which prunes
+    /// every node beyond `t_max` and is much cheaper when `t_max` is local.
+    pub fn cast_within(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        t_min: f64,
+        t_max: f64,
+        skip: impl Fn(&[u32; 3]) -> bool,
+    ) -> Option<Hit> {
         if self.nodes.is_empty() {
             return None;
         }
         let inv = dir.recip();
         let mut best = Hit {
-            t: f64::INFINITY,
+            t: t_max,
             triangle: u32::MAX,
         };
         let mut stack = [0u32; 64];

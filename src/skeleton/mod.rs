@@ -251,7 +251,9 @@ pub fn build(
                 return false;
             }
             let vi = i as u32;
-            let hit = bvh.cast(pts[i], -normals[i], t_min, |tri| tri.contains(&vi));
+            // Only a hit closer than 2d can clamp: a segment query, pruned to the local scale.
+            let reach = 2.0 * *d;
+            let hit = bvh.cast_within(pts[i], -normals[i], t_min, reach, |tri| tri.contains(&vi));
             match hit {
                 Some(h) if h.t * 0.5 < *d => {
                     // Count only real corrections, not rounding-level ones (a sphere's
