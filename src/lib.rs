@@ -11,4 +11,6 @@ pub mod delaunay;
 pub mod geom;
 pub mod mesh;
 pub mod progress;
+pub mod rig;
+pub mod sim;
 pub mod skeleton;

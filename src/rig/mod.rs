@@ -1,0 +1,140 @@
+//! The rig (paper §3.2): what the simulation needs from mesh + skeleton, in `f32`.
+//!
+//! * one mass point per vertex, its rest position `p_i` and unit normal `n_i`;
+//! * surface springs: the unique mesh edges, rest length = edge length at load, stored flat
+//!   as [`Spring`] `(a, b, rest)` and, for the solver, as a CSR adjacency (each vertex gathers
+//!   its own forces, so the step has no write races and no order dependence);
+//! * per vertex an inner and an outer bone point `p_i ∓ f_bd d_i n_i` with bone springs of
+//!   rest length `L_i = f_bd d_i`. Changing `f_bd` ([`Rig::set_bone_distance`]) is O(n) and
+//!   never recomputes the skeleton.
+
+use crate::mesh::Mesh;
+use glam::{DVec3, Vec3};
+
+/// A spring between two mass points.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spring {
+    pub a: u32,
+    pub b: u32,
+    pub rest: f32,
+}
+
+/// Mass points, springs and bone points for one bone distance.
+#[derive(Clone, Debug)]
+pub struct Rig {
+    /// Rest positions `p_i`.
+    pub rest: Vec<Vec3>,
+    /// Unit outward normals `n_i`.
+    pub normals: Vec<Vec3>,
+    /// Skeletal distances `d_i`.
+    pub skeletal_distance: Vec<f32>,
+    /// Unique edges.
+    pub springs: Vec<Spring>,
+    /// CSR: the neighbours of vertex `i` are `neighbour[start[i]..start[i+1]]`.
+    pub start: Vec<u32>,
+    pub neighbour: Vec<u32>,
+    pub neighbour_rest: Vec<f32>,
+    /// Bone distance factor `f_bd` (0..1).
+    pub bone_distance: f32,
+    /// `L_i = f_bd d_i`.
+    pub bone_length: Vec<f32>,
+    /// Inner and outer bone points in the rest pose.
+    pub inner: Vec<Vec3>,
+    pub outer: Vec<Vec3>,
+    /// Rest lengths of the inner and outer bone springs as the solver measures them (equal
+    /// to `L_i` up to rounding; taken from the same f32 arithmetic, so a rig at rest has
+    /// exactly zero force).
+    pub inner_rest: Vec<f32>,
+    pub outer_rest: Vec<f32>,
+}
+
+impl Rig {
+    /// Builds the rig from a validated mesh, its unit normals and skeletal distances.
+    ///
+    /// # Panics
+    /// If `normals` or `distance` do not have one entry per vertex.
+    pub fn new(mesh: &Mesh, normals: &[DVec3], distance: &[f64], bone_distance: f32) -> Rig {
+        let n = mesh.positions.len();
+        assert_eq!(normals.len(), n, "one normal per vertex");
+        assert_eq!(distance.len(), n, "one skeletal distance per vertex");
+        let rest: Vec<Vec3> = mesh.positions.iter().map(|p| p.as_vec3()).collect();
+        let springs: Vec<Spring> = crate::mesh::unique_edges(&mesh.triangles)
+            .into_iter()
+            .map(|(a, b)| Spring {
+                a,
+                b,
+                rest: (rest[b as usize] - rest[a as usize]).length(),
+            })
+            .collect();
+        let mut start = vec![0u32; n + 1];
+        for s in &springs {
+            start[s.a as usize + 1] += 1;
+            start[s.b as usize + 1] += 1;
+        }
+        for i in 0..n {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut neighbour = vec![0u32; 2 * springs.len()];
+        let mut neighbour_rest = vec![0f32; 2 * springs.len()];
+        for s in &springs {
+            for (from, to) in [(s.a, s.b), (s.b, s.a)] {
+                let k = fill[from as usize] as usize;
+                neighbour[k] = to;
+                neighbour_rest[k] = s.rest;
+                fill[from as usize] += 1;
+            }
+        }
+        let mut rig = Rig {
+            rest,
+            normals: normals.iter().map(|v| v.as_vec3()).collect(),
+            skeletal_distance: distance.iter().map(|&d| d as f32).collect(),
+            springs,
+            start,
+            neighbour,
+            neighbour_rest,
+            bone_distance: 0.0,
+            bone_length: vec![0.0; n],
+            inner: vec![Vec3::ZERO; n],
+            outer: vec![Vec3::ZERO; n],
+            inner_rest: vec![0.0; n],
+            outer_rest: vec![0.0; n],
+        };
+        rig.set_bone_distance(bone_distance);
+        rig
+    }
+
+    /// Number of mass points.
+    pub fn len(&self) -> usize {
+        self.rest.len()
+    }
+
+    /// True for a rig without vertices.
+    pub fn is_empty(&self) -> bool {
+        self.rest.is_empty()
+    }
+
+    /// Surface springs plus two bone springs per vertex.
+    pub fn spring_count(&self) -> usize {
+        self.springs.len() + 2 * self.len()
+    }
+
+    /// Moves the bone points for a new bone distance factor (clamped to 0..1), in O(n).
+    pub fn set_bone_distance(&mut self, f_bd: f32) {
+        let f = if f_bd.is_finite() {
+            f_bd.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        self.bone_distance = f;
+        for i in 0..self.len() {
+            let l = f * self.skeletal_distance[i];
+            let (p, n) = (self.rest[i], self.normals[i]);
+            self.bone_length[i] = l;
+            self.inner[i] = p - l * n;
+            self.outer[i] = p + l * n;
+            self.inner_rest[i] = (self.inner[i] - p).length();
+            self.outer_rest[i] = (self.outer[i] - p).length();
+        }
+    }
+}
