@@ -320,3 +320,12 @@ fn changing_bone_distance_is_cheap_and_consistent() {
     });
     assert!(sim.params().is_static());
 }
+
+#[test]
+fn readme_material_example_parses() {
+    let readme = include_str!("../README.md");
+    let start = readme.find("```toml\n").expect("README has a TOML example") + 8;
+    let len = readme[start..].find("```").unwrap();
+    let materials = puppet::sim::parse_materials(&readme[start..start + len]).unwrap();
+    assert_eq!(materials[0].name, "jelly");
+}
