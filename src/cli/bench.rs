@@ -26,9 +26,10 @@ pub struct Args {
     /// Skeleton time per stage on the mesh subdivided 0..=--subdivisions times.
     #[arg(long)]
     pub skeleton_speed: bool,
-    /// Loop subdivision steps for --skeleton-speed (each quadruples the faces).
-    #[arg(long, default_value_t = 3)]
-    pub subdivisions: usize,
+    /// Loop subdivision steps for --skeleton-speed and --sim (each quadruples the faces;
+    /// at most 6, since Spot at 6 already has 12M vertices).
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u8).range(0..=6))]
+    pub subdivisions: u8,
     /// Runs per size; the median is reported.
     #[arg(long, default_value_t = 3)]
     pub runs: usize,
@@ -100,7 +101,7 @@ struct SpeedRow {
 fn speed(args: &Args) -> Result<()> {
     let (mut mesh, _, name) = load_mesh(args.mesh.as_deref())?;
     let mut rows = Vec::new();
-    for level in 0..=args.subdivisions {
+    for level in 0..=args.subdivisions as usize {
         if level > 0 {
             mesh = subdivide_loop(&mesh);
         }
@@ -211,7 +212,7 @@ fn sim(args: &Args) -> Result<()> {
     };
     let mut mesh = base.clone();
     let mut rows = Vec::new();
-    for level in 0..=args.subdivisions {
+    for level in 0..=args.subdivisions as usize {
         if level > 0 {
             mesh = subdivide_loop(&mesh);
         }
