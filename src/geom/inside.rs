@@ -113,8 +113,8 @@ impl InsideTest {
         (((y - self.lo[1]) * self.inv_cell).max(0.0) as usize).min(self.ny - 1)
     }
 
-    /// True when `q` is inside the mesh (a point exactly on the surface counts as inside:
-    /// the perturbation moves it down, under the face it lies on... or out, consistently).
+    /// True when `q` is inside the mesh. A point exactly on the surface is classified as if
+    /// it were moved by `(ε, ε², −ε³)`: deterministically, on whichever side that lands.
     pub fn contains(&self, q: DVec3) -> bool {
         if !q.is_finite()
             || q.x < self.lo[0]

@@ -1,5 +1,8 @@
-//! Exact geometric predicates (Shewchuk's adaptive arithmetic via the `robust` crate),
-//! with the sign conventions this crate uses everywhere:
+//! Exact geometric predicates with the sign conventions this crate uses everywhere. Each
+//! evaluates a semi-static floating-point filter first; undecided cases go to Shewchuk's
+//! adaptive arithmetic (`robust` crate) for orientations and to our expansion evaluator
+//! ([`super::exact`]) for in-sphere tests.
+//!
 //!
 //! * [`orient3d`]`(a, b, c, d) > 0` ⇔ `d` lies on the side of plane `abc` that the normal
 //!   `(b − a) × (c − a)` points to, i.e. `det[b−a, c−a, d−a] > 0`.

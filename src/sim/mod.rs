@@ -207,7 +207,9 @@ impl Simulation {
     /// A simulation at rest.
     pub fn new(mut rig: Rig, params: Params) -> Simulation {
         let params = params.sanitized();
-        rig.set_bone_distance(params.bone_distance);
+        if rig.bone_distance != params.bone_distance {
+            rig.set_bone_distance(params.bone_distance);
+        }
         let n = rig.len();
         let inv_mass = (0..n)
             .map(|i| 1.0 / (rig.start[i + 1] - rig.start[i] + 2) as f32)
