@@ -7,10 +7,14 @@
 //! rendering, UI, command line) only reads from the core. Core modules never depend on a
 //! GPU or windowing crate. See `ARCHITECTURE.md`.
 
+pub mod anim;
 pub mod delaunay;
+pub mod files;
 pub mod geom;
+pub mod joints;
 pub mod mesh;
 pub mod progress;
 pub mod rig;
+pub mod scene;
 pub mod sim;
 pub mod skeleton;

@@ -4,6 +4,7 @@
 
 pub mod bench;
 pub mod progress_bar;
+pub mod simulate;
 pub mod skeleton;
 
 use anyhow::Result;
@@ -33,6 +34,8 @@ pub struct Cli {
 pub enum Command {
     /// Build the medial skeleton of a mesh and write the skeletal mesh S (M = S + dN).
     Skeleton(skeleton::Args),
+    /// Play an animation file through the simulation and write OBJ frames (headless).
+    Simulate(simulate::Args),
     /// Measure: skeleton accuracy against analytic shapes, skeleton speed.
     Bench(bench::Args),
 }
@@ -71,6 +74,7 @@ pub fn load_mesh(path: Option<&Path>) -> Result<(Mesh, LoadReport, String)> {
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Some(Command::Skeleton(args)) => skeleton::run(&args),
+        Some(Command::Simulate(args)) => simulate::run(&args),
         Some(Command::Bench(args)) => bench::run(&args),
         None => open(cli.mesh.as_deref()),
     }

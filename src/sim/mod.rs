@@ -28,7 +28,9 @@
 
 mod material;
 
-pub use material::{parse_materials, presets, write_materials, Material, MaterialError};
+pub use material::{
+    check_params, parse_materials, presets, write_materials, Material, MaterialError,
+};
 
 use crate::rig::Rig;
 use glam::{Affine3A, Vec3};

@@ -30,7 +30,9 @@ use rayon::prelude::*;
 use std::time::Instant;
 
 /// How the skeletal distance `d_i` is taken from the inside Voronoi vertices of cell `i`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Method {
     /// The paper: the mean distance of the inside (non-sliver) Voronoi vertices.
@@ -40,7 +42,9 @@ pub enum Method {
     /// The shrinking ball (Ma et al. 2012): the largest ball tangent at `p_i` (centre on
     /// `−n_i`) with no vertex inside, `min_q |q − p|² / (−2 n·(q − p))`. Its limiting vertex
     /// `q` and `p` lie on an empty sphere, so `pq` is a Delaunay edge: the minimum over the
-    /// Delaunay neighbours of `p` is exact, no kd-tree needed.
+    /// Delaunay neighbours of `p` is exact, no kd-tree needed. The default (best worst case
+    /// in the accuracy table of `BENCHMARKS.md`).
+    #[default]
     ShrinkingBall,
 }
 
@@ -91,7 +95,7 @@ pub struct SkeletonParams {
 impl Default for SkeletonParams {
     fn default() -> Self {
         SkeletonParams {
-            method: Method::ShrinkingBall,
+            method: Method::default(),
             sliver_ratio: 1e-3,
         }
     }

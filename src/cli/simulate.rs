@@ -1,0 +1,274 @@
+//! `puppet simulate [MESH.obj] --rig RIG --anim ANIM [--frames N] [--fps F]
+//! [--out-dir DIR] [--out FINAL.obj] [--json]`: plays an animation through the full
+//! simulation, headless.
+//!
+//! Frame `k` (1-based) shows time `k / fps`. The simulation runs on its own fixed step (the
+//! rig's `time_step`); the pose is sampled from the animation at every step, not every
+//! frame, so the result does not depend on `--fps`.
+
+use super::progress_bar::ProgressBar;
+use super::{load_mesh, FileError};
+use anyhow::{bail, Result};
+use puppet::anim::{Animation, Bound};
+use puppet::files::{self, Format};
+use puppet::joints::PoseScratch;
+use puppet::mesh::write_obj;
+use puppet::scene::{Puppet, RigSpec};
+use puppet::sim::Positions;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Mesh (OBJ); by default the rig's `mesh`, else the embedded Spot.
+    pub mesh: Option<PathBuf>,
+    /// Rig file (TOML or JSON): material, constraint, cuts. Default: skin, no cuts.
+    #[arg(long)]
+    pub rig: Option<PathBuf>,
+    /// Animation file (TOML or JSON). Default: the rest pose.
+    #[arg(long)]
+    pub anim: Option<PathBuf>,
+    /// Frames to play (default: the animation's duration, or 1 s without one).
+    #[arg(long)]
+    pub frames: Option<u64>,
+    /// Frames per second of the output (the simulation step is the rig's).
+    #[arg(long, default_value_t = 30.0)]
+    pub fps: f64,
+    /// Write every frame as DIR/frame_00001.obj, ...
+    #[arg(long)]
+    pub out_dir: Option<PathBuf>,
+    /// Write the final surface here (same vertex order as the welded input).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Print one JSON object instead of the text summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// What the command prints (`--json` prints exactly these fields).
+#[derive(serde::Serialize)]
+struct Summary {
+    mesh: String,
+    rig: Option<String>,
+    anim: Option<String>,
+    vertices: usize,
+    springs: usize,
+    sections: usize,
+    method: &'static str,
+    frames: u64,
+    fps: f64,
+    steps: u64,
+    time_step: f32,
+    ms_per_step_median: f64,
+    ms_per_step_p95: f64,
+    seconds_skeleton: f64,
+    seconds_total: f64,
+    /// Largest distance of a vertex from its posed rest position at the end, relative to
+    /// the bounding-box diagonal.
+    final_max_offset: f64,
+    out: Option<String>,
+    out_dir: Option<String>,
+}
+
+/// Frames beyond this are refused (a typo, not a render).
+const MAX_FRAMES: u64 = 10_000_000;
+
+pub fn run(args: &Args) -> Result<()> {
+    if !(args.fps.is_finite() && args.fps > 0.0 && args.fps <= 10_000.0) {
+        bail!("--fps {} must be in (0, 10000]", args.fps);
+    }
+    let t_start = Instant::now();
+    let spec = match &args.rig {
+        Some(path) => {
+            RigSpec::load(path).map_err(|e| FileError::new(path.display().to_string(), e))?
+        }
+        None => RigSpec::default(),
+    };
+    let anim = match &args.anim {
+        Some(path) => {
+            let text = files::read_text(path)
+                .map_err(|e| FileError::new(path.display().to_string(), e))?;
+            Some(
+                Animation::parse(&text, Format::of(path))
+                    .map_err(|e| FileError::new(path.display().to_string(), e))?,
+            )
+        }
+        None => None,
+    };
+    let frames = match (args.frames, &anim) {
+        (Some(n), _) => n,
+        (None, Some(a)) => (a.duration * args.fps).ceil().max(1.0) as u64,
+        (None, None) => args.fps.ceil() as u64,
+    };
+    if frames == 0 || frames > MAX_FRAMES {
+        bail!("--frames {frames} must be in 1..={MAX_FRAMES}");
+    }
+    let mesh_path = args.mesh.clone().or_else(|| spec.mesh.clone());
+    let (mesh, _report, mesh_name) = load_mesh(mesh_path.as_deref())?;
+    if let Some(dir) = &args.out_dir {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            FileError::new(
+                dir.display().to_string(),
+                format!("cannot create folder: {e}"),
+            )
+        })?;
+    }
+
+    let bar = ProgressBar::new();
+    let t_skeleton = Instant::now();
+    let rig_name = args
+        .rig
+        .as_ref()
+        .map(|p| p.display().to_string())
+        .unwrap_or_else(|| mesh_name.clone());
+    let mut puppet = Puppet::build(mesh, spec, &|s, f| bar.update(s, f)).map_err(|e| match e {
+        puppet::scene::BuildError::Joints(e) => FileError::new(&rig_name, e),
+        e => FileError::new(&mesh_name, e),
+    })?;
+    bar.finish();
+    let seconds_skeleton = t_skeleton.elapsed().as_secs_f64();
+    let bound: Option<Bound> = match (&anim, &args.anim) {
+        (Some(a), Some(path)) => Some(
+            a.bind(&puppet.joints)
+                .map_err(|e| FileError::new(path.display().to_string(), e))?,
+        ),
+        _ => None,
+    };
+
+    let h = puppet.sim.params().time_step as f64;
+    let mut local = Vec::new();
+    let mut scratch = PoseScratch::default();
+    let mut step_ms = Vec::new();
+    let mut steps = 0u64;
+    let faces = puppet.mesh.triangles.clone();
+    for frame in 1..=frames {
+        // The tolerance absorbs the rounding of an f32 step (1/60 is not exact).
+        let target = (frame as f64 / args.fps / h + 1e-4).floor() as u64;
+        while steps < target {
+            steps += 1;
+            match &bound {
+                Some(b) => b.sample(steps as f64 * h, &mut local),
+                None => local.clear(),
+            }
+            let pose = puppet.joints.pose_into(&local, &mut scratch);
+            let t = Instant::now();
+            puppet.sim.step(pose);
+            step_ms.push(t.elapsed().as_secs_f64() * 1e3);
+        }
+        if let Some(dir) = &args.out_dir {
+            let path = dir.join(format!("frame_{frame:05}.obj"));
+            write_surface(
+                &path,
+                puppet.sim.positions(),
+                &faces,
+                &format!("frame {frame}, t = {} s", frame as f64 / args.fps),
+            )?;
+        }
+    }
+    if let Some(out) = &args.out {
+        write_surface(
+            out,
+            puppet.sim.positions(),
+            &faces,
+            &format!("final frame {frames}"),
+        )?;
+    }
+
+    let positions = puppet.sim.positions();
+    let diagonal = puppet.mesh.diagonal().max(f64::MIN_POSITIVE);
+    let final_max_offset = (0..positions.x.len())
+        .map(|i| (positions.get(i) - puppet.sim.target(i)).length() as f64)
+        .fold(0.0, f64::max)
+        / diagonal;
+    if !final_max_offset.is_finite() {
+        bail!("{mesh_name}: the simulation produced non-finite positions (please report this)");
+    }
+    step_ms.sort_by(f64::total_cmp);
+    let pct = |q: f64| {
+        if step_ms.is_empty() {
+            0.0
+        } else {
+            step_ms[((step_ms.len() - 1) as f64 * q).round() as usize]
+        }
+    };
+    let summary = Summary {
+        mesh: mesh_name,
+        rig: args.rig.as_ref().map(|p| p.display().to_string()),
+        anim: args.anim.as_ref().map(|p| p.display().to_string()),
+        vertices: puppet.mesh.positions.len(),
+        springs: puppet.sim.rig().spring_count(),
+        sections: puppet.joints.sections().len(),
+        method: match puppet.sim.params().constraint {
+            puppet::sim::Constraint::Circumsphere => "circumsphere",
+            puppet::sim::Constraint::SpringReduction => "spring-reduction",
+        },
+        frames,
+        fps: args.fps,
+        steps,
+        time_step: puppet.sim.params().time_step,
+        ms_per_step_median: pct(0.5),
+        ms_per_step_p95: pct(0.95),
+        seconds_skeleton,
+        seconds_total: t_start.elapsed().as_secs_f64(),
+        final_max_offset,
+        out: args.out.as_ref().map(|p| p.display().to_string()),
+        out_dir: args.out_dir.as_ref().map(|p| p.display().to_string()),
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&summary)?);
+    } else {
+        print_summary(&summary);
+    }
+    Ok(())
+}
+
+fn print_summary(s: &Summary) {
+    println!(
+        "mesh      {} ({} vertices, {} springs, {} sections)",
+        s.mesh, s.vertices, s.springs, s.sections
+    );
+    println!(
+        "played    {} frames at {} fps = {} steps of {:.2} ms ({})",
+        s.frames,
+        s.fps,
+        s.steps,
+        s.time_step * 1e3,
+        s.method
+    );
+    println!(
+        "step      {:.3} ms median, {:.3} ms p95; skeleton {:.2} s; total {:.2} s",
+        s.ms_per_step_median, s.ms_per_step_p95, s.seconds_skeleton, s.seconds_total
+    );
+    println!(
+        "final     largest offset from the posed rest shape: {:.2e} of the diagonal",
+        s.final_max_offset
+    );
+    if let Some(d) = &s.out_dir {
+        println!("frames    {d}/frame_00001.obj ..");
+    }
+    if let Some(o) = &s.out {
+        println!("wrote     {o}");
+    }
+}
+
+fn write_surface(
+    path: &Path,
+    positions: &Positions,
+    faces: &[[u32; 3]],
+    header: &str,
+) -> Result<()> {
+    let points: Vec<glam::DVec3> = (0..positions.x.len())
+        .map(|i| positions.get(i).as_dvec3())
+        .collect();
+    let name = path.display().to_string();
+    let mut file = std::fs::File::create(path)
+        .map_err(|e| FileError::new(&name, format!("cannot write: {e}")))?;
+    write_obj(
+        &mut file,
+        &points,
+        faces,
+        &format!("puppet simulate: {header}"),
+    )
+    .map_err(|e| FileError::new(&name, format!("cannot write: {e}")))?;
+    Ok(())
+}

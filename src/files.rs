@@ -1,0 +1,79 @@
+//! Reading the project's text files (rigs, animations): TOML or JSON chosen by extension,
+//! with syntax errors shortened to one line that says where.
+
+use serde::de::DeserializeOwned;
+use std::path::Path;
+
+/// The serialization of a file, by extension: `.json` is JSON, anything else TOML.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    Toml,
+    Json,
+}
+
+impl Format {
+    /// The format of `path` by its extension.
+    pub fn of(path: &Path) -> Format {
+        match path.extension().and_then(|e| e.to_str()) {
+            Some(e) if e.eq_ignore_ascii_case("json") => Format::Json,
+            _ => Format::Toml,
+        }
+    }
+}
+
+/// Parses `text`; the error is one line naming the line and column.
+pub fn parse<T: DeserializeOwned>(text: &str, format: Format) -> Result<T, String> {
+    match format {
+        Format::Toml => toml::from_str(text).map_err(|e| one_line_toml(&e)),
+        Format::Json => serde_json::from_str(text).map_err(|e| e.to_string()),
+    }
+}
+
+/// `TOML parse error at line 3, column 5: missing field `time``.
+fn one_line_toml(e: &toml::de::Error) -> String {
+    let text = e.to_string();
+    let mut lines = text.lines().filter(|l| !l.trim().is_empty());
+    let first = lines.next().unwrap_or("invalid TOML").trim().to_string();
+    // The message is the last line after the source excerpt (`  |` lines).
+    let message = text
+        .lines()
+        .rev()
+        .find(|l| !l.trim().is_empty() && !l.trim_start().starts_with('|') && !l.contains(" | "))
+        .unwrap_or("")
+        .trim();
+    if message.is_empty() || message == first {
+        first
+    } else {
+        format!("{first}: {message}")
+    }
+}
+
+/// Reads a whole text file; the error says why in words.
+pub fn read_text(path: &Path) -> Result<String, String> {
+    if path.is_dir() {
+        return Err("is a directory, not a file".into());
+    }
+    let bytes = std::fs::read(path).map_err(|e| format!("cannot read file: {e}"))?;
+    String::from_utf8(bytes).map_err(|_| "not a text file (invalid UTF-8)".into())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[derive(serde::Deserialize, Debug)]
+    #[allow(dead_code)]
+    struct T {
+        a: f64,
+    }
+
+    #[test]
+    fn toml_errors_are_one_line_with_a_position() {
+        let e = parse::<T>("b = 1\n", Format::Toml).unwrap_err();
+        assert!(!e.contains('\n'), "{e}");
+        assert!(e.contains("line 1"), "{e}");
+        assert!(e.contains("missing field `a`"), "{e}");
+        let e = parse::<T>("{\"a\": \"x\"}", Format::Json).unwrap_err();
+        assert!(e.contains("line 1"), "{e}");
+    }
+}

@@ -1,0 +1,355 @@
+//! A puppet put together: mesh → skeleton → rig → simulation, with its joints; and the rig
+//! file that describes one (TOML or JSON by extension).
+//!
+//! ```toml
+//! mesh = "spot.obj"              # relative to the rig file; the command line may override
+//! skeleton = "shrinking-ball"    # mean | pole | shrinking-ball
+//! material = "skin"              # a Table 1 preset, or "custom" (the defaults)
+//! constraint = "circumsphere"    # or "spring-reduction"
+//! root = "body"                  # name of the uncut section (default "root")
+//!
+//! [params]                       # optional: any simulation parameter, over the preset
+//! damping = 0.9
+//!
+//! [[cut]]
+//! name = "head"                  # the new section (the side the normal points to)
+//! section = "body"               # the section it cuts (default: the root)
+//! point = [0.0, 0.0, 0.45]       # a point on the plane
+//! normal = [0.0, 0.0, 1.0]
+//! pivot = [0.0, 0.1, 0.45]       # optional; default: see `joints`
+//! ```
+//!
+//! [`RigSpec::to_toml`] writes every parameter and every resolved pivot, so a rig written
+//! and read back gives the same simulation bit for bit.
+
+use crate::files::{self, Format};
+use crate::joints::{Cut, JointError, Joints, ROOT};
+use crate::mesh::{self, Mesh, MeshError};
+use crate::progress::Progress;
+use crate::rig::Rig;
+use crate::sim::{self, Constraint, Params, Simulation};
+use crate::skeleton::{self, Method, Skeleton, SkeletonError, SkeletonParams};
+use glam::DVec3;
+use std::path::{Path, PathBuf};
+
+/// A cut as written in a rig file.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CutEntry {
+    name: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    section: Option<String>,
+    point: [f64; 3],
+    normal: [f64; 3],
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pivot: Option<[f64; 3]>,
+}
+
+/// The rig file as written.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RigEntry {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    mesh: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    skeleton: Option<Method>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    material: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    constraint: Option<Constraint>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    root: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    params: Option<toml::Table>,
+    #[serde(default)]
+    cut: Vec<CutEntry>,
+}
+
+/// A rig: everything but the mesh itself that makes a puppet.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RigSpec {
+    /// Mesh file, resolved against the rig file's folder.
+    pub mesh: Option<PathBuf>,
+    /// Skeleton method.
+    pub method: Method,
+    /// Material name (a preset, or "custom").
+    pub material: String,
+    /// Simulation parameters (preset, then the file's overrides).
+    pub params: Params,
+    /// Name of the root section.
+    pub root: String,
+    /// Cuts in order.
+    pub cuts: Vec<Cut>,
+}
+
+impl Default for RigSpec {
+    fn default() -> Self {
+        RigSpec {
+            mesh: None,
+            method: Method::default(),
+            material: "skin".into(),
+            params: Params::default(),
+            root: ROOT.into(),
+            cuts: Vec::new(),
+        }
+    }
+}
+
+/// What is wrong with a rig file; the message says where.
+#[derive(Debug, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct RigError(pub String);
+
+impl RigSpec {
+    /// Reads a rig file.
+    pub fn load(path: &Path) -> Result<RigSpec, RigError> {
+        let text = files::read_text(path).map_err(RigError)?;
+        let base = path.parent().unwrap_or(Path::new(""));
+        RigSpec::parse(&text, Format::of(path), base)
+    }
+
+    /// Parses a rig; a relative mesh path is taken relative to `base`.
+    pub fn parse(text: &str, format: Format, base: &Path) -> Result<RigSpec, RigError> {
+        let entry: RigEntry = files::parse(text, format).map_err(RigError)?;
+        let material = entry.material.unwrap_or_else(|| "skin".into());
+        let mut params = if material == "custom" {
+            Params::default()
+        } else {
+            sim::presets()
+                .into_iter()
+                .find(|m| m.name == material)
+                .map(|m| m.params)
+                .ok_or_else(|| {
+                    let names: Vec<String> = sim::presets().into_iter().map(|m| m.name).collect();
+                    RigError(format!(
+                        "material '{material}' is not a preset (presets: {}; or \"custom\")",
+                        names.join(", ")
+                    ))
+                })?
+        };
+        if let Some(c) = entry.constraint {
+            params.constraint = c;
+        }
+        if let Some(overrides) = entry.params {
+            params = overlay(params, overrides)?;
+        }
+        sim::check_params(&params).map_err(|(field, value, range)| {
+            RigError(format!("params: {field} = {value} is outside {range}"))
+        })?;
+        let root = entry.root.unwrap_or_else(|| ROOT.into());
+        if root.trim().is_empty() {
+            return Err(RigError("root: the name is empty".into()));
+        }
+        let cuts = entry
+            .cut
+            .into_iter()
+            .map(|c| Cut {
+                section: c.section.unwrap_or_else(|| root.clone()),
+                name: c.name,
+                point: c.point.into(),
+                normal: c.normal.into(),
+                pivot: c.pivot.map(DVec3::from),
+            })
+            .collect::<Vec<_>>();
+        for (k, c) in cuts.iter().enumerate() {
+            let at = format!("cut {} ('{}')", k + 1, c.name);
+            if !c.point.is_finite()
+                || !c.normal.is_finite()
+                || c.pivot.is_some_and(|p| !p.is_finite())
+            {
+                return Err(RigError(format!(
+                    "{at}: every value must be a finite number"
+                )));
+            }
+            if c.normal.length_squared() == 0.0 {
+                return Err(RigError(format!("{at}: the plane normal is zero")));
+            }
+        }
+        Ok(RigSpec {
+            mesh: entry.mesh.map(|m| base.join(m)),
+            method: entry.skeleton.unwrap_or_default(),
+            material,
+            params,
+            root,
+            cuts,
+        })
+    }
+
+    /// The rig as TOML with every parameter written out; `mesh` is written as given.
+    pub fn to_toml(&self, mesh: Option<&str>) -> String {
+        let mut params = toml::Table::try_from(self.params).unwrap_or_default();
+        params.remove("constraint");
+        let entry = RigEntry {
+            mesh: mesh.map(str::to_string),
+            skeleton: Some(self.method),
+            material: Some(self.material.clone()),
+            constraint: Some(self.params.constraint),
+            root: Some(self.root.clone()),
+            params: Some(params),
+            cut: self
+                .cuts
+                .iter()
+                .map(|c| CutEntry {
+                    name: c.name.clone(),
+                    section: Some(c.section.clone()),
+                    point: c.point.into(),
+                    normal: c.normal.into(),
+                    pivot: c.pivot.map(Into::into),
+                })
+                .collect(),
+        };
+        toml::to_string_pretty(&entry).unwrap_or_default()
+    }
+
+    /// The joints of this rig on the given skeletal points. The error names the cut.
+    pub fn joints(&self, skeleton_points: &[DVec3]) -> Result<Joints, JointError> {
+        let mut joints = Joints::new(skeleton_points, &self.root);
+        for c in &self.cuts {
+            joints.add_cut(c.clone())?;
+        }
+        Ok(joints)
+    }
+}
+
+/// `base` with the fields of `overrides` replaced; unknown fields are errors.
+fn overlay(base: Params, overrides: toml::Table) -> Result<Params, RigError> {
+    let mut table = toml::Table::try_from(base).map_err(|e| RigError(e.to_string()))?;
+    for (k, v) in overrides {
+        if !table.contains_key(&k) {
+            let known: Vec<&str> = table.keys().map(String::as_str).collect();
+            return Err(RigError(format!(
+                "params: unknown field `{k}` (known: {})",
+                known.join(", ")
+            )));
+        }
+        table.insert(k, v);
+    }
+    toml::Value::Table(table)
+        .try_into()
+        .map_err(|e: toml::de::Error| RigError(format!("params: {}", e.message())))
+}
+
+/// Why a puppet could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum BuildError {
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    #[error(transparent)]
+    Skeleton(#[from] SkeletonError),
+    #[error(transparent)]
+    Joints(#[from] JointError),
+}
+
+/// A live puppet: the mesh, its skeleton, joints and simulation.
+pub struct Puppet {
+    pub mesh: Mesh,
+    pub skeleton: Skeleton,
+    pub joints: Joints,
+    pub sim: Simulation,
+    pub spec: RigSpec,
+}
+
+impl Puppet {
+    /// Builds the skeleton, rig, simulation and joints of a validated mesh.
+    pub fn build(mesh: Mesh, spec: RigSpec, progress: Progress) -> Result<Puppet, BuildError> {
+        let normals = mesh::vertex_normals(&mesh)?;
+        let params = SkeletonParams {
+            method: spec.method,
+            ..SkeletonParams::default()
+        };
+        let skeleton = skeleton::build(&mesh, &normals, &params, progress)?;
+        let joints = spec.joints(&skeleton.points)?;
+        let rig = Rig::new(
+            &mesh,
+            &normals,
+            &skeleton.distance,
+            spec.params.bone_distance,
+        );
+        let mut sim = Simulation::new(rig, spec.params);
+        sim.set_sections(joints.section_of().to_vec());
+        Ok(Puppet {
+            mesh,
+            skeleton,
+            joints,
+            sim,
+            spec,
+        })
+    }
+
+    /// The current rig (parameters and cuts with resolved pivots) as a spec.
+    pub fn current_spec(&self) -> RigSpec {
+        RigSpec {
+            params: *self.sim.params(),
+            cuts: self.joints.cuts().to_vec(),
+            root: self.joints.sections()[0].name.clone(),
+            ..self.spec.clone()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str) -> Result<RigSpec, RigError> {
+        RigSpec::parse(text, Format::Toml, Path::new("/rigs"))
+    }
+
+    #[test]
+    fn presets_overrides_and_defaults() {
+        let r = parse("mesh = \"cow.obj\"\nmaterial = \"water\"\nconstraint = \"spring-reduction\"\n[params]\ndamping = 0.5\n").unwrap();
+        assert_eq!(r.mesh, Some(PathBuf::from("/rigs/cow.obj")));
+        assert_eq!(r.params.damping, 0.5);
+        assert_eq!(r.params.max_length, 1.4, "from the water preset");
+        assert_eq!(r.params.constraint, Constraint::SpringReduction);
+        assert_eq!(parse("").unwrap(), RigSpec::default());
+    }
+
+    #[test]
+    fn bad_rigs_say_what_and_where() {
+        let bad = |t: &str| parse(t).unwrap_err().0;
+        assert!(bad("material = \"rubber\"").contains("not a preset"));
+        assert!(bad("[params]\ndamping = 2.0\n").contains("damping = 2 is outside 0..1"));
+        assert!(bad("[params]\ndampnig = 0.5\n").contains("unknown field `dampnig`"));
+        assert!(bad("[params]\ndamping = \"x\"\n").starts_with("params:"));
+        assert!(
+            bad("[[cut]]\nname = \"a\"\npoint = [0, 0, 0]\nnormal = [0, 0, 0]\n")
+                .contains("cut 1 ('a'): the plane normal is zero")
+        );
+        assert!(
+            bad("[[cut]]\nname = \"a\"\npoint = [0, nan, 0]\nnormal = [0, 0, 1]\n")
+                .contains("finite")
+        );
+        assert!(
+            bad("[[cut]]\nname = \"a\"\npoint = [0, 0]\nnormal = [0, 0, 1]\n").contains("line")
+        );
+        assert!(bad("skeleton = \"magic\"").contains("line 1"));
+        assert!(bad("[params]\ndamping = nan\n").contains("outside"));
+    }
+
+    #[test]
+    fn toml_round_trip_is_exact() {
+        let spec = RigSpec {
+            params: Params {
+                damping: 0.123_456_79,
+                ..Params::default()
+            },
+            root: "body".into(),
+            cuts: vec![Cut {
+                name: "head".into(),
+                section: "body".into(),
+                point: DVec3::new(0.1, 1.0 / 3.0, -2.0),
+                normal: DVec3::new(0.0, 1.0, 1e-17),
+                pivot: Some(DVec3::new(std::f64::consts::PI, 0.0, 1.0)),
+            }],
+            ..RigSpec::default()
+        };
+        let text = spec.to_toml(None);
+        assert_eq!(parse(&text).unwrap(), spec);
+        let json = serde_json::to_string(&toml::from_str::<RigEntry>(&text).unwrap()).unwrap();
+        assert_eq!(
+            RigSpec::parse(&json, Format::Json, Path::new("/rigs")).unwrap(),
+            spec
+        );
+    }
+}

@@ -1,0 +1,223 @@
+//! `puppet simulate`: the example rig and animation play end to end, frames are written in
+//! the input's vertex order, and every bad rig or animation file is one `error: <file>: …`
+//! line with exit status 2.
+
+mod common;
+use common::{puppet, scratch, shared_mesh};
+use std::path::{Path, PathBuf};
+
+fn example(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/examples")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+fn ok(out: &std::process::Output) {
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// Runs simulate with a rig and an animation written into a scratch folder; returns the
+/// single stderr line of a failure and the rig/anim paths.
+fn fails(test: &str, rig: &str, anim: &str) -> (String, PathBuf, PathBuf) {
+    let dir = scratch(test);
+    let (r, a) = (dir.join("rig.toml"), dir.join("anim.toml"));
+    std::fs::write(&r, rig).unwrap();
+    std::fs::write(&a, anim).unwrap();
+    let mesh = shared_mesh("spot-small.obj");
+    let out = puppet(&[
+        "simulate",
+        mesh.to_str().unwrap(),
+        "--rig",
+        r.to_str().unwrap(),
+        "--anim",
+        a.to_str().unwrap(),
+        "--frames",
+        "2",
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{test} should fail");
+    let err = String::from_utf8_lossy(&out.stderr).to_string();
+    assert_eq!(err.lines().count(), 1, "{test}: one line: {err}");
+    assert!(err.starts_with("error: "), "{err}");
+    (err, r, a)
+}
+
+const CUT: &str =
+    "[[cut]]\nname = \"head\"\npoint = [0.0, 0.45, -0.12]\nnormal = [0.0, 0.3, -1.0]\n";
+const ANIM: &str =
+    "duration = 1\n[[track]]\nsection = \"head\"\nkey = [{ time = 0.5, axis = [1, 0, 0], angle = 30 }]\n";
+
+#[test]
+fn the_example_plays_and_writes_frames_in_input_order() {
+    let dir = scratch("simulate_example");
+    let out_dir = dir.join("frames");
+    let final_obj = dir.join("final.obj");
+    let out = puppet(&[
+        "simulate",
+        "--rig",
+        &example("spot-jaw.rig.toml"),
+        "--anim",
+        &example("spot-jaw.anim.toml"),
+        "--frames",
+        "12",
+        "--fps",
+        "24",
+        "--out-dir",
+        out_dir.to_str().unwrap(),
+        "--out",
+        final_obj.to_str().unwrap(),
+        "--json",
+    ]);
+    ok(&out);
+    let s: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for key in [
+        "vertices",
+        "springs",
+        "sections",
+        "frames",
+        "steps",
+        "ms_per_step_median",
+        "ms_per_step_p95",
+        "final_max_offset",
+    ] {
+        assert!(s.get(key).is_some(), "missing {key}: {s}");
+    }
+    assert_eq!(s["vertices"], 2930);
+    assert_eq!(s["sections"], 3);
+    assert_eq!(s["frames"], 12);
+    assert_eq!(
+        s["steps"], 30,
+        "12 frames at 24 fps = 0.5 s = 30 steps of 1/60 s"
+    );
+    for k in 1..=12 {
+        assert!(
+            out_dir.join(format!("frame_{k:05}.obj")).exists(),
+            "frame {k}"
+        );
+    }
+    // Same vertex count and faces as the input; the jaw moved, the tail did not.
+    let read = |p: &Path| {
+        puppet::mesh::parse_obj(&std::fs::read(p).unwrap())
+            .unwrap()
+            .0
+    };
+    let input = read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/spot.obj"));
+    let last = read(&final_obj);
+    assert_eq!(last.triangles, input.triangles);
+    assert_eq!(last.positions.len(), input.positions.len());
+    let moved: Vec<f64> = input
+        .positions
+        .iter()
+        .zip(&last.positions)
+        .map(|(a, b)| (*a - *b).length())
+        .collect();
+    let tail = (0..moved.len())
+        .max_by(|&a, &b| input.positions[a].z.total_cmp(&input.positions[b].z))
+        .unwrap();
+    let snout = (0..moved.len())
+        .min_by(|&a, &b| input.positions[a].z.total_cmp(&input.positions[b].z))
+        .unwrap();
+    assert!(moved[tail] < 1e-3, "tail moved {}", moved[tail]);
+    assert!(moved[snout] > 0.01, "snout moved {}", moved[snout]);
+    // The last frame file is the final surface.
+    assert_eq!(read(&out_dir.join("frame_00012.obj")), last);
+}
+
+#[test]
+fn the_text_summary_names_frames_springs_and_step_time() {
+    let out = puppet(&[
+        "simulate",
+        shared_mesh("spot-small.obj").to_str().unwrap(),
+        "--frames",
+        "3",
+    ]);
+    ok(&out);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("3 frames"), "{text}");
+    assert!(text.contains("springs"), "{text}");
+    assert!(text.contains("ms median"), "{text}");
+}
+
+#[test]
+fn bad_rig_files_name_the_file_and_the_problem() {
+    let cases = [
+        ("rig_syntax", "skeleton = [", "line 1"),
+        (
+            "rig_zero_normal",
+            &CUT.replace("[0.0, 0.3, -1.0]", "[0, 0, 0]"),
+            "normal is zero",
+        ),
+        ("rig_nan", &CUT.replace("0.45", "nan"), "finite"),
+        (
+            "rig_empty_side",
+            &CUT.replace("0.45, -0.12", "0.45, -5.0"),
+            "empty",
+        ),
+        (
+            "rig_unknown_parent",
+            &format!("{CUT}section = \"tail\"\n"),
+            "unknown section 'tail'",
+        ),
+        (
+            "rig_material",
+            &format!("material = \"rubber\"\n{CUT}"),
+            "not a preset",
+        ),
+        (
+            "rig_range",
+            &format!("[params]\nmax_length = 9\n{CUT}"),
+            "max_length = 9",
+        ),
+    ];
+    for (name, rig, expected) in cases {
+        let (err, r, _) = fails(name, rig, ANIM);
+        assert!(err.contains(&r.display().to_string()), "{name}: {err}");
+        assert!(err.contains(expected), "{name}: {err}");
+    }
+}
+
+#[test]
+fn bad_animation_files_name_the_file_and_the_problem() {
+    let cases = [
+        (
+            "anim_unknown_section",
+            ANIM.replace("head", "tail"),
+            "unknown section",
+        ),
+        (
+            "anim_order",
+            "duration = 1\n[[track]]\nsection = \"head\"\nkey = [{ time = 0.5 }, { time = 0.2 }]\n"
+                .into(),
+            "key 2: time 0.2 is not after",
+        ),
+        ("anim_nan", ANIM.replace("30", "nan"), "finite"),
+        (
+            "anim_duration",
+            ANIM.replace("duration = 1", "duration = -1"),
+            "positive",
+        ),
+        ("anim_binary", "\u{0}\u{1}garbage".into(), "line 1"),
+    ];
+    for (name, anim, expected) in cases {
+        let (err, _, a) = fails(name, CUT, &anim);
+        assert!(err.contains(&a.display().to_string()), "{name}: {err}");
+        assert!(err.contains(expected), "{name}: {err}");
+    }
+}
+
+#[test]
+fn missing_files_are_errors_too() {
+    let out = puppet(&["simulate", "--rig", "/nonexistent/rig.toml"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.starts_with("error: /nonexistent/rig.toml: cannot read file"),
+        "{err}"
+    );
+}
