@@ -8,13 +8,16 @@
 //! GPU or windowing crate. See `ARCHITECTURE.md`.
 
 pub mod anim;
+pub mod app;
 pub mod delaunay;
 pub mod files;
 pub mod geom;
 pub mod joints;
 pub mod mesh;
 pub mod progress;
+pub mod render;
 pub mod rig;
 pub mod scene;
 pub mod sim;
 pub mod skeleton;
+pub mod ui;

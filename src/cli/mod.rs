@@ -28,6 +28,18 @@ pub struct Cli {
     pub command: Option<Command>,
     /// Mesh to open (OBJ); the embedded Spot when omitted.
     pub mesh: Option<PathBuf>,
+    /// Rig file to open with it (material, constraint, cuts).
+    #[arg(long)]
+    pub rig: Option<PathBuf>,
+    /// Save a screenshot of the window (PNG) after --frames frames, then exit.
+    #[arg(long)]
+    pub screenshot: Option<PathBuf>,
+    /// Frames to draw before the screenshot.
+    #[arg(long, default_value_t = 30)]
+    pub frames: u32,
+    /// Test hook: drag the last section with synthetic mouse events before the screenshot.
+    #[arg(long, hide = true)]
+    pub drive_test: bool,
 }
 
 #[derive(Subcommand, Debug)]
@@ -72,25 +84,31 @@ pub fn load_mesh(path: Option<&Path>) -> Result<(Mesh, LoadReport, String)> {
 
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> Result<()> {
-    match cli.command {
-        Some(Command::Skeleton(args)) => skeleton::run(&args),
-        Some(Command::Simulate(args)) => simulate::run(&args),
-        Some(Command::Bench(args)) => bench::run(&args),
-        None => open(cli.mesh.as_deref()),
+    match &cli.command {
+        Some(Command::Skeleton(args)) => skeleton::run(args),
+        Some(Command::Simulate(args)) => simulate::run(args),
+        Some(Command::Bench(args)) => bench::run(args),
+        None => open(&cli),
     }
 }
 
-/// `puppet [MESH]`: the puppet for a mesh. The interactive window is not built yet
-/// (issue "The interactive puppet app"); until then this loads the mesh, builds its
-/// skeleton and prints the summary a user would see in the window's stats panel.
-fn open(path: Option<&Path>) -> Result<()> {
-    let args = skeleton::Args {
-        mesh: path.map(Path::to_path_buf),
-        method: None,
-        output: None,
-        json: false,
+/// `puppet [MESH] [--rig RIG]`: the interactive window. The mesh (and rig) are read and
+/// validated first, so a bad file is an `error:` line and exit status 2 before any window
+/// opens; the skeleton is then built in the background while the window shows progress.
+fn open(cli: &Cli) -> Result<()> {
+    let spec = match &cli.rig {
+        Some(path) => puppet::scene::RigSpec::load(path)
+            .map_err(|e| FileError::new(path.display().to_string(), e))?,
+        None => puppet::scene::RigSpec::default(),
     };
-    skeleton::run(&args)?;
-    println!("(the interactive window is not part of this build yet; see README.md)");
-    Ok(())
+    let mesh_path = cli.mesh.clone().or_else(|| spec.mesh.clone());
+    let (mesh, _report, name) = load_mesh(mesh_path.as_deref())?;
+    puppet::app::run(puppet::app::Options {
+        mesh,
+        name,
+        rig: spec,
+        screenshot: cli.screenshot.clone(),
+        frames: cli.frames,
+        drive: cli.drive_test,
+    })
 }

@@ -1,0 +1,171 @@
+use super::*;
+use crate::mesh::shapes;
+use crate::scene::RigSpec;
+
+fn session() -> Session {
+    let mesh = shapes::capsule(0.3, 1.0, 4, 12, 12);
+    let spec = RigSpec {
+        cuts: vec![
+            Cut {
+                name: "arm".into(),
+                section: "root".into(),
+                point: DVec3::new(0.0, 0.0, 0.0),
+                normal: DVec3::Y,
+                pivot: None,
+            },
+            Cut {
+                name: "hand".into(),
+                section: "arm".into(),
+                point: DVec3::new(0.0, 0.8, 0.0),
+                normal: DVec3::Y,
+                pivot: None,
+            },
+        ],
+        ..RigSpec::default()
+    };
+    let puppet = Puppet::build(mesh, spec, crate::progress::silent()).unwrap();
+    Session::new(puppet, "capsule")
+}
+
+#[test]
+fn selection_replaces_toggles_and_clears() {
+    let mut s = session();
+    s.select(Some(1), false);
+    assert_eq!(s.selection, vec![1]);
+    s.select(Some(2), true);
+    assert_eq!(s.selection, vec![1, 2]);
+    s.select(Some(1), true);
+    assert_eq!(s.selection, vec![2]);
+    s.select(None, true);
+    assert_eq!(
+        s.selection,
+        vec![2],
+        "a modifier click on nothing keeps the selection"
+    );
+    s.select(None, false);
+    assert!(s.selection.is_empty());
+    s.select(Some(99), false);
+    assert!(s.selection.is_empty(), "no such section");
+}
+
+#[test]
+fn a_world_rotation_turns_the_section_about_its_current_pivot() {
+    let mut s = session();
+    s.select(Some(1), false);
+    s.rotate_selected(DQuat::from_rotation_z(0.7));
+    s.select(Some(2), false);
+    let before = s.puppet.joints.world(&s.local)[2];
+    let pivot = s.pivot_world(2);
+    let q = DQuat::from_rotation_x(0.4);
+    s.rotate_selected(q);
+    let after = s.puppet.joints.world(&s.local)[2];
+    let p = DVec3::new(0.1, 1.2, 0.05);
+    let expected = pivot + q * (before.transform_point3(p) - pivot);
+    assert!((after.transform_point3(p) - expected).length() < 1e-12);
+}
+
+#[test]
+fn a_selected_child_of_a_selected_parent_is_carried_not_turned_twice() {
+    let mut s = session();
+    s.select(Some(1), false);
+    s.select(Some(2), true);
+    s.rotate_selected(DQuat::from_rotation_z(0.5));
+    assert_eq!(s.local[2], Local::default());
+    assert_ne!(s.local[1], Local::default());
+}
+
+#[test]
+fn undo_and_redo_pose_changes_and_cuts() {
+    let mut s = session();
+    assert!(!s.can_undo());
+    s.select(Some(1), false);
+    s.checkpoint();
+    s.rotate_selected(DQuat::from_rotation_z(0.5));
+    let turned = s.local.clone();
+    s.draft = Some(CutDraft {
+        section: 0,
+        point: DVec3::new(0.0, -0.6, 0.0),
+        normal: -DVec3::Y,
+        pivot: None,
+        name: s.fresh_section_name(),
+    });
+    s.apply_draft().unwrap();
+    assert_eq!(s.puppet.joints.sections().len(), 4);
+    assert_eq!(s.selection, vec![3]);
+    s.undo();
+    assert_eq!(s.puppet.joints.sections().len(), 3);
+    assert_eq!(s.local, turned);
+    s.undo();
+    assert!(s.local.iter().all(|l| *l == Local::default()));
+    assert!(!s.can_undo());
+    s.redo();
+    assert_eq!(s.local, turned);
+    s.redo();
+    assert_eq!(s.puppet.joints.sections().len(), 4);
+    assert_eq!(s.puppet.sim.rig().len(), s.puppet.joints.section_of().len());
+    assert!(!s.can_redo());
+    s.remove_cut("section 1").unwrap();
+    assert_eq!(s.puppet.joints.sections().len(), 3);
+    s.undo();
+    assert_eq!(s.puppet.joints.sections().len(), 4);
+}
+
+#[test]
+fn a_refused_cut_changes_nothing() {
+    let mut s = session();
+    s.draft = Some(CutDraft {
+        section: 0,
+        point: DVec3::new(0.0, -5.0, 0.0),
+        normal: -DVec3::Y,
+        pivot: None,
+        name: "x".into(),
+    });
+    assert!(s.apply_draft().is_err());
+    assert_eq!(s.puppet.joints.sections().len(), 3);
+    assert!(!s.can_undo());
+}
+
+#[test]
+fn sliders_are_sanitized_and_presets_apply() {
+    let mut s = session();
+    s.set_params(Params {
+        damping: 5.0,
+        stiffness: f32::NAN,
+        ..Params::default()
+    });
+    assert_eq!(s.puppet.sim.params().damping, 1.0);
+    assert_eq!(s.puppet.sim.params().stiffness, Params::default().stiffness);
+    assert!(s.set_preset("water"));
+    assert_eq!(s.puppet.sim.params().max_length, 1.4);
+    assert!(!s.set_preset("rubber"));
+}
+
+#[test]
+fn the_simulation_sleeps_when_settled_and_wakes_on_a_change() {
+    let mut s = session();
+    s.advance(1.0 / 60.0, 4);
+    assert!(s.is_idle(), "a rig at rest is settled after one step");
+    assert_eq!(s.advance(1.0, 4), 0);
+    s.select(Some(2), false);
+    s.rotate_selected(DQuat::from_rotation_z(0.5));
+    assert!(!s.is_idle());
+    let mut steps = 0;
+    while !s.is_idle() && steps < 100_000 {
+        steps += s.advance(1.0 / 60.0, 1);
+    }
+    assert!(s.is_idle(), "settles again");
+    assert!(steps > 10, "the motion took {steps} steps to die out");
+}
+
+#[test]
+fn picking_hits_the_nearest_surface() {
+    let s = session();
+    let hit = s
+        .pick(Vec3::new(0.0, 0.5, 5.0), Vec3::new(0.0, 0.0, -1.0))
+        .unwrap();
+    assert!((hit.point.z - 0.3).abs() < 0.02, "{hit:?}");
+    assert_eq!(s.section_at(&hit), 1);
+    assert!(s
+        .pick(Vec3::new(3.0, 0.5, 5.0), Vec3::new(0.0, 0.0, -1.0))
+        .is_none());
+}

@@ -1,0 +1,178 @@
+//! Offscreen rendering on the real GPU stack (Mesa's software Vulkan in CI): the default
+//! puppet is drawn into an image and checked for content, shading, overlays, and against a
+//! reference image with a tolerance.
+//!
+//! Regenerate the reference with `PUPPET_BLESS=1 cargo test --release --test render`.
+
+use puppet::render::{render_image, Camera, Gpu, Image, Overlays, SceneRenderer, OFFSCREEN_FORMAT};
+use puppet::scene::{Puppet, RigSpec};
+use puppet::ui::Session;
+use std::path::Path;
+
+const W: u32 = 320;
+const H: u32 = 240;
+
+fn spot_session(rig: RigSpec) -> Session {
+    let bytes =
+        std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/spot.obj")).unwrap();
+    let (mesh, _) = puppet::mesh::parse_obj(&bytes).unwrap();
+    Session::new(
+        Puppet::build(mesh, rig, puppet::progress::silent()).unwrap(),
+        "spot",
+    )
+}
+
+fn camera(s: &Session) -> Camera {
+    let mut c = Camera::default();
+    let (lo, hi) = s.puppet.mesh.bounds();
+    c.frame(lo.as_vec3(), hi.as_vec3());
+    c
+}
+
+/// Background colour as it lands in an sRGB image.
+fn background() -> [u8; 3] {
+    let enc = |c: f64| {
+        let c = if c <= 0.0031308 {
+            c * 12.92
+        } else {
+            1.055 * c.powf(1.0 / 2.4) - 0.055
+        };
+        (c * 255.0).round() as u8
+    };
+    let b = puppet::render::BACKGROUND;
+    [enc(b.r), enc(b.g), enc(b.b)]
+}
+
+fn luminance_spread(img: &Image) -> f64 {
+    let bg = background();
+    let lum: Vec<f64> = img
+        .rgba
+        .chunks(4)
+        .filter(|p| (0..3).any(|k| p[k].abs_diff(bg[k]) > 8))
+        .map(|p| 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64)
+        .collect();
+    let mean = lum.iter().sum::<f64>() / lum.len().max(1) as f64;
+    (lum.iter().map(|l| (l - mean).powi(2)).sum::<f64>() / lum.len().max(1) as f64).sqrt()
+}
+
+#[test]
+fn the_default_puppet_renders_offscreen_with_shading_and_overlays() {
+    let gpu = Gpu::headless()
+        .expect("a graphics adapter (scripts/setup.sh installs Mesa's software Vulkan)");
+    let mut renderer = SceneRenderer::new(&gpu, OFFSCREEN_FORMAT);
+    let session = spot_session(RigSpec::default());
+    let cam = camera(&session);
+    let plain = render_image(
+        &gpu,
+        &mut renderer,
+        &session,
+        &cam,
+        Overlays::default(),
+        W,
+        H,
+    )
+    .unwrap();
+    assert_eq!((plain.width, plain.height), (W, H));
+    let coverage = plain.coverage(background(), 8);
+    assert!(
+        (0.1..0.9).contains(&coverage),
+        "the model covers {coverage:.2} of the image"
+    );
+    let spread = luminance_spread(&plain);
+    assert!(
+        spread > 12.0,
+        "shading varies over the model (luminance spread {spread:.1})"
+    );
+
+    // Nothing changed: the second prepare uploads nothing.
+    renderer.prepare(
+        &gpu,
+        &session,
+        &cam,
+        Overlays::default(),
+        W as f32 / H as f32,
+    );
+    assert_eq!(renderer.last_uploads, 0, "no upload when nothing changed");
+
+    let overlays = Overlays {
+        wireframe: true,
+        skeleton: true,
+        ..Overlays::default()
+    };
+    let with = render_image(&gpu, &mut renderer, &session, &cam, overlays, W, H).unwrap();
+    let diff = with.mean_abs_diff(&plain).unwrap();
+    assert!(
+        diff > 1.0,
+        "overlays change the image (mean difference {diff:.2})"
+    );
+    let again = render_image(
+        &gpu,
+        &mut renderer,
+        &session,
+        &cam,
+        Overlays::default(),
+        W,
+        H,
+    )
+    .unwrap();
+    assert!(
+        again.mean_abs_diff(&plain).unwrap() < 0.01,
+        "overlays off restores the image"
+    );
+
+    let reference = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/spot_render.png");
+    if std::env::var_os("PUPPET_BLESS").is_some() {
+        plain.save_png(&reference).unwrap();
+    }
+    let expected = Image::load_png(&reference).expect("reference image tests/data/spot_render.png");
+    let d = plain
+        .mean_abs_diff(&expected)
+        .expect("same size as the reference");
+    assert!(
+        d < 2.0,
+        "differs from the reference by {d:.2} per channel on average"
+    );
+}
+
+#[test]
+fn a_turned_section_shows_in_the_image() {
+    let gpu = Gpu::headless().expect("a graphics adapter");
+    let mut renderer = SceneRenderer::new(&gpu, OFFSCREEN_FORMAT);
+    let rig = RigSpec::load(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples/spot-jaw.rig.toml"),
+    )
+    .unwrap();
+    let mut session = spot_session(rig);
+    let cam = camera(&session);
+    let before = render_image(
+        &gpu,
+        &mut renderer,
+        &session,
+        &cam,
+        Overlays::default(),
+        W,
+        H,
+    )
+    .unwrap();
+    let head = session.puppet.joints.find("head").unwrap();
+    session.select(Some(head), false);
+    session.rotate_selected(glam::DQuat::from_rotation_x(0.6));
+    for _ in 0..30 {
+        session.advance(1.0 / 60.0, 1);
+    }
+    let after = render_image(
+        &gpu,
+        &mut renderer,
+        &session,
+        &cam,
+        Overlays::default(),
+        W,
+        H,
+    )
+    .unwrap();
+    let diff = after.mean_abs_diff(&before).unwrap();
+    assert!(
+        diff > 1.0,
+        "turning the head changes the picture ({diff:.2})"
+    );
+}

@@ -1,0 +1,103 @@
+//! The real window under Xvfb (installed by scripts/setup.sh): start the app with the frog
+//! jaw rig, drag a section with synthetic mouse events through the same handlers the mouse
+//! uses, take a screenshot, and check the model and the panel are in it.
+
+mod common;
+
+use puppet::render::Image;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+#[test]
+fn the_window_shows_the_puppet_and_panels_and_a_drag_turns_a_section() {
+    let dir = common::scratch("window");
+    let shot = dir.join("window.png");
+    let runtime = dir.join("xdg");
+    std::fs::create_dir_all(&runtime).unwrap();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&runtime, std::fs::Permissions::from_mode(0o700)).unwrap();
+    }
+    let rig = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples/spot-jaw.rig.toml");
+    let mut child = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x800x24"])
+        .arg(env!("CARGO_BIN_EXE_puppet"))
+        .arg("--rig")
+        .arg(&rig)
+        .arg("--screenshot")
+        .arg(&shot)
+        .args(["--frames", "20", "--drive-test"])
+        .env("XDG_RUNTIME_DIR", &runtime)
+        .env("RUST_LOG", "warn")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("xvfb-run (scripts/setup.sh installs the xvfb package)");
+    let start = Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if start.elapsed() > Duration::from_secs(180) {
+            let _ = child.kill();
+            panic!("the app did not exit within 180 s");
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    };
+    let out = child.wait_with_output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        status.success(),
+        "exit {status}\nstdout: {stdout}\nstderr: {stderr}"
+    );
+    let report: serde_json::Value = serde_json::from_str(stdout.lines().last().unwrap_or(""))
+        .unwrap_or_else(|e| panic!("{e}: {stdout}"));
+    let selection = report["selection"].as_array().unwrap();
+    assert_eq!(selection.len(), 1, "{report}");
+    let turned = report["turned"].as_array().unwrap();
+    assert_eq!(
+        turned.len(),
+        1,
+        "exactly the dragged section turned: {report}"
+    );
+    let name = selection[0].as_str().unwrap();
+    assert!(
+        turned[0].as_str().unwrap().starts_with(&format!("{name}:")),
+        "{report}"
+    );
+
+    let img = Image::load_png(&shot).unwrap();
+    assert_eq!((img.width, img.height), (1280, 800));
+    // The panel (left) is egui's grey with text; the model is to the right of it.
+    let panel_rows: Vec<[u8; 4]> = (0..img.height)
+        .step_by(4)
+        .map(|y| img.pixel(40, y))
+        .collect();
+    let distinct: std::collections::HashSet<[u8; 4]> = (0..200)
+        .flat_map(|x| (0..img.height).step_by(3).map(move |y| (x, y)))
+        .map(|(x, y)| img.pixel(x, y))
+        .collect();
+    assert!(
+        distinct.len() > 20,
+        "the panel has text and widgets ({} colours)",
+        distinct.len()
+    );
+    assert!(panel_rows.iter().any(|p| p[0] > 20), "the panel is drawn");
+    let right = Image {
+        width: 600,
+        height: 800,
+        rgba: (0..800u32)
+            .flat_map(|y| (600..1200u32).map(move |x| (x, y)))
+            .flat_map(|(x, y)| img.pixel(x, y))
+            .collect(),
+    };
+    let coverage = right.coverage([12, 13, 14], 20);
+    assert!(coverage > 0.05, "the model is visible ({coverage:.3})");
+    // Keep the screenshot for the README when asked.
+    if let Some(dst) = std::env::var_os("PUPPET_SCREENSHOT") {
+        std::fs::copy(&shot, dst).unwrap();
+    }
+}
