@@ -7,12 +7,14 @@ use std::io::Write;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn"))
-        .format(|buf, record| {
-            let level = record.level().as_str().to_lowercase();
-            writeln!(buf, "{level}: {}", record.args())
-        })
-        .init();
+    env_logger::Builder::from_env(
+        env_logger::Env::default().default_filter_or("warn,winit=error,sctk_adwaita=error"),
+    )
+    .format(|buf, record| {
+        let level = record.level().as_str().to_lowercase();
+        writeln!(buf, "{level}: {}", record.args())
+    })
+    .init();
     let cli = cli::Cli::parse();
     match cli::run(cli) {
         Ok(()) => ExitCode::SUCCESS,

@@ -209,9 +209,16 @@ impl WindowState {
             .get_default_config(&gpu.adapter, size.width.max(1), size.height.max(1))
             .ok_or_else(|| anyhow!("the graphics adapter cannot present to this window"))?;
         let caps = surface.get_capabilities(&gpu.adapter);
-        if let Some(f) = caps.formats.iter().find(|f| f.is_srgb()) {
-            config.format = *f;
-        }
+        // egui wants a non-sRGB target and the scene an sRGB one: configure the plain format
+        // and draw the scene through an sRGB view of the same texture.
+        let base = caps
+            .formats
+            .iter()
+            .map(|f| f.remove_srgb_suffix())
+            .find(|f| f.add_srgb_suffix() != *f)
+            .unwrap_or(config.format);
+        config.format = base;
+        config.view_formats = vec![base.add_srgb_suffix()];
         config.present_mode = if caps.present_modes.contains(&wgpu::PresentMode::Fifo) {
             wgpu::PresentMode::Fifo
         } else {
@@ -221,7 +228,7 @@ impl WindowState {
                 .unwrap_or(wgpu::PresentMode::Fifo)
         };
         surface.configure(&gpu.device, &config);
-        let scene = SceneRenderer::new(&gpu, config.format);
+        let scene = SceneRenderer::new(&gpu, config.format.add_srgb_suffix());
         let egui_ctx = egui::Context::default();
         let egui_state = egui_winit::State::new(
             egui_ctx.clone(),
@@ -543,8 +550,7 @@ impl WindowState {
             && self.session.is_some()
             && self.drive.is_none();
         if let Some(frame) = frame {
-            let view = frame.texture.create_view(&Default::default());
-            self.draw(&view, &primitives, &screen);
+            self.draw(&frame.texture, &primitives, &screen);
             self.gpu.queue.present(frame);
         }
         if take_shot {
@@ -569,18 +575,26 @@ impl WindowState {
         Ok(true)
     }
 
+    /// The scene through an sRGB view, then the panels through the plain view (egui
+    /// blends in gamma space).
     fn draw(
         &mut self,
-        view: &wgpu::TextureView,
+        texture: &wgpu::Texture,
         primitives: &[egui::ClippedPrimitive],
         screen: &egui_wgpu::ScreenDescriptor,
     ) {
+        let plain = texture.create_view(&Default::default());
+        let view = &plain;
+        let srgb = texture.create_view(&wgpu::TextureViewDescriptor {
+            format: Some(self.config.format.add_srgb_suffix()),
+            ..Default::default()
+        });
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
         if self.session.is_some() {
             self.scene.render_to(
                 &self.gpu,
                 &mut encoder,
-                view,
+                &srgb,
                 self.config.width,
                 self.config.height,
             );
@@ -640,10 +654,9 @@ impl WindowState {
             dimension: wgpu::TextureDimension::D2,
             format: self.config.format,
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
+            view_formats: &[self.config.format.add_srgb_suffix()],
         });
-        let view = texture.create_view(&Default::default());
-        self.draw(&view, primitives, screen);
+        self.draw(&texture, primitives, screen);
         Ok(render::image::read_texture(&self.gpu, &texture)?)
     }
 
