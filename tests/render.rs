@@ -43,6 +43,10 @@ fn background() -> [u8; 3] {
     [enc(b.r), enc(b.g), enc(b.b)]
 }
 
+fn shot(gpu: &Gpu, r: &mut SceneRenderer, s: &Session, cam: &Camera, o: Overlays) -> Image {
+    render_image(gpu, r, s, cam, o, W, H).expect("offscreen render")
+}
+
 fn luminance_spread(img: &Image) -> f64 {
     let bg = background();
     let lum: Vec<f64> = img
@@ -62,16 +66,7 @@ fn the_default_puppet_renders_offscreen_with_shading_and_overlays() {
     let mut renderer = SceneRenderer::new(&gpu, OFFSCREEN_FORMAT);
     let session = spot_session(RigSpec::default());
     let cam = camera(&session);
-    let plain = render_image(
-        &gpu,
-        &mut renderer,
-        &session,
-        &cam,
-        Overlays::default(),
-        W,
-        H,
-    )
-    .unwrap();
+    let plain = shot(&gpu, &mut renderer, &session, &cam, Overlays::default());
     assert_eq!((plain.width, plain.height), (W, H));
     let coverage = plain.coverage(background(), 8);
     assert!(
@@ -99,22 +94,13 @@ fn the_default_puppet_renders_offscreen_with_shading_and_overlays() {
         skeleton: true,
         ..Overlays::default()
     };
-    let with = render_image(&gpu, &mut renderer, &session, &cam, overlays, W, H).unwrap();
+    let with = shot(&gpu, &mut renderer, &session, &cam, overlays);
     let diff = with.mean_abs_diff(&plain).unwrap();
     assert!(
         diff > 1.0,
         "overlays change the image (mean difference {diff:.2})"
     );
-    let again = render_image(
-        &gpu,
-        &mut renderer,
-        &session,
-        &cam,
-        Overlays::default(),
-        W,
-        H,
-    )
-    .unwrap();
+    let again = shot(&gpu, &mut renderer, &session, &cam, Overlays::default());
     assert!(
         again.mean_abs_diff(&plain).unwrap() < 0.01,
         "overlays off restores the image"
@@ -144,32 +130,14 @@ fn a_turned_section_shows_in_the_image() {
     .unwrap();
     let mut session = spot_session(rig);
     let cam = camera(&session);
-    let before = render_image(
-        &gpu,
-        &mut renderer,
-        &session,
-        &cam,
-        Overlays::default(),
-        W,
-        H,
-    )
-    .unwrap();
+    let before = shot(&gpu, &mut renderer, &session, &cam, Overlays::default());
     let head = session.puppet.joints.find("head").unwrap();
     session.select(Some(head), false);
     session.rotate_selected(glam::DQuat::from_rotation_x(0.6));
     for _ in 0..30 {
         session.advance(1.0 / 60.0, 1);
     }
-    let after = render_image(
-        &gpu,
-        &mut renderer,
-        &session,
-        &cam,
-        Overlays::default(),
-        W,
-        H,
-    )
-    .unwrap();
+    let after = shot(&gpu, &mut renderer, &session, &cam, Overlays::default());
     let diff = after.mean_abs_diff(&before).unwrap();
     assert!(
         diff > 1.0,

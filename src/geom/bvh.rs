@@ -158,9 +158,10 @@ fn fmin(a: f64, b: f64) -> f64 {
     }
 }
 
-/// Möller–Trumbore; returns the ray parameter of the hit.
+/// Möller–Trumbore, both sides; returns the ray parameter of the hit (may be negative:
+/// callers keep the range they need).
 #[inline]
-fn intersect(tri: &[DVec3; 3], origin: DVec3, dir: DVec3) -> Option<f64> {
+pub fn intersect(tri: &[DVec3; 3], origin: DVec3, dir: DVec3) -> Option<f64> {
     let e1 = tri[1] - tri[0];
     let e2 = tri[2] - tri[0];
     let p = dir.cross(e2);

@@ -397,27 +397,11 @@ impl Session {
     }
 }
 
-/// Möller–Trumbore, both sides; the distance along `dir` (unit) to the hit.
+/// Distance along the unit `d` from `o` to the triangle, if hit in front.
 fn ray_triangle(o: Vec3, d: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Option<f32> {
-    let (e1, e2) = (b - a, c - a);
-    let p = d.cross(e2);
-    let det = e1.dot(p);
-    if det.abs() < 1e-12 {
-        return None;
-    }
-    let inv = 1.0 / det;
-    let s = o - a;
-    let u = s.dot(p) * inv;
-    if !(0.0..=1.0).contains(&u) {
-        return None;
-    }
-    let q = s.cross(e1);
-    let v = d.dot(q) * inv;
-    if v < 0.0 || u + v > 1.0 {
-        return None;
-    }
-    let t = e2.dot(q) * inv;
-    (t > 0.0).then_some(t)
+    let tri = [a.as_dvec3(), b.as_dvec3(), c.as_dvec3()];
+    let t = crate::geom::bvh::intersect(&tri, o.as_dvec3(), d.as_dvec3())?;
+    (t > 0.0).then_some(t as f32)
 }
 
 #[cfg(test)]
