@@ -86,3 +86,35 @@ fn build(
     let puppet = Puppet::build(mesh, rig, progress).map_err(|e| format!("{name}: {e}"))?;
     Ok((Box::new(puppet), name))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn wait(mut l: Loader) -> Result<(Box<Puppet>, String), String> {
+        loop {
+            if let Status::Done(r) = l.poll() {
+                return r;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+    }
+
+    #[test]
+    fn a_bad_file_fails_with_its_name_and_a_good_one_builds() {
+        let dir = std::env::temp_dir().join(format!("puppet-loader-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let bad = dir.join("open.obj");
+        std::fs::write(&bad, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+        let err = wait(Loader::open(bad.clone(), RigSpec::default()))
+            .err()
+            .unwrap();
+        assert!(err.starts_with(&bad.display().to_string()), "{err}");
+        assert!(err.contains("boundary edges"), "{err}");
+        let good = crate::mesh::shapes::icosphere(1.0, 2);
+        let (p, name) = wait(Loader::build(good, "ball".into(), RigSpec::default())).unwrap();
+        assert_eq!(name, "ball");
+        assert_eq!(p.joints.sections().len(), 1);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

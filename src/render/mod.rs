@@ -583,6 +583,10 @@ impl SceneRenderer {
             let w = &world[d.section.min(world.len() - 1)];
             let (centre, normal) = (w.transform_point3(d.point), w.transform_vector3(d.normal));
             push_plane(top, centre, normal, half * 1.3, [0.1, 0.8, 1.0, 1.0]);
+            if let Some(pivot) = d.pivot {
+                let c = w.transform_point3(pivot).as_vec3();
+                push_cross(top, c, size * 0.025, [0.1, 0.8, 1.0, 1.0]);
+            }
         }
         if o.pivots {
             for (s, section) in p.joints.sections().iter().enumerate().skip(1) {
@@ -704,7 +708,7 @@ fn draft_key(session: &Session) -> u64 {
     let mut h = std::collections::hash_map::DefaultHasher::new();
     if let Some(d) = &session.draft {
         d.section.hash(&mut h);
-        for v in [d.point, d.normal] {
+        for v in [d.point, d.normal, d.pivot.unwrap_or(DVec3::NAN)] {
             v.to_array().map(f64::to_bits).hash(&mut h);
         }
     }

@@ -337,9 +337,34 @@ fn draft_editor(ui: &mut egui::Ui, d: &mut CutDraft, size: f64) {
     let mut custom = d.pivot.is_some();
     ui.checkbox(
         &mut custom,
-        "pivot at the plane point (default: centroid of nearest skeletal points)",
+        "place the pivot (default: centroid of the nearest skeletal points)",
     );
-    d.pivot = custom.then_some(d.point);
+    match (custom, d.pivot) {
+        (false, _) => d.pivot = None,
+        (true, None) => d.pivot = Some(d.point),
+        (true, Some(pivot)) => {
+            let n = d.normal.normalize_or(DVec3::Y);
+            let u = n.any_orthonormal_vector();
+            let v = n.cross(u);
+            let (mut du, mut dv, mut dn) = (0.0f64, 0.0f64, 0.0f64);
+            ui.add(
+                egui::Slider::new(&mut du, -0.05..=0.05)
+                    .text("pivot ←→")
+                    .fixed_decimals(3),
+            );
+            ui.add(
+                egui::Slider::new(&mut dv, -0.05..=0.05)
+                    .text("pivot ↓↑")
+                    .fixed_decimals(3),
+            );
+            ui.add(
+                egui::Slider::new(&mut dn, -0.05..=0.05)
+                    .text("pivot along normal")
+                    .fixed_decimals(3),
+            );
+            d.pivot = Some(pivot + (u * du + v * dv + n * dn) * size);
+        }
+    }
 }
 
 fn overlay_section(ui: &mut egui::Ui, state: &mut PanelState, actions: &mut Vec<Action>) {
