@@ -48,12 +48,21 @@ fn one_line_toml(e: &toml::de::Error) -> String {
     }
 }
 
+/// An I/O error in a few words ("no such file", "permission denied").
+pub fn io_message(e: &std::io::Error) -> String {
+    match e.kind() {
+        std::io::ErrorKind::NotFound => "no such file".into(),
+        std::io::ErrorKind::PermissionDenied => "permission denied".into(),
+        _ => e.to_string(),
+    }
+}
+
 /// Reads a whole text file; the error says why in words.
 pub fn read_text(path: &Path) -> Result<String, String> {
     if path.is_dir() {
-        return Err("is a directory, not a file".into());
+        return Err("cannot read file: is a directory".into());
     }
-    let bytes = std::fs::read(path).map_err(|e| format!("cannot read file: {e}"))?;
+    let bytes = std::fs::read(path).map_err(|e| format!("cannot read file: {}", io_message(&e)))?;
     String::from_utf8(bytes).map_err(|_| "not a text file (invalid UTF-8)".into())
 }
 

@@ -747,15 +747,8 @@ impl WindowState {
 }
 
 fn export_obj(s: &Session, path: &str) -> Result<String, String> {
-    let x = s.puppet.sim.positions();
-    let points: Vec<glam::DVec3> = (0..x.x.len()).map(|i| x.get(i).as_dvec3()).collect();
-    let mut file = std::fs::File::create(path).map_err(|e| format!("{path}: cannot write: {e}"))?;
-    crate::mesh::write_obj(
-        &mut file,
-        &points,
-        &s.puppet.mesh.triangles,
-        "exported by puppet",
-    )
-    .map_err(|e| format!("{path}: cannot write: {e}"))?;
-    Ok(format!("exported {path}"))
+    s.puppet
+        .save_surface(std::path::Path::new(path), "exported by puppet")
+        .map(|_| format!("exported {path}"))
+        .map_err(|e| format!("{path}: {e}"))
 }

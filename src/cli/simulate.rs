@@ -12,9 +12,8 @@ use anyhow::{bail, Result};
 use puppet::anim::{Animation, Bound};
 use puppet::files::{self, Format};
 use puppet::joints::PoseScratch;
-use puppet::mesh::write_obj;
 use puppet::scene::{Puppet, RigSpec};
-use puppet::sim::Positions;
+use puppet::skeleton::truth::median_p95;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -138,12 +137,13 @@ pub fn run(args: &Args) -> Result<()> {
     let h = puppet.sim.params().time_step as f64;
     let mut local = Vec::new();
     let mut scratch = PoseScratch::default();
-    let mut step_ms = Vec::new();
+    // Steps done by the end of frame `k` (the tolerance absorbs the rounding of an f32
+    // step: 1/60 is not exact).
+    let steps_by = |k: u64| (k as f64 / args.fps / h + 1e-4).floor() as u64;
+    let mut step_ms = Vec::with_capacity(steps_by(frames).min(1 << 20) as usize);
     let mut steps = 0u64;
-    let faces = puppet.mesh.triangles.clone();
     for frame in 1..=frames {
-        // The tolerance absorbs the rounding of an f32 step (1/60 is not exact).
-        let target = (frame as f64 / args.fps / h + 1e-4).floor() as u64;
+        let target = steps_by(frame);
         while steps < target {
             steps += 1;
             match &bound {
@@ -158,20 +158,14 @@ pub fn run(args: &Args) -> Result<()> {
         if let Some(dir) = &args.out_dir {
             let path = dir.join(format!("frame_{frame:05}.obj"));
             write_surface(
+                &puppet,
                 &path,
-                puppet.sim.positions(),
-                &faces,
                 &format!("frame {frame}, t = {} s", frame as f64 / args.fps),
             )?;
         }
     }
     if let Some(out) = &args.out {
-        write_surface(
-            out,
-            puppet.sim.positions(),
-            &faces,
-            &format!("final frame {frames}"),
-        )?;
+        write_surface(&puppet, out, &format!("final frame {frames}"))?;
     }
 
     let positions = puppet.sim.positions();
@@ -183,13 +177,10 @@ pub fn run(args: &Args) -> Result<()> {
     if !final_max_offset.is_finite() {
         bail!("{mesh_name}: the simulation produced non-finite positions (please report this)");
     }
-    step_ms.sort_by(f64::total_cmp);
-    let pct = |q: f64| {
-        if step_ms.is_empty() {
-            0.0
-        } else {
-            step_ms[((step_ms.len() - 1) as f64 * q).round() as usize]
-        }
+    let (ms_median, ms_p95) = if step_ms.is_empty() {
+        (0.0, 0.0)
+    } else {
+        median_p95(step_ms)
     };
     let summary = Summary {
         mesh: mesh_name,
@@ -206,8 +197,8 @@ pub fn run(args: &Args) -> Result<()> {
         fps: args.fps,
         steps,
         time_step: puppet.sim.params().time_step,
-        ms_per_step_median: pct(0.5),
-        ms_per_step_p95: pct(0.95),
+        ms_per_step_median: ms_median,
+        ms_per_step_p95: ms_p95,
         seconds_skeleton,
         seconds_total: t_start.elapsed().as_secs_f64(),
         final_max_offset,
@@ -251,24 +242,9 @@ fn print_summary(s: &Summary) {
     }
 }
 
-fn write_surface(
-    path: &Path,
-    positions: &Positions,
-    faces: &[[u32; 3]],
-    header: &str,
-) -> Result<()> {
-    let points: Vec<glam::DVec3> = (0..positions.x.len())
-        .map(|i| positions.get(i).as_dvec3())
-        .collect();
-    let name = path.display().to_string();
-    let mut file = std::fs::File::create(path)
-        .map_err(|e| FileError::new(&name, format!("cannot write: {e}")))?;
-    write_obj(
-        &mut file,
-        &points,
-        faces,
-        &format!("puppet simulate: {header}"),
-    )
-    .map_err(|e| FileError::new(&name, format!("cannot write: {e}")))?;
+fn write_surface(puppet: &Puppet, path: &Path, header: &str) -> Result<()> {
+    puppet
+        .save_surface(path, &format!("puppet simulate: {header}"))
+        .map_err(|e| FileError::new(path.display().to_string(), e))?;
     Ok(())
 }

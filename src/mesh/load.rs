@@ -65,16 +65,8 @@ pub fn load_obj(path: &Path) -> Result<(Mesh, LoadReport), MeshError> {
     if path.is_dir() {
         return Err(MeshError::Io("is a directory".into()));
     }
-    let bytes = std::fs::read(path).map_err(|e| MeshError::Io(io_message(&e)))?;
+    let bytes = std::fs::read(path).map_err(|e| MeshError::Io(crate::files::io_message(&e)))?;
     parse_obj(&bytes)
-}
-
-fn io_message(e: &std::io::Error) -> String {
-    match e.kind() {
-        std::io::ErrorKind::NotFound => "no such file".into(),
-        std::io::ErrorKind::PermissionDenied => "permission denied".into(),
-        _ => e.to_string(),
-    }
 }
 
 /// Parses, welds and validates OBJ text held in memory.

@@ -6,7 +6,7 @@
 //! uploads only what changed since the last call (positions and normals when the
 //! simulation moved, colours when sections or the selection changed, overlay geometry only
 //! for overlays that are shown) and [`SceneRenderer::paint`] records the draws. Shaders are
-//! the sibling files `shaders/surface.wgsl` and `shaders/lines.wgsl`.
+//! the sibling file `shaders/scene.wgsl`.
 
 pub mod camera;
 pub mod image;
@@ -104,8 +104,13 @@ impl Default for Overlays {
 }
 
 impl Overlays {
-    fn any_posed(&self) -> bool {
-        self.wireframe || self.skeleton || self.bone_points || self.bone_springs
+    fn any(&self) -> bool {
+        self.wireframe
+            || self.skeleton
+            || self.bone_points
+            || self.bone_springs
+            || self.cuts
+            || self.pivots
     }
 }
 
@@ -211,6 +216,7 @@ pub struct SceneRenderer {
     /// Uploads done by the last `prepare` (for tests and the idle measurement).
     pub last_uploads: usize,
     cpu_vertices: Vec<SurfaceVertex>,
+    cpu_normals: Vec<Vec3>,
     cpu_colors: Vec<[f32; 4]>,
     cpu_lines: Vec<LineVertex>,
     cpu_top: Vec<LineVertex>,
@@ -221,13 +227,9 @@ impl SceneRenderer {
     /// Creates pipelines and buffers for drawing into targets of `format`.
     pub fn new(gpu: &Gpu, format: wgpu::TextureFormat) -> SceneRenderer {
         let device = &gpu.device;
-        let surface_shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("surface.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/surface.wgsl").into()),
-        });
-        let lines_shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("lines.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/lines.wgsl").into()),
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("scene.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/scene.wgsl").into()),
         });
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("uniforms"),
@@ -267,8 +269,8 @@ impl SceneRenderer {
             label: Some("surface"),
             layout: Some(&pipeline_layout),
             vertex: wgpu::VertexState {
-                module: &surface_shader,
-                entry_point: Some("vs_main"),
+                module: &shader,
+                entry_point: Some("vs_surface"),
                 compilation_options: Default::default(),
                 buffers: &[
                     Some(wgpu::VertexBufferLayout {
@@ -298,8 +300,8 @@ impl SceneRenderer {
             }),
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {
-                module: &surface_shader,
-                entry_point: Some("fs_main"),
+                module: &shader,
+                entry_point: Some("fs_surface"),
                 compilation_options: Default::default(),
                 targets: &[Some(wgpu::ColorTargetState {
                     format,
@@ -316,8 +318,8 @@ impl SceneRenderer {
                 label: Some(label),
                 layout: Some(&pipeline_layout),
                 vertex: wgpu::VertexState {
-                    module: &lines_shader,
-                    entry_point: Some("vs_main"),
+                    module: &shader,
+                    entry_point: Some("vs_lines"),
                     compilation_options: Default::default(),
                     buffers: &[Some(wgpu::VertexBufferLayout {
                         array_stride: std::mem::size_of::<LineVertex>() as u64,
@@ -338,8 +340,8 @@ impl SceneRenderer {
                 }),
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
-                    module: &lines_shader,
-                    entry_point: Some("fs_main"),
+                    module: &shader,
+                    entry_point: Some("fs_lines"),
                     compilation_options: Default::default(),
                     targets: &[Some(wgpu::ColorTargetState {
                         format,
@@ -373,6 +375,7 @@ impl SceneRenderer {
             seen: None,
             last_uploads: 0,
             cpu_vertices: Vec::new(),
+            cpu_normals: Vec::new(),
             cpu_colors: Vec::new(),
             cpu_lines: Vec::new(),
             cpu_top: Vec::new(),
@@ -473,12 +476,8 @@ impl SceneRenderer {
             self.last_uploads += 1;
         }
         let overlays_changed = before.is_none_or(|b| b.overlays != now.overlays);
-        if overlays_changed
-            || relaid
-            || (moved && overlays.any_posed())
-            || (moved && overlays.cuts)
-            || (moved && overlays.pivots)
-        {
+        // Every overlay (and the cut draft) follows the pose or the surface.
+        if overlays_changed || relaid || (moved && (overlays.any() || session.draft.is_some())) {
             self.update_overlays(session, overlays);
             self.lines.write(gpu, bytemuck::cast_slice(&self.cpu_lines));
             self.top.write(gpu, bytemuck::cast_slice(&self.cpu_top));
@@ -493,7 +492,9 @@ impl SceneRenderer {
         let n = x.x.len();
         self.cpu_vertices.clear();
         self.cpu_vertices.resize(n, SurfaceVertex::default());
-        let mut normals = vec![Vec3::ZERO; n];
+        let normals = &mut self.cpu_normals;
+        normals.clear();
+        normals.resize(n, Vec3::ZERO);
         for t in &session.puppet.mesh.triangles {
             let [a, b, c] = t.map(|i| x.get(i as usize));
             let face = (b - a).cross(c - a);

@@ -276,6 +276,16 @@ impl Puppet {
         })
     }
 
+    /// Writes the current simulated surface as an OBJ file (the welded input's vertex order
+    /// and faces); the error is the I/O failure in words.
+    pub fn save_surface(&self, path: &Path, header: &str) -> Result<(), String> {
+        let x = self.sim.positions();
+        let points: Vec<DVec3> = (0..x.x.len()).map(|i| x.get(i).as_dvec3()).collect();
+        let write_error = |e: std::io::Error| format!("cannot write: {}", files::io_message(&e));
+        let mut file = std::fs::File::create(path).map_err(write_error)?;
+        mesh::write_obj(&mut file, &points, &self.mesh.triangles, header).map_err(write_error)
+    }
+
     /// The current rig (parameters and cuts with resolved pivots) as a spec.
     pub fn current_spec(&self) -> RigSpec {
         RigSpec {
