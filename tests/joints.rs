@@ -78,7 +78,7 @@ fn far_error(p: &Puppet, local: &[Local], margin: f64) -> (f64, usize) {
 
 fn all_finite(p: &Puppet) -> bool {
     let x = p.sim.positions();
-    (0..x.x.len()).all(|i| x.get(i).is_finite())
+    (0..x.len()).all(|i| x.get(i).is_finite())
 }
 
 #[test]
@@ -245,7 +245,7 @@ fn the_frog_jaw_folds_without_nan_or_escape() {
         );
         // No escape: every point within its constraint region around its posed rest position.
         let prm = *p.sim.params();
-        for i in 0..x.x.len() {
+        for i in 0..x.len() {
             let l = p.sim.rig().bone_length[i];
             let y = x.get(i);
             match constraint {
@@ -302,7 +302,7 @@ fn removing_a_cut_needs_no_new_skeleton_and_restores_the_rest_state() {
     assert_eq!(p.skeleton.distance, skeleton_before);
     hold(&mut p, &[Local::default()], 50);
     let x = p.sim.positions();
-    for i in 0..x.x.len() {
+    for i in 0..x.len() {
         assert_eq!(x.get(i), p.mesh.positions[i].as_vec3() + Vec3::ZERO);
     }
 }

@@ -6,7 +6,7 @@ use glam::{Affine3A, Quat, Vec3};
 use puppet::mesh::{parse_obj, vertex_normals};
 use puppet::progress::silent;
 use puppet::rig::Rig;
-use puppet::sim::{presets, Constraint, Params, Pose, Simulation};
+use puppet::sim::{presets, Constraint, Options, Params, Pose, Simulation};
 use puppet::skeleton::{build, SkeletonParams};
 use std::sync::OnceLock;
 
@@ -89,13 +89,13 @@ fn rig_at_rest_stays_exactly_at_rest_for_10000_steps() {
                 ..m.params
             };
             let mut sim = Simulation::new(rig(), params);
-            let rest = sim.positions().clone();
+            let rest = sim.positions().to_vec();
             let pose = Pose::rest(1);
             for _ in 0..10_000 {
                 sim.step(&pose);
             }
             assert!(
-                sim.positions() == &rest,
+                sim.positions().to_vec() == rest,
                 "{} {constraint:?} drifted",
                 m.name
             );
@@ -242,7 +242,7 @@ fn same_result_with_one_and_two_threads() {
             for step in 0..200 {
                 sim.step(&turned(step as f32));
             }
-            sim.positions().clone()
+            sim.positions().to_vec()
         })
     };
     assert!(run(1) == run(2));
@@ -328,4 +328,144 @@ fn readme_material_example_parses() {
     let len = readme[start..].find("```").unwrap();
     let materials = puppet::sim::parse_materials(&readme[start..start + len]).unwrap();
     assert_eq!(materials[0].name, "jelly");
+}
+
+/// Two sections of spot-small: the vertices with `x > 0.3` (the head end) form section 1.
+fn two_sections(sim: &mut Simulation) -> Vec<u16> {
+    let sections: Vec<u16> = sim
+        .rig()
+        .rest
+        .iter()
+        .map(|p| u16::from(p.x > 0.3))
+        .collect();
+    sim.set_sections(sections.clone());
+    sections
+}
+
+fn head_turned(deg: f32) -> Pose {
+    Pose {
+        transforms: vec![
+            Affine3A::IDENTITY,
+            Affine3A::from_rotation_translation(
+                Quat::from_axis_angle(Vec3::Y, deg.to_radians()),
+                Vec3::ZERO,
+            ),
+        ],
+    }
+}
+
+#[test]
+fn simd_and_portable_kernels_agree_bit_for_bit() {
+    for constraint in [Constraint::Circumsphere, Constraint::SpringReduction] {
+        let run = |simd: bool| {
+            let options = Options {
+                simd,
+                ..Options::default()
+            };
+            let params = Params {
+                constraint,
+                ..preset("water")
+            };
+            let mut sim = Simulation::with_options(rig(), params, options);
+            for step in 0..200 {
+                sim.step(&turned(step as f32 * 2.0));
+            }
+            sim.positions().to_vec()
+        };
+        assert!(run(true) == run(false), "{constraint:?}");
+    }
+}
+
+#[test]
+fn tile_size_does_not_change_the_result_without_sleeping() {
+    let run = |tile: usize| {
+        let options = Options {
+            sleeping: false,
+            tile,
+            ..Options::default()
+        };
+        let mut sim = Simulation::with_options(rig(), preset("skin"), options);
+        for step in 0..100 {
+            sim.step(&turned(step as f32));
+        }
+        sim.positions().to_vec()
+    };
+    let a = run(256);
+    assert!(a == run(1) && a == run(37) && a == run(100_000));
+}
+
+#[test]
+fn still_tiles_sleep_and_a_pose_change_wakes_them_in_the_same_step() {
+    let mut sim = Simulation::new(rig(), preset("skin"));
+    two_sections(&mut sim);
+    // Disturb, then let it settle with a constant pose: every tile falls asleep.
+    for _ in 0..5 {
+        sim.step(&head_turned(30.0));
+    }
+    let mut steps = 0;
+    while !sim.is_asleep() {
+        sim.step(&head_turned(30.0));
+        steps += 1;
+        assert!(steps < 5_000, "never fell asleep");
+    }
+    // Asleep, a step with the same pose integrates no tile and changes nothing at all.
+    let before = sim.positions().to_vec();
+    sim.step(&head_turned(30.0));
+    assert!(sim.positions().to_vec() == before);
+    let (tiles, integrated) = sim.tiles();
+    assert!(tiles >= 1 && integrated == 0);
+    // A pose change at step k moves the sleeping head at step k.
+    sim.step(&head_turned(45.0));
+    let after = sim.positions().to_vec();
+    let moved = (0..after.len())
+        .filter(|&i| sim.rig().rest[i].x > 0.3 && after[i] != before[i])
+        .count();
+    let head = sim.rig().rest.iter().filter(|p| p.x > 0.3).count();
+    assert!(
+        moved > head / 2,
+        "only {moved} of {head} head vertices moved"
+    );
+    // A parameter change wakes everything too.
+    let mut sim2 = Simulation::new(rig(), preset("skin"));
+    for _ in 0..2000 {
+        sim2.step(&Pose::rest(1));
+    }
+    assert!(sim2.is_asleep());
+    sim2.set_params(preset("water"));
+    assert!(!sim2.is_asleep());
+}
+
+#[test]
+fn motion_wakes_neighbouring_tiles_before_it_reaches_them() {
+    // Small tiles, so the moving head is many tiles away from the tail.
+    let options = Options {
+        tile: 8,
+        ..Options::default()
+    };
+    let mut sim = Simulation::with_options(rig(), preset("water"), options);
+    two_sections(&mut sim);
+    let mut full = Simulation::with_options(
+        rig(),
+        preset("water"),
+        Options {
+            sleeping: false,
+            ..options
+        },
+    );
+    two_sections(&mut full);
+    let scale = 2.0f32; // spot-small's size
+    let mut worst = 0.0f32;
+    for step in 0..600 {
+        let pose = head_turned(if step < 300 { 40.0 } else { 0.0 });
+        sim.step(&pose);
+        full.step(&pose);
+        let (a, b) = (sim.positions(), full.positions());
+        for i in 0..a.len() {
+            worst = worst.max((a.get(i) - b.get(i)).length());
+        }
+    }
+    assert!(
+        worst < 1e-3 * scale,
+        "sleeping run strays {worst} from the full run"
+    );
 }

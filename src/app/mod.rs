@@ -667,7 +667,7 @@ impl WindowState {
         if steps > 0 {
             if let Some(s) = &self.session {
                 let t = s.puppet.sim.last_times();
-                *step_ms = (t.bones + t.springs_verlet_constraint) * 1e3;
+                *step_ms = t.total() * 1e3;
             }
         }
         let elapsed = start.elapsed().as_secs_f32();

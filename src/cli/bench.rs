@@ -240,8 +240,8 @@ fn sim(args: &Args) -> Result<()> {
             if k >= 20 {
                 total.push(dt * 1e3);
                 let st = sim.last_times();
-                bones.push(st.bones * 1e3);
-                fused.push(st.springs_verlet_constraint * 1e3);
+                bones.push(st.wake * 1e3);
+                fused.push(st.fused * 1e3);
             }
         }
         let (med, p95) = truth::median_p95(total);

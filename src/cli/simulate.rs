@@ -170,7 +170,7 @@ pub fn run(args: &Args) -> Result<()> {
 
     let positions = puppet.sim.positions();
     let diagonal = puppet.mesh.diagonal().max(f64::MIN_POSITIVE);
-    let final_max_offset = (0..positions.x.len())
+    let final_max_offset = (0..positions.len())
         .map(|i| (positions.get(i) - puppet.sim.target(i)).length() as f64)
         .fold(0.0, f64::max)
         / diagonal;

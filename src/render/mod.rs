@@ -489,7 +489,7 @@ impl SceneRenderer {
 
     fn update_vertices(&mut self, session: &Session) {
         let x = session.puppet.sim.positions();
-        let n = x.x.len();
+        let n = x.len();
         self.cpu_vertices.clear();
         self.cpu_vertices.resize(n, SurfaceVertex::default());
         let normals = &mut self.cpu_normals;
@@ -555,7 +555,7 @@ impl SceneRenderer {
             }
         }
         if o.bone_springs {
-            for i in 0..x.x.len() {
+            for i in 0..x.len() {
                 let (bi, bo) = p.sim.bone_points(i);
                 let xi = x.get(i);
                 push_line(lines, bi, xi, [0.3, 0.9, 0.4, 0.7]);
@@ -563,7 +563,7 @@ impl SceneRenderer {
             }
         }
         if o.bone_points {
-            for i in 0..x.x.len() {
+            for i in 0..x.len() {
                 let (bi, bo) = p.sim.bone_points(i);
                 push_cross(lines, bi, size * 0.0015, [0.3, 0.9, 0.4, 1.0]);
                 push_cross(lines, bo, size * 0.0015, [0.9, 0.35, 0.3, 1.0]);

@@ -280,7 +280,7 @@ impl Puppet {
     /// and faces); the error is the I/O failure in words.
     pub fn save_surface(&self, path: &Path, header: &str) -> Result<(), String> {
         let x = self.sim.positions();
-        let points: Vec<DVec3> = (0..x.x.len()).map(|i| x.get(i).as_dvec3()).collect();
+        let points: Vec<DVec3> = (0..x.len()).map(|i| x.get(i).as_dvec3()).collect();
         let write_error = |e: std::io::Error| format!("cannot write: {}", files::io_message(&e));
         let mut file = std::fs::File::create(path).map_err(write_error)?;
         mesh::write_obj(&mut file, &points, &self.mesh.triangles, header).map_err(write_error)

@@ -26,6 +26,8 @@
 //!   out, the point is pulled towards its rest position until both springs are within bounds,
 //!   so the constraint holds after every step.
 
+mod kernel;
+pub mod layout;
 mod material;
 
 pub use material::{
@@ -34,6 +36,7 @@ pub use material::{
 
 use crate::rig::Rig;
 use glam::{Affine3A, Vec3};
+use layout::{Layout, Soa};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -132,112 +135,180 @@ impl Pose {
     }
 }
 
-/// Mass-point positions as struct-of-arrays.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Positions {
-    pub x: Vec<f32>,
-    pub y: Vec<f32>,
-    pub z: Vec<f32>,
+/// Mass-point positions, read through the rig's vertex numbering (the solver stores them in
+/// its own order, see [`layout`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Positions<'a> {
+    soa: &'a Soa,
+    slot: &'a [u32],
 }
 
-impl Positions {
-    fn from_points(points: &[Vec3]) -> Self {
-        Positions {
-            x: points.iter().map(|p| p.x).collect(),
-            y: points.iter().map(|p| p.y).collect(),
-            z: points.iter().map(|p| p.z).collect(),
-        }
-    }
-
-    #[inline(always)]
+impl Positions<'_> {
+    /// Position of rig vertex `i`.
+    ///
+    /// # Panics
+    /// If `i` is not a vertex of the rig.
+    #[inline]
     pub fn get(&self, i: usize) -> Vec3 {
-        Vec3::new(self.x[i], self.y[i], self.z[i])
+        self.soa.get(self.slot[i] as usize)
     }
 
-    fn set_all(&mut self, points: &[Vec3]) {
-        for (i, p) in points.iter().enumerate() {
-            (self.x[i], self.y[i], self.z[i]) = (p.x, p.y, p.z);
-        }
+    /// Number of mass points.
+    pub fn len(&self) -> usize {
+        self.slot.len()
     }
 
-    /// All positions as vectors.
+    /// True for a rig without vertices.
+    pub fn is_empty(&self) -> bool {
+        self.slot.is_empty()
+    }
+
+    /// All positions in vertex order.
     pub fn to_vec(&self) -> Vec<Vec3> {
-        (0..self.x.len()).map(|i| self.get(i)).collect()
+        (0..self.len()).map(|i| self.get(i)).collect()
+    }
+
+    /// Writes all positions in vertex order into `out` (resized; no allocation once it has
+    /// the capacity).
+    pub fn write_into(&self, out: &mut Vec<Vec3>) {
+        out.clear();
+        out.extend((0..self.len()).map(|i| self.get(i)));
     }
 }
 
-/// The kinematic targets of the current pose: rest positions and bone points in world space.
-#[derive(Clone, Debug)]
-struct BoneFrame {
-    rest: Vec<Vec3>,
-    inner: Vec<Vec3>,
-    outer: Vec<Vec3>,
-    /// Unit normals in world space (for the direction of a zero-length bone spring).
-    normal: Vec<Vec3>,
-    /// The pose and bone distance this frame was computed for.
-    pose: Option<Pose>,
-    bone_distance: f32,
+impl PartialEq for Positions<'_> {
+    /// Same positions for every vertex (exact `f32` equality).
+    fn eq(&self, other: &Self) -> bool {
+        self.len() == other.len() && (0..self.len()).all(|i| self.get(i) == other.get(i))
+    }
+}
+
+/// Solver options that change cost, not physics (beyond the sleeping error, which
+/// `puppet bench --skip` measures).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Options {
+    /// Let still tiles sleep (see the module docs).
+    pub sleeping: bool,
+    /// A tile whose every mass point moved less than this fraction of the rig's bounding-box
+    /// diagonal per step, for [`QUIET_STEPS`] steps in a row, with no moving neighbour and no
+    /// pose change, sleeps.
+    pub sleep_threshold: f32,
+    /// Slots per tile.
+    pub tile: usize,
+    /// Use the AVX2 build of the kernel where the CPU has it (results are bit-identical).
+    pub simd: bool,
+}
+
+/// Steps a tile must stay still before it sleeps.
+pub const QUIET_STEPS: u16 = 8;
+
+impl Default for Options {
+    /// Values chosen by measurement: BENCHMARKS.md, "Skipping what does not move".
+    fn default() -> Self {
+        Options {
+            sleeping: true,
+            sleep_threshold: 1e-6,
+            tile: 256,
+            simd: true,
+        }
+    }
 }
 
 /// Time spent per stage of the last step (seconds).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StageTimes {
-    /// Stage 1, bone transforms (zero when the pose did not change).
-    pub bones: f64,
-    /// Stages 2–4 fused in one pass: forces, Verlet, constraint.
-    pub springs_verlet_constraint: f64,
+    /// Stage 0: which sections moved, which tiles wake.
+    pub wake: f64,
+    /// Stages 1–4 fused in one pass over the awake tiles: bone transforms, forces, Verlet,
+    /// constraint.
+    pub fused: f64,
+    /// Stage 5: tiles that stopped moving go to sleep, moving tiles wake their neighbours.
+    pub sleep: f64,
+}
+
+impl StageTimes {
+    /// The whole step.
+    pub fn total(&self) -> f64 {
+        self.wake + self.fused + self.sleep
+    }
 }
 
 /// A simulated puppet: rig, parameters, state and scratch.
 pub struct Simulation {
     rig: Rig,
     params: Params,
-    /// Section of each vertex (all 0 until joints cut the skeleton).
+    options: Options,
+    layout: Layout,
+    /// Section of each rig vertex (all 0 until joints cut the skeleton).
     section_of: Vec<u16>,
-    inv_mass: Vec<f32>,
-    frame: BoneFrame,
-    /// Current, previous and scratch positions (rotated each step, never reallocated).
-    cur: Positions,
-    prev: Positions,
-    next: Positions,
+    /// Transform of each section in the last step.
+    transforms: Vec<Affine3A>,
+    /// Current and previous positions by slot (the step writes the new positions over the
+    /// previous ones, then swaps).
+    cur: Soa,
+    prev: Soa,
+    /// Sleeping state per tile.
+    awake: Vec<bool>,
+    quiet: Vec<u16>,
+    motion: Vec<f32>,
+    /// Scratch: sections whose transform changed, tiles to wake.
+    changed: Vec<bool>,
+    to_wake: Vec<bool>,
+    wake_all: bool,
+    /// Squared absolute sleep threshold.
+    still2: f32,
+    diagonal: f32,
     steps: u64,
+    awake_tiles: usize,
     time_debt: f32,
     last_times: StageTimes,
 }
 
 impl Simulation {
+    /// A simulation at rest, with the default [`Options`].
+    pub fn new(rig: Rig, params: Params) -> Simulation {
+        Simulation::with_options(rig, params, Options::default())
+    }
+
     /// A simulation at rest.
-    pub fn new(mut rig: Rig, params: Params) -> Simulation {
+    pub fn with_options(mut rig: Rig, params: Params, options: Options) -> Simulation {
         let params = params.sanitized();
         if rig.bone_distance != params.bone_distance {
             rig.set_bone_distance(params.bone_distance);
         }
         let n = rig.len();
-        let inv_mass = (0..n)
-            .map(|i| 1.0 / (rig.start[i + 1] - rig.start[i] + 2) as f32)
-            .collect();
-        let cur = Positions::from_points(&rig.rest);
-        let frame = BoneFrame {
-            rest: rig.rest.clone(),
-            inner: rig.inner.clone(),
-            outer: rig.outer.clone(),
-            normal: rig.normals.clone(),
-            pose: Some(Pose::rest(1)),
-            bone_distance: rig.bone_distance,
-        };
-        Simulation {
+        let layout = Layout::new(&rig, options.tile);
+        let cur = layout.rest_positions();
+        let (lo, hi) = rig.rest.iter().fold(
+            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let diagonal = if n > 0 { (hi - lo).length() } else { 0.0 };
+        let tiles = layout.tiles();
+        let mut sim = Simulation {
             section_of: vec![0; n],
-            inv_mass,
-            frame,
+            transforms: vec![Affine3A::IDENTITY],
             prev: cur.clone(),
-            next: cur.clone(),
             cur,
-            rig,
-            params,
+            awake: vec![true; tiles],
+            quiet: vec![0; tiles],
+            motion: vec![0.0; tiles],
+            changed: vec![false; 1],
+            to_wake: vec![false; tiles],
+            wake_all: true,
+            still2: 0.0,
+            diagonal,
             steps: 0,
+            awake_tiles: tiles,
             time_debt: 0.0,
             last_times: StageTimes::default(),
-        }
+            layout,
+            rig,
+            params,
+            options,
+        };
+        sim.set_options(options);
+        sim
     }
 
     /// The rig.
@@ -250,43 +321,109 @@ impl Simulation {
         &self.params
     }
 
-    /// Changes parameters; they take effect on the next step. A new bone distance moves the
-    /// bone points in O(n) without touching the skeleton.
-    pub fn set_params(&mut self, params: Params) {
-        self.params = params.sanitized();
-        if self.params.bone_distance != self.rig.bone_distance {
-            self.rig.set_bone_distance(self.params.bone_distance);
-        }
+    /// The solver options in force.
+    pub fn options(&self) -> &Options {
+        &self.options
     }
 
-    /// Assigns vertices to joint sections (used by the joints module).
+    /// Changes the solver options (a new tile size renumbers nothing but re-cuts the
+    /// tiles). Every tile wakes.
+    pub fn set_options(&mut self, options: Options) {
+        let tile = options.tile.max(1);
+        if tile != self.layout.tile {
+            self.layout = Layout::new(&self.rig, tile);
+            self.layout.set_sections(&self.section_of);
+            let tiles = self.layout.tiles();
+            self.awake = vec![true; tiles];
+            self.quiet = vec![0; tiles];
+            self.motion = vec![0.0; tiles];
+            self.to_wake = vec![false; tiles];
+        }
+        let threshold = if options.sleep_threshold.is_finite() {
+            options.sleep_threshold.max(0.0)
+        } else {
+            0.0
+        };
+        self.options = Options {
+            tile,
+            sleep_threshold: threshold,
+            simd: options.simd && kernel::avx2_available(),
+            ..options
+        };
+        self.still2 = (threshold * self.diagonal).powi(2);
+        self.wake_all = true;
+    }
+
+    /// Changes parameters; they take effect on the next step and wake every tile. A new
+    /// bone distance moves the bone points in O(n) without touching the skeleton.
+    pub fn set_params(&mut self, params: Params) {
+        let params = params.sanitized();
+        if params == self.params {
+            return;
+        }
+        self.params = params;
+        if self.params.bone_distance != self.rig.bone_distance {
+            self.rig.set_bone_distance(self.params.bone_distance);
+            self.layout.set_bone_length(&self.rig);
+        }
+        self.wake_all = true;
+    }
+
+    /// Assigns vertices to joint sections (used by the joints module). Every tile wakes.
     ///
     /// # Panics
     /// If `section_of` does not have one entry per vertex.
     pub fn set_sections(&mut self, section_of: Vec<u16>) {
         assert_eq!(section_of.len(), self.rig.len(), "one section per vertex");
+        self.layout.set_sections(&section_of);
+        let sections = section_of
+            .iter()
+            .map(|&s| s as usize + 1)
+            .max()
+            .unwrap_or(1);
         self.section_of = section_of;
-        self.frame.pose = None;
+        self.transforms.resize(sections, Affine3A::IDENTITY);
+        self.changed.resize(sections, false);
+        self.wake_all = true;
     }
 
     /// Current positions.
-    pub fn positions(&self) -> &Positions {
-        &self.cur
+    pub fn positions(&self) -> Positions<'_> {
+        Positions {
+            soa: &self.cur,
+            slot: &self.layout.slot,
+        }
     }
 
     /// Previous positions (velocity = current − previous).
-    pub fn previous_positions(&self) -> &Positions {
-        &self.prev
+    pub fn previous_positions(&self) -> Positions<'_> {
+        Positions {
+            soa: &self.prev,
+            slot: &self.layout.slot,
+        }
     }
 
     /// Rest position of vertex `i` in the pose of the last step.
     pub fn target(&self, i: usize) -> Vec3 {
-        self.frame.rest[i]
+        self.transform_of(i).transform_point3(self.rig.rest[i])
     }
 
     /// Inner and outer bone point of vertex `i` in the pose of the last step.
     pub fn bone_points(&self, i: usize) -> (Vec3, Vec3) {
-        (self.frame.inner[i], self.frame.outer[i])
+        let t = self.transform_of(i);
+        let d = &self.layout.slots[self.layout.slot[i] as usize];
+        kernel::bones(
+            t.transform_point3(d.rest.into()),
+            t.transform_vector3(d.normal.into()),
+            d.bone_length,
+        )
+    }
+
+    fn transform_of(&self, i: usize) -> Affine3A {
+        self.transforms
+            .get(self.section_of[i] as usize)
+            .copied()
+            .unwrap_or(Affine3A::IDENTITY)
     }
 
     /// Steps taken so far.
@@ -299,10 +436,20 @@ impl Simulation {
         self.last_times
     }
 
+    /// Tiles in all, and tiles integrated by the last step.
+    pub fn tiles(&self) -> (usize, usize) {
+        (self.layout.tiles(), self.awake_tiles)
+    }
+
+    /// True when every tile sleeps: the next step with the same pose does nothing.
+    pub fn is_asleep(&self) -> bool {
+        !self.wake_all && self.awake.iter().all(|a| !a)
+    }
+
     /// Sum of squared per-step displacements (proportional to kinetic energy).
     pub fn kinetic_energy(&self) -> f64 {
-        (0..self.rig.len())
-            .map(|i| (self.cur.get(i) - self.prev.get(i)).length_squared() as f64)
+        (0..self.cur.len())
+            .map(|k| (self.cur.get(k) - self.prev.get(k)).length_squared() as f64)
             .sum()
     }
 
@@ -328,196 +475,159 @@ impl Simulation {
 
     /// One simulation step of `h = params.time_step`.
     ///
-    /// 1. **Bone transforms**: rest positions and bone points of every vertex are moved
-    ///    rigidly with their section's transform (skipped when neither the pose nor the bone
-    ///    distance changed since the last step).
-    /// 2. **Forces**: each vertex gathers its surface springs (CSR neighbours) and its two
-    ///    bone springs (Hooke, `stretch × direction`).
+    /// 0. **Wake**: sections whose transform differs from the last step wake the tiles that
+    ///    hold their vertices (a parameter or section change wakes all).
+    /// 1. **Bone transforms**: each slot's rest position, normal and bone points are moved
+    ///    rigidly with its section's transform.
+    /// 2. **Forces**: each mass point gathers its surface springs (CSR neighbours) and its
+    ///    two bone springs (Hooke, `stretch × direction`).
     /// 3. **Verlet** with velocity damping:
     ///    `x' = x + C_vd^(h/h₀) (x − x_prev) + D (h/h₀)² / (deg + 2) · F`.
     /// 4. **Constraint**: circumsphere projection, or iterated spring reduction.
+    /// 5. **Sleep**: a tile that moved less than the threshold for [`QUIET_STEPS`] steps,
+    ///    with still neighbours, stops (its velocity is set to zero); a tile that moved wakes
+    ///    its neighbours for the next step.
     ///
-    /// Stages 2–4 are fused into one parallel pass over vertices that reads the current
-    /// positions and writes the next ones, so the result does not depend on the number of
-    /// threads and nothing is allocated. A static material (see [`Params::is_static`]) skips
-    /// 2–4: the surface just follows the bones.
+    /// Stages 1–4 are fused into one parallel pass over the awake tiles ([`kernel`]) that
+    /// reads the current positions and writes the new ones over the previous ones, so the
+    /// result does not depend on the number of threads and nothing is allocated. A static
+    /// material (see [`Params::is_static`]) skips 2–4: the surface just follows the bones.
     pub fn step(&mut self, pose: &Pose) {
         let t0 = Instant::now();
-        self.update_frame(pose);
+        self.wake(pose);
         let t1 = Instant::now();
-        let p = self.params;
-        if p.is_static() {
-            self.prev.set_all(&self.frame.rest);
-            self.cur.set_all(&self.frame.rest);
-        } else {
+        if self.params.is_static() {
+            self.follow_bones();
+        } else if self.awake_tiles > 0 {
             self.integrate();
         }
+        let t2 = Instant::now();
+        self.settle();
         self.steps += 1;
         self.last_times = StageTimes {
-            bones: (t1 - t0).as_secs_f64(),
-            springs_verlet_constraint: t1.elapsed().as_secs_f64(),
+            wake: (t1 - t0).as_secs_f64(),
+            fused: (t2 - t1).as_secs_f64(),
+            sleep: t2.elapsed().as_secs_f64(),
         };
     }
 
-    fn update_frame(&mut self, pose: &Pose) {
-        let same_pose = self.frame.pose.as_ref() == Some(pose);
-        if same_pose && self.frame.bone_distance == self.rig.bone_distance {
-            return;
-        }
-        let rig = &self.rig;
-        let sections = &self.section_of;
-        let transforms = &pose.transforms;
-        let f = &mut self.frame;
-        (
-            f.rest.par_iter_mut(),
-            f.inner.par_iter_mut(),
-            f.outer.par_iter_mut(),
-            f.normal.par_iter_mut(),
-        )
-            .into_par_iter()
+    /// Stage 0.
+    fn wake(&mut self, pose: &Pose) {
+        let mut any = false;
+        for (s, (old, changed)) in self
+            .transforms
+            .iter_mut()
+            .zip(self.changed.iter_mut())
             .enumerate()
-            .for_each(|(i, (r, bi, bo, n))| {
-                let t = transforms
-                    .get(sections[i] as usize)
-                    .copied()
-                    .unwrap_or(Affine3A::IDENTITY);
-                *r = t.transform_point3(rig.rest[i]);
-                *bi = t.transform_point3(rig.inner[i]);
-                *bo = t.transform_point3(rig.outer[i]);
-                *n = t.transform_vector3(rig.normals[i]);
-            });
-        f.pose = Some(pose.clone());
-        f.bone_distance = rig.bone_distance;
-    }
-
-    fn integrate(&mut self) {
-        const CHUNK: usize = 1024;
-        let p = self.params;
-        let ratio = p.time_step / REFERENCE_STEP;
-        let k = p.stiffness * ratio * ratio;
-        let c = p.damping.powf(ratio);
-        let rig = &self.rig;
-        let frame = &self.frame;
-        let inv_mass = &self.inv_mass;
-        let (cur, prev) = (&self.cur, &self.prev);
-        let next = &mut self.next;
-        next.x
-            .par_chunks_mut(CHUNK)
-            .zip(next.y.par_chunks_mut(CHUNK))
-            .zip(next.z.par_chunks_mut(CHUNK))
-            .enumerate()
-            .for_each(|(chunk, ((nx, ny), nz))| {
-                let base = chunk * CHUNK;
-                for local in 0..nx.len() {
-                    let i = base + local;
-                    let x = cur.get(i);
-                    // 2. Forces.
-                    let mut force = Vec3::ZERO;
-                    for s in rig.start[i] as usize..rig.start[i + 1] as usize {
-                        force += stretch(
-                            cur.get(rig.neighbour[s] as usize) - x,
-                            rig.neighbour_rest[s],
-                        );
-                    }
-                    force += stretch(frame.inner[i] - x, rig.inner_rest[i]);
-                    force += stretch(frame.outer[i] - x, rig.outer_rest[i]);
-                    // 3. Verlet with velocity damping.
-                    let mut y = x + c * (x - prev.get(i)) + (k * inv_mass[i]) * force;
-                    // 4. Constraint.
-                    y = match p.constraint {
-                        Constraint::Circumsphere => circumsphere(
-                            y,
-                            frame.rest[i],
-                            (p.max_length - 1.0) * rig.bone_length[i],
-                        ),
-                        Constraint::SpringReduction => {
-                            spring_reduction(y, frame, i, rig.bone_length[i], &p)
-                        }
-                    };
-                    (nx[local], ny[local], nz[local]) = (y.x, y.y, y.z);
-                }
-            });
-        // Rotate buffers: prev <- cur, cur <- next, next <- old prev.
-        std::mem::swap(&mut self.prev, &mut self.cur);
-        std::mem::swap(&mut self.cur, &mut self.next);
-    }
-}
-
-/// Hooke's stretch vector of a spring from the mass point along `d` (to the other end).
-#[inline(always)]
-fn stretch(d: Vec3, rest: f32) -> Vec3 {
-    let len = d.length();
-    if len > 0.0 {
-        d * ((len - rest) / len)
-    } else {
-        Vec3::ZERO
-    }
-}
-
-/// Projects `y` onto the ball of radius `rho` around `centre`.
-#[inline(always)]
-fn circumsphere(y: Vec3, centre: Vec3, rho: f32) -> Vec3 {
-    let v = y - centre;
-    let d2 = v.length_squared();
-    if d2 <= rho * rho {
-        y
-    } else {
-        centre + v * (rho / d2.sqrt())
-    }
-}
-
-/// Is `y` within both bone-spring bounds (with a relative slack for rounding)?
-#[inline(always)]
-fn reduction_ok(y: Vec3, frame: &BoneFrame, i: usize, lo: f32, hi: f32) -> bool {
-    let slack = 1e-6 * hi.max(1e-30);
-    [frame.inner[i], frame.outer[i]].iter().all(|b| {
-        let len = (y - *b).length();
-        len >= lo - slack && len <= hi + slack
-    })
-}
-
-/// Iterated clamping of both bone springs into `[f_min L, f_max L]` (see module docs).
-#[inline(always)]
-fn spring_reduction(mut y: Vec3, frame: &BoneFrame, i: usize, l: f32, p: &Params) -> Vec3 {
-    let (lo, hi) = (p.min_length * l, p.max_length * l);
-    for _ in 0..p.reduction_iterations {
-        let mut violated = false;
-        for (b, away) in [
-            (frame.inner[i], frame.normal[i]),
-            (frame.outer[i], -frame.normal[i]),
-        ] {
-            let v = y - b;
-            let len = v.length();
-            if len > hi {
-                y = b + v * (hi / len);
-                violated = true;
-            } else if len < lo {
-                y = if len > 0.0 {
-                    b + v * (lo / len)
-                } else {
-                    b + away * lo
-                };
-                violated = true;
+        {
+            let new = pose
+                .transforms
+                .get(s)
+                .copied()
+                .unwrap_or(Affine3A::IDENTITY);
+            *changed = new != *old;
+            if *changed {
+                *old = new;
+                any = true;
             }
         }
-        if !violated {
-            return y;
+        let all = self.wake_all || !self.options.sleeping;
+        self.wake_all = false;
+        for t in 0..self.awake.len() {
+            let woken = all
+                || (any
+                    && self
+                        .layout
+                        .sections_of_tile(t)
+                        .iter()
+                        .any(|&s| self.changed[s as usize]));
+            if woken {
+                self.awake[t] = true;
+                self.quiet[t] = 0;
+            }
+        }
+        self.awake_tiles = self.awake.iter().filter(|&&a| a).count();
+    }
+
+    /// Stages 1–4 for a static material: awake tiles take their posed rest positions.
+    fn follow_bones(&mut self) {
+        let layout = &self.layout;
+        for t in 0..layout.tiles() {
+            if !self.awake[t] {
+                continue;
+            }
+            for k in layout.tile_range(t) {
+                let d = &layout.slots[k];
+                let r = self.transforms[d.section as usize].transform_point3(d.rest.into());
+                self.cur.set(k, r);
+                self.prev.set(k, r);
+            }
+            self.motion[t] = 0.0;
         }
     }
-    if reduction_ok(y, frame, i, lo, hi) {
-        return y;
+
+    /// Stages 1–4: the fused kernel over every awake tile.
+    fn integrate(&mut self) {
+        let p = self.params;
+        let ratio = p.time_step / REFERENCE_STEP;
+        let ctx = kernel::Ctx {
+            layout: &self.layout,
+            cur: &self.cur,
+            transforms: &self.transforms,
+            params: p,
+            stiffness: p.stiffness * ratio * ratio,
+            damping: p.damping.powf(ratio),
+            avx2: self.options.simd,
+        };
+        let tile = self.layout.tile;
+        let awake = &self.awake;
+        let prev = &mut self.prev;
+        prev.x
+            .par_chunks_mut(tile)
+            .zip(prev.y.par_chunks_mut(tile))
+            .zip(prev.z.par_chunks_mut(tile))
+            .zip(self.motion.par_iter_mut())
+            .enumerate()
+            .for_each(|(t, (((px, py), pz), motion))| {
+                if awake[t] {
+                    *motion = kernel::tile(&ctx, ctx.layout.tile_range(t), px, py, pz);
+                }
+            });
+        std::mem::swap(&mut self.prev, &mut self.cur);
     }
-    // Budget spent: pull towards the rest position (where both springs have length L,
-    // always feasible) until feasible, by bisection on the segment.
-    let r = frame.rest[i];
-    let (mut feasible, mut infeasible) = (0.0f32, 1.0f32);
-    for _ in 0..20 {
-        let s = 0.5 * (feasible + infeasible);
-        if reduction_ok(r + (y - r) * s, frame, i, lo, hi) {
-            feasible = s;
-        } else {
-            infeasible = s;
+
+    /// Stage 5.
+    fn settle(&mut self) {
+        if !self.options.sleeping {
+            return;
+        }
+        let layout = &self.layout;
+        self.to_wake.fill(false);
+        for t in 0..layout.tiles() {
+            if !self.awake[t] {
+                continue;
+            }
+            if self.motion[t] > self.still2 {
+                self.quiet[t] = 0;
+                for &u in layout.neighbours_of_tile(t) {
+                    self.to_wake[u as usize] = true;
+                }
+            } else {
+                self.quiet[t] = self.quiet[t].saturating_add(1);
+            }
+        }
+        let static_material = self.params.is_static();
+        for t in 0..layout.tiles() {
+            if self.to_wake[t] {
+                if !self.awake[t] {
+                    self.awake[t] = true;
+                    self.quiet[t] = 0;
+                }
+            } else if self.awake[t] && (static_material || self.quiet[t] >= QUIET_STEPS) {
+                // Asleep with zero velocity: both buffers hold the same positions.
+                self.awake[t] = false;
+                self.prev.copy_range(&self.cur, layout.tile_range(t));
+            }
         }
     }
-    r + (y - r) * feasible
 }
