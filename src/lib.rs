@@ -17,6 +17,7 @@ pub mod mesh;
 pub mod progress;
 pub mod render;
 pub mod rig;
+pub mod scenario;
 pub mod scene;
 pub mod sim;
 pub mod skeleton;

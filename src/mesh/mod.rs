@@ -14,7 +14,7 @@ mod weld;
 
 pub use load::{load_obj, parse_obj, write_obj, LoadReport};
 pub use normals::vertex_normals;
-pub use subdivide::{subdivide_loop, subdivide_midpoint};
+pub use subdivide::{subdivide_loop, subdivide_loop_values, subdivide_midpoint};
 pub use validate::{validate, Topology};
 pub use weld::weld;
 

@@ -6,12 +6,34 @@ use std::collections::HashMap;
 
 /// Splits every triangle into four at its edge midpoints (shape unchanged, flat patches).
 pub fn subdivide_midpoint(mesh: &Mesh) -> Mesh {
-    split(mesh, |_, _, _| None)
+    split(mesh, |_, _, _| None).0
 }
 
 /// One step of Loop subdivision: a smooth surface with four times the faces. Original
 /// vertices keep their indices; edge vertices follow.
 pub fn subdivide_loop(mesh: &Mesh) -> Mesh {
+    subdivide_loop_with_parents(mesh).0
+}
+
+/// [`subdivide_loop`], and per-vertex values carried along: an original vertex keeps its
+/// value, an edge vertex takes the mean of its edge's ends. Used to give subdivided
+/// benchmark meshes plausible skeletal distances without recomputing the skeleton.
+///
+/// # Panics
+/// If `values` does not have one entry per vertex.
+pub fn subdivide_loop_values(mesh: &Mesh, values: &[f64]) -> (Mesh, Vec<f64>) {
+    assert_eq!(values.len(), mesh.positions.len(), "one value per vertex");
+    let (out, parents) = subdivide_loop_with_parents(mesh);
+    let mut v = values.to_vec();
+    v.extend(
+        parents
+            .iter()
+            .map(|&(a, b)| 0.5 * (values[a as usize] + values[b as usize])),
+    );
+    (out, v)
+}
+
+fn subdivide_loop_with_parents(mesh: &Mesh) -> (Mesh, Vec<(u32, u32)>) {
     let n = mesh.positions.len();
     // Neighbour sums for the vertex rule.
     let mut nsum = vec![DVec3::ZERO; n];
@@ -22,7 +44,7 @@ pub fn subdivide_loop(mesh: &Mesh) -> Mesh {
         valence[a as usize] += 1;
         valence[b as usize] += 1;
     }
-    let mut out = split(mesh, |a, b, opp: [DVec3; 2]| {
+    let (mut out, parents) = split(mesh, |a, b, opp: [DVec3; 2]| {
         Some(0.375 * (a + b) + 0.125 * (opp[0] + opp[1]))
     });
     for i in 0..n {
@@ -37,12 +59,15 @@ pub fn subdivide_loop(mesh: &Mesh) -> Mesh {
         };
         out.positions[i] = (1.0 - k * beta) * mesh.positions[i] + beta * nsum[i];
     }
-    out
+    (out, parents)
 }
 
 /// Shared 1-to-4 split; `edge_point(a, b, [opposite corners])` gives the new edge vertex
-/// (None = midpoint).
-fn split(mesh: &Mesh, edge_point: impl Fn(DVec3, DVec3, [DVec3; 2]) -> Option<DVec3>) -> Mesh {
+/// (None = midpoint). Also returns the edge each new vertex was made from.
+fn split(
+    mesh: &Mesh,
+    edge_point: impl Fn(DVec3, DVec3, [DVec3; 2]) -> Option<DVec3>,
+) -> (Mesh, Vec<(u32, u32)>) {
     let p = &mesh.positions;
     // Opposite corners per undirected edge.
     let mut opposite: HashMap<(u32, u32), Vec<u32>> =
@@ -57,6 +82,7 @@ fn split(mesh: &Mesh, edge_point: impl Fn(DVec3, DVec3, [DVec3; 2]) -> Option<DV
         }
     }
     let mut positions = p.clone();
+    let mut parents = Vec::with_capacity(opposite.len());
     let mut mid: HashMap<(u32, u32), u32> = HashMap::with_capacity(opposite.len());
     let mut triangles = Vec::with_capacity(mesh.triangles.len() * 4);
     for t in &mesh.triangles {
@@ -73,6 +99,7 @@ fn split(mesh: &Mesh, edge_point: impl Fn(DVec3, DVec3, [DVec3; 2]) -> Option<DV
                     None
                 };
                 positions.push(pt.unwrap_or(0.5 * (pa + pb)));
+                parents.push(key);
                 (positions.len() - 1) as u32
             });
         }
@@ -81,8 +108,11 @@ fn split(mesh: &Mesh, edge_point: impl Fn(DVec3, DVec3, [DVec3; 2]) -> Option<DV
         triangles.push([t[2], m[2], m[1]]);
         triangles.push([m[0], m[1], m[2]]);
     }
-    Mesh {
-        positions,
-        triangles,
-    }
+    (
+        Mesh {
+            positions,
+            triangles,
+        },
+        parents,
+    )
 }

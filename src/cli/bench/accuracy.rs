@@ -1,0 +1,334 @@
+//! `puppet bench --accuracy`: run time against error.
+//!
+//! The scene: the standard scene on the input (the limb swings for 1 s, then holds for
+//! 1 s; 120 frames at 60 frames/s). For each constraint:
+//! 1. **Reference.** The same equations in `f64` ([`puppet::scenario::reference`]) with
+//!    the step halved from h₀/8 until the largest difference between two successive
+//!    refinements, over every vertex and frame, is below 1e-6 of the bounding-box diagonal
+//!    (or h₀/256), then extrapolated (Richardson, first order: the change halves with
+//!    each halving during the swing); spring reduction gets 64 iterations. The table shows
+//!    the convergence.
+//! 2. **Configurations.** Each runs the scene and is timed per frame (median over the
+//!    frames, then the median over `--runs` runs (at least 5), alternating configurations)
+//!    and compared
+//!    with the reference at every frame: RMS and max vertex distance, relative to the
+//!    diagonal.
+//! 3. **Pareto front.** A configuration is dominated when another is at least as cheap and
+//!    as accurate (RMS) and better in one of the two, where costs within 5 % (the noise of
+//!    this shared machine) and errors closer than the reference's own uncertainty (the RMS
+//!    change of its last refinement) count as ties. The app's default must not be dominated; the
+//!    command fails if it is.
+
+use super::{median_p95, method_name, Args, Base};
+use anyhow::{bail, Result};
+use glam::DVec3;
+use puppet::scenario::reference::Reference;
+use puppet::scenario::Scene;
+use puppet::sim::{Constraint, Options, Params, Simulation};
+
+const FRAMES: usize = 120;
+const FRAME: f64 = 1.0 / 60.0;
+/// Costs within this factor are treated as equal.
+const COST_NOISE: f64 = 0.05;
+
+/// Positions at the end of every frame.
+type Run = Vec<Vec<DVec3>>;
+
+#[derive(Clone, Copy, PartialEq)]
+enum Solver {
+    F32(Options),
+    F64,
+}
+
+struct Config {
+    name: String,
+    solver: Solver,
+    substeps: usize,
+    iterations: u32,
+    default: bool,
+}
+
+#[derive(serde::Serialize)]
+struct Row {
+    method: &'static str,
+    config: String,
+    ms_per_frame: f64,
+    rms_error: f64,
+    max_error: f64,
+    pareto: bool,
+    default: bool,
+}
+
+#[derive(serde::Serialize)]
+struct Convergence {
+    method: &'static str,
+    step: String,
+    rms_change: f64,
+    max_change: f64,
+}
+
+#[derive(serde::Serialize)]
+struct Report {
+    mesh: String,
+    vertices: usize,
+    frames: usize,
+    convergence: Vec<Convergence>,
+    rows: Vec<Row>,
+}
+
+fn run_reference(scene: &Scene, params: Params, h: f64) -> Run {
+    let substeps = (FRAME / h).round() as usize;
+    let mut r = Reference::new(scene, params, h);
+    let mut out = Vec::with_capacity(FRAMES);
+    for f in 0..FRAMES {
+        for s in 0..substeps {
+            let t = (f * substeps + s) as f64 * h;
+            r.step(&scene.world(t));
+        }
+        out.push(r.positions().to_vec());
+    }
+    out
+}
+
+/// Runs a configuration; returns the per-frame positions and the median ms per frame.
+fn run_config(scene: &Scene, params: Params, c: &Config) -> (Run, f64) {
+    let h = FRAME / c.substeps as f64;
+    let params = Params {
+        time_step: h as f32,
+        reduction_iterations: c.iterations,
+        ..params
+    };
+    let mut out = Vec::with_capacity(FRAMES);
+    let mut ms = Vec::with_capacity(FRAMES);
+    match c.solver {
+        Solver::F32(options) => {
+            let mut sim =
+                Simulation::with_options(scene.rig(params.bone_distance), params, options);
+            sim.set_sections(scene.joints.section_of().to_vec());
+            for f in 0..FRAMES {
+                let started = std::time::Instant::now();
+                for s in 0..c.substeps {
+                    sim.step(&scene.pose((f * c.substeps + s) as f64 * h));
+                }
+                ms.push(started.elapsed().as_secs_f64() * 1e3);
+                let x = sim.positions();
+                out.push((0..x.len()).map(|i| x.get(i).as_dvec3()).collect());
+            }
+        }
+        Solver::F64 => {
+            let mut r = Reference::new(scene, params, h);
+            for f in 0..FRAMES {
+                let started = std::time::Instant::now();
+                for s in 0..c.substeps {
+                    r.step(&scene.world((f * c.substeps + s) as f64 * h));
+                }
+                ms.push(started.elapsed().as_secs_f64() * 1e3);
+                out.push(r.positions().to_vec());
+            }
+        }
+    }
+    (out, median_p95(ms).0)
+}
+
+/// RMS and max distance between two runs, relative to `diag`.
+fn distance(a: &Run, b: &Run, diag: f64) -> (f64, f64) {
+    let (mut sum2, mut worst, mut count) = (0.0, 0.0f64, 0usize);
+    for (fa, fb) in a.iter().zip(b) {
+        for (p, q) in fa.iter().zip(fb) {
+            let d = (*p - *q).length();
+            sum2 += d * d;
+            worst = worst.max(d);
+            count += 1;
+        }
+    }
+    ((sum2 / count.max(1) as f64).sqrt() / diag, worst / diag)
+}
+
+fn configs(constraint: Constraint) -> Vec<Config> {
+    let default = Params::default();
+    let f32_default = Solver::F32(Options::default());
+    let c = |name: &str, solver, substeps, iterations, is_default| Config {
+        name: name.to_string(),
+        solver,
+        substeps,
+        iterations,
+        default: is_default,
+    };
+    let it = default.reduction_iterations;
+    let mut v = vec![
+        c(
+            "f32, h = 1/60, sleeping (app default)",
+            f32_default,
+            1,
+            it,
+            true,
+        ),
+        c(
+            "f32, h = 1/60, no sleeping",
+            Solver::F32(Options {
+                sleeping: false,
+                ..Options::default()
+            }),
+            1,
+            it,
+            false,
+        ),
+        c(
+            "f32, h = 1/60, no sleeping, no SIMD",
+            Solver::F32(Options {
+                sleeping: false,
+                simd: false,
+                ..Options::default()
+            }),
+            1,
+            it,
+            false,
+        ),
+        c("f32, h = 1/120 (2 substeps)", f32_default, 2, it, false),
+        c("f32, h = 1/240 (4 substeps)", f32_default, 4, it, false),
+        c("f64, h = 1/60", Solver::F64, 1, it, false),
+        c("f64, h = 1/120 (2 substeps)", Solver::F64, 2, it, false),
+    ];
+    if constraint == Constraint::SpringReduction {
+        for iterations in [1u32, 2, 8, 16] {
+            v.push(c(
+                &format!("f32, h = 1/60, {iterations} reduction iterations"),
+                f32_default,
+                1,
+                iterations,
+                false,
+            ));
+        }
+        v[0].name = format!("f32, h = 1/60, sleeping, {it} reduction iterations (app default)");
+    }
+    v
+}
+
+pub fn run(args: &Args) -> Result<()> {
+    let base = Base::load(args)?;
+    let scene = base.scene(0, 1.0)?;
+    let diag = scene.diagonal;
+    let mut report = Report {
+        mesh: base.name.clone(),
+        vertices: scene.mesh.positions.len(),
+        frames: FRAMES,
+        convergence: Vec::new(),
+        rows: Vec::new(),
+    };
+    for constraint in [Constraint::Circumsphere, Constraint::SpringReduction] {
+        let method = method_name(constraint);
+        let params = Params {
+            constraint,
+            ..Params::default()
+        };
+        // 1. The converged reference.
+        let ref_params = Params {
+            reduction_iterations: 64,
+            ..params
+        };
+        let mut divisions = 8usize;
+        let mut reference = run_reference(&scene, ref_params, FRAME / divisions as f64);
+        loop {
+            let finer = run_reference(&scene, ref_params, FRAME / (2 * divisions) as f64);
+            let (rms, max) = distance(&reference, &finer, diag);
+            divisions *= 2;
+            report.convergence.push(Convergence {
+                method,
+                step: format!("h₀/{} vs h₀/{}", divisions / 2, divisions),
+                rms_change: rms,
+                max_change: max,
+            });
+            if max < 1e-6 || divisions >= 256 {
+                // The step converges at first order (each halving halves the change during
+                // the swing), so Richardson extrapolation removes the leading error term.
+                reference = reference
+                    .iter()
+                    .zip(&finer)
+                    .map(|(c, f)| c.iter().zip(f).map(|(c, f)| 2.0 * *f - *c).collect())
+                    .collect();
+                break;
+            }
+            reference = finer;
+        }
+        // 2. Every configuration, alternating, `runs` times.
+        let configs = configs(constraint);
+        let mut costs = vec![Vec::new(); configs.len()];
+        let mut errors = vec![(0.0, 0.0); configs.len()];
+        for run in 0..args.runs.max(5) {
+            for (k, c) in configs.iter().enumerate() {
+                let (frames, ms) = run_config(&scene, params, c);
+                costs[k].push(ms);
+                if run == 0 {
+                    errors[k] = distance(&frames, &reference, diag);
+                }
+            }
+        }
+        let cost: Vec<f64> = costs.into_iter().map(|c| median_p95(c).0).collect();
+        // 3. The Pareto front. Errors closer than the reference's own uncertainty (the RMS
+        // change of its last refinement) are ties, as are costs within the noise.
+        let tie = report.convergence.last().map_or(0.0, |c| c.rms_change);
+        let dominated = |k: usize| {
+            (0..configs.len()).any(|j| {
+                let (cj, ck, ej, ek) = (cost[j], cost[k], errors[j].0, errors[k].0);
+                j != k
+                    && cj <= ck * (1.0 + COST_NOISE)
+                    && ej <= ek + tie
+                    && (cj < ck * (1.0 - COST_NOISE) || ej < ek - tie)
+            })
+        };
+        for (k, c) in configs.iter().enumerate() {
+            report.rows.push(Row {
+                method,
+                config: c.name.clone(),
+                ms_per_frame: cost[k],
+                rms_error: errors[k].0,
+                max_error: errors[k].1,
+                pareto: !dominated(k),
+                default: c.default,
+            });
+        }
+    }
+    if args.json {
+        println!("{}", serde_json::to_string(&report)?);
+    } else {
+        println!(
+            "{}: {} vertices, standard scene, {} frames at 60 frames/s; errors relative to the bounding-box diagonal",
+            report.mesh, report.vertices, FRAMES
+        );
+        println!();
+        println!("Reference convergence (f64, successive halvings of the step):");
+        println!();
+        println!("| constraint | steps compared | RMS change | max change |");
+        println!("|---|---|---:|---:|");
+        for c in &report.convergence {
+            println!(
+                "| {} | {} | {:.1e} | {:.1e} |",
+                c.method, c.step, c.rms_change, c.max_change
+            );
+        }
+        println!();
+        println!(
+            "| constraint | configuration | ms per frame | RMS error | max error | Pareto front |"
+        );
+        println!("|---|---|---:|---:|---:|---|");
+        for r in &report.rows {
+            println!(
+                "| {} | {} | {:.3} | {:.2e} | {:.2e} | {} |",
+                r.method,
+                r.config,
+                r.ms_per_frame,
+                r.rms_error,
+                r.max_error,
+                if r.pareto { "**yes**" } else { "" }
+            );
+        }
+    }
+    if let Some(r) = report.rows.iter().find(|r| r.default && !r.pareto) {
+        bail!(
+            "the default configuration is not on the Pareto front ({}: {})",
+            r.method,
+            r.config
+        );
+    }
+    Ok(())
+}

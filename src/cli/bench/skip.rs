@@ -1,0 +1,204 @@
+//! What sleeping saves, and what it costs in accuracy: the standard scene (the limb swings
+//! for 1 s, then holds) run with every tile integrated and, in lockstep, with sleeping at
+//! several tile sizes. Lockstep means the runs alternate step by step, so load on the
+//! shared machine hits them alike. Error: distance of every vertex to the full run at every
+//! step, RMS and max, relative to the bounding-box diagonal.
+
+use super::{median_p95, Args, Base};
+use anyhow::{bail, Result};
+use puppet::sim::{Options, Params, Simulation, REFERENCE_STEP};
+
+/// The bound the issue sets on the skipping error (relative to the diagonal).
+pub const MAX_ERROR: f64 = 1e-3;
+
+#[derive(serde::Serialize)]
+struct Row {
+    config: String,
+    tile: usize,
+    ms_per_step_swing: f64,
+    ms_per_step_hold: f64,
+    ms_per_step_all: f64,
+    awake_share_swing: f64,
+    awake_share_hold: f64,
+    rms_error: f64,
+    max_error: f64,
+}
+
+#[derive(serde::Serialize)]
+struct Report {
+    mesh: String,
+    vertices: usize,
+    springs: usize,
+    limb_vertices: usize,
+    steps: usize,
+    rows: Vec<Row>,
+}
+
+pub fn run(args: &Args) -> Result<()> {
+    let base = Base::load(args)?;
+    let swing = 1.0;
+    let scene = base.scene(args.subdivisions as usize, swing)?;
+    let params = Params {
+        constraint: args.constraint(),
+        time_step: REFERENCE_STEP,
+        ..Params::default()
+    };
+    let tiles = [64usize, 256, 1024, 4096, usize::MAX];
+    let mut configs: Vec<(String, Options)> = vec![(
+        "full (no sleeping)".into(),
+        Options {
+            sleeping: false,
+            ..Options::default()
+        },
+    )];
+    for &t in &tiles {
+        let name = if t == usize::MAX {
+            "sleeping, one tile = whole mesh".to_string()
+        } else if t == Options::default().tile {
+            format!("sleeping, tile {t} (default)")
+        } else {
+            format!("sleeping, tile {t}")
+        };
+        configs.push((
+            name,
+            Options {
+                tile: t.min(scene.mesh.positions.len()),
+                ..Options::default()
+            },
+        ));
+    }
+    let rig = scene.rig(params.bone_distance);
+    let mut sims: Vec<Simulation> = configs
+        .iter()
+        .map(|(_, o)| {
+            let mut s = Simulation::with_options(rig.clone(), params, *o);
+            s.set_sections(scene.joints.section_of().to_vec());
+            s
+        })
+        .collect();
+    drop(rig);
+    let n = sims[0].rig().len();
+    let springs = sims[0].rig().spring_count();
+    let steps = args.frames.max(2);
+    let swing_steps = (swing / REFERENCE_STEP as f64).round() as usize;
+    let k = sims.len();
+    let mut times = vec![(Vec::new(), Vec::new()); k];
+    let mut awake = vec![(Vec::new(), Vec::new()); k];
+    let mut sum2 = vec![0.0f64; k];
+    let mut worst = vec![0.0f64; k];
+    for step in 0..steps {
+        let pose = scene.pose(step as f64 * REFERENCE_STEP as f64);
+        for (c, sim) in sims.iter_mut().enumerate() {
+            let t = std::time::Instant::now();
+            sim.step(&pose);
+            let ms = t.elapsed().as_secs_f64() * 1e3;
+            let (all, integrated) = sim.tiles();
+            let share = integrated as f64 / all.max(1) as f64;
+            if step < swing_steps {
+                times[c].0.push(ms);
+                awake[c].0.push(share);
+            } else {
+                times[c].1.push(ms);
+                awake[c].1.push(share);
+            }
+        }
+        let (full, rest) = sims.split_at(1);
+        let reference = full[0].positions();
+        for (c, sim) in rest.iter().enumerate() {
+            let x = sim.positions();
+            for i in 0..n {
+                let d = (x.get(i) - reference.get(i)).length() as f64;
+                sum2[c + 1] += d * d;
+                worst[c + 1] = worst[c + 1].max(d);
+            }
+        }
+    }
+    let diag = scene.diagonal;
+    let rows: Vec<Row> = configs
+        .iter()
+        .enumerate()
+        .map(|(c, (name, o))| {
+            let all: Vec<f64> = times[c].0.iter().chain(&times[c].1).copied().collect();
+            Row {
+                config: name.clone(),
+                tile: sims[c].options().tile,
+                ms_per_step_swing: median_p95(times[c].0.clone()).0,
+                ms_per_step_hold: median_p95(times[c].1.clone()).0,
+                ms_per_step_all: median_p95(all).0,
+                awake_share_swing: median_p95(awake[c].0.clone()).0,
+                awake_share_hold: median_p95(awake[c].1.clone()).0,
+                rms_error: (sum2[c] / (steps * n) as f64).sqrt() / diag,
+                max_error: worst[c] / diag,
+            }
+            .with_sleeping(o.sleeping)
+        })
+        .collect();
+    let report = Report {
+        mesh: base.name.clone(),
+        vertices: n,
+        springs,
+        limb_vertices: scene.limb_vertices(),
+        steps,
+        rows,
+    };
+    if args.json {
+        println!("{}", serde_json::to_string(&report)?);
+    } else {
+        println!(
+            "{} subdivided {}x: {} vertices, {} springs, limb {} vertices; {} steps ({} swinging, then holding); {} constraint",
+            report.mesh,
+            args.subdivisions,
+            n,
+            springs,
+            report.limb_vertices,
+            steps,
+            swing_steps.min(steps),
+            args.method
+        );
+        println!();
+        println!("| configuration | ms/step swing | ms/step hold | ms/step all | tiles awake swing | hold | RMS error | max error |");
+        println!("|---|---:|---:|---:|---:|---:|---:|---:|");
+        for r in &report.rows {
+            println!(
+                "| {} | {:.3} | {:.3} | {:.3} | {:.0} % | {:.0} % | {:.1e} | {:.1e} |",
+                r.config,
+                r.ms_per_step_swing,
+                r.ms_per_step_hold,
+                r.ms_per_step_all,
+                100.0 * r.awake_share_swing,
+                100.0 * r.awake_share_hold,
+                r.rms_error,
+                r.max_error
+            );
+        }
+    }
+    let default_tile = Options::default().tile.min(n);
+    if let Some(r) = report
+        .rows
+        .iter()
+        .find(|r| r.tile == default_tile && r.config.starts_with("sleeping"))
+    {
+        if r.max_error >= MAX_ERROR {
+            bail!(
+                "sleeping strays {:.2e} of the diagonal from the full run (bound {MAX_ERROR:e})",
+                r.max_error
+            );
+        }
+    }
+    Ok(())
+}
+
+impl Row {
+    /// The full run has no error by definition; keep its columns at zero.
+    fn with_sleeping(self, sleeping: bool) -> Row {
+        if sleeping {
+            self
+        } else {
+            Row {
+                rms_error: 0.0,
+                max_error: 0.0,
+                ..self
+            }
+        }
+    }
+}

@@ -1,0 +1,345 @@
+//! `puppet bench --stress`: randomized scenes that try to break the solver.
+//!
+//! Each scene draws a mesh (an icosahedron of 12 vertices up to Spot subdivided once, 11.7k
+//! vertices), a scale (1e-4, 1 or 1e4), up to two random cuts, every parameter anywhere in
+//! its range with a bias to the extremes (`C_vd` 0..1, `D` from 1e-6 to the maximum the UI
+//! allows, `d_B` 0..1, `sl_max` 1..3, `f_min` 0..1, 1..64 reduction iterations, either
+//! constraint), a fixed step from 1/240 to 1/60 s and frames from 1/240 to 1/10 s long (a
+//! long frame runs several fixed steps, as the window does), and poses that jump by up to
+//! 180° (and up to half the model size) in one frame. After every step it checks: every
+//! coordinate finite, every mass point inside its constraint region (within 1e-5 of the
+//! model size), and bounded motion: no mass point moves farther in one step than its
+//! target moved plus the diameter of its region. It reports the worst surface-spring strain
+//! seen.
+
+use super::Args;
+use anyhow::{bail, Result};
+use glam::{DQuat, DVec3, Vec3};
+use puppet::geom::hilbert::SplitMix;
+use puppet::joints::{Cut, Joints, Local, ROOT};
+use puppet::mesh::{self, shapes, subdivide_loop, Mesh};
+use puppet::scenario::Scene;
+use puppet::sim::{Constraint, Params, Simulation, MAX_STIFFNESS, REFERENCE_STEP};
+
+struct Rng(SplitMix);
+
+impl Rng {
+    fn unit(&mut self) -> f64 {
+        (self.0.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.unit()
+    }
+    fn below(&mut self, n: usize) -> usize {
+        (self.unit() * n as f64) as usize % n.max(1)
+    }
+    /// Uniform in `lo..hi`, or one of the ends with probability 1/4 each.
+    fn extreme(&mut self, lo: f64, hi: f64) -> f64 {
+        match self.below(4) {
+            0 => lo,
+            1 => hi,
+            _ => self.range(lo, hi),
+        }
+    }
+    fn direction(&mut self) -> DVec3 {
+        loop {
+            let v = DVec3::new(
+                self.range(-1.0, 1.0),
+                self.range(-1.0, 1.0),
+                self.range(-1.0, 1.0),
+            );
+            if v.length_squared() > 1e-6 && v.length_squared() <= 1.0 {
+                return v.normalize();
+            }
+        }
+    }
+}
+
+#[derive(serde::Serialize, Default)]
+struct Report {
+    seed: u64,
+    scenes: usize,
+    steps: u64,
+    vertex_steps: u64,
+    worst_strain: f64,
+    worst_strain_scene: String,
+    /// Largest one-step displacement as a share of its bound (≤ 1 by the checks).
+    worst_motion_share: f64,
+    /// Largest constraint excess seen, relative to the model size (≤ 1e-5 by the checks).
+    worst_constraint_excess: f64,
+    seconds: f64,
+}
+
+/// One base mesh with its skeletal distances.
+struct Base {
+    name: &'static str,
+    mesh: Mesh,
+    distance: Vec<f64>,
+}
+
+fn bases() -> Result<Vec<Base>> {
+    let (spot, _) = mesh::parse_obj(crate::cli::DEFAULT_MESH)?;
+    let meshes: Vec<(&'static str, Mesh)> = vec![
+        ("icosahedron", shapes::icosphere(1.0, 0)),
+        ("icosphere-2", shapes::icosphere(1.0, 2)),
+        ("capsule", shapes::capsule(0.3, 0.8, 6, 6, 12)),
+        ("torus", shapes::torus(1.0, 0.3, 24, 8)),
+        ("spot", spot.clone()),
+        ("spot-subdivided", subdivide_loop(&spot)),
+    ];
+    meshes
+        .into_iter()
+        .map(|(name, mesh)| {
+            let normals = mesh::vertex_normals(&mesh)?;
+            let sk = puppet::skeleton::build(
+                &mesh,
+                &normals,
+                &puppet::skeleton::SkeletonParams::default(),
+                puppet::progress::silent(),
+            )?;
+            Ok(Base {
+                name,
+                mesh,
+                distance: sk.distance,
+            })
+        })
+        .collect()
+}
+
+pub fn run(args: &Args) -> Result<()> {
+    let started = std::time::Instant::now();
+    let bases = bases()?;
+    let mut rng = Rng(SplitMix(args.seed));
+    let mut report = Report {
+        seed: args.seed,
+        ..Report::default()
+    };
+    while report.steps < args.steps {
+        // The largest mesh rarely and briefly, so short runs still see many scenes.
+        let b = if rng.below(10) == 0 {
+            bases.len() - 1
+        } else {
+            rng.below(bases.len() - 1)
+        };
+        let base = &bases[b];
+        let scale = [1e-4, 1.0, 1e4][rng.below(3)];
+        let mesh = Mesh {
+            positions: base.mesh.positions.iter().map(|p| *p * scale).collect(),
+            triangles: base.mesh.triangles.clone(),
+        };
+        let distance: Vec<f64> = base.distance.iter().map(|d| d * scale).collect();
+        let normals = mesh::vertex_normals(&mesh)?;
+        let (lo, hi) = mesh.bounds();
+        let scene = Scene {
+            joints: Joints::new(&[], ROOT),
+            normals,
+            distance,
+            limb: 0,
+            axis: DVec3::X,
+            swing_seconds: 0.0,
+            diagonal: (hi - lo).length(),
+            mesh,
+        };
+        let name = format!(
+            "#{} {} x{scale:e} (seed {})",
+            report.scenes, base.name, args.seed
+        );
+        let budget = if b == bases.len() - 1 { 100 } else { 2_000 };
+        let steps = (rng.range(50.0, budget as f64) as u64).min(args.steps - report.steps);
+        run_scene(&scene, &name, steps.max(1), &mut rng, &mut report)?;
+        report.scenes += 1;
+    }
+    report.seconds = started.elapsed().as_secs_f64();
+    if args.json {
+        println!("{}", serde_json::to_string(&report)?);
+    } else {
+        println!(
+            "stress (seed {}): {} scenes, {} steps, {} vertex-steps in {:.1} s: no NaN, every point inside its constraint, motion bounded",
+            report.seed, report.scenes, report.steps, report.vertex_steps, report.seconds
+        );
+        println!(
+            "worst surface-spring strain {:.3} ({}); worst motion {:.3} of its bound; worst constraint excess {:.1e} of the model size",
+            report.worst_strain,
+            report.worst_strain_scene,
+            report.worst_motion_share,
+            report.worst_constraint_excess
+        );
+    }
+    Ok(())
+}
+
+fn random_params(rng: &mut Rng) -> Params {
+    Params {
+        damping: rng.extreme(0.0, 1.0) as f32,
+        stiffness: if rng.below(4) == 0 {
+            1e-6
+        } else {
+            rng.extreme(0.0, MAX_STIFFNESS as f64) as f32
+        },
+        bone_distance: rng.extreme(0.0, 1.0) as f32,
+        max_length: rng.extreme(1.0, 3.0) as f32,
+        min_length: rng.extreme(0.0, 1.0) as f32,
+        constraint: if rng.below(2) == 0 {
+            Constraint::Circumsphere
+        } else {
+            Constraint::SpringReduction
+        },
+        reduction_iterations: 1 + rng.below(64) as u32,
+        time_step: rng.range(1.0 / 240.0, REFERENCE_STEP as f64) as f32,
+    }
+}
+
+fn run_scene(
+    scene: &Scene,
+    name: &str,
+    steps: u64,
+    rng: &mut Rng,
+    report: &mut Report,
+) -> Result<()> {
+    let params = random_params(rng);
+    let (lo, hi) = scene.mesh.bounds();
+    let size = scene.diagonal;
+    // Up to two random cuts (a refused cut, e.g. one that misses the skeleton, is skipped).
+    let points: Vec<DVec3> = scene
+        .mesh
+        .positions
+        .iter()
+        .zip(&scene.normals)
+        .zip(&scene.distance)
+        .map(|((p, n), d)| *p - *d * *n)
+        .collect();
+    let mut joints = Joints::new(&points, ROOT);
+    for c in 0..rng.below(3) {
+        let point = lo + (hi - lo) * DVec3::new(rng.unit(), rng.unit(), rng.unit());
+        let sections: Vec<String> = joints.sections().iter().map(|s| s.name.clone()).collect();
+        let _ = joints.add_cut(Cut {
+            name: format!("cut{c}"),
+            section: sections[rng.below(sections.len())].clone(),
+            point,
+            normal: rng.direction(),
+            pivot: None,
+        });
+    }
+    let mut sim = Simulation::new(scene.rig(params.bone_distance), params);
+    sim.set_sections(joints.section_of().to_vec());
+    let p = *sim.params();
+    let n = sim.rig().len();
+    let mut local = vec![Local::default(); joints.sections().len()];
+    let mut pose = joints.pose(&local);
+    let mut targets: Vec<Vec3> = (0..n).map(|i| sim.target(i)).collect();
+    let mut before: Vec<Vec3> = sim.positions().to_vec();
+    let tolerance = 1e-5 * size;
+    let h = p.time_step as f64;
+    let mut done = 0;
+    let mut debt = 0.0;
+    while done < steps {
+        // A frame: maybe a pose jump, then as many fixed steps as the frame holds (≤ 8).
+        if rng.below(3) == 0 {
+            let s = rng.below(local.len());
+            local[s] = Local {
+                rotation: DQuat::from_axis_angle(
+                    rng.direction(),
+                    rng.range(-180.0, 180.0).to_radians(),
+                ),
+                translation: rng.direction() * rng.range(0.0, 0.5) * size,
+            };
+            pose = joints.pose(&local);
+        }
+        debt += rng.range(1.0 / 240.0, 0.1);
+        let mut k = 0;
+        while debt >= h && k < 8 && done < steps {
+            sim.step(&pose);
+            debt -= h;
+            k += 1;
+            done += 1;
+            check(
+                &sim,
+                &p,
+                &mut targets,
+                &mut before,
+                tolerance,
+                size,
+                name,
+                report,
+            )?;
+        }
+        if k == 8 {
+            debt = 0.0;
+        }
+    }
+    report.steps += done;
+    report.vertex_steps += done * n as u64;
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn check(
+    sim: &Simulation,
+    p: &Params,
+    targets: &mut [Vec3],
+    before: &mut [Vec3],
+    tolerance: f64,
+    size: f64,
+    name: &str,
+    report: &mut Report,
+) -> Result<()> {
+    let x = sim.positions();
+    let rig = sim.rig();
+    let step = sim.steps();
+    for i in 0..rig.len() {
+        let y = x.get(i);
+        if !y.is_finite() {
+            bail!("stress scene {name}, step {step}: vertex {i} is not finite ({y}) with {p:?}");
+        }
+        let target = sim.target(i);
+        let l = rig.bone_length[i] as f64;
+        // The region's radius around the target, and the constraint excess.
+        let (radius, excess) = if p.is_static() {
+            (0.0, (y - target).length() as f64)
+        } else {
+            match p.constraint {
+                Constraint::Circumsphere => {
+                    let rho = (p.max_length as f64 - 1.0) * l;
+                    (rho, (y - target).length() as f64 - rho)
+                }
+                Constraint::SpringReduction => {
+                    let (bi, bo) = sim.bone_points(i);
+                    let (lo, hi) = (p.min_length as f64 * l, p.max_length as f64 * l);
+                    let excess = [bi, bo]
+                        .iter()
+                        .map(|b| {
+                            let len = (y - *b).length() as f64;
+                            (len - hi).max(lo - len)
+                        })
+                        .fold(f64::MIN, f64::max);
+                    ((p.max_length as f64 + 1.0) * l, excess)
+                }
+            }
+        };
+        report.worst_constraint_excess = report.worst_constraint_excess.max(excess / size);
+        if excess > tolerance {
+            bail!("stress scene {name}, step {step}: vertex {i} is {excess:e} outside its constraint with {p:?}");
+        }
+        let moved = (y - before[i]).length() as f64;
+        let bound = (target - targets[i]).length() as f64 + 2.0 * radius + 2.0 * tolerance;
+        if moved > bound {
+            bail!("stress scene {name}, step {step}: vertex {i} moved {moved:e}, more than its bound {bound:e}, with {p:?}");
+        }
+        if bound > 0.0 {
+            report.worst_motion_share = report.worst_motion_share.max(moved / bound);
+        }
+        targets[i] = target;
+        before[i] = y;
+    }
+    for s in &rig.springs {
+        if s.rest > 0.0 {
+            let len = (x.get(s.b as usize) - x.get(s.a as usize)).length();
+            let strain = (len / s.rest - 1.0).abs() as f64;
+            if strain > report.worst_strain {
+                report.worst_strain = strain;
+                report.worst_strain_scene = name.to_string();
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,199 @@
+//! Step throughput on the standard scene, and the largest subdivision of the input that
+//! holds 60 steps/s.
+//!
+//! The limb swings during the whole measurement and sleeping is off, so every step
+//! integrates every spring: this is the full cost, not the cost of a scene at rest
+//! (`--skip` measures what sleeping saves).
+
+use super::{median_p95, method_name, Args, Base};
+use anyhow::Result;
+use puppet::scenario::Scene;
+use puppet::sim::{Options, Params, Simulation, REFERENCE_STEP};
+
+/// Steps before timing starts.
+const WARM_UP: usize = 20;
+/// 60 steps per second.
+const BUDGET_MS: f64 = 1000.0 / 60.0;
+
+#[derive(serde::Serialize, Clone)]
+pub struct Row {
+    pub vertices: usize,
+    pub springs: usize,
+    pub steps: usize,
+    pub method: &'static str,
+    pub ms_per_step_median: f64,
+    pub ms_per_step_p95: f64,
+    /// Stage medians (ms): wake, fused (bones + forces + Verlet + constraint), sleep.
+    pub wake_ms_median: f64,
+    pub fused_ms_median: f64,
+    pub fused_ms_p95: f64,
+    pub sleep_ms_median: f64,
+    pub springs_per_second: f64,
+    pub steps_per_second: f64,
+    pub threads: usize,
+    pub simd: bool,
+    /// Bytes the fused pass streams per step (see `BENCHMARKS.md`) and the rate that makes.
+    pub bytes_per_step: usize,
+    pub gb_per_second: f64,
+}
+
+/// Bytes the fused pass reads and writes per step: per slot the constants record (40), the
+/// CSR start (4), current (12) and previous positions (12 read, 12 written); per half-spring
+/// the `(neighbour, rest)` pair (8). Neighbour positions are gathered from lines already
+/// loaded (Hilbert order), so they are not counted.
+fn bytes_per_step(vertices: usize, springs: usize) -> usize {
+    let half_springs = 2 * (springs - 2 * vertices);
+    vertices * (40 + 4 + 12 + 24) + half_springs * 8
+}
+
+/// Measures `steps` timed steps of `scene` with every tile integrated.
+pub fn measure(scene: &Scene, params: Params, steps: usize) -> Row {
+    let options = Options {
+        sleeping: false,
+        ..Options::default()
+    };
+    let mut sim = Simulation::with_options(scene.rig(params.bone_distance), params, options);
+    sim.set_sections(scene.joints.section_of().to_vec());
+    let springs = sim.rig().spring_count();
+    let vertices = sim.rig().len();
+    let h = params.time_step as f64;
+    let (mut total, mut wake, mut fused, mut sleep) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for k in 0..steps + WARM_UP {
+        let pose = scene.pose(k as f64 * h);
+        let t = std::time::Instant::now();
+        sim.step(&pose);
+        let dt = t.elapsed().as_secs_f64() * 1e3;
+        if k >= WARM_UP {
+            let st = sim.last_times();
+            total.push(dt);
+            wake.push(st.wake * 1e3);
+            fused.push(st.fused * 1e3);
+            sleep.push(st.sleep * 1e3);
+        }
+    }
+    let (med, p95) = median_p95(total);
+    let (fused_med, fused_p95) = median_p95(fused);
+    let bytes = bytes_per_step(vertices, springs);
+    Row {
+        vertices,
+        springs,
+        steps,
+        method: method_name(params.constraint),
+        ms_per_step_median: med,
+        ms_per_step_p95: p95,
+        wake_ms_median: median_p95(wake).0,
+        fused_ms_median: fused_med,
+        fused_ms_p95: fused_p95,
+        sleep_ms_median: median_p95(sleep).0,
+        springs_per_second: springs as f64 / (med * 1e-3),
+        steps_per_second: 1e3 / med,
+        threads: rayon::current_num_threads(),
+        simd: sim.options().simd,
+        bytes_per_step: bytes,
+        gb_per_second: bytes as f64 / (fused_med * 1e-3) / 1e9,
+    }
+}
+
+#[derive(serde::Serialize)]
+struct Report {
+    #[serde(flatten)]
+    first: Row,
+    /// The largest measured size whose median step fits in 1/60 s.
+    largest_at_60_steps_per_second: Option<Row>,
+    sizes: Vec<Row>,
+}
+
+pub fn run(args: &Args) -> Result<()> {
+    let base = Base::load(args)?;
+    let params = Params {
+        constraint: args.constraint(),
+        time_step: REFERENCE_STEP,
+        ..Params::default()
+    };
+    let max_level = if args.scaling {
+        args.subdivisions as usize
+    } else {
+        6
+    };
+    // The first size: the input, or its first subdivision with enough springs.
+    let mut level = 0;
+    if let Some(want) = args.springs {
+        let (v, e) = (base.mesh.positions.len(), base.mesh.edge_count());
+        let (mut v, mut e, mut f) = (v, e, base.mesh.triangles.len());
+        while e + 2 * v < want && level < 6 {
+            (v, e, f) = (v + e, 2 * e + 3 * f, 4 * f);
+            level += 1;
+        }
+    }
+    let mut rows: Vec<Row> = Vec::new();
+    loop {
+        let scene = base.scene(level, f64::INFINITY)?;
+        let row = measure(&scene, params, args.frames.max(1));
+        let held = row.ms_per_step_median <= BUDGET_MS;
+        log::info!(
+            "{} springs: {:.3} ms per step",
+            row.springs,
+            row.ms_per_step_median
+        );
+        rows.push(row);
+        level += 1;
+        let stop = if args.scaling {
+            level > max_level
+        } else {
+            !held || level > max_level
+        };
+        if stop {
+            break;
+        }
+    }
+    let largest = rows
+        .iter()
+        .filter(|r| r.ms_per_step_median <= BUDGET_MS)
+        .max_by_key(|r| r.springs)
+        .cloned();
+    if args.json {
+        let report = Report {
+            first: rows[0].clone(),
+            largest_at_60_steps_per_second: largest,
+            sizes: rows,
+        };
+        println!("{}", serde_json::to_string(&report)?);
+        return Ok(());
+    }
+    println!(
+        "standard scene on {} (Loop-subdivided), {} constraint, {} threads, SIMD {}, median/p95 of {} steps, sleeping off",
+        base.name,
+        args.method,
+        rayon::current_num_threads(),
+        if rows[0].simd { "AVX2" } else { "off" },
+        args.frames
+    );
+    println!();
+    println!("| vertices | springs | ms/step median | p95 | fused pass ms (median / p95) | wake + sleep ms | springs/s | steps/s | fused GB/s |");
+    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for r in &rows {
+        println!(
+            "| {} | {} | {:.3} | {:.3} | {:.3} / {:.3} | {:.3} | {:.2e} | {:.0} | {:.2} |",
+            r.vertices,
+            r.springs,
+            r.ms_per_step_median,
+            r.ms_per_step_p95,
+            r.fused_ms_median,
+            r.fused_ms_p95,
+            r.wake_ms_median + r.sleep_ms_median,
+            r.springs_per_second,
+            r.steps_per_second,
+            r.gb_per_second
+        );
+    }
+    println!();
+    match largest {
+        Some(r) => println!(
+            "largest size at 60 steps/s: {} vertices, {} springs ({:.2} ms per step)",
+            r.vertices, r.springs, r.ms_per_step_median
+        ),
+        None => println!("no measured size holds 60 steps/s"),
+    }
+    Ok(())
+}
