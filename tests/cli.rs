@@ -1,41 +1,45 @@
-//! The bench command's contract: usage errors exit 2, `--json` carries the documented fields.
+//! The bench command's contract: usage errors exit 2, `--json` carries the documented
+//! fields, and the short CI versions of the stress and skipping measurements pass.
 
 mod common;
 use common::puppet;
 
+fn ok_json(args: &[&str]) -> serde_json::Value {
+    let out = puppet(args);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
 #[test]
-fn bench_needs_something_to_measure() {
-    let out = puppet(&["bench"]);
+fn bench_modes_are_exclusive() {
+    let out = puppet(&["bench", "--stress", "--skip"]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).starts_with("error: nothing to measure"));
+    assert!(String::from_utf8_lossy(&out.stderr).starts_with("error: choose one of"));
 }
 
 #[test]
 fn subdivisions_are_capped() {
-    let out = puppet(&["bench", "--sim", "--subdivisions", "9"]);
+    let out = puppet(&["bench", "--scaling", "--subdivisions", "9"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--subdivisions"));
 }
 
 #[test]
-fn sim_bench_json_has_the_documented_fields() {
-    let out = puppet(&[
+fn throughput_json_has_the_documented_fields() {
+    let report = ok_json(&[
         "bench",
-        "--sim",
+        "--scaling",
         "--subdivisions",
         "0",
-        "--steps",
+        "--frames",
         "5",
         "--json",
     ]);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    let row = &rows[0];
     for key in [
         "vertices",
         "springs",
@@ -44,10 +48,78 @@ fn sim_bench_json_has_the_documented_fields() {
         "ms_per_step_p95",
         "springs_per_second",
         "method",
+        "fused_ms_median",
+        "largest_at_60_steps_per_second",
+        "sizes",
     ] {
-        assert!(row.get(key).is_some(), "missing {key}: {row}");
+        assert!(report.get(key).is_some(), "missing {key}: {report}");
     }
-    assert_eq!(row["vertices"], 2930);
-    assert_eq!(row["steps"], 5);
-    assert_eq!(row["method"], "circumsphere");
+    assert_eq!(report["vertices"], 2930);
+    assert_eq!(report["steps"], 5);
+    assert_eq!(report["method"], "circumsphere");
+    assert!(report["springs_per_second"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn throughput_reaches_the_requested_spring_count() {
+    let report = ok_json(&[
+        "bench",
+        "--springs",
+        "50000",
+        "--scaling",
+        "--subdivisions",
+        "1",
+        "--frames",
+        "3",
+        "--method",
+        "reduction",
+        "--json",
+    ]);
+    assert!(report["springs"].as_u64().unwrap() >= 50_000);
+    assert_eq!(report["method"], "reduction");
+}
+
+#[test]
+fn short_stress_run_passes() {
+    for seed in ["1", "2"] {
+        let report = ok_json(&[
+            "bench", "--stress", "--seed", seed, "--steps", "15000", "--json",
+        ]);
+        assert_eq!(report["steps"], 15_000);
+        assert!(report["scenes"].as_u64().unwrap() >= 5);
+        assert!(report["worst_constraint_excess"].as_f64().unwrap() <= 1e-5);
+        assert!(report["worst_motion_share"].as_f64().unwrap() <= 1.0);
+    }
+}
+
+#[test]
+fn skipping_saves_work_and_stays_within_the_error_bound() {
+    // Spot at full resolution: 10 s, the limb swinging for the first second.
+    let report = ok_json(&[
+        "bench",
+        "--skip",
+        "--subdivisions",
+        "0",
+        "--frames",
+        "600",
+        "--json",
+    ]);
+    let rows = report["rows"].as_array().unwrap();
+    let full = &rows[0];
+    assert_eq!(full["awake_share_hold"], 1.0);
+    for r in &rows[1..] {
+        assert!(r["max_error"].as_f64().unwrap() < 1e-3, "{r}");
+    }
+    let default = rows
+        .iter()
+        .find(|r| r["config"].as_str().unwrap().contains("(default)"))
+        .unwrap();
+    // Once the limb holds still, the whole puppet falls asleep: the median hold step
+    // integrates nothing and costs a small fraction of a full step.
+    assert_eq!(default["awake_share_hold"], 0.0, "{default}");
+    assert!(
+        default["ms_per_step_hold"].as_f64().unwrap()
+            < 0.2 * full["ms_per_step_hold"].as_f64().unwrap(),
+        "{default}"
+    );
 }

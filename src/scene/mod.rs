@@ -257,7 +257,7 @@ impl Puppet {
             method: spec.method,
             ..SkeletonParams::default()
         };
-        let skeleton = skeleton::build(&mesh, &normals, &params, progress)?;
+        let skeleton = skeleton::cache::build_cached(&mesh, &normals, &params, progress)?;
         let joints = spec.joints(&skeleton.points)?;
         let rig = Rig::new(
             &mesh,

@@ -18,6 +18,7 @@
 //!    diameter is at most `t_i`, so `d_i ≤ t_i / 2` bounds the true medial radius and keeps
 //!    `sp_i` inside the object.
 
+pub mod cache;
 pub mod truth;
 
 use crate::delaunay::{Delaunay, DelaunayError};

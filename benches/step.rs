@@ -1,0 +1,88 @@
+//! Micro-benchmarks of the simulation step on the standard scene (`puppet::scenario`):
+//! Spot (2,930 vertices) and Spot Loop-subdivided twice (46,850 vertices).
+//! `cargo bench --bench step`.
+//!
+//! * `pose`: the joints' world transforms for one frame (f64, then f32);
+//! * `step/<constraint>`: one full step with every tile integrated (stages 0–5; the fused
+//!   kernel is nearly all of it);
+//! * `asleep`: a step when every tile sleeps (stages 0 and 5 only: the bookkeeping cost);
+//! * `reference-f64`: one step of the f64 reference solver.
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use puppet::joints::PoseScratch;
+use puppet::mesh::{parse_obj, subdivide_loop_values, vertex_normals};
+use puppet::scenario::{reference::Reference, Scene};
+use puppet::sim::{Constraint, Options, Params, Pose, Simulation};
+use std::hint::black_box;
+
+fn scene(level: usize) -> Scene {
+    let (mut mesh, _) = parse_obj(include_bytes!("../assets/spot.obj")).expect("embedded mesh");
+    let normals = vertex_normals(&mesh).expect("normals");
+    let sk = puppet::skeleton::build(
+        &mesh,
+        &normals,
+        &Default::default(),
+        puppet::progress::silent(),
+    )
+    .expect("skeleton");
+    let mut distance = sk.distance;
+    for _ in 0..level {
+        (mesh, distance) = subdivide_loop_values(&mesh, &distance);
+    }
+    Scene::standard(mesh, distance, f64::INFINITY).expect("scene")
+}
+
+fn stages(c: &mut Criterion) {
+    for (name, level) in [("spot", 0), ("spot-x16", 2)] {
+        let scene = scene(level);
+        let mut g = c.benchmark_group(name);
+        g.sample_size(20);
+        let mut scratch = PoseScratch::default();
+        let local = scene.local(0.25);
+        g.bench_function("pose", |b| {
+            b.iter(|| {
+                scene.joints.pose_into(black_box(&local), &mut scratch);
+            })
+        });
+        for constraint in [Constraint::Circumsphere, Constraint::SpringReduction] {
+            let params = Params {
+                constraint,
+                ..Params::default()
+            };
+            let options = Options {
+                sleeping: false,
+                ..Options::default()
+            };
+            let mut sim =
+                Simulation::with_options(scene.rig(params.bone_distance), params, options);
+            sim.set_sections(scene.joints.section_of().to_vec());
+            let poses: Vec<Pose> = (0..60).map(|k| scene.pose(k as f64 / 60.0)).collect();
+            let mut k = 0;
+            let label = match constraint {
+                Constraint::Circumsphere => "step/circumsphere",
+                Constraint::SpringReduction => "step/reduction",
+            };
+            g.bench_function(label, |b| {
+                b.iter(|| {
+                    sim.step(&poses[k % poses.len()]);
+                    k += 1;
+                })
+            });
+        }
+        let params = Params::default();
+        let mut sim = Simulation::new(scene.rig(params.bone_distance), params);
+        sim.set_sections(scene.joints.section_of().to_vec());
+        let rest = scene.pose(0.0);
+        while !sim.is_asleep() {
+            sim.step(&rest);
+        }
+        g.bench_function("asleep", |b| b.iter(|| sim.step(black_box(&rest))));
+        let mut r = Reference::new(&scene, params, 1.0 / 60.0);
+        let world = scene.world(0.25);
+        g.bench_function("reference-f64", |b| b.iter(|| r.step(black_box(&world))));
+        g.finish();
+    }
+}
+
+criterion_group!(benches, stages);
+criterion_main!(benches);
