@@ -63,55 +63,57 @@ impl SplitMix {
     }
 }
 
+/// Maps points to `bits`-bit integer coordinates over their bounding box.
+fn quantizer(points: &[DVec3], bits: u32) -> impl Fn(DVec3) -> [u32; 3] {
+    let (lo, hi) = crate::mesh::bounds(points);
+    let ext = (hi - lo).max_element();
+    let scale = if ext > 0.0 {
+        ((1u32 << bits) - 1) as f64 / ext
+    } else {
+        0.0
+    };
+    move |p| ((p - lo) * scale).to_array().map(|c| c as u32)
+}
+
+/// The indices of `(key, index)` pairs in key order.
+fn by_key(mut keys: Vec<(u64, u32)>) -> Vec<u32> {
+    keys.sort_unstable();
+    keys.into_iter().map(|(_, i)| i).collect()
+}
+
 /// Points sorted along the 3D Hilbert curve of their bounding box: indices into `points`.
 /// Consecutive indices are close in space, so data laid out in this order is read with few
 /// cache misses by anything that visits mesh neighbours (the simulation step).
 pub fn hilbert_order(points: &[DVec3]) -> Vec<u32> {
     const BITS: u32 = 21;
-    let (lo, hi) = crate::mesh::bounds(points);
-    let ext = (hi - lo).max_element();
-    let scale = if ext > 0.0 {
-        ((1u32 << BITS) - 1) as f64 / ext
-    } else {
-        0.0
-    };
-    let mut keys: Vec<(u64, u32)> = points
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let q = ((*p - lo) * scale).to_array().map(|c| c as u32);
-            (hilbert_index(q, BITS), i as u32)
-        })
-        .collect();
-    keys.sort_unstable();
-    keys.into_iter().map(|(_, i)| i).collect()
+    let q = quantizer(points, BITS);
+    by_key(
+        points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (hilbert_index(q(*p), BITS), i as u32))
+            .collect(),
+    )
 }
 
 /// BRIO order of `points`: indices into `points`.
 pub fn brio_order(points: &[DVec3], seed: u64) -> Vec<u32> {
     const BITS: u32 = 16;
     const MAX_ROUND: u32 = 12;
-    let (lo, hi) = crate::mesh::bounds(points);
-    let ext = (hi - lo).max_element();
-    let scale = if ext > 0.0 {
-        ((1u32 << BITS) - 1) as f64 / ext
-    } else {
-        0.0
-    };
+    let q = quantizer(points, BITS);
     let mut rng = SplitMix(seed);
-    let mut keys: Vec<(u64, u32)> = points
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let q = ((*p - lo) * scale).to_array().map(|c| c as u32);
-            // Round r (0 = last, biggest) with probability 2^-(r+1); earlier rounds first.
-            let round = rng.next_u64().trailing_ones().min(MAX_ROUND);
-            let key = ((MAX_ROUND - round) as u64) << 48 | hilbert_index(q, BITS);
-            (key, i as u32)
-        })
-        .collect();
-    keys.sort_unstable();
-    keys.into_iter().map(|(_, i)| i).collect()
+    by_key(
+        points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                // Round r (0 = last, biggest) with probability 2^-(r+1); earlier rounds first.
+                let round = rng.next_u64().trailing_ones().min(MAX_ROUND);
+                let key = ((MAX_ROUND - round) as u64) << 48 | hilbert_index(q(*p), BITS);
+                (key, i as u32)
+            })
+            .collect(),
+    )
 }
 
 #[cfg(test)]

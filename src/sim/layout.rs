@@ -5,7 +5,8 @@
 //!   `order[k]`. Slots follow the 3D Hilbert curve of the rest positions, so a vertex's
 //!   neighbours sit in nearby slots and the step's neighbour gathers hit cache lines that are
 //!   already loaded. Measured on Spot subdivided four times (Loop subdivision appends every new
-//!   vertex at the end, the worst case): the fused pass went from 56 ms to 44–47 ms.
+//!   vertex at the end, the worst case): the step went from 64 / 76 ms to 55 / 50 ms (two
+//!   runs each, alternating; BENCHMARKS.md).
 //! * **Tiles.** Consecutive runs of [`Layout::tile`] slots. A tile is the unit of work of one
 //!   parallel task and the unit of sleeping: Hilbert tiles are compact patches of the surface,
 //!   so a still region is a set of whole tiles. For each tile the layout keeps the sections its
@@ -13,9 +14,8 @@
 //!   reach (motion wakes neighbours).
 //! * Per-slot constants the step reads, packed in one [`SlotData`] record per slot (rest
 //!   position, normal, section, bone length `L`, the measured rest lengths of both bone
-//!   springs), and the CSR of surface springs as `(neighbour slot, rest)` pairs. Packing
-//!   matters here: with one array per field the kernel read 19 sequential streams at once,
-//!   more than the hardware prefetcher follows; packed, it reads 9.
+//!   springs), and the CSR of surface springs as `(neighbour slot, rest)` pairs: the kernel
+//!   reads 9 sequential streams instead of 19 (measured gain small, a few per cent).
 
 use crate::rig::Rig;
 use glam::Vec3;
@@ -107,8 +107,6 @@ pub struct Layout {
     /// Tiles reached by the springs of tile `t` (itself excluded), same CSR shape.
     pub tile_neighbour_start: Vec<u32>,
     pub tile_neighbours: Vec<u32>,
-    /// Largest number of surface half-springs in one tile (sizes the kernel's scratch).
-    pub max_tile_half_edges: usize,
 }
 
 impl Layout {
@@ -156,7 +154,6 @@ impl Layout {
             tile_sections: Vec::new(),
             tile_neighbour_start: Vec::new(),
             tile_neighbours: Vec::new(),
-            max_tile_half_edges: 0,
             order,
             slot,
         };
@@ -236,11 +233,9 @@ impl Layout {
         self.tile_neighbour_start.clear();
         self.tile_neighbours.clear();
         self.tile_neighbour_start.push(0);
-        self.max_tile_half_edges = 0;
         for t in 0..self.tiles() {
             let r = self.tile_range(t);
             let (s0, s1) = (self.start[r.start] as usize, self.start[r.end] as usize);
-            self.max_tile_half_edges = self.max_tile_half_edges.max(s1 - s0);
             let first = self.tile_neighbours.len();
             self.tile_neighbours.extend(
                 self.edges[s0..s1]

@@ -167,13 +167,6 @@ impl Positions<'_> {
     pub fn to_vec(&self) -> Vec<Vec3> {
         (0..self.len()).map(|i| self.get(i)).collect()
     }
-
-    /// Writes all positions in vertex order into `out` (resized; no allocation once it has
-    /// the capacity).
-    pub fn write_into(&self, out: &mut Vec<Vec3>) {
-        out.clear();
-        out.extend((0..self.len()).map(|i| self.get(i)));
-    }
 }
 
 impl PartialEq for Positions<'_> {

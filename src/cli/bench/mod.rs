@@ -7,9 +7,11 @@
 //! * `--stress`: randomized scenes that try to break the solver ([`stress`]);
 //! * `--skip`: what sleeping saves on a scene where only the limb moves, and what it costs
 //!   in accuracy ([`skip`]);
+//! * `--machine`: copy bandwidth and a plain scalar spring loop, as yardsticks ([`machine`]);
 //! * `--skeleton`, `--skeleton-speed`: the skeleton's accuracy and speed ([`skeleton`]).
 
 mod accuracy;
+mod machine;
 mod skeleton;
 mod skip;
 mod stress;
@@ -57,6 +59,9 @@ pub struct Args {
     /// Cost and error of sleeping (skipping still tiles).
     #[arg(long)]
     pub skip: bool,
+    /// This machine's copy bandwidth and a plain scalar spring loop (yardsticks).
+    #[arg(long)]
+    pub machine: bool,
     /// Skeleton accuracy against analytic shapes.
     #[arg(long)]
     pub skeleton: bool,
@@ -89,11 +94,14 @@ pub fn run(args: &Args) -> Result<()> {
         args.accuracy,
         args.stress,
         args.skip,
+        args.machine,
         args.skeleton,
         args.skeleton_speed,
     ];
     if modes.iter().filter(|&&m| m).count() > 1 {
-        bail!("choose one of --accuracy, --stress, --skip, --skeleton, --skeleton-speed");
+        bail!(
+            "choose one of --accuracy, --stress, --skip, --machine, --skeleton, --skeleton-speed"
+        );
     }
     if args.accuracy {
         accuracy::run(args)
@@ -101,6 +109,8 @@ pub fn run(args: &Args) -> Result<()> {
         stress::run(args)
     } else if args.skip {
         skip::run(args)
+    } else if args.machine {
+        machine::run(args)
     } else if args.skeleton {
         skeleton::accuracy(args)
     } else if args.skeleton_speed {
@@ -136,15 +146,26 @@ impl Base {
         })
     }
 
-    /// The standard scene on the mesh Loop-subdivided `level` times. Subdivided vertices
-    /// take the mean skeletal distance of their edge's ends: the step's cost does not
-    /// depend on the values, and multi-million-vertex skeletons would dominate the run.
-    fn scene(&self, level: usize, swing_seconds: f64) -> Result<Scene> {
+    /// The mesh and distances Loop-subdivided `level` times. Subdivided vertices take the
+    /// mean skeletal distance of their edge's ends: the step's cost does not depend on the
+    /// values, and multi-million-vertex skeletons would dominate the run.
+    fn subdivided(&self, level: usize) -> (Mesh, Vec<f64>) {
         let (mut mesh, mut distance) = (self.mesh.clone(), self.distance.clone());
         for _ in 0..level {
             (mesh, distance) = subdivide_loop_values(&mesh, &distance);
         }
+        (mesh, distance)
+    }
+
+    /// The standard scene on a (subdivided) copy of the mesh.
+    fn scene_of(&self, mesh: Mesh, distance: Vec<f64>, swing_seconds: f64) -> Result<Scene> {
         Scene::standard(mesh, distance, swing_seconds).map_err(|e| anyhow!("{}: {e}", self.name))
+    }
+
+    /// The standard scene on the mesh Loop-subdivided `level` times.
+    fn scene(&self, level: usize, swing_seconds: f64) -> Result<Scene> {
+        let (mesh, distance) = self.subdivided(level);
+        self.scene_of(mesh, distance, swing_seconds)
     }
 }
 

@@ -124,7 +124,7 @@ pub fn run(args: &Args) -> Result<()> {
     let rows: Vec<Row> = configs
         .iter()
         .enumerate()
-        .map(|(c, (name, o))| {
+        .map(|(c, (name, _))| {
             let all: Vec<f64> = times[c].0.iter().chain(&times[c].1).copied().collect();
             Row {
                 config: name.clone(),
@@ -137,7 +137,6 @@ pub fn run(args: &Args) -> Result<()> {
                 rms_error: (sum2[c] / (steps * n) as f64).sqrt() / diag,
                 max_error: worst[c] / diag,
             }
-            .with_sleeping(o.sleeping)
         })
         .collect();
     let report = Report {
@@ -193,19 +192,4 @@ pub fn run(args: &Args) -> Result<()> {
         }
     }
     Ok(())
-}
-
-impl Row {
-    /// The full run has no error by definition; keep its columns at zero.
-    fn with_sleeping(self, sleeping: bool) -> Row {
-        if sleeping {
-            self
-        } else {
-            Row {
-                rms_error: 0.0,
-                max_error: 0.0,
-                ..self
-            }
-        }
-    }
 }

@@ -7,6 +7,7 @@
 
 use super::{median_p95, method_name, Args, Base};
 use anyhow::Result;
+use puppet::mesh::subdivide_loop_values;
 use puppet::scenario::Scene;
 use puppet::sim::{Options, Params, Simulation, REFERENCE_STEP};
 
@@ -127,8 +128,13 @@ pub fn run(args: &Args) -> Result<()> {
         }
     }
     let mut rows: Vec<Row> = Vec::new();
+    // Each level subdivides the previous one (not the input again).
+    let (mut mesh, mut distance) = base.subdivided(level);
     loop {
-        let scene = base.scene(level, f64::INFINITY)?;
+        if !rows.is_empty() {
+            (mesh, distance) = subdivide_loop_values(&mesh, &distance);
+        }
+        let scene = base.scene_of(mesh.clone(), distance.clone(), f64::INFINITY)?;
         let row = measure(&scene, params, args.frames.max(1));
         let held = row.ms_per_step_median <= BUDGET_MS;
         log::info!(
