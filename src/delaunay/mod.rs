@@ -20,9 +20,13 @@
 //!   the spheres through that face), which keeps the cavity consistent.
 //! * **BRIO + Hilbert order** ([`crate::geom::hilbert`]) keeps location walks short;
 //!   location is a remembering stochastic visibility walk from the last created tetrahedron.
-//! * Flat arrays: `tets[t]` (four vertex ids) and `adj[t]` (the neighbour opposite each
-//!   vertex); freed slots are reused, and all scratch buffers live in the struct, so an
-//!   insertion allocates nothing once the arrays have grown.
+//! * Memory is laid out for a latency-bound walk: one 32-byte, 32-aligned record per
+//!   tetrahedron (four vertex ids and the neighbour opposite each: one cache line visit, not
+//!   two), vertices renumbered in insertion order (so the points a cavity touches were
+//!   inserted close together in time and sit close together in memory), and one byte of
+//!   cavity mark per tetrahedron, cleared after each insertion. Freed slots are reused, and
+//!   all scratch buffers live in the struct, so an insertion allocates nothing once the
+//!   arrays have grown. Ids are mapped back to input indices only in the output.
 //!
 //! Orientation convention: every tetrahedron `[v0, v1, v2, v3]` is positively oriented
 //! (`orient3d(v0, v1, v2, v3) > 0`), and [`FACE`]`[i]` lists the face opposite `vi` so that
@@ -52,6 +56,19 @@ pub enum DelaunayError {
     Flat(&'static str),
 }
 
+/// One tetrahedron: its vertices (internal ids) and the neighbour opposite each vertex.
+#[derive(Clone, Copy)]
+#[repr(C, align(32))]
+struct Cell {
+    v: [u32; 4],
+    n: [u32; 4],
+}
+
+/// Cavity marks (reset to `UNSEEN` after every insertion).
+const UNSEEN: u8 = 0;
+const IN: u8 = 1;
+const OUT: u8 = 2;
+
 /// A boundary face of the cavity: its vertices (oriented towards the cavity), the tetrahedron
 /// outside it and which of that tetrahedron's neighbour slots points into the cavity.
 #[derive(Clone, Copy)]
@@ -68,12 +85,14 @@ enum Located {
 
 /// A Delaunay tetrahedralization of a point set (vertex ids are input indices).
 pub struct Delaunay {
+    /// Input points, input order (what [`Delaunay::points`] returns).
     points: Vec<DVec3>,
-    tets: Vec<[u32; 4]>,
-    adj: Vec<[u32; 4]>,
+    /// Points in insertion order: internal vertex `k` is input point `input_id[k]`.
+    pts: Vec<DVec3>,
+    input_id: Vec<u32>,
+    cells: Vec<Cell>,
     free: Vec<u32>,
-    mark: Vec<u32>,
-    stamp: u32,
+    mark: Vec<u8>,
     rng: SplitMix,
     hint: u32,
     duplicate_of: Vec<u32>,
@@ -136,11 +155,11 @@ impl Delaunay {
 
         let mut dt = Delaunay {
             points: points.to_vec(),
-            tets: Vec::with_capacity(7 * n),
-            adj: Vec::with_capacity(7 * n),
+            pts: order.iter().map(|&i| points[i as usize]).collect(),
+            input_id: order,
+            cells: Vec::with_capacity(7 * n),
             free: Vec::new(),
             mark: Vec::with_capacity(7 * n),
-            stamp: 0,
             rng: SplitMix(0x1234_5678),
             hint: 0,
             duplicate_of: vec![NONE; n],
@@ -151,10 +170,10 @@ impl Delaunay {
             table: Vec::new(),
             table_used: Vec::new(),
         };
-        dt.init_simplex(first);
+        dt.init_simplex([0, 1, 2, 3]);
         let step = (n / 64).max(1 << 14);
-        for (k, &p) in order.iter().enumerate().skip(4) {
-            dt.insert(p);
+        for k in 4..n {
+            dt.insert(k as u32);
             if k % step == 0 {
                 progress(k as f64 / n as f64);
             }
@@ -183,7 +202,7 @@ impl Delaunay {
                     }
                     for j in 0..4 {
                         if self.face_key(u, j) == face {
-                            self.adj[t as usize][i] = u;
+                            self.cells[t as usize].n[i] = u;
                         }
                     }
                 }
@@ -193,7 +212,7 @@ impl Delaunay {
     }
 
     fn face_key(&self, t: u32, i: usize) -> [u32; 3] {
-        let tv = self.tets[t as usize];
+        let tv = self.cells[t as usize].v;
         let mut k = FACE[i].map(|j| tv[j]);
         k.sort_unstable();
         k
@@ -201,39 +220,38 @@ impl Delaunay {
 
     #[inline(always)]
     fn p(&self, v: u32) -> DVec3 {
-        self.points[v as usize]
+        self.pts[v as usize]
     }
 
     fn alloc(&mut self, v: [u32; 4]) -> u32 {
         if let Some(t) = self.free.pop() {
-            self.tets[t as usize] = v;
+            self.cells[t as usize].v = v;
             t
         } else {
-            self.tets.push(v);
-            self.adj.push([NONE; 4]);
-            self.mark.push(0);
-            (self.tets.len() - 1) as u32
+            self.cells.push(Cell { v, n: [NONE; 4] });
+            self.mark.push(UNSEEN);
+            (self.cells.len() - 1) as u32
         }
     }
 
     /// Is tetrahedron `t` in conflict with (its circumsphere strictly containing) `q`?
     #[inline]
     fn conflict(&self, t: u32, q: DVec3) -> bool {
-        let tv = self.tets[t as usize];
+        let cell = self.cells[t as usize];
+        let tv = cell.v;
         if let Some(k) = tv.iter().position(|&v| v == INFINITE) {
             let f = FACE[k];
             let o = orient3d(self.p(tv[f[0]]), self.p(tv[f[1]]), self.p(tv[f[2]]), q);
             if o != 0.0 {
                 return o > 0.0;
             }
-            return self.sphere_conflict(self.adj[t as usize][k], q);
+            return self.sphere_conflict(self.cells[cell.n[k] as usize].v, q);
         }
-        self.sphere_conflict(t, q)
+        self.sphere_conflict(tv, q)
     }
 
     #[inline]
-    fn sphere_conflict(&self, t: u32, q: DVec3) -> bool {
-        let tv = self.tets[t as usize];
+    fn sphere_conflict(&self, tv: [u32; 4], q: DVec3) -> bool {
         // A tie (q cospherical) is "outside": q is the latest point (see module docs).
         insphere(
             self.p(tv[0]),
@@ -247,9 +265,9 @@ impl Delaunay {
     fn locate(&mut self, q: DVec3) -> Located {
         let mut t = self.hint;
         let mut prev = NONE;
-        let limit = 4 * self.tets.len() + 64;
+        let limit = 4 * self.cells.len() + 64;
         for _ in 0..limit {
-            let tv = self.tets[t as usize];
+            let Cell { v: tv, n: adj } = self.cells[t as usize];
             if tv.contains(&INFINITE) {
                 return Located::Tet(t);
             }
@@ -257,7 +275,7 @@ impl Delaunay {
             let mut next = NONE;
             for k in 0..4 {
                 let j = (r + k) & 3;
-                let n = self.adj[t as usize][j];
+                let n = adj[j];
                 if n == prev {
                     continue;
                 }
@@ -283,7 +301,8 @@ impl Delaunay {
     /// Delaunay triangulation (visibility walks terminate there); kept as a guard.
     fn locate_exhaustive(&self, q: DVec3) -> Located {
         log::warn!("delaunay: walk did not terminate; scanning");
-        for (t, tv) in self.tets.iter().enumerate() {
+        for (t, cell) in self.cells.iter().enumerate() {
+            let tv = cell.v;
             if tv[0] == FREE {
                 continue;
             }
@@ -312,37 +331,36 @@ impl Delaunay {
         let t0 = match self.locate(q) {
             Located::Tet(t) => t,
             Located::Vertex(v) => {
-                self.duplicate_of[p as usize] = v;
+                self.duplicate_of[self.input_id[p as usize] as usize] = self.input_id[v as usize];
                 return;
             }
         };
         // 1. The cavity: all tetrahedra whose circumsphere contains q (a connected set).
-        self.stamp += 2;
-        let (inside, outside) = (self.stamp, self.stamp + 1);
         self.cavity.clear();
         self.boundary.clear();
         self.stack.clear();
-        self.mark[t0 as usize] = inside;
+        self.mark[t0 as usize] = IN;
         self.cavity.push(t0);
         self.stack.push(t0);
         while let Some(t) = self.stack.pop() {
+            let Cell { v: tv, n: adj } = self.cells[t as usize];
             for (j, f) in FACE.iter().enumerate() {
-                let n = self.adj[t as usize][j];
+                let n = adj[j];
                 let m = self.mark[n as usize];
-                if m == inside {
+                if m == IN {
                     continue;
                 }
-                if m != outside {
+                if m != OUT {
                     if self.conflict(n, q) {
-                        self.mark[n as usize] = inside;
+                        self.mark[n as usize] = IN;
                         self.cavity.push(n);
                         self.stack.push(n);
                         continue;
                     }
-                    self.mark[n as usize] = outside;
+                    self.mark[n as usize] = OUT;
                 }
-                let tv = self.tets[t as usize];
-                let slot = self.adj[n as usize]
+                let slot = self.cells[n as usize]
+                    .n
                     .iter()
                     .position(|&x| x == t)
                     .unwrap_or(0) as u8;
@@ -356,15 +374,17 @@ impl Delaunay {
         // 2. Free the cavity and fill it with a fan of tetrahedra from q to its boundary.
         for i in 0..self.cavity.len() {
             let t = self.cavity[i];
-            self.tets[t as usize] = [FREE; 4];
+            self.cells[t as usize].v = [FREE; 4];
+            self.mark[t as usize] = UNSEEN;
             self.free.push(t);
         }
         self.created.clear();
         for i in 0..self.boundary.len() {
             let b = self.boundary[i];
+            self.mark[b.out as usize] = UNSEEN;
             let nt = self.alloc([b.v[0], b.v[1], b.v[2], p]);
-            self.adj[nt as usize][3] = b.out;
-            self.adj[b.out as usize][b.slot as usize] = nt;
+            self.cells[nt as usize].n[3] = b.out;
+            self.cells[b.out as usize].n[b.slot as usize] = nt;
             self.created.push(nt);
         }
         // 3. Link the new tetrahedra to each other through their shared edges on the
@@ -377,7 +397,7 @@ impl Delaunay {
         let shift = 64 - self.table.len().trailing_zeros();
         for ci in 0..self.created.len() {
             let nt = self.created[ci];
-            let v = self.tets[nt as usize];
+            let v = self.cells[nt as usize].v;
             for (i, (x, y)) in [(v[1], v[2]), (v[0], v[2]), (v[0], v[1])]
                 .into_iter()
                 .enumerate()
@@ -393,8 +413,8 @@ impl Delaunay {
                     }
                     if k == key {
                         let (ot, oi) = (val >> 2, (val & 3) as usize);
-                        self.adj[nt as usize][i] = ot;
-                        self.adj[ot as usize][oi] = nt;
+                        self.cells[nt as usize].n[i] = ot;
+                        self.cells[ot as usize].n[oi] = nt;
                         break;
                     }
                     h = (h + 1) & mask;
@@ -417,14 +437,14 @@ impl Delaunay {
 
     /// Finite tetrahedra (positively oriented, vertex ids are input indices).
     pub fn finite_tets(&self) -> Vec<[u32; 4]> {
-        self.tets
+        self.cells
             .iter()
-            .filter(|t| t[0] != FREE && !t.contains(&INFINITE))
-            .copied()
+            .filter(|c| c.v[0] != FREE && !c.v.contains(&INFINITE))
+            .map(|c| c.v.map(|v| self.input_id[v as usize]))
             .collect()
     }
 
-    /// For each input point, `Some(v)` when it coincided with the earlier vertex `v` and was
+    /// For each input point, `Some(v)` when it coincided with the input point `v` and was
     /// not inserted.
     pub fn duplicate_of(&self, point: usize) -> Option<u32> {
         let d = self.duplicate_of[point];
@@ -433,21 +453,22 @@ impl Delaunay {
 
     /// Number of live tetrahedra, infinite ones included.
     pub fn tet_count(&self) -> usize {
-        self.tets.len() - self.free.len()
+        self.cells.len() - self.free.len()
     }
 
     /// Checks the structure: symmetric adjacency with matching faces, every finite
     /// tetrahedron positively oriented, the local Delaunay property across every finite
     /// face, and every non-duplicate point a vertex. Cost O(tetrahedra).
     pub fn check(&self) -> Result<(), String> {
-        let mut is_vertex = vec![false; self.points.len()];
-        for (t, tv) in self.tets.iter().enumerate() {
+        let mut is_vertex = vec![false; self.pts.len()];
+        for (t, cell) in self.cells.iter().enumerate() {
+            let tv = &cell.v;
             if tv[0] == FREE {
                 continue;
             }
             for &v in tv {
                 if v != INFINITE {
-                    is_vertex[v as usize] = true;
+                    is_vertex[self.input_id[v as usize] as usize] = true;
                 }
             }
             let finite = !tv.contains(&INFINITE);
@@ -456,17 +477,21 @@ impl Delaunay {
                 return Err(format!("tet {t} {tv:?} is not positively oriented"));
             }
             for j in 0..4 {
-                let n = self.adj[t][j];
-                if n == NONE || self.tets[n as usize][0] == FREE {
+                let n = cell.n[j];
+                if n == NONE || self.cells[n as usize].v[0] == FREE {
                     return Err(format!("tet {t} has a missing neighbour {j}"));
                 }
-                let Some(k) = self.adj[n as usize].iter().position(|&x| x as usize == t) else {
+                let Some(k) = self.cells[n as usize]
+                    .n
+                    .iter()
+                    .position(|&x| x as usize == t)
+                else {
                     return Err(format!("adjacency {t} -> {n} is not symmetric"));
                 };
                 if self.face_key(t as u32, j) != self.face_key(n, k) {
                     return Err(format!("tets {t} and {n} do not share their face"));
                 }
-                let opposite = self.tets[n as usize][k];
+                let opposite = self.cells[n as usize].v[k];
                 if finite && opposite != INFINITE {
                     let [a, b, c, d] = tv.map(|v| self.p(v));
                     if insphere(a, b, c, d, self.p(opposite)) > 0.0 {
