@@ -469,3 +469,36 @@ fn motion_wakes_neighbouring_tiles_before_it_reaches_them() {
         "sleeping run strays {worst} from the full run"
     );
 }
+
+#[test]
+fn springs_inside_a_tile_are_evaluated_once_and_every_term_points_at_its_spring() {
+    use puppet::sim::layout::Layout;
+    let rig = rig();
+    for tile in [1, 37, 256, 100_000] {
+        let l = Layout::new(&rig, tile);
+        // Half-springs whose two ends share a tile.
+        let inner = (0..l.len())
+            .flat_map(|k| (l.start[k]..l.start[k + 1]).map(move |e| (k, e as usize)))
+            .filter(|&(k, e)| k / tile == l.edges[e].neighbour as usize / tile)
+            .count();
+        assert_eq!(l.evals.len(), l.edges.len() - inner / 2, "tile {tile}");
+        for t in 0..l.tiles() {
+            let r = l.tile_range(t);
+            let first = l.eval_start[r.start] as usize;
+            for k in r {
+                for e in l.start[k] as usize..l.start[k + 1] as usize {
+                    let term = l.terms[e];
+                    let spring = l.evals[first + (term & !Layout::NEGATE) as usize];
+                    let negated = term & Layout::NEGATE != 0;
+                    // The evaluated spring joins the same two slots, from the lower one.
+                    assert_eq!(spring.rest, l.edges[e].rest);
+                    if negated {
+                        assert_eq!(spring.neighbour as usize, k);
+                    } else {
+                        assert_eq!(spring.neighbour, l.edges[e].neighbour);
+                    }
+                }
+            }
+        }
+    }
+}

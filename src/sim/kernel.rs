@@ -3,11 +3,15 @@
 //!
 //! A tile is processed in three passes over small scratch arrays that stay in L1:
 //! 1. per slot, the posed rest position, normal and bone points (one affine transform of the
-//!    slot's section), and the spring vectors `x_j − x_i` to every neighbour (the only
-//!    gathers);
-//! 2. the spring factors `(|d| − rest) / |d|` over all springs of the tile: a straight loop of
-//!    `sqrt` and `div` that compiles to 8-wide AVX2 (4-wide SSE2 without it);
-//! 3. per slot, the force sum in CSR order, Verlet with velocity damping and the constraint.
+//!    slot's section), and the spring vectors `x_j − x_i` of the springs it evaluates (the
+//!    only gathers): a spring with both ends in the tile is evaluated once, at its lower slot
+//!    ([`super::layout::Layout::evals`]);
+//! 2. the spring factors `(|d| − rest) / |d|` over the evaluated springs of the tile: a
+//!    straight loop of `sqrt` and `div` that compiles to 8-wide AVX2 (4-wide SSE2 without it);
+//! 3. per slot, the force sum in CSR order, each term looked up through
+//!    [`super::layout::Layout::terms`] (negated for the upper end of a spring, which is bit
+//!    for bit the term evaluated from that end: IEEE negation and `a − b = −(b − a)` are
+//!    exact), Verlet with velocity damping and the constraint.
 //!
 //! Only `+ − × ÷ √` are used, all correctly rounded in IEEE arithmetic, in the same order on
 //! every path, so the AVX2 build of this code and the portable one give bit-identical results
@@ -174,6 +178,8 @@ fn tile_body(
     let cur = ctx.cur;
     let s0 = l.start[range.start] as usize;
     let m = l.start[range.end] as usize - s0;
+    let v0 = l.eval_start[range.start] as usize;
+    let me = l.eval_start[range.end] as usize - v0;
     let nv = range.len();
     sc.reserve(m, nv);
 
@@ -181,9 +187,11 @@ fn tile_body(
     // pointers in registers instead of reloading them after every store.
     let (cx, cy, cz) = (&cur.x[..], &cur.y[..], &cur.z[..]);
     let start = &l.start[range.start..=range.end];
-    let edges = &l.edges[s0..s0 + m];
+    let terms = &l.terms[s0..s0 + m];
+    let eval_start = &l.eval_start[range.start..=range.end];
+    let evals = &l.evals[v0..v0 + me];
     let slots = &l.slots[range.clone()];
-    let (dx, dy, dz) = (&mut sc.dx[..m], &mut sc.dy[..m], &mut sc.dz[..m]);
+    let (dx, dy, dz) = (&mut sc.dx[..me], &mut sc.dy[..me], &mut sc.dz[..me]);
     let (rx, ry, rz) = (&mut sc.rx[..nv], &mut sc.ry[..nv], &mut sc.rz[..nv]);
     let (nx, ny, nz) = (&mut sc.nx[..nv], &mut sc.ny[..nv], &mut sc.nz[..nv]);
     let (ix, iy, iz) = (&mut sc.ix[..nv], &mut sc.iy[..nv], &mut sc.iz[..nv]);
@@ -205,8 +213,10 @@ fn tile_body(
         (nx[j], ny[j], nz[j]) = (n.x, n.y, n.z);
         (ix[j], iy[j], iz[j]) = (bi.x - x, bi.y - y, bi.z - z);
         (ox[j], oy[j], oz[j]) = (bo.x - x, bo.y - y, bo.z - z);
-        for e in (start[j] - start[0]) as usize..(start[j + 1] - start[0]) as usize {
-            let q = edges[e].neighbour as usize;
+        for e in
+            (eval_start[j] - eval_start[0]) as usize..(eval_start[j + 1] - eval_start[0]) as usize
+        {
+            let q = evals[e].neighbour as usize;
             dx[e] = cx[q] - x;
             dy[e] = cy[q] - y;
             dz[e] = cz[q] - z;
@@ -215,9 +225,9 @@ fn tile_body(
 
     // Pass 2: spring factors, vectorized.
     {
-        let (dx, dy, dz, f) = (&sc.dx[..m], &sc.dy[..m], &sc.dz[..m], &mut sc.f[..m]);
-        for e in 0..m {
-            f[e] = factor(dx[e], dy[e], dz[e], edges[e].rest);
+        let (dx, dy, dz, f) = (&sc.dx[..me], &sc.dy[..me], &sc.dz[..me], &mut sc.f[..me]);
+        for e in 0..me {
+            f[e] = factor(dx[e], dy[e], dz[e], evals[e].rest);
         }
         let (ix, iy, iz) = (&sc.ix[..nv], &sc.iy[..nv], &sc.iz[..nv]);
         let (ox, oy, oz) = (&sc.ox[..nv], &sc.oy[..nv], &sc.oz[..nv]);
@@ -230,7 +240,7 @@ fn tile_body(
 
     // Pass 3: force sums, Verlet, constraint.
     let p = &ctx.params;
-    let (dx, dy, dz, fs) = (&sc.dx[..m], &sc.dy[..m], &sc.dz[..m], &sc.f[..m]);
+    let (dx, dy, dz, fs) = (&sc.dx[..me], &sc.dy[..me], &sc.dz[..me], &sc.f[..me]);
     let (rx, ry, rz) = (&sc.rx[..nv], &sc.ry[..nv], &sc.rz[..nv]);
     let (ix, iy, iz, fi) = (&sc.ix[..nv], &sc.iy[..nv], &sc.iz[..nv], &sc.fi[..nv]);
     let (ox, oy, oz, fo) = (&sc.ox[..nv], &sc.oy[..nv], &sc.oz[..nv], &sc.fo[..nv]);
@@ -243,8 +253,11 @@ fn tile_body(
             (start[j + 1] - start[0]) as usize,
         );
         let mut f = Vec3::ZERO;
-        for e in a..b {
-            f += fs[e] * Vec3::new(dx[e], dy[e], dz[e]);
+        for &term in &terms[a..b] {
+            let c = (term & !Layout::NEGATE) as usize;
+            // Exact negation: flip the sign bit.
+            let fc = f32::from_bits(fs[c].to_bits() ^ (term & Layout::NEGATE));
+            f += fc * Vec3::new(dx[c], dy[c], dz[c]);
         }
         f += fi[j] * Vec3::new(ix[j], iy[j], iz[j]);
         f += fo[j] * Vec3::new(ox[j], oy[j], oz[j]);

@@ -99,6 +99,16 @@ pub struct Layout {
     /// `edges[start[k]..start[k+1]]`.
     pub start: Vec<u32>,
     pub edges: Vec<Edge>,
+    /// The springs the kernel evaluates, slot by slot (`evals[eval_start[k]..eval_start[k+1]]`
+    /// for slot `k`): each spring with both ends in one tile once, at its lower slot; a
+    /// spring between two tiles at both ends.
+    pub eval_start: Vec<u32>,
+    pub evals: Vec<Edge>,
+    /// Per half-spring of the CSR (`edges` order): which evaluated spring of its tile gives
+    /// its force term, as an index from the tile's first evaluated spring, with
+    /// [`Layout::NEGATE`] set when the term is that spring's negated (the spring was
+    /// evaluated at its other end).
+    pub terms: Vec<u32>,
     /// Slots per tile.
     pub tile: usize,
     /// Sections present in tile `t`: `tile_sections[tile_section_start[t]..[t+1]]`.
@@ -146,6 +156,9 @@ impl Layout {
             .collect();
         let tile = tile.max(1);
         let mut layout = Layout {
+            eval_start: Vec::new(),
+            evals: Vec::new(),
+            terms: Vec::new(),
             slots,
             start,
             edges,
@@ -159,6 +172,7 @@ impl Layout {
         };
         layout.set_bone_length(rig);
         layout.build_tile_neighbours();
+        layout.build_evaluation();
         layout.build_tile_sections();
         layout
     }
@@ -254,6 +268,43 @@ impl Layout {
             self.tile_neighbours.truncate(kept);
             self.tile_neighbour_start
                 .push(self.tile_neighbours.len() as u32);
+        }
+    }
+
+    /// Flag of [`Layout::terms`]: the term is the evaluated spring's, negated.
+    pub const NEGATE: u32 = 1 << 31;
+
+    /// Builds `eval_start`, `evals` and `terms` (see their docs): inside a tile each spring
+    /// is evaluated once, not from both ends, and nothing in the kernel branches on it.
+    fn build_evaluation(&mut self) {
+        let n = self.len();
+        self.eval_start = Vec::with_capacity(n + 1);
+        self.evals = Vec::with_capacity(self.edges.len());
+        self.terms = vec![0; self.edges.len()];
+        self.eval_start.push(0);
+        for t in 0..self.tiles() {
+            let r = self.tile_range(t);
+            let first = self.evals.len();
+            for k in r.clone() {
+                for e in self.start[k] as usize..self.start[k + 1] as usize {
+                    let q = self.edges[e].neighbour as usize;
+                    let twin = if r.contains(&q) && q < k {
+                        (self.start[q] as usize..self.start[q + 1] as usize)
+                            .find(|&x| self.edges[x].neighbour as usize == k)
+                    } else {
+                        None
+                    };
+                    self.terms[e] = match twin {
+                        // The twin (at the lower slot q, pointing up to k) was evaluated.
+                        Some(x) => self.terms[x] | Self::NEGATE,
+                        None => {
+                            self.evals.push(self.edges[e]);
+                            (self.evals.len() - 1 - first) as u32
+                        }
+                    };
+                }
+                self.eval_start.push(self.evals.len() as u32);
+            }
         }
     }
 
