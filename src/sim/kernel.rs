@@ -70,6 +70,12 @@ pub(super) struct Scratch {
     oz: Vec<f32>,
     fi: Vec<f32>,
     fo: Vec<f32>,
+    // Per slot: bone length, the force sum, the squared displacement.
+    lb: Vec<f32>,
+    gx: Vec<f32>,
+    gy: Vec<f32>,
+    gz: Vec<f32>,
+    moved: Vec<f32>,
 }
 
 impl Scratch {
@@ -94,6 +100,11 @@ impl Scratch {
             &mut self.oz,
             &mut self.fi,
             &mut self.fo,
+            &mut self.lb,
+            &mut self.gx,
+            &mut self.gy,
+            &mut self.gz,
+            &mut self.moved,
         ] {
             if v.len() < slots {
                 v.resize(slots, 0.0);
@@ -196,6 +207,7 @@ fn tile_body(
     let (nx, ny, nz) = (&mut sc.nx[..nv], &mut sc.ny[..nv], &mut sc.nz[..nv]);
     let (ix, iy, iz) = (&mut sc.ix[..nv], &mut sc.iy[..nv], &mut sc.iz[..nv]);
     let (ox, oy, oz) = (&mut sc.ox[..nv], &mut sc.oy[..nv], &mut sc.oz[..nv]);
+    let lbs = &mut sc.lb[..nv];
     let mut last_section = u16::MAX;
     let mut t = Affine3A::IDENTITY;
     for (j, k) in range.clone().enumerate() {
@@ -208,6 +220,7 @@ fn tile_body(
         let r = t.transform_point3(d.rest.into());
         let n = t.transform_vector3(d.normal.into());
         let lb = d.bone_length;
+        lbs[j] = lb;
         let (bi, bo) = (r - lb * n, r + lb * n);
         (rx[j], ry[j], rz[j]) = (r.x, r.y, r.z);
         (nx[j], ny[j], nz[j]) = (n.x, n.y, n.z);
@@ -238,16 +251,13 @@ fn tile_body(
         }
     }
 
-    // Pass 3: force sums, Verlet, constraint.
+    // Pass 3a: force sums per slot in CSR order (the only indexed loads left).
     let p = &ctx.params;
     let (dx, dy, dz, fs) = (&sc.dx[..me], &sc.dy[..me], &sc.dz[..me], &sc.f[..me]);
-    let (rx, ry, rz) = (&sc.rx[..nv], &sc.ry[..nv], &sc.rz[..nv]);
     let (ix, iy, iz, fi) = (&sc.ix[..nv], &sc.iy[..nv], &sc.iz[..nv], &sc.fi[..nv]);
     let (ox, oy, oz, fo) = (&sc.ox[..nv], &sc.oy[..nv], &sc.oz[..nv], &sc.fo[..nv]);
-    let (px, py, pz) = (&mut px[..nv], &mut py[..nv], &mut pz[..nv]);
-    let rho_factor = p.max_length - 1.0;
-    let mut worst = 0.0f32;
-    for (j, k) in range.enumerate() {
+    let (gx, gy, gz) = (&mut sc.gx[..nv], &mut sc.gy[..nv], &mut sc.gz[..nv]);
+    for j in 0..nv {
         let (a, b) = (
             (start[j] - start[0]) as usize,
             (start[j + 1] - start[0]) as usize,
@@ -261,35 +271,59 @@ fn tile_body(
         }
         f += fi[j] * Vec3::new(ix[j], iy[j], iz[j]);
         f += fo[j] * Vec3::new(ox[j], oy[j], oz[j]);
-        let x = Vec3::new(cx[k], cy[k], cz[k]);
-        let before = Vec3::new(px[j], py[j], pz[j]);
-        let inv_mass = 1.0 / (b - a + 2) as f32;
-        let mut y = x + ctx.damping * (x - before) + (ctx.stiffness * inv_mass) * f;
-        let r = Vec3::new(rx[j], ry[j], rz[j]);
-        let lb = slots[j].bone_length;
-        y = match p.constraint {
-            Constraint::Circumsphere => circumsphere(y, r, rho_factor * lb),
-            Constraint::SpringReduction => {
-                let n = Vec3::new(sc.nx[j], sc.ny[j], sc.nz[j]);
-                spring_reduction(y, r, n, lb, p)
-            }
-        };
-        worst = worst.max((y - x).length_squared());
-        (px[j], py[j], pz[j]) = (y.x, y.y, y.z);
+        (gx[j], gy[j], gz[j]) = (f.x, f.y, f.z);
     }
-    worst
-}
 
-/// Projects `y` onto the ball of radius `rho` around `centre`.
-#[inline(always)]
-pub(super) fn circumsphere(y: Vec3, centre: Vec3, rho: f32) -> Vec3 {
-    let v = y - centre;
-    let d2 = v.length_squared();
-    if d2 <= rho * rho {
-        y
-    } else {
-        centre + v * (rho / d2.sqrt())
+    // Pass 3b: Verlet and the constraint. The circumsphere is a straight, branch-free loop
+    // over slots (vectorized); the iterated spring reduction stays per slot.
+    let (gx, gy, gz) = (&sc.gx[..nv], &sc.gy[..nv], &sc.gz[..nv]);
+    let (rx, ry, rz) = (&sc.rx[..nv], &sc.ry[..nv], &sc.rz[..nv]);
+    let (cx, cy, cz) = (&cx[range.clone()], &cy[range.clone()], &cz[range.clone()]);
+    let lbs = &sc.lb[..nv];
+    let moved = &mut sc.moved[..nv];
+    let (px, py, pz) = (&mut px[..nv], &mut py[..nv], &mut pz[..nv]);
+    let (damping, stiffness) = (ctx.damping, ctx.stiffness);
+    match p.constraint {
+        Constraint::Circumsphere => {
+            let rho_factor = p.max_length - 1.0;
+            for j in 0..nv {
+                let inv_mass = 1.0 / (start[j + 1] - start[j] + 2) as f32;
+                let k = stiffness * inv_mass;
+                // The same expressions, in the same order, as Vec3 arithmetic would use.
+                let (x, y, z) = (cx[j], cy[j], cz[j]);
+                let yx = x + damping * (x - px[j]) + k * gx[j];
+                let yy = y + damping * (y - py[j]) + k * gy[j];
+                let yz = z + damping * (z - pz[j]) + k * gz[j];
+                let (vx, vy, vz) = (yx - rx[j], yy - ry[j], yz - rz[j]);
+                let d2 = vx * vx + vy * vy + vz * vz;
+                let rho = rho_factor * lbs[j];
+                let s = rho / d2.sqrt();
+                let inside = d2 <= rho * rho;
+                let nx = if inside { yx } else { rx[j] + vx * s };
+                let ny = if inside { yy } else { ry[j] + vy * s };
+                let nz = if inside { yz } else { rz[j] + vz * s };
+                let (mx, my, mz) = (nx - x, ny - y, nz - z);
+                moved[j] = mx * mx + my * my + mz * mz;
+                (px[j], py[j], pz[j]) = (nx, ny, nz);
+            }
+        }
+        Constraint::SpringReduction => {
+            let (nx, ny, nz) = (&sc.nx[..nv], &sc.ny[..nv], &sc.nz[..nv]);
+            for j in 0..nv {
+                let inv_mass = 1.0 / (start[j + 1] - start[j] + 2) as f32;
+                let f = Vec3::new(gx[j], gy[j], gz[j]);
+                let x = Vec3::new(cx[j], cy[j], cz[j]);
+                let before = Vec3::new(px[j], py[j], pz[j]);
+                let y = x + damping * (x - before) + (stiffness * inv_mass) * f;
+                let r = Vec3::new(rx[j], ry[j], rz[j]);
+                let n = Vec3::new(nx[j], ny[j], nz[j]);
+                let y = spring_reduction(y, r, n, lbs[j], p);
+                moved[j] = (y - x).length_squared();
+                (px[j], py[j], pz[j]) = (y.x, y.y, y.z);
+            }
+        }
     }
+    moved.iter().fold(0.0f32, |w, &m| w.max(m))
 }
 
 /// Bone points of a posed rest position `r` with unit normal `n` and bone length `lb`.

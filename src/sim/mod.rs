@@ -429,6 +429,12 @@ impl Simulation {
         self.last_times
     }
 
+    /// Surface springs the kernel evaluates per full step: each spring inside a tile once,
+    /// each spring between two tiles at both ends.
+    pub fn evaluated_springs(&self) -> usize {
+        self.layout.evals.len()
+    }
+
     /// Tiles in all, and tiles integrated by the last step.
     pub fn tiles(&self) -> (usize, usize) {
         (self.layout.tiles(), self.awake_tiles)
