@@ -85,8 +85,6 @@ enum Located {
 
 /// A Delaunay tetrahedralization of a point set (vertex ids are input indices).
 pub struct Delaunay {
-    /// Input points, input order (what [`Delaunay::points`] returns).
-    points: Vec<DVec3>,
     /// Points in insertion order: internal vertex `k` is input point `input_id[k]`.
     pts: Vec<DVec3>,
     input_id: Vec<u32>,
@@ -154,7 +152,6 @@ impl Delaunay {
         order = rest;
 
         let mut dt = Delaunay {
-            points: points.to_vec(),
             pts: order.iter().map(|&i| points[i as usize]).collect(),
             input_id: order,
             cells: Vec::with_capacity(7 * n),
@@ -428,11 +425,6 @@ impl Delaunay {
             self.table[h as usize].0 = u64::MAX;
         }
         self.table_used.clear();
-    }
-
-    /// The input points.
-    pub fn points(&self) -> &[DVec3] {
-        &self.points
     }
 
     /// Finite tetrahedra (positively oriented, vertex ids are input indices).

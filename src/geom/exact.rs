@@ -70,17 +70,6 @@ impl Arena {
         self.buf.len()
     }
 
-    /// Appends the two-component expansion `lo + hi` (zeros dropped) started at `start`.
-    fn end_pair(&mut self, start: usize, lo: f64, hi: f64) -> Exp {
-        if lo != 0.0 {
-            self.buf.push(lo);
-        }
-        if hi != 0.0 {
-            self.buf.push(hi);
-        }
-        self.end(start)
-    }
-
     fn end(&self, start: usize) -> Exp {
         Exp {
             start,
@@ -182,17 +171,10 @@ impl Arena {
                 self.buf.push(h);
             }
         }
-        while ei < e.len {
-            let (nq, h) = two_sum(q, at(&self.buf, e, ei));
-            ei += 1;
-            q = nq;
-            if h != 0.0 {
-                self.buf.push(h);
-            }
-        }
-        while fi < f.len {
-            let (nq, h) = two_sum(q, at(&self.buf, f, fi));
-            fi += 1;
+        // At most one of the two has components left.
+        let (rest, from) = if ei < e.len { (e, ei) } else { (f, fi) };
+        for i in from..rest.len {
+            let (nq, h) = two_sum(q, at(&self.buf, rest, i));
             q = nq;
             if h != 0.0 {
                 self.buf.push(h);
@@ -259,8 +241,9 @@ thread_local! {
 /// Exact sign of the in-sphere determinant in Shewchuk's convention (positive when `e` is
 /// inside the sphere through `a, b, c, d` for his positive orientation).
 ///
-/// Evaluated on differences `p − e` as expansions (each exactly one double in the common
-/// case where the subtraction is exact), in a thread-local [`Arena`]: no allocation once warm.
+/// Two paths: in integers when the coordinates allow it ([`insphere_integer`], every case
+/// seen on real meshes), otherwise on the differences `p − e` as expansions in a
+/// thread-local [`Arena`] (no allocation once warm).
 pub fn insphere_sign(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3], e: [f64; 3]) -> f64 {
     ARENA.with(|arena| match arena.try_borrow_mut() {
         Ok(mut ar) => insphere_in(&mut ar, a, b, c, d, e),
@@ -278,10 +261,6 @@ fn insphere_in(
     e: [f64; 3],
 ) -> f64 {
     if let Some(sign) = insphere_integer([a, b, c, d], e) {
-        return sign;
-    }
-    ar.clear();
-    if let Some(sign) = insphere_exact_differences(ar, [a, b, c, d], e) {
         return sign;
     }
     ar.clear();
@@ -485,74 +464,6 @@ fn insphere_integer(pts: [[f64; 3]; 4], e: [f64; 3]) -> Option<f64> {
         .add(lift(b).mul(cda))
         .add(lift(a).mul(bcd).neg());
     Some(det.signum())
-}
-
-/// `a − b` when it is exactly one double.
-#[inline]
-fn exact_diff(a: f64, b: f64) -> Option<f64> {
-    let x = a - b;
-    let bv = a - x;
-    let av = x + bv;
-    ((a - av) + (bv - b) == 0.0).then_some(x)
-}
-
-/// The common case of [`insphere_sign`]: every difference `p − e` is exact, so each product
-/// is an expansion scaled by one double (linear time), as in Shewchuk's `insphereexact`.
-/// `None` when some difference is inexact.
-fn insphere_exact_differences(ar: &mut Arena, pts: [[f64; 3]; 4], e: [f64; 3]) -> Option<f64> {
-    let mut r = [[0.0; 3]; 4];
-    for (ri, p) in r.iter_mut().zip(pts) {
-        for k in 0..3 {
-            ri[k] = exact_diff(p[k], e[k])?;
-        }
-    }
-    let [ae, be, ce, de] = r;
-    // 2x2 minors as exact expansions.
-    let mut minor = |p: [f64; 3], q: [f64; 3]| {
-        let s = ar.begin();
-        let (x1, x0) = two_product(p[0], q[1]);
-        let (y1, y0) = two_product(q[0], p[1]);
-        let x = ar.end_pair(s, x0, x1);
-        let s = ar.begin();
-        let y = ar.end_pair(s, -y0, -y1);
-        ar.add(x, y)
-    };
-    let ab = minor(ae, be);
-    let bc = minor(be, ce);
-    let cd = minor(ce, de);
-    let da = minor(de, ae);
-    let ac = minor(ae, ce);
-    let bd = minor(be, de);
-    let triple = |ar: &mut Arena, terms: [(f64, Exp); 3]| {
-        let mut acc = ar.from(0.0);
-        for (x, m) in terms {
-            let t = ar.scale(m, x);
-            acc = ar.add(acc, t);
-        }
-        acc
-    };
-    let abc = triple(ar, [(ae[2], bc), (-be[2], ac), (ce[2], ab)]);
-    let bcd = triple(ar, [(be[2], cd), (-ce[2], bd), (de[2], bc)]);
-    let cda = triple(ar, [(ce[2], da), (de[2], ac), (ae[2], cd)]);
-    let dab = triple(ar, [(de[2], ab), (ae[2], bd), (be[2], da)]);
-    // |p|² · m = Σ_k p_k (p_k m), each a scale by one double.
-    let lifted = |ar: &mut Arena, p: [f64; 3], m: Exp, negative: bool| {
-        let mut acc = ar.from(0.0);
-        for x in p {
-            let once = ar.scale(m, x);
-            let twice = ar.scale(once, if negative { -x } else { x });
-            acc = ar.add(acc, twice);
-        }
-        acc
-    };
-    let t1 = lifted(ar, de, abc, false);
-    let t2 = lifted(ar, ce, dab, true);
-    let t3 = lifted(ar, be, cda, false);
-    let t4 = lifted(ar, ae, bcd, true);
-    let u = ar.add(t1, t2);
-    let v = ar.add(t3, t4);
-    let det = ar.add(u, v);
-    Some(ar.sign(det))
 }
 
 #[cfg(test)]

@@ -192,7 +192,7 @@ fn tile_body(
     let v0 = l.eval_start[range.start] as usize;
     let me = l.eval_start[range.end] as usize - v0;
     let nv = range.len();
-    sc.reserve(m, nv);
+    sc.reserve(me, nv);
 
     // Pass 1: posed bones and spring vectors. Local slices: the compiler then keeps their
     // pointers in registers instead of reloading them after every store.
