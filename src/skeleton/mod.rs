@@ -17,6 +17,11 @@
 //!    at distance `t_i`; a ball tangent at `p_i` with its centre on that ray fits only if its
 //!    diameter is at most `t_i`, so `d_i ≤ t_i / 2` bounds the true medial radius and keeps
 //!    `sp_i` inside the object.
+//!
+//! Stage 1 keeps one core busy with point insertion, so the other builds the inside oracle
+//! and the BVH and then measures `t_i` for as many vertices as it can meanwhile; stage 4 does
+//! the rest. Stages 2 and 3 use both cores. No result depends on the thread count or on how
+//! far the overlap got (tested).
 
 pub mod cache;
 pub mod truth;
@@ -28,6 +33,7 @@ use crate::mesh::Mesh;
 use crate::progress::Progress;
 use glam::DVec3;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// How the skeletal distance `d_i` is taken from the inside Voronoi vertices of cell `i`.
@@ -138,6 +144,34 @@ pub fn build(
     params: &SkeletonParams,
     progress: Progress,
 ) -> Result<Skeleton, SkeletonError> {
+    build_with(
+        mesh,
+        normals,
+        params,
+        progress,
+        Overlap::UntilTetrahedralized,
+    )
+}
+
+/// How much of the thickness stage runs alongside the tetrahedralization.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Overlap {
+    /// As many vertices as fit before the tetrahedralization ends (the real pipeline).
+    UntilTetrahedralized,
+    /// None or all of them (tests: both paths must give the same skeleton).
+    #[cfg(test)]
+    Nothing,
+    #[cfg(test)]
+    Everything,
+}
+
+fn build_with(
+    mesh: &Mesh,
+    normals: &[DVec3],
+    params: &SkeletonParams,
+    progress: Progress,
+    overlap: Overlap,
+) -> Result<Skeleton, SkeletonError> {
     let n = mesh.positions.len();
     if normals.len() != n {
         return Err(SkeletonError::Normals(normals.len(), n));
@@ -145,32 +179,50 @@ pub fn build(
     let mut seconds = Vec::new();
     let clock = Instant::now();
 
-    // 1. Tetrahedralize (the oracle and the BVH are built on the other core meanwhile).
+    // 1. Tetrahedralize. Meanwhile, on the other core: the inside oracle and the BVH, then
+    // the thickness along -n of as many vertices as it can before the tetrahedralization
+    // ends (stage 4 needs only the mesh, so it overlaps the tetrahedralization instead of
+    // following it; whatever is left is done in stage 4).
     progress("tetrahedralize", 0.0);
-    let ((dt, t_dt), ((inside, bvh), t_aux)) = rayon::join(
+    let pts = &mesh.positions;
+    let t_min = 1e-9 * mesh.diagonal();
+    let dt_done = AtomicBool::new(false);
+    let ((dt, t_dt), ((inside, bvh, thickness), t_aux)) = rayon::join(
         || {
             let t = Instant::now();
-            let dt = Delaunay::with_progress(&mesh.positions, &|f| progress("tetrahedralize", f));
+            let dt = Delaunay::with_progress(pts, &|f| progress("tetrahedralize", f));
+            dt_done.store(true, Ordering::Relaxed);
             (dt, t.elapsed().as_secs_f64())
         },
         || {
             let t = Instant::now();
-            let r = rayon::join(
-                || InsideTest::new(mesh),
-                || Bvh::new(&mesh.positions, &mesh.triangles),
-            );
-            (r, t.elapsed().as_secs_f64())
+            let (inside, bvh) =
+                rayon::join(|| InsideTest::new(mesh), || Bvh::new(pts, &mesh.triangles));
+            let mut thickness = Vec::with_capacity(pts.len());
+            let more = || match overlap {
+                Overlap::UntilTetrahedralized => !dt_done.load(Ordering::Relaxed),
+                #[cfg(test)]
+                Overlap::Nothing => false,
+                #[cfg(test)]
+                Overlap::Everything => true,
+            };
+            while thickness.len() < pts.len() && more() {
+                let i = thickness.len();
+                let vi = i as u32;
+                let hit = bvh.cast(pts[i], -normals[i], t_min, |tri| tri.contains(&vi));
+                thickness.push(hit.map_or(f64::INFINITY, |h| h.t));
+            }
+            ((inside, bvh, thickness), t.elapsed().as_secs_f64())
         },
     );
     let dt = dt?;
     seconds.push(("tetrahedralize", t_dt));
-    seconds.push(("inside-oracle+bvh (parallel)", t_aux));
+    seconds.push(("inside-oracle+bvh+thickness (parallel)", t_aux));
 
     // 2. Classify circumcentres: the circumradius if inside (negated for slivers), NaN if
     // outside or undefined.
     let t = Instant::now();
     progress("voronoi", 0.0);
-    let pts = &mesh.positions;
     let tets = dt.finite_tets();
     let sliver = params.sliver_ratio;
     let radius: Vec<f64> = tets
@@ -199,32 +251,32 @@ pub fn build(
         .collect();
     seconds.push(("voronoi", t.elapsed().as_secs_f64()));
 
-    // 3. Per-vertex distance.
+    // 3. Per-vertex distance. The tetrahedra are split in two fixed halves accumulated on
+    // both cores and merged in a fixed order: the result does not depend on the thread
+    // count.
     let t = Instant::now();
-    let mut acc = vec![Acc::default(); n];
-    let mut sliver_acc = vec![Acc::default(); n];
-    let mut used = 0;
-    for (tv, &r) in tets.iter().zip(&radius) {
-        if r.is_nan() {
-            continue;
-        }
-        let target = if r > 0.0 {
-            used += 1;
-            &mut acc
-        } else {
-            &mut sliver_acc
-        };
-        for &v in tv {
-            target[v as usize].add(r.abs());
-        }
+    let half = tets.len() / 2;
+    let (first, second) = rayon::join(
+        || accumulate(pts, normals, &tets[..half], &radius[..half], params.method),
+        || accumulate(pts, normals, &tets[half..], &radius[half..], params.method),
+    );
+    let used = first.used + second.used;
+    let mut acc = first.acc;
+    let mut sliver_acc = first.sliver_acc;
+    for (a, b) in acc.iter_mut().zip(&second.acc) {
+        a.merge(b);
     }
-    for i in 0..n {
-        if acc[i].count == 0 {
-            acc[i] = sliver_acc[i];
-        }
+    for (a, b) in sliver_acc.iter_mut().zip(&second.sliver_acc) {
+        a.merge(b);
     }
-    if params.method == Method::ShrinkingBall {
-        shrinking_ball(pts, normals, &tets, &mut acc);
+    for (a, s) in acc.iter_mut().zip(&sliver_acc) {
+        if a.count == 0 {
+            // Vertices whose every inside Voronoi vertex comes from a sliver use those, but
+            // keep the shrinking-ball radius, which does not depend on the classification.
+            let ball = a.ball;
+            *a = *s;
+            a.ball = ball;
+        }
     }
     // Duplicated positions (only possible without welding) share their vertex's cell.
     for i in 0..n {
@@ -244,34 +296,33 @@ pub fn build(
     let fallback = acc.iter().filter(|a| a.count == 0).count();
     seconds.push(("distance", t.elapsed().as_secs_f64()));
 
-    // 4. Clamp to half the thickness along -n.
+    // 4. Clamp to half the thickness along -n: measured in stage 1 for the first vertices,
+    // here for the rest, where only a hit closer than 2d can clamp (a segment query, pruned
+    // to the local scale). Both give the same answer.
     let t = Instant::now();
     progress("thickness", 0.0);
-    let t_min = 1e-9 * mesh.diagonal();
-    let clamped_flags: Vec<bool> = distance
+    let measured = thickness.len();
+    let (head, tail) = distance.split_at_mut(measured);
+    let clamped_head: usize = head
+        .iter_mut()
+        .zip(&thickness)
+        .map(|(d, &th)| usize::from(clamp(d, th)))
+        .sum();
+    let clamped_tail: usize = tail
         .par_iter_mut()
         .enumerate()
-        .map(|(i, d)| {
+        .map(|(j, d)| {
             if *d == 0.0 {
-                return false;
+                return 0;
             }
+            let i = measured + j;
             let vi = i as u32;
-            // Only a hit closer than 2d can clamp: a segment query, pruned to the local scale.
             let reach = 2.0 * *d;
             let hit = bvh.cast_within(pts[i], -normals[i], t_min, reach, |tri| tri.contains(&vi));
-            match hit {
-                Some(h) if h.t * 0.5 < *d => {
-                    // Count only real corrections, not rounding-level ones (a sphere's
-                    // centre is at exactly half the thickness).
-                    let significant = h.t * 0.5 < *d * 0.99;
-                    *d = h.t * 0.5;
-                    significant
-                }
-                _ => false,
-            }
+            usize::from(clamp(d, hit.map_or(f64::INFINITY, |h| h.t)))
         })
-        .collect();
-    let clamped = clamped_flags.iter().filter(|&&c| c).count();
+        .sum();
+    let clamped = clamped_head + clamped_tail;
     seconds.push(("thickness", t.elapsed().as_secs_f64()));
 
     let points = pts
@@ -320,6 +371,69 @@ impl Acc {
         self.max = self.max.max(r);
         self.count += 1;
     }
+
+    fn merge(&mut self, o: &Acc) {
+        self.sum += o.sum;
+        self.max = self.max.max(o.max);
+        self.count += o.count;
+        self.ball = self.ball.min(o.ball);
+    }
+}
+
+/// Per-vertex accumulators over a run of tetrahedra.
+struct Accumulated {
+    acc: Vec<Acc>,
+    sliver_acc: Vec<Acc>,
+    used: usize,
+}
+
+/// Accumulates the inside circumradii `radius` of `tets` (negative for slivers, NaN when
+/// outside) on their corners, and the shrinking-ball radius when `method` needs it.
+fn accumulate(
+    pts: &[DVec3],
+    normals: &[DVec3],
+    tets: &[[u32; 4]],
+    radius: &[f64],
+    method: Method,
+) -> Accumulated {
+    let n = pts.len();
+    let mut acc = vec![Acc::default(); n];
+    let mut sliver_acc = vec![Acc::default(); n];
+    let mut used = 0;
+    for (tv, &r) in tets.iter().zip(radius) {
+        if r.is_nan() {
+            continue;
+        }
+        let target = if r > 0.0 {
+            used += 1;
+            &mut acc
+        } else {
+            &mut sliver_acc
+        };
+        for &v in tv {
+            target[v as usize].add(r.abs());
+        }
+    }
+    if method == Method::ShrinkingBall {
+        shrinking_ball(pts, normals, tets, &mut acc);
+    }
+    Accumulated {
+        acc,
+        sliver_acc,
+        used,
+    }
+}
+
+/// Limits `d` to half the thickness `th` (skipping `d = 0`, the fallback); true when that
+/// was a real correction, not a rounding-level one (a sphere's centre is at exactly half
+/// the thickness).
+fn clamp(d: &mut f64, th: f64) -> bool {
+    if *d == 0.0 || th * 0.5 >= *d {
+        return false;
+    }
+    let significant = th * 0.5 < *d * 0.99;
+    *d = th * 0.5;
+    significant
 }
 
 /// Shrinking-ball radius per vertex over its Delaunay edges (see [`Method::ShrinkingBall`]).
@@ -345,6 +459,43 @@ fn shrinking_ball(pts: &[DVec3], normals: &[DVec3], tets: &[[u32; 4]], acc: &mut
                 if r < acc[b].ball {
                     acc[b].ball = r;
                 }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::shapes;
+
+    /// The thickness of a vertex is measured either alongside the tetrahedralization
+    /// (unbounded ray) or after it (a segment of length 2d): the skeleton must not depend on
+    /// which, nor on how many vertices the overlap reached.
+    #[test]
+    fn thickness_measured_early_or_late_gives_the_same_skeleton() {
+        // A long thin box, where the thickness clamp matters.
+        let mut mesh = shapes::cube_grid(1.0, 6);
+        for p in &mut mesh.positions {
+            p.x *= 6.0;
+            p.y *= 0.5;
+        }
+        let normals = crate::mesh::vertex_normals(&mesh).unwrap();
+        let none = |_: &str, _: f64| {};
+        for method in Method::ALL {
+            let params = SkeletonParams {
+                method,
+                ..SkeletonParams::default()
+            };
+            let late = build_with(&mesh, &normals, &params, &none, Overlap::Nothing).unwrap();
+            let early = build_with(&mesh, &normals, &params, &none, Overlap::Everything).unwrap();
+            let real = build(&mesh, &normals, &params, &none).unwrap();
+            assert_eq!(late.distance, early.distance, "{method}");
+            assert_eq!(late.distance, real.distance, "{method}");
+            assert_eq!(late.clamped, early.clamped, "{method}");
+            // The shrinking ball already fits the local thickness; the others need clamping.
+            if method != Method::ShrinkingBall {
+                assert!(late.clamped > 0, "{method}: the clamp was not exercised");
             }
         }
     }
