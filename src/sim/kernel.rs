@@ -54,6 +54,7 @@ pub(super) struct Scratch {
     dx: Vec<f32>,
     dy: Vec<f32>,
     dz: Vec<f32>,
+    rest: Vec<f32>,
     f: Vec<f32>,
     // Per slot of the tile: posed rest position, normal, bone vectors and factors.
     rx: Vec<f32>,
@@ -70,6 +71,8 @@ pub(super) struct Scratch {
     oz: Vec<f32>,
     fi: Vec<f32>,
     fo: Vec<f32>,
+    ri: Vec<f32>,
+    ro: Vec<f32>,
     // Per slot: bone length, the force sum, the squared displacement.
     lb: Vec<f32>,
     gx: Vec<f32>,
@@ -80,7 +83,13 @@ pub(super) struct Scratch {
 
 impl Scratch {
     fn reserve(&mut self, springs: usize, slots: usize) {
-        for v in [&mut self.dx, &mut self.dy, &mut self.dz, &mut self.f] {
+        for v in [
+            &mut self.dx,
+            &mut self.dy,
+            &mut self.dz,
+            &mut self.rest,
+            &mut self.f,
+        ] {
             if v.len() < springs {
                 v.resize(springs, 0.0);
             }
@@ -100,6 +109,8 @@ impl Scratch {
             &mut self.oz,
             &mut self.fi,
             &mut self.fo,
+            &mut self.ri,
+            &mut self.ro,
             &mut self.lb,
             &mut self.gx,
             &mut self.gy,
@@ -203,6 +214,8 @@ fn tile_body(
     let evals = &l.evals[v0..v0 + me];
     let slots = &l.slots[range.clone()];
     let (dx, dy, dz) = (&mut sc.dx[..me], &mut sc.dy[..me], &mut sc.dz[..me]);
+    let rest = &mut sc.rest[..me];
+    let (ri, ro) = (&mut sc.ri[..nv], &mut sc.ro[..nv]);
     let (rx, ry, rz) = (&mut sc.rx[..nv], &mut sc.ry[..nv], &mut sc.rz[..nv]);
     let (nx, ny, nz) = (&mut sc.nx[..nv], &mut sc.ny[..nv], &mut sc.nz[..nv]);
     let (ix, iy, iz) = (&mut sc.ix[..nv], &mut sc.iy[..nv], &mut sc.iz[..nv]);
@@ -221,6 +234,7 @@ fn tile_body(
         let n = t.transform_vector3(d.normal.into());
         let lb = d.bone_length;
         lbs[j] = lb;
+        (ri[j], ro[j]) = (d.inner_rest, d.outer_rest);
         let (bi, bo) = (r - lb * n, r + lb * n);
         (rx[j], ry[j], rz[j]) = (r.x, r.y, r.z);
         (nx[j], ny[j], nz[j]) = (n.x, n.y, n.z);
@@ -230,24 +244,28 @@ fn tile_body(
             (eval_start[j] - eval_start[0]) as usize..(eval_start[j + 1] - eval_start[0]) as usize
         {
             let q = evals[e].neighbour as usize;
+            rest[e] = evals[e].rest;
             dx[e] = cx[q] - x;
             dy[e] = cy[q] - y;
             dz[e] = cz[q] - z;
         }
     }
 
-    // Pass 2: spring factors, vectorized.
+    // Pass 2: spring factors, vectorized (every operand contiguous: the rest lengths were
+    // copied out of the strided records in pass 1, or this loop stays scalar).
     {
         let (dx, dy, dz, f) = (&sc.dx[..me], &sc.dy[..me], &sc.dz[..me], &mut sc.f[..me]);
+        let rest = &sc.rest[..me];
         for e in 0..me {
-            f[e] = factor(dx[e], dy[e], dz[e], evals[e].rest);
+            f[e] = factor(dx[e], dy[e], dz[e], rest[e]);
         }
         let (ix, iy, iz) = (&sc.ix[..nv], &sc.iy[..nv], &sc.iz[..nv]);
         let (ox, oy, oz) = (&sc.ox[..nv], &sc.oy[..nv], &sc.oz[..nv]);
         let (fi, fo) = (&mut sc.fi[..nv], &mut sc.fo[..nv]);
+        let (ri, ro) = (&sc.ri[..nv], &sc.ro[..nv]);
         for j in 0..nv {
-            fi[j] = factor(ix[j], iy[j], iz[j], slots[j].inner_rest);
-            fo[j] = factor(ox[j], oy[j], oz[j], slots[j].outer_rest);
+            fi[j] = factor(ix[j], iy[j], iz[j], ri[j]);
+            fo[j] = factor(ox[j], oy[j], oz[j], ro[j]);
         }
     }
 
