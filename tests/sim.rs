@@ -499,6 +499,29 @@ fn springs_inside_a_tile_are_evaluated_once_and_every_term_points_at_its_spring(
                     }
                 }
             }
+            // The kernel's transposed copy: row r of a group holds the r-th term of each of
+            // its slots, padded with the tile's zero-force index.
+            let r = l.tile_range(t);
+            let pad = l.eval_start[r.end] - l.eval_start[r.start];
+            let g0 = t * l.groups_per_tile();
+            for (gi, group) in r.clone().step_by(Layout::LANES).enumerate() {
+                let g = g0 + gi;
+                let rows = &l.term_lanes[l.group_start[g] as usize..l.group_start[g + 1] as usize];
+                assert_eq!(rows.len() % Layout::LANES, 0);
+                for (row, terms) in rows.chunks(Layout::LANES).enumerate() {
+                    for (lane, &term) in terms.iter().enumerate() {
+                        let k = group + lane;
+                        let csr = (k < r.end
+                            && l.start[k] as usize + row < l.start[k + 1] as usize)
+                            .then(|| l.terms[l.start[k] as usize + row]);
+                        assert_eq!(term, csr.unwrap_or(pad), "tile {tile} slot {k} row {row}");
+                    }
+                }
+                let valence = (group..(group + Layout::LANES).min(r.end))
+                    .map(|k| (l.start[k + 1] - l.start[k]) as usize)
+                    .max();
+                assert_eq!(rows.len() / Layout::LANES, valence.unwrap_or(0));
+            }
         }
     }
 }

@@ -109,6 +109,15 @@ pub struct Layout {
     /// [`Layout::NEGATE`] set when the term is that spring's negated (the spring was
     /// evaluated at its other end).
     pub terms: Vec<u32>,
+    /// [`Layout::terms`] transposed for the kernel's 8-wide force sums: the slots of each tile
+    /// in groups of [`Layout::LANES`] (the last group of a tile may be short), and for group
+    /// `g` the terms `term_lanes[group_start[g]..group_start[g + 1]]` stored as rows of
+    /// `LANES`, row `r` holding the `r`-th term of each slot of the group. Slots with fewer
+    /// terms than the group's largest valence (and lanes past a short group's end) are padded
+    /// with the index one past the tile's evaluated springs, where the kernel keeps a zero
+    /// force.
+    pub term_lanes: Vec<u32>,
+    pub group_start: Vec<u32>,
     /// Slots per tile.
     pub tile: usize,
     /// Sections present in tile `t`: `tile_sections[tile_section_start[t]..[t+1]]`.
@@ -159,6 +168,8 @@ impl Layout {
             eval_start: Vec::new(),
             evals: Vec::new(),
             terms: Vec::new(),
+            term_lanes: Vec::new(),
+            group_start: Vec::new(),
             slots,
             start,
             edges,
@@ -274,6 +285,14 @@ impl Layout {
     /// Flag of [`Layout::terms`]: the term is the evaluated spring's, negated.
     pub const NEGATE: u32 = 1 << 31;
 
+    /// Lanes of the kernel's force sums (eight `f32` fill an AVX2 register).
+    pub const LANES: usize = 8;
+
+    /// Groups of [`Layout::LANES`] slots in a full tile.
+    pub fn groups_per_tile(&self) -> usize {
+        self.tile.div_ceil(Self::LANES)
+    }
+
     /// Builds `eval_start`, `evals` and `terms` (see their docs): inside a tile each spring
     /// is evaluated once, not from both ends, and nothing in the kernel branches on it.
     fn build_evaluation(&mut self) {
@@ -304,6 +323,40 @@ impl Layout {
                     };
                 }
                 self.eval_start.push(self.evals.len() as u32);
+            }
+        }
+        self.build_term_lanes();
+    }
+
+    /// Builds `term_lanes` and `group_start` from `terms` (see their docs).
+    fn build_term_lanes(&mut self) {
+        const L: usize = Layout::LANES;
+        self.term_lanes = Vec::with_capacity(self.terms.len() + self.terms.len() / 4);
+        self.group_start = vec![0];
+        for t in 0..self.tiles() {
+            let r = self.tile_range(t);
+            let pad = self.eval_start[r.end] - self.eval_start[r.start];
+            for g in (r.start..r.end).step_by(L) {
+                let group = g..(g + L).min(r.end);
+                let rows = group
+                    .clone()
+                    .map(|k| (self.start[k + 1] - self.start[k]) as usize)
+                    .max()
+                    .unwrap_or(0);
+                for row in 0..rows {
+                    for lane in 0..L {
+                        let k = g + lane;
+                        let e = self.start.get(k).map(|&s| s as usize + row);
+                        let term = match e {
+                            Some(e) if group.contains(&k) && e < self.start[k + 1] as usize => {
+                                self.terms[e]
+                            }
+                            _ => pad,
+                        };
+                        self.term_lanes.push(term);
+                    }
+                }
+                self.group_start.push(self.term_lanes.len() as u32);
             }
         }
     }

@@ -435,6 +435,12 @@ impl Simulation {
         self.layout.evals.len()
     }
 
+    /// Entries of the kernel's transposed term table: one per half-spring plus the padding
+    /// of slots with fewer springs than the largest valence of their group of 8.
+    pub fn term_entries(&self) -> usize {
+        self.layout.term_lanes.len()
+    }
+
     /// Tiles in all, and tiles integrated by the last step.
     pub fn tiles(&self) -> (usize, usize) {
         (self.layout.tiles(), self.awake_tiles)

@@ -40,12 +40,11 @@ pub struct Row {
 
 /// Bytes the fused pass reads and writes per step: per slot the constants record (40), the
 /// two CSR starts (8), current (12) and previous positions (12 read, 12 written); per
-/// half-spring its term index (4); per evaluated spring the `(neighbour, rest)` pair (8).
-/// Neighbour positions are gathered from lines already loaded (Hilbert order), so they are
-/// not counted.
-fn bytes_per_step(vertices: usize, springs: usize, evaluated: usize) -> usize {
-    let half_springs = 2 * (springs - 2 * vertices);
-    vertices * (40 + 8 + 12 + 24) + half_springs * 4 + evaluated * 8
+/// entry of the transposed term table (one per half-spring plus padding) its index (4); per
+/// evaluated spring the `(neighbour, rest)` pair (8). Neighbour positions are gathered from
+/// lines already loaded (Hilbert order), so they are not counted.
+fn bytes_per_step(vertices: usize, term_entries: usize, evaluated: usize) -> usize {
+    vertices * (40 + 8 + 12 + 24) + term_entries * 4 + evaluated * 8
 }
 
 /// Measures `steps` timed steps of `scene` with every tile integrated.
@@ -76,7 +75,7 @@ pub fn measure(scene: &Scene, params: Params, steps: usize) -> Row {
     }
     let (med, p95) = median_p95(total);
     let (fused_med, fused_p95) = median_p95(fused);
-    let bytes = bytes_per_step(vertices, springs, sim.evaluated_springs());
+    let bytes = bytes_per_step(vertices, sim.term_entries(), sim.evaluated_springs());
     Row {
         vertices,
         springs,
