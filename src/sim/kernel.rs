@@ -201,7 +201,6 @@ fn tile_body(
     // pointers in registers instead of reloading them after every store.
     let (cx, cy, cz) = (&cur.x[..], &cur.y[..], &cur.z[..]);
     let start = &l.start[range.start..=range.end];
-    let eval_start = &l.eval_start[range.start..=range.end];
     let evals = &l.evals[v0..v0 + me];
     let slots = &l.slots[range.clone()];
     let (dx, dy, dz) = (&mut sc.dx[..me], &mut sc.dy[..me], &mut sc.dz[..me]);
@@ -231,15 +230,17 @@ fn tile_body(
         (nx[j], ny[j], nz[j]) = (n.x, n.y, n.z);
         (ix[j], iy[j], iz[j]) = (bi.x - x, bi.y - y, bi.z - z);
         (ox[j], oy[j], oz[j]) = (bo.x - x, bo.y - y, bo.z - z);
-        for e in
-            (eval_start[j] - eval_start[0]) as usize..(eval_start[j + 1] - eval_start[0]) as usize
-        {
-            let q = evals[e].neighbour as usize;
-            rest[e] = evals[e].rest;
-            dx[e] = cx[q] - x;
-            dy[e] = cy[q] - y;
-            dz[e] = cz[q] - z;
-        }
+    }
+    // The spring vectors, in one flat loop over the tile's evaluated springs (a loop per
+    // slot, with its varying trip count, mispredicted its exit about once per slot).
+    let owner = &l.eval_owner[v0..v0 + me];
+    let (tx, ty, tz) = (&cx[range.clone()], &cy[range.clone()], &cz[range.clone()]);
+    for e in 0..me {
+        let (q, o) = (evals[e].neighbour as usize, owner[e] as usize);
+        rest[e] = evals[e].rest;
+        dx[e] = cx[q] - tx[o];
+        dy[e] = cy[q] - ty[o];
+        dz[e] = cz[q] - tz[o];
     }
 
     // Pass 2: spring forces `factor × d`, in place over the spring vectors, vectorized

@@ -104,6 +104,9 @@ pub struct Layout {
     /// spring between two tiles at both ends.
     pub eval_start: Vec<u32>,
     pub evals: Vec<Edge>,
+    /// Per evaluated spring, its slot (the end it is evaluated at) as an offset from the
+    /// tile's first slot: the kernel walks the evaluated springs of a tile in one flat loop.
+    pub eval_owner: Vec<u16>,
     /// Per half-spring of the CSR (`edges` order): which evaluated spring of its tile gives
     /// its force term, as an index from the tile's first evaluated spring, with
     /// [`Layout::NEGATE`] set when the term is that spring's negated (the spring was
@@ -129,7 +132,11 @@ pub struct Layout {
 }
 
 impl Layout {
-    /// Renumbers `rig` along the Hilbert curve and cuts it into tiles of `tile` slots.
+    /// Most slots in a tile (slot offsets inside a tile are `u16`).
+    pub const MAX_TILE: usize = 1 << 16;
+
+    /// Renumbers `rig` along the Hilbert curve and cuts it into tiles of `tile` slots
+    /// (clamped to `1..=MAX_TILE`).
     pub fn new(rig: &Rig, tile: usize) -> Layout {
         let n = rig.len();
         let points: Vec<glam::DVec3> = rig.rest.iter().map(|p| p.as_dvec3()).collect();
@@ -163,10 +170,11 @@ impl Layout {
                 ..SlotData::default()
             })
             .collect();
-        let tile = tile.max(1);
+        let tile = tile.clamp(1, Self::MAX_TILE);
         let mut layout = Layout {
             eval_start: Vec::new(),
             evals: Vec::new(),
+            eval_owner: Vec::new(),
             terms: Vec::new(),
             term_lanes: Vec::new(),
             group_start: Vec::new(),
@@ -299,6 +307,7 @@ impl Layout {
         let n = self.len();
         self.eval_start = Vec::with_capacity(n + 1);
         self.evals = Vec::with_capacity(self.edges.len());
+        self.eval_owner = Vec::with_capacity(self.edges.len());
         self.terms = vec![0; self.edges.len()];
         self.eval_start.push(0);
         for t in 0..self.tiles() {
@@ -318,6 +327,7 @@ impl Layout {
                         Some(x) => self.terms[x] | Self::NEGATE,
                         None => {
                             self.evals.push(self.edges[e]);
+                            self.eval_owner.push((k - r.start) as u16);
                             (self.evals.len() - 1 - first) as u32
                         }
                     };
