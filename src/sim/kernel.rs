@@ -70,10 +70,7 @@ pub(super) struct Scratch {
     oz: Vec<f32>,
     fi: Vec<f32>,
     fo: Vec<f32>,
-    ri: Vec<f32>,
-    ro: Vec<f32>,
     // Per slot: bone length, the force sum, the squared displacement.
-    lb: Vec<f32>,
     gx: Vec<f32>,
     gy: Vec<f32>,
     gz: Vec<f32>,
@@ -102,9 +99,6 @@ impl Scratch {
             &mut self.oz,
             &mut self.fi,
             &mut self.fo,
-            &mut self.ri,
-            &mut self.ro,
-            &mut self.lb,
             &mut self.gx,
             &mut self.gy,
             &mut self.gz,
@@ -202,34 +196,30 @@ fn tile_body(
     let (cx, cy, cz) = (&cur.x[..], &cur.y[..], &cur.z[..]);
     let start = &l.start[range.start..=range.end];
     let evals = &l.evals[v0..v0 + me];
-    let slots = &l.slots[range.clone()];
     let (dx, dy, dz) = (&mut sc.dx[..me], &mut sc.dy[..me], &mut sc.dz[..me]);
     let rest = &mut sc.rest[..me];
-    let (ri, ro) = (&mut sc.ri[..nv], &mut sc.ro[..nv]);
-    let (rx, ry, rz) = (&mut sc.rx[..nv], &mut sc.ry[..nv], &mut sc.rz[..nv]);
-    let (nx, ny, nz) = (&mut sc.nx[..nv], &mut sc.ny[..nv], &mut sc.nz[..nv]);
-    let (ix, iy, iz) = (&mut sc.ix[..nv], &mut sc.iy[..nv], &mut sc.iz[..nv]);
-    let (ox, oy, oz) = (&mut sc.ox[..nv], &mut sc.oy[..nv], &mut sc.oz[..nv]);
-    let lbs = &mut sc.lb[..nv];
-    let mut last_section = u16::MAX;
-    let mut t = Affine3A::IDENTITY;
-    for (j, k) in range.clone().enumerate() {
-        let (x, y, z) = (cx[k], cy[k], cz[k]);
-        let d = &slots[j];
-        if d.section != last_section {
-            t = ctx.transform(d.section);
-            last_section = d.section;
-        }
-        let r = t.transform_point3(d.rest.into());
-        let n = t.transform_vector3(d.normal.into());
-        let lb = d.bone_length;
-        lbs[j] = lb;
-        (ri[j], ro[j]) = (d.inner_rest, d.outer_rest);
-        let (bi, bo) = (r - lb * n, r + lb * n);
-        (rx[j], ry[j], rz[j]) = (r.x, r.y, r.z);
-        (nx[j], ny[j], nz[j]) = (n.x, n.y, n.z);
-        (ix[j], iy[j], iz[j]) = (bi.x - x, bi.y - y, bi.z - z);
-        (ox[j], oy[j], oz[j]) = (bo.x - x, bo.y - y, bo.z - z);
+    let out = Bones {
+        rx: &mut sc.rx[..nv],
+        ry: &mut sc.ry[..nv],
+        rz: &mut sc.rz[..nv],
+        nx: &mut sc.nx[..nv],
+        ny: &mut sc.ny[..nv],
+        nz: &mut sc.nz[..nv],
+        ix: &mut sc.ix[..nv],
+        iy: &mut sc.iy[..nv],
+        iz: &mut sc.iz[..nv],
+        ox: &mut sc.ox[..nv],
+        oy: &mut sc.oy[..nv],
+        oz: &mut sc.oz[..nv],
+    };
+    let tile_sections = l.sections_of_tile(range.start / l.tile);
+    if let [section] = tile_sections {
+        // One section (most tiles): one transform for the whole tile, a vector loop.
+        let t = ctx.transform(*section);
+        posed_bones(ctx, range.clone(), |_| t, out);
+    } else {
+        let sections = &l.slots.section[range.clone()];
+        posed_bones(ctx, range.clone(), |j| ctx.transform(sections[j]), out);
     }
     // The spring vectors, in one flat loop over the tile's evaluated springs (a loop per
     // slot, with its varying trip count, mispredicted its exit about once per slot).
@@ -257,7 +247,10 @@ fn tile_body(
         let (ix, iy, iz) = (&sc.ix[..nv], &sc.iy[..nv], &sc.iz[..nv]);
         let (ox, oy, oz) = (&sc.ox[..nv], &sc.oy[..nv], &sc.oz[..nv]);
         let (fi, fo) = (&mut sc.fi[..nv], &mut sc.fo[..nv]);
-        let (ri, ro) = (&sc.ri[..nv], &sc.ro[..nv]);
+        let (ri, ro) = (
+            &l.slots.inner_rest[range.clone()],
+            &l.slots.outer_rest[range.clone()],
+        );
         for j in 0..nv {
             fi[j] = factor(ix[j], iy[j], iz[j], ri[j]);
             fo[j] = factor(ox[j], oy[j], oz[j], ro[j]);
@@ -288,7 +281,7 @@ fn tile_body(
     let (gx, gy, gz) = (&sc.gx[..nv], &sc.gy[..nv], &sc.gz[..nv]);
     let (rx, ry, rz) = (&sc.rx[..nv], &sc.ry[..nv], &sc.rz[..nv]);
     let (cx, cy, cz) = (&cx[range.clone()], &cy[range.clone()], &cz[range.clone()]);
-    let lbs = &sc.lb[..nv];
+    let lbs = &l.slots.bone_length[range.clone()];
     let moved = &mut sc.moved[..nv];
     let (px, py, pz) = (&mut px[..nv], &mut py[..nv], &mut pz[..nv]);
     let (damping, stiffness) = (ctx.damping, ctx.stiffness);
@@ -368,6 +361,74 @@ fn force_sums(group_start: &[u32], lanes: &[u32], forces: [&[f32]; 3], sums: [&m
             let j = g * L + lane;
             (sx[j], sy[j], sz[j]) = (ax[lane], ay[lane], az[lane]);
         }
+    }
+}
+
+/// Where [`posed_bones`] writes, per slot of the tile: the posed rest position `r` and
+/// normal `n`, and the bone vectors `inner − x`, `outer − x`.
+struct Bones<'a> {
+    rx: &'a mut [f32],
+    ry: &'a mut [f32],
+    rz: &'a mut [f32],
+    nx: &'a mut [f32],
+    ny: &'a mut [f32],
+    nz: &'a mut [f32],
+    ix: &'a mut [f32],
+    iy: &'a mut [f32],
+    iz: &'a mut [f32],
+    ox: &'a mut [f32],
+    oy: &'a mut [f32],
+    oz: &'a mut [f32],
+}
+
+/// Pass 1 of the kernel: the posed bones of every slot of `range`, slot `j` of the tile
+/// posed by `transform(j)`. With a transform that does not depend on `j` this is a straight
+/// vector loop over the struct-of-arrays constants. The arithmetic is glam's
+/// `transform_point3` / `transform_vector3` written out in the same order (columns times
+/// coordinates, added left to right, then the translation), so both loops agree bit for bit.
+#[inline(always)]
+fn posed_bones(ctx: &Ctx, range: Range<usize>, transform: impl Fn(usize) -> Affine3A, o: Bones) {
+    let s = &ctx.layout.slots;
+    let (px, py, pz) = (
+        &s.rest.x[range.clone()],
+        &s.rest.y[range.clone()],
+        &s.rest.z[range.clone()],
+    );
+    let (mx, my, mz) = (
+        &s.normal.x[range.clone()],
+        &s.normal.y[range.clone()],
+        &s.normal.z[range.clone()],
+    );
+    let lbs = &s.bone_length[range.clone()];
+    let cur = ctx.cur;
+    let (x, y, z) = (&cur.x[range.clone()], &cur.y[range.clone()], &cur.z[range]);
+    let nv = x.len();
+    for j in 0..nv {
+        let t = transform(j);
+        let (a, b, c, d) = (
+            t.matrix3.x_axis,
+            t.matrix3.y_axis,
+            t.matrix3.z_axis,
+            t.translation,
+        );
+        let (p0, p1, p2) = (px[j], py[j], pz[j]);
+        let rx = a.x * p0 + b.x * p1 + c.x * p2 + d.x;
+        let ry = a.y * p0 + b.y * p1 + c.y * p2 + d.y;
+        let rz = a.z * p0 + b.z * p1 + c.z * p2 + d.z;
+        let (m0, m1, m2) = (mx[j], my[j], mz[j]);
+        let nx = a.x * m0 + b.x * m1 + c.x * m2;
+        let ny = a.y * m0 + b.y * m1 + c.y * m2;
+        let nz = a.z * m0 + b.z * m1 + c.z * m2;
+        let lb = lbs[j];
+        (o.rx[j], o.ry[j], o.rz[j]) = (rx, ry, rz);
+        (o.nx[j], o.ny[j], o.nz[j]) = (nx, ny, nz);
+        // inner = r − L n, outer = r + L n, as `bones` computes them.
+        o.ix[j] = (rx - lb * nx) - x[j];
+        o.iy[j] = (ry - lb * ny) - y[j];
+        o.iz[j] = (rz - lb * nz) - z[j];
+        o.ox[j] = (rx + lb * nx) - x[j];
+        o.oy[j] = (ry + lb * ny) - y[j];
+        o.oz[j] = (rz + lb * nz) - z[j];
     }
 }
 

@@ -12,10 +12,11 @@
 //!   so a still region is a set of whole tiles. For each tile the layout keeps the sections its
 //!   vertices belong to (a pose change wakes exactly those tiles) and the tiles its springs
 //!   reach (motion wakes neighbours).
-//! * Per-slot constants the step reads, packed in one [`SlotData`] record per slot (rest
-//!   position, normal, section, bone length `L`, the measured rest lengths of both bone
-//!   springs), and the CSR of surface springs as `(neighbour slot, rest)` pairs: the kernel
-//!   reads 9 sequential streams instead of 19 (measured gain small, a few per cent).
+//! * Per-slot constants the step reads ([`Slots`]: rest position, normal, section, bone
+//!   length `L`, the measured rest lengths of both bone springs) as struct-of-arrays, so the
+//!   kernel's bone pass is a vector loop over slots (an earlier layout packed them in one
+//!   40-byte record per slot: fewer streams, but the loop could not be vectorized), and the
+//!   CSR of surface springs as `(neighbour slot, rest)` pairs.
 
 use crate::rig::Rig;
 use glam::Vec3;
@@ -78,6 +79,31 @@ pub struct SlotData {
     pub section: u16,
 }
 
+/// The constants of every slot, struct-of-arrays (see [`SlotData`] for the fields).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Slots {
+    pub rest: Soa,
+    pub normal: Soa,
+    pub bone_length: Vec<f32>,
+    pub inner_rest: Vec<f32>,
+    pub outer_rest: Vec<f32>,
+    pub section: Vec<u16>,
+}
+
+impl Slots {
+    /// The constants of slot `k`.
+    pub fn get(&self, k: usize) -> SlotData {
+        SlotData {
+            rest: self.rest.get(k).to_array(),
+            bone_length: self.bone_length[k],
+            normal: self.normal.get(k).to_array(),
+            inner_rest: self.inner_rest[k],
+            outer_rest: self.outer_rest[k],
+            section: self.section[k],
+        }
+    }
+}
+
 /// A surface half-spring in the CSR: the neighbour's slot and the rest length.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
@@ -94,7 +120,7 @@ pub struct Layout {
     /// Rig vertex -> slot.
     pub slot: Vec<u32>,
     /// Per-slot constants.
-    pub slots: Vec<SlotData>,
+    pub slots: Slots,
     /// CSR of surface springs by slot: the springs of slot `k` are
     /// `edges[start[k]..start[k+1]]`.
     pub start: Vec<u32>,
@@ -162,14 +188,22 @@ impl Layout {
             edges[first..].sort_unstable_by_key(|e| e.neighbour);
             start.push(edges.len() as u32);
         }
-        let slots = order
-            .iter()
-            .map(|&v| SlotData {
-                rest: rig.rest[v as usize].to_array(),
-                normal: rig.normals[v as usize].to_array(),
-                ..SlotData::default()
-            })
-            .collect();
+        let soa = |f: &dyn Fn(usize) -> Vec3| {
+            let v: Vec<Vec3> = order.iter().map(|&i| f(i as usize)).collect();
+            Soa {
+                x: v.iter().map(|p| p.x).collect(),
+                y: v.iter().map(|p| p.y).collect(),
+                z: v.iter().map(|p| p.z).collect(),
+            }
+        };
+        let slots = Slots {
+            rest: soa(&|i| rig.rest[i]),
+            normal: soa(&|i| rig.normals[i]),
+            bone_length: vec![0.0; n],
+            inner_rest: vec![0.0; n],
+            outer_rest: vec![0.0; n],
+            section: vec![0; n],
+        };
         let tile = tile.clamp(1, Self::MAX_TILE);
         let mut layout = Layout {
             eval_start: Vec::new(),
@@ -217,30 +251,27 @@ impl Layout {
 
     /// Rest positions by slot.
     pub fn rest_positions(&self) -> Soa {
-        Soa {
-            x: self.slots.iter().map(|d| d.rest[0]).collect(),
-            y: self.slots.iter().map(|d| d.rest[1]).collect(),
-            z: self.slots.iter().map(|d| d.rest[2]).collect(),
-        }
+        self.slots.rest.clone()
     }
 
     /// Refreshes `L` and the bone springs' rest lengths after the rig's bone distance changed.
     pub fn set_bone_length(&mut self, rig: &Rig) {
-        for (d, &v) in self.slots.iter_mut().zip(&self.order) {
+        let d = &mut self.slots;
+        for (k, &v) in self.order.iter().enumerate() {
             let l = rig.bone_length[v as usize];
-            let (p, m) = (Vec3::from(d.rest), Vec3::from(d.normal));
+            let (p, m) = (d.rest.get(k), d.normal.get(k));
             // The same expressions as the kernel: inner = p - L m, outer = p + L m.
             let (bi, bo) = (p - l * m, p + l * m);
-            d.bone_length = l;
-            d.inner_rest = len3(bi.x - p.x, bi.y - p.y, bi.z - p.z);
-            d.outer_rest = len3(bo.x - p.x, bo.y - p.y, bo.z - p.z);
+            d.bone_length[k] = l;
+            d.inner_rest[k] = len3(bi.x - p.x, bi.y - p.y, bi.z - p.z);
+            d.outer_rest[k] = len3(bo.x - p.x, bo.y - p.y, bo.z - p.z);
         }
     }
 
     /// Assigns sections (by rig vertex) and rebuilds each tile's section list.
     pub fn set_sections(&mut self, section_of: &[u16]) {
-        for (d, &v) in self.slots.iter_mut().zip(&self.order) {
-            d.section = section_of[v as usize];
+        for (s, &v) in self.slots.section.iter_mut().zip(&self.order) {
+            *s = section_of[v as usize];
         }
         self.build_tile_sections();
     }
@@ -252,7 +283,7 @@ impl Layout {
         for t in 0..self.tiles() {
             let first = self.tile_sections.len();
             for k in self.tile_range(t) {
-                let s = self.slots[k].section;
+                let s = self.slots.section[k];
                 if !self.tile_sections[first..].contains(&s) {
                     self.tile_sections.push(s);
                 }

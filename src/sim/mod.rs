@@ -404,7 +404,7 @@ impl Simulation {
     /// Inner and outer bone point of vertex `i` in the pose of the last step.
     pub fn bone_points(&self, i: usize) -> (Vec3, Vec3) {
         let t = self.transform_of(i);
-        let d = &self.layout.slots[self.layout.slot[i] as usize];
+        let d = self.layout.slots.get(self.layout.slot[i] as usize);
         kernel::bones(
             t.transform_point3(d.rest.into()),
             t.transform_vector3(d.normal.into()),
@@ -562,8 +562,8 @@ impl Simulation {
                 continue;
             }
             for k in layout.tile_range(t) {
-                let d = &layout.slots[k];
-                let r = self.transforms[d.section as usize].transform_point3(d.rest.into());
+                let s = &layout.slots;
+                let r = self.transforms[s.section[k] as usize].transform_point3(s.rest.get(k));
                 self.cur.set(k, r);
                 self.prev.set(k, r);
             }
