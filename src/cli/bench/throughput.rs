@@ -38,13 +38,14 @@ pub struct Row {
     pub gb_per_second: f64,
 }
 
-/// Bytes the fused pass reads and writes per step: per slot the constants record (40), the
-/// two CSR starts (8), current (12) and previous positions (12 read, 12 written); per
-/// entry of the transposed term table (one per half-spring plus padding) its index (4); per
-/// evaluated spring the `(neighbour, rest)` pair (8). Neighbour positions are gathered from
-/// lines already loaded (Hilbert order), so they are not counted.
+/// Bytes the fused pass reads and writes per step: per slot its constants (9 `f32` and a
+/// `u16` section: 38), the two CSR starts (8), current (12) and previous positions (12 read,
+/// 12 written); per entry of the transposed term table (one per half-spring plus padding)
+/// its index (4); per evaluated spring the `(neighbour, rest)` pair and its slot offset
+/// (10). Neighbour positions are gathered from lines already loaded (Hilbert order), so they
+/// are not counted.
 fn bytes_per_step(vertices: usize, term_entries: usize, evaluated: usize) -> usize {
-    vertices * (40 + 8 + 12 + 24) + term_entries * 4 + evaluated * 8
+    vertices * (38 + 8 + 12 + 24) + term_entries * 4 + evaluated * 10
 }
 
 /// Measures `steps` timed steps of `scene` with every tile integrated.
