@@ -70,7 +70,7 @@ pub(super) struct Scratch {
     oz: Vec<f32>,
     fi: Vec<f32>,
     fo: Vec<f32>,
-    // Per slot: bone length, the force sum, the squared displacement.
+    // Per slot: the force sum, the squared displacement.
     gx: Vec<f32>,
     gy: Vec<f32>,
     gz: Vec<f32>,

@@ -186,7 +186,7 @@ pub struct Options {
     /// diagonal per step, for [`QUIET_STEPS`] steps in a row, with no moving neighbour and no
     /// pose change, sleeps.
     pub sleep_threshold: f32,
-    /// Slots per tile.
+    /// Slots per tile (clamped to `1..=`[`layout::Layout::MAX_TILE`]).
     pub tile: usize,
     /// Use the AVX2 build of the kernel where the CPU has it (results are bit-identical).
     pub simd: bool,
