@@ -481,46 +481,48 @@ fn springs_inside_a_tile_are_evaluated_once_and_every_term_points_at_its_spring(
             .flat_map(|k| (l.start[k]..l.start[k + 1]).map(move |e| (k, e as usize)))
             .filter(|&(k, e)| k / tile == l.edges[e].neighbour as usize / tile)
             .count();
-        assert_eq!(l.evals.len(), l.edges.len() - inner / 2, "tile {tile}");
+        assert_eq!(
+            l.eval_neighbour.len(),
+            l.edges.len() - inner / 2,
+            "tile {tile}"
+        );
+        assert_eq!(l.eval_rest.len(), l.eval_neighbour.len());
         for t in 0..l.tiles() {
             let r = l.tile_range(t);
             let first = l.eval_start[r.start] as usize;
-            for k in r {
-                for e in l.start[k] as usize..l.start[k + 1] as usize {
-                    let term = l.terms[e];
-                    let spring = l.evals[first + (term & !Layout::NEGATE) as usize];
-                    let negated = term & Layout::NEGATE != 0;
-                    // The evaluated spring joins the same two slots, from the lower one.
-                    assert_eq!(spring.rest, l.edges[e].rest);
-                    if negated {
-                        assert_eq!(spring.neighbour as usize, k);
-                    } else {
-                        assert_eq!(spring.neighbour, l.edges[e].neighbour);
-                    }
-                }
-            }
-            // The kernel's transposed copy: row r of a group holds the r-th term of each of
-            // its slots, padded with the tile's zero-force index.
-            let r = l.tile_range(t);
-            let pad = l.eval_start[r.end] - l.eval_start[r.start];
+            let pad = l.eval_start[r.end] as usize - first;
             let g0 = t * l.groups_per_tile();
+            // Row `row` of a group holds the term of the row-th half-spring of each of its
+            // slots, padded with the tile's zero-force index.
             for (gi, group) in r.clone().step_by(Layout::LANES).enumerate() {
                 let g = g0 + gi;
                 let rows = &l.term_lanes[l.group_start[g] as usize..l.group_start[g + 1] as usize];
                 assert_eq!(rows.len() % Layout::LANES, 0);
-                for (row, terms) in rows.chunks(Layout::LANES).enumerate() {
-                    for (lane, &term) in terms.iter().enumerate() {
-                        let k = group + lane;
-                        let csr = (k < r.end
-                            && l.start[k] as usize + row < l.start[k + 1] as usize)
-                            .then(|| l.terms[l.start[k] as usize + row]);
-                        assert_eq!(term, csr.unwrap_or(pad), "tile {tile} slot {k} row {row}");
-                    }
-                }
                 let valence = (group..(group + Layout::LANES).min(r.end))
                     .map(|k| (l.start[k + 1] - l.start[k]) as usize)
                     .max();
                 assert_eq!(rows.len() / Layout::LANES, valence.unwrap_or(0));
+                for (row, terms) in rows.chunks(Layout::LANES).enumerate() {
+                    for (lane, &term) in terms.iter().enumerate() {
+                        let k = group + lane;
+                        let e = l.start.get(k).map(|&s| s as usize + row);
+                        let Some(e) = e.filter(|&e| k < r.end && e < l.start[k + 1] as usize)
+                        else {
+                            assert_eq!(term as usize, pad, "tile {tile} slot {k} row {row}");
+                            continue;
+                        };
+                        let spring = first + (term & !Layout::NEGATE) as usize;
+                        let negated = term & Layout::NEGATE != 0;
+                        // The evaluated spring joins the same two slots, from the lower one.
+                        assert_eq!(l.eval_rest[spring], l.edges[e].rest);
+                        if negated {
+                            assert_eq!(l.eval_neighbour[spring] as usize, k);
+                        } else {
+                            assert_eq!(l.eval_neighbour[spring], l.edges[e].neighbour);
+                            assert_eq!(l.eval_owner[spring] as usize, k - r.start);
+                        }
+                    }
+                }
             }
         }
     }

@@ -5,7 +5,7 @@
 //! 1. per slot, the posed rest position, normal and bone points (one affine transform of the
 //!    slot's section), and the spring vectors `x_j − x_i` of the springs it evaluates (the
 //!    only gathers): a spring with both ends in the tile is evaluated once, at its lower slot
-//!    ([`super::layout::Layout::evals`]);
+//!    ([`super::layout::Layout::eval_start`]);
 //! 2. the spring forces `(|d| − rest) / |d| · d` over the evaluated springs of the tile: a
 //!    straight loop of `sqrt` and `div` that compiles to 8-wide AVX2 (4-wide SSE2 without it);
 //! 3. the force sum of each slot in CSR order, eight slots at a time, each term looked up
@@ -54,7 +54,6 @@ pub(super) struct Scratch {
     dx: Vec<f32>,
     dy: Vec<f32>,
     dz: Vec<f32>,
-    rest: Vec<f32>,
     // Per slot of the tile: posed rest position, normal, bone vectors and factors.
     rx: Vec<f32>,
     ry: Vec<f32>,
@@ -79,7 +78,7 @@ pub(super) struct Scratch {
 
 impl Scratch {
     fn reserve(&mut self, springs: usize, slots: usize) {
-        for v in [&mut self.dx, &mut self.dy, &mut self.dz, &mut self.rest] {
+        for v in [&mut self.dx, &mut self.dy, &mut self.dz] {
             if v.len() < springs {
                 v.resize(springs, 0.0);
             }
@@ -195,9 +194,8 @@ fn tile_body(
     // pointers in registers instead of reloading them after every store.
     let (cx, cy, cz) = (&cur.x[..], &cur.y[..], &cur.z[..]);
     let start = &l.start[range.start..=range.end];
-    let evals = &l.evals[v0..v0 + me];
+    let neighbour = &l.eval_neighbour[v0..v0 + me];
     let (dx, dy, dz) = (&mut sc.dx[..me], &mut sc.dy[..me], &mut sc.dz[..me]);
-    let rest = &mut sc.rest[..me];
     let out = Bones {
         rx: &mut sc.rx[..nv],
         ry: &mut sc.ry[..nv],
@@ -226,19 +224,18 @@ fn tile_body(
     let owner = &l.eval_owner[v0..v0 + me];
     let (tx, ty, tz) = (&cx[range.clone()], &cy[range.clone()], &cz[range.clone()]);
     for e in 0..me {
-        let (q, o) = (evals[e].neighbour as usize, owner[e] as usize);
-        rest[e] = evals[e].rest;
+        let (q, o) = (neighbour[e] as usize, owner[e] as usize);
         dx[e] = cx[q] - tx[o];
         dy[e] = cy[q] - ty[o];
         dz[e] = cz[q] - tz[o];
     }
 
     // Pass 2: spring forces `factor × d`, in place over the spring vectors, vectorized
-    // (every operand contiguous: the rest lengths were copied out of the strided records in
-    // pass 1, or this loop stays scalar). Entry `me` is the zero force of padded lanes.
+    // (every operand contiguous; with the rest lengths read from strided records this loop
+    // stayed scalar). Entry `me` is the zero force of padded lanes.
     {
         let (dx, dy, dz) = (&mut sc.dx[..me], &mut sc.dy[..me], &mut sc.dz[..me]);
-        let rest = &sc.rest[..me];
+        let rest = &l.eval_rest[v0..v0 + me];
         for e in 0..me {
             let f = factor(dx[e], dy[e], dz[e], rest[e]);
             (dx[e], dy[e], dz[e]) = (f * dx[e], f * dy[e], f * dz[e]);

@@ -63,45 +63,20 @@ impl Soa {
     }
 }
 
-/// The constants of one slot.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-#[repr(C)]
-pub struct SlotData {
-    /// Rest position `p_i` and bone length `L_i`.
-    pub rest: [f32; 3],
-    pub bone_length: f32,
-    /// Unit normal `n_i`.
-    pub normal: [f32; 3],
-    /// Rest lengths of the inner and outer bone springs as the kernel measures them.
-    pub inner_rest: f32,
-    pub outer_rest: f32,
-    /// Joint section.
-    pub section: u16,
-}
-
-/// The constants of every slot, struct-of-arrays (see [`SlotData`] for the fields).
+/// The constants of every slot, struct-of-arrays.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Slots {
+    /// Rest position `p_i`.
     pub rest: Soa,
+    /// Unit normal `n_i`.
     pub normal: Soa,
+    /// Bone length `L_i`.
     pub bone_length: Vec<f32>,
+    /// Rest lengths of the inner and outer bone springs as the kernel measures them.
     pub inner_rest: Vec<f32>,
     pub outer_rest: Vec<f32>,
+    /// Joint section.
     pub section: Vec<u16>,
-}
-
-impl Slots {
-    /// The constants of slot `k`.
-    pub fn get(&self, k: usize) -> SlotData {
-        SlotData {
-            rest: self.rest.get(k).to_array(),
-            bone_length: self.bone_length[k],
-            normal: self.normal.get(k).to_array(),
-            inner_rest: self.inner_rest[k],
-            outer_rest: self.outer_rest[k],
-            section: self.section[k],
-        }
-    }
 }
 
 /// A surface half-spring in the CSR: the neighbour's slot and the rest length.
@@ -125,26 +100,26 @@ pub struct Layout {
     /// `edges[start[k]..start[k+1]]`.
     pub start: Vec<u32>,
     pub edges: Vec<Edge>,
-    /// The springs the kernel evaluates, slot by slot (`evals[eval_start[k]..eval_start[k+1]]`
-    /// for slot `k`): each spring with both ends in one tile once, at its lower slot; a
-    /// spring between two tiles at both ends.
+    /// The springs the kernel evaluates, slot by slot (entries `eval_start[k]..eval_start[k+1]`
+    /// of `eval_neighbour` and `eval_rest` for slot `k`): each spring with both ends in one
+    /// tile once, at its lower slot; a spring between two tiles at both ends. Separate arrays,
+    /// so the kernel's factor loop reads the rest lengths contiguously and vectorizes.
     pub eval_start: Vec<u32>,
-    pub evals: Vec<Edge>,
+    pub eval_neighbour: Vec<u32>,
+    pub eval_rest: Vec<f32>,
     /// Per evaluated spring, its slot (the end it is evaluated at) as an offset from the
     /// tile's first slot: the kernel walks the evaluated springs of a tile in one flat loop.
     pub eval_owner: Vec<u16>,
-    /// Per half-spring of the CSR (`edges` order): which evaluated spring of its tile gives
-    /// its force term, as an index from the tile's first evaluated spring, with
-    /// [`Layout::NEGATE`] set when the term is that spring's negated (the spring was
-    /// evaluated at its other end).
-    pub terms: Vec<u32>,
-    /// [`Layout::terms`] transposed for the kernel's 8-wide force sums: the slots of each tile
-    /// in groups of [`Layout::LANES`] (the last group of a tile may be short), and for group
-    /// `g` the terms `term_lanes[group_start[g]..group_start[g + 1]]` stored as rows of
-    /// `LANES`, row `r` holding the `r`-th term of each slot of the group. Slots with fewer
-    /// terms than the group's largest valence (and lanes past a short group's end) are padded
-    /// with the index one past the tile's evaluated springs, where the kernel keeps a zero
-    /// force.
+    /// The force term of each half-spring of the CSR: which evaluated spring of its tile
+    /// gives it, as an index from the tile's first evaluated spring, with [`Layout::NEGATE`]
+    /// set when the term is that spring's negated (the spring was evaluated at its other
+    /// end). Stored transposed for the kernel's 8-wide force sums: the slots of each tile in
+    /// groups of [`Layout::LANES`] (the last group of a tile may be short), and for group `g`
+    /// the terms `term_lanes[group_start[g]..group_start[g + 1]]` as rows of `LANES`, row `r`
+    /// holding the term of the `r`-th half-spring (CSR order) of each slot of the group.
+    /// Slots with fewer springs than the group's largest valence (and lanes past a short
+    /// group's end) are padded with the index one past the tile's evaluated springs, where
+    /// the kernel keeps a zero force.
     pub term_lanes: Vec<u32>,
     pub group_start: Vec<u32>,
     /// Slots per tile.
@@ -207,9 +182,9 @@ impl Layout {
         let tile = tile.clamp(1, Self::MAX_TILE);
         let mut layout = Layout {
             eval_start: Vec::new(),
-            evals: Vec::new(),
+            eval_neighbour: Vec::new(),
+            eval_rest: Vec::new(),
             eval_owner: Vec::new(),
-            terms: Vec::new(),
             term_lanes: Vec::new(),
             group_start: Vec::new(),
             slots,
@@ -321,7 +296,7 @@ impl Layout {
         }
     }
 
-    /// Flag of [`Layout::terms`]: the term is the evaluated spring's, negated.
+    /// Flag of [`Layout::term_lanes`]: the term is the evaluated spring's, negated.
     pub const NEGATE: u32 = 1 << 31;
 
     /// Lanes of the kernel's force sums (eight `f32` fill an AVX2 register).
@@ -332,18 +307,20 @@ impl Layout {
         self.tile.div_ceil(Self::LANES)
     }
 
-    /// Builds `eval_start`, `evals` and `terms` (see their docs): inside a tile each spring
-    /// is evaluated once, not from both ends, and nothing in the kernel branches on it.
+    /// Builds `eval_start`, `eval_neighbour`, `eval_rest`, `eval_owner` and the force terms
+    /// (see their docs): inside a tile each spring is evaluated once, not from both ends, and
+    /// nothing in the kernel branches on it.
     fn build_evaluation(&mut self) {
         let n = self.len();
         self.eval_start = Vec::with_capacity(n + 1);
-        self.evals = Vec::with_capacity(self.edges.len());
+        self.eval_neighbour = Vec::with_capacity(self.edges.len());
+        self.eval_rest = Vec::with_capacity(self.edges.len());
         self.eval_owner = Vec::with_capacity(self.edges.len());
-        self.terms = vec![0; self.edges.len()];
+        let mut terms = vec![0; self.edges.len()];
         self.eval_start.push(0);
         for t in 0..self.tiles() {
             let r = self.tile_range(t);
-            let first = self.evals.len();
+            let first = self.eval_neighbour.len();
             for k in r.clone() {
                 for e in self.start[k] as usize..self.start[k + 1] as usize {
                     let q = self.edges[e].neighbour as usize;
@@ -353,26 +330,27 @@ impl Layout {
                     } else {
                         None
                     };
-                    self.terms[e] = match twin {
+                    terms[e] = match twin {
                         // The twin (at the lower slot q, pointing up to k) was evaluated.
-                        Some(x) => self.terms[x] | Self::NEGATE,
+                        Some(x) => terms[x] | Self::NEGATE,
                         None => {
-                            self.evals.push(self.edges[e]);
+                            self.eval_neighbour.push(q as u32);
+                            self.eval_rest.push(self.edges[e].rest);
                             self.eval_owner.push((k - r.start) as u16);
-                            (self.evals.len() - 1 - first) as u32
+                            (self.eval_neighbour.len() - 1 - first) as u32
                         }
                     };
                 }
-                self.eval_start.push(self.evals.len() as u32);
+                self.eval_start.push(self.eval_neighbour.len() as u32);
             }
         }
-        self.build_term_lanes();
+        self.build_term_lanes(&terms);
     }
 
-    /// Builds `term_lanes` and `group_start` from `terms` (see their docs).
-    fn build_term_lanes(&mut self) {
+    /// Builds `term_lanes` and `group_start` from the force terms in CSR order.
+    fn build_term_lanes(&mut self, terms: &[u32]) {
         const L: usize = Layout::LANES;
-        self.term_lanes = Vec::with_capacity(self.terms.len() + self.terms.len() / 4);
+        self.term_lanes = Vec::with_capacity(terms.len() + terms.len() / 4);
         self.group_start = vec![0];
         for t in 0..self.tiles() {
             let r = self.tile_range(t);
@@ -387,12 +365,12 @@ impl Layout {
                 for row in 0..rows {
                     for lane in 0..L {
                         let k = g + lane;
-                        let e = self.start.get(k).map(|&s| s as usize + row);
-                        let term = match e {
-                            Some(e) if group.contains(&k) && e < self.start[k + 1] as usize => {
-                                self.terms[e]
-                            }
-                            _ => pad,
+                        let term = if group.contains(&k)
+                            && self.start[k] as usize + row < self.start[k + 1] as usize
+                        {
+                            terms[self.start[k] as usize + row]
+                        } else {
+                            pad
                         };
                         self.term_lanes.push(term);
                     }

@@ -404,11 +404,11 @@ impl Simulation {
     /// Inner and outer bone point of vertex `i` in the pose of the last step.
     pub fn bone_points(&self, i: usize) -> (Vec3, Vec3) {
         let t = self.transform_of(i);
-        let d = self.layout.slots.get(self.layout.slot[i] as usize);
+        let (s, k) = (&self.layout.slots, self.layout.slot[i] as usize);
         kernel::bones(
-            t.transform_point3(d.rest.into()),
-            t.transform_vector3(d.normal.into()),
-            d.bone_length,
+            t.transform_point3(s.rest.get(k)),
+            t.transform_vector3(s.normal.get(k)),
+            s.bone_length[k],
         )
     }
 
@@ -432,7 +432,7 @@ impl Simulation {
     /// Surface springs the kernel evaluates per full step: each spring inside a tile once,
     /// each spring between two tiles at both ends.
     pub fn evaluated_springs(&self) -> usize {
-        self.layout.evals.len()
+        self.layout.eval_neighbour.len()
     }
 
     /// Entries of the kernel's transposed term table: one per half-spring plus the padding
