@@ -471,59 +471,51 @@ fn motion_wakes_neighbouring_tiles_before_it_reaches_them() {
 }
 
 #[test]
-fn springs_inside_a_tile_are_evaluated_once_and_every_term_points_at_its_spring() {
+fn every_spring_sits_in_its_lane_and_padding_is_a_zero_length_spring() {
     use puppet::sim::layout::Layout;
     let rig = rig();
     for tile in [1, 37, 256, 100_000] {
         let l = Layout::new(&rig, tile);
-        // Half-springs whose two ends share a tile.
-        let inner = (0..l.len())
-            .flat_map(|k| (l.start[k]..l.start[k + 1]).map(move |e| (k, e as usize)))
-            .filter(|&(k, e)| k / tile == l.edges[e].neighbour as usize / tile)
-            .count();
-        assert_eq!(
-            l.eval_neighbour.len(),
-            l.edges.len() - inner / 2,
-            "tile {tile}"
-        );
-        assert_eq!(l.eval_rest.len(), l.eval_neighbour.len());
+        assert_eq!(l.lane_rest.len(), l.lane_neighbour.len());
+        let groups: usize = (0..l.tiles())
+            .map(|t| l.tile_range(t).len().div_ceil(Layout::LANES))
+            .sum();
+        assert_eq!(l.group_start.len(), groups + 1);
+        let mut seen = 0;
         for t in 0..l.tiles() {
             let r = l.tile_range(t);
-            let first = l.eval_start[r.start] as usize;
-            let pad = l.eval_start[r.end] as usize - first;
             let g0 = t * l.groups_per_tile();
-            // Row `row` of a group holds the term of the row-th half-spring of each of its
-            // slots, padded with the tile's zero-force index.
+            // Row `row` of a group holds the row-th spring of each of its slots, padded with
+            // the slot itself (past a short group's end: its last slot) and rest 0.
             for (gi, group) in r.clone().step_by(Layout::LANES).enumerate() {
                 let g = g0 + gi;
-                let rows = &l.term_lanes[l.group_start[g] as usize..l.group_start[g + 1] as usize];
-                assert_eq!(rows.len() % Layout::LANES, 0);
+                let span = l.group_start[g] as usize..l.group_start[g + 1] as usize;
+                let (neighbours, rests) = (&l.lane_neighbour[span.clone()], &l.lane_rest[span]);
+                assert_eq!(neighbours.len() % Layout::LANES, 0);
                 let valence = (group..(group + Layout::LANES).min(r.end))
                     .map(|k| (l.start[k + 1] - l.start[k]) as usize)
                     .max();
-                assert_eq!(rows.len() / Layout::LANES, valence.unwrap_or(0));
-                for (row, terms) in rows.chunks(Layout::LANES).enumerate() {
-                    for (lane, &term) in terms.iter().enumerate() {
-                        let k = group + lane;
-                        let e = l.start.get(k).map(|&s| s as usize + row);
-                        let Some(e) = e.filter(|&e| k < r.end && e < l.start[k + 1] as usize)
-                        else {
-                            assert_eq!(term as usize, pad, "tile {tile} slot {k} row {row}");
-                            continue;
-                        };
-                        let spring = first + (term & !Layout::NEGATE) as usize;
-                        let negated = term & Layout::NEGATE != 0;
-                        // The evaluated spring joins the same two slots, from the lower one.
-                        assert_eq!(l.eval_rest[spring], l.edges[e].rest);
-                        if negated {
-                            assert_eq!(l.eval_neighbour[spring] as usize, k);
+                assert_eq!(neighbours.len() / Layout::LANES, valence.unwrap_or(0));
+                for (row, (qs, rs)) in neighbours
+                    .chunks(Layout::LANES)
+                    .zip(rests.chunks(Layout::LANES))
+                    .enumerate()
+                {
+                    for lane in 0..Layout::LANES {
+                        let k = (group + lane).min(r.end - 1);
+                        let e = l.start[k] as usize + row;
+                        if group + lane < r.end && e < l.start[k + 1] as usize {
+                            assert_eq!(qs[lane], l.edges[e].neighbour, "tile {tile} slot {k}");
+                            assert_eq!(rs[lane], l.edges[e].rest);
+                            seen += 1;
                         } else {
-                            assert_eq!(l.eval_neighbour[spring], l.edges[e].neighbour);
-                            assert_eq!(l.eval_owner[spring] as usize, k - r.start);
+                            assert_eq!(qs[lane] as usize, k, "tile {tile} slot {k} row {row}");
+                            assert_eq!(rs[lane], 0.0);
                         }
                     }
                 }
             }
         }
+        assert_eq!(seen, l.edges.len(), "tile {tile}: every half-spring once");
     }
 }

@@ -1,26 +1,36 @@
 //! The step's inner loop over one tile: stages 1–4 fused (bone transforms, spring forces,
-//! Verlet, constraint), written so the compiler vectorizes the arithmetic.
+//! Verlet, constraint), eight slots at a time.
 //!
-//! A tile is processed in three passes over small scratch arrays that stay in L1:
-//! 1. per slot, the posed rest position, normal and bone points (one affine transform of the
-//!    slot's section), and the spring vectors `x_j − x_i` of the springs it evaluates (the
-//!    only gathers): a spring with both ends in the tile is evaluated once, at its lower slot
-//!    ([`super::layout::Layout::eval_start`]);
-//! 2. the spring forces `(|d| − rest) / |d| · d` over the evaluated springs of the tile: a
-//!    straight loop of `sqrt` and `div` that compiles to 8-wide AVX2 (4-wide SSE2 without it);
-//! 3. the force sum of each slot in CSR order, eight slots at a time, each term looked up
-//!    through [`super::layout::Layout::term_lanes`] (negated for the upper end of a spring,
-//!    which is bit for bit the term evaluated from that end: IEEE negation and
-//!    `a − b = −(b − a)` are exact); then Verlet with velocity damping and the constraint.
+//! The slots of a tile are taken in groups of eight ([`LANES`]), one slot per lane, and each
+//! group is carried through every stage in registers before the next starts: nothing is
+//! written back to memory but the new positions. For a group:
+//! 1. the surface-spring forces, row after row of [`Layout::lane_neighbour`]: row `r` holds
+//!    each lane's `r`-th neighbour (CSR order), so one row is eight springs, one per lane,
+//!    evaluated together: gather the neighbours' positions, `d = x_j − x_i`, the factor
+//!    `(|d| − rest) / |d|` (zero for a zero-length spring, which is what padded lanes hold:
+//!    their neighbour is the slot itself) and `sum += factor × d`;
+//! 2. the posed rest position, normal and bone points (one affine transform per lane, the
+//!    same for all lanes of a single-section tile) and the two bone-spring forces;
+//! 3. Verlet with velocity damping;
+//! 4. the constraint: the circumsphere projection in lanes, or the iterated spring reduction
+//!    lane by lane.
 //!
-//! Only `+ − × ÷ √` are used, all correctly rounded in IEEE arithmetic, in the same order on
-//! every path, so the AVX2 build of this code and the portable one give bit-identical results
-//! (tested), whatever the thread count.
+//! Every spring is evaluated from both of its ends; the two evaluations are exact negations
+//! of each other (`a − b = −(b − a)` and IEEE negation are exact), so this is bit for bit what
+//! evaluating it once and adding the negated force at the other end gives (an earlier kernel
+//! did that, through per-tile scratch arrays that cost more than the second evaluation).
+//!
+//! The code is generic over [`Lanes`] and compiled twice: with AVX2 registers ([`Avx`],
+//! chosen at run time) and with plain arrays ([`Portable`]). Only `+ − × ÷ √`, comparisons
+//! and selects are used, each correctly rounded, in the same order on both, so the two builds
+//! give bit-identical results (tested), whatever the thread count.
 
-use super::layout::{len3, Layout, Soa};
+#[cfg(target_arch = "x86_64")]
+use super::lanes::Avx;
+use super::lanes::{Lanes, Portable, LANES};
+use super::layout::{Layout, Soa};
 use super::{Constraint, Params};
 use glam::{Affine3A, Vec3};
-use std::cell::RefCell;
 use std::ops::Range;
 
 /// Everything a tile reads.
@@ -46,74 +56,6 @@ impl Ctx<'_> {
     }
 }
 
-/// Per-thread scratch, grown once to the largest tile and then reused (no allocation per
-/// step).
-#[derive(Default)]
-pub(super) struct Scratch {
-    // Per spring of the tile.
-    dx: Vec<f32>,
-    dy: Vec<f32>,
-    dz: Vec<f32>,
-    // Per slot of the tile: posed rest position, normal, bone vectors and factors.
-    rx: Vec<f32>,
-    ry: Vec<f32>,
-    rz: Vec<f32>,
-    nx: Vec<f32>,
-    ny: Vec<f32>,
-    nz: Vec<f32>,
-    ix: Vec<f32>,
-    iy: Vec<f32>,
-    iz: Vec<f32>,
-    ox: Vec<f32>,
-    oy: Vec<f32>,
-    oz: Vec<f32>,
-    fi: Vec<f32>,
-    fo: Vec<f32>,
-    // Per slot: the force sum, the squared displacement.
-    gx: Vec<f32>,
-    gy: Vec<f32>,
-    gz: Vec<f32>,
-    moved: Vec<f32>,
-}
-
-impl Scratch {
-    fn reserve(&mut self, springs: usize, slots: usize) {
-        for v in [&mut self.dx, &mut self.dy, &mut self.dz] {
-            if v.len() < springs {
-                v.resize(springs, 0.0);
-            }
-        }
-        for v in [
-            &mut self.rx,
-            &mut self.ry,
-            &mut self.rz,
-            &mut self.nx,
-            &mut self.ny,
-            &mut self.nz,
-            &mut self.ix,
-            &mut self.iy,
-            &mut self.iz,
-            &mut self.ox,
-            &mut self.oy,
-            &mut self.oz,
-            &mut self.fi,
-            &mut self.fo,
-            &mut self.gx,
-            &mut self.gy,
-            &mut self.gz,
-            &mut self.moved,
-        ] {
-            if v.len() < slots {
-                v.resize(slots, 0.0);
-            }
-        }
-    }
-}
-
-thread_local! {
-    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
-}
-
 /// Is the AVX2 build usable on this CPU?
 pub(super) fn avx2_available() -> bool {
     #[cfg(target_arch = "x86_64")]
@@ -136,15 +78,12 @@ pub(super) fn tile(
     py: &mut [f32],
     pz: &mut [f32],
 ) -> f32 {
-    SCRATCH.with(|s| {
-        let sc = &mut s.borrow_mut();
-        #[cfg(target_arch = "x86_64")]
-        if ctx.avx2 {
-            // SAFETY: `ctx.avx2` is only set when `avx2_available()` said the CPU has AVX2.
-            return unsafe { tile_avx2(ctx, range, px, py, pz, sc) };
-        }
-        tile_body(ctx, range, px, py, pz, sc)
-    })
+    #[cfg(target_arch = "x86_64")]
+    if ctx.avx2 {
+        // SAFETY: `ctx.avx2` is only set when `avx2_available()` said the CPU has AVX2.
+        return unsafe { tile_avx2(ctx, range, px, py, pz) };
+    }
+    tile_body::<Portable>(ctx, range, px, py, pz)
 }
 
 /// The kernel compiled for AVX2.
@@ -156,277 +95,217 @@ fn tile_avx2(
     px: &mut [f32],
     py: &mut [f32],
     pz: &mut [f32],
-    sc: &mut Scratch,
 ) -> f32 {
-    tile_body(ctx, range, px, py, pz, sc)
+    tile_body::<Avx>(ctx, range, px, py, pz)
 }
 
-/// Spring factor `(|d| − rest) / |d|` (0 for a zero-length spring): the force of the
-/// spring on its mass point is `factor × d`.
+/// Spring factor `(|d| − rest) / |d|` in lanes, 0 where `|d| = 0`: the force of the spring
+/// on its mass point is `factor × d`.
 #[inline(always)]
-fn factor(dx: f32, dy: f32, dz: f32, rest: f32) -> f32 {
-    let len = len3(dx, dy, dz);
-    if len > 0.0 {
-        (len - rest) / len
-    } else {
-        0.0
-    }
+fn factor<V: Lanes>(dx: V, dy: V, dz: V, rest: V) -> V {
+    let len = (dx * dx + dy * dy + dz * dz).sqrt();
+    len.positive_or_zero((len - rest) / len)
+}
+
+/// A vector in lanes.
+#[derive(Clone, Copy)]
+struct V3<V> {
+    x: V,
+    y: V,
+    z: V,
 }
 
 #[inline(always)]
-fn tile_body(
+fn tile_body<V: Lanes>(
     ctx: &Ctx,
     range: Range<usize>,
     px: &mut [f32],
     py: &mut [f32],
     pz: &mut [f32],
-    sc: &mut Scratch,
 ) -> f32 {
     let l = ctx.layout;
-    let cur = ctx.cur;
-    let v0 = l.eval_start[range.start] as usize;
-    let me = l.eval_start[range.end] as usize - v0;
-    let nv = range.len();
-    // One more spring entry than evaluated: the zero force that padded lanes point at.
-    sc.reserve(me + 1, nv);
-
-    // Pass 1: posed bones and spring vectors. Local slices: the compiler then keeps their
-    // pointers in registers instead of reloading them after every store.
-    let (cx, cy, cz) = (&cur.x[..], &cur.y[..], &cur.z[..]);
-    let start = &l.start[range.start..=range.end];
-    let neighbour = &l.eval_neighbour[v0..v0 + me];
-    let (dx, dy, dz) = (&mut sc.dx[..me], &mut sc.dy[..me], &mut sc.dz[..me]);
-    let out = Bones {
-        rx: &mut sc.rx[..nv],
-        ry: &mut sc.ry[..nv],
-        rz: &mut sc.rz[..nv],
-        nx: &mut sc.nx[..nv],
-        ny: &mut sc.ny[..nv],
-        nz: &mut sc.nz[..nv],
-        ix: &mut sc.ix[..nv],
-        iy: &mut sc.iy[..nv],
-        iz: &mut sc.iz[..nv],
-        ox: &mut sc.ox[..nv],
-        oy: &mut sc.oy[..nv],
-        oz: &mut sc.oz[..nv],
-    };
-    let tile_sections = l.sections_of_tile(range.start / l.tile);
-    if let [section] = tile_sections {
-        // One section (most tiles): one transform for the whole tile, a vector loop.
-        let t = ctx.transform(*section);
-        posed_bones(ctx, range.clone(), |_| t, out);
-    } else {
-        let sections = &l.slots.section[range.clone()];
-        posed_bones(ctx, range.clone(), |j| ctx.transform(sections[j]), out);
-    }
-    // The spring vectors, in one flat loop over the tile's evaluated springs (a loop per
-    // slot, with its varying trip count, mispredicted its exit about once per slot).
-    let owner = &l.eval_owner[v0..v0 + me];
-    let (tx, ty, tz) = (&cx[range.clone()], &cy[range.clone()], &cz[range.clone()]);
-    for e in 0..me {
-        let (q, o) = (neighbour[e] as usize, owner[e] as usize);
-        dx[e] = cx[q] - tx[o];
-        dy[e] = cy[q] - ty[o];
-        dz[e] = cz[q] - tz[o];
-    }
-
-    // Pass 2: spring forces `factor × d`, in place over the spring vectors, vectorized
-    // (every operand contiguous; with the rest lengths read from strided records this loop
-    // stayed scalar). Entry `me` is the zero force of padded lanes.
-    {
-        let (dx, dy, dz) = (&mut sc.dx[..me], &mut sc.dy[..me], &mut sc.dz[..me]);
-        let rest = &l.eval_rest[v0..v0 + me];
-        for e in 0..me {
-            let f = factor(dx[e], dy[e], dz[e], rest[e]);
-            (dx[e], dy[e], dz[e]) = (f * dx[e], f * dy[e], f * dz[e]);
-        }
-        (sc.dx[me], sc.dy[me], sc.dz[me]) = (0.0, 0.0, 0.0);
-        let (ix, iy, iz) = (&sc.ix[..nv], &sc.iy[..nv], &sc.iz[..nv]);
-        let (ox, oy, oz) = (&sc.ox[..nv], &sc.oy[..nv], &sc.oz[..nv]);
-        let (fi, fo) = (&mut sc.fi[..nv], &mut sc.fo[..nv]);
-        let (ri, ro) = (
-            &l.slots.inner_rest[range.clone()],
-            &l.slots.outer_rest[range.clone()],
-        );
-        for j in 0..nv {
-            fi[j] = factor(ix[j], iy[j], iz[j], ri[j]);
-            fo[j] = factor(ox[j], oy[j], oz[j], ro[j]);
-        }
-    }
-
-    // Pass 3a: force sums, 8 slots at a time through the transposed terms
-    // ([`Layout::term_lanes`]): eight independent additions per row instead of one chain
-    // per slot. Then the two bone springs.
-    let groups = nv.div_ceil(Layout::LANES);
+    let (cx, cy, cz) = (&ctx.cur.x[..], &ctx.cur.y[..], &ctx.cur.z[..]);
+    let s = &l.slots;
     let g0 = range.start / l.tile * l.groups_per_tile();
-    let group_start = &l.group_start[g0..=g0 + groups];
-    let lanes = &l.term_lanes[group_start[0] as usize..group_start[groups] as usize];
-    let forces = [&sc.dx[..=me], &sc.dy[..=me], &sc.dz[..=me]];
-    let sums = [&mut sc.gx[..nv], &mut sc.gy[..nv], &mut sc.gz[..nv]];
-    force_sums(group_start, lanes, forces, sums);
-    let (ix, iy, iz, fi) = (&sc.ix[..nv], &sc.iy[..nv], &sc.iz[..nv], &sc.fi[..nv]);
-    let (ox, oy, oz, fo) = (&sc.ox[..nv], &sc.oy[..nv], &sc.oz[..nv], &sc.fo[..nv]);
-    let (gx, gy, gz) = (&mut sc.gx[..nv], &mut sc.gy[..nv], &mut sc.gz[..nv]);
-    for j in 0..nv {
-        gx[j] = gx[j] + fi[j] * ix[j] + fo[j] * ox[j];
-        gy[j] = gy[j] + fi[j] * iy[j] + fo[j] * oy[j];
-        gz[j] = gz[j] + fi[j] * iz[j] + fo[j] * oz[j];
-    }
-
-    // Pass 3b: Verlet and the constraint. The circumsphere is a straight, branch-free loop
-    // over slots (vectorized); the iterated spring reduction stays per slot.
-    let (gx, gy, gz) = (&sc.gx[..nv], &sc.gy[..nv], &sc.gz[..nv]);
-    let (rx, ry, rz) = (&sc.rx[..nv], &sc.ry[..nv], &sc.rz[..nv]);
-    let (cx, cy, cz) = (&cx[range.clone()], &cy[range.clone()], &cz[range.clone()]);
-    let lbs = &l.slots.bone_length[range.clone()];
-    let moved = &mut sc.moved[..nv];
-    let (px, py, pz) = (&mut px[..nv], &mut py[..nv], &mut pz[..nv]);
-    let (damping, stiffness) = (ctx.damping, ctx.stiffness);
+    let single = match l.sections_of_tile(range.start / l.tile) {
+        [section] => Some(ctx.transform(*section)),
+        _ => None,
+    };
     let p = &ctx.params;
-    match p.constraint {
-        Constraint::Circumsphere => {
-            let rho_factor = p.max_length - 1.0;
-            for j in 0..nv {
-                let inv_mass = 1.0 / (start[j + 1] - start[j] + 2) as f32;
-                let k = stiffness * inv_mass;
-                // The same expressions, in the same order, as Vec3 arithmetic would use.
-                let (x, y, z) = (cx[j], cy[j], cz[j]);
-                let yx = x + damping * (x - px[j]) + k * gx[j];
-                let yy = y + damping * (y - py[j]) + k * gy[j];
-                let yz = z + damping * (z - pz[j]) + k * gz[j];
-                let (vx, vy, vz) = (yx - rx[j], yy - ry[j], yz - rz[j]);
-                let d2 = vx * vx + vy * vy + vz * vz;
-                let rho = rho_factor * lbs[j];
-                let s = rho / d2.sqrt();
-                let inside = d2 <= rho * rho;
-                let nx = if inside { yx } else { rx[j] + vx * s };
-                let ny = if inside { yy } else { ry[j] + vy * s };
-                let nz = if inside { yz } else { rz[j] + vz * s };
-                let (mx, my, mz) = (nx - x, ny - y, nz - z);
-                moved[j] = mx * mx + my * my + mz * mz;
-                (px[j], py[j], pz[j]) = (nx, ny, nz);
+    let (damping, stiffness) = (V::splat(ctx.damping), V::splat(ctx.stiffness));
+    let rho_factor = V::splat(p.max_length - 1.0);
+    let mut moved_max = 0.0f32;
+    for (gi, k0) in range.clone().step_by(LANES).enumerate() {
+        // Lanes past a short group's end repeat its last slot; their results are dropped.
+        let n = LANES.min(range.end - k0);
+        let own: [u32; LANES] = std::array::from_fn(|lane| (k0 + lane.min(n - 1)) as u32);
+        let load = |a: &[f32]| {
+            if n == LANES {
+                V::load(a, k0)
+            } else {
+                V::gather(a, &own)
             }
+        };
+        let x = V3 {
+            x: load(cx),
+            y: load(cy),
+            z: load(cz),
+        };
+
+        // Stage 2a: surface springs, one row (eight springs, one per lane) at a time.
+        let rows = l.group_start[g0 + gi] as usize..l.group_start[g0 + gi + 1] as usize;
+        let zero = V::splat(0.0);
+        let mut f = V3 {
+            x: zero,
+            y: zero,
+            z: zero,
+        };
+        for row in rows.step_by(LANES) {
+            let Some(idx) = l.lane_neighbour[row..].first_chunk::<LANES>() else {
+                break;
+            };
+            let rest = V::load(&l.lane_rest, row);
+            let dx = V::gather(cx, idx) - x.x;
+            let dy = V::gather(cy, idx) - x.y;
+            let dz = V::gather(cz, idx) - x.z;
+            let k = factor(dx, dy, dz, rest);
+            f.x = f.x + k * dx;
+            f.y = f.y + k * dy;
+            f.z = f.z + k * dz;
         }
-        Constraint::SpringReduction => {
-            let (nx, ny, nz) = (&sc.nx[..nv], &sc.ny[..nv], &sc.nz[..nv]);
-            for j in 0..nv {
-                let inv_mass = 1.0 / (start[j + 1] - start[j] + 2) as f32;
-                let f = Vec3::new(gx[j], gy[j], gz[j]);
-                let x = Vec3::new(cx[j], cy[j], cz[j]);
-                let before = Vec3::new(px[j], py[j], pz[j]);
-                let y = x + damping * (x - before) + (stiffness * inv_mass) * f;
-                let r = Vec3::new(rx[j], ry[j], rz[j]);
-                let n = Vec3::new(nx[j], ny[j], nz[j]);
-                let y = spring_reduction(y, r, n, lbs[j], p);
-                moved[j] = (y - x).length_squared();
-                (px[j], py[j], pz[j]) = (y.x, y.y, y.z);
+
+        // Stage 1: posed rest position and normal, glam's `transform_point3` /
+        // `transform_vector3` written out in the same order (columns times coordinates, added
+        // left to right, then the translation).
+        let t = match single {
+            Some(t) => columns::<V>(|_| t),
+            None => columns::<V>(|lane| ctx.transform(s.section[own[lane] as usize])),
+        };
+        let (p0, p1, p2) = (load(&s.rest.x), load(&s.rest.y), load(&s.rest.z));
+        let r = V3 {
+            x: t[0] * p0 + t[3] * p1 + t[6] * p2 + t[9],
+            y: t[1] * p0 + t[4] * p1 + t[7] * p2 + t[10],
+            z: t[2] * p0 + t[5] * p1 + t[8] * p2 + t[11],
+        };
+        let (m0, m1, m2) = (load(&s.normal.x), load(&s.normal.y), load(&s.normal.z));
+        let nrm = V3 {
+            x: t[0] * m0 + t[3] * m1 + t[6] * m2,
+            y: t[1] * m0 + t[4] * m1 + t[7] * m2,
+            z: t[2] * m0 + t[5] * m1 + t[8] * m2,
+        };
+        // Stage 2b: bone springs. inner = r − L n, outer = r + L n, as `bones` computes them.
+        let lb = load(&s.bone_length);
+        let i = V3 {
+            x: (r.x - lb * nrm.x) - x.x,
+            y: (r.y - lb * nrm.y) - x.y,
+            z: (r.z - lb * nrm.z) - x.z,
+        };
+        let o = V3 {
+            x: (r.x + lb * nrm.x) - x.x,
+            y: (r.y + lb * nrm.y) - x.y,
+            z: (r.z + lb * nrm.z) - x.z,
+        };
+        let fi = factor(i.x, i.y, i.z, load(&s.inner_rest));
+        let fo = factor(o.x, o.y, o.z, load(&s.outer_rest));
+        let g = V3 {
+            x: f.x + fi * i.x + fo * o.x,
+            y: f.y + fi * i.y + fo * o.y,
+            z: f.z + fi * i.z + fo * o.z,
+        };
+
+        // Stage 3: Verlet, `x + C_vd (x − x_prev) + D / m · F` (same order as Vec3 code).
+        let j0 = k0 - range.start;
+        let before = V3 {
+            x: load_local::<V>(px, j0, n),
+            y: load_local::<V>(py, j0, n),
+            z: load_local::<V>(pz, j0, n),
+        };
+        let k = stiffness * load(&s.inv_mass);
+        let y = V3 {
+            x: x.x + damping * (x.x - before.x) + k * g.x,
+            y: x.y + damping * (x.y - before.y) + k * g.y,
+            z: x.z + damping * (x.z - before.z) + k * g.z,
+        };
+
+        // Stage 4: the constraint.
+        let new = match p.constraint {
+            Constraint::Circumsphere => {
+                let v = V3 {
+                    x: y.x - r.x,
+                    y: y.y - r.y,
+                    z: y.z - r.z,
+                };
+                let d2 = v.x * v.x + v.y * v.y + v.z * v.z;
+                let rho = rho_factor * lb;
+                let sc = rho / d2.sqrt();
+                let rho2 = rho * rho;
+                V3 {
+                    x: d2.le_select(rho2, y.x, r.x + v.x * sc),
+                    y: d2.le_select(rho2, y.y, r.y + v.y * sc),
+                    z: d2.le_select(rho2, y.z, r.z + v.z * sc),
+                }
             }
-        }
+            Constraint::SpringReduction => {
+                let (y, r, nrm, lb) = (arrays(y), arrays(r), arrays(nrm), lb.to_array());
+                let mut out = [[0.0f32; LANES]; 3];
+                for lane in 0..n {
+                    let at = |a: &[[f32; LANES]; 3]| Vec3::new(a[0][lane], a[1][lane], a[2][lane]);
+                    let q = spring_reduction(at(&y), at(&r), at(&nrm), lb[lane], p);
+                    (out[0][lane], out[1][lane], out[2][lane]) = (q.x, q.y, q.z);
+                }
+                V3 {
+                    x: V::from_array(out[0]),
+                    y: V::from_array(out[1]),
+                    z: V::from_array(out[2]),
+                }
+            }
+        };
+        let (mx, my, mz) = (new.x - x.x, new.y - x.y, new.z - x.z);
+        let moved = (mx * mx + my * my + mz * mz).to_array();
+        moved_max = moved[..n].iter().fold(moved_max, |w, &m| w.max(m));
+        store_local(new.x, px, j0, n);
+        store_local(new.y, py, j0, n);
+        store_local(new.z, pz, j0, n);
     }
-    moved.iter().fold(0.0f32, |w, &m| w.max(m))
+    moved_max
 }
 
-/// The surface-spring force sum of every slot of a tile (see [`Layout::term_lanes`]):
-/// `sums[axis][8 g + lane]` is the sum, in CSR order, of the signed forces
-/// `forces[axis][term]` over row after row of group `g`. Padded terms add `+0`.
-///
-/// Scalar loads on purpose: the same loop with AVX2 gathers (`vgatherdps`) was slower on
-/// this project's machine (3.7M springs, 4 alternating runs each: 26.5–36.2 ms with
-/// gathers, 22.0–36.1 ms for this loop, 23.9–38.5 ms for the previous per-slot loop; perf
-/// put the time on the instructions waiting for the gathers).
+/// The twelve coefficients of each lane's transform: the matrix columns, then the
+/// translation.
 #[inline(always)]
-fn force_sums(group_start: &[u32], lanes: &[u32], forces: [&[f32]; 3], sums: [&mut [f32]; 3]) {
-    const L: usize = Layout::LANES;
-    let base = group_start[0] as usize;
-    let nv = sums[0].len();
-    let [sx, sy, sz] = sums;
-    for g in 0..group_start.len() - 1 {
-        let rows = &lanes[group_start[g] as usize - base..group_start[g + 1] as usize - base];
-        let (mut ax, mut ay, mut az) = ([0.0f32; L], [0.0f32; L], [0.0f32; L]);
-        for row in rows.chunks_exact(L) {
-            for lane in 0..L {
-                let term = row[lane];
-                let c = (term & !Layout::NEGATE) as usize;
-                let sign = term & Layout::NEGATE;
-                // Exact negation: flip the sign bit.
-                ax[lane] += f32::from_bits(forces[0][c].to_bits() ^ sign);
-                ay[lane] += f32::from_bits(forces[1][c].to_bits() ^ sign);
-                az[lane] += f32::from_bits(forces[2][c].to_bits() ^ sign);
-            }
-        }
-        for lane in 0..L.min(nv - g * L) {
-            let j = g * L + lane;
-            (sx[j], sy[j], sz[j]) = (ax[lane], ay[lane], az[lane]);
-        }
-    }
-}
-
-/// Where [`posed_bones`] writes, per slot of the tile: the posed rest position `r` and
-/// normal `n`, and the bone vectors `inner − x`, `outer − x`.
-struct Bones<'a> {
-    rx: &'a mut [f32],
-    ry: &'a mut [f32],
-    rz: &'a mut [f32],
-    nx: &'a mut [f32],
-    ny: &'a mut [f32],
-    nz: &'a mut [f32],
-    ix: &'a mut [f32],
-    iy: &'a mut [f32],
-    iz: &'a mut [f32],
-    ox: &'a mut [f32],
-    oy: &'a mut [f32],
-    oz: &'a mut [f32],
-}
-
-/// Pass 1 of the kernel: the posed bones of every slot of `range`, slot `j` of the tile
-/// posed by `transform(j)`. With a transform that does not depend on `j` this is a straight
-/// vector loop over the struct-of-arrays constants. The arithmetic is glam's
-/// `transform_point3` / `transform_vector3` written out in the same order (columns times
-/// coordinates, added left to right, then the translation), so both loops agree bit for bit.
-#[inline(always)]
-fn posed_bones(ctx: &Ctx, range: Range<usize>, transform: impl Fn(usize) -> Affine3A, o: Bones) {
-    let s = &ctx.layout.slots;
-    let (px, py, pz) = (
-        &s.rest.x[range.clone()],
-        &s.rest.y[range.clone()],
-        &s.rest.z[range.clone()],
-    );
-    let (mx, my, mz) = (
-        &s.normal.x[range.clone()],
-        &s.normal.y[range.clone()],
-        &s.normal.z[range.clone()],
-    );
-    let lbs = &s.bone_length[range.clone()];
-    let cur = ctx.cur;
-    let (x, y, z) = (&cur.x[range.clone()], &cur.y[range.clone()], &cur.z[range]);
-    let nv = x.len();
-    for j in 0..nv {
-        let t = transform(j);
+fn columns<V: Lanes>(transform: impl Fn(usize) -> Affine3A) -> [V; 12] {
+    let t: [[f32; 12]; LANES] = std::array::from_fn(|lane| {
+        let t = transform(lane);
         let (a, b, c, d) = (
             t.matrix3.x_axis,
             t.matrix3.y_axis,
             t.matrix3.z_axis,
             t.translation,
         );
-        let (p0, p1, p2) = (px[j], py[j], pz[j]);
-        let rx = a.x * p0 + b.x * p1 + c.x * p2 + d.x;
-        let ry = a.y * p0 + b.y * p1 + c.y * p2 + d.y;
-        let rz = a.z * p0 + b.z * p1 + c.z * p2 + d.z;
-        let (m0, m1, m2) = (mx[j], my[j], mz[j]);
-        let nx = a.x * m0 + b.x * m1 + c.x * m2;
-        let ny = a.y * m0 + b.y * m1 + c.y * m2;
-        let nz = a.z * m0 + b.z * m1 + c.z * m2;
-        let lb = lbs[j];
-        (o.rx[j], o.ry[j], o.rz[j]) = (rx, ry, rz);
-        (o.nx[j], o.ny[j], o.nz[j]) = (nx, ny, nz);
-        // inner = r − L n, outer = r + L n, as `bones` computes them.
-        o.ix[j] = (rx - lb * nx) - x[j];
-        o.iy[j] = (ry - lb * ny) - y[j];
-        o.iz[j] = (rz - lb * nz) - z[j];
-        o.ox[j] = (rx + lb * nx) - x[j];
-        o.oy[j] = (ry + lb * ny) - y[j];
-        o.oz[j] = (rz + lb * nz) - z[j];
+        [a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z, d.x, d.y, d.z]
+    });
+    std::array::from_fn(|c| V::from_array(std::array::from_fn(|lane| t[lane][c])))
+}
+
+#[inline(always)]
+fn arrays<V: Lanes>(v: V3<V>) -> [[f32; LANES]; 3] {
+    [v.x.to_array(), v.y.to_array(), v.z.to_array()]
+}
+
+/// `a[j0..j0 + n]` in the first `n` lanes (the last one repeated).
+#[inline(always)]
+fn load_local<V: Lanes>(a: &[f32], j0: usize, n: usize) -> V {
+    if n == LANES {
+        V::load(a, j0)
+    } else {
+        V::from_array(std::array::from_fn(|lane| a[j0 + lane.min(n - 1)]))
     }
+}
+
+/// Writes the first `n` lanes to `a[j0..j0 + n]`.
+#[inline(always)]
+fn store_local<V: Lanes>(v: V, a: &mut [f32], j0: usize, n: usize) {
+    a[j0..j0 + n].copy_from_slice(&v.to_array()[..n]);
 }
 
 /// Bone points of a posed rest position `r` with unit normal `n` and bone length `lb`.

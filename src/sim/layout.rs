@@ -77,6 +77,8 @@ pub struct Slots {
     pub outer_rest: Vec<f32>,
     /// Joint section.
     pub section: Vec<u16>,
+    /// `1 / m`, the mass being the number of springs (surface springs and the two bones).
+    pub inv_mass: Vec<f32>,
 }
 
 /// A surface half-spring in the CSR: the neighbour's slot and the rest length.
@@ -100,27 +102,15 @@ pub struct Layout {
     /// `edges[start[k]..start[k+1]]`.
     pub start: Vec<u32>,
     pub edges: Vec<Edge>,
-    /// The springs the kernel evaluates, slot by slot (entries `eval_start[k]..eval_start[k+1]`
-    /// of `eval_neighbour` and `eval_rest` for slot `k`): each spring with both ends in one
-    /// tile once, at its lower slot; a spring between two tiles at both ends. Separate arrays,
-    /// so the kernel's factor loop reads the rest lengths contiguously and vectorizes.
-    pub eval_start: Vec<u32>,
-    pub eval_neighbour: Vec<u32>,
-    pub eval_rest: Vec<f32>,
-    /// Per evaluated spring, its slot (the end it is evaluated at) as an offset from the
-    /// tile's first slot: the kernel walks the evaluated springs of a tile in one flat loop.
-    pub eval_owner: Vec<u16>,
-    /// The force term of each half-spring of the CSR: which evaluated spring of its tile
-    /// gives it, as an index from the tile's first evaluated spring, with [`Layout::NEGATE`]
-    /// set when the term is that spring's negated (the spring was evaluated at its other
-    /// end). Stored transposed for the kernel's 8-wide force sums: the slots of each tile in
-    /// groups of [`Layout::LANES`] (the last group of a tile may be short), and for group `g`
-    /// the terms `term_lanes[group_start[g]..group_start[g + 1]]` as rows of `LANES`, row `r`
-    /// holding the term of the `r`-th half-spring (CSR order) of each slot of the group.
-    /// Slots with fewer springs than the group's largest valence (and lanes past a short
-    /// group's end) are padded with the index one past the tile's evaluated springs, where
-    /// the kernel keeps a zero force.
-    pub term_lanes: Vec<u32>,
+    /// The surface springs in the kernel's order: the slots of each tile in groups of
+    /// [`Layout::LANES`] (the last group of a tile may be short), and for group `g` the
+    /// entries `group_start[g]..group_start[g + 1]` of `lane_neighbour` and `lane_rest` as
+    /// rows of `LANES`, row `r` holding the `r`-th spring (CSR order) of each slot of the
+    /// group: its neighbour slot and rest length. Rows are padded to the group's largest
+    /// valence with the slot itself and rest 0 (a zero-length spring, zero force); lanes past
+    /// a short group's end repeat its last slot.
+    pub lane_neighbour: Vec<u32>,
+    pub lane_rest: Vec<f32>,
     pub group_start: Vec<u32>,
     /// Slots per tile.
     pub tile: usize,
@@ -178,14 +168,14 @@ impl Layout {
             inner_rest: vec![0.0; n],
             outer_rest: vec![0.0; n],
             section: vec![0; n],
+            inv_mass: (0..n)
+                .map(|k| 1.0 / (start[k + 1] - start[k] + 2) as f32)
+                .collect(),
         };
         let tile = tile.clamp(1, Self::MAX_TILE);
         let mut layout = Layout {
-            eval_start: Vec::new(),
-            eval_neighbour: Vec::new(),
-            eval_rest: Vec::new(),
-            eval_owner: Vec::new(),
-            term_lanes: Vec::new(),
+            lane_neighbour: Vec::new(),
+            lane_rest: Vec::new(),
             group_start: Vec::new(),
             slots,
             start,
@@ -200,7 +190,7 @@ impl Layout {
         };
         layout.set_bone_length(rig);
         layout.build_tile_neighbours();
-        layout.build_evaluation();
+        layout.build_lanes();
         layout.build_tile_sections();
         layout
     }
@@ -296,65 +286,23 @@ impl Layout {
         }
     }
 
-    /// Flag of [`Layout::term_lanes`]: the term is the evaluated spring's, negated.
-    pub const NEGATE: u32 = 1 << 31;
-
-    /// Lanes of the kernel's force sums (eight `f32` fill an AVX2 register).
-    pub const LANES: usize = 8;
+    /// Lanes of the kernel (eight `f32` fill an AVX2 register).
+    pub const LANES: usize = super::lanes::LANES;
 
     /// Groups of [`Layout::LANES`] slots in a full tile.
     pub fn groups_per_tile(&self) -> usize {
         self.tile.div_ceil(Self::LANES)
     }
 
-    /// Builds `eval_start`, `eval_neighbour`, `eval_rest`, `eval_owner` and the force terms
-    /// (see their docs): inside a tile each spring is evaluated once, not from both ends, and
-    /// nothing in the kernel branches on it.
-    fn build_evaluation(&mut self) {
-        let n = self.len();
-        self.eval_start = Vec::with_capacity(n + 1);
-        self.eval_neighbour = Vec::with_capacity(self.edges.len());
-        self.eval_rest = Vec::with_capacity(self.edges.len());
-        self.eval_owner = Vec::with_capacity(self.edges.len());
-        let mut terms = vec![0; self.edges.len()];
-        self.eval_start.push(0);
-        for t in 0..self.tiles() {
-            let r = self.tile_range(t);
-            let first = self.eval_neighbour.len();
-            for k in r.clone() {
-                for e in self.start[k] as usize..self.start[k + 1] as usize {
-                    let q = self.edges[e].neighbour as usize;
-                    let twin = if r.contains(&q) && q < k {
-                        (self.start[q] as usize..self.start[q + 1] as usize)
-                            .find(|&x| self.edges[x].neighbour as usize == k)
-                    } else {
-                        None
-                    };
-                    terms[e] = match twin {
-                        // The twin (at the lower slot q, pointing up to k) was evaluated.
-                        Some(x) => terms[x] | Self::NEGATE,
-                        None => {
-                            self.eval_neighbour.push(q as u32);
-                            self.eval_rest.push(self.edges[e].rest);
-                            self.eval_owner.push((k - r.start) as u16);
-                            (self.eval_neighbour.len() - 1 - first) as u32
-                        }
-                    };
-                }
-                self.eval_start.push(self.eval_neighbour.len() as u32);
-            }
-        }
-        self.build_term_lanes(&terms);
-    }
-
-    /// Builds `term_lanes` and `group_start` from the force terms in CSR order.
-    fn build_term_lanes(&mut self, terms: &[u32]) {
+    /// Builds `lane_neighbour`, `lane_rest` and `group_start` (see their docs).
+    fn build_lanes(&mut self) {
         const L: usize = Layout::LANES;
-        self.term_lanes = Vec::with_capacity(terms.len() + terms.len() / 4);
+        let padded = self.edges.len() + self.edges.len() / 4;
+        self.lane_neighbour = Vec::with_capacity(padded);
+        self.lane_rest = Vec::with_capacity(padded);
         self.group_start = vec![0];
         for t in 0..self.tiles() {
             let r = self.tile_range(t);
-            let pad = self.eval_start[r.end] - self.eval_start[r.start];
             for g in (r.start..r.end).step_by(L) {
                 let group = g..(g + L).min(r.end);
                 let rows = group
@@ -364,18 +312,19 @@ impl Layout {
                     .unwrap_or(0);
                 for row in 0..rows {
                     for lane in 0..L {
-                        let k = g + lane;
-                        let term = if group.contains(&k)
-                            && self.start[k] as usize + row < self.start[k + 1] as usize
-                        {
-                            terms[self.start[k] as usize + row]
-                        } else {
-                            pad
-                        };
-                        self.term_lanes.push(term);
+                        let k = (g + lane).min(group.end - 1);
+                        let e = self.start[k] as usize + row;
+                        let (q, rest) =
+                            if group.contains(&(g + lane)) && e < self.start[k + 1] as usize {
+                                (self.edges[e].neighbour, self.edges[e].rest)
+                            } else {
+                                (k as u32, 0.0)
+                            };
+                        self.lane_neighbour.push(q);
+                        self.lane_rest.push(rest);
                     }
                 }
-                self.group_start.push(self.term_lanes.len() as u32);
+                self.group_start.push(self.lane_neighbour.len() as u32);
             }
         }
     }

@@ -27,6 +27,7 @@
 //!   so the constraint holds after every step.
 
 mod kernel;
+mod lanes;
 pub mod layout;
 mod material;
 
@@ -429,16 +430,11 @@ impl Simulation {
         self.last_times
     }
 
-    /// Surface springs the kernel evaluates per full step: each spring inside a tile once,
-    /// each spring between two tiles at both ends.
-    pub fn evaluated_springs(&self) -> usize {
-        self.layout.eval_neighbour.len()
-    }
-
-    /// Entries of the kernel's transposed term table: one per half-spring plus the padding
-    /// of slots with fewer springs than the largest valence of their group of 8.
-    pub fn term_entries(&self) -> usize {
-        self.layout.term_lanes.len()
+    /// Entries of the kernel's spring rows: one per half-spring (every spring is evaluated
+    /// from both ends) plus the padding of slots with fewer springs than the largest valence
+    /// of their group of 8.
+    pub fn lane_entries(&self) -> usize {
+        self.layout.lane_neighbour.len()
     }
 
     /// Tiles in all, and tiles integrated by the last step.

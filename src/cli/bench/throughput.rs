@@ -38,14 +38,13 @@ pub struct Row {
     pub gb_per_second: f64,
 }
 
-/// Bytes the fused pass reads and writes per step: per slot its constants (9 `f32` and a
-/// `u16` section: 38), the two CSR starts (8), current (12) and previous positions (12 read,
-/// 12 written); per entry of the transposed term table (one per half-spring plus padding)
-/// its index (4); per evaluated spring the `(neighbour, rest)` pair and its slot offset
-/// (10). Neighbour positions are gathered from lines already loaded (Hilbert order), so they
+/// Bytes the fused pass reads and writes per step: per slot its constants (10 `f32` and a
+/// `u16` section: 42), current (12) and previous positions (12 read, 12 written); per entry
+/// of the spring rows (one per half-spring plus padding) the neighbour and the rest length
+/// (8). Neighbour positions are gathered from lines already loaded (Hilbert order), so they
 /// are not counted.
-fn bytes_per_step(vertices: usize, term_entries: usize, evaluated: usize) -> usize {
-    vertices * (38 + 8 + 12 + 24) + term_entries * 4 + evaluated * 10
+fn bytes_per_step(vertices: usize, lane_entries: usize) -> usize {
+    vertices * (42 + 12 + 24) + lane_entries * 8
 }
 
 /// Measures `steps` timed steps of `scene` with every tile integrated.
@@ -76,7 +75,7 @@ pub fn measure(scene: &Scene, params: Params, steps: usize) -> Row {
     }
     let (med, p95) = median_p95(total);
     let (fused_med, fused_p95) = median_p95(fused);
-    let bytes = bytes_per_step(vertices, sim.term_entries(), sim.evaluated_springs());
+    let bytes = bytes_per_step(vertices, sim.lane_entries());
     Row {
         vertices,
         springs,

@@ -1,0 +1,187 @@
+//! Eight `f32` lanes, the kernel's unit of work: one AVX2 register ([`Avx`]) or a plain array
+//! ([`Portable`]). The kernel is written once, generic over [`Lanes`], and compiled for both.
+//!
+//! Every operation is one IEEE-754 operation per lane (`+ − × ÷ √`, comparisons, selects), with
+//! no fused multiply-add and no approximate reciprocal, so both implementations give
+//! bit-identical results (tested).
+
+use std::ops::{Add, Div, Mul, Sub};
+
+/// Number of lanes.
+pub(super) const LANES: usize = 8;
+
+/// Eight `f32` lanes.
+pub(super) trait Lanes:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
+{
+    fn splat(x: f32) -> Self;
+    fn from_array(a: [f32; LANES]) -> Self;
+    fn to_array(self) -> [f32; LANES];
+    /// `s[at..at + 8]`.
+    fn load(s: &[f32], at: usize) -> Self;
+    /// `s[idx[lane]]` for each lane.
+    fn gather(s: &[f32], idx: &[u32; LANES]) -> Self;
+    fn sqrt(self) -> Self;
+    /// `self > 0 ? a : 0`, lane by lane.
+    fn positive_or_zero(self, a: Self) -> Self;
+    /// `self <= b ? x : y`, lane by lane.
+    fn le_select(self, b: Self, x: Self, y: Self) -> Self;
+}
+
+/// The portable implementation: a plain array.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Portable([f32; LANES]);
+
+macro_rules! portable_op {
+    ($tr:ident, $f:ident, $op:tt) => {
+        impl $tr for Portable {
+            type Output = Portable;
+            #[inline(always)]
+            fn $f(self, o: Portable) -> Portable {
+                Portable(std::array::from_fn(|l| self.0[l] $op o.0[l]))
+            }
+        }
+    };
+}
+portable_op!(Add, add, +);
+portable_op!(Sub, sub, -);
+portable_op!(Mul, mul, *);
+portable_op!(Div, div, /);
+
+impl Lanes for Portable {
+    #[inline(always)]
+    fn splat(x: f32) -> Self {
+        Portable([x; LANES])
+    }
+    #[inline(always)]
+    fn from_array(a: [f32; LANES]) -> Self {
+        Portable(a)
+    }
+    #[inline(always)]
+    fn to_array(self) -> [f32; LANES] {
+        self.0
+    }
+    #[inline(always)]
+    fn load(s: &[f32], at: usize) -> Self {
+        let mut a = [0.0; LANES];
+        a.copy_from_slice(&s[at..at + LANES]);
+        Portable(a)
+    }
+    #[inline(always)]
+    fn gather(s: &[f32], idx: &[u32; LANES]) -> Self {
+        Portable(std::array::from_fn(|l| s[idx[l] as usize]))
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        Portable(self.0.map(f32::sqrt))
+    }
+    #[inline(always)]
+    fn positive_or_zero(self, a: Self) -> Self {
+        Portable(std::array::from_fn(|l| {
+            if self.0[l] > 0.0 {
+                a.0[l]
+            } else {
+                0.0
+            }
+        }))
+    }
+    #[inline(always)]
+    fn le_select(self, b: Self, x: Self, y: Self) -> Self {
+        Portable(std::array::from_fn(|l| {
+            if self.0[l] <= b.0[l] {
+                x.0[l]
+            } else {
+                y.0[l]
+            }
+        }))
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+pub(super) use avx::Avx;
+
+#[cfg(target_arch = "x86_64")]
+mod avx {
+    //! # Safety
+    //! [`Avx`] values are only made inside code compiled with `target_feature(enable =
+    //! "avx2")` that runs after `is_x86_feature_detected!("avx2")` said yes (the kernel's
+    //! dispatch), so every intrinsic below runs on a CPU that has it. The methods are
+    //! `inline(always)`: they are inlined into that AVX2 code.
+    use super::{Lanes, LANES};
+    use std::arch::x86_64::*;
+    use std::ops::{Add, Div, Mul, Sub};
+
+    /// The AVX2 implementation: one `__m256`.
+    #[derive(Clone, Copy, Debug)]
+    pub(in crate::sim) struct Avx(__m256);
+
+    macro_rules! avx_op {
+        ($tr:ident, $f:ident, $intr:ident) => {
+            impl $tr for Avx {
+                type Output = Avx;
+                #[inline(always)]
+                fn $f(self, o: Avx) -> Avx {
+                    // SAFETY: see the module docs.
+                    Avx(unsafe { $intr(self.0, o.0) })
+                }
+            }
+        };
+    }
+    avx_op!(Add, add, _mm256_add_ps);
+    avx_op!(Sub, sub, _mm256_sub_ps);
+    avx_op!(Mul, mul, _mm256_mul_ps);
+    avx_op!(Div, div, _mm256_div_ps);
+
+    impl Lanes for Avx {
+        #[inline(always)]
+        fn splat(x: f32) -> Self {
+            // SAFETY: see the module docs.
+            Avx(unsafe { _mm256_set1_ps(x) })
+        }
+        #[inline(always)]
+        fn from_array(a: [f32; LANES]) -> Self {
+            // SAFETY: see the module docs; `a` is 8 readable floats.
+            Avx(unsafe { _mm256_loadu_ps(a.as_ptr()) })
+        }
+        #[inline(always)]
+        fn to_array(self) -> [f32; LANES] {
+            let mut a = [0.0; LANES];
+            // SAFETY: see the module docs; `a` is 8 writable floats.
+            unsafe { _mm256_storeu_ps(a.as_mut_ptr(), self.0) };
+            a
+        }
+        #[inline(always)]
+        fn load(s: &[f32], at: usize) -> Self {
+            let s = &s[at..at + LANES];
+            // SAFETY: see the module docs; `s` is 8 readable floats.
+            Avx(unsafe { _mm256_loadu_ps(s.as_ptr()) })
+        }
+        #[inline(always)]
+        fn gather(s: &[f32], idx: &[u32; LANES]) -> Self {
+            let g = |l: usize| s[idx[l] as usize];
+            // SAFETY: see the module docs.
+            Avx(unsafe { _mm256_setr_ps(g(0), g(1), g(2), g(3), g(4), g(5), g(6), g(7)) })
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Self {
+            // SAFETY: see the module docs.
+            Avx(unsafe { _mm256_sqrt_ps(self.0) })
+        }
+        #[inline(always)]
+        fn positive_or_zero(self, a: Self) -> Self {
+            // SAFETY: see the module docs.
+            unsafe {
+                let m = _mm256_cmp_ps::<_CMP_GT_OQ>(self.0, _mm256_setzero_ps());
+                Avx(_mm256_and_ps(m, a.0))
+            }
+        }
+        #[inline(always)]
+        fn le_select(self, b: Self, x: Self, y: Self) -> Self {
+            // SAFETY: see the module docs.
+            unsafe {
+                let m = _mm256_cmp_ps::<_CMP_LE_OQ>(self.0, b.0);
+                Avx(_mm256_blendv_ps(y.0, x.0, m))
+            }
+        }
+    }
+}
