@@ -28,7 +28,7 @@
 #[cfg(target_arch = "x86_64")]
 use super::lanes::Avx;
 use super::lanes::{Lanes, Portable, LANES};
-use super::layout::{Layout, Soa};
+use super::layout::{Layout, Packed};
 use super::{Constraint, Params};
 use glam::{Affine3A, Vec3};
 use std::ops::Range;
@@ -36,7 +36,7 @@ use std::ops::Range;
 /// Everything a tile reads.
 pub(super) struct Ctx<'a> {
     pub layout: &'a Layout,
-    pub cur: &'a Soa,
+    pub cur: &'a Packed,
     pub transforms: &'a [Affine3A],
     pub params: Params,
     /// `D (h/h₀)²` and `C_vd^(h/h₀)`.
@@ -68,35 +68,23 @@ pub(super) fn avx2_available() -> bool {
     }
 }
 
-/// Integrates the slots `range` (one tile). `px, py, pz` hold the tile's previous positions
-/// on entry and its new positions on return. Returns the largest squared displacement of
+/// Integrates the slots `range` (one tile). `points` holds the tile's previous positions on
+/// entry and its new positions on return. Returns the largest squared displacement of
 /// the step in the tile.
-pub(super) fn tile(
-    ctx: &Ctx,
-    range: Range<usize>,
-    px: &mut [f32],
-    py: &mut [f32],
-    pz: &mut [f32],
-) -> f32 {
+pub(super) fn tile(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) -> f32 {
     #[cfg(target_arch = "x86_64")]
     if ctx.avx2 {
         // SAFETY: `ctx.avx2` is only set when `avx2_available()` said the CPU has AVX2.
-        return unsafe { tile_avx2(ctx, range, px, py, pz) };
+        return unsafe { tile_avx2(ctx, range, points) };
     }
-    tile_body::<Portable>(ctx, range, px, py, pz)
+    tile_body::<Portable>(ctx, range, points)
 }
 
 /// The kernel compiled for AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn tile_avx2(
-    ctx: &Ctx,
-    range: Range<usize>,
-    px: &mut [f32],
-    py: &mut [f32],
-    pz: &mut [f32],
-) -> f32 {
-    tile_body::<Avx>(ctx, range, px, py, pz)
+fn tile_avx2(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) -> f32 {
+    tile_body::<Avx>(ctx, range, points)
 }
 
 /// Spring factor `(|d| − rest) / |d|` in lanes, 0 where `|d| = 0`: the force of the spring
@@ -116,15 +104,9 @@ struct V3<V> {
 }
 
 #[inline(always)]
-fn tile_body<V: Lanes>(
-    ctx: &Ctx,
-    range: Range<usize>,
-    px: &mut [f32],
-    py: &mut [f32],
-    pz: &mut [f32],
-) -> f32 {
+fn tile_body<V: Lanes>(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) -> f32 {
     let l = ctx.layout;
-    let (cx, cy, cz) = (&ctx.cur.x[..], &ctx.cur.y[..], &ctx.cur.z[..]);
+    let cur = &ctx.cur.0[..];
     let s = &l.slots;
     let g0 = range.start / l.tile * l.groups_per_tile();
     let single = match l.sections_of_tile(range.start / l.tile) {
@@ -146,11 +128,11 @@ fn tile_body<V: Lanes>(
                 V::gather(a, &own)
             }
         };
-        let x = V3 {
-            x: load(cx),
-            y: load(cy),
-            z: load(cz),
-        };
+        let x = v3(if n == LANES {
+            V::load3(cur, k0)
+        } else {
+            V::gather3(cur, &own)
+        });
 
         // Stage 2a: surface springs, one row (eight springs, one per lane) at a time.
         let rows = l.group_start[g0 + gi] as usize..l.group_start[g0 + gi + 1] as usize;
@@ -165,9 +147,8 @@ fn tile_body<V: Lanes>(
                 break;
             };
             let rest = V::load(&l.lane_rest, row);
-            let dx = V::gather(cx, idx) - x.x;
-            let dy = V::gather(cy, idx) - x.y;
-            let dz = V::gather(cz, idx) - x.z;
+            let [qx, qy, qz] = V::gather3(cur, idx);
+            let (dx, dy, dz) = (qx - x.x, qy - x.y, qz - x.z);
             let k = factor(dx, dy, dz, rest);
             f.x = f.x + k * dx;
             f.y = f.y + k * dy;
@@ -215,11 +196,11 @@ fn tile_body<V: Lanes>(
 
         // Stage 3: Verlet, `x + C_vd (x − x_prev) + D / m · F` (same order as Vec3 code).
         let j0 = k0 - range.start;
-        let before = V3 {
-            x: load_local::<V>(px, j0, n),
-            y: load_local::<V>(py, j0, n),
-            z: load_local::<V>(pz, j0, n),
-        };
+        let before = v3(if n == LANES {
+            V::load3(points, j0)
+        } else {
+            V::gather3(points, &std::array::from_fn(|l| (j0 + l.min(n - 1)) as u32))
+        });
         let k = stiffness * load(&s.inv_mass);
         let y = V3 {
             x: x.x + damping * (x.x - before.x) + k * g.x,
@@ -263,9 +244,14 @@ fn tile_body<V: Lanes>(
         let (mx, my, mz) = (new.x - x.x, new.y - x.y, new.z - x.z);
         let moved = (mx * mx + my * my + mz * mz).to_array();
         moved_max = moved[..n].iter().fold(moved_max, |w, &m| w.max(m));
-        store_local(new.x, px, j0, n);
-        store_local(new.y, py, j0, n);
-        store_local(new.z, pz, j0, n);
+        if n == LANES {
+            V::store3([new.x, new.y, new.z], points, j0);
+        } else {
+            let [nx, ny, nz] = arrays(new);
+            for (l, q) in points[j0..j0 + n].iter_mut().enumerate() {
+                *q = [nx[l], ny[l], nz[l], 0.0];
+            }
+        }
     }
     moved_max
 }
@@ -292,20 +278,9 @@ fn arrays<V: Lanes>(v: V3<V>) -> [[f32; LANES]; 3] {
     [v.x.to_array(), v.y.to_array(), v.z.to_array()]
 }
 
-/// `a[j0..j0 + n]` in the first `n` lanes (the last one repeated).
 #[inline(always)]
-fn load_local<V: Lanes>(a: &[f32], j0: usize, n: usize) -> V {
-    if n == LANES {
-        V::load(a, j0)
-    } else {
-        V::from_array(std::array::from_fn(|lane| a[j0 + lane.min(n - 1)]))
-    }
-}
-
-/// Writes the first `n` lanes to `a[j0..j0 + n]`.
-#[inline(always)]
-fn store_local<V: Lanes>(v: V, a: &mut [f32], j0: usize, n: usize) {
-    a[j0..j0 + n].copy_from_slice(&v.to_array()[..n]);
+fn v3<V: Lanes>([x, y, z]: [V; 3]) -> V3<V> {
+    V3 { x, y, z }
 }
 
 /// Bone points of a posed rest position `r` with unit normal `n` and bone length `lb`.

@@ -21,6 +21,12 @@ pub(super) trait Lanes:
     fn load(s: &[f32], at: usize) -> Self;
     /// `s[idx[lane]]` for each lane.
     fn gather(s: &[f32], idx: &[u32; LANES]) -> Self;
+    /// `x, y, z` of `s[idx[lane]]` for each lane.
+    fn gather3(s: &[[f32; 4]], idx: &[u32; LANES]) -> [Self; 3];
+    /// `x, y, z` of `s[at..at + 8]`.
+    fn load3(s: &[[f32; 4]], at: usize) -> [Self; 3];
+    /// Writes `s[at..at + 8]` (the fourth `f32` of each point 0).
+    fn store3(v: [Self; 3], s: &mut [[f32; 4]], at: usize);
     fn sqrt(self) -> Self;
     /// `self > 0 ? a : 0`, lane by lane.
     fn positive_or_zero(self, a: Self) -> Self;
@@ -70,6 +76,22 @@ impl Lanes for Portable {
     #[inline(always)]
     fn gather(s: &[f32], idx: &[u32; LANES]) -> Self {
         Portable(std::array::from_fn(|l| s[idx[l] as usize]))
+    }
+    #[inline(always)]
+    fn gather3(s: &[[f32; 4]], idx: &[u32; LANES]) -> [Self; 3] {
+        let p: [[f32; 4]; LANES] = std::array::from_fn(|l| s[idx[l] as usize]);
+        std::array::from_fn(|c| Portable(std::array::from_fn(|l| p[l][c])))
+    }
+    #[inline(always)]
+    fn load3(s: &[[f32; 4]], at: usize) -> [Self; 3] {
+        let p = &s[at..at + LANES];
+        std::array::from_fn(|c| Portable(std::array::from_fn(|l| p[l][c])))
+    }
+    #[inline(always)]
+    fn store3(v: [Self; 3], s: &mut [[f32; 4]], at: usize) {
+        for (l, q) in s[at..at + LANES].iter_mut().enumerate() {
+            *q = [v[0].0[l], v[1].0[l], v[2].0[l], 0.0];
+        }
     }
     #[inline(always)]
     fn sqrt(self) -> Self {
@@ -132,6 +154,21 @@ mod avx {
     avx_op!(Mul, mul, _mm256_mul_ps);
     avx_op!(Div, div, _mm256_div_ps);
 
+    /// `x, y, z` in lanes from four registers holding points `l` (low half) and `l + 4`
+    /// (high half), `l = 0..4`.
+    #[inline(always)]
+    unsafe fn transpose_in(r: [__m256; 4]) -> [Avx; 3] {
+        let t0 = _mm256_unpacklo_ps(r[0], r[1]); // x0 x1 y0 y1 | x4 x5 y4 y5
+        let t1 = _mm256_unpackhi_ps(r[0], r[1]); // z0 z1 w0 w1 | z4 z5 w4 w5
+        let t2 = _mm256_unpacklo_ps(r[2], r[3]); // x2 x3 y2 y3 | x6 x7 y6 y7
+        let t3 = _mm256_unpackhi_ps(r[2], r[3]); // z2 z3 w2 w3 | z6 z7 w6 w7
+        [
+            Avx(_mm256_shuffle_ps::<0x44>(t0, t2)),
+            Avx(_mm256_shuffle_ps::<0xEE>(t0, t2)),
+            Avx(_mm256_shuffle_ps::<0x44>(t1, t3)),
+        ]
+    }
+
     impl Lanes for Avx {
         #[inline(always)]
         fn splat(x: f32) -> Self {
@@ -161,6 +198,51 @@ mod avx {
             let g = |l: usize| s[idx[l] as usize];
             // SAFETY: see the module docs.
             Avx(unsafe { _mm256_setr_ps(g(0), g(1), g(2), g(3), g(4), g(5), g(6), g(7)) })
+        }
+        #[inline(always)]
+        fn gather3(s: &[[f32; 4]], idx: &[u32; LANES]) -> [Self; 3] {
+            // SAFETY: see the module docs; `p(l)` is an element of `s`, 4 readable floats.
+            unsafe {
+                let p = |l: usize| _mm_loadu_ps(s[idx[l] as usize].as_ptr());
+                transpose_in([
+                    _mm256_insertf128_ps::<1>(_mm256_castps128_ps256(p(0)), p(4)),
+                    _mm256_insertf128_ps::<1>(_mm256_castps128_ps256(p(1)), p(5)),
+                    _mm256_insertf128_ps::<1>(_mm256_castps128_ps256(p(2)), p(6)),
+                    _mm256_insertf128_ps::<1>(_mm256_castps128_ps256(p(3)), p(7)),
+                ])
+            }
+        }
+        #[inline(always)]
+        fn load3(s: &[[f32; 4]], at: usize) -> [Self; 3] {
+            let s = &s[at..at + LANES];
+            // SAFETY: see the module docs; `s` is 8 points, 32 readable floats.
+            unsafe {
+                let p = s.as_ptr() as *const f32;
+                let q = |l: usize| _mm256_loadu2_m128(p.add(4 * (l + 4)), p.add(4 * l));
+                transpose_in([q(0), q(1), q(2), q(3)])
+            }
+        }
+        #[inline(always)]
+        fn store3(v: [Self; 3], s: &mut [[f32; 4]], at: usize) {
+            let s = &mut s[at..at + LANES];
+            // SAFETY: see the module docs; `s` is 8 points, 32 writable floats.
+            unsafe {
+                let w = _mm256_setzero_ps();
+                let t0 = _mm256_unpacklo_ps(v[0].0, v[1].0);
+                let t1 = _mm256_unpackhi_ps(v[0].0, v[1].0);
+                let t2 = _mm256_unpacklo_ps(v[2].0, w);
+                let t3 = _mm256_unpackhi_ps(v[2].0, w);
+                let r = [
+                    _mm256_shuffle_ps::<0x44>(t0, t2),
+                    _mm256_shuffle_ps::<0xEE>(t0, t2),
+                    _mm256_shuffle_ps::<0x44>(t1, t3),
+                    _mm256_shuffle_ps::<0xEE>(t1, t3),
+                ];
+                let p = s.as_mut_ptr() as *mut f32;
+                for (l, r) in r.into_iter().enumerate() {
+                    _mm256_storeu2_m128(p.add(4 * (l + 4)), p.add(4 * l), r);
+                }
+            }
         }
         #[inline(always)]
         fn sqrt(self) -> Self {

@@ -37,7 +37,7 @@ pub use material::{
 
 use crate::rig::Rig;
 use glam::{Affine3A, Vec3};
-use layout::{Layout, Soa};
+use layout::{Layout, Packed};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -140,7 +140,7 @@ impl Pose {
 /// its own order, see [`layout`]).
 #[derive(Clone, Copy, Debug)]
 pub struct Positions<'a> {
-    soa: &'a Soa,
+    points: &'a Packed,
     slot: &'a [u32],
 }
 
@@ -151,7 +151,7 @@ impl Positions<'_> {
     /// If `i` is not a vertex of the rig.
     #[inline]
     pub fn get(&self, i: usize) -> Vec3 {
-        self.soa.get(self.slot[i] as usize)
+        self.points.get(self.slot[i] as usize)
     }
 
     /// Number of mass points.
@@ -239,8 +239,8 @@ pub struct Simulation {
     transforms: Vec<Affine3A>,
     /// Current and previous positions by slot (the step writes the new positions over the
     /// previous ones, then swaps).
-    cur: Soa,
-    prev: Soa,
+    cur: Packed,
+    prev: Packed,
     /// Sleeping state per tile.
     awake: Vec<bool>,
     quiet: Vec<u16>,
@@ -384,7 +384,7 @@ impl Simulation {
     /// Current positions.
     pub fn positions(&self) -> Positions<'_> {
         Positions {
-            soa: &self.cur,
+            points: &self.cur,
             slot: &self.layout.slot,
         }
     }
@@ -392,7 +392,7 @@ impl Simulation {
     /// Previous positions (velocity = current − previous).
     pub fn previous_positions(&self) -> Positions<'_> {
         Positions {
-            soa: &self.prev,
+            points: &self.prev,
             slot: &self.layout.slot,
         }
     }
@@ -583,15 +583,13 @@ impl Simulation {
         let tile = self.layout.tile;
         let awake = &self.awake;
         let prev = &mut self.prev;
-        prev.x
+        prev.0
             .par_chunks_mut(tile)
-            .zip(prev.y.par_chunks_mut(tile))
-            .zip(prev.z.par_chunks_mut(tile))
             .zip(self.motion.par_iter_mut())
             .enumerate()
-            .for_each(|(t, (((px, py), pz), motion))| {
+            .for_each(|(t, (points, motion))| {
                 if awake[t] {
-                    *motion = kernel::tile(&ctx, ctx.layout.tile_range(t), px, py, pz);
+                    *motion = kernel::tile(&ctx, ctx.layout.tile_range(t), points);
                 }
             });
         std::mem::swap(&mut self.prev, &mut self.cur);
