@@ -110,167 +110,247 @@ fn tile_body<V: Lanes>(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) 
     let s = &l.slots;
     let g0 = range.start / l.tile * l.groups_per_tile();
     let single = match l.sections_of_tile(range.start / l.tile) {
-        [section] => Some(ctx.transform(*section)),
+        [section] => {
+            let t = ctx.transform(*section);
+            Some(columns::<V>(|_| t))
+        }
         _ => None,
     };
-    let p = &ctx.params;
-    let (damping, stiffness) = (V::splat(ctx.damping), V::splat(ctx.stiffness));
-    let rho_factor = V::splat(p.max_length - 1.0);
-    let mut moved_max = 0.0f32;
-    for (gi, k0) in range.clone().step_by(LANES).enumerate() {
-        // Lanes past a short group's end repeat its last slot; their results are dropped.
-        let n = LANES.min(range.end - k0);
-        let own: [u32; LANES] = std::array::from_fn(|lane| (k0 + lane.min(n - 1)) as u32);
-        let load = |a: &[f32]| {
-            if n == LANES {
-                V::load(a, k0)
-            } else {
-                V::gather(a, &own)
-            }
-        };
-        let x = v3(if n == LANES {
-            V::load3(cur, k0)
-        } else {
-            V::gather3(cur, &own)
-        });
+    // The transforms of the slots `k0 + lane`, lanes clamped to `n` slots.
+    let transform = |k0: usize, n: usize| match &single {
+        Some(t) => *t,
+        None => columns::<V>(|lane| ctx.transform(s.section[k0 + lane.min(n - 1)])),
+    };
+    // Every neighbour slot of the tile's spring rows, checked once here so the gathers
+    // need no bounds checks.
+    let groups = range.len().div_ceil(LANES);
+    let span = l.group_start[g0] as usize..l.group_start[g0 + groups] as usize;
+    let largest = l.lane_neighbour[span].iter().fold(0, |m, &q| m.max(q));
+    assert!(
+        (largest as usize) < cur.len(),
+        "spring rows past the last slot"
+    );
+    let rows = |gi: usize| l.group_start[g0 + gi] as usize..l.group_start[g0 + gi + 1] as usize;
 
-        // Stage 2a: surface springs, one row (eight springs, one per lane) at a time.
-        let rows = l.group_start[g0 + gi] as usize..l.group_start[g0 + gi + 1] as usize;
-        let zero = V::splat(0.0);
-        let mut f = V3 {
-            x: zero,
-            y: zero,
-            z: zero,
+    let mut moved_max = V::splat(0.0);
+    let full = range.len() / LANES;
+    for gi in 0..full {
+        let (k0, j0) = (range.start + gi * LANES, gi * LANES);
+        let g = Group {
+            x: v3(V::load3(cur, k0)),
+            before: v3(V::load3(points, j0)),
+            t: transform(k0, LANES),
+            rows: rows(gi),
         };
-        for row in rows.step_by(LANES) {
-            let Some(idx) = l.lane_neighbour[row..].first_chunk::<LANES>() else {
+        // SAFETY: the tile's neighbours were checked against `cur.len()` above.
+        let (new, moved) = unsafe { group(ctx, cur, g, |a| V::load(a, k0), LANES) };
+        moved_max = moved.max(moved_max);
+        V::store3([new.x, new.y, new.z], points, j0);
+    }
+    if full < groups {
+        // The short last group: lanes past its end repeat its last slot (their `moved` is
+        // that slot's), and only its own lanes are written back.
+        let (k0, j0, n) = (
+            range.start + full * LANES,
+            full * LANES,
+            range.len() % LANES,
+        );
+        let (mut own, mut local) = ([0u32; LANES], [0u32; LANES]);
+        for lane in 0..LANES {
+            own[lane] = (k0 + lane.min(n - 1)) as u32;
+            local[lane] = (j0 + lane.min(n - 1)) as u32;
+        }
+        let g = Group {
+            x: v3(V::gather3(cur, &own)),
+            before: v3(V::gather3(points, &local)),
+            t: transform(k0, n),
+            rows: rows(full),
+        };
+        // SAFETY: the tile's neighbours were checked against `cur.len()` above.
+        let (new, moved) = unsafe { group(ctx, cur, g, |a| V::gather(a, &own), n) };
+        moved_max = moved.max(moved_max);
+        let [nx, ny, nz] = arrays(new);
+        for (l, q) in points[j0..j0 + n].iter_mut().enumerate() {
+            *q = [nx[l], ny[l], nz[l], 0.0];
+        }
+    }
+    let moved = moved_max.to_array();
+    moved[1..]
+        .iter()
+        .fold(moved[0], |w, &m| if m > w { m } else { w })
+}
+
+/// What [`group`] starts from: the current and previous positions of its slots, their
+/// transforms ([`columns`]) and the span of its spring rows.
+struct Group<V> {
+    x: V3<V>,
+    before: V3<V>,
+    t: [V; 12],
+    rows: Range<usize>,
+}
+
+/// Stages 1–4 for one group of eight slots: returns their new positions and squared
+/// displacements. `load` reads a per-slot constant array in lanes; only the first `n`
+/// lanes are live (the spring reduction skips the others).
+///
+/// # Safety
+/// Every neighbour in the group's spring rows must be less than `cur.len()`.
+#[inline(always)]
+unsafe fn group<V: Lanes>(
+    ctx: &Ctx,
+    cur: &[[f32; 4]],
+    Group { x, before, t, rows }: Group<V>,
+    load: impl Fn(&[f32]) -> V,
+    n: usize,
+) -> (V3<V>, V) {
+    let l = ctx.layout;
+    let s = &l.slots;
+    let p = &ctx.params;
+
+    // Stage 2a: surface springs, one row (eight springs, one per lane) at a time.
+    let zero = V::splat(0.0);
+    let mut f = V3 {
+        x: zero,
+        y: zero,
+        z: zero,
+    };
+    // In two phases per chunk of rows: first the gathers and squared lengths, then the
+    // square roots, divisions and sums. Fused in one loop, each row was one long dependency
+    // chain (gather, √, ÷, sum) of about 50 instructions, and the out-of-order window held
+    // too few rows to keep the divider busy.
+    const CHUNK: usize = 8;
+    let mut buf = [[zero; 4]; CHUNK];
+    let (neighbours, rests) = (&l.lane_neighbour[rows.clone()], &l.lane_rest[rows]);
+    for (idx, rest) in neighbours
+        .chunks(LANES * CHUNK)
+        .zip(rests.chunks(LANES * CHUNK))
+    {
+        for (b, idx) in buf.iter_mut().zip(idx.chunks_exact(LANES)) {
+            let Some(idx) = idx.first_chunk::<LANES>() else {
                 break;
             };
-            let rest = V::load(&l.lane_rest, row);
-            let [qx, qy, qz] = V::gather3(cur, idx);
+            // SAFETY: the caller promises every neighbour is less than `cur.len()`.
+            let [qx, qy, qz] = unsafe { V::gather3_unchecked(cur, idx) };
             let (dx, dy, dz) = (qx - x.x, qy - x.y, qz - x.z);
-            let k = factor(dx, dy, dz, rest);
+            *b = [dx, dy, dz, dx * dx + dy * dy + dz * dz];
+        }
+        for (&[dx, dy, dz, len2], rest) in buf.iter().zip(rest.chunks_exact(LANES)) {
+            let len = len2.sqrt();
+            let k = len.positive_or_zero((len - V::load(rest, 0)) / len);
             f.x = f.x + k * dx;
             f.y = f.y + k * dy;
             f.z = f.z + k * dz;
         }
+    }
 
-        // Stage 1: posed rest position and normal, glam's `transform_point3` /
-        // `transform_vector3` written out in the same order (columns times coordinates, added
-        // left to right, then the translation).
-        let t = match single {
-            Some(t) => columns::<V>(|_| t),
-            None => columns::<V>(|lane| ctx.transform(s.section[own[lane] as usize])),
-        };
-        let (p0, p1, p2) = (load(&s.rest.x), load(&s.rest.y), load(&s.rest.z));
-        let r = V3 {
-            x: t[0] * p0 + t[3] * p1 + t[6] * p2 + t[9],
-            y: t[1] * p0 + t[4] * p1 + t[7] * p2 + t[10],
-            z: t[2] * p0 + t[5] * p1 + t[8] * p2 + t[11],
-        };
-        let (m0, m1, m2) = (load(&s.normal.x), load(&s.normal.y), load(&s.normal.z));
-        let nrm = V3 {
-            x: t[0] * m0 + t[3] * m1 + t[6] * m2,
-            y: t[1] * m0 + t[4] * m1 + t[7] * m2,
-            z: t[2] * m0 + t[5] * m1 + t[8] * m2,
-        };
-        // Stage 2b: bone springs. inner = r − L n, outer = r + L n, as `bones` computes them.
-        let lb = load(&s.bone_length);
-        let i = V3 {
-            x: (r.x - lb * nrm.x) - x.x,
-            y: (r.y - lb * nrm.y) - x.y,
-            z: (r.z - lb * nrm.z) - x.z,
-        };
-        let o = V3 {
-            x: (r.x + lb * nrm.x) - x.x,
-            y: (r.y + lb * nrm.y) - x.y,
-            z: (r.z + lb * nrm.z) - x.z,
-        };
-        let fi = factor(i.x, i.y, i.z, load(&s.inner_rest));
-        let fo = factor(o.x, o.y, o.z, load(&s.outer_rest));
-        let g = V3 {
-            x: f.x + fi * i.x + fo * o.x,
-            y: f.y + fi * i.y + fo * o.y,
-            z: f.z + fi * i.z + fo * o.z,
-        };
+    // Stage 1: posed rest position and normal, glam's `transform_point3` /
+    // `transform_vector3` written out in the same order (columns times coordinates, added
+    // left to right, then the translation).
+    let (p0, p1, p2) = (load(&s.rest.x), load(&s.rest.y), load(&s.rest.z));
+    let r = V3 {
+        x: t[0] * p0 + t[3] * p1 + t[6] * p2 + t[9],
+        y: t[1] * p0 + t[4] * p1 + t[7] * p2 + t[10],
+        z: t[2] * p0 + t[5] * p1 + t[8] * p2 + t[11],
+    };
+    let (m0, m1, m2) = (load(&s.normal.x), load(&s.normal.y), load(&s.normal.z));
+    let nrm = V3 {
+        x: t[0] * m0 + t[3] * m1 + t[6] * m2,
+        y: t[1] * m0 + t[4] * m1 + t[7] * m2,
+        z: t[2] * m0 + t[5] * m1 + t[8] * m2,
+    };
+    // Stage 2b: bone springs. inner = r − L n, outer = r + L n, as `bones` computes them.
+    let lb = load(&s.bone_length);
+    let i = V3 {
+        x: (r.x - lb * nrm.x) - x.x,
+        y: (r.y - lb * nrm.y) - x.y,
+        z: (r.z - lb * nrm.z) - x.z,
+    };
+    let o = V3 {
+        x: (r.x + lb * nrm.x) - x.x,
+        y: (r.y + lb * nrm.y) - x.y,
+        z: (r.z + lb * nrm.z) - x.z,
+    };
+    let fi = factor(i.x, i.y, i.z, load(&s.inner_rest));
+    let fo = factor(o.x, o.y, o.z, load(&s.outer_rest));
+    let g = V3 {
+        x: f.x + fi * i.x + fo * o.x,
+        y: f.y + fi * i.y + fo * o.y,
+        z: f.z + fi * i.z + fo * o.z,
+    };
 
-        // Stage 3: Verlet, `x + C_vd (x − x_prev) + D / m · F` (same order as Vec3 code).
-        let j0 = k0 - range.start;
-        let before = v3(if n == LANES {
-            V::load3(points, j0)
-        } else {
-            V::gather3(points, &std::array::from_fn(|l| (j0 + l.min(n - 1)) as u32))
-        });
-        let k = stiffness * load(&s.inv_mass);
-        let y = V3 {
-            x: x.x + damping * (x.x - before.x) + k * g.x,
-            y: x.y + damping * (x.y - before.y) + k * g.y,
-            z: x.z + damping * (x.z - before.z) + k * g.z,
-        };
+    // Stage 3: Verlet, `x + C_vd (x − x_prev) + D / m · F` (same order as Vec3 code).
+    let (damping, k) = (
+        V::splat(ctx.damping),
+        V::splat(ctx.stiffness) * load(&s.inv_mass),
+    );
+    let y = V3 {
+        x: x.x + damping * (x.x - before.x) + k * g.x,
+        y: x.y + damping * (x.y - before.y) + k * g.y,
+        z: x.z + damping * (x.z - before.z) + k * g.z,
+    };
 
-        // Stage 4: the constraint.
-        let new = match p.constraint {
-            Constraint::Circumsphere => {
-                let v = V3 {
-                    x: y.x - r.x,
-                    y: y.y - r.y,
-                    z: y.z - r.z,
-                };
-                let d2 = v.x * v.x + v.y * v.y + v.z * v.z;
-                let rho = rho_factor * lb;
-                let sc = rho / d2.sqrt();
-                let rho2 = rho * rho;
-                V3 {
-                    x: d2.le_select(rho2, y.x, r.x + v.x * sc),
-                    y: d2.le_select(rho2, y.y, r.y + v.y * sc),
-                    z: d2.le_select(rho2, y.z, r.z + v.z * sc),
-                }
-            }
-            Constraint::SpringReduction => {
-                let (y, r, nrm, lb) = (arrays(y), arrays(r), arrays(nrm), lb.to_array());
-                let mut out = [[0.0f32; LANES]; 3];
-                for lane in 0..n {
-                    let at = |a: &[[f32; LANES]; 3]| Vec3::new(a[0][lane], a[1][lane], a[2][lane]);
-                    let q = spring_reduction(at(&y), at(&r), at(&nrm), lb[lane], p);
-                    (out[0][lane], out[1][lane], out[2][lane]) = (q.x, q.y, q.z);
-                }
-                V3 {
-                    x: V::from_array(out[0]),
-                    y: V::from_array(out[1]),
-                    z: V::from_array(out[2]),
-                }
-            }
-        };
-        let (mx, my, mz) = (new.x - x.x, new.y - x.y, new.z - x.z);
-        let moved = (mx * mx + my * my + mz * mz).to_array();
-        moved_max = moved[..n].iter().fold(moved_max, |w, &m| w.max(m));
-        if n == LANES {
-            V::store3([new.x, new.y, new.z], points, j0);
-        } else {
-            let [nx, ny, nz] = arrays(new);
-            for (l, q) in points[j0..j0 + n].iter_mut().enumerate() {
-                *q = [nx[l], ny[l], nz[l], 0.0];
+    // Stage 4: the constraint.
+    let new = match p.constraint {
+        Constraint::Circumsphere => {
+            let v = V3 {
+                x: y.x - r.x,
+                y: y.y - r.y,
+                z: y.z - r.z,
+            };
+            let d2 = v.x * v.x + v.y * v.y + v.z * v.z;
+            let rho = V::splat(p.max_length - 1.0) * lb;
+            let sc = rho / d2.sqrt();
+            let rho2 = rho * rho;
+            V3 {
+                x: d2.le_select(rho2, y.x, r.x + v.x * sc),
+                y: d2.le_select(rho2, y.y, r.y + v.y * sc),
+                z: d2.le_select(rho2, y.z, r.z + v.z * sc),
             }
         }
-    }
-    moved_max
+        Constraint::SpringReduction => {
+            let (y, r, nrm, lb) = (arrays(y), arrays(r), arrays(nrm), lb.to_array());
+            let mut out = [[0.0f32; LANES]; 3];
+            for lane in 0..n {
+                let at = |a: &[[f32; LANES]; 3]| Vec3::new(a[0][lane], a[1][lane], a[2][lane]);
+                let q = spring_reduction(at(&y), at(&r), at(&nrm), lb[lane], p);
+                (out[0][lane], out[1][lane], out[2][lane]) = (q.x, q.y, q.z);
+            }
+            V3 {
+                x: V::from_array(out[0]),
+                y: V::from_array(out[1]),
+                z: V::from_array(out[2]),
+            }
+        }
+    };
+    let (mx, my, mz) = (new.x - x.x, new.y - x.y, new.z - x.z);
+    (new, mx * mx + my * my + mz * mz)
 }
 
 /// The twelve coefficients of each lane's transform: the matrix columns, then the
 /// translation.
 #[inline(always)]
 fn columns<V: Lanes>(transform: impl Fn(usize) -> Affine3A) -> [V; 12] {
-    let t: [[f32; 12]; LANES] = std::array::from_fn(|lane| {
-        let t = transform(lane);
+    // Plain loops, no `array::from_fn`: its closures were not inlined into the AVX2 build,
+    // and neither were the intrinsics inside them (perf showed `_mm256_loadu_ps` calls).
+    let mut t = [[0.0f32; LANES]; 12];
+    for lane in 0..LANES {
+        let m = transform(lane);
         let (a, b, c, d) = (
-            t.matrix3.x_axis,
-            t.matrix3.y_axis,
-            t.matrix3.z_axis,
-            t.translation,
+            m.matrix3.x_axis,
+            m.matrix3.y_axis,
+            m.matrix3.z_axis,
+            m.translation,
         );
-        [a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z, d.x, d.y, d.z]
-    });
-    std::array::from_fn(|c| V::from_array(std::array::from_fn(|lane| t[lane][c])))
+        let coefficients = [a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z, d.x, d.y, d.z];
+        for (row, v) in t.iter_mut().zip(coefficients) {
+            row[lane] = v;
+        }
+    }
+    let mut out = [V::splat(0.0); 12];
+    for (o, row) in out.iter_mut().zip(t) {
+        *o = V::from_array(row);
+    }
+    out
 }
 
 #[inline(always)]

@@ -23,6 +23,13 @@ pub(super) trait Lanes:
     fn gather(s: &[f32], idx: &[u32; LANES]) -> Self;
     /// `x, y, z` of `s[idx[lane]]` for each lane.
     fn gather3(s: &[[f32; 4]], idx: &[u32; LANES]) -> [Self; 3];
+    /// [`Lanes::gather3`] without bounds checks.
+    ///
+    /// # Safety
+    /// Every `idx[lane]` must be less than `s.len()`.
+    unsafe fn gather3_unchecked(s: &[[f32; 4]], idx: &[u32; LANES]) -> [Self; 3];
+    /// Lane by lane `self > b ? self : b` (what `vmaxps` computes, NaN included).
+    fn max(self, b: Self) -> Self;
     /// `x, y, z` of `s[at..at + 8]`.
     fn load3(s: &[[f32; 4]], at: usize) -> [Self; 3];
     /// Writes `s[at..at + 8]` (the fourth `f32` of each point 0).
@@ -81,6 +88,20 @@ impl Lanes for Portable {
     fn gather3(s: &[[f32; 4]], idx: &[u32; LANES]) -> [Self; 3] {
         let p: [[f32; 4]; LANES] = std::array::from_fn(|l| s[idx[l] as usize]);
         std::array::from_fn(|c| Portable(std::array::from_fn(|l| p[l][c])))
+    }
+    #[inline(always)]
+    unsafe fn gather3_unchecked(s: &[[f32; 4]], idx: &[u32; LANES]) -> [Self; 3] {
+        Self::gather3(s, idx)
+    }
+    #[inline(always)]
+    fn max(self, b: Self) -> Self {
+        Portable(std::array::from_fn(|l| {
+            if self.0[l] > b.0[l] {
+                self.0[l]
+            } else {
+                b.0[l]
+            }
+        }))
     }
     #[inline(always)]
     fn load3(s: &[[f32; 4]], at: usize) -> [Self; 3] {
@@ -201,9 +222,17 @@ mod avx {
         }
         #[inline(always)]
         fn gather3(s: &[[f32; 4]], idx: &[u32; LANES]) -> [Self; 3] {
-            // SAFETY: see the module docs; `p(l)` is an element of `s`, 4 readable floats.
+            assert!(idx.iter().all(|&i| (i as usize) < s.len()));
+            // SAFETY: every index was just checked.
+            unsafe { Self::gather3_unchecked(s, idx) }
+        }
+        #[inline(always)]
+        unsafe fn gather3_unchecked(s: &[[f32; 4]], idx: &[u32; LANES]) -> [Self; 3] {
+            // SAFETY: see the module docs; the caller promises every `idx[l] < s.len()`, so
+            // `p(l)` is an element of `s`, 4 readable floats.
             unsafe {
-                let p = |l: usize| _mm_loadu_ps(s[idx[l] as usize].as_ptr());
+                let base = s.as_ptr();
+                let p = |l: usize| _mm_loadu_ps(base.add(idx[l] as usize) as *const f32);
                 transpose_in([
                     _mm256_insertf128_ps::<1>(_mm256_castps128_ps256(p(0)), p(4)),
                     _mm256_insertf128_ps::<1>(_mm256_castps128_ps256(p(1)), p(5)),
@@ -243,6 +272,11 @@ mod avx {
                     _mm256_storeu2_m128(p.add(4 * (l + 4)), p.add(4 * l), r);
                 }
             }
+        }
+        #[inline(always)]
+        fn max(self, b: Self) -> Self {
+            // SAFETY: see the module docs.
+            Avx(unsafe { _mm256_max_ps(self.0, b.0) })
         }
         #[inline(always)]
         fn sqrt(self) -> Self {
