@@ -126,8 +126,9 @@ pub struct Layout {
     /// entries `group_start[g]..group_start[g + 1]` of `lane_neighbour` and `lane_rest` as
     /// rows of `LANES`, row `r` holding the `r`-th spring (CSR order) of each slot of the
     /// group: its neighbour slot and rest length. Rows are padded to the group's largest
-    /// valence with the slot itself and rest 0 (a zero-length spring, zero force); lanes past
-    /// a short group's end repeat its last slot.
+    /// valence with the slot itself and rest 0 (a zero-length spring, zero force). Lanes past
+    /// a short group's end repeat its last slot's springs, so the kernel's results in those
+    /// lanes are exactly that slot's.
     pub lane_neighbour: Vec<u32>,
     pub lane_rest: Vec<f32>,
     pub group_start: Vec<u32>,
@@ -337,12 +338,11 @@ impl Layout {
                     for lane in 0..L {
                         let k = (g + lane).min(group.end - 1);
                         let e = self.start[k] as usize + row;
-                        let (q, rest) =
-                            if group.contains(&(g + lane)) && e < self.start[k + 1] as usize {
-                                (self.edges[e].neighbour, self.edges[e].rest)
-                            } else {
-                                (k as u32, 0.0)
-                            };
+                        let (q, rest) = if e < self.start[k + 1] as usize {
+                            (self.edges[e].neighbour, self.edges[e].rest)
+                        } else {
+                            (k as u32, 0.0)
+                        };
                         self.lane_neighbour.push(q);
                         self.lane_rest.push(rest);
                     }
