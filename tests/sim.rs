@@ -476,7 +476,7 @@ fn every_spring_sits_in_its_lane_and_padding_is_a_zero_length_spring() {
     let rig = rig();
     for tile in [1, 37, 256, 100_000] {
         let l = Layout::new(&rig, tile);
-        assert_eq!(l.lane_rest.len(), l.lane_neighbour.len());
+        assert_eq!(l.lane_rest.len(), l.lane_offset.len());
         let groups: usize = (0..l.tiles())
             .map(|t| l.tile_range(t).len().div_ceil(Layout::LANES))
             .sum();
@@ -485,12 +485,13 @@ fn every_spring_sits_in_its_lane_and_padding_is_a_zero_length_spring() {
         for t in 0..l.tiles() {
             let r = l.tile_range(t);
             let g0 = t * l.groups_per_tile();
-            // Row `row` of a group holds the row-th spring of each of its slots, padded with
+            // Row `row` of a group holds the row-th spring of each of its slots (neighbours as
+            // offsets, 4 × the slot), padded with
             // the slot itself and rest 0; lanes past a short group's end repeat its last slot.
             for (gi, group) in r.clone().step_by(Layout::LANES).enumerate() {
                 let g = g0 + gi;
                 let span = l.group_start[g] as usize..l.group_start[g + 1] as usize;
-                let (neighbours, rests) = (&l.lane_neighbour[span.clone()], &l.lane_rest[span]);
+                let (neighbours, rests) = (&l.lane_offset[span.clone()], &l.lane_rest[span]);
                 assert_eq!(neighbours.len() % Layout::LANES, 0);
                 let valence = (group..(group + Layout::LANES).min(r.end))
                     .map(|k| (l.start[k + 1] - l.start[k]) as usize)
@@ -505,11 +506,11 @@ fn every_spring_sits_in_its_lane_and_padding_is_a_zero_length_spring() {
                         let k = (group + lane).min(r.end - 1);
                         let e = l.start[k] as usize + row;
                         if e < l.start[k + 1] as usize {
-                            assert_eq!(qs[lane], l.edges[e].neighbour, "tile {tile} slot {k}");
+                            assert_eq!(qs[lane], 4 * l.edges[e].neighbour, "tile {tile} slot {k}");
                             assert_eq!(rs[lane], l.edges[e].rest);
                             seen += usize::from(group + lane < r.end);
                         } else {
-                            assert_eq!(qs[lane] as usize, k, "tile {tile} slot {k} row {row}");
+                            assert_eq!(qs[lane] as usize, 4 * k, "tile {tile} slot {k} row {row}");
                             assert_eq!(rs[lane], 0.0);
                         }
                     }

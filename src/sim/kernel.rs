@@ -4,7 +4,7 @@
 //! The slots of a tile are taken in groups of eight ([`LANES`]), one slot per lane, and each
 //! group is carried through every stage in registers before the next starts: nothing is
 //! written back to memory but the new positions. For a group:
-//! 1. the surface-spring forces, row after row of [`Layout::lane_neighbour`]: row `r` holds
+//! 1. the surface-spring forces, row after row of [`Layout::lane_offset`]: row `r` holds
 //!    each lane's `r`-th neighbour (CSR order), so one row is eight springs, one per lane,
 //!    evaluated together: gather the neighbours' positions, `d = x_j − x_i`, the factor
 //!    `(|d| − rest) / |d|` (zero for a zero-length spring, which is what padded lanes hold:
@@ -125,14 +125,16 @@ fn tile_body<V: Lanes>(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) 
     // need no bounds checks.
     let groups = range.len().div_ceil(LANES);
     let span = l.group_start[g0] as usize..l.group_start[g0 + groups] as usize;
-    let largest = l.lane_neighbour[span].iter().fold(0, |m, &q| m.max(q));
+    let largest = l.lane_offset[span].iter().fold(0, |m, &q| m.max(q));
     assert!(
-        (largest as usize) < cur.len(),
+        largest as usize + 4 <= 4 * cur.len(),
         "spring rows past the last slot"
     );
     let rows = |gi: usize| l.group_start[g0 + gi] as usize..l.group_start[g0 + gi + 1] as usize;
 
     let mut moved_max = V::splat(0.0);
+    // Set once per tile: zeroing it per group was a `memset` call per group.
+    let mut buf = [[V::splat(0.0); 4]; CHUNK];
     let full = range.len() / LANES;
     for gi in 0..full {
         let (k0, j0) = (range.start + gi * LANES, gi * LANES);
@@ -143,7 +145,7 @@ fn tile_body<V: Lanes>(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) 
             rows: rows(gi),
         };
         // SAFETY: the tile's neighbours were checked against `cur.len()` above.
-        let (new, moved) = unsafe { group(ctx, cur, g, |a| V::load(a, k0), LANES) };
+        let (new, moved) = unsafe { group(ctx, cur, g, |a| V::load(a, k0), LANES, &mut buf) };
         moved_max = moved.max(moved_max);
         V::store3([new.x, new.y, new.z], points, j0);
     }
@@ -167,7 +169,7 @@ fn tile_body<V: Lanes>(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) 
             rows: rows(full),
         };
         // SAFETY: the tile's neighbours were checked against `cur.len()` above.
-        let (new, moved) = unsafe { group(ctx, cur, g, |a| V::gather(a, &own), n) };
+        let (new, moved) = unsafe { group(ctx, cur, g, |a| V::gather(a, &own), n, &mut buf) };
         moved_max = moved.max(moved_max);
         let [nx, ny, nz] = arrays(new);
         for (l, q) in points[j0..j0 + n].iter_mut().enumerate() {
@@ -180,6 +182,9 @@ fn tile_body<V: Lanes>(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) 
         .fold(moved[0], |w, &m| if m > w { m } else { w })
 }
 
+/// Rows of springs per phase of [`group`]'s two-phase loop.
+const CHUNK: usize = 8;
+
 /// What [`group`] starts from: the current and previous positions of its slots, their
 /// transforms ([`columns`]) and the span of its spring rows.
 struct Group<V> {
@@ -191,7 +196,7 @@ struct Group<V> {
 
 /// Stages 1–4 for one group of eight slots: returns their new positions and squared
 /// displacements. `load` reads a per-slot constant array in lanes; only the first `n`
-/// lanes are live (the spring reduction skips the others).
+/// lanes are live (the spring reduction skips the others). `buf` is scratch.
 ///
 /// # Safety
 /// Every neighbour in the group's spring rows must be less than `cur.len()`.
@@ -202,6 +207,7 @@ unsafe fn group<V: Lanes>(
     Group { x, before, t, rows }: Group<V>,
     load: impl Fn(&[f32]) -> V,
     n: usize,
+    buf: &mut [[V; 4]; CHUNK],
 ) -> (V3<V>, V) {
     let l = ctx.layout;
     let s = &l.slots;
@@ -218,9 +224,7 @@ unsafe fn group<V: Lanes>(
     // square roots, divisions and sums. Fused in one loop, each row was one long dependency
     // chain (gather, √, ÷, sum) of about 50 instructions, and the out-of-order window held
     // too few rows to keep the divider busy.
-    const CHUNK: usize = 8;
-    let mut buf = [[zero; 4]; CHUNK];
-    let (neighbours, rests) = (&l.lane_neighbour[rows.clone()], &l.lane_rest[rows]);
+    let (neighbours, rests) = (&l.lane_offset[rows.clone()], &l.lane_rest[rows]);
     for (idx, rest) in neighbours
         .chunks(LANES * CHUNK)
         .zip(rests.chunks(LANES * CHUNK))

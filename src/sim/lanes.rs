@@ -23,11 +23,11 @@ pub(super) trait Lanes:
     fn gather(s: &[f32], idx: &[u32; LANES]) -> Self;
     /// `x, y, z` of `s[idx[lane]]` for each lane.
     fn gather3(s: &[[f32; 4]], idx: &[u32; LANES]) -> [Self; 3];
-    /// [`Lanes::gather3`] without bounds checks.
+    /// [`Lanes::gather3`] by offsets counted in `f32` (`4 × index`), without bounds checks.
     ///
     /// # Safety
-    /// Every `idx[lane]` must be less than `s.len()`.
-    unsafe fn gather3_unchecked(s: &[[f32; 4]], idx: &[u32; LANES]) -> [Self; 3];
+    /// Every `offset[lane] + 4` must be at most `4 * s.len()`.
+    unsafe fn gather3_unchecked(s: &[[f32; 4]], offset: &[u32; LANES]) -> [Self; 3];
     /// Lane by lane `self > b ? self : b` (what `vmaxps` computes, NaN included).
     fn max(self, b: Self) -> Self;
     /// `x, y, z` of `s[at..at + 8]`.
@@ -90,8 +90,10 @@ impl Lanes for Portable {
         std::array::from_fn(|c| Portable(std::array::from_fn(|l| p[l][c])))
     }
     #[inline(always)]
-    unsafe fn gather3_unchecked(s: &[[f32; 4]], idx: &[u32; LANES]) -> [Self; 3] {
-        Self::gather3(s, idx)
+    unsafe fn gather3_unchecked(s: &[[f32; 4]], offset: &[u32; LANES]) -> [Self; 3] {
+        let s = s.as_flattened();
+        let p: [&[f32]; LANES] = std::array::from_fn(|l| &s[offset[l] as usize..]);
+        std::array::from_fn(|c| Portable(std::array::from_fn(|l| p[l][c])))
     }
     #[inline(always)]
     fn max(self, b: Self) -> Self {
@@ -223,16 +225,16 @@ mod avx {
         #[inline(always)]
         fn gather3(s: &[[f32; 4]], idx: &[u32; LANES]) -> [Self; 3] {
             assert!(idx.iter().all(|&i| (i as usize) < s.len()));
-            // SAFETY: every index was just checked.
-            unsafe { Self::gather3_unchecked(s, idx) }
+            // SAFETY: every index was just checked, so every `4 × index + 4 <= 4 × s.len()`.
+            unsafe { Self::gather3_unchecked(s, &idx.map(|i| 4 * i)) }
         }
         #[inline(always)]
-        unsafe fn gather3_unchecked(s: &[[f32; 4]], idx: &[u32; LANES]) -> [Self; 3] {
-            // SAFETY: see the module docs; the caller promises every `idx[l] < s.len()`, so
-            // `p(l)` is an element of `s`, 4 readable floats.
+        unsafe fn gather3_unchecked(s: &[[f32; 4]], offset: &[u32; LANES]) -> [Self; 3] {
+            // SAFETY: see the module docs; the caller promises every `offset[l] + 4 <= 4 ×
+            // s.len()`, so `p(l)` reads 4 floats inside `s`.
             unsafe {
-                let base = s.as_ptr();
-                let p = |l: usize| _mm_loadu_ps(base.add(idx[l] as usize) as *const f32);
+                let base = s.as_ptr() as *const f32;
+                let p = |l: usize| _mm_loadu_ps(base.add(offset[l] as usize));
                 transpose_in([
                     _mm256_insertf128_ps::<1>(_mm256_castps128_ps256(p(0)), p(4)),
                     _mm256_insertf128_ps::<1>(_mm256_castps128_ps256(p(1)), p(5)),

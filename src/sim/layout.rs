@@ -123,13 +123,15 @@ pub struct Layout {
     pub edges: Vec<Edge>,
     /// The surface springs in the kernel's order: the slots of each tile in groups of
     /// [`Layout::LANES`] (the last group of a tile may be short), and for group `g` the
-    /// entries `group_start[g]..group_start[g + 1]` of `lane_neighbour` and `lane_rest` as
+    /// entries `group_start[g]..group_start[g + 1]` of `lane_offset` and `lane_rest` as
     /// rows of `LANES`, row `r` holding the `r`-th spring (CSR order) of each slot of the
-    /// group: its neighbour slot and rest length. Rows are padded to the group's largest
+    /// group: its neighbour, as the offset of that slot's point in the packed positions
+    /// counted in `f32` (4 × the slot, so the kernel's loads need no shift: x86 addressing
+    /// scales an index by 4 at most), and its rest length. Rows are padded to the group's largest
     /// valence with the slot itself and rest 0 (a zero-length spring, zero force). Lanes past
     /// a short group's end repeat its last slot's springs, so the kernel's results in those
     /// lanes are exactly that slot's.
-    pub lane_neighbour: Vec<u32>,
+    pub lane_offset: Vec<u32>,
     pub lane_rest: Vec<f32>,
     pub group_start: Vec<u32>,
     /// Slots per tile.
@@ -194,7 +196,7 @@ impl Layout {
         };
         let tile = tile.clamp(1, Self::MAX_TILE);
         let mut layout = Layout {
-            lane_neighbour: Vec::new(),
+            lane_offset: Vec::new(),
             lane_rest: Vec::new(),
             group_start: Vec::new(),
             slots,
@@ -318,11 +320,11 @@ impl Layout {
         self.tile.div_ceil(Self::LANES)
     }
 
-    /// Builds `lane_neighbour`, `lane_rest` and `group_start` (see their docs).
+    /// Builds `lane_offset`, `lane_rest` and `group_start` (see their docs).
     fn build_lanes(&mut self) {
         const L: usize = Layout::LANES;
         let padded = self.edges.len() + self.edges.len() / 4;
-        self.lane_neighbour = Vec::with_capacity(padded);
+        self.lane_offset = Vec::with_capacity(padded);
         self.lane_rest = Vec::with_capacity(padded);
         self.group_start = vec![0];
         for t in 0..self.tiles() {
@@ -343,11 +345,11 @@ impl Layout {
                         } else {
                             (k as u32, 0.0)
                         };
-                        self.lane_neighbour.push(q);
+                        self.lane_offset.push(4 * q);
                         self.lane_rest.push(rest);
                     }
                 }
-                self.group_start.push(self.lane_neighbour.len() as u32);
+                self.group_start.push(self.lane_offset.len() as u32);
             }
         }
     }

@@ -434,7 +434,7 @@ impl Simulation {
     /// from both ends) plus the padding of slots with fewer springs than the largest valence
     /// of their group of 8.
     pub fn lane_entries(&self) -> usize {
-        self.layout.lane_neighbour.len()
+        self.layout.lane_offset.len()
     }
 
     /// Tiles in all, and tiles integrated by the last step.
