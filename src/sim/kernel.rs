@@ -107,19 +107,10 @@ struct V3<V> {
 fn tile_body<V: Lanes>(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) -> f32 {
     let l = ctx.layout;
     let cur = &ctx.cur.0[..];
-    let s = &l.slots;
     let g0 = range.start / l.tile * l.groups_per_tile();
     let single = match l.sections_of_tile(range.start / l.tile) {
-        [section] => {
-            let t = ctx.transform(*section);
-            Some(columns::<V>(|_| t))
-        }
+        [section] => Some(columns::<V>(ctx, &[*section; LANES])),
         _ => None,
-    };
-    // The transforms of the slots `k0 + lane`, lanes clamped to `n` slots.
-    let transform = |k0: usize, n: usize| match &single {
-        Some(t) => *t,
-        None => columns::<V>(|lane| ctx.transform(s.section[k0 + lane.min(n - 1)])),
     };
     // Every neighbour slot of the tile's spring rows, checked once here so the gathers
     // need no bounds checks.
@@ -141,11 +132,11 @@ fn tile_body<V: Lanes>(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) 
         let g = Group {
             x: v3(V::load3(cur, k0)),
             before: v3(V::load3(points, j0)),
-            t: transform(k0, LANES),
+            t: transform(ctx, &single, k0, LANES),
             rows: rows(gi),
         };
         // SAFETY: the tile's neighbours were checked against `cur.len()` above.
-        let (new, moved) = unsafe { group(ctx, cur, g, |a| V::load(a, k0), LANES, &mut buf) };
+        let (new, moved) = unsafe { group(ctx, cur, g, Lanes8::Run(k0), &mut buf) };
         moved_max = moved.max(moved_max);
         V::store3([new.x, new.y, new.z], points, j0);
     }
@@ -165,11 +156,11 @@ fn tile_body<V: Lanes>(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) 
         let g = Group {
             x: v3(V::gather3(cur, &own)),
             before: v3(V::gather3(points, &local)),
-            t: transform(k0, n),
+            t: transform(ctx, &single, k0, n),
             rows: rows(full),
         };
         // SAFETY: the tile's neighbours were checked against `cur.len()` above.
-        let (new, moved) = unsafe { group(ctx, cur, g, |a| V::gather(a, &own), n, &mut buf) };
+        let (new, moved) = unsafe { group(ctx, cur, g, Lanes8::Slots(own), &mut buf) };
         moved_max = moved.max(moved_max);
         let [nx, ny, nz] = arrays(new);
         for (l, q) in points[j0..j0 + n].iter_mut().enumerate() {
@@ -180,6 +171,25 @@ fn tile_body<V: Lanes>(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) 
     moved[1..]
         .iter()
         .fold(moved[0], |w, &m| if m > w { m } else { w })
+}
+
+/// The slots of a group's lanes: eight in a row from the first, or listed.
+#[derive(Clone, Copy)]
+enum Lanes8 {
+    Run(usize),
+    Slots([u32; LANES]),
+}
+
+impl Lanes8 {
+    /// A per-slot constant array in lanes. A method, not a closure: closures were not
+    /// inlined into the AVX2 build, and neither were the intrinsics inside them.
+    #[inline(always)]
+    fn load<V: Lanes>(self, a: &[f32]) -> V {
+        match self {
+            Lanes8::Run(k0) => V::load(a, k0),
+            Lanes8::Slots(own) => V::gather(a, &own),
+        }
+    }
 }
 
 /// Rows of springs per phase of [`group`]'s two-phase loop.
@@ -195,8 +205,7 @@ struct Group<V> {
 }
 
 /// Stages 1–4 for one group of eight slots: returns their new positions and squared
-/// displacements. `load` reads a per-slot constant array in lanes; only the first `n`
-/// lanes are live (the spring reduction skips the others). `buf` is scratch.
+/// displacements. `buf` is scratch.
 ///
 /// # Safety
 /// Every neighbour in the group's spring rows must be less than `cur.len()`.
@@ -205,8 +214,7 @@ unsafe fn group<V: Lanes>(
     ctx: &Ctx,
     cur: &[[f32; 4]],
     Group { x, before, t, rows }: Group<V>,
-    load: impl Fn(&[f32]) -> V,
-    n: usize,
+    slots: Lanes8,
     buf: &mut [[V; 4]; CHUNK],
 ) -> (V3<V>, V) {
     let l = ctx.layout;
@@ -250,20 +258,28 @@ unsafe fn group<V: Lanes>(
     // Stage 1: posed rest position and normal, glam's `transform_point3` /
     // `transform_vector3` written out in the same order (columns times coordinates, added
     // left to right, then the translation).
-    let (p0, p1, p2) = (load(&s.rest.x), load(&s.rest.y), load(&s.rest.z));
+    let (p0, p1, p2) = (
+        slots.load::<V>(&s.rest.x),
+        slots.load::<V>(&s.rest.y),
+        slots.load::<V>(&s.rest.z),
+    );
     let r = V3 {
         x: t[0] * p0 + t[3] * p1 + t[6] * p2 + t[9],
         y: t[1] * p0 + t[4] * p1 + t[7] * p2 + t[10],
         z: t[2] * p0 + t[5] * p1 + t[8] * p2 + t[11],
     };
-    let (m0, m1, m2) = (load(&s.normal.x), load(&s.normal.y), load(&s.normal.z));
+    let (m0, m1, m2) = (
+        slots.load::<V>(&s.normal.x),
+        slots.load::<V>(&s.normal.y),
+        slots.load::<V>(&s.normal.z),
+    );
     let nrm = V3 {
         x: t[0] * m0 + t[3] * m1 + t[6] * m2,
         y: t[1] * m0 + t[4] * m1 + t[7] * m2,
         z: t[2] * m0 + t[5] * m1 + t[8] * m2,
     };
     // Stage 2b: bone springs. inner = r − L n, outer = r + L n, as `bones` computes them.
-    let lb = load(&s.bone_length);
+    let lb = slots.load::<V>(&s.bone_length);
     let i = V3 {
         x: (r.x - lb * nrm.x) - x.x,
         y: (r.y - lb * nrm.y) - x.y,
@@ -274,8 +290,8 @@ unsafe fn group<V: Lanes>(
         y: (r.y + lb * nrm.y) - x.y,
         z: (r.z + lb * nrm.z) - x.z,
     };
-    let fi = factor(i.x, i.y, i.z, load(&s.inner_rest));
-    let fo = factor(o.x, o.y, o.z, load(&s.outer_rest));
+    let fi = factor(i.x, i.y, i.z, slots.load::<V>(&s.inner_rest));
+    let fo = factor(o.x, o.y, o.z, slots.load::<V>(&s.outer_rest));
     let g = V3 {
         x: f.x + fi * i.x + fo * o.x,
         y: f.y + fi * i.y + fo * o.y,
@@ -285,7 +301,7 @@ unsafe fn group<V: Lanes>(
     // Stage 3: Verlet, `x + C_vd (x − x_prev) + D / m · F` (same order as Vec3 code).
     let (damping, k) = (
         V::splat(ctx.damping),
-        V::splat(ctx.stiffness) * load(&s.inv_mass),
+        V::splat(ctx.stiffness) * slots.load::<V>(&s.inv_mass),
     );
     let y = V3 {
         x: x.x + damping * (x.x - before.x) + k * g.x,
@@ -311,34 +327,39 @@ unsafe fn group<V: Lanes>(
                 z: d2.le_select(rho2, y.z, r.z + v.z * sc),
             }
         }
-        Constraint::SpringReduction => {
-            let (y, r, nrm, lb) = (arrays(y), arrays(r), arrays(nrm), lb.to_array());
-            let mut out = [[0.0f32; LANES]; 3];
-            for lane in 0..n {
-                let at = |a: &[[f32; LANES]; 3]| Vec3::new(a[0][lane], a[1][lane], a[2][lane]);
-                let q = spring_reduction(at(&y), at(&r), at(&nrm), lb[lane], p);
-                (out[0][lane], out[1][lane], out[2][lane]) = (q.x, q.y, q.z);
-            }
-            V3 {
-                x: V::from_array(out[0]),
-                y: V::from_array(out[1]),
-                z: V::from_array(out[2]),
-            }
-        }
+        Constraint::SpringReduction => spring_reduction_lanes(y, r, nrm, lb, p),
     };
     let (mx, my, mz) = (new.x - x.x, new.y - x.y, new.z - x.z);
     (new, mx * mx + my * my + mz * mz)
 }
 
-/// The twelve coefficients of each lane's transform: the matrix columns, then the
-/// translation.
+/// The transforms of the slots `k0 + lane` (lanes clamped to `n` slots): `single` when the
+/// tile has one section.
 #[inline(always)]
-fn columns<V: Lanes>(transform: impl Fn(usize) -> Affine3A) -> [V; 12] {
-    // Plain loops, no `array::from_fn`: its closures were not inlined into the AVX2 build,
-    // and neither were the intrinsics inside them (perf showed `_mm256_loadu_ps` calls).
+fn transform<V: Lanes>(ctx: &Ctx, single: &Option<[V; 12]>, k0: usize, n: usize) -> [V; 12] {
+    match single {
+        Some(t) => *t,
+        None => {
+            let section = &ctx.layout.slots.section;
+            let mut sections = [0u16; LANES];
+            for (lane, s) in sections.iter_mut().enumerate() {
+                *s = section[k0 + lane.min(n - 1)];
+            }
+            columns(ctx, &sections)
+        }
+    }
+}
+
+/// The twelve coefficients of each lane's transform (its section's): the matrix columns,
+/// then the translation.
+#[inline(always)]
+fn columns<V: Lanes>(ctx: &Ctx, sections: &[u16; LANES]) -> [V; 12] {
+    // Plain loops and no closures: closures (`array::from_fn`'s too) were not inlined into
+    // the AVX2 build, and neither were the intrinsics inside them (perf showed calls to
+    // `_mm256_loadu_ps`).
     let mut t = [[0.0f32; LANES]; 12];
-    for lane in 0..LANES {
-        let m = transform(lane);
+    for (lane, &section) in sections.iter().enumerate() {
+        let m = ctx.transform(section);
         let (a, b, c, d) = (
             m.matrix3.x_axis,
             m.matrix3.y_axis,
@@ -367,6 +388,107 @@ fn v3<V: Lanes>([x, y, z]: [V; 3]) -> V3<V> {
     V3 { x, y, z }
 }
 
+/// The iterated spring reduction (`spring_reduction` in this module's tests) in lanes: the
+/// same operations in the same order, lane by lane, so the results are the same bit for
+/// bit. All lanes iterate until none is violated (a lane with no violation is not changed by
+/// further iterations, so this is the per-lane early exit); lanes still violated after the
+/// last iteration take the scalar fallback.
+#[inline(always)]
+fn spring_reduction_lanes<V: Lanes>(mut y: V3<V>, r: V3<V>, n: V3<V>, lb: V, p: &Params) -> V3<V> {
+    let inner = V3 {
+        x: r.x - lb * n.x,
+        y: r.y - lb * n.y,
+        z: r.z - lb * n.z,
+    };
+    let outer = V3 {
+        x: r.x + lb * n.x,
+        y: r.y + lb * n.y,
+        z: r.z + lb * n.z,
+    };
+    let away_outer = V3 {
+        x: n.x.neg(),
+        y: n.y.neg(),
+        z: n.z.neg(),
+    };
+    let (lo, hi) = (V::splat(p.min_length) * lb, V::splat(p.max_length) * lb);
+    let zero = V::splat(0.0);
+    let mut violated = zero.lt(V::splat(1.0)); // every lane
+    for _ in 0..p.reduction_iterations {
+        violated = zero.gt(zero); // no lane
+        for (b, away) in [(inner, n), (outer, away_outer)] {
+            let v = V3 {
+                x: y.x - b.x,
+                y: y.y - b.y,
+                z: y.z - b.z,
+            };
+            let len = (v.x * v.x + v.y * v.y + v.z * v.z).sqrt();
+            let over = len.gt(hi);
+            let under = over.and_not(len.lt(lo));
+            let s = over.select(hi, lo) / len;
+            // Too short and of zero length: pushed out along the normal instead.
+            let pushed = len.gt(zero).and_not(under);
+            let hit = over.or(under);
+            y = V3 {
+                x: hit.select(pushed.select(b.x + away.x * lo, b.x + v.x * s), y.x),
+                y: hit.select(pushed.select(b.y + away.y * lo, b.y + v.y * s), y.y),
+                z: hit.select(pushed.select(b.z + away.z * lo, b.z + v.z * s), y.z),
+            };
+            violated = violated.or(hit);
+        }
+        if !violated.any() {
+            return y;
+        }
+    }
+    // Lanes violated in the last iteration: the check and fallback of `spring_reduction`
+    // after its loop, in lanes.
+    let need = reduction_ok_lanes(y, inner, outer, lo, hi).and_not(violated);
+    if !need.any() {
+        return y;
+    }
+    // Bisection on the segment from the rest position `r` (where both springs have length
+    // L, always feasible) to `y`.
+    let (mut feasible, mut infeasible) = (zero, V::splat(1.0));
+    for _ in 0..20 {
+        let s = V::splat(0.5) * (feasible + infeasible);
+        let ok = reduction_ok_lanes(along(r, y, s), inner, outer, lo, hi);
+        feasible = ok.select(s, feasible);
+        infeasible = ok.select(infeasible, s);
+    }
+    let fallback = along(r, y, feasible);
+    V3 {
+        x: need.select(fallback.x, y.x),
+        y: need.select(fallback.y, y.y),
+        z: need.select(fallback.z, y.z),
+    }
+}
+
+/// `r + (y − r) s`.
+#[inline(always)]
+fn along<V: Lanes>(r: V3<V>, y: V3<V>, s: V) -> V3<V> {
+    V3 {
+        x: r.x + (y.x - r.x) * s,
+        y: r.y + (y.y - r.y) * s,
+        z: r.z + (y.z - r.z) * s,
+    }
+}
+
+/// `reduction_ok` in lanes (a mask). Helper functions, not closures: closures were not
+/// inlined into the AVX2 build, and neither were the intrinsics inside them.
+#[inline(always)]
+fn reduction_ok_lanes<V: Lanes>(y: V3<V>, inner: V3<V>, outer: V3<V>, lo: V, hi: V) -> V {
+    let slack = V::splat(1e-6) * hi.max(V::splat(1e-30));
+    let (lo, hi) = (lo - slack, hi + slack);
+    within(y, inner, lo, hi).and(within(y, outer, lo, hi))
+}
+
+/// `lo <= |y − b| <= hi` (false for NaN, as in the scalar code).
+#[inline(always)]
+fn within<V: Lanes>(y: V3<V>, b: V3<V>, lo: V, hi: V) -> V {
+    let (vx, vy, vz) = (y.x - b.x, y.y - b.y, y.z - b.z);
+    let len = (vx * vx + vy * vy + vz * vz).sqrt();
+    lo.le(len).and(len.le(hi))
+}
+
 /// Bone points of a posed rest position `r` with unit normal `n` and bone length `lb`.
 #[inline(always)]
 pub(super) fn bones(r: Vec3, n: Vec3, lb: f32) -> (Vec3, Vec3) {
@@ -374,7 +496,7 @@ pub(super) fn bones(r: Vec3, n: Vec3, lb: f32) -> (Vec3, Vec3) {
 }
 
 /// Is `y` within both bone-spring bounds (with a relative slack for rounding)?
-#[inline(always)]
+#[cfg(test)]
 fn reduction_ok(y: Vec3, inner: Vec3, outer: Vec3, lo: f32, hi: f32) -> bool {
     let slack = 1e-6 * hi.max(1e-30);
     [inner, outer].iter().all(|b| {
@@ -385,8 +507,10 @@ fn reduction_ok(y: Vec3, inner: Vec3, outer: Vec3, lo: f32, hi: f32) -> bool {
 
 /// Iterated clamping of both bone springs of a mass point into `[f_min L, f_max L]`
 /// (see the module docs of `sim`). `r` is the posed rest position, `n` the posed normal.
-#[inline(always)]
-pub(super) fn spring_reduction(mut y: Vec3, r: Vec3, n: Vec3, lb: f32, p: &Params) -> Vec3 {
+/// The specification of [`spring_reduction_lanes`], which the kernel runs (tested equal
+/// bit for bit).
+#[cfg(test)]
+fn spring_reduction(mut y: Vec3, r: Vec3, n: Vec3, lb: f32, p: &Params) -> Vec3 {
     let (inner, outer) = bones(r, n, lb);
     let (lo, hi) = (p.min_length * lb, p.max_length * lb);
     for _ in 0..p.reduction_iterations {
@@ -410,6 +534,13 @@ pub(super) fn spring_reduction(mut y: Vec3, r: Vec3, n: Vec3, lb: f32, p: &Param
             return y;
         }
     }
+    reduction_fallback(y, r, inner, outer, lo, hi)
+}
+
+/// The end of `spring_reduction` when its iterations ran out: `y` if it is feasible, else
+/// the feasible point nearest to it on the segment towards the rest position `r`.
+#[cfg(test)]
+fn reduction_fallback(y: Vec3, r: Vec3, inner: Vec3, outer: Vec3, lo: f32, hi: f32) -> Vec3 {
     if reduction_ok(y, inner, outer, lo, hi) {
         return y;
     }
@@ -425,4 +556,91 @@ pub(super) fn spring_reduction(mut y: Vec3, r: Vec3, n: Vec3, lb: f32, p: &Param
         }
     }
     r + (y - r) * feasible
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Points around a bone pair in every regime the reduction has: inside, too far, too
+    /// close, exactly on a bone point (zero length), NaN, and budgets from 0 to 4 (with
+    /// budget 0 or 1 many end in the fallback).
+    fn cases() -> Vec<(Vec3, Vec3, Vec3, f32)> {
+        let mut state = 0x2545_f491_u32;
+        let mut rand = move || {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            state as f32 / u32::MAX as f32 * 2.0 - 1.0
+        };
+        let mut out = Vec::new();
+        for k in 0..4000 {
+            let r = Vec3::new(rand(), rand(), rand()) * 3.0;
+            let n = Vec3::new(rand(), rand(), rand()).normalize_or(Vec3::Z);
+            let lb = 0.01 + rand().abs();
+            let y = match k % 5 {
+                0 => r + Vec3::new(rand(), rand(), rand()) * lb * 4.0,
+                1 => r + Vec3::new(rand(), rand(), rand()) * lb * 0.3,
+                2 => r - lb * n,
+                3 => r + lb * n + Vec3::new(rand(), rand(), rand()) * 1e-3,
+                _ if k % 50 == 4 => Vec3::NAN,
+                _ => r + Vec3::new(rand(), rand(), rand()) * lb * 20.0,
+            };
+            out.push((y, r, n, lb));
+        }
+        out
+    }
+
+    fn check<V: Lanes>() {
+        for iterations in 0..=4 {
+            for (min, max) in [(0.8, 1.2), (0.5, 1.5), (1.0, 1.0), (0.99, 1.01)] {
+                let p = Params {
+                    min_length: min,
+                    max_length: max,
+                    reduction_iterations: iterations,
+                    ..Params::default()
+                };
+                for group in cases().chunks_exact(LANES) {
+                    let lane = |f: &dyn Fn(usize) -> f32| V::from_array(std::array::from_fn(f));
+                    let v3 = |f: &dyn Fn(usize) -> Vec3| V3 {
+                        x: lane(&|l| f(l).x),
+                        y: lane(&|l| f(l).y),
+                        z: lane(&|l| f(l).z),
+                    };
+                    let got = spring_reduction_lanes(
+                        v3(&|l| group[l].0),
+                        v3(&|l| group[l].1),
+                        v3(&|l| group[l].2),
+                        lane(&|l| group[l].3),
+                        &p,
+                    );
+                    let got = arrays(got);
+                    for (l, &(y, r, n, lb)) in group.iter().enumerate() {
+                        let want = spring_reduction(y, r, n, lb, &p);
+                        for c in 0..3 {
+                            assert_eq!(
+                                got[c][l].to_bits(),
+                                want[c].to_bits(),
+                                "lane {l} axis {c}: {y} {r} {n} {lb} with {p:?}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn spring_reduction_in_lanes_is_the_scalar_one_bit_for_bit() {
+        check::<Portable>();
+        #[cfg(target_arch = "x86_64")]
+        if avx2_available() {
+            #[target_feature(enable = "avx2")]
+            fn avx() {
+                check::<Avx>();
+            }
+            // SAFETY: the CPU has AVX2 (checked just above).
+            unsafe { avx() };
+        }
+    }
 }

@@ -39,6 +39,26 @@ pub(super) trait Lanes:
     fn positive_or_zero(self, a: Self) -> Self;
     /// `self <= b ? x : y`, lane by lane.
     fn le_select(self, b: Self, x: Self, y: Self) -> Self;
+
+    // Masks: lanes with every bit set (true) or none (false).
+    /// `self > b`.
+    fn gt(self, b: Self) -> Self;
+    /// `self < b`.
+    fn lt(self, b: Self) -> Self;
+    /// `self <= b`.
+    fn le(self, b: Self) -> Self;
+    /// `self & b`.
+    fn and(self, b: Self) -> Self;
+    /// `!self & b`.
+    fn and_not(self, b: Self) -> Self;
+    /// `self | b`.
+    fn or(self, b: Self) -> Self;
+    /// `mask ? a : b`, lane by lane (`self` is the mask).
+    fn select(self, a: Self, b: Self) -> Self;
+    /// Is any lane of the mask true?
+    fn any(self) -> bool;
+    /// `−self`, exact (the sign bit flipped).
+    fn neg(self) -> Self;
 }
 
 /// The portable implementation: a plain array.
@@ -138,6 +158,65 @@ impl Lanes for Portable {
             } else {
                 y.0[l]
             }
+        }))
+    }
+    #[inline(always)]
+    fn gt(self, b: Self) -> Self {
+        Portable::mask(|l| self.0[l] > b.0[l])
+    }
+    #[inline(always)]
+    fn lt(self, b: Self) -> Self {
+        Portable::mask(|l| self.0[l] < b.0[l])
+    }
+    #[inline(always)]
+    fn le(self, b: Self) -> Self {
+        Portable::mask(|l| self.0[l] <= b.0[l])
+    }
+    #[inline(always)]
+    fn and(self, b: Self) -> Self {
+        self.bits(b, |x, y| x & y)
+    }
+    #[inline(always)]
+    fn and_not(self, b: Self) -> Self {
+        self.bits(b, |x, y| !x & y)
+    }
+    #[inline(always)]
+    fn or(self, b: Self) -> Self {
+        self.bits(b, |x, y| x | y)
+    }
+    #[inline(always)]
+    fn select(self, a: Self, b: Self) -> Self {
+        // What `vblendvps` looks at: the sign bit of the mask.
+        Portable(std::array::from_fn(|l| {
+            if self.0[l].is_sign_negative() {
+                a.0[l]
+            } else {
+                b.0[l]
+            }
+        }))
+    }
+    #[inline(always)]
+    fn any(self) -> bool {
+        self.0.iter().any(|m| m.is_sign_negative())
+    }
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Portable(self.0.map(|x| -x))
+    }
+}
+
+impl Portable {
+    #[inline(always)]
+    fn bits(self, b: Self, f: impl Fn(u32, u32) -> u32) -> Self {
+        Portable(std::array::from_fn(|l| {
+            f32::from_bits(f(self.0[l].to_bits(), b.0[l].to_bits()))
+        }))
+    }
+
+    #[inline(always)]
+    fn mask(c: impl Fn(usize) -> bool) -> Self {
+        Portable(std::array::from_fn(|l| {
+            f32::from_bits(if c(l) { !0 } else { 0 })
         }))
     }
 }
@@ -300,6 +379,51 @@ mod avx {
                 let m = _mm256_cmp_ps::<_CMP_LE_OQ>(self.0, b.0);
                 Avx(_mm256_blendv_ps(y.0, x.0, m))
             }
+        }
+        #[inline(always)]
+        fn gt(self, b: Self) -> Self {
+            // SAFETY: see the module docs.
+            Avx(unsafe { _mm256_cmp_ps::<_CMP_GT_OQ>(self.0, b.0) })
+        }
+        #[inline(always)]
+        fn lt(self, b: Self) -> Self {
+            // SAFETY: see the module docs.
+            Avx(unsafe { _mm256_cmp_ps::<_CMP_LT_OQ>(self.0, b.0) })
+        }
+        #[inline(always)]
+        fn le(self, b: Self) -> Self {
+            // SAFETY: see the module docs.
+            Avx(unsafe { _mm256_cmp_ps::<_CMP_LE_OQ>(self.0, b.0) })
+        }
+        #[inline(always)]
+        fn and(self, b: Self) -> Self {
+            // SAFETY: see the module docs.
+            Avx(unsafe { _mm256_and_ps(self.0, b.0) })
+        }
+        #[inline(always)]
+        fn and_not(self, b: Self) -> Self {
+            // SAFETY: see the module docs.
+            Avx(unsafe { _mm256_andnot_ps(self.0, b.0) })
+        }
+        #[inline(always)]
+        fn or(self, b: Self) -> Self {
+            // SAFETY: see the module docs.
+            Avx(unsafe { _mm256_or_ps(self.0, b.0) })
+        }
+        #[inline(always)]
+        fn select(self, a: Self, b: Self) -> Self {
+            // SAFETY: see the module docs.
+            Avx(unsafe { _mm256_blendv_ps(b.0, a.0, self.0) })
+        }
+        #[inline(always)]
+        fn any(self) -> bool {
+            // SAFETY: see the module docs.
+            unsafe { _mm256_movemask_ps(self.0) != 0 }
+        }
+        #[inline(always)]
+        fn neg(self) -> Self {
+            // SAFETY: see the module docs.
+            Avx(unsafe { _mm256_xor_ps(self.0, _mm256_set1_ps(-0.0)) })
         }
     }
 }
