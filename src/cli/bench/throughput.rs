@@ -39,12 +39,12 @@ pub struct Row {
 }
 
 /// Bytes the fused pass reads and writes per step: per slot its constants (10 `f32` and a
-/// `u16` section: 42), current (12) and previous positions (12 read, 12 written); per entry
-/// of the spring rows (one per half-spring plus padding) the neighbour and the rest length
-/// (8). Neighbour positions are gathered from lines already loaded (Hilbert order), so they
-/// are not counted.
+/// `u16` section: 42), its current position (16, packed) and its previous one (16 read, 16
+/// written); per entry of the spring rows (one per half-spring plus padding) the neighbour
+/// offset and the rest length (8). Neighbour positions are gathered from lines already
+/// loaded (Hilbert order), so they are not counted.
 fn bytes_per_step(vertices: usize, lane_entries: usize) -> usize {
-    vertices * (42 + 12 + 24) + lane_entries * 8
+    vertices * (42 + 16 + 32) + lane_entries * 8
 }
 
 /// Measures `steps` timed steps of `scene` with every tile integrated.
