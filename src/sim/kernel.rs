@@ -8,12 +8,14 @@
 //!    each lane's `r`-th neighbour (CSR order), so one row is eight springs, one per lane,
 //!    evaluated together: gather the neighbours' positions, `d = x_j − x_i`, the factor
 //!    `(|d| − rest) / |d|` (zero for a zero-length spring, which is what padded lanes hold:
-//!    their neighbour is the slot itself) and `sum += factor × d`;
+//!    their neighbour is the slot itself) and `sum += factor × d`, in two phases per chunk
+//!    of rows (gathers and squared lengths, then roots, divisions and sums) so that the
+//!    divider always has independent work;
 //! 2. the posed rest position, normal and bone points (one affine transform per lane, the
 //!    same for all lanes of a single-section tile) and the two bone-spring forces;
 //! 3. Verlet with velocity damping;
-//! 4. the constraint: the circumsphere projection in lanes, or the iterated spring reduction
-//!    lane by lane.
+//! 4. the constraint: the circumsphere projection or the iterated spring reduction, both in
+//!    lanes.
 //!
 //! Every spring is evaluated from both of its ends; the two evaluations are exact negations
 //! of each other (`a − b = −(b − a)` and IEEE negation are exact), so this is bit for bit what
