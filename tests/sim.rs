@@ -476,7 +476,7 @@ fn every_spring_sits_in_its_lane_and_padding_is_a_zero_length_spring() {
     let rig = rig();
     for tile in [1, 37, 256, 100_000] {
         let l = Layout::new(&rig, tile);
-        assert_eq!(l.lane_rest.len(), l.lane_offset.len());
+        assert_eq!(l.lane_rest.len(), l.lane_offsets().len());
         let groups: usize = (0..l.tiles())
             .map(|t| l.tile_range(t).len().div_ceil(Layout::LANES))
             .sum();
@@ -491,7 +491,7 @@ fn every_spring_sits_in_its_lane_and_padding_is_a_zero_length_spring() {
             for (gi, group) in r.clone().step_by(Layout::LANES).enumerate() {
                 let g = g0 + gi;
                 let span = l.group_start[g] as usize..l.group_start[g + 1] as usize;
-                let (neighbours, rests) = (&l.lane_offset[span.clone()], &l.lane_rest[span]);
+                let (neighbours, rests) = (&l.lane_offsets()[span.clone()], &l.lane_rest[span]);
                 assert_eq!(neighbours.len() % Layout::LANES, 0);
                 let valence = (group..(group + Layout::LANES).min(r.end))
                     .map(|k| (l.start[k + 1] - l.start[k]) as usize)

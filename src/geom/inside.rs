@@ -35,7 +35,6 @@ struct TriBox {
     x: [f64; 2],
     y: [f64; 2],
     z_low: f64,
-    z_high: f64,
 }
 
 impl InsideTest {
@@ -68,7 +67,6 @@ impl InsideTest {
                     x: [lo.x, hi.x],
                     y: [lo.y, hi.y],
                     z_low: lo.z,
-                    z_high: hi.z,
                 }
             })
             .collect();
@@ -108,7 +106,8 @@ impl InsideTest {
         let mut fill = this.cell_start.clone();
         this.cell_tris = vec![(0.0, 0); this.cell_start[nx * ny] as usize];
         for (ti, r) in ranges.iter().enumerate() {
-            let top = this.boxes[ti].z_high;
+            let t = &this.tris[ti];
+            let top = t[0].z.max(t[1].z).max(t[2].z);
             for y in r[2]..=r[3] {
                 for x in r[0]..=r[1] {
                     let c = y * nx + x;

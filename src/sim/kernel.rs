@@ -4,7 +4,7 @@
 //! The slots of a tile are taken in groups of eight ([`LANES`]), one slot per lane, and each
 //! group is carried through every stage in registers before the next starts: nothing is
 //! written back to memory but the new positions. For a group:
-//! 1. the surface-spring forces, row after row of [`Layout::lane_offset`]: row `r` holds
+//! 1. the surface-spring forces, row after row of [`Layout::lane_offsets`]: row `r` holds
 //!    each lane's `r`-th neighbour (CSR order), so one row is eight springs, one per lane,
 //!    evaluated together: gather the neighbours' positions, `d = x_j − x_i`, the factor
 //!    `(|d| − rest) / |d|` (zero for a zero-length spring, which is what padded lanes hold:
@@ -93,7 +93,13 @@ fn tile_avx2(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) -> f32 {
 /// on its mass point is `factor × d`.
 #[inline(always)]
 fn factor<V: Lanes>(dx: V, dy: V, dz: V, rest: V) -> V {
-    let len = (dx * dx + dy * dy + dz * dz).sqrt();
+    factor_of_squared(dx * dx + dy * dy + dz * dz, rest)
+}
+
+/// [`factor`] from the squared length `|d|²`.
+#[inline(always)]
+fn factor_of_squared<V: Lanes>(len2: V, rest: V) -> V {
+    let len = len2.sqrt();
     len.positive_or_zero((len - rest) / len)
 }
 
@@ -114,15 +120,11 @@ fn tile_body<V: Lanes>(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) 
         [section] => Some(columns::<V>(ctx, &[*section; LANES])),
         _ => None,
     };
-    // Every neighbour slot of the tile's spring rows, checked once here so the gathers
-    // need no bounds checks.
+    // The layout keeps every neighbour offset + 4 ≤ 4 × `l.len()` (its invariant), so with
+    // this the gathers need no bounds checks. (An earlier version scanned the tile's offsets
+    // every step: 2–3 % of the kernel's time.)
+    assert_eq!(cur.len(), l.len(), "positions and layout disagree");
     let groups = range.len().div_ceil(LANES);
-    let span = l.group_start[g0] as usize..l.group_start[g0 + groups] as usize;
-    let largest = l.lane_offset[span].iter().fold(0, |m, &q| m.max(q));
-    assert!(
-        largest as usize + 4 <= 4 * cur.len(),
-        "spring rows past the last slot"
-    );
     let rows = |gi: usize| l.group_start[g0 + gi] as usize..l.group_start[g0 + gi + 1] as usize;
 
     let mut moved_max = V::splat(0.0);
@@ -137,7 +139,7 @@ fn tile_body<V: Lanes>(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) 
             t: transform(ctx, &single, k0, LANES),
             rows: rows(gi),
         };
-        // SAFETY: the tile's neighbours were checked against `cur.len()` above.
+        // SAFETY: `cur.len() == l.len()` (asserted above) and the layout's invariant.
         let (new, moved) = unsafe { group(ctx, cur, g, Lanes8::Run(k0), &mut buf) };
         moved_max = moved.max(moved_max);
         V::store3([new.x, new.y, new.z], points, j0);
@@ -161,7 +163,7 @@ fn tile_body<V: Lanes>(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) 
             t: transform(ctx, &single, k0, n),
             rows: rows(full),
         };
-        // SAFETY: the tile's neighbours were checked against `cur.len()` above.
+        // SAFETY: `cur.len() == l.len()` (asserted above) and the layout's invariant.
         let (new, moved) = unsafe { group(ctx, cur, g, Lanes8::Slots(own), &mut buf) };
         moved_max = moved.max(moved_max);
         let [nx, ny, nz] = arrays(new);
@@ -234,7 +236,7 @@ unsafe fn group<V: Lanes>(
     // square roots, divisions and sums. Fused in one loop, each row was one long dependency
     // chain (gather, √, ÷, sum) of about 50 instructions, and the out-of-order window held
     // too few rows to keep the divider busy.
-    let (neighbours, rests) = (&l.lane_offset[rows.clone()], &l.lane_rest[rows]);
+    let (neighbours, rests) = (&l.lane_offsets()[rows.clone()], &l.lane_rest[rows]);
     for (idx, rest) in neighbours
         .chunks(LANES * CHUNK)
         .zip(rests.chunks(LANES * CHUNK))
@@ -249,8 +251,7 @@ unsafe fn group<V: Lanes>(
             *b = [dx, dy, dz, dx * dx + dy * dy + dz * dz];
         }
         for (&[dx, dy, dz, len2], rest) in buf.iter().zip(rest.chunks_exact(LANES)) {
-            let len = len2.sqrt();
-            let k = len.positive_or_zero((len - V::load(rest, 0)) / len);
+            let k = factor_of_squared(len2, V::load(rest, 0));
             f.x = f.x + k * dx;
             f.y = f.y + k * dy;
             f.z = f.z + k * dz;
@@ -282,15 +283,25 @@ unsafe fn group<V: Lanes>(
     };
     // Stage 2b: bone springs. inner = r − L n, outer = r + L n, as `bones` computes them.
     let lb = slots.load::<V>(&s.bone_length);
+    let inner = V3 {
+        x: r.x - lb * nrm.x,
+        y: r.y - lb * nrm.y,
+        z: r.z - lb * nrm.z,
+    };
+    let outer = V3 {
+        x: r.x + lb * nrm.x,
+        y: r.y + lb * nrm.y,
+        z: r.z + lb * nrm.z,
+    };
     let i = V3 {
-        x: (r.x - lb * nrm.x) - x.x,
-        y: (r.y - lb * nrm.y) - x.y,
-        z: (r.z - lb * nrm.z) - x.z,
+        x: inner.x - x.x,
+        y: inner.y - x.y,
+        z: inner.z - x.z,
     };
     let o = V3 {
-        x: (r.x + lb * nrm.x) - x.x,
-        y: (r.y + lb * nrm.y) - x.y,
-        z: (r.z + lb * nrm.z) - x.z,
+        x: outer.x - x.x,
+        y: outer.y - x.y,
+        z: outer.z - x.z,
     };
     let fi = factor(i.x, i.y, i.z, slots.load::<V>(&s.inner_rest));
     let fo = factor(o.x, o.y, o.z, slots.load::<V>(&s.outer_rest));
@@ -329,7 +340,7 @@ unsafe fn group<V: Lanes>(
                 z: d2.le_select(rho2, y.z, r.z + v.z * sc),
             }
         }
-        Constraint::SpringReduction => spring_reduction_lanes(y, r, nrm, lb, p),
+        Constraint::SpringReduction => spring_reduction_lanes(y, r, nrm, inner, outer, lb, p),
     };
     let (mx, my, mz) = (new.x - x.x, new.y - x.y, new.z - x.z);
     (new, mx * mx + my * my + mz * mz)
@@ -392,21 +403,20 @@ fn v3<V: Lanes>([x, y, z]: [V; 3]) -> V3<V> {
 
 /// The iterated spring reduction (`spring_reduction` in this module's tests) in lanes: the
 /// same operations in the same order, lane by lane, so the results are the same bit for
-/// bit. All lanes iterate until none is violated (a lane with no violation is not changed by
-/// further iterations, so this is the per-lane early exit); lanes still violated after the
-/// last iteration take the scalar fallback.
+/// bit. `inner` and `outer` are the bone points `r ∓ lb n`. All lanes iterate until none is
+/// violated (a lane with no violation is not changed by further iterations, so this is the
+/// per-lane early exit); lanes still violated after the last iteration take the fallback,
+/// also in lanes.
 #[inline(always)]
-fn spring_reduction_lanes<V: Lanes>(mut y: V3<V>, r: V3<V>, n: V3<V>, lb: V, p: &Params) -> V3<V> {
-    let inner = V3 {
-        x: r.x - lb * n.x,
-        y: r.y - lb * n.y,
-        z: r.z - lb * n.z,
-    };
-    let outer = V3 {
-        x: r.x + lb * n.x,
-        y: r.y + lb * n.y,
-        z: r.z + lb * n.z,
-    };
+fn spring_reduction_lanes<V: Lanes>(
+    mut y: V3<V>,
+    r: V3<V>,
+    n: V3<V>,
+    inner: V3<V>,
+    outer: V3<V>,
+    lb: V,
+    p: &Params,
+) -> V3<V> {
     let away_outer = V3 {
         x: n.x.neg(),
         y: n.y.neg(),
@@ -414,9 +424,9 @@ fn spring_reduction_lanes<V: Lanes>(mut y: V3<V>, r: V3<V>, n: V3<V>, lb: V, p: 
     };
     let (lo, hi) = (V::splat(p.min_length) * lb, V::splat(p.max_length) * lb);
     let zero = V::splat(0.0);
-    let mut violated = zero.lt(V::splat(1.0)); // every lane
+    let mut violated = V::mask(true);
     for _ in 0..p.reduction_iterations {
-        violated = zero.gt(zero); // no lane
+        violated = V::mask(false);
         for (b, away) in [(inner, n), (outer, away_outer)] {
             let v = V3 {
                 x: y.x - b.x,
@@ -609,10 +619,13 @@ mod tests {
                         y: lane(&|l| f(l).y),
                         z: lane(&|l| f(l).z),
                     };
+                    let bone = |l: usize| bones(group[l].1, group[l].2, group[l].3);
                     let got = spring_reduction_lanes(
                         v3(&|l| group[l].0),
                         v3(&|l| group[l].1),
                         v3(&|l| group[l].2),
+                        v3(&|l| bone(l).0),
+                        v3(&|l| bone(l).1),
                         lane(&|l| group[l].3),
                         &p,
                     );

@@ -41,6 +41,8 @@ pub(super) trait Lanes:
     fn le_select(self, b: Self, x: Self, y: Self) -> Self;
 
     // Masks: lanes with every bit set (true) or none (false).
+    /// Every lane `set`.
+    fn mask(set: bool) -> Self;
     /// `self > b`.
     fn gt(self, b: Self) -> Self;
     /// `self < b`.
@@ -161,16 +163,20 @@ impl Lanes for Portable {
         }))
     }
     #[inline(always)]
+    fn mask(set: bool) -> Self {
+        Portable::mask_where(|_| set)
+    }
+    #[inline(always)]
     fn gt(self, b: Self) -> Self {
-        Portable::mask(|l| self.0[l] > b.0[l])
+        Portable::mask_where(|l| self.0[l] > b.0[l])
     }
     #[inline(always)]
     fn lt(self, b: Self) -> Self {
-        Portable::mask(|l| self.0[l] < b.0[l])
+        Portable::mask_where(|l| self.0[l] < b.0[l])
     }
     #[inline(always)]
     fn le(self, b: Self) -> Self {
-        Portable::mask(|l| self.0[l] <= b.0[l])
+        Portable::mask_where(|l| self.0[l] <= b.0[l])
     }
     #[inline(always)]
     fn and(self, b: Self) -> Self {
@@ -214,7 +220,7 @@ impl Portable {
     }
 
     #[inline(always)]
-    fn mask(c: impl Fn(usize) -> bool) -> Self {
+    fn mask_where(c: impl Fn(usize) -> bool) -> Self {
         Portable(std::array::from_fn(|l| {
             f32::from_bits(if c(l) { !0 } else { 0 })
         }))
@@ -379,6 +385,10 @@ mod avx {
                 let m = _mm256_cmp_ps::<_CMP_LE_OQ>(self.0, b.0);
                 Avx(_mm256_blendv_ps(y.0, x.0, m))
             }
+        }
+        #[inline(always)]
+        fn mask(set: bool) -> Self {
+            Self::splat(f32::from_bits(if set { !0 } else { 0 }))
         }
         #[inline(always)]
         fn gt(self, b: Self) -> Self {

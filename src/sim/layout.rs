@@ -123,15 +123,18 @@ pub struct Layout {
     pub edges: Vec<Edge>,
     /// The surface springs in the kernel's order: the slots of each tile in groups of
     /// [`Layout::LANES`] (the last group of a tile may be short), and for group `g` the
-    /// entries `group_start[g]..group_start[g + 1]` of `lane_offset` and `lane_rest` as
-    /// rows of `LANES`, row `r` holding the `r`-th spring (CSR order) of each slot of the
-    /// group: its neighbour, as the offset of that slot's point in the packed positions
-    /// counted in `f32` (4 × the slot, so the kernel's loads need no shift: x86 addressing
-    /// scales an index by 4 at most), and its rest length. Rows are padded to the group's largest
-    /// valence with the slot itself and rest 0 (a zero-length spring, zero force). Lanes past
-    /// a short group's end repeat its last slot's springs, so the kernel's results in those
-    /// lanes are exactly that slot's.
-    pub lane_offset: Vec<u32>,
+    /// entries `group_start[g]..group_start[g + 1]` of the offsets ([`Layout::lane_offsets`])
+    /// and `lane_rest` as rows of `LANES`, row `r` holding the `r`-th spring (CSR order) of
+    /// each slot of the group: its neighbour, as the offset of that slot's point in the
+    /// packed positions counted in `f32` (4 × the slot: x86 addressing scales it by 4 into
+    /// bytes, so the kernel's loads need no shift), and its rest length. Rows are padded to
+    /// the group's largest valence with the slot itself and rest 0 (a zero-length spring,
+    /// zero force). Lanes past a short group's end repeat its last slot's springs, so the
+    /// kernel's results in those lanes are exactly that slot's.
+    ///
+    /// Invariant the kernel's unchecked loads rely on: every offset + 4 ≤ 4 × [`Layout::len`].
+    /// `build_lanes` is the only writer and keeps it (private, read through the method).
+    lane_offset: Vec<u32>,
     pub lane_rest: Vec<f32>,
     pub group_start: Vec<u32>,
     /// Slots per tile.
@@ -145,11 +148,8 @@ pub struct Layout {
 }
 
 impl Layout {
-    /// Most slots in a tile (slot offsets inside a tile are `u16`).
-    pub const MAX_TILE: usize = 1 << 16;
-
-    /// Renumbers `rig` along the Hilbert curve and cuts it into tiles of `tile` slots
-    /// (clamped to `1..=MAX_TILE`).
+    /// Renumbers `rig` along the Hilbert curve and cuts it into tiles of `tile` slots (at
+    /// least 1).
     pub fn new(rig: &Rig, tile: usize) -> Layout {
         let n = rig.len();
         let points: Vec<glam::DVec3> = rig.rest.iter().map(|p| p.as_dvec3()).collect();
@@ -194,7 +194,7 @@ impl Layout {
                 .map(|k| 1.0 / (start[k + 1] - start[k] + 2) as f32)
                 .collect(),
         };
-        let tile = tile.clamp(1, Self::MAX_TILE);
+        let tile = tile.max(1);
         let mut layout = Layout {
             lane_offset: Vec::new(),
             lane_rest: Vec::new(),
@@ -314,6 +314,11 @@ impl Layout {
 
     /// Lanes of the kernel (eight `f32` fill an AVX2 register).
     pub const LANES: usize = super::lanes::LANES;
+
+    /// The neighbour offsets of the spring rows (see the field docs above `lane_rest`).
+    pub fn lane_offsets(&self) -> &[u32] {
+        &self.lane_offset
+    }
 
     /// Groups of [`Layout::LANES`] slots in a full tile.
     pub fn groups_per_tile(&self) -> usize {

@@ -187,7 +187,7 @@ pub struct Options {
     /// diagonal per step, for [`QUIET_STEPS`] steps in a row, with no moving neighbour and no
     /// pose change, sleeps.
     pub sleep_threshold: f32,
-    /// Slots per tile (clamped to `1..=`[`layout::Layout::MAX_TILE`]).
+    /// Slots per tile (at least 1).
     pub tile: usize,
     /// Use the AVX2 build of the kernel where the CPU has it (results are bit-identical).
     pub simd: bool,
@@ -434,7 +434,7 @@ impl Simulation {
     /// from both ends) plus the padding of slots with fewer springs than the largest valence
     /// of their group of 8.
     pub fn lane_entries(&self) -> usize {
-        self.layout.lane_offset.len()
+        self.layout.lane_offsets().len()
     }
 
     /// Tiles in all, and tiles integrated by the last step.
