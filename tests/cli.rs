@@ -80,6 +80,41 @@ fn throughput_reaches_the_requested_spring_count() {
 }
 
 #[test]
+fn a_generated_torus_lands_close_to_the_requested_spring_count() {
+    // Loop subdivision only reaches sizes four times apart; the torus fills the gaps.
+    let report = ok_json(&[
+        "bench",
+        "--torus",
+        "--springs",
+        "123456",
+        "--scaling",
+        "--subdivisions",
+        "0",
+        "--frames",
+        "3",
+        "--json",
+    ]);
+    let springs = report["springs"].as_u64().unwrap();
+    assert!(
+        (123_456..=123_456 * 102 / 100).contains(&springs),
+        "{springs} springs"
+    );
+    assert_eq!(springs, 5 * report["vertices"].as_u64().unwrap());
+    assert_eq!(report["sizes"].as_array().map(Vec::len), Some(1));
+}
+
+#[test]
+fn the_torus_needs_a_spring_count_and_no_mesh() {
+    for args in [
+        &["bench", "--torus"][..],
+        &["bench", "--torus", "--springs", "1000", "assets/spot.obj"][..],
+    ] {
+        let out = puppet(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+    }
+}
+
+#[test]
 fn short_stress_run_passes() {
     for seed in ["1", "2"] {
         let report = ok_json(&[

@@ -31,6 +31,11 @@ pub struct Args {
     /// Throughput: Loop-subdivide the mesh until it has at least this many springs.
     #[arg(long)]
     pub springs: Option<usize>,
+    /// Throughput: instead of a mesh file, a generated torus (tube radius half the ring
+    /// radius) with about --springs springs (five per vertex), its skeletal distance the
+    /// exact one (the tube radius): sizes between the fourfold steps of subdivision.
+    #[arg(long, requires = "springs", conflicts_with = "mesh")]
+    pub torus: bool,
     /// Constraint for the throughput, skip and stress measurements.
     #[arg(long, default_value = "circumsphere", value_parser = ["circumsphere", "reduction"])]
     pub method: String,
@@ -130,6 +135,9 @@ struct Base {
 
 impl Base {
     fn load(args: &Args) -> Result<Base> {
+        if let (true, Some(springs)) = (args.torus, args.springs) {
+            return Ok(Base::torus(springs));
+        }
         let (mesh, _, name) = load_mesh(args.mesh.as_deref())?;
         let normals = vertex_normals(&mesh).map_err(|e| anyhow!("{name}: {e}"))?;
         let sk = puppet::skeleton::build(
@@ -144,6 +152,21 @@ impl Base {
             distance: sk.distance,
             name,
         })
+    }
+
+    /// A torus with about `springs` springs: a grid of `2k × k` vertices (three edges and
+    /// two bone springs per vertex), ring radius 2, tube radius 1. Its medial axis is the
+    /// ring's core circle, so every vertex's skeletal distance is exactly the tube radius.
+    fn torus(springs: usize) -> Base {
+        let vertices = springs.div_ceil(5).max(18);
+        let k = ((vertices as f64 / 2.0).sqrt().ceil() as usize).max(3);
+        let mesh = puppet::mesh::shapes::torus(2.0, 1.0, 2 * k, k);
+        let distance = vec![1.0; mesh.positions.len()];
+        Base {
+            name: format!("a generated torus ({} × {k} vertices)", 2 * k),
+            mesh,
+            distance,
+        }
     }
 
     /// The mesh and distances Loop-subdivided `level` times. Subdivided vertices take the
