@@ -108,9 +108,11 @@ fn the_torus_needs_a_spring_count_and_no_mesh() {
     for args in [
         &["bench", "--torus"][..],
         &["bench", "--torus", "--springs", "1000", "assets/spot.obj"][..],
+        &["bench", "--torus", "--springs", "999999999999"][..],
     ] {
         let out = puppet(args);
         assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(String::from_utf8_lossy(&out.stderr).starts_with("error:"));
     }
 }
 

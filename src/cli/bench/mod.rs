@@ -125,6 +125,9 @@ pub fn run(args: &Args) -> Result<()> {
     }
 }
 
+/// The largest generated torus (20M vertices, a few GB once rigged).
+const MAX_TORUS_SPRINGS: usize = 100_000_000;
+
 /// The input mesh with its real skeletal distances (computed once, on the unsubdivided
 /// mesh).
 struct Base {
@@ -136,6 +139,9 @@ struct Base {
 impl Base {
     fn load(args: &Args) -> Result<Base> {
         if let (true, Some(springs)) = (args.torus, args.springs) {
+            if springs > MAX_TORUS_SPRINGS {
+                bail!("--torus: at most {MAX_TORUS_SPRINGS} springs, got {springs}");
+            }
             return Ok(Base::torus(springs));
         }
         let (mesh, _, name) = load_mesh(args.mesh.as_deref())?;
