@@ -486,8 +486,8 @@ fn every_spring_sits_in_its_lane_and_padding_is_a_zero_length_spring() {
             let r = l.tile_range(t);
             let g0 = t * l.groups_per_tile();
             // Row `row` of a group holds the row-th spring of each of its slots (neighbours as
-            // offsets, 4 × the slot), padded with
-            // the slot itself and rest 0; lanes past a short group's end repeat its last slot.
+            // offsets, 4 × the slot), padded with the slot itself and rest 0; lanes past a
+            // short group's end repeat its last slot.
             for (gi, group) in r.clone().step_by(Layout::LANES).enumerate() {
                 let g = g0 + gi;
                 let span = l.group_start[g] as usize..l.group_start[g + 1] as usize;

@@ -13,10 +13,12 @@
 //!   vertices belong to (a pose change wakes exactly those tiles) and the tiles its springs
 //!   reach (motion wakes neighbours).
 //! * Per-slot constants the step reads ([`Slots`]: rest position, normal, section, bone
-//!   length `L`, the measured rest lengths of both bone springs) as struct-of-arrays, so the
-//!   kernel's bone pass is a vector loop over slots (an earlier layout packed them in one
-//!   40-byte record per slot: fewer streams, but the loop could not be vectorized), and the
-//!   CSR of surface springs as `(neighbour slot, rest)` pairs.
+//!   length `L`, the measured rest lengths of both bone springs, `1/m`) as struct-of-arrays,
+//!   so the kernel loads eight slots of one constant with one instruction; positions
+//!   [`Packed`] 16 bytes apart, so a neighbour is one 16-byte load.
+//! * The surface springs twice: as a CSR of `(neighbour slot, rest)` pairs (the layout's
+//!   own bookkeeping), and as the kernel reads them, in spring rows per group of
+//!   [`Layout::LANES`] slots (see `lane_rest`).
 
 use crate::rig::Rig;
 use glam::Vec3;
