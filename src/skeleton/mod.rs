@@ -9,17 +9,20 @@
 //! 2. **Classify** every circumcentre: slivers (volume tiny against the longest edge cubed;
 //!    their circumcentres are ill-conditioned garbage) are ignored, the rest are tested
 //!    against the mesh with the exact ray-parity oracle ([`crate::geom::inside`]), not the
-//!    paper's local face-normal check, which misclassifies in concave regions.
+//!    paper's local face-normal check, which misclassifies in concave regions. The default
+//!    [`Method::ShrinkingBall`] reads only the Delaunay edges and skips this stage.
 //! 3. **Distance** per vertex from the inside Voronoi vertices of its cell: [`Method::Mean`]
 //!    is the paper (their mean distance), [`Method::Pole`] the inner pole (the farthest one;
-//!    Amenta et al.). A vertex with none gets `d = 0` (`sp = p`) and is counted.
+//!    Amenta et al.); [`Method::ShrinkingBall`] from the Delaunay neighbours. A vertex with
+//!    none gets `d = 0` (`sp = p`) and is counted.
 //! 4. **Clamp** to the local thickness: a ray from `p_i` along `−n_i` first leaves the object
 //!    at distance `t_i`; a ball tangent at `p_i` with its centre on that ray fits only if its
 //!    diameter is at most `t_i`, so `d_i ≤ t_i / 2` bounds the true medial radius and keeps
 //!    `sp_i` inside the object.
 //!
 //! Stage 1 keeps one core busy with point insertion, so the other builds the inside oracle
-//! and the BVH and then measures `t_i` for as many vertices as it can meanwhile; stage 4 does
+//! (for the methods that classify) and the BVH, and then measures `t_i` for as many
+//! vertices as it can meanwhile; stage 4 does
 //! the rest. Stages 2 and 3 use both cores. No result depends on the thread count or on how
 //! far the overlap got (tested).
 
@@ -49,8 +52,10 @@ pub enum Method {
     /// The shrinking ball (Ma et al. 2012): the largest ball tangent at `p_i` (centre on
     /// `−n_i`) with no vertex inside, `min_q |q − p|² / (−2 n·(q − p))`. Its limiting vertex
     /// `q` and `p` lie on an empty sphere, so `pq` is a Delaunay edge: the minimum over the
-    /// Delaunay neighbours of `p` is exact, no kd-tree needed. The default (best worst case
-    /// in the accuracy table of `BENCHMARKS.md`).
+    /// Delaunay neighbours of `p` is exact, no kd-tree needed, and no circumcentre has to be
+    /// classified (the cheapest method: no inside oracle). A vertex with no Delaunay
+    /// neighbour on the inner side of its tangent plane is a fallback. The default (best
+    /// worst case in the accuracy table of `BENCHMARKS.md`).
     #[default]
     ShrinkingBall,
 }
@@ -58,6 +63,12 @@ pub enum Method {
 impl Method {
     /// All methods, for reports.
     pub const ALL: [Method; 3] = [Method::Mean, Method::Pole, Method::ShrinkingBall];
+
+    /// Whether the method reads the inside Voronoi vertices, so that every circumcentre
+    /// must be classified against the mesh.
+    pub fn needs_oracle(self) -> bool {
+        self != Method::ShrinkingBall
+    }
 
     /// The name used on the command line and in files.
     pub fn name(self) -> &'static str {
@@ -116,13 +127,15 @@ pub struct Skeleton {
     /// Skeletal points `sp_i = p_i − d_i n_i`.
     #[serde(skip)]
     pub points: Vec<DVec3>,
-    /// Vertices without any inside Voronoi vertex (`sp_i = p_i`).
+    /// Vertices without any inside Voronoi vertex, or for [`Method::ShrinkingBall`] without
+    /// any Delaunay neighbour on the inner side (`sp_i = p_i`).
     pub fallback: usize,
     /// Vertices whose distance was limited by the local thickness by more than 1 %.
     pub clamped: usize,
     /// Finite tetrahedra of the Delaunay tetrahedralization.
     pub tetrahedra: usize,
-    /// Circumcentres used (inside, not slivers).
+    /// Circumcentres used (inside, not slivers); 0 for [`Method::ShrinkingBall`], which
+    /// classifies none.
     pub inside_voronoi_vertices: usize,
     /// Seconds per stage, in order.
     pub seconds: Vec<(&'static str, f64)>,
@@ -196,8 +209,13 @@ fn build_with(
         },
         || {
             let t = Instant::now();
-            let (inside, bvh) =
-                rayon::join(|| InsideTest::new(mesh), || Bvh::new(pts, &mesh.triangles));
+            let (inside, bvh) = if params.method.needs_oracle() {
+                let (i, b) =
+                    rayon::join(|| InsideTest::new(mesh), || Bvh::new(pts, &mesh.triangles));
+                (Some(i), b)
+            } else {
+                (None, Bvh::new(pts, &mesh.triangles))
+            };
             let mut thickness = Vec::with_capacity(pts.len());
             let more = || match overlap {
                 Overlap::UntilTetrahedralized => !dt_done.load(Ordering::Relaxed),
@@ -219,82 +237,18 @@ fn build_with(
     seconds.push(("tetrahedralize", t_dt));
     seconds.push(("inside-oracle+bvh+thickness (parallel)", t_aux));
 
-    // 2. Classify circumcentres: the circumradius if inside (negated for slivers), NaN if
-    // outside or undefined.
-    let t = Instant::now();
-    progress("voronoi", 0.0);
+    // 2–3. Per-vertex distance from the cells.
     let tets = dt.finite_tets();
-    let sliver = params.sliver_ratio;
-    let radius: Vec<f64> = tets
-        .par_iter()
-        .map(|tv| {
-            let [a, b, c, d] = tv.map(|v| pts[v as usize]);
-            let (u, v, w) = (b - a, c - a, d - a);
-            let vol6 = u.dot(v.cross(w)).abs();
-            let lmax2 = u
-                .length_squared()
-                .max(v.length_squared())
-                .max(w.length_squared())
-                .max((c - b).length_squared())
-                .max((d - b).length_squared())
-                .max((d - c).length_squared());
-            let sign = if vol6 < sliver * lmax2 * lmax2.sqrt() {
-                -1.0
-            } else {
-                1.0
-            };
-            match crate::geom::predicates::circumcenter(a, b, c, d) {
-                Some(cc) if inside.contains(cc) => sign * (cc - a).length(),
-                _ => f64::NAN,
-            }
-        })
-        .collect();
-    seconds.push(("voronoi", t.elapsed().as_secs_f64()));
-
-    // 3. Per-vertex distance. The tetrahedra are split in two fixed halves accumulated on
-    // both cores and merged in a fixed order: the result does not depend on the thread
-    // count.
-    let t = Instant::now();
-    let half = tets.len() / 2;
-    let (first, second) = rayon::join(
-        || accumulate(pts, normals, &tets[..half], &radius[..half], params.method),
-        || accumulate(pts, normals, &tets[half..], &radius[half..], params.method),
-    );
-    let used = first.used + second.used;
-    let mut acc = first.acc;
-    let mut sliver_acc = first.sliver_acc;
-    for (a, b) in acc.iter_mut().zip(&second.acc) {
-        a.merge(b);
-    }
-    for (a, b) in sliver_acc.iter_mut().zip(&second.sliver_acc) {
-        a.merge(b);
-    }
-    for (a, s) in acc.iter_mut().zip(&sliver_acc) {
-        if a.count == 0 {
-            // Vertices whose every inside Voronoi vertex comes from a sliver use those, but
-            // keep the shrinking-ball radius, which does not depend on the classification.
-            let ball = a.ball;
-            *a = *s;
-            a.ball = ball;
-        }
-    }
+    let (mut distance, fallback, used) = match &inside {
+        Some(inside) => voronoi_distances(pts, &tets, inside, params, &mut seconds),
+        None => ball_distances(pts, normals, &tets, &mut seconds),
+    };
     // Duplicated positions (only possible without welding) share their vertex's cell.
     for i in 0..n {
         if let Some(v) = dt.duplicate_of(i) {
-            acc[i] = acc[v as usize];
+            distance[i] = distance[v as usize];
         }
     }
-    let mut distance: Vec<f64> = acc
-        .iter()
-        .map(|a| match (a.count, params.method) {
-            (0, _) => 0.0,
-            (c, Method::Mean) => a.sum / c as f64,
-            (_, Method::Pole) => a.max,
-            (_, Method::ShrinkingBall) => a.ball.min(a.max),
-        })
-        .collect();
-    let fallback = acc.iter().filter(|a| a.count == 0).count();
-    seconds.push(("distance", t.elapsed().as_secs_f64()));
 
     // 4. Clamp to half the thickness along -n: measured in stage 1 for the first vertices,
     // here for the rest, where only a hit closer than 2d can clamp (a segment query, pruned
@@ -344,24 +298,114 @@ fn build_with(
     })
 }
 
+/// Stages 2–3 for the methods that read the inside Voronoi vertices: the distance per
+/// vertex, the fallback count and the number of inside circumcentres used.
+fn voronoi_distances(
+    pts: &[DVec3],
+    tets: &[[u32; 4]],
+    inside: &InsideTest,
+    params: &SkeletonParams,
+    seconds: &mut Vec<(&'static str, f64)>,
+) -> (Vec<f64>, usize, usize) {
+    // 2. The circumradius if inside (negated for slivers), NaN if outside or undefined.
+    let t = Instant::now();
+    let sliver = params.sliver_ratio;
+    let radius: Vec<f64> = tets
+        .par_iter()
+        .map(|tv| {
+            let [a, b, c, d] = tv.map(|v| pts[v as usize]);
+            let (u, v, w) = (b - a, c - a, d - a);
+            let vol6 = u.dot(v.cross(w)).abs();
+            let lmax2 = u
+                .length_squared()
+                .max(v.length_squared())
+                .max(w.length_squared())
+                .max((c - b).length_squared())
+                .max((d - b).length_squared())
+                .max((d - c).length_squared());
+            let sign = if vol6 < sliver * lmax2 * lmax2.sqrt() {
+                -1.0
+            } else {
+                1.0
+            };
+            match crate::geom::predicates::circumcenter(a, b, c, d) {
+                Some(cc) if inside.contains(cc) => sign * (cc - a).length(),
+                _ => f64::NAN,
+            }
+        })
+        .collect();
+    seconds.push(("voronoi", t.elapsed().as_secs_f64()));
+
+    // 3. The tetrahedra are split in two fixed halves accumulated on both cores and merged
+    // in a fixed order: the result does not depend on the thread count.
+    let t = Instant::now();
+    let half = tets.len() / 2;
+    let n = pts.len();
+    let (first, second) = rayon::join(
+        || accumulate(n, &tets[..half], &radius[..half]),
+        || accumulate(n, &tets[half..], &radius[half..]),
+    );
+    let used = first.used + second.used;
+    let mut acc = first.acc;
+    let mut sliver_acc = first.sliver_acc;
+    for (a, b) in acc.iter_mut().zip(&second.acc) {
+        a.merge(b);
+    }
+    for (a, b) in sliver_acc.iter_mut().zip(&second.sliver_acc) {
+        a.merge(b);
+    }
+    for (a, s) in acc.iter_mut().zip(&sliver_acc) {
+        if a.count == 0 {
+            // Vertices whose every inside Voronoi vertex comes from a sliver use those.
+            *a = *s;
+        }
+    }
+    let distance = acc
+        .iter()
+        .map(|a| match (a.count, params.method) {
+            (0, _) => 0.0,
+            (c, Method::Mean) => a.sum / c as f64,
+            _ => a.max,
+        })
+        .collect();
+    let fallback = acc.iter().filter(|a| a.count == 0).count();
+    seconds.push(("distance", t.elapsed().as_secs_f64()));
+    (distance, fallback, used)
+}
+
+/// Stage 3 for [`Method::ShrinkingBall`] (no stage 2): the minimum over the Delaunay edges,
+/// in two fixed halves of the tetrahedra on both cores (a minimum does not depend on the
+/// order). Returns the distances, the fallback count and 0 circumcentres used.
+fn ball_distances(
+    pts: &[DVec3],
+    normals: &[DVec3],
+    tets: &[[u32; 4]],
+    seconds: &mut Vec<(&'static str, f64)>,
+) -> (Vec<f64>, usize, usize) {
+    let t = Instant::now();
+    let half = tets.len() / 2;
+    let (mut ball, second) = rayon::join(
+        || shrinking_ball(pts, normals, &tets[..half]),
+        || shrinking_ball(pts, normals, &tets[half..]),
+    );
+    let mut fallback = 0;
+    for (a, b) in ball.iter_mut().zip(&second) {
+        *a = a.min(*b);
+        if *a == f64::INFINITY {
+            *a = 0.0;
+            fallback += 1;
+        }
+    }
+    seconds.push(("distance", t.elapsed().as_secs_f64()));
+    (ball, fallback, 0)
+}
+
 /// Per-vertex accumulator of inside Voronoi vertices.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 struct Acc {
     sum: f64,
     max: f64,
     count: u32,
-    ball: f64,
-}
-
-impl Default for Acc {
-    fn default() -> Self {
-        Acc {
-            sum: 0.0,
-            max: 0.0,
-            count: 0,
-            ball: f64::INFINITY,
-        }
-    }
 }
 
 impl Acc {
@@ -376,7 +420,6 @@ impl Acc {
         self.sum += o.sum;
         self.max = self.max.max(o.max);
         self.count += o.count;
-        self.ball = self.ball.min(o.ball);
     }
 }
 
@@ -388,15 +431,8 @@ struct Accumulated {
 }
 
 /// Accumulates the inside circumradii `radius` of `tets` (negative for slivers, NaN when
-/// outside) on their corners, and the shrinking-ball radius when `method` needs it.
-fn accumulate(
-    pts: &[DVec3],
-    normals: &[DVec3],
-    tets: &[[u32; 4]],
-    radius: &[f64],
-    method: Method,
-) -> Accumulated {
-    let n = pts.len();
+/// outside) on their corners, for `n` vertices.
+fn accumulate(n: usize, tets: &[[u32; 4]], radius: &[f64]) -> Accumulated {
     let mut acc = vec![Acc::default(); n];
     let mut sliver_acc = vec![Acc::default(); n];
     let mut used = 0;
@@ -413,9 +449,6 @@ fn accumulate(
         for &v in tv {
             target[v as usize].add(r.abs());
         }
-    }
-    if method == Method::ShrinkingBall {
-        shrinking_ball(pts, normals, tets, &mut acc);
     }
     Accumulated {
         acc,
@@ -436,11 +469,12 @@ fn clamp(d: &mut f64, th: f64) -> bool {
     significant
 }
 
-/// Shrinking-ball radius per vertex over its Delaunay edges (see [`Method::ShrinkingBall`]).
-/// The pole distance stays an upper bound (`min` with it in the caller): the tangent ball can
-/// never be larger than the largest empty ball through `p`.
-fn shrinking_ball(pts: &[DVec3], normals: &[DVec3], tets: &[[u32; 4]], acc: &mut [Acc]) {
+/// Shrinking-ball radius per vertex over the Delaunay edges of `tets` (see
+/// [`Method::ShrinkingBall`]); infinite for a vertex with no neighbour there on the inner
+/// side of its tangent plane.
+fn shrinking_ball(pts: &[DVec3], normals: &[DVec3], tets: &[[u32; 4]]) -> Vec<f64> {
     const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
+    let mut ball = vec![f64::INFINITY; pts.len()];
     for tv in tets {
         for (i, j) in EDGES {
             let (a, b) = (tv[i] as usize, tv[j] as usize);
@@ -449,25 +483,67 @@ fn shrinking_ball(pts: &[DVec3], normals: &[DVec3], tets: &[[u32; 4]], acc: &mut
             let sa = -2.0 * normals[a].dot(d);
             if sa > 0.0 {
                 let r = len2 / sa;
-                if r < acc[a].ball {
-                    acc[a].ball = r;
+                if r < ball[a] {
+                    ball[a] = r;
                 }
             }
             let sb = 2.0 * normals[b].dot(d);
             if sb > 0.0 {
                 let r = len2 / sb;
-                if r < acc[b].ball {
-                    acc[b].ball = r;
+                if r < ball[b] {
+                    ball[b] = r;
                 }
             }
         }
     }
+    ball
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::mesh::shapes;
+
+    /// The default method, checked against its definition by brute force over all vertices
+    /// (no Delaunay edges): every ball is empty of vertices, and unless the thickness clamp
+    /// shrank it by more than 1 %, some vertex lies on it (it is the largest such ball). On a bumpy
+    /// ellipsoid, where balls are limited by the far side, by the local curvature and by
+    /// the bumps.
+    #[test]
+    fn shrinking_ball_is_the_largest_empty_tangent_ball() {
+        let mut mesh = shapes::ellipsoid(1.5, 1.0, 0.5, 24, 48);
+        let mut rng = crate::geom::hilbert::SplitMix(3);
+        for p in &mut mesh.positions {
+            let bump = 1.0 + 0.03 * ((rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64);
+            *p *= bump;
+        }
+        let normals = crate::mesh::vertex_normals(&mesh).unwrap();
+        let none = |_: &str, _: f64| {};
+        let sk = build(&mesh, &normals, &SkeletonParams::default(), &none).unwrap();
+        assert_eq!(sk.fallback, 0);
+        let pts = &mesh.positions;
+        let mut touching = 0;
+        for (i, (&d, &c)) in sk.distance.iter().zip(&sk.points).enumerate() {
+            assert!(d > 0.0, "vertex {i}");
+            let nearest = pts
+                .iter()
+                .enumerate()
+                .filter(|&(j, _)| j != i)
+                .map(|(_, q)| (*q - c).length())
+                .fold(f64::INFINITY, f64::min);
+            assert!(nearest >= d * (1.0 - 1e-9), "vertex {i}: a vertex inside");
+            // A clamp of less than 1 % is not counted as one.
+            if nearest <= d / 0.99 * (1.0 + 1e-9) {
+                touching += 1;
+            }
+        }
+        // Only clamped balls may be smaller than the largest empty one.
+        assert!(
+            touching + sk.clamped >= pts.len(),
+            "{touching} + {}",
+            sk.clamped
+        );
+    }
 
     /// The thickness of a vertex is measured either alongside the tetrahedralization
     /// (unbounded ray) or after it (a segment of length 2d): the skeleton must not depend on
