@@ -390,8 +390,8 @@ impl Delaunay {
         if self.table.len() < need {
             self.table = vec![(u64::MAX, 0); need];
         }
-        let mask = self.table.len() - 1;
-        let shift = 64 - self.table.len().trailing_zeros();
+        let mask = need - 1;
+        let shift = 64 - need.trailing_zeros();
         for ci in 0..self.created.len() {
             let nt = self.created[ci];
             let v = self.cells[nt as usize].v;
@@ -434,6 +434,29 @@ impl Delaunay {
             .filter(|c| c.v[0] != FREE && !c.v.contains(&INFINITE))
             .map(|c| c.v.map(|v| self.input_id[v as usize]))
             .collect()
+    }
+
+    /// The inserted points in insertion order (the internal ids that
+    /// [`Delaunay::finite_tets_internal`] uses) and the input index of each.
+    pub fn insertion_order(&self) -> (&[DVec3], &[u32]) {
+        (&self.pts, &self.input_id)
+    }
+
+    /// The finite tetrahedra among the records of part `part` of `parts` equal parts (in
+    /// record order), with internal vertex ids (see [`Delaunay::insertion_order`]): no
+    /// copy, and vertices close in memory are close in space, so per-vertex passes stay in
+    /// cache better than over input indices.
+    pub fn finite_tets_internal(
+        &self,
+        part: usize,
+        parts: usize,
+    ) -> impl Iterator<Item = [u32; 4]> + '_ {
+        let len = self.cells.len();
+        let (lo, hi) = (len * part / parts.max(1), len * (part + 1) / parts.max(1));
+        self.cells[lo.min(len)..hi.min(len)]
+            .iter()
+            .filter(|c| c.v[0] != FREE && !c.v.contains(&INFINITE))
+            .map(|c| c.v)
     }
 
     /// For each input point, `Some(v)` when it coincided with the input point `v` and was

@@ -235,13 +235,17 @@ fn build_with(
     );
     let dt = dt?;
     seconds.push(("tetrahedralize", t_dt));
-    seconds.push(("inside-oracle+bvh+thickness (parallel)", t_aux));
+    let aux = if inside.is_some() {
+        "inside-oracle+bvh+thickness (parallel)"
+    } else {
+        "bvh+thickness (parallel)"
+    };
+    seconds.push((aux, t_aux));
 
     // 2–3. Per-vertex distance from the cells.
-    let tets = dt.finite_tets();
-    let (mut distance, fallback, used) = match &inside {
-        Some(inside) => voronoi_distances(pts, &tets, inside, params, &mut seconds),
-        None => ball_distances(pts, normals, &tets, &mut seconds),
+    let (mut distance, fallback, used, tetrahedra) = match &inside {
+        Some(inside) => voronoi_distances(&dt, pts, inside, params, &mut seconds),
+        None => ball_distances(&dt, normals, &mut seconds),
     };
     // Duplicated positions (only possible without welding) share their vertex's cell.
     for i in 0..n {
@@ -292,21 +296,23 @@ fn build_with(
         points,
         fallback,
         clamped,
-        tetrahedra: tets.len(),
+        tetrahedra,
         inside_voronoi_vertices: used,
         seconds,
     })
 }
 
 /// Stages 2–3 for the methods that read the inside Voronoi vertices: the distance per
-/// vertex, the fallback count and the number of inside circumcentres used.
+/// vertex, the fallback count, the number of inside circumcentres used and the number of
+/// tetrahedra.
 fn voronoi_distances(
+    dt: &Delaunay,
     pts: &[DVec3],
-    tets: &[[u32; 4]],
     inside: &InsideTest,
     params: &SkeletonParams,
     seconds: &mut Vec<(&'static str, f64)>,
-) -> (Vec<f64>, usize, usize) {
+) -> (Vec<f64>, usize, usize, usize) {
+    let tets = dt.finite_tets();
     // 2. The circumradius if inside (negated for slivers), NaN if outside or undefined.
     let t = Instant::now();
     let sliver = params.sliver_ratio;
@@ -360,6 +366,12 @@ fn voronoi_distances(
             *a = *s;
         }
     }
+    // Duplicated positions (only possible without welding) share their vertex's cell.
+    for i in 0..n {
+        if let Some(v) = dt.duplicate_of(i) {
+            acc[i] = acc[v as usize];
+        }
+    }
     let distance = acc
         .iter()
         .map(|a| match (a.count, params.method) {
@@ -370,34 +382,41 @@ fn voronoi_distances(
         .collect();
     let fallback = acc.iter().filter(|a| a.count == 0).count();
     seconds.push(("distance", t.elapsed().as_secs_f64()));
-    (distance, fallback, used)
+    (distance, fallback, used, tets.len())
 }
 
 /// Stage 3 for [`Method::ShrinkingBall`] (no stage 2): the minimum over the Delaunay edges,
-/// in two fixed halves of the tetrahedra on both cores (a minimum does not depend on the
-/// order). Returns the distances, the fallback count and 0 circumcentres used.
+/// over two fixed halves of the tetrahedra on both cores (a minimum does not depend on the
+/// order), in insertion order and mapped back to input order at the end. Returns the
+/// distances, the fallback count, 0 circumcentres used and the number of tetrahedra.
 fn ball_distances(
-    pts: &[DVec3],
+    dt: &Delaunay,
     normals: &[DVec3],
-    tets: &[[u32; 4]],
     seconds: &mut Vec<(&'static str, f64)>,
-) -> (Vec<f64>, usize, usize) {
+) -> (Vec<f64>, usize, usize, usize) {
     let t = Instant::now();
-    let half = tets.len() / 2;
-    let (mut ball, second) = rayon::join(
-        || shrinking_ball(pts, normals, &tets[..half]),
-        || shrinking_ball(pts, normals, &tets[half..]),
+    let (pts, input) = dt.insertion_order();
+    let normals: Vec<DVec3> = input.iter().map(|&i| normals[i as usize]).collect();
+    let ((mut ball, count), (second, count2)) = rayon::join(
+        || shrinking_ball(pts, &normals, dt.finite_tets_internal(0, 2)),
+        || shrinking_ball(pts, &normals, dt.finite_tets_internal(1, 2)),
     );
-    let mut fallback = 0;
     for (a, b) in ball.iter_mut().zip(&second) {
         *a = a.min(*b);
-        if *a == f64::INFINITY {
-            *a = 0.0;
+    }
+    // Every input point has an internal id; duplicates (never inserted) take their
+    // vertex's distance in the caller.
+    let mut distance = vec![0.0; input.len()];
+    let mut fallback = 0;
+    for (&i, &b) in input.iter().zip(&ball) {
+        if b < f64::INFINITY {
+            distance[i as usize] = b;
+        } else if dt.duplicate_of(i as usize).is_none() {
             fallback += 1;
         }
     }
     seconds.push(("distance", t.elapsed().as_secs_f64()));
-    (ball, fallback, 0)
+    (distance, fallback, 0, count + count2)
 }
 
 /// Per-vertex accumulator of inside Voronoi vertices.
@@ -471,11 +490,17 @@ fn clamp(d: &mut f64, th: f64) -> bool {
 
 /// Shrinking-ball radius per vertex over the Delaunay edges of `tets` (see
 /// [`Method::ShrinkingBall`]); infinite for a vertex with no neighbour there on the inner
-/// side of its tangent plane.
-fn shrinking_ball(pts: &[DVec3], normals: &[DVec3], tets: &[[u32; 4]]) -> Vec<f64> {
+/// side of its tangent plane. Also returns the number of tetrahedra.
+fn shrinking_ball(
+    pts: &[DVec3],
+    normals: &[DVec3],
+    tets: impl Iterator<Item = [u32; 4]>,
+) -> (Vec<f64>, usize) {
     const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
     let mut ball = vec![f64::INFINITY; pts.len()];
+    let mut count = 0;
     for tv in tets {
+        count += 1;
         for (i, j) in EDGES {
             let (a, b) = (tv[i] as usize, tv[j] as usize);
             let d = pts[b] - pts[a];
@@ -496,7 +521,7 @@ fn shrinking_ball(pts: &[DVec3], normals: &[DVec3], tets: &[[u32; 4]]) -> Vec<f6
             }
         }
     }
-    ball
+    (ball, count)
 }
 
 #[cfg(test)]
@@ -543,6 +568,28 @@ mod tests {
             "{touching} + {}",
             sk.clamped
         );
+    }
+
+    /// A repeated position (possible without welding) is never inserted in the
+    /// tetrahedralization: it takes its twin's distance and is no fallback, in every method.
+    #[test]
+    fn a_duplicated_position_shares_its_twins_distance() {
+        let mut mesh = shapes::cube_grid(1.0, 3);
+        let mut normals = crate::mesh::vertex_normals(&mesh).unwrap();
+        mesh.positions.push(mesh.positions[5]);
+        normals.push(normals[5]);
+        let none = |_: &str, _: f64| {};
+        for method in Method::ALL {
+            let params = SkeletonParams {
+                method,
+                ..SkeletonParams::default()
+            };
+            let sk = build(&mesh, &normals, &params, &none).unwrap();
+            let last = mesh.positions.len() - 1;
+            assert_eq!(sk.fallback, 0, "{method}");
+            assert!(sk.distance[5] > 0.0, "{method}");
+            assert_eq!(sk.distance[last], sk.distance[5], "{method}");
+        }
     }
 
     /// The thickness of a vertex is measured either alongside the tetrahedralization
