@@ -22,8 +22,7 @@
 //!
 //! Stage 1 keeps one core busy with point insertion, so the other builds the inside oracle
 //! (for the methods that classify) and the BVH, and then measures `t_i` for as many
-//! vertices as it can meanwhile; stage 4 does
-//! the rest. Stages 2 and 3 use both cores. No result depends on the thread count or on how
+//! vertices as it can meanwhile; stage 4 does the rest. Stages 2 and 3 use both cores. No result depends on the thread count or on how
 //! far the overlap got (tested).
 
 pub mod cache;
@@ -243,6 +242,7 @@ fn build_with(
     seconds.push((aux, t_aux));
 
     // 2–3. Per-vertex distance from the cells.
+    progress("distance", 0.0);
     let (mut distance, fallback, used, tetrahedra) = match &inside {
         Some(inside) => voronoi_distances(&dt, pts, inside, params, &mut seconds),
         None => ball_distances(&dt, normals, &mut seconds),
