@@ -429,10 +429,8 @@ impl Delaunay {
 
     /// Finite tetrahedra (positively oriented, vertex ids are input indices).
     pub fn finite_tets(&self) -> Vec<[u32; 4]> {
-        self.cells
-            .iter()
-            .filter(|c| c.v[0] != FREE && !c.v.contains(&INFINITE))
-            .map(|c| c.v.map(|v| self.input_id[v as usize]))
+        self.finite_tets_internal(0, 1)
+            .map(|tv| tv.map(|v| self.input_id[v as usize]))
             .collect()
     }
 

@@ -247,7 +247,8 @@ fn build_with(
         Some(inside) => voronoi_distances(&dt, pts, inside, params, &mut seconds),
         None => ball_distances(&dt, normals, &mut seconds),
     };
-    // Duplicated positions (only possible without welding) share their vertex's cell.
+    // Duplicated positions (only possible without welding) share their vertex's cell;
+    // neither path counted them as fallbacks.
     for i in 0..n {
         if let Some(v) = dt.duplicate_of(i) {
             distance[i] = distance[v as usize];
@@ -366,12 +367,6 @@ fn voronoi_distances(
             *a = *s;
         }
     }
-    // Duplicated positions (only possible without welding) share their vertex's cell.
-    for i in 0..n {
-        if let Some(v) = dt.duplicate_of(i) {
-            acc[i] = acc[v as usize];
-        }
-    }
     let distance = acc
         .iter()
         .map(|a| match (a.count, params.method) {
@@ -380,7 +375,10 @@ fn voronoi_distances(
             _ => a.max,
         })
         .collect();
-    let fallback = acc.iter().filter(|a| a.count == 0).count();
+    // Duplicates (never inserted) take their vertex's distance in the caller.
+    let fallback = (0..n)
+        .filter(|&i| acc[i].count == 0 && dt.duplicate_of(i).is_none())
+        .count();
     seconds.push(("distance", t.elapsed().as_secs_f64()));
     (distance, fallback, used, tets.len())
 }
