@@ -69,13 +69,41 @@ const UNSEEN: u8 = 0;
 const IN: u8 = 1;
 const OUT: u8 = 2;
 
+/// Cavities whose boundary has fewer vertices than this (all but a few) link their new
+/// tetrahedra through a `LINK_MAX²` table indexed by local vertex numbers; larger ones sort.
+const LINK_MAX: usize = 64;
+const NO_LOCAL: u8 = u8::MAX;
+
 /// A boundary face of the cavity: its vertices (oriented towards the cavity), the tetrahedron
 /// outside it and which of that tetrahedron's neighbour slots points into the cavity.
 #[derive(Clone, Copy)]
 struct BoundaryFace {
     v: [u32; 3],
+    /// Local numbers of `v` (see [`LINK_MAX`]).
+    l: [u8; 3],
     out: u32,
     slot: u8,
+}
+
+/// Is tetrahedron `t` in conflict with (its circumsphere strictly containing) `q`?
+#[inline(always)]
+fn conflict(pts: &[DVec3], cells: &[Cell], t: u32, q: DVec3) -> bool {
+    let p = |v: u32| pts[v as usize];
+    let cell = cells[t as usize];
+    let tv = cell.v;
+    let sphere = |tv: [u32; 4]| {
+        // A tie (q cospherical) is "outside": q is the latest point (see module docs).
+        insphere(p(tv[0]), p(tv[1]), p(tv[2]), p(tv[3]), q) > 0.0
+    };
+    if let Some(k) = tv.iter().position(|&v| v == INFINITE) {
+        let f = FACE[k];
+        let o = orient3d(p(tv[f[0]]), p(tv[f[1]]), p(tv[f[2]]), q);
+        if o != 0.0 {
+            return o > 0.0;
+        }
+        return sphere(cells[cell.n[k] as usize].v);
+    }
+    sphere(tv)
 }
 
 enum Located {
@@ -99,8 +127,12 @@ pub struct Delaunay {
     cavity: Vec<u32>,
     boundary: Vec<BoundaryFace>,
     created: Vec<u32>,
-    table: Vec<(u64, u32)>,
-    table_used: Vec<u32>,
+    /// Local number of each vertex on the current cavity boundary (`NO_LOCAL` otherwise;
+    /// the last entry stands for [`INFINITE`]), and the vertices numbered.
+    local: Vec<u8>,
+    local_verts: Vec<u32>,
+    link: Vec<u32>,
+    sorted: Vec<(u64, u32)>,
 }
 
 impl Delaunay {
@@ -164,8 +196,10 @@ impl Delaunay {
             cavity: Vec::new(),
             boundary: Vec::new(),
             created: Vec::new(),
-            table: Vec::new(),
-            table_used: Vec::new(),
+            local: vec![NO_LOCAL; n + 1],
+            local_verts: Vec::new(),
+            link: vec![NONE; LINK_MAX * LINK_MAX],
+            sorted: Vec::new(),
         };
         dt.init_simplex([0, 1, 2, 3]);
         let step = (n / 64).max(1 << 14);
@@ -229,34 +263,6 @@ impl Delaunay {
             self.mark.push(UNSEEN);
             (self.cells.len() - 1) as u32
         }
-    }
-
-    /// Is tetrahedron `t` in conflict with (its circumsphere strictly containing) `q`?
-    #[inline]
-    fn conflict(&self, t: u32, q: DVec3) -> bool {
-        let cell = self.cells[t as usize];
-        let tv = cell.v;
-        if let Some(k) = tv.iter().position(|&v| v == INFINITE) {
-            let f = FACE[k];
-            let o = orient3d(self.p(tv[f[0]]), self.p(tv[f[1]]), self.p(tv[f[2]]), q);
-            if o != 0.0 {
-                return o > 0.0;
-            }
-            return self.sphere_conflict(self.cells[cell.n[k] as usize].v, q);
-        }
-        self.sphere_conflict(tv, q)
-    }
-
-    #[inline]
-    fn sphere_conflict(&self, tv: [u32; 4], q: DVec3) -> bool {
-        // A tie (q cospherical) is "outside": q is the latest point (see module docs).
-        insphere(
-            self.p(tv[0]),
-            self.p(tv[1]),
-            self.p(tv[2]),
-            self.p(tv[3]),
-            q,
-        ) > 0.0
     }
 
     fn locate(&mut self, q: DVec3) -> Located {
@@ -332,99 +338,143 @@ impl Delaunay {
                 return;
             }
         };
-        // 1. The cavity: all tetrahedra whose circumsphere contains q (a connected set).
-        self.cavity.clear();
-        self.boundary.clear();
-        self.stack.clear();
-        self.mark[t0 as usize] = IN;
-        self.cavity.push(t0);
-        self.stack.push(t0);
-        while let Some(t) = self.stack.pop() {
-            let Cell { v: tv, n: adj } = self.cells[t as usize];
+        // The fields as separate borrows, so that the loops below keep them in registers.
+        let Delaunay {
+            pts,
+            cells,
+            free,
+            mark,
+            hint,
+            stack,
+            cavity,
+            boundary,
+            created,
+            local,
+            local_verts,
+            link,
+            sorted,
+            ..
+        } = self;
+        let inf_slot = pts.len();
+        // 1. The cavity: all tetrahedra whose circumsphere contains q (a connected set), and
+        // its boundary faces, each vertex numbered locally for the linking in step 3.
+        cavity.clear();
+        boundary.clear();
+        stack.clear();
+        local_verts.clear();
+        mark[t0 as usize] = IN;
+        cavity.push(t0);
+        stack.push(t0);
+        while let Some(t) = stack.pop() {
+            let Cell { v: tv, n: adj } = cells[t as usize];
             for (j, f) in FACE.iter().enumerate() {
                 let n = adj[j];
-                let m = self.mark[n as usize];
+                let m = mark[n as usize];
                 if m == IN {
                     continue;
                 }
                 if m != OUT {
-                    if self.conflict(n, q) {
-                        self.mark[n as usize] = IN;
-                        self.cavity.push(n);
-                        self.stack.push(n);
+                    if conflict(pts, cells, n, q) {
+                        mark[n as usize] = IN;
+                        cavity.push(n);
+                        stack.push(n);
                         continue;
                     }
-                    self.mark[n as usize] = OUT;
+                    mark[n as usize] = OUT;
                 }
-                let slot = self.cells[n as usize]
+                let slot = cells[n as usize]
                     .n
                     .iter()
                     .position(|&x| x == t)
                     .unwrap_or(0) as u8;
-                self.boundary.push(BoundaryFace {
-                    v: [tv[f[0]], tv[f[1]], tv[f[2]]],
-                    out: n,
-                    slot,
+                let v = [tv[f[0]], tv[f[1]], tv[f[2]]];
+                let l = v.map(|x| {
+                    let s = &mut local[(x as usize).min(inf_slot)];
+                    if *s == NO_LOCAL && local_verts.len() < LINK_MAX {
+                        *s = local_verts.len() as u8;
+                        local_verts.push(x);
+                    }
+                    *s
                 });
+                boundary.push(BoundaryFace { v, l, out: n, slot });
             }
         }
-        // 2. Free the cavity and fill it with a fan of tetrahedra from q to its boundary.
-        for i in 0..self.cavity.len() {
-            let t = self.cavity[i];
-            self.cells[t as usize].v = [FREE; 4];
-            self.mark[t as usize] = UNSEEN;
-            self.free.push(t);
+        // 2. Fill the cavity with a fan of tetrahedra from q to its boundary, reusing the
+        // cavity's own slots first.
+        for &t in cavity.iter() {
+            mark[t as usize] = UNSEEN;
         }
-        self.created.clear();
-        for i in 0..self.boundary.len() {
-            let b = self.boundary[i];
-            self.mark[b.out as usize] = UNSEEN;
-            let nt = self.alloc([b.v[0], b.v[1], b.v[2], p]);
-            self.cells[nt as usize].n[3] = b.out;
-            self.cells[b.out as usize].n[b.slot as usize] = nt;
-            self.created.push(nt);
+        created.clear();
+        for (k, b) in boundary.iter().enumerate() {
+            mark[b.out as usize] = UNSEEN;
+            let cell = Cell {
+                v: [b.v[0], b.v[1], b.v[2], p],
+                n: [NONE, NONE, NONE, b.out],
+            };
+            let nt = if let Some(&t) = cavity.get(k) {
+                cells[t as usize] = cell;
+                t
+            } else if let Some(t) = free.pop() {
+                cells[t as usize] = cell;
+                t
+            } else {
+                cells.push(cell);
+                mark.push(UNSEEN);
+                (cells.len() - 1) as u32
+            };
+            cells[b.out as usize].n[b.slot as usize] = nt;
+            created.push(nt);
+            if !b.v.contains(&INFINITE) {
+                *hint = nt;
+            }
         }
-        // 3. Link the new tetrahedra to each other through their shared edges on the
-        // boundary: the face opposite local vertex i (i < 3) holds q and one boundary edge.
-        let need = (self.created.len() * 6).next_power_of_two().max(16);
-        if self.table.len() < need {
-            self.table = vec![(u64::MAX, 0); need];
+        for &t in cavity.iter().skip(boundary.len()) {
+            cells[t as usize].v = [FREE; 4];
+            free.push(t);
         }
-        let mask = need - 1;
-        let shift = 64 - need.trailing_zeros();
-        for ci in 0..self.created.len() {
-            let nt = self.created[ci];
-            let v = self.cells[nt as usize].v;
-            for (i, (x, y)) in [(v[1], v[2]), (v[0], v[2]), (v[0], v[1])]
-                .into_iter()
-                .enumerate()
-            {
-                let key = ((x.min(y) as u64) << 32) | x.max(y) as u64;
-                let mut h = (key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> shift) as usize & mask;
-                loop {
-                    let (k, val) = self.table[h];
-                    if k == u64::MAX {
-                        self.table[h] = (key, (nt << 2) | i as u32);
-                        self.table_used.push(h as u32);
-                        break;
-                    }
-                    if k == key {
-                        let (ot, oi) = (val >> 2, (val & 3) as usize);
-                        self.cells[nt as usize].n[i] = ot;
-                        self.cells[ot as usize].n[oi] = nt;
-                        break;
-                    }
-                    h = (h + 1) & mask;
+        // 3. Link the new tetrahedra to each other. The face opposite local vertex i (i < 3)
+        // holds q and the boundary edge (v[i+1], v[i+2]); the boundary is a consistently
+        // oriented sphere, so the neighbour across it is the tetrahedron whose boundary face
+        // holds that edge reversed. Small cavities (all but a few) use a table indexed by
+        // the local numbers of the edge's ends, larger ones sort the edges.
+        if local_verts.len() < LINK_MAX {
+            for (b, &nt) in boundary.iter().zip(created.iter()) {
+                let [l0, l1, l2] = b.l.map(usize::from);
+                link[l1 * LINK_MAX + l2] = nt;
+                link[l2 * LINK_MAX + l0] = nt;
+                link[l0 * LINK_MAX + l1] = nt;
+            }
+            for (b, &nt) in boundary.iter().zip(created.iter()) {
+                let [l0, l1, l2] = b.l.map(usize::from);
+                cells[nt as usize].n[..3].copy_from_slice(&[
+                    link[l2 * LINK_MAX + l1],
+                    link[l0 * LINK_MAX + l2],
+                    link[l1 * LINK_MAX + l0],
+                ]);
+            }
+        } else {
+            sorted.clear();
+            for (b, &nt) in boundary.iter().zip(created.iter()) {
+                let v = b.v;
+                for (i, (x, y)) in [(v[1], v[2]), (v[2], v[0]), (v[0], v[1])]
+                    .into_iter()
+                    .enumerate()
+                {
+                    let key = ((x.min(y) as u64) << 32) | x.max(y) as u64;
+                    sorted.push((key, (nt << 2) | i as u32));
                 }
             }
-            if !v.contains(&INFINITE) {
-                self.hint = nt;
+            sorted.sort_unstable();
+            for pair in sorted.chunks_exact(2) {
+                debug_assert_eq!(pair[0].0, pair[1].0, "cavity boundary not closed");
+                let [(_, a), (_, b)] = [pair[0], pair[1]];
+                cells[(a >> 2) as usize].n[(a & 3) as usize] = b >> 2;
+                cells[(b >> 2) as usize].n[(b & 3) as usize] = a >> 2;
             }
         }
-        for &h in &self.table_used {
-            self.table[h as usize].0 = u64::MAX;
+        for &x in local_verts.iter() {
+            local[(x as usize).min(inf_slot)] = NO_LOCAL;
         }
-        self.table_used.clear();
     }
 
     /// Finite tetrahedra (positively oriented, vertex ids are input indices).
