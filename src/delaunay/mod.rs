@@ -133,6 +133,9 @@ pub struct Delaunay {
     local_verts: Vec<u32>,
     link: Vec<u32>,
     sorted: Vec<(u64, u32)>,
+    /// How many insertions linked by sorting (tests check that path is exercised).
+    #[cfg(test)]
+    sorted_links: usize,
 }
 
 impl Delaunay {
@@ -200,6 +203,8 @@ impl Delaunay {
             local_verts: Vec::new(),
             link: vec![NONE; LINK_MAX * LINK_MAX],
             sorted: Vec::new(),
+            #[cfg(test)]
+            sorted_links: 0,
         };
         dt.init_simplex([0, 1, 2, 3]);
         let step = (n / 64).max(1 << 14);
@@ -353,6 +358,8 @@ impl Delaunay {
             local_verts,
             link,
             sorted,
+            #[cfg(test)]
+            sorted_links,
             ..
         } = self;
         let inf_slot = pts.len();
@@ -453,6 +460,10 @@ impl Delaunay {
                 ]);
             }
         } else {
+            #[cfg(test)]
+            {
+                *sorted_links += 1;
+            }
             sorted.clear();
             for (b, &nt) in boundary.iter().zip(created.iter()) {
                 let v = b.v;

@@ -166,3 +166,24 @@ fn larger_random_set_is_locally_delaunay() {
         "{per_point} tets per point"
     );
 }
+
+#[test]
+fn big_cavities_are_linked_by_sorting() {
+    // Points on a sphere and far corners: a corner inserted after much of the sphere sees
+    // a good part of its hull, a cavity boundary with more than LINK_MAX vertices.
+    let mut pts: Vec<DVec3> = random_points(1000, 5)
+        .into_iter()
+        .map(|p| (p - DVec3::splat(0.5)).normalize())
+        .collect();
+    for x in [-1e3, 1e3] {
+        for y in [-1e3, 1e3] {
+            for z in [-1e3, 1e3] {
+                pts.push(DVec3::new(x, y, z));
+            }
+        }
+    }
+    let dt = Delaunay::new(&pts).unwrap();
+    assert!(dt.sorted_links > 0, "the sorting path was not exercised");
+    dt.check().unwrap();
+    assert_empty_spheres(&dt, &pts);
+}
