@@ -91,19 +91,23 @@ fn conflict(pts: &[DVec3], cells: &[Cell], t: u32, q: DVec3) -> bool {
     let p = |v: u32| pts[v as usize];
     let cell = cells[t as usize];
     let tv = cell.v;
-    let sphere = |tv: [u32; 4]| {
-        // A tie (q cospherical) is "outside": q is the latest point (see module docs).
-        insphere(p(tv[0]), p(tv[1]), p(tv[2]), p(tv[3]), q) > 0.0
-    };
     if let Some(k) = tv.iter().position(|&v| v == INFINITE) {
         let f = FACE[k];
         let o = orient3d(p(tv[f[0]]), p(tv[f[1]]), p(tv[f[2]]), q);
         if o != 0.0 {
             return o > 0.0;
         }
-        return sphere(cells[cell.n[k] as usize].v);
+        return sphere_conflict(pts, cells[cell.n[k] as usize].v, q);
     }
-    sphere(tv)
+    sphere_conflict(pts, tv, q)
+}
+
+/// Does the sphere through the (positively oriented) `tv` strictly contain `q`? A tie (q
+/// cospherical) is "outside": q is the latest point (see module docs).
+#[inline(always)]
+fn sphere_conflict(pts: &[DVec3], tv: [u32; 4], q: DVec3) -> bool {
+    let p = |v: u32| pts[v as usize];
+    insphere(p(tv[0]), p(tv[1]), p(tv[2]), p(tv[3]), q) > 0.0
 }
 
 enum Located {
@@ -131,7 +135,7 @@ pub struct Delaunay {
     /// the last entry stands for [`INFINITE`]), and the vertices numbered.
     local: Vec<u8>,
     local_verts: Vec<u32>,
-    link: Vec<u32>,
+    link: Box<[u32; LINK_MAX * LINK_MAX]>,
     sorted: Vec<(u64, u32)>,
     /// How many insertions linked by sorting (tests check that path is exercised).
     #[cfg(test)]
@@ -201,7 +205,7 @@ impl Delaunay {
             created: Vec::new(),
             local: vec![NO_LOCAL; n + 1],
             local_verts: Vec::new(),
-            link: vec![NONE; LINK_MAX * LINK_MAX],
+            link: Box::new([NONE; LINK_MAX * LINK_MAX]),
             sorted: Vec::new(),
             #[cfg(test)]
             sorted_links: 0,
@@ -334,6 +338,7 @@ impl Delaunay {
         Located::Tet(self.hint)
     }
 
+    #[inline(never)]
     fn insert(&mut self, p: u32) {
         let q = self.p(p);
         let t0 = match self.locate(q) {
@@ -372,31 +377,32 @@ impl Delaunay {
         mark[t0 as usize] = IN;
         cavity.push(t0);
         stack.push(t0);
+        let (cells_s, mark_s, local_s): (&[Cell], &mut [u8], &mut [u8]) = (cells, mark, local);
         while let Some(t) = stack.pop() {
-            let Cell { v: tv, n: adj } = cells[t as usize];
+            let Cell { v: tv, n: adj } = cells_s[t as usize];
             for (j, f) in FACE.iter().enumerate() {
                 let n = adj[j];
-                let m = mark[n as usize];
+                let m = mark_s[n as usize];
                 if m == IN {
                     continue;
                 }
                 if m != OUT {
-                    if conflict(pts, cells, n, q) {
-                        mark[n as usize] = IN;
+                    if conflict(pts, cells_s, n, q) {
+                        mark_s[n as usize] = IN;
                         cavity.push(n);
                         stack.push(n);
                         continue;
                     }
-                    mark[n as usize] = OUT;
+                    mark_s[n as usize] = OUT;
                 }
-                let slot = cells[n as usize]
+                let slot = cells_s[n as usize]
                     .n
                     .iter()
                     .position(|&x| x == t)
                     .unwrap_or(0) as u8;
                 let v = [tv[f[0]], tv[f[1]], tv[f[2]]];
                 let l = v.map(|x| {
-                    let s = &mut local[(x as usize).min(inf_slot)];
+                    let s = &mut local_s[(x as usize).min(inf_slot)];
                     if *s == NO_LOCAL && local_verts.len() < LINK_MAX {
                         *s = local_verts.len() as u8;
                         local_verts.push(x);
@@ -445,19 +451,23 @@ impl Delaunay {
         // holds that edge reversed. Small cavities (all but a few) use a table indexed by
         // the local numbers of the edge's ends, larger ones sort the edges.
         if local_verts.len() < LINK_MAX {
+            // The masks change nothing (local numbers are below LINK_MAX here) but let the
+            // compiler see that every index is inside the table.
+            let at = |a: u8, b: u8| (a as usize % LINK_MAX) * LINK_MAX + (b as usize % LINK_MAX);
+            let link: &mut [u32; LINK_MAX * LINK_MAX] = link;
             for (b, &nt) in boundary.iter().zip(created.iter()) {
-                let [l0, l1, l2] = b.l.map(usize::from);
-                link[l1 * LINK_MAX + l2] = nt;
-                link[l2 * LINK_MAX + l0] = nt;
-                link[l0 * LINK_MAX + l1] = nt;
+                let [l0, l1, l2] = b.l;
+                link[at(l1, l2)] = nt;
+                link[at(l2, l0)] = nt;
+                link[at(l0, l1)] = nt;
             }
+            let cells: &mut [Cell] = cells;
             for (b, &nt) in boundary.iter().zip(created.iter()) {
-                let [l0, l1, l2] = b.l.map(usize::from);
-                cells[nt as usize].n[..3].copy_from_slice(&[
-                    link[l2 * LINK_MAX + l1],
-                    link[l0 * LINK_MAX + l2],
-                    link[l1 * LINK_MAX + l0],
-                ]);
+                let [l0, l1, l2] = b.l;
+                let n = &mut cells[nt as usize].n;
+                n[0] = link[at(l2, l1)];
+                n[1] = link[at(l0, l2)];
+                n[2] = link[at(l1, l0)];
             }
         } else {
             #[cfg(test)]

@@ -14,6 +14,23 @@
 use glam::DVec3;
 use robust::{Coord, Coord3D};
 
+/// The larger of two non-NaN values: one `maxsd`, where `f64::max` adds NaN handling.
+#[inline(always)]
+fn max2(a: f64, b: f64) -> f64 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// The largest absolute coordinate of four vectors.
+#[inline(always)]
+fn max_abs(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
+    let m = |v: DVec3| max2(max2(v.x.abs(), v.y.abs()), v.z.abs());
+    max2(max2(m(a), m(b)), max2(m(c), m(d)))
+}
+
 #[inline(always)]
 fn c3(p: DVec3) -> Coord3D<f64> {
     Coord3D {
@@ -35,7 +52,7 @@ pub fn orient3d(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
     let det = ad.z * (bd.x * cd.y - cd.x * bd.y)
         + bd.z * (cd.x * ad.y - ad.x * cd.y)
         + cd.z * (ad.x * bd.y - bd.x * ad.y);
-    let m = ad.abs().max(bd.abs()).max(cd.abs()).max_element();
+    let m = max_abs(ad, bd, cd, DVec3::ZERO);
     let bound = 45.0 * f64::EPSILON * 0.5 * m * m * m;
     if m > 1e-80 && (det > bound || -det > bound) {
         // Shewchuk's orient3d is positive when d is *below* abc (abc counter-clockwise
@@ -47,7 +64,7 @@ pub fn orient3d(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> f64 {
 
 /// Exact in-sphere test (see module docs), with a semi-static filter as in [`orient3d`]:
 /// Shewchuk's bound `(16 + 224ε)ε · permanent` with the permanent at most `72 M⁵`.
-#[inline]
+#[inline(always)]
 pub fn insphere(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> f64 {
     let (ae, be, ce, de) = (a - e, b - e, c - e, d - e);
     let ab = ae.x * be.y - be.x * ae.y;
@@ -65,12 +82,7 @@ pub fn insphere(a: DVec3, b: DVec3, c: DVec3, d: DVec3, e: DVec3) -> f64 {
     let clift = ce.length_squared();
     let dlift = de.length_squared();
     let det = (dlift * abc - clift * dab) + (blift * cda - alift * bcd);
-    let m = ae
-        .abs()
-        .max(be.abs())
-        .max(ce.abs())
-        .max(de.abs())
-        .max_element();
+    let m = max_abs(ae, be, ce, de);
     let m2 = m * m;
     let bound = 1200.0 * f64::EPSILON * 0.5 * m2 * m2 * m;
     if m > 1e-50 && (det > bound || -det > bound) {
