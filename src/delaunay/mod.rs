@@ -24,9 +24,16 @@
 //!   tetrahedron (four vertex ids and the neighbour opposite each: one cache line visit, not
 //!   two), vertices renumbered in insertion order (so the points a cavity touches were
 //!   inserted close together in time and sit close together in memory), and one byte of
-//!   cavity mark per tetrahedron, cleared after each insertion. Freed slots are reused, and
-//!   all scratch buffers live in the struct, so an insertion allocates nothing once the
+//!   cavity mark per tetrahedron, cleared after each insertion. The new tetrahedra take the
+//!   cavity's own slots first (so they stay where their neighbours already are in memory),
+//!   and all scratch buffers live in the struct, so an insertion allocates nothing once the
 //!   arrays have grown. Ids are mapped back to input indices only in the output.
+//! * **Linking without hashing.** The new tetrahedra meet each other across faces through
+//!   `q` and one edge of the cavity boundary, a consistently oriented sphere on which every
+//!   edge appears once in each direction. Boundary vertices get local numbers as the
+//!   cavity is found, and a table indexed by (local start, local end) pairs each edge with
+//!   its reverse: no probing and nothing to clear. Cavities with `LINK_MAX` (64) or more
+//!   boundary vertices (a point far outside the hull) sort their edges instead.
 //!
 //! Orientation convention: every tetrahedron `[v0, v1, v2, v3]` is positively oriented
 //! (`orient3d(v0, v1, v2, v3) > 0`), and [`FACE`]`[i]` lists the face opposite `vi` so that

@@ -241,7 +241,7 @@ thread_local! {
 /// Exact sign of the in-sphere determinant in Shewchuk's convention (positive when `e` is
 /// inside the sphere through `a, b, c, d` for his positive orientation).
 ///
-/// Two paths: in integers when the coordinates allow it ([`insphere_integer`], every case
+/// Two paths: in integers when the coordinates allow it (`insphere_integer`, every case
 /// seen on real meshes), otherwise on the differences `p − e` as expansions in a
 /// thread-local [`Arena`] (no allocation once warm).
 pub fn insphere_sign(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3], e: [f64; 3]) -> f64 {

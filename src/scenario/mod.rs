@@ -8,7 +8,7 @@
 //! `swing_seconds`, then holds still at rest pose. The rest of the mesh (the "body") is
 //! never posed: whatever moves there is dragged by the springs across the cut.
 //!
-//! [`reference`] integrates the same equations in `f64` (the accuracy reference).
+//! [`reference`](mod@reference) integrates the same equations in `f64` (the accuracy reference).
 
 pub mod reference;
 

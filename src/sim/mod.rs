@@ -489,7 +489,7 @@ impl Simulation {
     ///    with still neighbours, stops (its velocity is set to zero); a tile that moved wakes
     ///    its neighbours for the next step.
     ///
-    /// Stages 1–4 are fused into one parallel pass over the awake tiles ([`kernel`]) that
+    /// Stages 1–4 are fused into one parallel pass over the awake tiles (`kernel`) that
     /// reads the current positions and writes the new ones over the previous ones, so the
     /// result does not depend on the number of threads and nothing is allocated. A static
     /// material (see [`Params::is_static`]) skips 2–4: the surface just follows the bones.
