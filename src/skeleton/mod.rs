@@ -22,8 +22,8 @@
 //!
 //! Stage 1 keeps one core busy with point insertion, so the other builds the inside oracle
 //! (for the methods that classify) and the BVH, and then measures `t_i` for as many
-//! vertices as it can meanwhile; stage 4 does the rest. Stages 2 and 3 use both cores. No result depends on the thread count or on how
-//! far the overlap got (tested).
+//! vertices as it can meanwhile; stage 4 does the rest. Stages 2 and 3 use both cores. No
+//! result depends on the thread count or on how far the overlap got (tested).
 
 pub mod cache;
 pub mod truth;
@@ -529,9 +529,9 @@ mod tests {
 
     /// The default method, checked against its definition by brute force over all vertices
     /// (no Delaunay edges): every ball is empty of vertices, and unless the thickness clamp
-    /// shrank it by more than 1 %, some vertex lies on it (it is the largest such ball). On a bumpy
-    /// ellipsoid, where balls are limited by the far side, by the local curvature and by
-    /// the bumps.
+    /// shrank it by more than 1 %, some vertex lies on it (it is the largest such ball). On
+    /// a bumpy ellipsoid, where balls are limited by the far side, by the local curvature
+    /// and by the bumps.
     #[test]
     fn shrinking_ball_is_the_largest_empty_tangent_ball() {
         let mut mesh = shapes::ellipsoid(1.5, 1.0, 0.5, 24, 48);
