@@ -91,22 +91,112 @@ struct BoundaryFace {
     out: u32,
     slot: u8,
 }
+/// Owner of a slot in the parallel phases: a side (0 or 1) when every finite vertex of its
+/// tetrahedron lies on that side of the split plane, `MIXED` otherwise (and for free slots
+/// that belong to no worker).
+const MIXED: u8 = 2;
 
-/// Is tetrahedron `t` in conflict with (its circumsphere strictly containing) `q`?
+/// Below this many points the insertion is serial: the phases would cost more than they
+/// save (measured in `BENCHMARKS.md`).
+const PARALLEL_MIN: usize = 1 << 15;
+
+/// The tetrahedron records and their cavity marks as raw pointers, so that the two workers
+/// of a parallel phase can each write their own slots of the same arrays. Every access is
+/// bounds-checked; what keeps the accesses free of data races is the ownership rule stated
+/// on [`Worker::insert`].
+#[derive(Clone, Copy)]
+struct Tets {
+    cells: *mut Cell,
+    mark: *mut u8,
+    len: usize,
+}
+
+// SAFETY: a `Tets` is only dereferenced under the ownership rule of `Worker::insert`: while
+// several threads hold it, each reads and writes only slots that no other thread touches.
+unsafe impl Send for Tets {}
+unsafe impl Sync for Tets {}
+
+impl Tets {
+    /// A view of `cells` and `mark`, valid until either is touched through the `Vec`s again.
+    fn new(cells: &mut Vec<Cell>, mark: &mut Vec<u8>) -> Self {
+        assert_eq!(cells.len(), mark.len());
+        Tets {
+            cells: cells.as_mut_ptr(),
+            mark: mark.as_mut_ptr(),
+            len: cells.len(),
+        }
+    }
+
+    /// # Safety
+    /// The arrays are alive and no other thread writes slot `t` meanwhile.
+    #[inline(always)]
+    unsafe fn get(self, t: u32) -> Cell {
+        assert!((t as usize) < self.len);
+        *self.cells.add(t as usize)
+    }
+
+    /// # Safety
+    /// The arrays are alive and no other thread reads or writes slot `t` meanwhile.
+    #[inline(always)]
+    unsafe fn set(self, t: u32, cell: Cell) {
+        assert!((t as usize) < self.len);
+        *self.cells.add(t as usize) = cell;
+    }
+
+    /// Sets neighbour `j` of `t`. # Safety: as [`Tets::set`].
+    #[inline(always)]
+    unsafe fn set_n(self, t: u32, j: usize, n: u32) {
+        assert!((t as usize) < self.len);
+        (*self.cells.add(t as usize)).n[j & 3] = n;
+    }
+
+    /// # Safety
+    /// As [`Tets::get`].
+    #[inline(always)]
+    unsafe fn mark(self, t: u32) -> u8 {
+        assert!((t as usize) < self.len);
+        *self.mark.add(t as usize)
+    }
+
+    /// # Safety
+    /// As [`Tets::set`].
+    #[inline(always)]
+    unsafe fn set_mark(self, t: u32, m: u8) {
+        assert!((t as usize) < self.len);
+        *self.mark.add(t as usize) = m;
+    }
+}
+
+/// Is tetrahedron `t` in conflict with (its circumsphere strictly containing) `q`? `None`
+/// when answering would read a slot the worker does not own (only with `CHECKED`).
+///
+/// # Safety
+/// As [`Worker::insert`]; `t` is owned.
 #[inline(always)]
-fn conflict(pts: &[DVec3], cells: &[Cell], t: u32, q: DVec3) -> bool {
+unsafe fn conflict<const CHECKED: bool>(
+    pts: &[DVec3],
+    tets: Tets,
+    owner: &[u8],
+    side: u8,
+    t: u32,
+    q: DVec3,
+) -> Option<bool> {
     let p = |v: u32| pts[v as usize];
-    let cell = cells[t as usize];
+    let cell = tets.get(t);
     let tv = cell.v;
     if let Some(k) = tv.iter().position(|&v| v == INFINITE) {
         let f = FACE[k];
         let o = orient3d(p(tv[f[0]]), p(tv[f[1]]), p(tv[f[2]]), q);
         if o != 0.0 {
-            return o > 0.0;
+            return Some(o > 0.0);
         }
-        return sphere_conflict(pts, cells[cell.n[k] as usize].v, q);
+        let n = cell.n[k];
+        if CHECKED && owner[n as usize] != side {
+            return None;
+        }
+        return Some(sphere_conflict(pts, tets.get(n).v, q));
     }
-    sphere_conflict(pts, tv, q)
+    Some(sphere_conflict(pts, tv, q))
 }
 
 /// Does the sphere through the (positively oriented) `tv` strictly contain `q`? A tie (q
@@ -122,18 +212,28 @@ enum Located {
     Vertex(u32),
 }
 
-/// A Delaunay tetrahedralization of a point set (vertex ids are input indices).
-pub struct Delaunay {
-    /// Points in insertion order: internal vertex `k` is input point `input_id[k]`.
-    pts: Vec<DVec3>,
-    input_id: Vec<u32>,
-    cells: Vec<Cell>,
-    free: Vec<u32>,
-    mark: Vec<u8>,
+/// What became of one insertion.
+enum Outcome {
+    Inserted,
+    /// The point coincides with this vertex and was not inserted.
+    Duplicate(u32),
+    /// More free slots are needed (serial); nothing was changed.
+    NeedSlots(usize),
+    /// The insertion would touch a slot of another side, or this worker has too few free
+    /// slots (parallel); nothing was changed.
+    Blocked,
+}
+
+/// One thread's insertion state: the walk's random source and start, the free slots it may
+/// fill, and an insertion's scratch (so that an insertion allocates nothing once the buffers
+/// have grown).
+struct Worker {
+    /// The side whose slots this worker may touch in a parallel phase.
+    side: u8,
     rng: SplitMix,
+    /// A live finite tetrahedron (owned by `side` at the start of a parallel phase).
     hint: u32,
-    duplicate_of: Vec<u32>,
-    // Scratch, reused by every insertion.
+    free: Vec<u32>,
     stack: Vec<u32>,
     cavity: Vec<u32>,
     boundary: Vec<BoundaryFace>,
@@ -149,6 +249,397 @@ pub struct Delaunay {
     sorted_links: usize,
 }
 
+impl Worker {
+    fn new(side: u8, seed: u64, points: usize) -> Self {
+        Worker {
+            side,
+            rng: SplitMix(seed),
+            hint: 0,
+            free: Vec::new(),
+            stack: Vec::new(),
+            cavity: Vec::new(),
+            boundary: Vec::new(),
+            created: Vec::new(),
+            local: vec![NO_LOCAL; points + 1],
+            local_verts: Vec::new(),
+            link: Box::new([NONE; LINK_MAX * LINK_MAX]),
+            sorted: Vec::new(),
+            #[cfg(test)]
+            sorted_links: 0,
+        }
+    }
+
+    /// Finds the tetrahedron containing `q` (or an infinite one whose hull face `q` is
+    /// beyond), or the vertex at `q`: a remembering stochastic visibility walk from the
+    /// hint. `None` when the walk reaches a slot of another side (only with `CHECKED`).
+    ///
+    /// # Safety
+    /// As [`Worker::insert`].
+    unsafe fn locate<const CHECKED: bool>(
+        &mut self,
+        tets: Tets,
+        owner: &[u8],
+        pts: &[DVec3],
+        q: DVec3,
+    ) -> Option<Located> {
+        let p = |v: u32| pts[v as usize];
+        let mut t = self.hint;
+        let mut prev = NONE;
+        let limit = 4 * tets.len + 64;
+        for _ in 0..limit {
+            if CHECKED && owner[t as usize] != self.side {
+                return None;
+            }
+            let Cell { v: tv, n: adj } = tets.get(t);
+            if tv.contains(&INFINITE) {
+                return Some(Located::Tet(t));
+            }
+            let r = self.rng.next_u64() as usize;
+            let mut next = NONE;
+            for k in 0..4 {
+                let j = (r + k) & 3;
+                let n = adj[j];
+                if n == prev {
+                    continue;
+                }
+                let f = FACE[j];
+                if orient3d(p(tv[f[0]]), p(tv[f[1]]), p(tv[f[2]]), q) < 0.0 {
+                    next = n;
+                    break;
+                }
+            }
+            if next == NONE {
+                if let Some(&v) = tv.iter().find(|&&v| p(v) == q) {
+                    return Some(Located::Vertex(v));
+                }
+                return Some(Located::Tet(t));
+            }
+            prev = t;
+            t = next;
+        }
+        if CHECKED {
+            return None;
+        }
+        Some(locate_exhaustive(tets, pts, q, self.hint))
+    }
+
+    /// Inserts internal point `p` (Bowyer–Watson).
+    ///
+    /// # Safety
+    /// `tets` views live arrays and, with `CHECKED`, `owner` is as long. Without `CHECKED`,
+    /// no other thread touches the arrays. With it, the call touches (reads, writes or
+    /// marks) only slots with `owner[slot] == self.side` (it checks each before touching it
+    /// and returns [`Outcome::Blocked`] instead) plus those on its free list, which must be
+    /// free and labelled `self.side`; so threads of different sides never meet, provided
+    /// that `owner` does not change during the phase and every live tetrahedron is labelled
+    /// with the side of all its finite vertices or `MIXED`. The new tetrahedra keep that
+    /// true: their vertices are the cavity's and `p`, all on this side.
+    #[inline(never)]
+    unsafe fn insert<const CHECKED: bool>(
+        &mut self,
+        tets: Tets,
+        owner: &[u8],
+        pts: &[DVec3],
+        p: u32,
+    ) -> Outcome {
+        let q = pts[p as usize];
+        let t0 = match self.locate::<CHECKED>(tets, owner, pts, q) {
+            None => return Outcome::Blocked,
+            Some(Located::Vertex(v)) => return Outcome::Duplicate(v),
+            Some(Located::Tet(t)) => t,
+        };
+        // The fields as separate borrows, so that the loops below keep them in registers.
+        let Worker {
+            side,
+            free,
+            hint,
+            stack,
+            cavity,
+            boundary,
+            created,
+            local,
+            local_verts,
+            link,
+            sorted,
+            #[cfg(test)]
+            sorted_links,
+            ..
+        } = self;
+        let side = *side;
+        let owned = |t: u32| !CHECKED || owner[t as usize] == side;
+        let inf_slot = local.len() - 1;
+        // 1. The cavity: all tetrahedra whose circumsphere contains q (a connected set), and
+        // its boundary faces, each vertex numbered locally for the linking in step 3.
+        cavity.clear();
+        boundary.clear();
+        stack.clear();
+        local_verts.clear();
+        tets.set_mark(t0, IN);
+        cavity.push(t0);
+        stack.push(t0);
+        let local_s: &mut [u8] = local;
+        let mut blocked = false;
+        'search: while let Some(t) = stack.pop() {
+            let Cell { v: tv, n: adj } = tets.get(t);
+            for (j, f) in FACE.iter().enumerate() {
+                let n = adj[j];
+                if !owned(n) {
+                    blocked = true;
+                    break 'search;
+                }
+                let m = tets.mark(n);
+                if m == IN {
+                    continue;
+                }
+                if m != OUT {
+                    match conflict::<CHECKED>(pts, tets, owner, side, n, q) {
+                        Some(true) => {
+                            tets.set_mark(n, IN);
+                            cavity.push(n);
+                            stack.push(n);
+                            continue;
+                        }
+                        Some(false) => tets.set_mark(n, OUT),
+                        None => {
+                            blocked = true;
+                            break 'search;
+                        }
+                    }
+                }
+                let slot = tets.get(n).n.iter().position(|&x| x == t).unwrap_or(0) as u8;
+                let v = [tv[f[0]], tv[f[1]], tv[f[2]]];
+                let l = v.map(|x| {
+                    let s = &mut local_s[(x as usize).min(inf_slot)];
+                    if *s == NO_LOCAL && local_verts.len() < LINK_MAX {
+                        *s = local_verts.len() as u8;
+                        local_verts.push(x);
+                    }
+                    *s
+                });
+                boundary.push(BoundaryFace { v, l, out: n, slot });
+            }
+        }
+        // Every mark set above is on a cavity tetrahedron or a boundary face's outside one.
+        for &t in cavity.iter() {
+            tets.set_mark(t, UNSEEN);
+        }
+        for b in boundary.iter() {
+            tets.set_mark(b.out, UNSEEN);
+        }
+        let need = boundary.len().saturating_sub(cavity.len());
+        if blocked || free.len() < need {
+            for &x in local_verts.iter() {
+                local[(x as usize).min(inf_slot)] = NO_LOCAL;
+            }
+            return if blocked || CHECKED {
+                Outcome::Blocked
+            } else {
+                Outcome::NeedSlots(need)
+            };
+        }
+        // 2. Fill the cavity with a fan of tetrahedra from q to its boundary, in the
+        // cavity's own slots first, then in free ones (the last on the list first).
+        created.clear();
+        let from_free = free.len() - need;
+        let slots = cavity.iter().chain(free[from_free..].iter().rev());
+        for (b, &nt) in boundary.iter().zip(slots) {
+            tets.set(
+                nt,
+                Cell {
+                    v: [b.v[0], b.v[1], b.v[2], p],
+                    n: [NONE, NONE, NONE, b.out],
+                },
+            );
+            tets.set_n(b.out, b.slot as usize, nt);
+            created.push(nt);
+            if !b.v.contains(&INFINITE) {
+                *hint = nt;
+            }
+        }
+        free.truncate(from_free);
+        for &t in cavity.iter().skip(boundary.len()) {
+            tets.set(
+                t,
+                Cell {
+                    v: [FREE; 4],
+                    n: [NONE; 4],
+                },
+            );
+            free.push(t);
+        }
+        // 3. Link the new tetrahedra to each other. The face opposite local vertex i (i < 3)
+        // holds q and the boundary edge (v[i+1], v[i+2]); the boundary is a consistently
+        // oriented sphere, so the neighbour across it is the tetrahedron whose boundary face
+        // holds that edge reversed. Small cavities (all but a few) use a table indexed by
+        // the local numbers of the edge's ends, larger ones sort the edges.
+        if local_verts.len() < LINK_MAX {
+            // The masks change nothing (local numbers are below LINK_MAX here) but let the
+            // compiler see that every index is inside the table.
+            let at = |a: u8, b: u8| (a as usize % LINK_MAX) * LINK_MAX + (b as usize % LINK_MAX);
+            let link: &mut [u32; LINK_MAX * LINK_MAX] = link;
+            for (b, &nt) in boundary.iter().zip(created.iter()) {
+                let [l0, l1, l2] = b.l;
+                link[at(l1, l2)] = nt;
+                link[at(l2, l0)] = nt;
+                link[at(l0, l1)] = nt;
+            }
+            for (b, &nt) in boundary.iter().zip(created.iter()) {
+                let [l0, l1, l2] = b.l;
+                tets.set_n(nt, 0, link[at(l2, l1)]);
+                tets.set_n(nt, 1, link[at(l0, l2)]);
+                tets.set_n(nt, 2, link[at(l1, l0)]);
+            }
+        } else {
+            #[cfg(test)]
+            {
+                *sorted_links += 1;
+            }
+            sorted.clear();
+            for (b, &nt) in boundary.iter().zip(created.iter()) {
+                let v = b.v;
+                for (i, (x, y)) in [(v[1], v[2]), (v[2], v[0]), (v[0], v[1])]
+                    .into_iter()
+                    .enumerate()
+                {
+                    let key = ((x.min(y) as u64) << 32) | x.max(y) as u64;
+                    sorted.push((key, (nt << 2) | i as u32));
+                }
+            }
+            sorted.sort_unstable();
+            for pair in sorted.chunks_exact(2) {
+                debug_assert_eq!(pair[0].0, pair[1].0, "cavity boundary not closed");
+                let [(_, a), (_, b)] = [pair[0], pair[1]];
+                tets.set_n(a >> 2, (a & 3) as usize, b >> 2);
+                tets.set_n(b >> 2, (b & 3) as usize, a >> 2);
+            }
+        }
+        for &x in local_verts.iter() {
+            local[(x as usize).min(inf_slot)] = NO_LOCAL;
+        }
+        Outcome::Inserted
+    }
+}
+
+/// Fallback location that cannot loop: scan every tetrahedron. Never needed in a correct
+/// Delaunay triangulation (visibility walks terminate there); kept as a guard.
+///
+/// # Safety
+/// `tets` views live arrays no other thread touches.
+unsafe fn locate_exhaustive(tets: Tets, pts: &[DVec3], q: DVec3, hint: u32) -> Located {
+    log::warn!("delaunay: walk did not terminate; scanning");
+    let p = |v: u32| pts[v as usize];
+    for t in 0..tets.len as u32 {
+        let tv = tets.get(t).v;
+        if tv[0] == FREE {
+            continue;
+        }
+        if let Some(k) = tv.iter().position(|&v| v == INFINITE) {
+            let f = FACE[k];
+            if orient3d(p(tv[f[0]]), p(tv[f[1]]), p(tv[f[2]]), q) > 0.0 {
+                return Located::Tet(t);
+            }
+            continue;
+        }
+        let inside = FACE
+            .iter()
+            .all(|f| orient3d(p(tv[f[0]]), p(tv[f[1]]), p(tv[f[2]]), q) >= 0.0);
+        if inside {
+            if let Some(&v) = tv.iter().find(|&&v| p(v) == q) {
+                return Located::Vertex(v);
+            }
+            return Located::Tet(t);
+        }
+    }
+    Located::Tet(hint)
+}
+
+/// The owner label of a tetrahedron with vertices `v`, given each vertex's side.
+fn owner_of(side: &[u8], v: [u32; 4]) -> u8 {
+    if v[0] == FREE {
+        return MIXED;
+    }
+    let sides = v
+        .iter()
+        .filter(|&&x| x != INFINITE)
+        .fold(0u8, |acc, &x| acc | 1 << side[x as usize]);
+    match sides {
+        1 => 0,
+        2 => 1,
+        _ => MIXED,
+    }
+}
+
+/// Appends `add` free records (labelled `label` when labels are kept); returns the first.
+fn grow(
+    cells: &mut Vec<Cell>,
+    mark: &mut Vec<u8>,
+    owner: Option<&mut Vec<u8>>,
+    add: usize,
+    label: u8,
+) -> usize {
+    let start = cells.len();
+    let free = Cell {
+        v: [FREE; 4],
+        n: [NONE; 4],
+    };
+    cells.resize(start + add, free);
+    mark.resize(start + add, UNSEEN);
+    if let Some(owner) = owner {
+        owner.resize(start + add, label);
+    }
+    start
+}
+
+/// Is `t` a live finite tetrahedron?
+fn live_finite(cells: &[Cell], t: u32) -> bool {
+    cells
+        .get(t as usize)
+        .is_some_and(|c| c.v[0] != FREE && !c.v.contains(&INFINITE))
+}
+
+/// State of the parallel phases: the points are split by a plane into two sides; a worker
+/// per side inserts that side's points, touching only tetrahedra whose finite vertices are
+/// all on its side.
+struct Parallel {
+    /// Side of each point (internal ids).
+    side: Vec<u8>,
+    /// Owner label of each slot (see [`MIXED`]); as long as the records.
+    owner: Vec<u8>,
+    workers: [Worker; 2],
+}
+
+/// A Delaunay tetrahedralization of a point set (vertex ids are input indices).
+///
+/// # Two threads
+/// Inputs of [`PARALLEL_MIN`] points or more are inserted in phases after a serial start
+/// (the first sixteenth of the insertion order; the phases then double in size). A plane
+/// through the median of the points along their widest axis splits them into two sides;
+/// in a phase, each side's worker inserts its side's points of the phase, touching only
+/// tetrahedra whose finite vertices are all on its side (labelled before the phase). An
+/// insertion that would touch anything else (a tetrahedron straddling the plane) is
+/// deferred, and the deferred points are inserted serially after the phase, in insertion
+/// order. A worker's insertions only ever test spheres through its own side's points and
+/// earlier ones, so every test gives the answer it would give in a serial insertion of
+/// the same points in some interleaved order: the result is the Delaunay tetrahedralization
+/// (with the same tie-breaking as the serial one for each such order), and it is the same
+/// whether the workers run concurrently or one after the other, so it never depends on
+/// the thread count or on timing.
+pub struct Delaunay {
+    /// Points in insertion order: internal vertex `k` is input point `input_id[k]`.
+    pts: Vec<DVec3>,
+    input_id: Vec<u32>,
+    cells: Vec<Cell>,
+    mark: Vec<u8>,
+    duplicate_of: Vec<u32>,
+    /// The serial insertion's state.
+    serial: Worker,
+    /// Present during the parallel phases.
+    par: Option<Box<Parallel>>,
+    /// How many insertions the parallel phases deferred (tests check both paths run).
+    #[cfg(test)]
+    deferred: usize,
+}
+
 impl Delaunay {
     /// Tetrahedralizes `points`.
     ///
@@ -158,8 +649,24 @@ impl Delaunay {
         Self::with_progress(points, &|_| {})
     }
 
-    /// As [`Delaunay::new`], calling `progress(fraction)` now and then.
+    /// As [`Delaunay::new`], calling `progress(fraction)` now and then (from the calling
+    /// thread).
     pub fn with_progress(points: &[DVec3], progress: &dyn Fn(f64)) -> Result<Self, DelaunayError> {
+        let first_parallel = if points.len() >= PARALLEL_MIN {
+            points.len() / 16
+        } else {
+            points.len()
+        };
+        Self::build_phased(points, progress, first_parallel)
+    }
+
+    /// As [`Delaunay::with_progress`], with the parallel phases starting at insertion
+    /// `first_parallel` (none when it is `points.len()` or more).
+    fn build_phased(
+        points: &[DVec3],
+        progress: &dyn Fn(f64),
+        first_parallel: usize,
+    ) -> Result<Self, DelaunayError> {
         let n = points.len();
         if n < 4 {
             return Err(DelaunayError::TooFew(n));
@@ -200,30 +707,36 @@ impl Delaunay {
         let mut dt = Delaunay {
             pts: order.iter().map(|&i| points[i as usize]).collect(),
             input_id: order,
-            cells: Vec::with_capacity(7 * n),
-            free: Vec::new(),
-            mark: Vec::with_capacity(7 * n),
-            rng: SplitMix(0x1234_5678),
-            hint: 0,
+            // The parallel phases leave some slots unused: 8 per point is enough for the
+            // inputs measured (only address space until used).
+            cells: Vec::with_capacity(8 * n),
+            mark: Vec::with_capacity(8 * n),
             duplicate_of: vec![NONE; n],
-            stack: Vec::new(),
-            cavity: Vec::new(),
-            boundary: Vec::new(),
-            created: Vec::new(),
-            local: vec![NO_LOCAL; n + 1],
-            local_verts: Vec::new(),
-            link: Box::new([NONE; LINK_MAX * LINK_MAX]),
-            sorted: Vec::new(),
+            serial: Worker::new(MIXED, 0x1234_5678, n),
+            par: None,
             #[cfg(test)]
-            sorted_links: 0,
+            deferred: 0,
         };
         dt.init_simplex([0, 1, 2, 3]);
         let step = (n / 64).max(1 << 14);
-        for k in 4..n {
+        let serial_end = first_parallel.clamp(4, n);
+        for k in 4..serial_end {
             dt.insert(k as u32);
             if k % step == 0 {
                 progress(k as f64 / n as f64);
             }
+        }
+        if serial_end < n {
+            dt.start_parallel();
+            let mut lo = serial_end;
+            while lo < n {
+                // Doubling phases; a last one of less than half the previous joins it.
+                let hi = if 3 * lo > n { n } else { 2 * lo };
+                dt.phase(lo, hi);
+                progress(hi as f64 / n as f64);
+                lo = hi;
+            }
+            dt.end_parallel();
         }
         progress(1.0);
         Ok(dt)
@@ -235,10 +748,10 @@ impl Delaunay {
             std::mem::swap(&mut c, &mut d);
         }
         let t0 = [a, b, c, d];
-        let mut ids = vec![self.alloc(t0)];
+        let mut ids = vec![self.push(t0)];
         for f in FACE {
             let (x, y, z) = (t0[f[0]], t0[f[1]], t0[f[2]]);
-            ids.push(self.alloc([x, z, y, INFINITE]));
+            ids.push(self.push([x, z, y, INFINITE]));
         }
         for &t in &ids {
             for i in 0..4 {
@@ -255,7 +768,7 @@ impl Delaunay {
                 }
             }
         }
-        self.hint = ids[0];
+        self.serial.hint = ids[0];
     }
 
     fn face_key(&self, t: u32, i: usize) -> [u32; 3] {
@@ -270,239 +783,180 @@ impl Delaunay {
         self.pts[v as usize]
     }
 
-    fn alloc(&mut self, v: [u32; 4]) -> u32 {
-        if let Some(t) = self.free.pop() {
-            self.cells[t as usize].v = v;
-            t
-        } else {
-            self.cells.push(Cell { v, n: [NONE; 4] });
-            self.mark.push(UNSEEN);
-            (self.cells.len() - 1) as u32
-        }
+    fn push(&mut self, v: [u32; 4]) -> u32 {
+        self.cells.push(Cell { v, n: [NONE; 4] });
+        self.mark.push(UNSEEN);
+        (self.cells.len() - 1) as u32
     }
 
-    fn locate(&mut self, q: DVec3) -> Located {
-        let mut t = self.hint;
-        let mut prev = NONE;
-        let limit = 4 * self.cells.len() + 64;
-        for _ in 0..limit {
-            let Cell { v: tv, n: adj } = self.cells[t as usize];
-            if tv.contains(&INFINITE) {
-                return Located::Tet(t);
-            }
-            let r = self.rng.next_u64() as usize;
-            let mut next = NONE;
-            for k in 0..4 {
-                let j = (r + k) & 3;
-                let n = adj[j];
-                if n == prev {
-                    continue;
-                }
-                let f = FACE[j];
-                if orient3d(self.p(tv[f[0]]), self.p(tv[f[1]]), self.p(tv[f[2]]), q) < 0.0 {
-                    next = n;
-                    break;
-                }
-            }
-            if next == NONE {
-                if let Some(&v) = tv.iter().find(|&&v| self.p(v) == q) {
-                    return Located::Vertex(v);
-                }
-                return Located::Tet(t);
-            }
-            prev = t;
-            t = next;
-        }
-        self.locate_exhaustive(q)
-    }
-
-    /// Fallback that cannot loop: scan every tetrahedron. Never needed in a correct
-    /// Delaunay triangulation (visibility walks terminate there); kept as a guard.
-    fn locate_exhaustive(&self, q: DVec3) -> Located {
-        log::warn!("delaunay: walk did not terminate; scanning");
-        for (t, cell) in self.cells.iter().enumerate() {
-            let tv = cell.v;
-            if tv[0] == FREE {
-                continue;
-            }
-            if let Some(k) = tv.iter().position(|&v| v == INFINITE) {
-                let f = FACE[k];
-                if orient3d(self.p(tv[f[0]]), self.p(tv[f[1]]), self.p(tv[f[2]]), q) > 0.0 {
-                    return Located::Tet(t as u32);
-                }
-                continue;
-            }
-            let inside = FACE
-                .iter()
-                .all(|f| orient3d(self.p(tv[f[0]]), self.p(tv[f[1]]), self.p(tv[f[2]]), q) >= 0.0);
-            if inside {
-                if let Some(&v) = tv.iter().find(|&&v| self.p(v) == q) {
-                    return Located::Vertex(v);
-                }
-                return Located::Tet(t as u32);
-            }
-        }
-        Located::Tet(self.hint)
-    }
-
-    #[inline(never)]
+    /// Inserts internal point `p` on this thread.
     fn insert(&mut self, p: u32) {
-        let q = self.p(p);
-        let t0 = match self.locate(q) {
-            Located::Tet(t) => t,
-            Located::Vertex(v) => {
-                self.duplicate_of[self.input_id[p as usize] as usize] = self.input_id[v as usize];
-                return;
+        loop {
+            let tets = Tets::new(&mut self.cells, &mut self.mark);
+            // SAFETY: no other thread runs, and the arrays are not touched otherwise
+            // during the call.
+            let outcome = unsafe { self.serial.insert::<false>(tets, &[], &self.pts, p) };
+            match outcome {
+                Outcome::Inserted => {
+                    if let Some(par) = &mut self.par {
+                        for &t in &self.serial.created {
+                            let v = self.cells[t as usize].v;
+                            par.owner[t as usize] = owner_of(&par.side, v);
+                        }
+                    }
+                    return;
+                }
+                Outcome::Duplicate(v) => {
+                    self.duplicate_of[self.input_id[p as usize] as usize] =
+                        self.input_id[v as usize];
+                    return;
+                }
+                Outcome::NeedSlots(k) => {
+                    // Grow in chunks (few retries); the new slots go under the freed ones,
+                    // which are reused first.
+                    let add = k.max(self.cells.len() / 64).max(256);
+                    let owner = self.par.as_mut().map(|par| &mut par.owner);
+                    let start = grow(&mut self.cells, &mut self.mark, owner, add, MIXED) as u32;
+                    let fresh = (start..start + add as u32).rev();
+                    self.serial.free.splice(0..0, fresh);
+                }
+                Outcome::Blocked => return, // only with CHECKED
             }
-        };
-        // The fields as separate borrows, so that the loops below keep them in registers.
+        }
+    }
+
+    /// Splits the points by the plane through their median along the widest axis and
+    /// labels every slot (see [`Parallel`]).
+    fn start_parallel(&mut self) {
+        let n = self.pts.len();
+        let (lo, hi) = crate::mesh::bounds(&self.pts);
+        let axis = (hi - lo).max_position();
+        let mut coords: Vec<f64> = self.pts.iter().map(|p| p[axis]).collect();
+        let (_, &mut split, _) = coords.select_nth_unstable_by(n / 2, f64::total_cmp);
+        let side: Vec<u8> = self
+            .pts
+            .iter()
+            .map(|p| u8::from(p[axis] >= split))
+            .collect();
+        let owner = self.cells.iter().map(|c| owner_of(&side, c.v)).collect();
+        self.par = Some(Box::new(Parallel {
+            side,
+            owner,
+            workers: [
+                Worker::new(0, 0x0A11_CE00, n),
+                Worker::new(1, 0x0B0B_0000, n),
+            ],
+        }));
+    }
+
+    /// Inserts the points `lo..hi` (internal ids): each side's by its worker, both at
+    /// once, then the deferred ones serially.
+    fn phase(&mut self, lo: usize, hi: usize) {
         let Delaunay {
             pts,
+            input_id,
             cells,
-            free,
             mark,
-            hint,
-            stack,
-            cavity,
-            boundary,
-            created,
-            local,
-            local_verts,
-            link,
-            sorted,
-            #[cfg(test)]
-            sorted_links,
+            duplicate_of,
+            serial,
+            par,
             ..
         } = self;
-        let inf_slot = pts.len();
-        // 1. The cavity: all tetrahedra whose circumsphere contains q (a connected set), and
-        // its boundary faces, each vertex numbered locally for the linking in step 3.
-        cavity.clear();
-        boundary.clear();
-        stack.clear();
-        local_verts.clear();
-        mark[t0 as usize] = IN;
-        cavity.push(t0);
-        stack.push(t0);
-        let (cells_s, mark_s, local_s): (&[Cell], &mut [u8], &mut [u8]) = (cells, mark, local);
-        while let Some(t) = stack.pop() {
-            let Cell { v: tv, n: adj } = cells_s[t as usize];
-            for (j, f) in FACE.iter().enumerate() {
-                let n = adj[j];
-                let m = mark_s[n as usize];
-                if m == IN {
-                    continue;
+        let Some(par) = par.as_deref_mut() else {
+            return;
+        };
+        let mut seq: [Vec<u32>; 2] = [Vec::new(), Vec::new()];
+        for p in lo..hi {
+            seq[par.side[p] as usize].push(p as u32);
+        }
+        let mut deferred = Vec::new();
+        for (s, seq) in seq.iter_mut().enumerate() {
+            let worker = &mut par.workers[s];
+            // Enough free slots labelled with this side (about 6.5 new tetrahedra per point
+            // on average; a worker that runs out defers the rest).
+            let need = 8 * seq.len() + 1024;
+            if worker.free.len() < need {
+                let add = need - worker.free.len();
+                let start = grow(cells, mark, Some(&mut par.owner), add, s as u8) as u32;
+                worker.free.splice(0..0, (start..start + add as u32).rev());
+            }
+            // Walks start from a tetrahedron of this side.
+            let ours = |t: u32| live_finite(cells, t) && par.owner[t as usize] == s as u8;
+            if !ours(worker.hint) {
+                match (0..cells.len() as u32).rev().find(|&t| ours(t)) {
+                    Some(t) => worker.hint = t,
+                    None => deferred.append(seq), // nothing of this side yet
                 }
-                if m != OUT {
-                    if conflict(pts, cells_s, n, q) {
-                        mark_s[n as usize] = IN;
-                        cavity.push(n);
-                        stack.push(n);
-                        continue;
-                    }
-                    mark_s[n as usize] = OUT;
+            }
+        }
+        let tets = Tets::new(cells, mark);
+        let owner = &par.owner[..];
+        let run = |w: &mut Worker, seq: &[u32]| {
+            let (mut deferred, mut duplicates) = (Vec::new(), Vec::new());
+            for &p in seq {
+                // SAFETY: both workers hold `tets` over the same live arrays, which nothing
+                // else touches until both return; `owner` labels every slot as
+                // `Worker::insert` requires (set in `start_parallel`, kept up to date by
+                // `Delaunay::insert` and by the workers, the fresh slots above labelled with
+                // their worker's side), and each worker has its own side and free list.
+                match unsafe { w.insert::<true>(tets, owner, pts, p) } {
+                    Outcome::Inserted => {}
+                    Outcome::Duplicate(v) => duplicates.push((p, v)),
+                    Outcome::Blocked | Outcome::NeedSlots(_) => deferred.push(p),
                 }
-                let slot = cells_s[n as usize]
-                    .n
-                    .iter()
-                    .position(|&x| x == t)
-                    .unwrap_or(0) as u8;
-                let v = [tv[f[0]], tv[f[1]], tv[f[2]]];
-                let l = v.map(|x| {
-                    let s = &mut local_s[(x as usize).min(inf_slot)];
-                    if *s == NO_LOCAL && local_verts.len() < LINK_MAX {
-                        *s = local_verts.len() as u8;
-                        local_verts.push(x);
-                    }
-                    *s
-                });
-                boundary.push(BoundaryFace { v, l, out: n, slot });
             }
+            (deferred, duplicates)
+        };
+        let [w0, w1] = &mut par.workers;
+        let clock = std::time::Instant::now();
+        let ((d0, u0), (d1, u1)) = rayon::join(|| run(w0, &seq[0]), || run(w1, &seq[1]));
+        let parallel_s = clock.elapsed().as_secs_f64();
+        for (p, v) in u0.into_iter().chain(u1) {
+            duplicate_of[input_id[p as usize] as usize] = input_id[v as usize];
         }
-        // 2. Fill the cavity with a fan of tetrahedra from q to its boundary, reusing the
-        // cavity's own slots first.
-        for &t in cavity.iter() {
-            mark[t as usize] = UNSEEN;
+        deferred.extend(d0.into_iter().chain(d1));
+        deferred.sort_unstable();
+        // The serial walk starts from a tetrahedron still alive.
+        let hint = [serial.hint, w0.hint, w1.hint]
+            .into_iter()
+            .find(|&t| live_finite(cells, t))
+            .or_else(|| (0..cells.len() as u32).find(|&t| live_finite(cells, t)));
+        serial.hint = hint.unwrap_or(0);
+        #[cfg(test)]
+        {
+            self.deferred += deferred.len();
         }
-        created.clear();
-        for (k, b) in boundary.iter().enumerate() {
-            mark[b.out as usize] = UNSEEN;
-            let cell = Cell {
-                v: [b.v[0], b.v[1], b.v[2], p],
-                n: [NONE, NONE, NONE, b.out],
-            };
-            let nt = if let Some(&t) = cavity.get(k) {
-                cells[t as usize] = cell;
-                t
-            } else if let Some(t) = free.pop() {
-                cells[t as usize] = cell;
-                t
-            } else {
-                cells.push(cell);
-                mark.push(UNSEEN);
-                (cells.len() - 1) as u32
-            };
-            cells[b.out as usize].n[b.slot as usize] = nt;
-            created.push(nt);
-            if !b.v.contains(&INFINITE) {
-                *hint = nt;
-            }
+        let clock = std::time::Instant::now();
+        for &p in &deferred {
+            self.insert(p);
         }
-        for &t in cavity.iter().skip(boundary.len()) {
-            cells[t as usize].v = [FREE; 4];
-            free.push(t);
-        }
-        // 3. Link the new tetrahedra to each other. The face opposite local vertex i (i < 3)
-        // holds q and the boundary edge (v[i+1], v[i+2]); the boundary is a consistently
-        // oriented sphere, so the neighbour across it is the tetrahedron whose boundary face
-        // holds that edge reversed. Small cavities (all but a few) use a table indexed by
-        // the local numbers of the edge's ends, larger ones sort the edges.
-        if local_verts.len() < LINK_MAX {
-            // The masks change nothing (local numbers are below LINK_MAX here) but let the
-            // compiler see that every index is inside the table.
-            let at = |a: u8, b: u8| (a as usize % LINK_MAX) * LINK_MAX + (b as usize % LINK_MAX);
-            let link: &mut [u32; LINK_MAX * LINK_MAX] = link;
-            for (b, &nt) in boundary.iter().zip(created.iter()) {
-                let [l0, l1, l2] = b.l;
-                link[at(l1, l2)] = nt;
-                link[at(l2, l0)] = nt;
-                link[at(l0, l1)] = nt;
-            }
-            let cells: &mut [Cell] = cells;
-            for (b, &nt) in boundary.iter().zip(created.iter()) {
-                let [l0, l1, l2] = b.l;
-                let n = &mut cells[nt as usize].n;
-                n[0] = link[at(l2, l1)];
-                n[1] = link[at(l0, l2)];
-                n[2] = link[at(l1, l0)];
-            }
-        } else {
-            #[cfg(test)]
-            {
-                *sorted_links += 1;
-            }
-            sorted.clear();
-            for (b, &nt) in boundary.iter().zip(created.iter()) {
-                let v = b.v;
-                for (i, (x, y)) in [(v[1], v[2]), (v[2], v[0]), (v[0], v[1])]
-                    .into_iter()
-                    .enumerate()
+        log::debug!(
+            "delaunay: phase {lo}..{hi}: {} + {} points in parallel, {:.1} ms; {} deferred, {:.1} ms",
+            seq[0].len(),
+            seq[1].len(),
+            parallel_s * 1e3,
+            deferred.len(),
+            clock.elapsed().as_secs_f64() * 1e3
+        );
+    }
+
+    /// Ends the parallel phases: the workers' free slots go to the serial list.
+    fn end_parallel(&mut self) {
+        if let Some(par) = self.par.take() {
+            for w in par.workers {
+                self.serial.free.extend(w.free);
+                #[cfg(test)]
                 {
-                    let key = ((x.min(y) as u64) << 32) | x.max(y) as u64;
-                    sorted.push((key, (nt << 2) | i as u32));
+                    self.serial.sorted_links += w.sorted_links;
                 }
             }
-            sorted.sort_unstable();
-            for pair in sorted.chunks_exact(2) {
-                debug_assert_eq!(pair[0].0, pair[1].0, "cavity boundary not closed");
-                let [(_, a), (_, b)] = [pair[0], pair[1]];
-                cells[(a >> 2) as usize].n[(a & 3) as usize] = b >> 2;
-                cells[(b >> 2) as usize].n[(b & 3) as usize] = a >> 2;
-            }
         }
-        for &x in local_verts.iter() {
-            local[(x as usize).min(inf_slot)] = NO_LOCAL;
-        }
+    }
+
+    /// How many insertions linked their new tetrahedra by sorting.
+    #[cfg(test)]
+    fn sorted_links(&self) -> usize {
+        self.serial.sorted_links
     }
 
     /// Finite tetrahedra (positively oriented, vertex ids are input indices).
@@ -544,7 +998,7 @@ impl Delaunay {
 
     /// Number of live tetrahedra, infinite ones included.
     pub fn tet_count(&self) -> usize {
-        self.cells.len() - self.free.len()
+        self.cells.len() - self.serial.free.len()
     }
 
     /// Checks the structure: symmetric adjacency with matching faces, every finite

@@ -183,7 +183,101 @@ fn big_cavities_are_linked_by_sorting() {
         }
     }
     let dt = Delaunay::new(&pts).unwrap();
-    assert!(dt.sorted_links > 0, "the sorting path was not exercised");
+    assert!(dt.sorted_links() > 0, "the sorting path was not exercised");
     dt.check().unwrap();
     assert_empty_spheres(&dt, &pts);
+}
+
+/// Tetrahedralizes with the parallel phases starting at insertion `first` on a pool of
+/// `threads` threads.
+fn phased(pts: &[DVec3], first: usize, threads: usize) -> Delaunay {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(|| Delaunay::build_phased(pts, &|_| {}, first).unwrap())
+}
+
+/// The tetrahedra as a sorted list of rotated vertex quadruples: equal for equal
+/// tetrahedralizations, whatever their memory layout.
+fn canonical(dt: &Delaunay) -> Vec<[u32; 4]> {
+    let mut tets: Vec<[u32; 4]> = dt
+        .finite_tets()
+        .into_iter()
+        .map(|t| {
+            // An even permutation putting the smallest id first keeps the orientation.
+            // Even permutations: the smallest id first, then a rotation of the other three.
+            let k = (0..4).min_by_key(|&i| t[i]).unwrap_or(0);
+            let t = match k {
+                0 => t,
+                1 => [t[1], t[0], t[3], t[2]],
+                2 => [t[2], t[3], t[0], t[1]],
+                _ => [t[3], t[2], t[1], t[0]],
+            };
+            let mut rest = [t[1], t[2], t[3]];
+            let r = (0..3).min_by_key(|&i| rest[i]).unwrap_or(0);
+            rest.rotate_left(r);
+            [t[0], rest[0], rest[1], rest[2]]
+        })
+        .collect();
+    tets.sort_unstable();
+    tets
+}
+
+/// Degenerate and generic inputs tetrahedralized in parallel phases from early on (so that
+/// many insertions are deferred across the split plane) are Delaunay, the same on one
+/// thread as on two (records included), and for generic input the same tetrahedra as the
+/// serial insertion.
+#[test]
+fn parallel_phases_are_delaunay_and_do_not_depend_on_the_thread_count() {
+    let mut lattice = Vec::new();
+    for x in 0..9 {
+        for y in 0..9 {
+            for z in 0..9 {
+                lattice.push(DVec3::new(x as f64, y as f64, z as f64));
+            }
+        }
+    }
+    let mut with_duplicates = random_points(3000, 11);
+    with_duplicates.extend_from_within(..300);
+    let inputs = [
+        ("random", random_points(4000, 7), true),
+        ("lattice", lattice, false),
+        ("cube grid", shapes::cube_grid(2.0, 12).positions, false),
+        ("uv sphere", shapes::uv_sphere(1.0, 24, 48).positions, false),
+        ("icosphere", shapes::icosphere(1.0, 3).positions, false),
+        ("duplicates", with_duplicates, true),
+    ];
+    for (name, pts, generic) in inputs {
+        for first in [40, pts.len() / 16] {
+            let one = phased(&pts, first, 1);
+            let two = phased(&pts, first, 2);
+            // Local Delaunay everywhere and a valid triangulation: Delaunay.
+            one.check()
+                .unwrap_or_else(|e| panic!("{name}, from {first}: {e}"));
+            assert!(
+                one.deferred > 0 && one.deferred < pts.len() * 3 / 4,
+                "{name}, from {first}: {} deferred",
+                one.deferred
+            );
+            let records = |dt: &Delaunay| dt.cells.iter().map(|c| (c.v, c.n)).collect::<Vec<_>>();
+            assert!(
+                records(&one) == records(&two),
+                "{name}: thread count matters"
+            );
+            for i in 0..pts.len() {
+                assert_eq!(one.duplicate_of(i), two.duplicate_of(i));
+                if let Some(v) = one.duplicate_of(i) {
+                    assert_eq!(pts[v as usize], pts[i], "{name}");
+                }
+            }
+            if generic {
+                let serial = Delaunay::new(&pts).unwrap();
+                assert!(
+                    canonical(&one) == canonical(&serial),
+                    "{name}: not the serial result"
+                );
+            }
+        }
+    }
 }

@@ -96,24 +96,29 @@ pub fn hilbert_order(points: &[DVec3]) -> Vec<u32> {
     )
 }
 
-/// BRIO order of `points`: indices into `points`.
+/// BRIO order of `points`: indices into `points`. The keys are computed and sorted on all
+/// cores (the order does not depend on how many).
 pub fn brio_order(points: &[DVec3], seed: u64) -> Vec<u32> {
+    use rayon::prelude::*;
     const BITS: u32 = 16;
     const MAX_ROUND: u32 = 12;
     let q = quantizer(points, BITS);
     let mut rng = SplitMix(seed);
-    by_key(
-        points
-            .iter()
-            .enumerate()
-            .map(|(i, p)| {
-                // Round r (0 = last, biggest) with probability 2^-(r+1); earlier rounds first.
-                let round = rng.next_u64().trailing_ones().min(MAX_ROUND);
-                let key = ((MAX_ROUND - round) as u64) << 48 | hilbert_index(q(*p), BITS);
-                (key, i as u32)
-            })
-            .collect(),
-    )
+    // Round r (0 = last, biggest) with probability 2^-(r+1); earlier rounds first.
+    let rounds: Vec<u8> = (0..points.len())
+        .map(|_| rng.next_u64().trailing_ones().min(MAX_ROUND) as u8)
+        .collect();
+    let mut keys: Vec<(u64, u32)> = points
+        .par_iter()
+        .zip(rounds.par_iter())
+        .enumerate()
+        .map(|(i, (p, &round))| {
+            let key = ((MAX_ROUND - round as u32) as u64) << 48 | hilbert_index(q(*p), BITS);
+            (key, i as u32)
+        })
+        .collect();
+    keys.par_sort_unstable();
+    keys.into_iter().map(|(_, i)| i).collect()
 }
 
 #[cfg(test)]

@@ -224,6 +224,11 @@ fn build_with(
                 Overlap::Everything => true,
             };
             while thickness.len() < pts.len() && more() {
+                // The tetrahedralization's parallel phases come first (this thread runs the
+                // second worker when it is waiting).
+                if let Some(rayon::Yield::Executed) = rayon::yield_now() {
+                    continue;
+                }
                 let i = thickness.len();
                 let vi = i as u32;
                 let hit = bvh.cast(pts[i], -normals[i], t_min, |tri| tri.contains(&vi));
