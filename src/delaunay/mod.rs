@@ -35,6 +35,11 @@
 //!   its reverse: no probing and nothing to clear. Cavities with `LINK_MAX` (64) or more
 //!   boundary vertices (a point far outside the hull) sort their edges instead.
 //!
+//! * **Two threads** for inputs of 32,768 points or more: after a serial start, the points
+//!   are inserted in doubling phases by two workers, one per side of a median plane, each
+//!   touching only tetrahedra whose vertices are all on its side (see [`Delaunay`]). The
+//!   result does not depend on the thread count or on timing.
+//!
 //! Orientation convention: every tetrahedron `[v0, v1, v2, v3]` is positively oriented
 //! (`orient3d(v0, v1, v2, v3) > 0`), and [`FACE`]`[i]` lists the face opposite `vi` so that
 //! `vi` lies on its positive side.
@@ -649,13 +654,13 @@ struct Parallel {
 /// A Delaunay tetrahedralization of a point set (vertex ids are input indices).
 ///
 /// # Two threads
-/// Inputs of [`PARALLEL_MIN`] points or more are inserted in phases after a serial start
+/// Inputs of 32,768 points or more are inserted in phases after a serial start
 /// (the first sixteenth of the insertion order; the phases then double in size). A plane
 /// through the median of the points along their widest axis splits them into two sides;
-/// in a phase, each side's worker inserts its side's points of the phase, touching only
-/// tetrahedra whose finite vertices are all on its side (labelled before the phase). An
-/// insertion that would touch anything else (a tetrahedron straddling the plane) is
-/// deferred, and the deferred points are inserted serially after the phase, in insertion
+/// in a phase, each side's worker inserts its side's points of the phase, changing only
+/// tetrahedra whose finite vertices are all on its side (labelled before the phase; its
+/// walks may also pass through tetrahedra straddling the plane, which nobody changes
+/// during a phase). An insertion that would change anything else is deferred, and the deferred points are inserted serially after the phase, in insertion
 /// order. A worker's insertions only ever test spheres through its own side's points and
 /// earlier ones, so every test gives the answer it would give in a serial insertion of
 /// the same points in some interleaved order: the result is the Delaunay tetrahedralization

@@ -20,10 +20,12 @@
 //!    diameter is at most `t_i`, so `d_i ≤ t_i / 2` bounds the true medial radius and keeps
 //!    `sp_i` inside the object.
 //!
-//! Stage 1 keeps one core busy with point insertion, so the other builds the inside oracle
-//! (for the methods that classify) and the BVH, and then measures `t_i` for as many
-//! vertices as it can meanwhile; stage 4 does the rest. Stages 2 and 3 use both cores. No
-//! result depends on the thread count or on how far the overlap got (tested).
+//! During stage 1 the other core builds the inside oracle (for the methods that classify)
+//! and the BVH, then runs the tetrahedralization's second worker whenever one of its
+//! parallel phases waits for it (`rayon::yield_now`) and measures `t_i` for as many
+//! vertices as it can in between (while the tetrahedralization is serial); stage 4 does
+//! the rest. Stages 2 and 3 use both cores. No result depends on the thread count or on
+//! how far the overlap got (tested).
 
 pub mod cache;
 pub mod truth;
