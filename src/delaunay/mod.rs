@@ -149,7 +149,10 @@ impl Tets {
         *self.cells.add(t as usize) = cell;
     }
 
-    /// Sets neighbour `j` of `t`. # Safety: as [`Tets::set`].
+    /// Sets neighbour `j` of `t`.
+    ///
+    /// # Safety
+    /// As [`Tets::set`].
     #[inline(always)]
     unsafe fn set_n(self, t: u32, j: usize, n: u32) {
         assert!((t as usize) < self.len);
@@ -347,10 +350,11 @@ impl Worker {
     ///
     /// # Safety
     /// `tets` views live arrays and, with `CHECKED`, `owner` is as long. Without `CHECKED`,
-    /// no other thread touches the arrays. With it, the call touches (reads, writes or
-    /// marks) only slots with `owner[slot] == self.side` (it checks each before touching it
-    /// and returns [`Outcome::Blocked`] instead) plus those on its free list, which must be
-    /// free and labelled `self.side`; so threads of different sides never meet, provided
+    /// no other thread touches the arrays. With it, the call writes or marks only slots
+    /// with `owner[slot] == self.side` and those on its free list (which must be free and
+    /// labelled `self.side`), and reads only those and `MIXED` ones; it checks each label
+    /// before touching a slot and returns [`Outcome::Blocked`] instead. So no slot one
+    /// worker writes is touched by the other, and nobody writes a `MIXED` slot, provided
     /// that `owner` does not change during the phase and every live tetrahedron is labelled
     /// with the side of all its finite vertices or `MIXED`. The new tetrahedra keep that
     /// true: their vertices are the cavity's and `p`, all on this side.
@@ -387,6 +391,10 @@ impl Worker {
         } = self;
         let side = *side;
         let owned = |t: u32| !CHECKED || owner[t as usize] == side;
+        // The walk may end in a tetrahedron it may only read.
+        if !owned(t0) {
+            return Outcome::Blocked;
+        }
         let inf_slot = local.len() - 1;
         // 1. The cavity: all tetrahedra whose circumsphere contains q (a connected set), and
         // its boundary faces, each vertex numbered locally for the linking in step 3.
