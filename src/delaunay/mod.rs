@@ -625,16 +625,12 @@ fn live_finite(cells: &[Cell], t: u32) -> bool {
         .is_some_and(|c| c.v[0] != FREE && !c.v.contains(&INFINITE))
 }
 
-/// The plane (axis, value) through the median of points `ids` along the widest axis of
-/// their bounding box.
-fn median_plane(pts: &[DVec3], ids: Vec<u32>) -> (usize, f64) {
-    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-    for &i in &ids {
-        lo = lo.min(pts[i as usize]);
-        hi = hi.max(pts[i as usize]);
-    }
+/// The plane (axis, value) through the median of `pts` along the widest axis of their
+/// bounding box: a point is on side 1 when its coordinate is at least the value.
+fn median_plane(pts: &[DVec3]) -> (usize, f64) {
+    let (lo, hi) = crate::mesh::bounds(pts);
     let axis = (hi - lo).max_position();
-    let mut coords: Vec<f64> = ids.iter().map(|&i| pts[i as usize][axis]).collect();
+    let mut coords: Vec<f64> = pts.iter().map(|p| p[axis]).collect();
     let mid = coords.len() / 2;
     if coords.is_empty() {
         return (axis, 0.0);
@@ -647,12 +643,7 @@ fn median_plane(pts: &[DVec3], ids: Vec<u32>) -> (usize, f64) {
 /// per side inserts that side's points, touching only tetrahedra whose finite vertices are
 /// all on its side.
 struct Parallel {
-    /// The plane through the median of all points along their widest axis.
-    main_plane: (usize, f64),
-    /// The current split plane (axis, value): a point is on side 1 when its coordinate is
-    /// at least the value.
-    plane: Option<(usize, f64)>,
-    /// Side of each point (internal ids).
+    /// Side of each point (internal ids) of the [`median_plane`] of all points.
     side: Vec<u8>,
     /// Owner label of each slot (see [`MIXED`]); as long as the records.
     owner: Vec<u8>,
@@ -876,49 +867,29 @@ impl Delaunay {
         }
     }
 
-    /// Prepares the parallel phases (no labels yet).
+    /// Splits the points by their median plane and labels every slot (see [`Parallel`]);
+    /// the insertions keep the labels up to date from then on.
     fn start_parallel(&mut self) {
         let n = self.pts.len();
-        let main_plane = median_plane(&self.pts, (0..n as u32).collect());
+        let (axis, split) = median_plane(&self.pts);
+        let side: Vec<u8> = self
+            .pts
+            .par_iter()
+            .map(|p| u8::from(p[axis] >= split))
+            .collect();
+        let owner = self
+            .cells
+            .par_iter()
+            .map(|c| owner_of(&side, c.v))
+            .collect();
         self.par = Some(Box::new(Parallel {
-            main_plane,
-            plane: None,
-            side: vec![0; n],
-            owner: vec![MIXED; self.cells.len()],
+            side,
+            owner,
             workers: [
                 Worker::new(0, 0x0A11_CE00, n),
                 Worker::new(1, 0x0B0B_0000, n),
             ],
         }));
-    }
-
-    /// Splits the points by `plane` (axis, value) and labels every slot for it (see
-    /// [`Parallel`]); nothing to do if that is the current plane, whose labels are kept up
-    /// to date by every insertion.
-    fn label(&mut self, plane: (usize, f64)) {
-        let Some(par) = self.par.as_deref_mut() else {
-            return;
-        };
-        if par.plane == Some(plane) {
-            return;
-        }
-        par.plane = Some(plane);
-        let (axis, split) = plane;
-        par.side
-            .par_iter_mut()
-            .zip(self.pts.par_iter())
-            .for_each(|(s, p)| *s = u8::from(p[axis] >= split));
-        let side = &par.side[..];
-        par.owner
-            .par_iter_mut()
-            .zip(self.cells.par_iter())
-            .for_each(|(o, c)| *o = owner_of(side, c.v));
-        // Free slots on a worker's list stay its own.
-        for (s, w) in par.workers.iter().enumerate() {
-            for &t in &w.free {
-                par.owner[t as usize] = s as u8;
-            }
-        }
     }
 
     /// Inserts the points `lo..hi` (internal ids): a parallel round split by the median
@@ -927,10 +898,6 @@ impl Delaunay {
     /// inserting them serially: on Spot ×256 it deferred 39 % of them again and took as
     /// long per point as the serial insertion.)
     fn phase(&mut self, lo: usize, hi: usize) {
-        let Some(all) = self.par.as_ref().map(|par| par.main_plane) else {
-            return;
-        };
-        self.label(all);
         let deferred = self.round((lo as u32..hi as u32).collect());
         #[cfg(test)]
         {
@@ -996,7 +963,7 @@ impl Delaunay {
             for &p in seq {
                 // SAFETY: both workers hold `tets` over the same live arrays, which nothing
                 // else touches until both return; `owner` labels every slot as
-                // `Worker::insert` requires (set by `label`, kept up to date by
+                // `Worker::insert` requires (set by `start_parallel`, kept up to date by
                 // `Delaunay::insert` and by the workers, the fresh slots above labelled with
                 // their worker's side), and each worker has its own side and free list.
                 match unsafe { w.insert::<true>(tets, owner, pts, p) } {

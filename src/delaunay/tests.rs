@@ -42,17 +42,22 @@ fn random_points_satisfy_the_empty_sphere_property() {
     }
 }
 
-#[test]
-fn lattice_is_maximally_degenerate_and_still_exact() {
-    // 6x6x6 integer lattice: every cube's 8 corners are cospherical, faces coplanar.
+/// The `k × k × k` integer lattice: every cube's 8 corners are cospherical, faces coplanar.
+fn lattice(k: u32) -> Vec<DVec3> {
     let mut pts = Vec::new();
-    for x in 0..6 {
-        for y in 0..6 {
-            for z in 0..6 {
+    for x in 0..k {
+        for y in 0..k {
+            for z in 0..k {
                 pts.push(DVec3::new(x as f64, y as f64, z as f64));
             }
         }
     }
+    pts
+}
+
+#[test]
+fn lattice_is_maximally_degenerate_and_still_exact() {
+    let pts = lattice(6);
     let dt = Delaunay::new(&pts).unwrap();
     dt.check().unwrap();
     assert_empty_spheres(&dt, &pts);
@@ -230,19 +235,11 @@ fn canonical(dt: &Delaunay) -> Vec<[u32; 4]> {
 /// serial insertion.
 #[test]
 fn parallel_phases_are_delaunay_and_do_not_depend_on_the_thread_count() {
-    let mut lattice = Vec::new();
-    for x in 0..9 {
-        for y in 0..9 {
-            for z in 0..9 {
-                lattice.push(DVec3::new(x as f64, y as f64, z as f64));
-            }
-        }
-    }
     let mut with_duplicates = random_points(3000, 11);
     with_duplicates.extend_from_within(..300);
     let inputs = [
         ("random", random_points(4000, 7), true),
-        ("lattice", lattice, false),
+        ("lattice", lattice(9), false),
         ("cube grid", shapes::cube_grid(2.0, 12).positions, false),
         ("uv sphere", shapes::uv_sphere(1.0, 24, 48).positions, false),
         ("icosphere", shapes::icosphere(1.0, 3).positions, false),
