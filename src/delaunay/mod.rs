@@ -1045,6 +1045,20 @@ impl Delaunay {
             .map(|c| c.v)
     }
 
+    /// TEMP all live
+    pub fn live_tets_internal(
+        &self,
+        part: usize,
+        parts: usize,
+    ) -> impl Iterator<Item = [u32; 4]> + '_ {
+        let len = self.cells.len();
+        let (lo, hi) = (len * part / parts.max(1), len * (part + 1) / parts.max(1));
+        self.cells[lo.min(len)..hi.min(len)]
+            .iter()
+            .filter(|c| c.v[0] != FREE)
+            .map(|c| c.v)
+    }
+
     /// For each input point, `Some(v)` when it coincided with the input point `v` and was
     /// not inserted.
     pub fn duplicate_of(&self, point: usize) -> Option<u32> {

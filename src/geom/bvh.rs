@@ -1,5 +1,8 @@
 //! A bounding volume hierarchy over triangles for nearest-hit ray casts (median split on the
-//! widest centroid axis, flattened depth-first, leaves of at most four triangles).
+//! widest centroid axis, flattened depth-first, leaves of at most four triangles stored
+//! contiguously, boxes fitted bottom-up). Casts keep each pushed node's entry distance, so
+//! no box is tested twice, and the slab test is conservative: a ray through a box's corner
+//! or along its face still enters it.
 
 use glam::DVec3;
 
@@ -16,7 +19,10 @@ struct Node {
 /// BVH over a triangle soup (positions are copied, so the BVH owns its data).
 pub struct Bvh {
     nodes: Vec<Node>,
+    /// Input index of each triangle, in leaf order.
     order: Vec<u32>,
+    /// Corners and vertex ids of each triangle, in leaf order (a leaf's triangles are
+    /// contiguous).
     tris: Vec<[DVec3; 3]>,
     ids: Vec<[u32; 3]>,
 }
@@ -31,21 +37,43 @@ pub struct Hit {
 impl Bvh {
     /// Builds the hierarchy for `triangles` over `positions`.
     pub fn new(positions: &[DVec3], triangles: &[[u32; 3]]) -> Self {
-        let tris: Vec<[DVec3; 3]> = triangles
+        // Splits look only at centroids, kept small and contiguous (`f32` is plenty to
+        // choose a split: the boxes themselves are exact, computed bottom-up from the
+        // triangles).
+        let mut prims: Vec<Prim> = triangles
             .iter()
-            .map(|t| t.map(|i| positions[i as usize]))
+            .enumerate()
+            .map(|(i, t)| {
+                let c = (positions[t[0] as usize]
+                    + positions[t[1] as usize]
+                    + positions[t[2] as usize])
+                    / 3.0;
+                Prim {
+                    c: c.as_vec3().to_array(),
+                    i: i as u32,
+                }
+            })
             .collect();
-        let centroids: Vec<DVec3> = tris.iter().map(|t| (t[0] + t[1] + t[2]) / 3.0).collect();
-        let mut order: Vec<u32> = (0..tris.len() as u32).collect();
-        let mut nodes = Vec::with_capacity(2 * tris.len() / 3 + 1);
-        if !tris.is_empty() {
-            build(&mut nodes, &mut order, 0, &tris, &centroids);
+        let mut nodes = Vec::with_capacity(2 * triangles.len() / 3 + 1);
+        let order: Vec<u32>;
+        let tris: Vec<[DVec3; 3]>;
+        if triangles.is_empty() {
+            order = Vec::new();
+            tris = Vec::new();
+        } else {
+            build(&mut nodes, &mut prims, 0);
+            order = prims.iter().map(|p| p.i).collect();
+            tris = order
+                .iter()
+                .map(|&i| triangles[i as usize].map(|v| positions[v as usize]))
+                .collect();
+            fit(&mut nodes, 0, &tris);
         }
         Bvh {
             nodes,
-            order,
+            ids: order.iter().map(|&i| triangles[i as usize]).collect(),
             tris,
-            ids: triangles.to_vec(),
+            order,
         }
     }
 
@@ -73,48 +101,71 @@ impl Bvh {
         if self.nodes.is_empty() {
             return None;
         }
+        // Most rays have no zero direction component: their slab tests need no NaN care.
+        if dir.recip().is_finite() {
+            self.traverse::<false>(origin, dir, t_min, t_max, skip)
+        } else {
+            self.traverse::<true>(origin, dir, t_min, t_max, skip)
+        }
+    }
+
+    /// [`Bvh::cast_within`] with the slab test for an infinite `1 / dir` component or not.
+    fn traverse<const AXIAL: bool>(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        t_min: f64,
+        t_max: f64,
+        skip: impl Fn(&[u32; 3]) -> bool,
+    ) -> Option<Hit> {
         let inv = dir.recip();
         let mut best = Hit {
             t: t_max,
             triangle: u32::MAX,
         };
-        let mut stack = [0u32; 64];
+        // Nodes to visit with their entry distances (compared again when popped: the best
+        // hit may have come closer since).
+        let mut stack = [(0u32, 0.0f64); 64];
+        stack[0] = (0, slab::<AXIAL>(&self.nodes[0], origin, inv));
         let mut sp = 1;
         while sp > 0 {
             sp -= 1;
-            let idx = stack[sp] as usize;
-            let node = &self.nodes[idx];
-            if slab(node, origin, inv) >= best.t {
+            let (idx, enter) = stack[sp];
+            if enter >= best.t {
                 continue;
             }
+            let node = &self.nodes[idx as usize];
             if node.count > 0 {
                 let s = node.start as usize;
-                for &ti in &self.order[s..s + node.count as usize] {
-                    if skip(&self.ids[ti as usize]) {
+                for k in s..s + node.count as usize {
+                    if skip(&self.ids[k]) {
                         continue;
                     }
-                    if let Some(t) = intersect(&self.tris[ti as usize], origin, dir) {
+                    if let Some(t) = intersect(&self.tris[k], origin, dir) {
                         if t > t_min && t < best.t {
-                            best = Hit { t, triangle: ti };
+                            best = Hit {
+                                t,
+                                triangle: self.order[k],
+                            };
                         }
                     }
                 }
             } else {
                 // Depth is at most log2(n) + 1 < 63, so two more slots always fit.
-                let (l, r) = (idx as u32 + 1, node.start);
-                let tl = slab(&self.nodes[l as usize], origin, inv);
-                let tr = slab(&self.nodes[r as usize], origin, inv);
+                let (l, r) = (idx + 1, node.start);
+                let tl = slab::<AXIAL>(&self.nodes[l as usize], origin, inv);
+                let tr = slab::<AXIAL>(&self.nodes[r as usize], origin, inv);
                 let (near, far, tn, tf) = if tl <= tr {
                     (l, r, tl, tr)
                 } else {
                     (r, l, tr, tl)
                 };
                 if tf < best.t {
-                    stack[sp] = far;
+                    stack[sp] = (far, tf);
                     sp += 1;
                 }
                 if tn < best.t {
-                    stack[sp] = near;
+                    stack[sp] = (near, tn);
                     sp += 1;
                 }
             }
@@ -123,38 +174,35 @@ impl Bvh {
     }
 }
 
-/// Entry distance of the ray into a node's box, `INFINITY` when missed.
+/// Entry distance of the ray into a node's box, `INFINITY` when missed. Conservative: a
+/// box the ray only grazes counts as hit.
+///
+/// `AXIAL`: some component of `inv` is infinite (a zero direction component). The slab then
+/// gives ±∞ when the origin's coordinate is outside it, and NaN (0 · ∞) when the origin
+/// lies in one of its planes, where the whole line lies in the closed slab: NaN means
+/// unbounded. Without `AXIAL` no NaN can arise.
 #[inline]
-fn slab(node: &Node, origin: DVec3, inv: DVec3) -> f64 {
-    let t0 = (node.lo - origin) * inv;
-    let t1 = (node.hi - origin) * inv;
+fn slab<const AXIAL: bool>(node: &Node, origin: DVec3, inv: DVec3) -> f64 {
+    let mut t0 = (node.lo - origin) * inv;
+    let mut t1 = (node.hi - origin) * inv;
+    let (mut u0, mut u1) = (t0, t1);
+    if AXIAL {
+        let (n0, n1) = (t0.is_nan_mask(), t1.is_nan_mask());
+        t0 = DVec3::select(n0, DVec3::NEG_INFINITY, t0);
+        t1 = DVec3::select(n1, DVec3::NEG_INFINITY, t1);
+        u0 = DVec3::select(n0, DVec3::INFINITY, u0);
+        u1 = DVec3::select(n1, DVec3::INFINITY, u1);
+    }
     let tmin = t0.min(t1);
-    let tmax = t0.max(t1);
-    // 0 * inf gives NaN for rays parallel to a slab through its plane: ignore that axis.
-    let enter = fmax(fmax(tmin.x, tmin.y), fmax(tmin.z, 0.0));
-    let exit = fmin(fmin(tmax.x, tmax.y), tmax.z);
+    let tmax = u0.max(u1);
+    let enter = tmin.x.max(tmin.y).max(tmin.z.max(0.0));
+    // Widened by a few ulps, the rounding of the products above: a ray through a corner or
+    // an edge of the box (a vertex of the mesh) must not miss it.
+    let exit = tmax.x.min(tmax.y).min(tmax.z) * (1.0 + 1e-15);
     if enter <= exit {
         enter
     } else {
         f64::INFINITY
-    }
-}
-
-#[inline]
-fn fmax(a: f64, b: f64) -> f64 {
-    if a > b || b.is_nan() {
-        a
-    } else {
-        b
-    }
-}
-
-#[inline]
-fn fmin(a: f64, b: f64) -> f64 {
-    if a < b || b.is_nan() {
-        a
-    } else {
-        b
     }
 }
 
@@ -183,52 +231,73 @@ pub fn intersect(tri: &[DVec3; 3], origin: DVec3, dir: DVec3) -> Option<f64> {
     Some(e2.dot(q) * inv)
 }
 
-fn build(
-    nodes: &mut Vec<Node>,
-    order: &mut [u32],
-    offset: u32,
-    tris: &[[DVec3; 3]],
-    centroids: &[DVec3],
-) -> usize {
-    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-    let (mut clo, mut chi) = (lo, hi);
-    for &i in order.iter() {
-        for p in tris[i as usize] {
-            lo = lo.min(p);
-            hi = hi.max(p);
-        }
-        let c = centroids[i as usize];
-        clo = clo.min(c);
-        chi = chi.max(c);
-    }
+/// A triangle while building: its centroid and input index.
+#[derive(Clone, Copy)]
+struct Prim {
+    c: [f32; 3],
+    i: u32,
+}
+
+/// Splits `prims` (placed from `offset` on in the final order) at the median centroid along
+/// the widest axis of the centroids, down to leaves of at most four; returns the node's
+/// index. The boxes are left for [`fit`].
+fn build(nodes: &mut Vec<Node>, prims: &mut [Prim], offset: u32) -> usize {
     let me = nodes.len();
     nodes.push(Node {
-        lo,
-        hi,
+        lo: DVec3::ZERO,
+        hi: DVec3::ZERO,
         start: offset,
-        count: order.len() as u32,
+        count: prims.len() as u32,
     });
-    let ext = chi - clo;
-    if order.len() <= 4 || ext.max_element() == 0.0 {
+    if prims.len() <= 4 {
         return me;
     }
-    let axis = if ext.x >= ext.y && ext.x >= ext.z {
+    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for p in prims.iter() {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p.c[k]);
+            hi[k] = hi[k].max(p.c[k]);
+        }
+    }
+    let ext = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
+    if ext.iter().all(|&e| e <= 0.0) {
+        return me;
+    }
+    let axis = if ext[0] >= ext[1] && ext[0] >= ext[2] {
         0
-    } else if ext.y >= ext.z {
+    } else if ext[1] >= ext[2] {
         1
     } else {
         2
     };
-    let mid = order.len() / 2;
-    order.select_nth_unstable_by(mid, |a, b| {
-        centroids[*a as usize][axis].total_cmp(&centroids[*b as usize][axis])
-    });
-    let (left, right) = order.split_at_mut(mid);
-    build(nodes, left, offset, tris, centroids);
-    let r = build(nodes, right, offset + mid as u32, tris, centroids);
+    let mid = prims.len() / 2;
+    prims.select_nth_unstable_by(mid, |a, b| a.c[axis].total_cmp(&b.c[axis]));
+    let (left, right) = prims.split_at_mut(mid);
+    build(nodes, left, offset);
+    let r = build(nodes, right, offset + mid as u32);
     nodes[me].start = r as u32;
     nodes[me].count = 0;
     me
+}
+
+/// Sets the boxes of the subtree at `idx` from its triangles (`tris` in leaf order),
+/// bottom-up; returns the subtree's box.
+fn fit(nodes: &mut [Node], idx: usize, tris: &[[DVec3; 3]]) -> (DVec3, DVec3) {
+    let node = nodes[idx];
+    let (lo, hi) = if node.count > 0 {
+        let s = node.start as usize;
+        tris[s..s + node.count as usize].iter().flatten().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), &p| (lo.min(p), hi.max(p)),
+        )
+    } else {
+        let (al, ah) = fit(nodes, idx + 1, tris);
+        let (bl, bh) = fit(nodes, node.start as usize, tris);
+        (al.min(bl), ah.max(bh))
+    };
+    nodes[idx].lo = lo;
+    nodes[idx].hi = hi;
+    (lo, hi)
 }
 
 #[cfg(test)]
@@ -251,5 +320,59 @@ mod tests {
         assert!(bvh
             .cast(DVec3::new(-3.0, 5.0, 0.0), DVec3::X, 0.0, |_| false)
             .is_none());
+    }
+
+    /// The nearest hit over the hierarchy is the nearest over all triangles, for unbounded
+    /// rays and segments, on a cube grid (axis-aligned faces, rays parallel to them and
+    /// running in their planes: the slab test's 0 × ∞ case) and on a bumpy sphere.
+    /// Regression: a ray lying in a plane of a box's face used to miss the box (NaN taken
+    /// as a bound), so a ray along a grid line of a cube missed the opposite face.
+    #[test]
+    fn casts_match_brute_force() {
+        let mut bumpy = shapes::icosphere(1.0, 3);
+        let mut rng = crate::geom::hilbert::SplitMix(11);
+        let mut unit = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        for p in &mut bumpy.positions {
+            *p *= 1.0 + 0.2 * unit();
+        }
+        for mesh in [shapes::cube_grid(1.0, 4), bumpy] {
+            let bvh = Bvh::new(&mesh.positions, &mesh.triangles);
+            let tris: Vec<[DVec3; 3]> = mesh
+                .triangles
+                .iter()
+                .map(|t| t.map(|i| mesh.positions[i as usize]))
+                .collect();
+            let mut rays: Vec<(DVec3, DVec3)> = Vec::new();
+            for (i, &p) in mesh.positions.iter().enumerate() {
+                for dir in [
+                    DVec3::X,
+                    -DVec3::Y,
+                    DVec3::Z,
+                    -p,
+                    DVec3::new(1.0, 2.0, -0.5),
+                ] {
+                    rays.push((p, dir));
+                    rays.push((p * (0.3 + 0.05 * (i % 7) as f64), dir));
+                }
+            }
+            for (origin, dir) in rays {
+                for t_max in [0.05, 0.4, f64::INFINITY] {
+                    let expected = tris
+                        .iter()
+                        .filter_map(|t| intersect(t, origin, dir))
+                        .filter(|&t| t > 1e-9 && t < t_max)
+                        .fold(f64::INFINITY, f64::min);
+                    let got = bvh
+                        .cast_within(origin, dir, 1e-9, t_max, |_| false)
+                        .map_or(f64::INFINITY, |h| h.t);
+                    // Two triangles meeting where the ray crosses give hits that differ by
+                    // rounding, and a box may prune the nearer one by an ulp.
+                    assert!(
+                        got == expected || (got - expected).abs() <= 1e-12 * expected,
+                        "{origin} {dir} {t_max}: {got} against {expected}"
+                    );
+                }
+            }
+        }
     }
 }
