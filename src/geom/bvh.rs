@@ -37,6 +37,13 @@ pub struct Hit {
 impl Bvh {
     /// Builds the hierarchy for `triangles` over `positions`.
     pub fn new(positions: &[DVec3], triangles: &[[u32; 3]]) -> Self {
+        Self::with_poll(positions, triangles, &|| {})
+    }
+
+    /// As [`Bvh::new`], calling `poll()` every few thousand triangles of work, so that a
+    /// caller sharing the thread can run more urgent work in between (the skeleton runs
+    /// the tetrahedralization's second worker there).
+    pub fn with_poll(positions: &[DVec3], triangles: &[[u32; 3]], poll: &dyn Fn()) -> Self {
         // Splits look only at centroids, kept small and contiguous (`f32` is plenty to
         // choose a split: the boxes themselves are exact, computed bottom-up from the
         // triangles).
@@ -61,12 +68,17 @@ impl Bvh {
             order = Vec::new();
             tris = Vec::new();
         } else {
-            build(&mut nodes, &mut prims, 0);
+            build(&mut nodes, &mut prims, 0, poll);
             order = prims.iter().map(|p| p.i).collect();
-            tris = order
-                .iter()
-                .map(|&i| triangles[i as usize].map(|v| positions[v as usize]))
-                .collect();
+            let mut leaf_order = Vec::with_capacity(order.len());
+            for chunk in order.chunks(POLL_EVERY) {
+                poll();
+                let corners = chunk
+                    .iter()
+                    .map(|&i| triangles[i as usize].map(|v| positions[v as usize]));
+                leaf_order.extend(corners);
+            }
+            tris = leaf_order;
             fit(&mut nodes, 0, &tris);
         }
         Bvh {
@@ -231,6 +243,9 @@ pub fn intersect(tri: &[DVec3; 3], origin: DVec3, dir: DVec3) -> Option<f64> {
     Some(e2.dot(q) * inv)
 }
 
+/// Triangles of work between two calls of the `poll` of [`Bvh::with_poll`].
+const POLL_EVERY: usize = 4096;
+
 /// A triangle while building: its centroid and input index.
 #[derive(Clone, Copy)]
 struct Prim {
@@ -241,7 +256,7 @@ struct Prim {
 /// Splits `prims` (placed from `offset` on in the final order) at the median centroid along
 /// the widest axis of the centroids, down to leaves of at most four; returns the node's
 /// index. The boxes are left for [`fit`].
-fn build(nodes: &mut Vec<Node>, prims: &mut [Prim], offset: u32) -> usize {
+fn build(nodes: &mut Vec<Node>, prims: &mut [Prim], offset: u32, poll: &dyn Fn()) -> usize {
     let me = nodes.len();
     nodes.push(Node {
         lo: DVec3::ZERO,
@@ -251,6 +266,9 @@ fn build(nodes: &mut Vec<Node>, prims: &mut [Prim], offset: u32) -> usize {
     });
     if prims.len() <= 4 {
         return me;
+    }
+    if prims.len() >= POLL_EVERY {
+        poll();
     }
     let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
     for p in prims.iter() {
@@ -273,8 +291,8 @@ fn build(nodes: &mut Vec<Node>, prims: &mut [Prim], offset: u32) -> usize {
     let mid = prims.len() / 2;
     prims.select_nth_unstable_by(mid, |a, b| a.c[axis].total_cmp(&b.c[axis]));
     let (left, right) = prims.split_at_mut(mid);
-    build(nodes, left, offset);
-    let r = build(nodes, right, offset + mid as u32);
+    build(nodes, left, offset, poll);
+    let r = build(nodes, right, offset + mid as u32, poll);
     nodes[me].start = r as u32;
     nodes[me].count = 0;
     me

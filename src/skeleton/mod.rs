@@ -21,10 +21,10 @@
 //!    `sp_i` inside the object.
 //!
 //! During stage 1 the other core builds the inside oracle (for the methods that classify)
-//! and the BVH, then runs the tetrahedralization's second worker whenever one of its
-//! parallel phases waits for it (`rayon::yield_now`) and measures `t_i` for as many
-//! vertices as it can in between (while the tetrahedralization is serial); stage 4 does
-//! the rest. Stages 2 and 3 use both cores. No result depends on the thread count or on
+//! and the BVH, then measures `t_i` for as many vertices as it can while the
+//! tetrahedralization is serial; whenever one of its parallel phases waits for a second
+//! worker, this core runs it first (`rayon::yield_now`, between rays and every few
+//! thousand triangles of the BVH build). Stage 4 does the rest. Stages 2 and 3 use both cores. No result depends on the thread count or on
 //! how far the overlap got (tested).
 
 pub mod cache;
@@ -210,12 +210,18 @@ fn build_with(
         },
         || {
             let t = Instant::now();
+            // The tetrahedralization's parallel phases come first (this thread runs the
+            // second worker when it is waiting).
+            let bvh = || {
+                Bvh::with_poll(pts, &mesh.triangles, &|| {
+                    rayon::yield_now();
+                })
+            };
             let (inside, bvh) = if params.method.needs_oracle() {
-                let (i, b) =
-                    rayon::join(|| InsideTest::new(mesh), || Bvh::new(pts, &mesh.triangles));
+                let (i, b) = rayon::join(|| InsideTest::new(mesh), bvh);
                 (Some(i), b)
             } else {
-                (None, Bvh::new(pts, &mesh.triangles))
+                (None, bvh())
             };
             let mut thickness = Vec::with_capacity(pts.len());
             let more = || match overlap {
@@ -226,8 +232,6 @@ fn build_with(
                 Overlap::Everything => true,
             };
             while thickness.len() < pts.len() && more() {
-                // The tetrahedralization's parallel phases come first (this thread runs the
-                // second worker when it is waiting).
                 if let Some(rayon::Yield::Executed) = rayon::yield_now() {
                     continue;
                 }
@@ -402,10 +406,11 @@ fn ball_distances(
     let t = Instant::now();
     let (pts, input) = dt.insertion_order();
     let normals: Vec<DVec3> = input.iter().map(|&i| normals[i as usize]).collect();
-    let ((mut ball, count), (second, count2)) = rayon::join(
-        || shrinking_ball(pts, &normals, dt.finite_tets_internal(0, 2)),
-        || shrinking_ball(pts, &normals, dt.finite_tets_internal(1, 2)),
-    );
+    let half = |part| {
+        let tets = grouped_by_newest(pts.len(), || dt.finite_tets_internal(part, 2));
+        shrinking_ball(pts, &normals, &tets)
+    };
+    let ((mut ball, count), (second, count2)) = rayon::join(|| half(0), || half(1));
     for (a, b) in ball.iter_mut().zip(&second) {
         *a = a.min(*b);
     }
@@ -493,19 +498,39 @@ fn clamp(d: &mut f64, th: f64) -> bool {
     significant
 }
 
+/// The tetrahedra of `tets` (called twice) over `n` vertices, grouped by their newest vertex
+/// in blocks of 1024 (a counting sort). The records come in slot order, which scatters
+/// neighbouring tetrahedra; grouped, consecutive ones share vertices, whose data then stays
+/// in cache (the shrinking ball over Spot ×256 went from 449 to 370 ms with the sort).
+fn grouped_by_newest<I: Iterator<Item = [u32; 4]>>(
+    n: usize,
+    tets: impl Fn() -> I,
+) -> Vec<[u32; 4]> {
+    const SHIFT: u32 = 10;
+    let block = |tv: &[u32; 4]| (tv[0].max(tv[1]).max(tv[2]).max(tv[3]) >> SHIFT) as usize;
+    let mut start = vec![0usize; (n >> SHIFT) + 2];
+    for tv in tets() {
+        start[block(&tv) + 1] += 1;
+    }
+    for b in 1..start.len() {
+        start[b] += start[b - 1];
+    }
+    let mut grouped = vec![[0u32; 4]; start[start.len() - 1]];
+    for tv in tets() {
+        let slot = &mut start[block(&tv)];
+        grouped[*slot] = tv;
+        *slot += 1;
+    }
+    grouped
+}
+
 /// Shrinking-ball radius per vertex over the Delaunay edges of `tets` (see
 /// [`Method::ShrinkingBall`]); infinite for a vertex with no neighbour there on the inner
 /// side of its tangent plane. Also returns the number of tetrahedra.
-fn shrinking_ball(
-    pts: &[DVec3],
-    normals: &[DVec3],
-    tets: impl Iterator<Item = [u32; 4]>,
-) -> (Vec<f64>, usize) {
+fn shrinking_ball(pts: &[DVec3], normals: &[DVec3], tets: &[[u32; 4]]) -> (Vec<f64>, usize) {
     const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
     let mut ball = vec![f64::INFINITY; pts.len()];
-    let mut count = 0;
     for tv in tets {
-        count += 1;
         for (i, j) in EDGES {
             let (a, b) = (tv[i] as usize, tv[j] as usize);
             let d = pts[b] - pts[a];
@@ -526,7 +551,7 @@ fn shrinking_ball(
             }
         }
     }
-    (ball, count)
+    (ball, tets.len())
 }
 
 #[cfg(test)]
