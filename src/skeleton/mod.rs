@@ -212,17 +212,19 @@ fn build_with(
             let t = Instant::now();
             // The tetrahedralization's parallel phases come first (this thread runs the
             // second worker when it is waiting).
-            let bvh = || {
-                Bvh::with_poll(pts, &mesh.triangles, &|| {
-                    rayon::yield_now();
-                })
+            let poll = || {
+                rayon::yield_now();
             };
+            let bvh = || Bvh::with_poll(pts, &mesh.triangles, &poll);
             let (inside, bvh) = if params.method.needs_oracle() {
                 let (i, b) = rayon::join(|| InsideTest::new(mesh), bvh);
                 (Some(i), b)
             } else {
                 (None, bvh())
             };
+            // How far each ray must look: twice a bound on `d` where the method has one.
+            let reach = (params.method == Method::ShrinkingBall)
+                .then(|| ring_bounds(pts, normals, &mesh.triangles, &poll));
             let mut thickness = Vec::with_capacity(pts.len());
             let more = || match overlap {
                 Overlap::UntilTetrahedralized => !dt_done.load(Ordering::Relaxed),
@@ -237,8 +239,10 @@ fn build_with(
                 }
                 let i = thickness.len();
                 let vi = i as u32;
-                let hit = bvh.cast(pts[i], -normals[i], t_min, |tri| tri.contains(&vi));
-                thickness.push(hit.map_or(f64::INFINITY, |h| h.t));
+                let reach = reach.as_ref().map_or(f64::INFINITY, |r| r[i]);
+                let hit =
+                    bvh.cast_within(pts[i], -normals[i], t_min, reach, |tri| tri.contains(&vi));
+                thickness.push((hit.map_or(f64::INFINITY, |h| h.t), reach));
             }
             ((inside, bvh, thickness), t.elapsed().as_secs_f64())
         },
@@ -266,33 +270,33 @@ fn build_with(
         }
     }
 
-    // 4. Clamp to half the thickness along -n: measured in stage 1 for the first vertices,
-    // here for the rest, where only a hit closer than 2d can clamp (a segment query, pruned
-    // to the local scale). Both give the same answer.
+    // 4. Clamp to half the thickness along -n: only a hit closer than 2d can clamp. Stage 1
+    // measured the first vertices up to their reach (enough unless d exceeds its bound,
+    // which exact arithmetic rules out, so only by rounding or a degenerate tie); the
+    // others get a segment query of length 2d here, pruned to the local scale. Both give
+    // the same answer.
     let t = Instant::now();
     progress("thickness", 0.0);
-    let measured = thickness.len();
-    let (head, tail) = distance.split_at_mut(measured);
-    let clamped_head: usize = head
-        .iter_mut()
-        .zip(&thickness)
-        .map(|(d, &th)| usize::from(clamp(d, th)))
-        .sum();
-    let clamped_tail: usize = tail
+    let clamped: usize = distance
         .par_iter_mut()
         .enumerate()
-        .map(|(j, d)| {
+        .map(|(i, d)| {
             if *d == 0.0 {
                 return 0;
             }
-            let i = measured + j;
-            let vi = i as u32;
-            let reach = 2.0 * *d;
-            let hit = bvh.cast_within(pts[i], -normals[i], t_min, reach, |tri| tri.contains(&vi));
-            usize::from(clamp(d, hit.map_or(f64::INFINITY, |h| h.t)))
+            let th = match thickness.get(i) {
+                Some(&(th, reach)) if 2.0 * *d <= reach => th,
+                _ => {
+                    let vi = i as u32;
+                    let hit = bvh.cast_within(pts[i], -normals[i], t_min, 2.0 * *d, |tri| {
+                        tri.contains(&vi)
+                    });
+                    hit.map_or(f64::INFINITY, |h| h.t)
+                }
+            };
+            usize::from(clamp(d, th))
         })
         .sum();
-    let clamped = clamped_head + clamped_tail;
     seconds.push(("thickness", t.elapsed().as_secs_f64()));
 
     let points = pts
@@ -484,6 +488,42 @@ fn accumulate(n: usize, tets: &[[u32; 4]], radius: &[f64]) -> Accumulated {
         sliver_acc,
         used,
     }
+}
+
+/// For every vertex, twice an upper bound on its shrinking-ball radius, slightly widened:
+/// the ball is empty of every vertex, so it is no larger than the ball that any one vertex
+/// limits, here its mesh neighbours (infinite where none lies on the inner side). A median
+/// of 1.4–1.5 times the radius on Spot ×256 and scorpion ×16, so a thickness ray cast
+/// before the radius is known can stop there: 3.0 → 1.9 µs per ray on Spot ×256. Calls
+/// `poll()` every few thousand triangles.
+fn ring_bounds(
+    pts: &[DVec3],
+    normals: &[DVec3],
+    triangles: &[[u32; 3]],
+    poll: &dyn Fn(),
+) -> Vec<f64> {
+    let mut bound = vec![f64::INFINITY; pts.len()];
+    for chunk in triangles.chunks(4096) {
+        poll();
+        for tri in chunk {
+            for k in 0..3 {
+                let a = tri[k] as usize;
+                for q in [tri[(k + 1) % 3], tri[(k + 2) % 3]] {
+                    let d = pts[q as usize] - pts[a];
+                    let s = -2.0 * normals[a].dot(d);
+                    if s > 0.0 {
+                        bound[a] = bound[a].min(d.length_squared() / s);
+                    }
+                }
+            }
+        }
+    }
+    // The same expression as the radius, but the radius may come from another neighbour
+    // that rounds differently: a margin far above rounding keeps the bound safe.
+    for b in &mut bound {
+        *b *= 2.0 * (1.0 + 1e-9);
+    }
+    bound
 }
 
 /// Limits `d` to half the thickness `th` (skipping `d = 0`, the fallback); true when that
