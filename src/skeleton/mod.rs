@@ -640,6 +640,29 @@ mod tests {
         );
     }
 
+    /// The mesh-neighbour bound that shortens the thickness rays cast during the
+    /// tetrahedralization holds (twice every shrinking-ball radius), and is not loose
+    /// everywhere (or the shortcut would be worthless), on a bumpy ellipsoid.
+    #[test]
+    fn ring_bounds_bound_the_shrinking_ball() {
+        let mut mesh = shapes::ellipsoid(1.5, 1.0, 0.5, 24, 48);
+        let mut rng = crate::geom::hilbert::SplitMix(5);
+        for p in &mut mesh.positions {
+            *p *= 1.0 + 0.03 * ((rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64);
+        }
+        let normals = crate::mesh::vertex_normals(&mesh).unwrap();
+        let none = |_: &str, _: f64| {};
+        let sk = build(&mesh, &normals, &SkeletonParams::default(), &none).unwrap();
+        let bound = ring_bounds(&mesh.positions, &normals, &mesh.triangles, &|| {});
+        let mut tight = 0;
+        for (i, (&d, &b)) in sk.distance.iter().zip(&bound).enumerate() {
+            assert!(2.0 * d <= b, "vertex {i}: 2d = {} > {b}", 2.0 * d);
+            tight += usize::from(b < 6.0 * d);
+        }
+        // The bounded radius is within 3 times the radius for most vertices.
+        assert!(tight > sk.distance.len() / 2, "{tight} tight bounds");
+    }
+
     /// A repeated position (possible without welding) is never inserted in the
     /// tetrahedralization: it takes its twin's distance and is no fallback, in every method.
     #[test]
