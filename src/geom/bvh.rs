@@ -40,9 +40,9 @@ impl Bvh {
         Self::with_poll(positions, triangles, &|| {})
     }
 
-    /// As [`Bvh::new`], calling `poll()` every few thousand triangles of work, so that a
-    /// caller sharing the thread can run more urgent work in between (the skeleton runs
-    /// the tetrahedralization's second worker there).
+    /// As [`Bvh::new`], calling `poll()` every few thousand triangles of the splitting and
+    /// copying (most of the work), so that a caller sharing the thread can run more urgent
+    /// work in between (the skeleton runs the tetrahedralization's second worker there).
     pub fn with_poll(positions: &[DVec3], triangles: &[[u32; 3]], poll: &dyn Fn()) -> Self {
         // Splits look only at centroids, kept small and contiguous (`f32` is plenty to
         // choose a split: the boxes themselves are exact, computed bottom-up from the

@@ -24,8 +24,8 @@
 //! and the BVH, then measures `t_i` for as many vertices as it can while the
 //! tetrahedralization is serial; whenever one of its parallel phases waits for a second
 //! worker, this core runs it first (`rayon::yield_now`, between rays and every few
-//! thousand triangles of the BVH build). Stage 4 does the rest. Stages 2 and 3 use both cores. No result depends on the thread count or on
-//! how far the overlap got (tested).
+//! thousand triangles of the BVH build). Stage 4 does the rest. Stages 2 and 3 use both
+//! cores. No result depends on the thread count or on how far the overlap got (tested).
 
 pub mod cache;
 pub mod truth;
@@ -599,6 +599,17 @@ mod tests {
     use super::*;
     use crate::mesh::shapes;
 
+    /// A 1.5:1:0.5 ellipsoid whose vertices are pushed out by up to 3 % at random, so that
+    /// balls are limited by the far side, by the local curvature and by the bumps.
+    fn bumpy_ellipsoid(seed: u64) -> Mesh {
+        let mut mesh = shapes::ellipsoid(1.5, 1.0, 0.5, 24, 48);
+        let mut rng = crate::geom::hilbert::SplitMix(seed);
+        for p in &mut mesh.positions {
+            *p *= 1.0 + 0.03 * ((rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64);
+        }
+        mesh
+    }
+
     /// The default method, checked against its definition by brute force over all vertices
     /// (no Delaunay edges): every ball is empty of vertices, and unless the thickness clamp
     /// shrank it by more than 1 %, some vertex lies on it (it is the largest such ball). On
@@ -606,12 +617,7 @@ mod tests {
     /// and by the bumps.
     #[test]
     fn shrinking_ball_is_the_largest_empty_tangent_ball() {
-        let mut mesh = shapes::ellipsoid(1.5, 1.0, 0.5, 24, 48);
-        let mut rng = crate::geom::hilbert::SplitMix(3);
-        for p in &mut mesh.positions {
-            let bump = 1.0 + 0.03 * ((rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64);
-            *p *= bump;
-        }
+        let mesh = bumpy_ellipsoid(3);
         let normals = crate::mesh::vertex_normals(&mesh).unwrap();
         let none = |_: &str, _: f64| {};
         let sk = build(&mesh, &normals, &SkeletonParams::default(), &none).unwrap();
@@ -645,11 +651,7 @@ mod tests {
     /// everywhere (or the shortcut would be worthless), on a bumpy ellipsoid.
     #[test]
     fn ring_bounds_bound_the_shrinking_ball() {
-        let mut mesh = shapes::ellipsoid(1.5, 1.0, 0.5, 24, 48);
-        let mut rng = crate::geom::hilbert::SplitMix(5);
-        for p in &mut mesh.positions {
-            *p *= 1.0 + 0.03 * ((rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64);
-        }
+        let mesh = bumpy_ellipsoid(5);
         let normals = crate::mesh::vertex_normals(&mesh).unwrap();
         let none = |_: &str, _: f64| {};
         let sk = build(&mesh, &normals, &SkeletonParams::default(), &none).unwrap();
