@@ -625,20 +625,15 @@ fn live_finite(cells: &[Cell], t: u32) -> bool {
         .is_some_and(|c| c.v[0] != FREE && !c.v.contains(&INFINITE))
 }
 
-/// The plane (axis, value) through the median of `pts` along `axis`: a point is on side 1
-/// when its coordinate is at least the value.
-fn median_plane(pts: &[DVec3], axis: usize) -> (usize, f64) {
+/// The side of each point of `pts` of the plane through their median along `axis`: side 1
+/// when the coordinate is at least the median.
+fn median_sides(pts: &[DVec3], axis: usize) -> Vec<u8> {
     let mut coords: Vec<f64> = pts.iter().map(|p| p[axis]).collect();
     let mid = coords.len() / 2;
-    if coords.is_empty() {
-        return (axis, 0.0);
-    }
-    let (_, &mut split, _) = coords.select_nth_unstable_by(mid, f64::total_cmp);
-    (axis, split)
-}
-
-/// Side of each point of `pts` for the plane `(axis, split)` of [`median_plane`].
-fn sides(pts: &[DVec3], (axis, split): (usize, f64)) -> Vec<u8> {
+    let split = match coords.is_empty() {
+        true => 0.0,
+        false => *coords.select_nth_unstable_by(mid, f64::total_cmp).1,
+    };
     pts.par_iter().map(|p| u8::from(p[axis] >= split)).collect()
 }
 
@@ -646,8 +641,8 @@ fn sides(pts: &[DVec3], (axis, split): (usize, f64)) -> Vec<u8> {
 /// per side inserts that side's points, touching only tetrahedra whose finite vertices are
 /// all on its side.
 struct Parallel {
-    /// Side of each point (internal ids) of the [`median_plane`] of all points chosen by
-    /// [`Delaunay::start_parallel`].
+    /// Side of each point (internal ids) of the median plane chosen by
+    /// [`Delaunay::start_parallel`] (see [`median_sides`]).
     side: Vec<u8>,
     /// Owner label of each slot (see [`MIXED`]); as long as the records.
     owner: Vec<u8>,
@@ -889,7 +884,7 @@ impl Delaunay {
                 .count()
         };
         let side = (0..3)
-            .map(|axis| sides(&self.pts, median_plane(&self.pts, axis)))
+            .map(|axis| median_sides(&self.pts, axis))
             .min_by_key(|side| cut(side))
             .unwrap_or_default();
         let owner = self

@@ -114,23 +114,25 @@ impl Bvh {
             return None;
         }
         // Most rays have no zero direction component: their slab tests need no NaN care.
-        if dir.recip().is_finite() {
-            self.traverse::<false>(origin, dir, t_min, t_max, skip)
+        let inv = dir.recip();
+        if inv.is_finite() {
+            self.traverse::<false>(origin, dir, inv, t_min, t_max, skip)
         } else {
-            self.traverse::<true>(origin, dir, t_min, t_max, skip)
+            self.traverse::<true>(origin, dir, inv, t_min, t_max, skip)
         }
     }
 
-    /// [`Bvh::cast_within`] with the slab test for an infinite `1 / dir` component or not.
+    /// [`Bvh::cast_within`] with the slab test for an infinite component of `inv = 1 / dir`
+    /// or not.
     fn traverse<const AXIAL: bool>(
         &self,
         origin: DVec3,
         dir: DVec3,
+        inv: DVec3,
         t_min: f64,
         t_max: f64,
         skip: impl Fn(&[u32; 3]) -> bool,
     ) -> Option<Hit> {
-        let inv = dir.recip();
         let mut best = Hit {
             t: t_max,
             triangle: u32::MAX,
