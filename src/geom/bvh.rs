@@ -89,6 +89,25 @@ impl Bvh {
         }
     }
 
+    /// The `n` vertices in the order their triangles first appear in the leaves, vertices of
+    /// no triangle last: spatially coherent, so consecutive casts from them visit the same
+    /// nodes (on koala ×16, whose input order is not coherent, casts in this order take a
+    /// third less time). Calls `poll()` every few thousand triangles.
+    pub fn vertex_order(&self, n: usize, poll: &dyn Fn()) -> Vec<u32> {
+        let mut seen = vec![false; n];
+        let mut order = Vec::with_capacity(n);
+        for chunk in self.ids.chunks(POLL_EVERY) {
+            poll();
+            for &v in chunk.iter().flatten() {
+                if !std::mem::replace(&mut seen[v as usize], true) {
+                    order.push(v);
+                }
+            }
+        }
+        order.extend((0..n as u32).filter(|&v| !seen[v as usize]));
+        order
+    }
+
     /// Nearest hit with `t > t_min`, skipping triangles for which `skip(vertex ids)` holds.
     pub fn cast(
         &self,
@@ -347,6 +366,20 @@ mod tests {
     /// running in their planes: the slab test's 0 × ∞ case) and on a bumpy sphere.
     /// Regression: a ray lying in a plane of a box's face used to miss the box (NaN taken
     /// as a bound), so a ray along a grid line of a cube missed the opposite face.
+    #[test]
+    fn vertex_order_is_a_permutation_led_by_the_first_leaf() {
+        let m = shapes::icosphere(1.0, 3);
+        let n = m.positions.len();
+        // Two extra vertices that no triangle uses come last.
+        let bvh = Bvh::new(&m.positions, &m.triangles);
+        let order = bvh.vertex_order(n + 2, &|| {});
+        assert_eq!(&order[n..], &[n as u32, n as u32 + 1]);
+        let mut sorted = order.clone();
+        sorted.sort_unstable();
+        assert_eq!(sorted, (0..n as u32 + 2).collect::<Vec<_>>());
+        assert_eq!(&order[..3], &bvh.ids[0]);
+    }
+
     #[test]
     fn casts_match_brute_force() {
         let mut bumpy = shapes::icosphere(1.0, 3);

@@ -201,7 +201,7 @@ fn build_with(
     let pts = &mesh.positions;
     let t_min = 1e-9 * mesh.diagonal();
     let dt_done = AtomicBool::new(false);
-    let ((dt, t_dt), ((inside, bvh, thickness), t_aux)) = rayon::join(
+    let ((dt, t_dt), ((inside, bvh, order, thickness), t_aux)) = rayon::join(
         || {
             let t = Instant::now();
             let dt = Delaunay::with_progress(pts, &|f| progress("tetrahedralize", f));
@@ -225,6 +225,8 @@ fn build_with(
             // How far each ray must look: twice a bound on `d` where the method has one.
             let reach = (params.method == Method::ShrinkingBall)
                 .then(|| ring_bounds(pts, normals, &mesh.triangles, &poll));
+            // Rays in a spatially coherent order share the nodes they visit.
+            let order = bvh.vertex_order(pts.len(), &poll);
             let mut thickness = Vec::with_capacity(pts.len());
             let more = || match overlap {
                 Overlap::UntilTetrahedralized => !dt_done.load(Ordering::Relaxed),
@@ -237,14 +239,14 @@ fn build_with(
                 if let Some(rayon::Yield::Executed) = rayon::yield_now() {
                     continue;
                 }
-                let i = thickness.len();
-                let vi = i as u32;
+                let vi = order[thickness.len()];
+                let i = vi as usize;
                 let reach = reach.as_ref().map_or(f64::INFINITY, |r| r[i]);
                 let hit =
                     bvh.cast_within(pts[i], -normals[i], t_min, reach, |tri| tri.contains(&vi));
                 thickness.push((hit.map_or(f64::INFINITY, |h| h.t), reach));
             }
-            ((inside, bvh, thickness), t.elapsed().as_secs_f64())
+            ((inside, bvh, order, thickness), t.elapsed().as_secs_f64())
         },
     );
     let dt = dt?;
@@ -277,26 +279,34 @@ fn build_with(
     // the same answer.
     let t = Instant::now();
     progress("thickness", 0.0);
-    let clamped: usize = distance
-        .par_iter_mut()
+    // Casts in `order`, as in stage 1; `thickness` holds the first ones.
+    let th: Vec<f64> = order
+        .par_iter()
         .enumerate()
-        .map(|(i, d)| {
-            if *d == 0.0 {
-                return 0;
+        .map(|(k, &vi)| {
+            let i = vi as usize;
+            let d = distance[i];
+            if d == 0.0 {
+                return f64::INFINITY;
             }
-            let th = match thickness.get(i) {
-                Some(&(th, reach)) if 2.0 * *d <= reach => th,
+            match thickness.get(k) {
+                Some(&(th, reach)) if 2.0 * d <= reach => th,
                 _ => {
-                    let vi = i as u32;
-                    let hit = bvh.cast_within(pts[i], -normals[i], t_min, 2.0 * *d, |tri| {
-                        tri.contains(&vi)
-                    });
+                    let hit = bvh
+                        .cast_within(pts[i], -normals[i], t_min, 2.0 * d, |tri| tri.contains(&vi));
                     hit.map_or(f64::INFINITY, |h| h.t)
                 }
-            };
-            usize::from(clamp(d, th))
+            }
         })
-        .sum();
+        .collect();
+    let mut clamped = 0;
+    for (&i, th) in order.iter().zip(th) {
+        clamped += usize::from(clamp(&mut distance[i as usize], th));
+    }
+    log::debug!(
+        "thickness: {} of {n} vertices measured during the tetrahedralization, {clamped} clamped",
+        thickness.len()
+    );
     seconds.push(("thickness", t.elapsed().as_secs_f64()));
 
     let points = pts
