@@ -330,6 +330,9 @@ impl Worker {
             }
             if next == NONE {
                 if blocked {
+                    // The next walk starts here, near this point (where the next points
+                    // are): `t` is finite and this side's or `MIXED`.
+                    self.hint = t;
                     return None;
                 }
                 if let Some(&v) = tv.iter().find(|&&v| p(v) == q) {
@@ -392,7 +395,11 @@ impl Worker {
         let side = *side;
         let owned = |t: u32| !CHECKED || owner[t as usize] == side;
         // The walk may end in a tetrahedron it may only read.
+        let finite = |t: u32| !tets.get(t).v.contains(&INFINITE);
         if !owned(t0) {
+            if finite(t0) {
+                *hint = t0;
+            }
             return Outcome::Blocked;
         }
         let inf_slot = local.len() - 1;
@@ -458,6 +465,9 @@ impl Worker {
         if blocked || free.len() < need {
             for &x in local_verts.iter() {
                 local[(x as usize).min(inf_slot)] = NO_LOCAL;
+            }
+            if finite(t0) {
+                *hint = t0;
             }
             return if blocked || CHECKED {
                 Outcome::Blocked
