@@ -241,7 +241,8 @@ struct Worker {
     /// The side whose slots this worker may touch in a parallel phase.
     side: u8,
     rng: SplitMix,
-    /// A live finite tetrahedron (owned by `side` at the start of a parallel phase).
+    /// A live finite tetrahedron this worker may read (in a parallel phase, one of its
+    /// side's or a `MIXED` one).
     hint: u32,
     free: Vec<u32>,
     stack: Vec<u32>,
