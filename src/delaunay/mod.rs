@@ -865,6 +865,18 @@ impl Delaunay {
                     return;
                 }
                 Outcome::NeedSlots(k) => {
+                    // Between parallel rounds, from the workers' spare slots first: free,
+                    // and relabelled above once used. Growing could move the whole array
+                    // (190 ms of copying in the last phase on Spot ×256).
+                    if let Some(par) = &mut self.par {
+                        let [a, b] = &mut par.workers;
+                        let spare = if a.free.len() >= b.free.len() { a } else { b };
+                        if spare.free.len() >= k {
+                            let at = spare.free.len() - k.max(256).min(spare.free.len());
+                            self.serial.free.splice(0..0, spare.free.drain(at..));
+                            continue;
+                        }
+                    }
                     // Grow in chunks (few retries); the new slots go under the freed ones,
                     // which are reused first.
                     let add = k.max(self.cells.len() / 64).max(256);
