@@ -172,10 +172,9 @@ fn larger_random_set_is_locally_delaunay() {
     );
 }
 
-#[test]
-fn big_cavities_are_linked_by_sorting() {
-    // Points on a sphere and far corners: a corner inserted after much of the sphere sees
-    // a good part of its hull, a cavity boundary with more than LINK_MAX vertices.
+/// Points on a sphere and far corners: a corner inserted after much of the sphere sees a
+/// good part of its hull, a cavity boundary with more than LINK_MAX vertices.
+fn sphere_and_far_corners() -> Vec<DVec3> {
     let mut pts: Vec<DVec3> = random_points(1000, 5)
         .into_iter()
         .map(|p| (p - DVec3::splat(0.5)).normalize())
@@ -187,6 +186,12 @@ fn big_cavities_are_linked_by_sorting() {
             }
         }
     }
+    pts
+}
+
+#[test]
+fn big_cavities_are_linked_by_sorting() {
+    let pts = sphere_and_far_corners();
     let dt = Delaunay::new(&pts).unwrap();
     assert!(dt.sorted_links() > 0, "the sorting path was not exercised");
     dt.check().unwrap();
@@ -200,7 +205,7 @@ fn phased(pts: &[DVec3], first: usize, threads: usize) -> Delaunay {
         .num_threads(threads)
         .build()
         .unwrap()
-        .install(|| Delaunay::build_phased(pts, &|_| {}, first).unwrap())
+        .install(|| Delaunay::build_phased(pts, None, &|_| {}, first).unwrap())
 }
 
 /// The tetrahedra as a sorted list of rotated vertex quadruples: equal for equal
@@ -276,5 +281,85 @@ fn parallel_phases_are_delaunay_and_do_not_depend_on_the_thread_count() {
                 );
             }
         }
+    }
+}
+
+/// The shrinking balls taken over the edges as they are made (serially, and in parallel
+/// phases from early on, with many deferred insertions) are those of the definition, a
+/// minimum over all points (brute force; equal up to rounding near ties, never smaller),
+/// and do not depend on the thread count. On bumpy, cospherical and coplanar inputs, and
+/// one with big cavities.
+#[test]
+fn tangent_balls_are_the_minimum_over_all_points() {
+    let mut bumpy = shapes::icosphere(1.0, 4).positions;
+    let mut rng = SplitMix(21);
+    for p in &mut bumpy {
+        *p *= 1.0 + 0.05 * ((rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64);
+    }
+    let inputs = [
+        ("bumpy sphere", bumpy),
+        ("uv sphere", shapes::uv_sphere(1.0, 24, 48).positions),
+        ("cube grid", shapes::cube_grid(2.0, 12).positions),
+        // Cavities with LINK_MAX boundary vertices or more.
+        ("far corners", sphere_and_far_corners()),
+    ];
+    for (name, pts) in inputs {
+        // Any unit vectors will do; these point roughly outwards.
+        let normals: Vec<DVec3> = pts
+            .iter()
+            .map(|p| (*p + DVec3::new(0.1, -0.2, 0.05)).normalize())
+            .collect();
+        let brute = brute_balls(&pts, &normals);
+        let build = |first: usize, threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| Delaunay::build_phased(&pts, Some(&normals), &|_| {}, first))
+                .unwrap()
+        };
+        let serial = build(pts.len(), 1);
+        let one = build(40, 1);
+        let two = build(40, 2);
+        assert!(one.deferred > 0, "{name}: nothing deferred");
+        assert_eq!(one.tangent_balls(), two.tangent_balls(), "{name}");
+        for dt in [&serial, &two] {
+            assert_balls(dt, &brute, name);
+        }
+    }
+    // Four points: every edge is made by the first tetrahedron, none by an insertion.
+    let pts = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
+    // The first with no point on its inner side.
+    let normals = [DVec3::ONE.normalize(), DVec3::X, DVec3::Y, DVec3::Z];
+    let dt = Delaunay::with_tangent_balls(&pts, &normals, &|_| {}).unwrap();
+    let brute = brute_balls(&pts, &normals);
+    assert_eq!(brute, [f64::INFINITY, 0.5, 0.5, 0.5]);
+    assert_balls(&dt, &brute, "tetrahedron");
+}
+
+/// The shrinking ball's definition: a minimum over all points.
+fn brute_balls(pts: &[DVec3], normals: &[DVec3]) -> Vec<f64> {
+    pts.iter()
+        .zip(normals)
+        .map(|(&p, &n)| {
+            pts.iter()
+                .map(|&q| (q - p, -2.0 * n.dot(q - p)))
+                .filter(|&(_, s)| s > 0.0)
+                .map(|(d, s)| d.length_squared() / s)
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect()
+}
+
+/// `dt`'s tangent balls are `brute`'s (input order) up to rounding near ties.
+fn assert_balls(dt: &Delaunay, brute: &[f64], name: &str) {
+    let (_, input) = dt.insertion_order();
+    let ball = dt.tangent_balls().unwrap();
+    for (&i, &r) in input.iter().zip(ball) {
+        let b = brute[i as usize];
+        assert!(
+            r >= b && r <= b * (1.0 + 1e-12),
+            "{name}: point {i}: {r} against {b}"
+        );
     }
 }

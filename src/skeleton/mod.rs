@@ -13,8 +13,9 @@
 //!    [`Method::ShrinkingBall`] reads only the Delaunay edges and skips this stage.
 //! 3. **Distance** per vertex from the inside Voronoi vertices of its cell: [`Method::Mean`]
 //!    is the paper (their mean distance), [`Method::Pole`] the inner pole (the farthest one;
-//!    Amenta et al.); [`Method::ShrinkingBall`] from the Delaunay neighbours. A vertex with
-//!    none gets `d = 0` (`sp = p`) and is counted.
+//!    Amenta et al.); [`Method::ShrinkingBall`] from the Delaunay neighbours, a minimum
+//!    that stage 1 takes over each edge as it is made. A vertex with none gets `d = 0`
+//!    (`sp = p`) and is counted.
 //! 4. **Clamp** to the local thickness: a ray from `p_i` along `−n_i` first leaves the object
 //!    at distance `t_i`; a ball tangent at `p_i` with its centre on that ray fits only if its
 //!    diameter is at most `t_i`, so `d_i ≤ t_i / 2` bounds the true medial radius and keeps
@@ -24,8 +25,8 @@
 //! and the BVH, then measures `t_i` for as many vertices as it can while the
 //! tetrahedralization is serial; whenever one of its parallel phases waits for a second
 //! worker, this core runs it first (`rayon::yield_now`, between rays and every few
-//! thousand triangles of the BVH build). Stage 4 does the rest. Stages 2 and 3 use both
-//! cores. No result depends on the thread count or on how far the overlap got (tested).
+//! thousand triangles of the BVH build). Stage 4 does the rest. Stages 2 and 3 (for the
+//! methods that classify) and 4 use both cores. No result depends on the thread count or on how far the overlap got (tested).
 
 pub mod cache;
 pub mod truth;
@@ -204,7 +205,12 @@ fn build_with(
     let ((dt, t_dt), ((inside, bvh, order, thickness), t_aux)) = rayon::join(
         || {
             let t = Instant::now();
-            let dt = Delaunay::with_progress(pts, &|f| progress("tetrahedralize", f));
+            let progress = |f| progress("tetrahedralize", f);
+            // The shrinking ball is taken over the edges as they are made.
+            let dt = match params.method {
+                Method::ShrinkingBall => Delaunay::with_tangent_balls(pts, normals, &progress),
+                _ => Delaunay::with_progress(pts, &progress),
+            };
             dt_done.store(true, Ordering::Relaxed);
             (dt, t.elapsed().as_secs_f64())
         },
@@ -260,9 +266,11 @@ fn build_with(
 
     // 2–3. Per-vertex distance from the cells.
     progress("distance", 0.0);
-    let (mut distance, fallback, used, tetrahedra) = match &inside {
-        Some(inside) => voronoi_distances(&dt, pts, inside, params, &mut seconds),
-        None => ball_distances(&dt, normals, &mut seconds),
+    let (mut distance, fallback, used, tetrahedra) = match (&inside, dt.tangent_balls()) {
+        (Some(inside), _) => voronoi_distances(&dt, pts, inside, params, &mut seconds),
+        (None, Some(ball)) => ball_distances(&dt, ball, &mut seconds),
+        // Stage 1 makes one or the other, by the method.
+        (None, None) => unreachable!("neither an inside oracle nor tangent balls"),
     };
     // Duplicated positions (only possible without welding) share their vertex's cell;
     // neither path counted them as fallbacks.
@@ -408,31 +416,22 @@ fn voronoi_distances(
     (distance, fallback, used, tets.len())
 }
 
-/// Stage 3 for [`Method::ShrinkingBall`] (no stage 2): the minimum over the Delaunay edges,
-/// over two fixed halves of the tetrahedra on both cores (a minimum does not depend on the
-/// order), in insertion order and mapped back to input order at the end. Returns the
-/// distances, the fallback count, 0 circumcentres used and the number of tetrahedra.
+/// Stage 3 for [`Method::ShrinkingBall`] (no stage 2): the tetrahedralization took the
+/// minimum over the Delaunay edges as it made them ([`Delaunay::with_tangent_balls`]),
+/// `ball` in insertion order; mapped back to input order here. Returns the distances, the fallback count, 0
+/// circumcentres used and the number of tetrahedra.
 fn ball_distances(
     dt: &Delaunay,
-    normals: &[DVec3],
+    ball: &[f64],
     seconds: &mut Vec<(&'static str, f64)>,
 ) -> (Vec<f64>, usize, usize, usize) {
     let t = Instant::now();
-    let (pts, input) = dt.insertion_order();
-    let normals: Vec<DVec3> = input.iter().map(|&i| normals[i as usize]).collect();
-    let half = |part| {
-        let tets = grouped_by_newest(pts.len(), || dt.finite_tets_internal(part, 2));
-        shrinking_ball(pts, &normals, &tets)
-    };
-    let ((mut ball, count), (second, count2)) = rayon::join(|| half(0), || half(1));
-    for (a, b) in ball.iter_mut().zip(&second) {
-        *a = a.min(*b);
-    }
+    let (_, input) = dt.insertion_order();
     // Every input point has an internal id; duplicates (never inserted) take their
     // vertex's distance in the caller.
     let mut distance = vec![0.0; input.len()];
     let mut fallback = 0;
-    for (&i, &b) in input.iter().zip(&ball) {
+    for (&i, &b) in input.iter().zip(ball) {
         if b < f64::INFINITY {
             distance[i as usize] = b;
         } else if dt.duplicate_of(i as usize).is_none() {
@@ -440,7 +439,7 @@ fn ball_distances(
         }
     }
     seconds.push(("distance", t.elapsed().as_secs_f64()));
-    (distance, fallback, 0, count + count2)
+    (distance, fallback, 0, dt.finite_tet_count())
 }
 
 /// Per-vertex accumulator of inside Voronoi vertices.
@@ -546,62 +545,6 @@ fn clamp(d: &mut f64, th: f64) -> bool {
     let significant = th * 0.5 < *d * 0.99;
     *d = th * 0.5;
     significant
-}
-
-/// The tetrahedra of `tets` (called twice) over `n` vertices, grouped by their newest vertex
-/// in blocks of 1024 (a counting sort). The records come in slot order, which scatters
-/// neighbouring tetrahedra; grouped, consecutive ones share vertices, whose data then stays
-/// in cache (the shrinking ball over Spot ×256 went from 449 to 370 ms with the sort).
-fn grouped_by_newest<I: Iterator<Item = [u32; 4]>>(
-    n: usize,
-    tets: impl Fn() -> I,
-) -> Vec<[u32; 4]> {
-    const SHIFT: u32 = 10;
-    let block = |tv: &[u32; 4]| (tv[0].max(tv[1]).max(tv[2]).max(tv[3]) >> SHIFT) as usize;
-    let mut start = vec![0usize; (n >> SHIFT) + 2];
-    for tv in tets() {
-        start[block(&tv) + 1] += 1;
-    }
-    for b in 1..start.len() {
-        start[b] += start[b - 1];
-    }
-    let mut grouped = vec![[0u32; 4]; start[start.len() - 1]];
-    for tv in tets() {
-        let slot = &mut start[block(&tv)];
-        grouped[*slot] = tv;
-        *slot += 1;
-    }
-    grouped
-}
-
-/// Shrinking-ball radius per vertex over the Delaunay edges of `tets` (see
-/// [`Method::ShrinkingBall`]); infinite for a vertex with no neighbour there on the inner
-/// side of its tangent plane. Also returns the number of tetrahedra.
-fn shrinking_ball(pts: &[DVec3], normals: &[DVec3], tets: &[[u32; 4]]) -> (Vec<f64>, usize) {
-    const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
-    let mut ball = vec![f64::INFINITY; pts.len()];
-    for tv in tets {
-        for (i, j) in EDGES {
-            let (a, b) = (tv[i] as usize, tv[j] as usize);
-            let d = pts[b] - pts[a];
-            let len2 = d.length_squared();
-            let sa = -2.0 * normals[a].dot(d);
-            if sa > 0.0 {
-                let r = len2 / sa;
-                if r < ball[a] {
-                    ball[a] = r;
-                }
-            }
-            let sb = 2.0 * normals[b].dot(d);
-            if sb > 0.0 {
-                let r = len2 / sb;
-                if r < ball[b] {
-                    ball[b] = r;
-                }
-            }
-        }
-    }
-    (ball, tets.len())
 }
 
 #[cfg(test)]
