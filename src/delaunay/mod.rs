@@ -387,7 +387,6 @@ impl Worker {
             if tv.contains(&INFINITE) {
                 return Some(Located::Tet(t));
             }
-
             let r = self.rng.next_u64() as usize;
             let mut next = NONE;
             // With CHECKED, an exit towards q into another side's tetrahedron is passed
@@ -478,8 +477,8 @@ impl Worker {
         } = self;
         let side = *side;
         let owned = |t: u32| !CHECKED || owner[t as usize] == side;
-        // The walk may end in a tetrahedron it may only read.
         let finite = |t: u32| !tets.get(t).v.contains(&INFINITE);
+        // The walk may end in a tetrahedron it may only read.
         if !owned(t0) {
             if finite(t0) {
                 *hint = t0;
@@ -742,6 +741,16 @@ fn live_finite(cells: &[Cell], t: u32) -> bool {
         .is_some_and(|c| c.v[0] != FREE && !c.v.contains(&INFINITE))
 }
 
+/// Where the parallel phases start for `n` points: after the first sixteenth, or never
+/// below [`PARALLEL_MIN`].
+fn first_parallel(n: usize) -> usize {
+    if n >= PARALLEL_MIN {
+        n / 16
+    } else {
+        n
+    }
+}
+
 /// The side of each point of `pts` of the plane through their median along `axis`: side 1
 /// when the coordinate is at least the median.
 fn median_sides(pts: &[DVec3], axis: usize) -> Vec<u8> {
@@ -813,12 +822,7 @@ impl Delaunay {
     /// As [`Delaunay::new`], calling `progress(fraction)` now and then (from the calling
     /// thread).
     pub fn with_progress(points: &[DVec3], progress: &dyn Fn(f64)) -> Result<Self, DelaunayError> {
-        let first_parallel = if points.len() >= PARALLEL_MIN {
-            points.len() / 16
-        } else {
-            points.len()
-        };
-        Self::build_phased(points, None, progress, first_parallel)
+        Self::build_phased(points, None, progress, first_parallel(points.len()))
     }
 
     /// As [`Delaunay::with_progress`], also computing the *shrinking ball* of every point
@@ -842,12 +846,8 @@ impl Delaunay {
         progress: &dyn Fn(f64),
     ) -> Result<Self, DelaunayError> {
         assert_eq!(points.len(), normals.len(), "one normal per point");
-        let first_parallel = if points.len() >= PARALLEL_MIN {
-            points.len() / 16
-        } else {
-            points.len()
-        };
-        Self::build_phased(points, Some(normals), progress, first_parallel)
+        let first = first_parallel(points.len());
+        Self::build_phased(points, Some(normals), progress, first)
     }
 
     /// As [`Delaunay::with_progress`], with the parallel phases starting at insertion

@@ -361,17 +361,13 @@ mod tests {
             .is_none());
     }
 
-    /// The nearest hit over the hierarchy is the nearest over all triangles, for unbounded
-    /// rays and segments, on a cube grid (axis-aligned faces, rays parallel to them and
-    /// running in their planes: the slab test's 0 × ∞ case) and on a bumpy sphere.
-    /// Regression: a ray lying in a plane of a box's face used to miss the box (NaN taken
-    /// as a bound), so a ray along a grid line of a cube missed the opposite face.
+    /// Every vertex once, those of the first leaf triangle first, unused ones last.
     #[test]
     fn vertex_order_is_a_permutation_led_by_the_first_leaf() {
         let m = shapes::icosphere(1.0, 3);
         let n = m.positions.len();
-        // Two extra vertices that no triangle uses come last.
         let bvh = Bvh::new(&m.positions, &m.triangles);
+        // Two extra vertices that no triangle uses come last.
         let order = bvh.vertex_order(n + 2, &|| {});
         assert_eq!(&order[n..], &[n as u32, n as u32 + 1]);
         let mut sorted = order.clone();
@@ -380,6 +376,11 @@ mod tests {
         assert_eq!(&order[..3], &bvh.ids[0]);
     }
 
+    /// The nearest hit over the hierarchy is the nearest over all triangles, for unbounded
+    /// rays and segments, on a cube grid (axis-aligned faces, rays parallel to them and
+    /// running in their planes: the slab test's 0 × ∞ case) and on a bumpy sphere.
+    /// Regression: a ray lying in a plane of a box's face used to miss the box (NaN taken
+    /// as a bound), so a ray along a grid line of a cube missed the opposite face.
     #[test]
     fn casts_match_brute_force() {
         let mut bumpy = shapes::icosphere(1.0, 3);

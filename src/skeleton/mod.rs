@@ -26,7 +26,8 @@
 //! tetrahedralization is serial; whenever one of its parallel phases waits for a second
 //! worker, this core runs it first (`rayon::yield_now`, between rays and every few
 //! thousand triangles of the BVH build). Stage 4 does the rest. Stages 2 and 3 (for the
-//! methods that classify) and 4 use both cores. No result depends on the thread count or on how far the overlap got (tested).
+//! methods that classify) and 4 use both cores. No result depends on the thread count or
+//! on how far the overlap got (tested).
 
 pub mod cache;
 pub mod truth;
