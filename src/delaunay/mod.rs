@@ -196,45 +196,49 @@ impl Tets {
     }
 }
 
-/// The tangent balls being computed (see [`Delaunay::with_tangent_balls`]), as raw
-/// pointers for the same reason as [`Tets`]: the two workers of a parallel phase update
-/// the radii of their own sides' vertices in the same array. Every access is
-/// bounds-checked.
+/// Radius of the ball tangent at `p` with its centre on `−n` (unit) and `q` on its sphere,
+/// `|q − p|² / (−2 n·(q − p))`; infinite when `q` is not on the inner side of the tangent
+/// plane. The shrinking ball of `p` is the minimum over the other points (see
+/// [`Delaunay::with_tangent_balls`]); the skeleton also bounds it with a few of them.
+#[inline(always)]
+pub fn tangent_radius(p: DVec3, n: DVec3, q: DVec3) -> f64 {
+    let d = q - p;
+    let s = -2.0 * n.dot(d);
+    if s > 0.0 {
+        d.length_squared() / s
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The tangent balls being computed (see [`Delaunay::with_tangent_balls`]): the radii as a
+/// raw pointer for the same reason as [`Tets`] (the two workers of a parallel phase update
+/// the radii of their own sides' vertices in the same array), bounds-checked on every
+/// access; the normals, which nobody writes, as a slice.
 #[derive(Clone, Copy)]
-struct BallView {
-    normals: *const DVec3,
+struct BallView<'a> {
+    normals: &'a [DVec3],
     radius: *mut f64,
-    len: usize,
 }
 
 // SAFETY: as for `Tets`: while several threads hold a `BallView`, each touches only the
-// entries of its own side's vertices (see `Worker::insert`).
-unsafe impl Send for BallView {}
-unsafe impl Sync for BallView {}
+// radii of its own side's vertices (see `Worker::insert`).
+unsafe impl Send for BallView<'_> {}
+unsafe impl Sync for BallView<'_> {}
 
-impl BallView {
-    /// Offers the Delaunay edge `ab` to the tangent balls of `a` and `b`: the ball tangent
-    /// at `a` with its centre on `−n_a` and `b` on its sphere has radius
-    /// `|b − a|² / (−2 n_a·(b − a))`, when that is positive (and symmetrically for `b`).
-    /// The same arithmetic whichever of the two comes first.
+impl BallView<'_> {
+    /// Offers the Delaunay edge `ab` to the tangent balls of `a` and `b`
+    /// ([`tangent_radius`], which rounds alike whichever end comes first).
     ///
     /// # Safety
-    /// The arrays are alive and no other thread touches the entries of `a` and `b`
-    /// meanwhile.
+    /// The radii are alive and no other thread touches those of `a` and `b` meanwhile.
     #[inline(always)]
     unsafe fn edge(self, pts: &[DVec3], a: u32, b: u32) {
-        let (a, b) = (a as usize, b as usize);
-        assert!(a < self.len && b < self.len);
-        let d = pts[b] - pts[a];
-        let len2 = d.length_squared();
-        for (v, s) in [
-            (a, -2.0 * (*self.normals.add(a)).dot(d)),
-            (b, 2.0 * (*self.normals.add(b)).dot(d)),
-        ] {
-            if s > 0.0 {
-                let r = &mut *self.radius.add(v);
-                *r = r.min(len2 / s);
-            }
+        for (v, w) in [(a as usize, b as usize), (b as usize, a as usize)] {
+            let r = tangent_radius(pts[v], self.normals[v], pts[w]);
+            // In bounds: `normals` is as long as the radii.
+            let x = &mut *self.radius.add(v);
+            *x = x.min(r);
         }
     }
 }
@@ -246,12 +250,11 @@ struct TangentBalls {
 }
 
 impl TangentBalls {
-    fn view(&mut self) -> BallView {
+    fn view(&mut self) -> BallView<'_> {
         assert_eq!(self.normals.len(), self.radius.len());
         BallView {
-            normals: self.normals.as_ptr(),
+            normals: &self.normals,
             radius: self.radius.as_mut_ptr(),
-            len: self.radius.len(),
         }
     }
 }
@@ -449,7 +452,7 @@ impl Worker {
         tets: Tets,
         owner: &[u8],
         pts: &[DVec3],
-        ball: Option<BallView>,
+        ball: Option<BallView<'_>>,
         p: u32,
     ) -> Outcome {
         let q = pts[p as usize];

@@ -75,9 +75,11 @@ fn quantizer(points: &[DVec3], bits: u32) -> impl Fn(DVec3) -> [u32; 3] {
     move |p| ((p - lo) * scale).to_array().map(|c| c as u32)
 }
 
-/// The indices of `(key, index)` pairs in key order.
+/// The indices of `(key, index)` pairs in key order, sorted on all cores (the pairs are
+/// distinct, so the order does not depend on how many).
 fn by_key(mut keys: Vec<(u64, u32)>) -> Vec<u32> {
-    keys.sort_unstable();
+    use rayon::prelude::*;
+    keys.par_sort_unstable();
     keys.into_iter().map(|(_, i)| i).collect()
 }
 
@@ -108,17 +110,17 @@ pub fn brio_order(points: &[DVec3], seed: u64) -> Vec<u32> {
     let rounds: Vec<u8> = (0..points.len())
         .map(|_| rng.next_u64().trailing_ones().min(MAX_ROUND) as u8)
         .collect();
-    let mut keys: Vec<(u64, u32)> = points
-        .par_iter()
-        .zip(rounds.par_iter())
-        .enumerate()
-        .map(|(i, (p, &round))| {
-            let key = ((MAX_ROUND - round as u32) as u64) << 48 | hilbert_index(q(*p), BITS);
-            (key, i as u32)
-        })
-        .collect();
-    keys.par_sort_unstable();
-    keys.into_iter().map(|(_, i)| i).collect()
+    by_key(
+        points
+            .par_iter()
+            .zip(rounds.par_iter())
+            .enumerate()
+            .map(|(i, (p, &round))| {
+                let key = ((MAX_ROUND - round as u32) as u64) << 48 | hilbert_index(q(*p), BITS);
+                (key, i as u32)
+            })
+            .collect(),
+    )
 }
 
 #[cfg(test)]

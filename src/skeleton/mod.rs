@@ -32,7 +32,7 @@
 pub mod cache;
 pub mod truth;
 
-use crate::delaunay::{Delaunay, DelaunayError};
+use crate::delaunay::{tangent_radius, Delaunay, DelaunayError};
 use crate::geom::bvh::Bvh;
 use crate::geom::inside::InsideTest;
 use crate::mesh::Mesh;
@@ -419,8 +419,8 @@ fn voronoi_distances(
 
 /// Stage 3 for [`Method::ShrinkingBall`] (no stage 2): the tetrahedralization took the
 /// minimum over the Delaunay edges as it made them ([`Delaunay::with_tangent_balls`]),
-/// `ball` in insertion order; mapped back to input order here. Returns the distances, the fallback count, 0
-/// circumcentres used and the number of tetrahedra.
+/// `ball` in insertion order; mapped back to input order here. Returns the distances, the
+/// fallback count, 0 circumcentres used and the number of tetrahedra.
 fn ball_distances(
     dt: &Delaunay,
     ball: &[f64],
@@ -519,17 +519,14 @@ fn ring_bounds(
             for k in 0..3 {
                 let a = tri[k] as usize;
                 for q in [tri[(k + 1) % 3], tri[(k + 2) % 3]] {
-                    let d = pts[q as usize] - pts[a];
-                    let s = -2.0 * normals[a].dot(d);
-                    if s > 0.0 {
-                        bound[a] = bound[a].min(d.length_squared() / s);
-                    }
+                    let r = tangent_radius(pts[a], normals[a], pts[q as usize]);
+                    bound[a] = bound[a].min(r);
                 }
             }
         }
     }
-    // The same expression as the radius, but the radius may come from another neighbour
-    // that rounds differently: a margin far above rounding keeps the bound safe.
+    // The radius's own expression, but the radius may come from another neighbour that
+    // rounds differently: a margin far above rounding keeps the bound safe.
     for b in &mut bound {
         *b *= 2.0 * (1.0 + 1e-9);
     }
