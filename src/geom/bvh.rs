@@ -226,12 +226,16 @@ fn slab<const AXIAL: bool>(node: &Node, origin: DVec3, inv: DVec3) -> f64 {
         u0 = DVec3::select(n0, DVec3::INFINITY, u0);
         u1 = DVec3::select(n1, DVec3::INFINITY, u1);
     }
-    let tmin = t0.min(t1);
-    let tmax = u0.max(u1);
-    let enter = tmin.x.max(tmin.y).max(tmin.z.max(0.0));
+    // No NaN is left, so plain comparisons do (`f64::min` and `max` would add NaN
+    // handling to the hottest lines of a cast).
+    let min = |a: f64, b: f64| if a < b { a } else { b };
+    let max = |a: f64, b: f64| if a > b { a } else { b };
+    let tmin = [min(t0.x, t1.x), min(t0.y, t1.y), min(t0.z, t1.z)];
+    let tmax = [max(u0.x, u1.x), max(u0.y, u1.y), max(u0.z, u1.z)];
+    let enter = max(max(tmin[0], tmin[1]), max(tmin[2], 0.0));
     // Widened by a few ulps, the rounding of the products above: a ray through a corner or
     // an edge of the box (a vertex of the mesh) must not miss it.
-    let exit = tmax.x.min(tmax.y).min(tmax.z) * (1.0 + 1e-15);
+    let exit = min(min(tmax[0], tmax[1]), tmax[2]) * (1.0 + 1e-15);
     if enter <= exit {
         enter
     } else {
