@@ -498,15 +498,13 @@ impl Worker {
         tets.set_mark(t0, IN);
         cavity.push(t0);
         stack.push(t0);
+        for &n in &tets.get(t0).n {
+            tets.prefetch(n);
+        }
         let local_s: &mut [u8] = local;
         let mut blocked = false;
         'search: while let Some(t) = stack.pop() {
             let Cell { v: tv, n: adj } = tets.get(t);
-            // The four neighbours' records are fetched together rather than one after the
-            // other as the tests below reach them (memory latency bounds this loop).
-            for &n in &adj {
-                tets.prefetch(n);
-            }
             for (j, f) in FACE.iter().enumerate() {
                 let n = adj[j];
                 if !owned(n) {
@@ -523,6 +521,12 @@ impl Worker {
                             tets.set_mark(n, IN);
                             cavity.push(n);
                             stack.push(n);
+                            // Its neighbours are fetched now, while the rest of this
+                            // tetrahedron's are tested, not when it is popped: this loop
+                            // is bound by memory latency.
+                            for &m in &tets.get(n).n {
+                                tets.prefetch(m);
+                            }
                             continue;
                         }
                         Some(false) => tets.set_mark(n, OUT),
