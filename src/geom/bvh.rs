@@ -295,11 +295,16 @@ fn build(nodes: &mut Vec<Node>, prims: &mut [Prim], offset: u32, poll: &dyn Fn()
     if prims.len() >= POLL_EVERY {
         poll();
     }
+    // Centroids are finite: plain comparisons, without `f32::min`'s NaN handling.
     let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
     for p in prims.iter() {
         for k in 0..3 {
-            lo[k] = lo[k].min(p.c[k]);
-            hi[k] = hi[k].max(p.c[k]);
+            if p.c[k] < lo[k] {
+                lo[k] = p.c[k];
+            }
+            if p.c[k] > hi[k] {
+                hi[k] = p.c[k];
+            }
         }
     }
     let ext = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
