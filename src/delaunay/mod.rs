@@ -498,6 +498,7 @@ impl Worker {
         tets.set_mark(t0, IN);
         cavity.push(t0);
         stack.push(t0);
+        // Every tetrahedron found in conflict has its neighbours prefetched (see below).
         for &n in &tets.get(t0).n {
             tets.prefetch(n);
         }

@@ -4,6 +4,7 @@
 //! no box is tested twice, and the slab test is conservative: a ray through a box's corner
 //! or along its face still enters it.
 
+use super::{max2, min2};
 use glam::DVec3;
 
 #[derive(Clone, Copy, Debug)]
@@ -226,10 +227,9 @@ fn slab<const AXIAL: bool>(node: &Node, origin: DVec3, inv: DVec3) -> f64 {
         u0 = DVec3::select(n0, DVec3::INFINITY, u0);
         u1 = DVec3::select(n1, DVec3::INFINITY, u1);
     }
-    // No NaN is left, so plain comparisons do (`f64::min` and `max` would add NaN
-    // handling to the hottest lines of a cast).
-    let min = |a: f64, b: f64| if a < b { a } else { b };
-    let max = |a: f64, b: f64| if a > b { a } else { b };
+    // No NaN is left: plain comparisons (a third of the box test was `f64::min`'s NaN
+    // handling).
+    let (min, max) = (min2::<f64>, max2::<f64>);
     let tmin = [min(t0.x, t1.x), min(t0.y, t1.y), min(t0.z, t1.z)];
     let tmax = [max(u0.x, u1.x), max(u0.y, u1.y), max(u0.z, u1.z)];
     let enter = max(max(tmin[0], tmin[1]), max(tmin[2], 0.0));
@@ -295,16 +295,12 @@ fn build(nodes: &mut Vec<Node>, prims: &mut [Prim], offset: u32, poll: &dyn Fn()
     if prims.len() >= POLL_EVERY {
         poll();
     }
-    // Centroids are finite: plain comparisons, without `f32::min`'s NaN handling.
+    // No centroid is NaN (those of finite positions may only overflow to ±∞ in `f32`).
     let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
     for p in prims.iter() {
         for k in 0..3 {
-            if p.c[k] < lo[k] {
-                lo[k] = p.c[k];
-            }
-            if p.c[k] > hi[k] {
-                hi[k] = p.c[k];
-            }
+            lo[k] = min2(lo[k], p.c[k]);
+            hi[k] = max2(hi[k], p.c[k]);
         }
     }
     let ext = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];

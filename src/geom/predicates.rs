@@ -11,18 +11,9 @@
 //!
 //! The returned values have the correct sign exactly; their magnitude is only approximate.
 
+use super::max2;
 use glam::DVec3;
 use robust::{Coord, Coord3D};
-
-/// The larger of two non-NaN values: one `maxsd`, where `f64::max` adds NaN handling.
-#[inline(always)]
-fn max2(a: f64, b: f64) -> f64 {
-    if a > b {
-        a
-    } else {
-        b
-    }
-}
 
 /// The largest absolute coordinate of four vectors.
 #[inline(always)]
