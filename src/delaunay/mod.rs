@@ -81,6 +81,13 @@ struct Cell {
     n: [u32; 4],
 }
 
+impl Cell {
+    /// A live (not free) tetrahedron without the vertex at infinity.
+    fn is_live_finite(&self) -> bool {
+        self.v[0] != FREE && !self.v.contains(&INFINITE)
+    }
+}
+
 /// Cavity marks (reset to `UNSEEN` after every insertion).
 const UNSEEN: u8 = 0;
 const IN: u8 = 1;
@@ -744,9 +751,7 @@ fn grow(
 
 /// Is `t` a live finite tetrahedron?
 fn live_finite(cells: &[Cell], t: u32) -> bool {
-    cells
-        .get(t as usize)
-        .is_some_and(|c| c.v[0] != FREE && !c.v.contains(&INFINITE))
+    cells.get(t as usize).is_some_and(Cell::is_live_finite)
 }
 
 /// Where the parallel phases start for `n` points: after the first sixteenth, or never
@@ -1215,32 +1220,17 @@ impl Delaunay {
 
     /// Finite tetrahedra (positively oriented, vertex ids are input indices).
     pub fn finite_tets(&self) -> Vec<[u32; 4]> {
-        self.finite_tets_internal(0, 1)
-            .map(|tv| tv.map(|v| self.input_id[v as usize]))
+        self.cells
+            .iter()
+            .filter(|c| c.is_live_finite())
+            .map(|c| c.v.map(|v| self.input_id[v as usize]))
             .collect()
     }
 
-    /// The inserted points in insertion order (the internal ids that
-    /// [`Delaunay::finite_tets_internal`] uses) and the input index of each.
+    /// The inserted points in insertion order (the internal ids of
+    /// [`Delaunay::tangent_balls`]) and the input index of each.
     pub fn insertion_order(&self) -> (&[DVec3], &[u32]) {
         (&self.pts, &self.input_id)
-    }
-
-    /// The finite tetrahedra among the records of part `part` of `parts` equal parts (in
-    /// record order), with internal vertex ids (see [`Delaunay::insertion_order`]): no
-    /// copy, and vertices close in memory are close in space, so per-vertex passes stay in
-    /// cache better than over input indices.
-    pub fn finite_tets_internal(
-        &self,
-        part: usize,
-        parts: usize,
-    ) -> impl Iterator<Item = [u32; 4]> + '_ {
-        let len = self.cells.len();
-        let (lo, hi) = (len * part / parts.max(1), len * (part + 1) / parts.max(1));
-        self.cells[lo.min(len)..hi.min(len)]
-            .iter()
-            .filter(|c| c.v[0] != FREE && !c.v.contains(&INFINITE))
-            .map(|c| c.v)
     }
 
     /// The shrinking-ball radius of every inserted point, in insertion order (see
@@ -1253,10 +1243,7 @@ impl Delaunay {
 
     /// Number of finite tetrahedra (one pass over the records, on every core).
     pub fn finite_tet_count(&self) -> usize {
-        self.cells
-            .par_iter()
-            .filter(|c| c.v[0] != FREE && !c.v.contains(&INFINITE))
-            .count()
+        self.cells.par_iter().filter(|c| c.is_live_finite()).count()
     }
 
     /// For each input point, `Some(v)` when it coincided with the input point `v` and was
