@@ -153,14 +153,35 @@ impl Bvh {
         t_max: f64,
         skip: impl Fn(&[u32; 3]) -> bool,
     ) -> Option<Hit> {
-        let mut best = Hit {
+        let best = Hit {
             t: t_max,
             triangle: u32::MAX,
         };
+        let best = self.traverse_from::<AXIAL>(0, origin, dir, inv, t_min, best, skip);
+        (best.triangle != u32::MAX).then_some(best)
+    }
+
+    /// As [`Bvh::traverse`], from node `start`, with `best` what an earlier part of the
+    /// traversal found.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn traverse_from<const AXIAL: bool>(
+        &self,
+        start: u32,
+        origin: DVec3,
+        dir: DVec3,
+        inv: DVec3,
+        t_min: f64,
+        mut best: Hit,
+        skip: impl Fn(&[u32; 3]) -> bool,
+    ) -> Hit {
         // Nodes to visit with their entry distances (compared again when popped: the best
         // hit may have come closer since).
         let mut stack = [(0u32, 0.0f64); 64];
-        stack[0] = (0, slab::<AXIAL>(&self.nodes[0], origin, inv));
+        stack[0] = (
+            start,
+            slab::<AXIAL>(&self.nodes[start as usize], origin, inv),
+        );
         let mut sp = 1;
         while sp > 0 {
             sp -= 1;
@@ -204,8 +225,183 @@ impl Bvh {
                 }
             }
         }
-        (best.triangle != u32::MAX).then_some(best)
+        best
     }
+}
+
+/// One ray of a packet ([`Bvh::cast_packet`]): hits with `t_min < t < t_max` count, except on
+/// triangles having `skip_vertex` as a corner.
+#[derive(Clone, Copy, Debug)]
+pub struct Ray {
+    pub origin: DVec3,
+    pub dir: DVec3,
+    pub t_min: f64,
+    pub t_max: f64,
+    pub skip_vertex: u32,
+}
+
+/// Most rays per packet.
+pub const PACKET: usize = 8;
+
+/// A node that only this many of a packet's rays enter is finished by the one-ray
+/// traversal, which tests a box more cheaply than a packet tests all its lanes.
+const SOLO: u32 = 1;
+
+impl Bvh {
+    /// The nearest hit of each of up to [`PACKET`] rays, as [`Bvh::cast_within`] would find
+    /// it, in one traversal: a node is visited once for all the rays that enter its box,
+    /// and its box is tested on all lanes at once. Worth it for coherent rays (nearby
+    /// origins and directions), which visit nearly the same nodes. Compiled for AVX2 as
+    /// well, used where the CPU has it (four lanes per instruction instead of two; the same
+    /// IEEE operations, so the same results).
+    ///
+    /// # Panics
+    /// When `rays` holds more than [`PACKET`] rays.
+    pub fn cast_packet(&self, rays: &[Ray]) -> [Option<Hit>; PACKET] {
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2.
+            return unsafe { self.cast_packet_avx2(rays) };
+        }
+        self.cast_packet_impl(rays)
+    }
+
+    /// # Safety
+    /// The CPU has AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn cast_packet_avx2(&self, rays: &[Ray]) -> [Option<Hit>; PACKET] {
+        self.cast_packet_impl(rays)
+    }
+
+    #[inline(always)]
+    fn cast_packet_impl(&self, rays: &[Ray]) -> [Option<Hit>; PACKET] {
+        assert!(rays.len() <= PACKET, "at most {PACKET} rays per packet");
+        let mut out = [None; PACKET];
+        if self.nodes.is_empty() {
+            return out;
+        }
+        // Lanes as arrays (so the box test runs on all of them at once); an empty lane has
+        // `best = −∞` and enters no box.
+        let mut o = [[0.0; PACKET]; 3];
+        let mut inv = [[0.0; PACKET]; 3];
+        let mut best = [f64::NEG_INFINITY; PACKET];
+        let mut tri = [u32::MAX; PACKET];
+        for (r, ray) in rays.iter().enumerate() {
+            let i = ray.dir.recip();
+            if i.is_finite() {
+                for k in 0..3 {
+                    o[k][r] = ray.origin[k];
+                    inv[k][r] = i[k];
+                }
+                best[r] = ray.t_max;
+            } else {
+                let skip = |t: &[u32; 3]| t.contains(&ray.skip_vertex);
+                out[r] = self.traverse::<true>(ray.origin, ray.dir, i, ray.t_min, ray.t_max, skip);
+            }
+        }
+        let enters = |node: &Node, best: &[f64; PACKET]| enters(node, &o, &inv, best);
+        let mut stack = [(0u32, 0u32); 64];
+        let mut sp = 0;
+        let root = enters(&self.nodes[0], &best);
+        if root != 0 {
+            stack[0] = (0, root);
+            sp = 1;
+        }
+        while sp > 0 {
+            sp -= 1;
+            let (idx, mask) = stack[sp];
+            if mask.count_ones() <= SOLO {
+                let mut m = mask;
+                while m != 0 {
+                    let r = m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    let ray = &rays[r];
+                    let i = DVec3::new(inv[0][r], inv[1][r], inv[2][r]);
+                    let skip = |t: &[u32; 3]| t.contains(&ray.skip_vertex);
+                    let b = Hit {
+                        t: best[r],
+                        triangle: tri[r],
+                    };
+                    let b = self
+                        .traverse_from::<false>(idx, ray.origin, ray.dir, i, ray.t_min, b, skip);
+                    best[r] = b.t;
+                    tri[r] = b.triangle;
+                }
+                continue;
+            }
+            let node = &self.nodes[idx as usize];
+            if node.count > 0 {
+                let s = node.start as usize;
+                for k in s..s + node.count as usize {
+                    let ids = &self.ids[k];
+                    let mut m = mask;
+                    while m != 0 {
+                        let r = m.trailing_zeros() as usize;
+                        m &= m - 1;
+                        let ray = &rays[r];
+                        if ids.contains(&ray.skip_vertex) {
+                            continue;
+                        }
+                        if let Some(t) = intersect(&self.tris[k], ray.origin, ray.dir) {
+                            if t > ray.t_min && t < best[r] {
+                                best[r] = t;
+                                tri[r] = self.order[k];
+                            }
+                        }
+                    }
+                }
+            } else {
+                let (l, r) = (idx + 1, node.start);
+                let ml = enters(&self.nodes[l as usize], &best) & mask;
+                let mr = enters(&self.nodes[r as usize], &best) & mask;
+                if mr != 0 {
+                    stack[sp] = (r, mr);
+                    sp += 1;
+                }
+                if ml != 0 {
+                    stack[sp] = (l, ml);
+                    sp += 1;
+                }
+            }
+        }
+        for r in 0..rays.len() {
+            if tri[r] != u32::MAX {
+                out[r] = Some(Hit {
+                    t: best[r],
+                    triangle: tri[r],
+                });
+            }
+        }
+        out
+    }
+}
+
+/// Which lanes of a packet enter `node`'s box before their best hit (a bit per lane).
+#[inline(always)]
+fn enters(
+    node: &Node,
+    o: &[[f64; PACKET]; 3],
+    inv: &[[f64; PACKET]; 3],
+    best: &[f64; PACKET],
+) -> u32 {
+    let (lo, hi) = (node.lo.to_array(), node.hi.to_array());
+    let mut enter = [0.0f64; PACKET];
+    let mut exit = [f64::INFINITY; PACKET];
+    for k in 0..3 {
+        for r in 0..PACKET {
+            let t0 = (lo[k] - o[k][r]) * inv[k][r];
+            let t1 = (hi[k] - o[k][r]) * inv[k][r];
+            enter[r] = max2(enter[r], min2(t0, t1));
+            exit[r] = min2(exit[r], max2(t0, t1));
+        }
+    }
+    let mut m = 0;
+    for r in 0..PACKET {
+        let hit = enter[r] <= exit[r] * (1.0 + 1e-15) && enter[r] < best[r];
+        m |= u32::from(hit) << r;
+    }
+    m
 }
 
 /// Entry distance of the ray into a node's box, `INFINITY` when missed. Conservative: a
@@ -432,6 +628,64 @@ mod tests {
                     );
                 }
             }
+        }
+    }
+
+    /// A packet finds what each of its rays finds alone, whatever the packet's size, on
+    /// both code paths (AVX2 where the CPU has it), with axis-parallel rays (which leave
+    /// the packet for the one-ray traversal), segments, and rays ignoring the triangles of
+    /// the vertex they start from.
+    #[test]
+    fn packets_match_single_casts() {
+        let mut bumpy = shapes::icosphere(1.0, 3);
+        let mut rng = crate::geom::hilbert::SplitMix(5);
+        let mut unit = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        for p in &mut bumpy.positions {
+            *p *= 1.0 + 0.2 * unit();
+        }
+        for mesh in [shapes::cube_grid(1.0, 4), bumpy] {
+            let bvh = Bvh::new(&mesh.positions, &mesh.triangles);
+            let mut rays = Vec::new();
+            for (i, &p) in mesh.positions.iter().enumerate() {
+                let dirs = [
+                    -p,
+                    DVec3::X,
+                    DVec3::new(0.3, -1.0, 0.2),
+                    -p + 0.1 * DVec3::new(p.y, p.z, p.x),
+                ];
+                for (k, dir) in dirs.into_iter().enumerate() {
+                    let t_max = [f64::INFINITY, 0.3, 1.1, 2.0][(i + k) % 4];
+                    let skip_vertex = if k % 2 == 0 { i as u32 } else { u32::MAX };
+                    rays.push(Ray {
+                        origin: p,
+                        dir,
+                        t_min: 1e-9,
+                        t_max,
+                        skip_vertex,
+                    });
+                }
+            }
+            let mut start = 0;
+            let mut hits = 0;
+            while start < rays.len() {
+                let len = (1 + start % PACKET).min(rays.len() - start);
+                let packet = &rays[start..start + len];
+                let got = [bvh.cast_packet(packet), bvh.cast_packet_impl(packet)];
+                for (j, ray) in packet.iter().enumerate() {
+                    let skip = |t: &[u32; 3]| t.contains(&ray.skip_vertex);
+                    let alone = bvh.cast_within(ray.origin, ray.dir, ray.t_min, ray.t_max, skip);
+                    hits += usize::from(alone.is_some());
+                    for got in &got {
+                        let (a, b) = (got[j].map(|h| h.t), alone.map(|h| h.t));
+                        let close =
+                            matches!((a, b), (Some(a), Some(b)) if (a - b).abs() <= 1e-12 * b);
+                        assert!(a == b || close, "ray {}: {a:?} against {b:?}", start + j);
+                    }
+                    assert!(got[0][len..].iter().all(Option::is_none));
+                }
+                start += len;
+            }
+            assert!(hits > rays.len() / 4, "{hits} of {}", rays.len());
         }
     }
 }

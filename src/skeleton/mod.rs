@@ -24,16 +24,16 @@
 //! During stage 1 the other core builds the inside oracle (for the methods that classify)
 //! and the BVH, then measures `t_i` for as many vertices as it can while the
 //! tetrahedralization is serial; whenever one of its parallel phases waits for a second
-//! worker, this core runs it first (`rayon::yield_now`, between rays and every few
-//! thousand triangles of the BVH build). Stage 4 does the rest. Stages 2 and 3 (for the
-//! methods that classify) and 4 use both cores. No result depends on the thread count or
-//! on how far the overlap got (tested).
+//! worker, this core runs it first (`rayon::yield_now`, between packets of eight rays and
+//! every few thousand triangles of the BVH build). Stage 4 does the rest. Stages 2 and 3
+//! (for the methods that classify) and 4 use both cores. No result depends on the thread
+//! count or on how far the overlap got (tested).
 
 pub mod cache;
 pub mod truth;
 
 use crate::delaunay::{tangent_radius, Delaunay, DelaunayError};
-use crate::geom::bvh::Bvh;
+use crate::geom::bvh::{Bvh, Ray, PACKET};
 use crate::geom::inside::InsideTest;
 use crate::mesh::Mesh;
 use crate::progress::Progress;
@@ -242,16 +242,21 @@ fn build_with(
                 #[cfg(test)]
                 Overlap::Everything => true,
             };
+            let mut far = [0.0; PACKET];
+            let mut th;
             while thickness.len() < pts.len() && more() {
                 if let Some(rayon::Yield::Executed) = rayon::yield_now() {
                     continue;
                 }
-                let vi = order[thickness.len()];
-                let i = vi as usize;
-                let reach = reach.as_ref().map_or(f64::INFINITY, |r| r[i]);
-                let hit =
-                    bvh.cast_within(pts[i], -normals[i], t_min, reach, |tri| tri.contains(&vi));
-                thickness.push((hit.map_or(f64::INFINITY, |h| h.t), reach));
+                let k = thickness.len();
+                let verts = &order[k..(k + PACKET).min(pts.len())];
+                for (f, &v) in far.iter_mut().zip(verts) {
+                    *f = reach.as_ref().map_or(f64::INFINITY, |r| r[v as usize]);
+                }
+                let m = verts.len();
+                th = [f64::INFINITY; PACKET];
+                cast_thickness(&bvh, pts, normals, t_min, verts, &far[..m], &mut th[..m]);
+                thickness.extend(th[..m].iter().zip(&far).map(|(&t, &f)| (t, f)));
             }
             ((inside, bvh, order, thickness), t.elapsed().as_secs_f64())
         },
@@ -288,26 +293,26 @@ fn build_with(
     // the same answer.
     let t = Instant::now();
     progress("thickness", 0.0);
-    // Casts in `order`, as in stage 1; `thickness` holds the first ones.
-    let th: Vec<f64> = order
-        .par_iter()
+    // Casts in `order`, as in stage 1, in packets of neighbours; `thickness` holds the
+    // first ones.
+    let mut th = vec![f64::INFINITY; n];
+    th.par_chunks_mut(PACKET)
+        .zip(order.par_chunks(PACKET))
         .enumerate()
-        .map(|(k, &vi)| {
-            let i = vi as usize;
-            let d = distance[i];
-            if d == 0.0 {
-                return f64::INFINITY;
+        .for_each(|(c, (th, verts))| {
+            let mut far = [0.0; PACKET];
+            for (j, (f, &v)) in far.iter_mut().zip(verts).enumerate() {
+                let d = distance[v as usize];
+                *f = match thickness.get(c * PACKET + j) {
+                    Some(&(known, reach)) if 2.0 * d <= reach => {
+                        th[j] = known;
+                        0.0
+                    }
+                    _ => 2.0 * d,
+                };
             }
-            match thickness.get(k) {
-                Some(&(th, reach)) if 2.0 * d <= reach => th,
-                _ => {
-                    let hit = bvh
-                        .cast_within(pts[i], -normals[i], t_min, 2.0 * d, |tri| tri.contains(&vi));
-                    hit.map_or(f64::INFINITY, |h| h.t)
-                }
-            }
-        })
-        .collect();
+            cast_thickness(&bvh, pts, normals, t_min, verts, &far[..verts.len()], th);
+        });
     let mut clamped = 0;
     for (&i, th) in order.iter().zip(th) {
         clamped += usize::from(clamp(&mut distance[i as usize], th));
@@ -497,6 +502,51 @@ fn accumulate(n: usize, tets: &[[u32; 4]], radius: &[f64]) -> Accumulated {
         acc,
         sliver_acc,
         used,
+    }
+}
+
+/// The thickness along `−n` of each of `verts` (at most [`PACKET`], neighbours in the
+/// BVH's vertex order), looking as far as `far` (no cast where that is 0: `th` is kept):
+/// one packet of rays, each ignoring its own vertex's triangles. Infinite where nothing
+/// is hit.
+fn cast_thickness(
+    bvh: &Bvh,
+    pts: &[DVec3],
+    normals: &[DVec3],
+    t_min: f64,
+    verts: &[u32],
+    far: &[f64],
+    th: &mut [f64],
+) {
+    let mut rays = [Ray {
+        origin: DVec3::ZERO,
+        dir: DVec3::ZERO,
+        t_min,
+        t_max: 0.0,
+        skip_vertex: u32::MAX,
+    }; PACKET];
+    let mut lane = [0; PACKET];
+    let mut m = 0;
+    for (j, (&v, &f)) in verts.iter().zip(far).enumerate() {
+        if f > 0.0 {
+            let i = v as usize;
+            rays[m] = Ray {
+                origin: pts[i],
+                dir: -normals[i],
+                t_min,
+                t_max: f,
+                skip_vertex: v,
+            };
+            lane[m] = j;
+            m += 1;
+        }
+    }
+    if m == 0 {
+        return;
+    }
+    let hits = bvh.cast_packet(&rays[..m]);
+    for (&j, hit) in lane[..m].iter().zip(hits) {
+        th[j] = hit.map_or(f64::INFINITY, |h| h.t);
     }
 }
 
