@@ -239,13 +239,27 @@ impl BallView<'_> {
     ///
     /// # Safety
     /// The radii are alive and no other thread touches those of `a` and `b` meanwhile.
+    ///
+    /// Most offers change nothing, so the quotient is only formed (and the radius only
+    /// written) when it can be smaller: `|d|² ≥ x·s·(1 + 4ε)` (the product rounded) implies
+    /// `|d|² > x·s`, so the rounded quotient is at least `x`. The result is
+    /// `min(x, tangent_radius(..))` exactly.
     #[inline(always)]
     unsafe fn edge(self, pts: &[DVec3], a: u32, b: u32) {
         for (v, w) in [(a as usize, b as usize), (b as usize, a as usize)] {
-            let r = tangent_radius(pts[v], self.normals[v], pts[w]);
-            // In bounds: `normals` is as long as the radii.
-            let x = &mut *self.radius.add(v);
-            *x = x.min(r);
+            let d = pts[w] - pts[v];
+            let s = -2.0 * self.normals[v].dot(d);
+            if s > 0.0 {
+                let l = d.length_squared();
+                // In bounds: `normals` is as long as the radii.
+                let x = &mut *self.radius.add(v);
+                if l < *x * s * (1.0 + 4.0 * f64::EPSILON) {
+                    let r = l / s;
+                    if r < *x {
+                        *x = r;
+                    }
+                }
+            }
         }
     }
 }
