@@ -218,6 +218,25 @@ pub fn tangent_radius(p: DVec3, n: DVec3, q: DVec3) -> f64 {
     }
 }
 
+/// `*x = x.min(tangent_radius(p, n, q))`, exactly, without the division (or the write)
+/// when it cannot lower `x`, which is most of the time for a running minimum:
+/// `|d|² ≥ x·s·(1 + 4ε)` (the product rounded) implies `|d|² > x·s`, so the rounded
+/// quotient is at least `x`.
+#[inline(always)]
+pub fn lower_tangent_radius(x: &mut f64, p: DVec3, n: DVec3, q: DVec3) {
+    let d = q - p;
+    let s = -2.0 * n.dot(d);
+    if s > 0.0 {
+        let l = d.length_squared();
+        if l < *x * s * (1.0 + 4.0 * f64::EPSILON) {
+            let r = l / s;
+            if r < *x {
+                *x = r;
+            }
+        }
+    }
+}
+
 /// The tangent balls being computed (see [`Delaunay::with_tangent_balls`]): the radii as a
 /// raw pointer for the same reason as [`Tets`] (the two workers of a parallel phase update
 /// the radii of their own sides' vertices in the same array), bounds-checked on every
@@ -239,27 +258,11 @@ impl BallView<'_> {
     ///
     /// # Safety
     /// The radii are alive and no other thread touches those of `a` and `b` meanwhile.
-    ///
-    /// Most offers change nothing, so the quotient is only formed (and the radius only
-    /// written) when it can be smaller: `|d|² ≥ x·s·(1 + 4ε)` (the product rounded) implies
-    /// `|d|² > x·s`, so the rounded quotient is at least `x`. The result is
-    /// `min(x, tangent_radius(..))` exactly.
     #[inline(always)]
     unsafe fn edge(self, pts: &[DVec3], a: u32, b: u32) {
         for (v, w) in [(a as usize, b as usize), (b as usize, a as usize)] {
-            let d = pts[w] - pts[v];
-            let s = -2.0 * self.normals[v].dot(d);
-            if s > 0.0 {
-                let l = d.length_squared();
-                // In bounds: `normals` is as long as the radii.
-                let x = &mut *self.radius.add(v);
-                if l < *x * s * (1.0 + 4.0 * f64::EPSILON) {
-                    let r = l / s;
-                    if r < *x {
-                        *x = r;
-                    }
-                }
-            }
+            // In bounds: `normals` is as long as the radii.
+            lower_tangent_radius(&mut *self.radius.add(v), pts[v], self.normals[v], pts[w]);
         }
     }
 }

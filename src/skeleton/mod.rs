@@ -32,7 +32,7 @@
 pub mod cache;
 pub mod truth;
 
-use crate::delaunay::{tangent_radius, Delaunay, DelaunayError};
+use crate::delaunay::{lower_tangent_radius, Delaunay, DelaunayError};
 use crate::geom::bvh::{Bvh, Ray, PACKET};
 use crate::geom::inside::InsideTest;
 use crate::mesh::Mesh;
@@ -569,8 +569,7 @@ fn ring_bounds(
             for k in 0..3 {
                 let a = tri[k] as usize;
                 for q in [tri[(k + 1) % 3], tri[(k + 2) % 3]] {
-                    let r = tangent_radius(pts[a], normals[a], pts[q as usize]);
-                    bound[a] = bound[a].min(r);
+                    lower_tangent_radius(&mut bound[a], pts[a], normals[a], pts[q as usize]);
                 }
             }
         }
