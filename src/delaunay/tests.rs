@@ -363,3 +363,35 @@ fn assert_balls(dt: &Delaunay, brute: &[f64], name: &str) {
         );
     }
 }
+
+/// The running minimum without the division is the running minimum with it, exactly: on
+/// random offers and on the boundary cases of its shortcut (`x` the offered radius itself
+/// and its neighbouring floats, 0, ∞, offers on the outer side).
+#[test]
+fn lowering_a_tangent_radius_is_exact() {
+    let mut rng = SplitMix(21);
+    let mut u = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+    let mut checked = 0;
+    for i in 0..200_000 {
+        let scale = 10f64.powi(i % 9 - 4);
+        let p = DVec3::new(u(), u(), u()) * scale;
+        let n = DVec3::new(u(), u(), u()).normalize();
+        let q = p + DVec3::new(u(), u(), u()) * scale * 0.1;
+        let r = tangent_radius(p, n, q);
+        let near = [
+            r,
+            r.next_up(),
+            r.next_down(),
+            r * (1.0 + 3e-16),
+            r * (1.0 - 3e-16),
+        ];
+        let far = [0.0, f64::INFINITY, scale * u().abs(), near[i as usize % 5]];
+        for x in far {
+            let mut lowered = x;
+            lower_tangent_radius(&mut lowered, p, n, q);
+            assert_eq!(lowered.to_bits(), x.min(r).to_bits(), "{p} {n} {q} x = {x}");
+            checked += usize::from(r.is_finite());
+        }
+    }
+    assert!(checked > 300_000, "{checked}");
+}

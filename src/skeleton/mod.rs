@@ -243,7 +243,6 @@ fn build_with(
                 Overlap::Everything => true,
             };
             let mut far = [0.0; PACKET];
-            let mut th;
             while thickness.len() < pts.len() && more() {
                 if let Some(rayon::Yield::Executed) = rayon::yield_now() {
                     continue;
@@ -254,7 +253,7 @@ fn build_with(
                     *f = reach.as_ref().map_or(f64::INFINITY, |r| r[v as usize]);
                 }
                 let m = verts.len();
-                th = [f64::INFINITY; PACKET];
+                let mut th = [f64::INFINITY; PACKET];
                 cast_thickness(&bvh, pts, normals, t_min, verts, &far[..m], &mut th[..m]);
                 thickness.extend(th[..m].iter().zip(&far).map(|(&t, &f)| (t, f)));
             }
@@ -304,6 +303,8 @@ fn build_with(
             for (j, (f, &v)) in far.iter_mut().zip(verts).enumerate() {
                 let d = distance[v as usize];
                 *f = match thickness.get(c * PACKET + j) {
+                    // The fallback (`d = 0`) needs no thickness.
+                    _ if d == 0.0 => 0.0,
                     Some(&(known, reach)) if 2.0 * d <= reach => {
                         th[j] = known;
                         0.0
