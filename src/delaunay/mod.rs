@@ -186,6 +186,17 @@ impl Tets {
         let _ = (self, t);
     }
 
+    /// Prefetches the four neighbours of `t` ([`Tets::prefetch`]).
+    ///
+    /// # Safety
+    /// As [`Tets::get`].
+    #[inline(always)]
+    unsafe fn prefetch_neighbours(self, t: u32) {
+        for n in self.get(t).n {
+            self.prefetch(n);
+        }
+    }
+
     /// # Safety
     /// As [`Tets::get`].
     #[inline(always)]
@@ -523,9 +534,7 @@ impl Worker {
         cavity.push(t0);
         stack.push(t0);
         // Every tetrahedron found in conflict has its neighbours prefetched (see below).
-        for &n in &tets.get(t0).n {
-            tets.prefetch(n);
-        }
+        tets.prefetch_neighbours(t0);
         let local_s: &mut [u8] = local;
         let mut blocked = false;
         'search: while let Some(t) = stack.pop() {
@@ -549,9 +558,7 @@ impl Worker {
                             // Its neighbours are fetched now, while the rest of this
                             // tetrahedron's are tested, not when it is popped: this loop
                             // is bound by memory latency.
-                            for &m in &tets.get(n).n {
-                                tets.prefetch(m);
-                            }
+                            tets.prefetch_neighbours(n);
                             continue;
                         }
                         Some(false) => tets.set_mark(n, OUT),

@@ -577,6 +577,17 @@ mod tests {
         assert_eq!(&order[..3], &bvh.ids[0]);
     }
 
+    /// A cube grid (axis-aligned faces) and an icosphere with randomly scaled radii.
+    fn test_meshes(seed: u64) -> [crate::mesh::Mesh; 2] {
+        let mut bumpy = shapes::icosphere(1.0, 3);
+        let mut rng = crate::geom::hilbert::SplitMix(seed);
+        let mut unit = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        for p in &mut bumpy.positions {
+            *p *= 1.0 + 0.2 * unit();
+        }
+        [shapes::cube_grid(1.0, 4), bumpy]
+    }
+
     /// The nearest hit over the hierarchy is the nearest over all triangles, for unbounded
     /// rays and segments, on a cube grid (axis-aligned faces, rays parallel to them and
     /// running in their planes: the slab test's 0 × ∞ case) and on a bumpy sphere.
@@ -584,13 +595,7 @@ mod tests {
     /// as a bound), so a ray along a grid line of a cube missed the opposite face.
     #[test]
     fn casts_match_brute_force() {
-        let mut bumpy = shapes::icosphere(1.0, 3);
-        let mut rng = crate::geom::hilbert::SplitMix(11);
-        let mut unit = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
-        for p in &mut bumpy.positions {
-            *p *= 1.0 + 0.2 * unit();
-        }
-        for mesh in [shapes::cube_grid(1.0, 4), bumpy] {
+        for mesh in test_meshes(11) {
             let bvh = Bvh::new(&mesh.positions, &mesh.triangles);
             let tris: Vec<[DVec3; 3]> = mesh
                 .triangles
@@ -637,13 +642,7 @@ mod tests {
     /// the vertex they start from.
     #[test]
     fn packets_match_single_casts() {
-        let mut bumpy = shapes::icosphere(1.0, 3);
-        let mut rng = crate::geom::hilbert::SplitMix(5);
-        let mut unit = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
-        for p in &mut bumpy.positions {
-            *p *= 1.0 + 0.2 * unit();
-        }
-        for mesh in [shapes::cube_grid(1.0, 4), bumpy] {
+        for mesh in test_meshes(5) {
             let bvh = Bvh::new(&mesh.positions, &mesh.triangles);
             let mut rays = Vec::new();
             for (i, &p) in mesh.positions.iter().enumerate() {
