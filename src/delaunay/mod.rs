@@ -42,7 +42,9 @@
 //! * **Two threads** for inputs of 32,768 points or more: after a serial start, the points
 //!   are inserted in doubling phases by two workers, one per side of a median plane, each
 //!   touching only tetrahedra whose vertices are all on its side (see [`Delaunay`]). The
-//!   result does not depend on the thread count or on timing.
+//!   result does not depend on the thread count or on timing. A caller with other work
+//!   passes it as an `idle` hook, which the calling thread runs whenever it has finished
+//!   its side and waits for the other.
 //!
 //! Orientation convention: every tetrahedron `[v0, v1, v2, v3]` is positively oriented
 //! (`orient3d(v0, v1, v2, v3) > 0`), and [`FACE`]`[i]` lists the face opposite `vi` so that
@@ -52,6 +54,7 @@ use crate::geom::hilbert::{brio_order, SplitMix};
 use crate::geom::predicates::{collinear, insphere, orient3d};
 use glam::DVec3;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The vertex at infinity.
 pub const INFINITE: u32 = u32::MAX;
@@ -859,7 +862,13 @@ impl Delaunay {
     /// As [`Delaunay::new`], calling `progress(fraction)` now and then (from the calling
     /// thread).
     pub fn with_progress(points: &[DVec3], progress: &dyn Fn(f64)) -> Result<Self, DelaunayError> {
-        Self::build_phased(points, None, progress, first_parallel(points.len()))
+        Self::build_phased(
+            points,
+            None,
+            progress,
+            &|| false,
+            first_parallel(points.len()),
+        )
     }
 
     /// As [`Delaunay::with_progress`], also computing the *shrinking ball* of every point
@@ -877,22 +886,30 @@ impl Delaunay {
     ///
     /// # Panics
     /// When `normals` and `points` differ in length.
+    ///
+    /// `idle` is the caller's other work, in small units: whenever the calling thread has
+    /// inserted its side of a parallel phase while the other worker still runs on another
+    /// thread, it calls `idle()` until that worker is done or `idle` returns false (no work
+    /// left). Without the hook, that thread would wait: the two sides of a phase never
+    /// take exactly as long (koala ×16: the other side 7–70 ms later in each phase).
     pub fn with_tangent_balls(
         points: &[DVec3],
         normals: &[DVec3],
         progress: &dyn Fn(f64),
+        idle: &(dyn Fn() -> bool + Sync),
     ) -> Result<Self, DelaunayError> {
         assert_eq!(points.len(), normals.len(), "one normal per point");
         let first = first_parallel(points.len());
-        Self::build_phased(points, Some(normals), progress, first)
+        Self::build_phased(points, Some(normals), progress, idle, first)
     }
 
-    /// As [`Delaunay::with_progress`], with the parallel phases starting at insertion
-    /// `first_parallel` (none when it is `points.len()` or more).
+    /// As [`Delaunay::with_tangent_balls`] (`normals` optional), with the parallel phases
+    /// starting at insertion `first_parallel` (none when it is `points.len()` or more).
     fn build_phased(
         points: &[DVec3],
         normals: Option<&[DVec3]>,
         progress: &dyn Fn(f64),
+        idle: &(dyn Fn() -> bool + Sync),
         first_parallel: usize,
     ) -> Result<Self, DelaunayError> {
         let n = points.len();
@@ -965,7 +982,7 @@ impl Delaunay {
             while lo < n {
                 // Doubling phases; a last one of less than half the previous joins it.
                 let hi = if 3 * lo > n { n } else { 2 * lo };
-                dt.phase(lo, hi);
+                dt.phase(lo, hi, idle);
                 progress(hi as f64 / n as f64);
                 lo = hi;
             }
@@ -1121,8 +1138,8 @@ impl Delaunay {
     /// the deferred points, split across the first plane, was measured slower than
     /// inserting them serially: on Spot ×256 it deferred 39 % of them again and took as
     /// long per point as the serial insertion.)
-    fn phase(&mut self, lo: usize, hi: usize) {
-        let deferred = self.round((lo as u32..hi as u32).collect());
+    fn phase(&mut self, lo: usize, hi: usize, idle: &(dyn Fn() -> bool + Sync)) {
+        let deferred = self.round((lo as u32..hi as u32).collect(), idle);
         #[cfg(test)]
         {
             self.deferred += deferred.len();
@@ -1140,8 +1157,8 @@ impl Delaunay {
 
     /// Inserts the points `seq` (internal ids, in insertion order) on both workers by the
     /// current labels; returns the deferred ones, in insertion order. Leaves the serial
-    /// walk's hint on a live tetrahedron.
-    fn round(&mut self, points: Vec<u32>) -> Vec<u32> {
+    /// walk's hint on a live tetrahedron. Runs `idle` while waiting for the other worker.
+    fn round(&mut self, points: Vec<u32>, idle: &(dyn Fn() -> bool + Sync)) -> Vec<u32> {
         let Delaunay {
             pts,
             input_id,
@@ -1203,7 +1220,25 @@ impl Delaunay {
         };
         let [w0, w1] = &mut par.workers;
         let clock = std::time::Instant::now();
-        let ((d0, u0), (d1, u1)) = rayon::join(|| run(w0, &seq[0]), || run(w1, &seq[1]));
+        // Side 1 runs on another thread if one takes it, else after side 0 on this one.
+        let (started, finished) = (AtomicBool::new(false), AtomicBool::new(false));
+        let ((d0, u0), (d1, u1)) = rayon::join(
+            || {
+                let done = run(w0, &seq[0]);
+                while started.load(Ordering::Relaxed) && !finished.load(Ordering::Relaxed) {
+                    if !idle() {
+                        break;
+                    }
+                }
+                done
+            },
+            || {
+                started.store(true, Ordering::Relaxed);
+                let done = run(w1, &seq[1]);
+                finished.store(true, Ordering::Relaxed);
+                done
+            },
+        );
         for (p, v) in u0.into_iter().chain(u1) {
             duplicate_of[input_id[p as usize] as usize] = input_id[v as usize];
         }

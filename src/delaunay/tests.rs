@@ -2,6 +2,7 @@ use super::*;
 use crate::geom::hilbert::SplitMix;
 use crate::geom::predicates::insphere;
 use crate::mesh::shapes;
+use std::sync::atomic::AtomicUsize;
 
 /// Brute force: no input point strictly inside any finite tetrahedron's circumsphere.
 fn assert_empty_spheres(dt: &Delaunay, pts: &[DVec3]) {
@@ -201,11 +202,52 @@ fn big_cavities_are_linked_by_sorting() {
 /// Tetrahedralizes with the parallel phases starting at insertion `first` on a pool of
 /// `threads` threads.
 fn phased(pts: &[DVec3], first: usize, threads: usize) -> Delaunay {
+    phased_idle(pts, first, threads, &|| false)
+}
+
+/// As [`phased`], with an `idle` hook.
+fn phased_idle(
+    pts: &[DVec3],
+    first: usize,
+    threads: usize,
+    idle: &(dyn Fn() -> bool + Sync),
+) -> Delaunay {
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .unwrap()
-        .install(|| Delaunay::build_phased(pts, None, &|_| {}, first).unwrap())
+        .install(|| Delaunay::build_phased(pts, None, &|_| {}, idle, first).unwrap())
+}
+
+/// The idle hook runs only while the other side of a phase runs on another thread: never
+/// on one thread (where the other side runs after this one: running the hook until it
+/// has no work left would delay it), at most once per phase when it has no work, and
+/// whatever it does, the tetrahedra are the same.
+#[test]
+fn the_idle_hook_runs_only_while_the_other_side_works() {
+    let pts = random_points(20_000, 3);
+    let first = 40;
+    // Phases double from `first`: at most this many.
+    let phases = (pts.len() / first).ilog2() as usize + 1;
+    let reference = canonical(&phased(&pts, first, 2));
+    let calls = &AtomicUsize::new(0);
+    let count = |more: bool| {
+        calls.store(0, Ordering::Relaxed);
+        move || {
+            calls.fetch_add(1, Ordering::Relaxed);
+            more
+        }
+    };
+    let one = phased_idle(&pts, first, 1, &count(true));
+    assert_eq!(calls.load(Ordering::Relaxed), 0, "called on one thread");
+    assert_eq!(canonical(&one), reference);
+    let two = phased_idle(&pts, first, 2, &count(false));
+    let idle = calls.load(Ordering::Relaxed);
+    assert!(idle <= phases, "{idle} calls with no work, {phases} phases");
+    assert_eq!(canonical(&two), reference);
+    // A hook that always has work is called until the other side is done.
+    let busy = phased_idle(&pts, first, 2, &count(true));
+    assert_eq!(canonical(&busy), reference);
 }
 
 /// The tetrahedra as a sorted list of rotated vertex quadruples: equal for equal
@@ -315,7 +357,7 @@ fn tangent_balls_are_the_minimum_over_all_points() {
                 .num_threads(threads)
                 .build()
                 .unwrap()
-                .install(|| Delaunay::build_phased(&pts, Some(&normals), &|_| {}, first))
+                .install(|| Delaunay::build_phased(&pts, Some(&normals), &|_| {}, &|| false, first))
                 .unwrap()
         };
         let serial = build(pts.len(), 1);
@@ -331,7 +373,7 @@ fn tangent_balls_are_the_minimum_over_all_points() {
     let pts = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
     // The first with no point on its inner side.
     let normals = [DVec3::ONE.normalize(), DVec3::X, DVec3::Y, DVec3::Z];
-    let dt = Delaunay::with_tangent_balls(&pts, &normals, &|_| {}).unwrap();
+    let dt = Delaunay::with_tangent_balls(&pts, &normals, &|_| {}, &|| false).unwrap();
     let brute = brute_balls(&pts, &normals);
     assert_eq!(brute, [f64::INFINITY, 0.5, 0.5, 0.5]);
     assert_balls(&dt, &brute, "tetrahedron");

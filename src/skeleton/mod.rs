@@ -25,7 +25,9 @@
 //! and the BVH, then measures `t_i` for as many vertices as it can while the
 //! tetrahedralization is serial; whenever one of its parallel phases waits for a second
 //! worker, this core runs it first (`rayon::yield_now`, between packets of eight rays and
-//! every few thousand triangles of the BVH build). Stage 4 does the rest. Stages 2 and 3
+//! every few thousand triangles of the BVH build), and whenever the tetrahedralizing core
+//! finishes its side of a phase first, it casts rays until the other side is done (both
+//! claim packets from one counter, [`Rays`]). Stage 4 does the rest. Stages 2 and 3
 //! (for the methods that classify) and 4 use both cores. No result depends on the thread
 //! count or on how far the overlap got (tested).
 
@@ -39,7 +41,8 @@ use crate::mesh::Mesh;
 use crate::progress::Progress;
 use glam::DVec3;
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::sync::OnceLock;
 use std::time::Instant;
 
 /// How the skeletal distance `d_i` is taken from the inside Voronoi vertices of cell `i`.
@@ -203,13 +206,31 @@ fn build_with(
     let pts = &mesh.positions;
     let t_min = 1e-9 * mesh.diagonal();
     let dt_done = AtomicBool::new(false);
-    let ((dt, t_dt), ((inside, bvh, order, thickness), t_aux)) = rayon::join(
+    let more = || match overlap {
+        Overlap::UntilTetrahedralized => !dt_done.load(Ordering::Relaxed),
+        #[cfg(test)]
+        Overlap::Nothing => false,
+        #[cfg(test)]
+        Overlap::Everything => true,
+    };
+    // The rays, once the other core has prepared them.
+    let rays = OnceLock::new();
+    let waiting = AtomicUsize::new(0);
+    let ((dt, t_dt), (inside, t_aux)) = rayon::join(
         || {
             let t = Instant::now();
             let progress = |f| progress("tetrahedralize", f);
+            // While this thread waits for the other side of a parallel phase, it casts.
+            let idle = || {
+                let cast = more() && rays.get().is_some_and(|r: &Rays| r.cast_next());
+                waiting.fetch_add(usize::from(cast), Ordering::Relaxed);
+                cast
+            };
             // The shrinking ball is taken over the edges as they are made.
             let dt = match params.method {
-                Method::ShrinkingBall => Delaunay::with_tangent_balls(pts, normals, &progress),
+                Method::ShrinkingBall => {
+                    Delaunay::with_tangent_balls(pts, normals, &progress, &idle)
+                }
                 _ => Delaunay::with_progress(pts, &progress),
             };
             dt_done.store(true, Ordering::Relaxed);
@@ -234,32 +255,21 @@ fn build_with(
                 .then(|| ring_bounds(pts, normals, &mesh.triangles, &poll));
             // Rays in a spatially coherent order share the nodes they visit.
             let order = bvh.vertex_order(pts.len(), &poll);
-            let mut thickness = Vec::with_capacity(pts.len());
-            let more = || match overlap {
-                Overlap::UntilTetrahedralized => !dt_done.load(Ordering::Relaxed),
-                #[cfg(test)]
-                Overlap::Nothing => false,
-                #[cfg(test)]
-                Overlap::Everything => true,
-            };
-            let mut far = [0.0; PACKET];
-            while thickness.len() < pts.len() && more() {
+            let rays = rays.get_or_init(|| Rays::new(bvh, (pts, normals), t_min, order, reach));
+            while more() {
                 if let Some(rayon::Yield::Executed) = rayon::yield_now() {
                     continue;
                 }
-                let k = thickness.len();
-                let verts = &order[k..(k + PACKET).min(pts.len())];
-                for (f, &v) in far.iter_mut().zip(verts) {
-                    *f = reach.as_ref().map_or(f64::INFINITY, |r| r[v as usize]);
+                if !rays.cast_next() {
+                    break;
                 }
-                let m = verts.len();
-                let mut th = [f64::INFINITY; PACKET];
-                cast_thickness(&bvh, pts, normals, t_min, verts, &far[..m], &mut th[..m]);
-                thickness.extend(th[..m].iter().zip(&far).map(|(&t, &f)| (t, f)));
             }
-            ((inside, bvh, order, thickness), t.elapsed().as_secs_f64())
+            (inside, t.elapsed().as_secs_f64())
         },
     );
+    let Some(rays) = rays.into_inner() else {
+        unreachable!("stage 1 prepares the rays")
+    };
     let dt = dt?;
     seconds.push(("tetrahedralize", t_dt));
     let aux = if inside.is_some() {
@@ -292,35 +302,38 @@ fn build_with(
     // the same answer.
     let t = Instant::now();
     progress("thickness", 0.0);
-    // Casts in `order`, as in stage 1, in packets of neighbours; `thickness` holds the
+    // Casts in `order`, as in stage 1, in packets of neighbours; stage 1 measured the
     // first ones.
+    let measured = rays.measured();
     let mut th = vec![f64::INFINITY; n];
     th.par_chunks_mut(PACKET)
-        .zip(order.par_chunks(PACKET))
+        .zip(rays.order.par_chunks(PACKET))
         .enumerate()
         .for_each(|(c, (th, verts))| {
             let mut far = [0.0; PACKET];
             for (j, (f, &v)) in far.iter_mut().zip(verts).enumerate() {
                 let d = distance[v as usize];
-                *f = match thickness.get(c * PACKET + j) {
+                let k = c * PACKET + j;
+                *f = if d == 0.0 {
                     // The fallback (`d = 0`) needs no thickness.
-                    _ if d == 0.0 => 0.0,
-                    Some(&(known, reach)) if 2.0 * d <= reach => {
-                        th[j] = known;
-                        0.0
-                    }
-                    _ => 2.0 * d,
+                    0.0
+                } else if k < measured && 2.0 * d <= rays.reach(v) {
+                    th[j] = rays.known(k);
+                    0.0
+                } else {
+                    2.0 * d
                 };
             }
-            cast_thickness(&bvh, pts, normals, t_min, verts, &far[..verts.len()], th);
+            rays.cast(verts, &far[..verts.len()], th);
         });
     let mut clamped = 0;
-    for (&i, th) in order.iter().zip(th) {
+    for (&i, th) in rays.order.iter().zip(th) {
         clamped += usize::from(clamp(&mut distance[i as usize], th));
     }
     log::debug!(
-        "thickness: {} of {n} vertices measured during the tetrahedralization, {clamped} clamped",
-        thickness.len()
+        "thickness: {measured} of {n} vertices measured during the tetrahedralization ({} \
+         packets while it waited for its other side), {clamped} clamped",
+        waiting.into_inner()
     );
     seconds.push(("thickness", t.elapsed().as_secs_f64()));
 
@@ -506,48 +519,119 @@ fn accumulate(n: usize, tets: &[[u32; 4]], radius: &[f64]) -> Accumulated {
     }
 }
 
-/// The thickness along `−n` of each of `verts` (at most [`PACKET`], neighbours in the
-/// BVH's vertex order), looking as far as `far` (no cast where that is 0: `th` is kept):
-/// one packet of rays, each ignoring its own vertex's triangles. Infinite where nothing
-/// is hit.
-fn cast_thickness(
-    bvh: &Bvh,
-    pts: &[DVec3],
-    normals: &[DVec3],
+/// The thickness rays: the BVH, the order they are cast in, how far each looks in stage 1,
+/// and what stage 1 measured. Packets are claimed in order by whichever thread is free
+/// (the BVH's thread between its other jobs, the tetrahedralizing thread while it waits
+/// for its other worker), so the measured ones are always a prefix of the order.
+struct Rays<'a> {
+    bvh: Bvh,
+    pts: &'a [DVec3],
+    normals: &'a [DVec3],
+    /// Hits closer than this are ignored.
     t_min: f64,
-    verts: &[u32],
-    far: &[f64],
-    th: &mut [f64],
-) {
-    let mut rays = [Ray {
-        origin: DVec3::ZERO,
-        dir: DVec3::ZERO,
-        t_min,
-        t_max: 0.0,
-        skip_vertex: u32::MAX,
-    }; PACKET];
-    let mut lane = [0; PACKET];
-    let mut m = 0;
-    for (j, (&v, &f)) in verts.iter().zip(far).enumerate() {
-        if f > 0.0 {
-            let i = v as usize;
-            rays[m] = Ray {
-                origin: pts[i],
-                dir: -normals[i],
-                t_min,
-                t_max: f,
-                skip_vertex: v,
-            };
-            lane[m] = j;
-            m += 1;
+    /// The vertices in the BVH's leaf order: neighbours cast nearly the same rays.
+    order: Vec<u32>,
+    /// How far the ray of each vertex looks in stage 1 (twice a bound on `d`, by
+    /// [`ring_bounds`]); everywhere infinite without it.
+    reach: Option<Vec<f64>>,
+    /// The next packet to claim.
+    next: AtomicUsize,
+    /// The thickness of `order[k]` as `f64` bits, for `k` below [`Rays::measured`].
+    thickness: Vec<AtomicU64>,
+}
+
+impl<'a> Rays<'a> {
+    fn new(
+        bvh: Bvh,
+        (pts, normals): (&'a [DVec3], &'a [DVec3]),
+        t_min: f64,
+        order: Vec<u32>,
+        reach: Option<Vec<f64>>,
+    ) -> Self {
+        let thickness = order.iter().map(|_| AtomicU64::new(0)).collect();
+        Rays {
+            bvh,
+            pts,
+            normals,
+            t_min,
+            order,
+            reach,
+            next: AtomicUsize::new(0),
+            thickness,
         }
     }
-    if m == 0 {
-        return;
+
+    /// How far stage 1 looks from vertex `v`.
+    fn reach(&self, v: u32) -> f64 {
+        self.reach.as_ref().map_or(f64::INFINITY, |r| r[v as usize])
     }
-    let hits = bvh.cast_packet(&rays[..m]);
-    for (&j, hit) in lane[..m].iter().zip(hits) {
-        th[j] = hit.map_or(f64::INFINITY, |h| h.t);
+
+    /// Claims the next packet and measures it up to its reach; false when none is left.
+    fn cast_next(&self) -> bool {
+        let n = self.order.len();
+        let k = self.next.fetch_add(1, Ordering::Relaxed) * PACKET;
+        if k >= n {
+            return false;
+        }
+        let verts = &self.order[k..(k + PACKET).min(n)];
+        let mut far = [0.0; PACKET];
+        for (f, &v) in far.iter_mut().zip(verts) {
+            *f = self.reach(v);
+        }
+        let m = verts.len();
+        let mut th = [f64::INFINITY; PACKET];
+        self.cast(verts, &far[..m], &mut th[..m]);
+        for (slot, t) in self.thickness[k..k + m].iter().zip(th) {
+            slot.store(t.to_bits(), Ordering::Relaxed);
+        }
+        true
+    }
+
+    /// How many vertices (a prefix of the order) stage 1 measured. Only once no thread
+    /// casts any more (every claimed packet is then finished).
+    fn measured(&self) -> usize {
+        (self.next.load(Ordering::Relaxed) * PACKET).min(self.order.len())
+    }
+
+    /// The thickness stage 1 measured for `order[k]`, `k` below [`Rays::measured`].
+    fn known(&self, k: usize) -> f64 {
+        f64::from_bits(self.thickness[k].load(Ordering::Relaxed))
+    }
+
+    /// The thickness along `−n` of each of `verts` (at most [`PACKET`], neighbours in the
+    /// order), looking as far as `far` (no cast where that is 0: `th` is kept): one packet
+    /// of rays, each ignoring its own vertex's triangles. Infinite where nothing is hit.
+    fn cast(&self, verts: &[u32], far: &[f64], th: &mut [f64]) {
+        let mut rays = [Ray {
+            origin: DVec3::ZERO,
+            dir: DVec3::ZERO,
+            t_min: self.t_min,
+            t_max: 0.0,
+            skip_vertex: u32::MAX,
+        }; PACKET];
+        let mut lane = [0; PACKET];
+        let mut m = 0;
+        for (j, (&v, &f)) in verts.iter().zip(far).enumerate() {
+            if f > 0.0 {
+                let i = v as usize;
+                rays[m] = Ray {
+                    origin: self.pts[i],
+                    dir: -self.normals[i],
+                    t_min: self.t_min,
+                    t_max: f,
+                    skip_vertex: v,
+                };
+                lane[m] = j;
+                m += 1;
+            }
+        }
+        if m == 0 {
+            return;
+        }
+        let hits = self.bvh.cast_packet(&rays[..m]);
+        for (&j, hit) in lane[..m].iter().zip(hits) {
+            th[j] = hit.map_or(f64::INFINITY, |h| h.t);
+        }
     }
 }
 
