@@ -27,7 +27,7 @@
 //! worker, this core runs it first (`rayon::yield_now`, between packets of eight rays and
 //! every few thousand triangles of the BVH build), and whenever the tetrahedralizing core
 //! finishes its side of a phase first, it casts rays until the other side is done (both
-//! claim packets from one counter, [`Rays`]). Stage 4 does the rest. Stages 2 and 3
+//! claim packets from one counter). Stage 4 does the rest. Stages 2 and 3
 //! (for the methods that classify) and 4 use both cores. No result depends on the thread
 //! count or on how far the overlap got (tested).
 
