@@ -254,7 +254,7 @@ fn build_with(
             let reach = (params.method == Method::ShrinkingBall)
                 .then(|| ring_bounds(pts, normals, &mesh.triangles, &poll));
             // Rays in a spatially coherent order share the nodes they visit.
-            let order = bvh.vertex_order(pts.len(), &poll);
+            let order = bvh.vertex_order(pts.len());
             let rays = rays.get_or_init(|| Rays::new(bvh, (pts, normals), t_min, order, reach));
             while more() {
                 if let Some(rayon::Yield::Executed) = rayon::yield_now() {
