@@ -255,7 +255,7 @@ fn build_with(
                 .then(|| ring_bounds(pts, normals, &mesh.triangles, &poll));
             // Rays in a spatially coherent order share the nodes they visit.
             let order = bvh.vertex_order(pts.len());
-            let rays = rays.get_or_init(|| Rays::new(bvh, (pts, normals), t_min, order, reach));
+            let rays = rays.get_or_init(|| Rays::new(bvh, pts, normals, t_min, order, reach));
             while more() {
                 if let Some(rayon::Yield::Executed) = rayon::yield_now() {
                     continue;
@@ -543,7 +543,8 @@ struct Rays<'a> {
 impl<'a> Rays<'a> {
     fn new(
         bvh: Bvh,
-        (pts, normals): (&'a [DVec3], &'a [DVec3]),
+        pts: &'a [DVec3],
+        normals: &'a [DVec3],
         t_min: f64,
         order: Vec<u32>,
         reach: Option<Vec<f64>>,
