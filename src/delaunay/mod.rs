@@ -884,14 +884,14 @@ impl Delaunay {
     /// this replaced a pass over the finished tetrahedra (several times each edge) that
     /// took 0.4 s on both cores.
     ///
-    /// # Panics
-    /// When `normals` and `points` differ in length.
-    ///
     /// `idle` is the caller's other work, in small units: whenever the calling thread has
     /// inserted its side of a parallel phase while the other worker still runs on another
     /// thread, it calls `idle()` until that worker is done or `idle` returns false (no work
     /// left). Without the hook, that thread would wait: the two sides of a phase never
     /// take exactly as long (koala ×16: the other side 7–70 ms later in each phase).
+    ///
+    /// # Panics
+    /// When `normals` and `points` differ in length.
     pub fn with_tangent_balls(
         points: &[DVec3],
         normals: &[DVec3],

@@ -253,9 +253,7 @@ fn build_with(
             // How far each ray must look: twice a bound on `d` where the method has one.
             let reach = (params.method == Method::ShrinkingBall)
                 .then(|| ring_bounds(pts, normals, &mesh.triangles, &poll));
-            // Rays in a spatially coherent order share the nodes they visit.
-            let order = bvh.vertex_order(pts.len());
-            let rays = rays.get_or_init(|| Rays::new(bvh, pts, normals, t_min, order, reach));
+            let rays = rays.get_or_init(|| Rays::new(bvh, pts, normals, t_min, reach));
             while more() {
                 if let Some(rayon::Yield::Executed) = rayon::yield_now() {
                     continue;
@@ -546,9 +544,10 @@ impl<'a> Rays<'a> {
         pts: &'a [DVec3],
         normals: &'a [DVec3],
         t_min: f64,
-        order: Vec<u32>,
         reach: Option<Vec<f64>>,
     ) -> Self {
+        // Rays in a spatially coherent order share the nodes they visit.
+        let order = bvh.vertex_order(pts.len());
         let thickness = order.iter().map(|_| AtomicU64::new(0)).collect();
         Rays {
             bvh,
