@@ -240,6 +240,21 @@ mod tests {
     }
 
     #[test]
+    fn eight_lane_keys_match_one_point_keys() {
+        // 1,001 points: the last chunk of eight is partly empty.
+        let mut rng = SplitMix(5);
+        let mut u = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        let pts: Vec<DVec3> = (0..1001).map(|_| DVec3::new(u(), u(), u())).collect();
+        let q = quantizer(&pts, 21);
+        let mut expected: Vec<(u64, u32)> = (0..pts.len())
+            .map(|i| (hilbert_index(q(pts[i]), 21), i as u32))
+            .collect();
+        expected.sort_unstable();
+        let expected: Vec<u32> = expected.into_iter().map(|(_, i)| i).collect();
+        assert_eq!(hilbert_order(&pts), expected);
+    }
+
+    #[test]
     fn brio_is_a_deterministic_permutation() {
         let pts: Vec<DVec3> = (0..1000)
             .map(|i| DVec3::new((i % 10) as f64, (i / 10 % 10) as f64, (i / 100) as f64))
