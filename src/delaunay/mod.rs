@@ -220,7 +220,8 @@ impl Tets {
 /// Radius of the ball tangent at `p` with its centre on `−n` (unit) and `q` on its sphere,
 /// `|q − p|² / (−2 n·(q − p))`; infinite when `q` is not on the inner side of the tangent
 /// plane. The shrinking ball of `p` is the minimum over the other points (see
-/// [`Delaunay::with_tangent_balls`]); the skeleton also bounds it with a few of them.
+/// [`Delaunay::with_tangent_balls`]). The definition: running minima use
+/// [`lower_tangent_radius`], which gives the same bits without the division.
 #[inline(always)]
 pub fn tangent_radius(p: DVec3, n: DVec3, q: DVec3) -> f64 {
     let d = q - p;
