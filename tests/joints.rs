@@ -320,7 +320,7 @@ fn random_extreme_poses_and_sliders_never_break_the_jaw() {
     };
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let spec = RigSpec::load(&root.join("assets/examples/spot-jaw.rig.toml")).unwrap();
-    let (mesh, _) = mesh::load_obj(&common::shared_mesh("spot-small.obj")).unwrap();
+    let (mesh, _) = mesh::load_obj(&common::test_mesh("spot-small.obj")).unwrap();
     let mut p = Puppet::build(mesh, spec, puppet::progress::silent()).unwrap();
     let mut local = vec![Local::default(); p.joints.sections().len()];
     for step in 0..400 {

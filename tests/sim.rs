@@ -14,7 +14,7 @@ use std::sync::OnceLock;
 fn rig() -> Rig {
     static RIG: OnceLock<Rig> = OnceLock::new();
     RIG.get_or_init(|| {
-        let text = std::fs::read(common::shared_mesh("spot-small.obj")).unwrap();
+        let text = std::fs::read(common::test_mesh("spot-small.obj")).unwrap();
         let (mesh, _) = parse_obj(&text).unwrap();
         let normals = vertex_normals(&mesh).unwrap();
         let sk = build(&mesh, &normals, &SkeletonParams::default(), silent()).unwrap();

@@ -3,7 +3,7 @@
 //! line with exit status 2.
 
 mod common;
-use common::{puppet, scratch, shared_mesh};
+use common::{puppet, scratch, test_mesh};
 use std::path::{Path, PathBuf};
 
 fn example(name: &str) -> String {
@@ -30,7 +30,7 @@ fn fails(test: &str, rig: &str, anim: &str) -> (String, PathBuf, PathBuf) {
     let (r, a) = (dir.join("rig.toml"), dir.join("anim.toml"));
     std::fs::write(&r, rig).unwrap();
     std::fs::write(&a, anim).unwrap();
-    let mesh = shared_mesh("spot-small.obj");
+    let mesh = test_mesh("spot-small.obj");
     let out = puppet(&[
         "simulate",
         mesh.to_str().unwrap(),
@@ -133,7 +133,7 @@ fn the_example_plays_and_writes_frames_in_input_order() {
 fn the_text_summary_names_frames_springs_and_step_time() {
     let out = puppet(&[
         "simulate",
-        shared_mesh("spot-small.obj").to_str().unwrap(),
+        test_mesh("spot-small.obj").to_str().unwrap(),
         "--frames",
         "3",
     ]);

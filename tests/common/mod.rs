@@ -21,14 +21,14 @@ pub fn puppet(args: &[&str]) -> Output {
         .expect("run puppet")
 }
 
-/// A mesh from `../shared/meshes` (present beside every checkout and in CI).
-pub fn shared_mesh(name: &str) -> PathBuf {
+/// A test mesh from `tests/data/meshes` (credits in its README).
+pub fn test_mesh(name: &str) -> PathBuf {
     let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/meshes")
+        .join("tests/data/meshes")
         .join(name);
     assert!(
         p.exists(),
-        "test mesh {} is missing (shared/meshes)",
+        "test mesh {} is missing (tests/data/meshes)",
         p.display()
     );
     p
