@@ -1,4 +1,4 @@
-//! Micro-benchmarks of the simulation step on the standard scene (`puppet::scenario`):
+//! Micro-benchmarks of the simulation step on the standard scenario (`puppet::scenario`):
 //! Spot (2,930 vertices) and Spot Loop-subdivided twice (46,850 vertices).
 //! `cargo bench --bench step`.
 //!
@@ -11,11 +11,11 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use puppet::joints::PoseScratch;
 use puppet::mesh::{parse_obj, subdivide_loop_values, vertex_normals};
-use puppet::scenario::{reference::Reference, Scene};
+use puppet::scenario::{reference::Reference, Scenario};
 use puppet::sim::{Constraint, Options, Params, Pose, Simulation};
 use std::hint::black_box;
 
-fn scene(level: usize) -> Scene {
+fn scenario(level: usize) -> Scenario {
     let (mut mesh, _) = parse_obj(include_bytes!("../assets/spot.obj")).expect("embedded mesh");
     let normals = vertex_normals(&mesh).expect("normals");
     let sk = puppet::skeleton::build(
@@ -29,19 +29,19 @@ fn scene(level: usize) -> Scene {
     for _ in 0..level {
         (mesh, distance) = subdivide_loop_values(&mesh, &distance);
     }
-    Scene::standard(mesh, distance, f64::INFINITY).expect("scene")
+    Scenario::standard(mesh, distance, f64::INFINITY).expect("scenario")
 }
 
 fn stages(c: &mut Criterion) {
     for (name, level) in [("spot", 0), ("spot-x16", 2)] {
-        let scene = scene(level);
+        let scenario = scenario(level);
         let mut g = c.benchmark_group(name);
         g.sample_size(20);
         let mut scratch = PoseScratch::default();
-        let local = scene.local(0.25);
+        let local = scenario.local(0.25);
         g.bench_function("pose", |b| {
             b.iter(|| {
-                scene.joints.pose_into(black_box(&local), &mut scratch);
+                scenario.joints.pose_into(black_box(&local), &mut scratch);
             })
         });
         for constraint in [Constraint::Circumsphere, Constraint::SpringReduction] {
@@ -54,9 +54,9 @@ fn stages(c: &mut Criterion) {
                 ..Options::default()
             };
             let mut sim =
-                Simulation::with_options(scene.rig(params.bone_distance), params, options);
-            sim.set_sections(scene.joints.section_of().to_vec());
-            let poses: Vec<Pose> = (0..60).map(|k| scene.pose(k as f64 / 60.0)).collect();
+                Simulation::with_options(scenario.rig(params.bone_distance), params, options);
+            sim.set_sections(scenario.joints.section_of().to_vec());
+            let poses: Vec<Pose> = (0..60).map(|k| scenario.pose(k as f64 / 60.0)).collect();
             let mut k = 0;
             let label = match constraint {
                 Constraint::Circumsphere => "step/circumsphere",
@@ -70,15 +70,15 @@ fn stages(c: &mut Criterion) {
             });
         }
         let params = Params::default();
-        let mut sim = Simulation::new(scene.rig(params.bone_distance), params);
-        sim.set_sections(scene.joints.section_of().to_vec());
-        let rest = scene.pose(0.0);
+        let mut sim = Simulation::new(scenario.rig(params.bone_distance), params);
+        sim.set_sections(scenario.joints.section_of().to_vec());
+        let rest = scenario.pose(0.0);
         while !sim.is_asleep() {
             sim.step(&rest);
         }
         g.bench_function("asleep", |b| b.iter(|| sim.step(black_box(&rest))));
-        let mut r = Reference::new(&scene, params, 1.0 / 60.0);
-        let world = scene.world(0.25);
+        let mut r = Reference::new(&scenario, params, 1.0 / 60.0);
+        let world = scenario.world(0.25);
         g.bench_function("reference-f64", |b| b.iter(|| r.step(black_box(&world))));
         g.finish();
     }

@@ -123,7 +123,7 @@ fn short_stress_run_passes() {
             "bench", "--stress", "--seed", seed, "--steps", "15000", "--json",
         ]);
         assert_eq!(report["steps"], 15_000);
-        assert!(report["scenes"].as_u64().unwrap() >= 5);
+        assert!(report["scenarios"].as_u64().unwrap() >= 5);
         assert!(report["worst_constraint_excess"].as_f64().unwrap() <= 1e-5);
         assert!(report["worst_motion_share"].as_f64().unwrap() <= 1.0);
     }

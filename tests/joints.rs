@@ -7,8 +7,8 @@ use glam::{DVec3, Vec3};
 use puppet::files::Format;
 use puppet::joints::{Cut, Local};
 use puppet::mesh::{self, shapes};
-use puppet::scene::{Puppet, RigSpec};
 use puppet::sim::{Constraint, Params};
+use puppet::{Puppet, RigFile};
 use std::path::Path;
 
 fn cut(name: &str, section: &str, y: f64) -> Cut {
@@ -24,10 +24,10 @@ fn cut(name: &str, section: &str, y: f64) -> Cut {
 /// A capsule along y from -1.8 to 1.8 (an arm), radius 0.3.
 fn arm(cuts: Vec<Cut>, params: Params) -> Puppet {
     let mesh = shapes::capsule(0.3, 1.5, 6, 36, 20);
-    let spec = RigSpec {
+    let spec = RigFile {
         cuts,
         params,
-        ..RigSpec::default()
+        ..RigFile::default()
     };
     Puppet::build(mesh, spec, puppet::progress::silent()).expect("capsule puppet")
 }
@@ -200,7 +200,7 @@ fn a_three_level_hierarchy_composes_as_documented() {
 #[test]
 fn the_frog_jaw_folds_without_nan_or_escape() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let spec = RigSpec::load(&root.join("assets/examples/spot-jaw.rig.toml")).expect("example rig");
+    let spec = RigFile::load(&root.join("assets/examples/spot-jaw.rig.toml")).expect("example rig");
     let (mesh, _) = mesh::load_obj(spec.mesh.as_deref().unwrap()).unwrap();
     for constraint in [Constraint::Circumsphere, Constraint::SpringReduction] {
         let mut spec = spec.clone();
@@ -279,8 +279,8 @@ fn a_rig_written_and_read_back_gives_the_same_simulation_bit_for_bit() {
         vec![cut("top", "root", 0.3), cut("tip", "top", 1.1)],
         params,
     );
-    let text = a.current_spec().to_toml(None);
-    let spec = RigSpec::parse(&text, Format::Toml, Path::new(".")).unwrap();
+    let text = a.current_rig_file().to_toml(None);
+    let spec = RigFile::parse(&text, Format::Toml, Path::new(".")).unwrap();
     assert_eq!(spec.cuts, a.joints.cuts());
     let mut b = Puppet::build(a.mesh.clone(), spec, puppet::progress::silent()).unwrap();
     let mut local = vec![Local::default(); 3];
@@ -319,7 +319,7 @@ fn random_extreme_poses_and_sliders_never_break_the_jaw() {
         (seed >> 11) as f64 / (1u64 << 53) as f64
     };
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let spec = RigSpec::load(&root.join("assets/examples/spot-jaw.rig.toml")).unwrap();
+    let spec = RigFile::load(&root.join("assets/examples/spot-jaw.rig.toml")).unwrap();
     let (mesh, _) = mesh::load_obj(&common::test_mesh("spot-small.obj")).unwrap();
     let mut p = Puppet::build(mesh, spec, puppet::progress::silent()).unwrap();
     let mut local = vec![Local::default(); p.joints.sections().len()];

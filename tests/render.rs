@@ -4,15 +4,15 @@
 //!
 //! Regenerate the reference with `PUPPET_BLESS=1 cargo test --release --test render`.
 
-use puppet::render::{render_image, Camera, Gpu, Image, Overlays, SceneRenderer, OFFSCREEN_FORMAT};
-use puppet::scene::{Puppet, RigSpec};
-use puppet::ui::Session;
+use puppet::render::{render_image, Gpu, Image, SceneRenderer, OFFSCREEN_FORMAT};
+use puppet::session::{Camera, Overlays, Session};
+use puppet::{Puppet, RigFile};
 use std::path::Path;
 
 const W: u32 = 320;
 const H: u32 = 240;
 
-fn spot_session(rig: RigSpec) -> Session {
+fn spot_session(rig: RigFile) -> Session {
     let bytes =
         std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/spot.obj")).unwrap();
     let (mesh, _) = puppet::mesh::parse_obj(&bytes).unwrap();
@@ -44,7 +44,7 @@ fn background() -> [u8; 3] {
 }
 
 fn shot(gpu: &Gpu, r: &mut SceneRenderer, s: &Session, cam: &Camera, o: Overlays) -> Image {
-    render_image(gpu, r, s, cam, o, W, H).expect("offscreen render")
+    render_image(gpu, r, &s.view(o), cam, W, H).expect("offscreen render")
 }
 
 fn luminance_spread(img: &Image) -> f64 {
@@ -64,7 +64,7 @@ fn the_default_puppet_renders_offscreen_with_shading_and_overlays() {
     let gpu = Gpu::headless()
         .expect("a graphics adapter (scripts/setup.sh installs Mesa's software Vulkan)");
     let mut renderer = SceneRenderer::new(&gpu, OFFSCREEN_FORMAT);
-    let session = spot_session(RigSpec::default());
+    let session = spot_session(RigFile::default());
     let cam = camera(&session);
     let plain = shot(&gpu, &mut renderer, &session, &cam, Overlays::default());
     assert_eq!((plain.width, plain.height), (W, H));
@@ -82,9 +82,8 @@ fn the_default_puppet_renders_offscreen_with_shading_and_overlays() {
     // Nothing changed: the second prepare uploads nothing.
     renderer.prepare(
         &gpu,
-        &session,
+        &session.view(Overlays::default()),
         &cam,
-        Overlays::default(),
         W as f32 / H as f32,
     );
     assert_eq!(renderer.last_uploads, 0, "no upload when nothing changed");
@@ -124,7 +123,7 @@ fn the_default_puppet_renders_offscreen_with_shading_and_overlays() {
 fn a_turned_section_shows_in_the_image() {
     let gpu = Gpu::headless().expect("a graphics adapter");
     let mut renderer = SceneRenderer::new(&gpu, OFFSCREEN_FORMAT);
-    let rig = RigSpec::load(
+    let rig = RigFile::load(
         &Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples/spot-jaw.rig.toml"),
     )
     .unwrap();

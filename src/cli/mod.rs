@@ -95,20 +95,34 @@ pub fn run(cli: Cli) -> Result<()> {
 /// `puppet [MESH] [--rig RIG]`: the interactive window. The mesh (and rig) are read and
 /// validated first, so a bad file is an `error:` line and exit status 2 before any window
 /// opens; the skeleton is then built in the background while the window shows progress.
+/// With `--screenshot`, prints one JSON line saying what the screenshot shows.
+#[cfg(feature = "gui")]
 fn open(cli: &Cli) -> Result<()> {
-    let spec = match &cli.rig {
-        Some(path) => puppet::scene::RigSpec::load(path)
+    let rig_file = match &cli.rig {
+        Some(path) => puppet::RigFile::load(path)
             .map_err(|e| FileError::new(path.display().to_string(), e))?,
-        None => puppet::scene::RigSpec::default(),
+        None => puppet::RigFile::default(),
     };
-    let mesh_path = cli.mesh.clone().or_else(|| spec.mesh.clone());
+    let mesh_path = cli.mesh.clone().or_else(|| rig_file.mesh.clone());
     let (mesh, _report, name) = load_mesh(mesh_path.as_deref())?;
-    puppet::app::run(puppet::app::Options {
+    let report = puppet::app::run(puppet::app::Options {
         mesh,
         name,
-        rig: spec,
+        rig_file,
         screenshot: cli.screenshot.clone(),
         frames: cli.frames,
         drive: cli.drive_test,
-    })
+    })?;
+    if let Some(report) = report {
+        println!("{}", serde_json::to_string(&report)?);
+    }
+    Ok(())
+}
+
+/// Without the `gui` feature there is no window.
+#[cfg(not(feature = "gui"))]
+fn open(_cli: &Cli) -> Result<()> {
+    anyhow::bail!(
+        "this build of puppet has no window (built without the `gui` feature); the headless commands are `puppet skeleton`, `puppet simulate` and `puppet bench`"
+    )
 }

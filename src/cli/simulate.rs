@@ -12,8 +12,8 @@ use anyhow::{bail, Result};
 use puppet::anim::{Animation, Bound};
 use puppet::files::{self, Format};
 use puppet::joints::PoseScratch;
-use puppet::scene::{Puppet, RigSpec};
 use puppet::skeleton::truth::median_p95;
+use puppet::{Puppet, RigFile};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -79,9 +79,9 @@ pub fn run(args: &Args) -> Result<()> {
     let t_start = Instant::now();
     let spec = match &args.rig {
         Some(path) => {
-            RigSpec::load(path).map_err(|e| FileError::new(path.display().to_string(), e))?
+            RigFile::load(path).map_err(|e| FileError::new(path.display().to_string(), e))?
         }
-        None => RigSpec::default(),
+        None => RigFile::default(),
     };
     let anim = match &args.anim {
         Some(path) => {
@@ -121,7 +121,7 @@ pub fn run(args: &Args) -> Result<()> {
         .map(|p| p.display().to_string())
         .unwrap_or_else(|| mesh_name.clone());
     let mut puppet = Puppet::build(mesh, spec, &|s, f| bar.update(s, f)).map_err(|e| match e {
-        puppet::scene::BuildError::Joints(e) => FileError::new(&rig_name, e),
+        puppet::puppet::BuildError::Joints(e) => FileError::new(&rig_name, e),
         e => FileError::new(&mesh_name, e),
     })?;
     bar.finish();

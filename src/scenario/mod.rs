@@ -1,8 +1,8 @@
-//! Standard scenes for benchmarks, the stability stress and the accuracy reference: one
+//! Standard scenarios for benchmarks, the stability stress and the accuracy reference: one
 //! definition shared by `puppet bench`, the tests and the criterion benches, so every
 //! number in `BENCHMARKS.md` comes from the same animation.
 //!
-//! **The standard scene.** The mesh is cut across its longest bounding-box axis at
+//! **The standard scenario.** The mesh is cut across its longest bounding-box axis at
 //! [`LIMB_AT`] of its extent; the smaller end (the "limb", about a fifth of the mesh) swings
 //! about an axis in the cut plane, `SWING_DEGREES · sin(2π t / SWING_PERIOD)`, for
 //! `swing_seconds`, then holds still at rest pose. The rest of the mesh (the "body") is
@@ -27,7 +27,7 @@ pub const SWING_PERIOD: f64 = 1.0;
 
 /// A mesh with skeletal distances, one cut and the limb's animation.
 #[derive(Clone, Debug)]
-pub struct Scene {
+pub struct Scenario {
     pub mesh: Mesh,
     pub normals: Vec<DVec3>,
     pub distance: Vec<f64>,
@@ -42,14 +42,18 @@ pub struct Scene {
     pub diagonal: f64,
 }
 
-impl Scene {
-    /// The standard scene on a validated mesh with its skeletal distances (see the module
+impl Scenario {
+    /// The standard scenario on a validated mesh with its skeletal distances (see the module
     /// docs).
     ///
     /// # Errors
     /// When the mesh has no normals (degenerate) or the cut leaves a side empty (a mesh
     /// whose skeleton does not extend along its longest axis).
-    pub fn standard(mesh: Mesh, distance: Vec<f64>, swing_seconds: f64) -> Result<Scene, String> {
+    pub fn standard(
+        mesh: Mesh,
+        distance: Vec<f64>,
+        swing_seconds: f64,
+    ) -> Result<Scenario, String> {
         let normals = mesh::vertex_normals(&mesh).map_err(|e| e.to_string())?;
         let points: Vec<DVec3> = mesh
             .positions
@@ -79,7 +83,7 @@ impl Scene {
                 pivot: None,
             })
             .map_err(|e: JointError| e.to_string())?;
-        Ok(Scene {
+        Ok(Scenario {
             diagonal: ext.length(),
             mesh,
             normals,

@@ -4,7 +4,7 @@
 //! stops changing, it is the "converged solution" that every configuration's error is
 //! measured against; run at the normal step it is the "f64" configuration.
 
-use super::Scene;
+use super::Scenario;
 use crate::sim::{Constraint, Params, REFERENCE_STEP};
 use glam::{DAffine3, DVec3};
 use rayon::prelude::*;
@@ -27,9 +27,9 @@ pub struct Reference {
 
 impl Reference {
     /// At rest, stepping by `h` seconds.
-    pub fn new(scene: &Scene, params: Params, h: f64) -> Reference {
+    pub fn new(scenario: &Scenario, params: Params, h: f64) -> Reference {
         let params = params.sanitized();
-        let mesh = &scene.mesh;
+        let mesh = &scenario.mesh;
         let n = mesh.positions.len();
         let mut adj = vec![Vec::new(); n];
         for (a, b) in crate::mesh::unique_edges(&mesh.triangles) {
@@ -49,12 +49,12 @@ impl Reference {
         let f_bd = params.bone_distance as f64;
         Reference {
             rest: mesh.positions.clone(),
-            normal: scene.normals.clone(),
-            bone_length: scene.distance.iter().map(|d| f_bd * d).collect(),
+            normal: scenario.normals.clone(),
+            bone_length: scenario.distance.iter().map(|d| f_bd * d).collect(),
             start,
             neighbour,
             neighbour_rest,
-            section_of: scene.joints.section_of().to_vec(),
+            section_of: scenario.joints.section_of().to_vec(),
             params,
             h,
             cur: mesh.positions.clone(),

@@ -2,12 +2,14 @@
 //! file (`[[material]]` tables with a `name` and any [`Params`] fields; missing fields take
 //! the defaults).
 
-use super::Params;
+use super::{ParamError, Params};
 
 /// A named parameter set.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Material {
+    /// The name panels and rig files use.
     pub name: String,
+    /// Its parameters.
     #[serde(flatten)]
     pub params: Params,
 }
@@ -15,15 +17,18 @@ pub struct Material {
 /// Why a materials file could not be read.
 #[derive(Debug, thiserror::Error)]
 pub enum MaterialError {
+    /// Not TOML, or not a materials file (one line, with the position).
     #[error("{0}")]
     Syntax(String),
-    #[error("material '{name}': {field} = {value} is outside {range}")]
+    /// A value outside its range.
+    #[error("material '{name}': {error}")]
     Range {
+        /// The material's name.
         name: String,
-        field: &'static str,
-        value: f64,
-        range: &'static str,
+        /// Which value, and its range.
+        error: ParamError,
     },
+    /// A material without a name (its position in the file, from 1).
     #[error("material {0} has an empty name")]
     NoName(usize),
 }
@@ -89,47 +94,12 @@ pub fn parse_materials(text: &str) -> Result<Vec<Material>, MaterialError> {
         if m.name.trim().is_empty() {
             return Err(MaterialError::NoName(k + 1));
         }
-        check_params(&m.params).map_err(|(field, value, range)| MaterialError::Range {
+        m.params.check().map_err(|error| MaterialError::Range {
             name: m.name.clone(),
-            field,
-            value,
-            range,
+            error,
         })?;
     }
     Ok(file.material)
-}
-
-/// Checks every field of `p` against its documented range; on failure returns the field,
-/// its value and the range as text. Files use this (a file is not a slider: silently clamping
-/// it would hide a typo); sliders use [`Params::sanitized`].
-pub fn check_params(p: &Params) -> Result<(), (&'static str, f64, &'static str)> {
-    let checks: [(&'static str, f32, f32, f32, &'static str); 6] = [
-        ("damping", p.damping, 0.0, 1.0, "0..1"),
-        ("stiffness", p.stiffness, 0.0, super::MAX_STIFFNESS, "0..1"),
-        ("bone_distance", p.bone_distance, 0.0, 1.0, "0..1"),
-        ("max_length", p.max_length, 1.0, 3.0, "1..3"),
-        ("min_length", p.min_length, 0.0, 1.0, "0..1"),
-        (
-            "time_step",
-            p.time_step,
-            super::MIN_STEP,
-            super::REFERENCE_STEP,
-            "1/2000..1/60 s",
-        ),
-    ];
-    for (field, value, lo, hi, range) in checks {
-        if !(lo..=hi).contains(&value) {
-            return Err((field, value as f64, range));
-        }
-    }
-    if p.reduction_iterations == 0 || p.reduction_iterations > 64 {
-        return Err((
-            "reduction_iterations",
-            p.reduction_iterations as f64,
-            "1..64",
-        ));
-    }
-    Ok(())
 }
 
 #[cfg(test)]

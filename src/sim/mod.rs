@@ -18,7 +18,7 @@
 //! # The constraints
 //! * circumsphere: after integration a mass point farther than `ρ_i = (f_max − 1) L_i` from
 //!   its rest position (moved with its section) is put back on that sphere. We read the
-//!   paper's `ρ = f_max L` as `(f_max − 1) L` (see `shared/paper/READING.md`): only then does
+//!   paper's `ρ = f_max L` as `(f_max − 1) L` (see `docs/paper.md`): only then does
 //!   `sl_max = 1` mean "no elastic movement" as Table 1 says.
 //! * spring reduction (Provot): each bone spring is clamped into `[f_min L, f_max L]` by
 //!   moving its mass-point end, alternating inner and outer spring, at most
@@ -26,20 +26,32 @@
 //!   out, the point is pulled towards its rest position until both springs are within bounds,
 //!   so the constraint holds after every step.
 
+//! # Where things are
+//! * [`params`]: [`Params`] (one struct, the paper's names) and [`Constraint`];
+//! * [`material`]: Table 1's presets and materials files;
+//! * [`pose`]: the [`Pose`] a step takes and the [`Positions`] it leaves;
+//! * [`options`]: solver [`Options`] (sleeping, tile size, SIMD);
+//! * `step`: [`Simulation::step`], its numbered stages, and sleeping;
+//! * [`layout`]: the solver's Hilbert-ordered slots and tiles;
+//! * `kernel`, `lanes`: the fused pass over a tile, eight slots per register.
+
 mod kernel;
 mod lanes;
 pub mod layout;
-mod material;
+pub mod material;
+pub mod options;
+pub mod params;
+pub mod pose;
+mod step;
 
-pub use material::{
-    check_params, parse_materials, presets, write_materials, Material, MaterialError,
-};
+pub use material::{parse_materials, presets, write_materials, Material, MaterialError};
+pub use options::{Options, SLEEP_AFTER};
+pub use params::{Constraint, ParamError, Params};
+pub use pose::{Pose, Positions};
 
 use crate::rig::Rig;
 use glam::{Affine3A, Vec3};
 use layout::{Layout, Packed};
-use rayon::prelude::*;
-use std::time::Instant;
 
 /// The reference step `h₀` that `D` and `C_vd` are defined at (seconds).
 pub const REFERENCE_STEP: f32 = 1.0 / 60.0;
@@ -47,166 +59,6 @@ pub const REFERENCE_STEP: f32 = 1.0 / 60.0;
 pub const MAX_STIFFNESS: f32 = 1.0;
 /// Smallest accepted time step (seconds).
 pub const MIN_STEP: f32 = 1.0 / 2000.0;
-
-/// Which constraint keeps the mass points near their bones.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Constraint {
-    Circumsphere,
-    SpringReduction,
-}
-
-/// Every simulation parameter, with the paper's names.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(default)]
-pub struct Params {
-    /// `C_vd`: share of velocity kept per reference step, 0..1 (0.99 jelly, 0.7 dull).
-    pub damping: f32,
-    /// `D`: dimensionless spring constant, 0..[`MAX_STIFFNESS`] (see module docs).
-    pub stiffness: f32,
-    /// `d_B` = `f_bd`: bone distance factor, 0..1 (0 puts the bones on the surface).
-    pub bone_distance: f32,
-    /// `sl_max` = `f_max`: maximum bone-spring length factor, 1..3.
-    pub max_length: f32,
-    /// `f_min`: minimum bone-spring length factor, 0..1 (spring reduction only).
-    pub min_length: f32,
-    /// Which constraint.
-    pub constraint: Constraint,
-    /// Spring-reduction passes per step, 1..64.
-    pub reduction_iterations: u32,
-    /// Fixed simulation step `h` in seconds, [`MIN_STEP`]..[`REFERENCE_STEP`].
-    pub time_step: f32,
-}
-
-impl Default for Params {
-    /// The "skin" preset of Table 1 with the circumsphere constraint at 60 steps/s.
-    fn default() -> Self {
-        Params {
-            damping: 0.85,
-            stiffness: 1.0,
-            bone_distance: 0.2,
-            max_length: 1.25,
-            min_length: 0.8,
-            constraint: Constraint::Circumsphere,
-            reduction_iterations: 4,
-            time_step: REFERENCE_STEP,
-        }
-    }
-}
-
-impl Params {
-    /// The same parameters clamped into their valid ranges (NaN takes the default), so no
-    /// slider position or file value can make the step unstable.
-    pub fn sanitized(&self) -> Params {
-        let d = Params::default();
-        let clamp =
-            |v: f32, lo: f32, hi: f32, def: f32| if v.is_nan() { def } else { v.clamp(lo, hi) };
-        Params {
-            damping: clamp(self.damping, 0.0, 1.0, d.damping),
-            stiffness: clamp(self.stiffness, 0.0, MAX_STIFFNESS, d.stiffness),
-            bone_distance: clamp(self.bone_distance, 0.0, 1.0, d.bone_distance),
-            max_length: clamp(self.max_length, 1.0, 3.0, d.max_length),
-            min_length: clamp(self.min_length, 0.0, 1.0, d.min_length),
-            constraint: self.constraint,
-            reduction_iterations: self.reduction_iterations.clamp(1, 64),
-            time_step: clamp(self.time_step, MIN_STEP, REFERENCE_STEP, d.time_step),
-        }
-    }
-
-    /// True when the parameters leave no room for elastic movement (Table 1's "plastic"):
-    /// bones on the surface or `sl_max = 1`. Such a rig is not integrated at all.
-    pub fn is_static(&self) -> bool {
-        self.bone_distance <= 0.0 || self.max_length <= 1.0
-    }
-}
-
-/// A pose: one rigid transform per joint section (section 0 is the whole object until joints
-/// cut it).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Pose {
-    pub transforms: Vec<Affine3A>,
-}
-
-impl Pose {
-    /// Every section at rest.
-    pub fn rest(sections: usize) -> Pose {
-        Pose {
-            transforms: vec![Affine3A::IDENTITY; sections.max(1)],
-        }
-    }
-}
-
-/// Mass-point positions, read through the rig's vertex numbering (the solver stores them in
-/// its own order, see [`layout`]).
-#[derive(Clone, Copy, Debug)]
-pub struct Positions<'a> {
-    points: &'a Packed,
-    slot: &'a [u32],
-}
-
-impl Positions<'_> {
-    /// Position of rig vertex `i`.
-    ///
-    /// # Panics
-    /// If `i` is not a vertex of the rig.
-    #[inline]
-    pub fn get(&self, i: usize) -> Vec3 {
-        self.points.get(self.slot[i] as usize)
-    }
-
-    /// Number of mass points.
-    pub fn len(&self) -> usize {
-        self.slot.len()
-    }
-
-    /// True for a rig without vertices.
-    pub fn is_empty(&self) -> bool {
-        self.slot.is_empty()
-    }
-
-    /// All positions in vertex order.
-    pub fn to_vec(&self) -> Vec<Vec3> {
-        (0..self.len()).map(|i| self.get(i)).collect()
-    }
-}
-
-impl PartialEq for Positions<'_> {
-    /// Same positions for every vertex (exact `f32` equality).
-    fn eq(&self, other: &Self) -> bool {
-        self.len() == other.len() && (0..self.len()).all(|i| self.get(i) == other.get(i))
-    }
-}
-
-/// Solver options that change cost, not physics (beyond the sleeping error, which
-/// `puppet bench --skip` measures).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Options {
-    /// Let still tiles sleep (see the module docs).
-    pub sleeping: bool,
-    /// A tile whose every mass point moved less than this fraction of the rig's bounding-box
-    /// diagonal per step, for [`QUIET_STEPS`] steps in a row, with no moving neighbour and no
-    /// pose change, sleeps.
-    pub sleep_threshold: f32,
-    /// Slots per tile (at least 1).
-    pub tile: usize,
-    /// Use the AVX2 build of the kernel where the CPU has it (results are bit-identical).
-    pub simd: bool,
-}
-
-/// Steps a tile must stay still before it sleeps.
-pub const QUIET_STEPS: u16 = 8;
-
-impl Default for Options {
-    /// Values chosen by measurement: BENCHMARKS.md, "Skipping what does not move".
-    fn default() -> Self {
-        Options {
-            sleeping: true,
-            sleep_threshold: 1e-6,
-            tile: 256,
-            simd: true,
-        }
-    }
-}
 
 /// Time spent per stage of the last step (seconds).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -227,34 +79,54 @@ impl StageTimes {
     }
 }
 
-/// A simulated puppet: rig, parameters, state and scratch.
+/// What a simulation remembers from one step to the next.
+#[derive(Clone, Debug)]
+struct State {
+    /// Current and previous positions by slot (the step writes the new positions over the
+    /// previous ones, then swaps).
+    cur: Packed,
+    prev: Packed,
+    /// Section of each rig vertex (all 0 until joints cut the skeleton).
+    section_of: Vec<u16>,
+    /// Transform of each section in the last step.
+    transforms: Vec<Affine3A>,
+    /// Per tile: integrated by the next step, and how many steps in a row it stayed under
+    /// the sleep threshold.
+    awake: Vec<bool>,
+    still_steps: Vec<u16>,
+    /// Every tile wakes at the next step (a parameter, option or section change).
+    wake_all: bool,
+    /// Steps taken.
+    steps: u64,
+    /// Frame time not yet simulated ([`Simulation::advance`]).
+    time_debt: f32,
+}
+
+/// Buffers one step fills and the next overwrites; nothing in them survives a step.
+#[derive(Clone, Debug, Default)]
+struct Scratch {
+    /// Per tile: the largest squared displacement of the step.
+    motion: Vec<f32>,
+    /// Per section: its transform changed this step.
+    changed: Vec<bool>,
+    /// Per tile: woken by a moving neighbour.
+    to_wake: Vec<bool>,
+}
+
+/// A simulated puppet: rig, parameters, options, state and scratch.
 pub struct Simulation {
     rig: Rig,
     params: Params,
     options: Options,
     layout: Layout,
-    /// Section of each rig vertex (all 0 until joints cut the skeleton).
-    section_of: Vec<u16>,
-    /// Transform of each section in the last step.
-    transforms: Vec<Affine3A>,
-    /// Current and previous positions by slot (the step writes the new positions over the
-    /// previous ones, then swaps).
-    cur: Packed,
-    prev: Packed,
-    /// Sleeping state per tile.
-    awake: Vec<bool>,
-    quiet: Vec<u16>,
-    motion: Vec<f32>,
-    /// Scratch: sections whose transform changed, tiles to wake.
-    changed: Vec<bool>,
-    to_wake: Vec<bool>,
-    wake_all: bool,
+    state: State,
+    scratch: Scratch,
     /// Squared absolute sleep threshold.
     still2: f32,
     diagonal: f32,
-    steps: u64,
+    /// What the last step did.
     awake_tiles: usize,
-    time_debt: f32,
+    largest_motion: f32,
     last_times: StageTimes,
 }
 
@@ -280,21 +152,26 @@ impl Simulation {
         let diagonal = if n > 0 { (hi - lo).length() } else { 0.0 };
         let tiles = layout.tiles();
         let mut sim = Simulation {
-            section_of: vec![0; n],
-            transforms: vec![Affine3A::IDENTITY],
-            prev: cur.clone(),
-            cur,
-            awake: vec![true; tiles],
-            quiet: vec![0; tiles],
-            motion: vec![0.0; tiles],
-            changed: vec![false; 1],
-            to_wake: vec![false; tiles],
-            wake_all: true,
+            state: State {
+                section_of: vec![0; n],
+                transforms: vec![Affine3A::IDENTITY],
+                prev: cur.clone(),
+                cur,
+                awake: vec![true; tiles],
+                still_steps: vec![0; tiles],
+                wake_all: true,
+                steps: 0,
+                time_debt: 0.0,
+            },
+            scratch: Scratch {
+                motion: vec![0.0; tiles],
+                changed: vec![false; 1],
+                to_wake: vec![false; tiles],
+            },
             still2: 0.0,
             diagonal,
-            steps: 0,
             awake_tiles: tiles,
-            time_debt: 0.0,
+            largest_motion: 0.0,
             last_times: StageTimes::default(),
             layout,
             rig,
@@ -326,12 +203,12 @@ impl Simulation {
         let tile = options.tile.max(1);
         if tile != self.layout.tile {
             self.layout = Layout::new(&self.rig, tile);
-            self.layout.set_sections(&self.section_of);
+            self.layout.set_sections(&self.state.section_of);
             let tiles = self.layout.tiles();
-            self.awake = vec![true; tiles];
-            self.quiet = vec![0; tiles];
-            self.motion = vec![0.0; tiles];
-            self.to_wake = vec![false; tiles];
+            self.state.awake = vec![true; tiles];
+            self.state.still_steps = vec![0; tiles];
+            self.scratch.motion = vec![0.0; tiles];
+            self.scratch.to_wake = vec![false; tiles];
         }
         let threshold = if options.sleep_threshold.is_finite() {
             options.sleep_threshold.max(0.0)
@@ -345,7 +222,7 @@ impl Simulation {
             ..options
         };
         self.still2 = (threshold * self.diagonal).powi(2);
-        self.wake_all = true;
+        self.state.wake_all = true;
     }
 
     /// Changes parameters; they take effect on the next step and wake every tile. A new
@@ -360,7 +237,7 @@ impl Simulation {
             self.rig.set_bone_distance(self.params.bone_distance);
             self.layout.set_bone_length(&self.rig);
         }
-        self.wake_all = true;
+        self.state.wake_all = true;
     }
 
     /// Assigns vertices to joint sections (used by the joints module). Every tile wakes.
@@ -375,16 +252,16 @@ impl Simulation {
             .map(|&s| s as usize + 1)
             .max()
             .unwrap_or(1);
-        self.section_of = section_of;
-        self.transforms.resize(sections, Affine3A::IDENTITY);
-        self.changed.resize(sections, false);
-        self.wake_all = true;
+        self.state.section_of = section_of;
+        self.state.transforms.resize(sections, Affine3A::IDENTITY);
+        self.scratch.changed.resize(sections, false);
+        self.state.wake_all = true;
     }
 
     /// Current positions.
     pub fn positions(&self) -> Positions<'_> {
         Positions {
-            points: &self.cur,
+            points: &self.state.cur,
             slot: &self.layout.slot,
         }
     }
@@ -392,7 +269,7 @@ impl Simulation {
     /// Previous positions (velocity = current − previous).
     pub fn previous_positions(&self) -> Positions<'_> {
         Positions {
-            points: &self.prev,
+            points: &self.state.prev,
             slot: &self.layout.slot,
         }
     }
@@ -414,15 +291,16 @@ impl Simulation {
     }
 
     fn transform_of(&self, i: usize) -> Affine3A {
-        self.transforms
-            .get(self.section_of[i] as usize)
+        self.state
+            .transforms
+            .get(self.state.section_of[i] as usize)
             .copied()
             .unwrap_or(Affine3A::IDENTITY)
     }
 
     /// Steps taken so far.
     pub fn steps(&self) -> u64 {
-        self.steps
+        self.state.steps
     }
 
     /// Stage times of the last step.
@@ -444,189 +322,19 @@ impl Simulation {
 
     /// True when every tile sleeps: the next step with the same pose does nothing.
     pub fn is_asleep(&self) -> bool {
-        !self.wake_all && self.awake.iter().all(|a| !a)
+        !self.state.wake_all && self.state.awake.iter().all(|a| !a)
+    }
+
+    /// The largest squared distance any mass point moved in the last step.
+    pub fn largest_motion(&self) -> f32 {
+        self.largest_motion
     }
 
     /// Sum of squared per-step displacements (proportional to kinetic energy).
     pub fn kinetic_energy(&self) -> f64 {
-        (0..self.cur.len())
-            .map(|k| (self.cur.get(k) - self.prev.get(k)).length_squared() as f64)
+        let s = &self.state;
+        (0..s.cur.len())
+            .map(|k| (s.cur.get(k) - s.prev.get(k)).length_squared() as f64)
             .sum()
-    }
-
-    /// Runs as many fixed steps as `dt` seconds of frame time hold (at most `max_steps`;
-    /// the rest of the time is dropped so a slow frame cannot snowball). Returns the steps
-    /// taken.
-    pub fn advance(&mut self, pose: &Pose, dt: f32, max_steps: u32) -> u32 {
-        if dt.is_finite() && dt > 0.0 {
-            self.time_debt += dt;
-        }
-        let h = self.params.time_step;
-        let mut taken = 0;
-        while self.time_debt >= h && taken < max_steps {
-            self.step(pose);
-            self.time_debt -= h;
-            taken += 1;
-        }
-        if taken == max_steps {
-            self.time_debt = 0.0;
-        }
-        taken
-    }
-
-    /// One simulation step of `h = params.time_step`.
-    ///
-    /// 0. **Wake**: sections whose transform differs from the last step wake the tiles that
-    ///    hold their vertices (a parameter or section change wakes all).
-    /// 1. **Bone transforms**: each slot's rest position, normal and bone points are moved
-    ///    rigidly with its section's transform.
-    /// 2. **Forces**: each mass point gathers its surface springs (CSR neighbours) and its
-    ///    two bone springs (Hooke, `stretch × direction`).
-    /// 3. **Verlet** with velocity damping:
-    ///    `x' = x + C_vd^(h/h₀) (x − x_prev) + D (h/h₀)² / (deg + 2) · F`.
-    /// 4. **Constraint**: circumsphere projection, or iterated spring reduction.
-    /// 5. **Sleep**: a tile that moved less than the threshold for [`QUIET_STEPS`] steps,
-    ///    with still neighbours, stops (its velocity is set to zero); a tile that moved wakes
-    ///    its neighbours for the next step.
-    ///
-    /// Stages 1–4 are fused into one parallel pass over the awake tiles (`kernel`) that
-    /// reads the current positions and writes the new ones over the previous ones, so the
-    /// result does not depend on the number of threads and nothing is allocated. A static
-    /// material (see [`Params::is_static`]) skips 2–4: the surface just follows the bones.
-    pub fn step(&mut self, pose: &Pose) {
-        let t0 = Instant::now();
-        self.wake(pose);
-        let t1 = Instant::now();
-        if self.params.is_static() {
-            self.follow_bones();
-        } else if self.awake_tiles > 0 {
-            self.integrate();
-        }
-        let t2 = Instant::now();
-        self.settle();
-        self.steps += 1;
-        self.last_times = StageTimes {
-            wake: (t1 - t0).as_secs_f64(),
-            fused: (t2 - t1).as_secs_f64(),
-            sleep: t2.elapsed().as_secs_f64(),
-        };
-    }
-
-    /// Stage 0.
-    fn wake(&mut self, pose: &Pose) {
-        let mut any = false;
-        for (s, (old, changed)) in self
-            .transforms
-            .iter_mut()
-            .zip(self.changed.iter_mut())
-            .enumerate()
-        {
-            let new = pose
-                .transforms
-                .get(s)
-                .copied()
-                .unwrap_or(Affine3A::IDENTITY);
-            *changed = new != *old;
-            if *changed {
-                *old = new;
-                any = true;
-            }
-        }
-        let all = self.wake_all || !self.options.sleeping;
-        self.wake_all = false;
-        for t in 0..self.awake.len() {
-            let woken = all
-                || (any
-                    && self
-                        .layout
-                        .sections_of_tile(t)
-                        .iter()
-                        .any(|&s| self.changed[s as usize]));
-            if woken {
-                self.awake[t] = true;
-                self.quiet[t] = 0;
-            }
-        }
-        self.awake_tiles = self.awake.iter().filter(|&&a| a).count();
-    }
-
-    /// Stages 1–4 for a static material: awake tiles take their posed rest positions.
-    fn follow_bones(&mut self) {
-        let layout = &self.layout;
-        for t in 0..layout.tiles() {
-            if !self.awake[t] {
-                continue;
-            }
-            for k in layout.tile_range(t) {
-                let s = &layout.slots;
-                let r = self.transforms[s.section[k] as usize].transform_point3(s.rest.get(k));
-                self.cur.set(k, r);
-                self.prev.set(k, r);
-            }
-            self.motion[t] = 0.0;
-        }
-    }
-
-    /// Stages 1–4: the fused kernel over every awake tile.
-    fn integrate(&mut self) {
-        let p = self.params;
-        let ratio = p.time_step / REFERENCE_STEP;
-        let ctx = kernel::Ctx {
-            layout: &self.layout,
-            cur: &self.cur,
-            transforms: &self.transforms,
-            params: p,
-            stiffness: p.stiffness * ratio * ratio,
-            damping: p.damping.powf(ratio),
-            avx2: self.options.simd,
-        };
-        let tile = self.layout.tile;
-        let awake = &self.awake;
-        let prev = &mut self.prev;
-        prev.0
-            .par_chunks_mut(tile)
-            .zip(self.motion.par_iter_mut())
-            .enumerate()
-            .for_each(|(t, (points, motion))| {
-                if awake[t] {
-                    *motion = kernel::tile(&ctx, ctx.layout.tile_range(t), points);
-                }
-            });
-        std::mem::swap(&mut self.prev, &mut self.cur);
-    }
-
-    /// Stage 5.
-    fn settle(&mut self) {
-        if !self.options.sleeping {
-            return;
-        }
-        let layout = &self.layout;
-        self.to_wake.fill(false);
-        for t in 0..layout.tiles() {
-            if !self.awake[t] {
-                continue;
-            }
-            if self.motion[t] > self.still2 {
-                self.quiet[t] = 0;
-                for &u in layout.neighbours_of_tile(t) {
-                    self.to_wake[u as usize] = true;
-                }
-            } else {
-                self.quiet[t] = self.quiet[t].saturating_add(1);
-            }
-        }
-        let static_material = self.params.is_static();
-        for t in 0..layout.tiles() {
-            if self.to_wake[t] {
-                if !self.awake[t] {
-                    self.awake[t] = true;
-                    self.quiet[t] = 0;
-                }
-            } else if self.awake[t] && (static_material || self.quiet[t] >= QUIET_STEPS) {
-                // Asleep with zero velocity: both buffers hold the same positions.
-                self.awake[t] = false;
-                self.prev.copy_range(&self.cur, layout.tile_range(t));
-            }
-        }
     }
 }

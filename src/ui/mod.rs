@@ -1,8 +1,7 @@
-//! The puppeteer's interface: the session logic (selection, undo/redo, cut tool, sleeping)
-//! that needs no window, and the egui panels that edit it.
+//! The puppeteer's panels (egui): file, material, pose, cuts, overlays and stats. They edit
+//! the core's [`crate::session::Session`] directly and hand what needs the window back as
+//! [`Action`]s.
 
 pub mod panels;
-pub mod session;
 
-pub use panels::{Action, CutAxis, PanelState};
-pub use session::{CutDraft, Hit, Session};
+pub use panels::{Action, PanelState, Stats};

@@ -2,52 +2,51 @@
 //! [`Session`] directly and hands what needs the window (opening files, framing) back as
 //! [`Action`]s.
 
-use super::session::{CutDraft, Session};
-use crate::render::Overlays;
+use crate::session::{CutAxis, CutDraft, Overlays, Session};
 use crate::sim::{self, Constraint, Params, MAX_STIFFNESS};
 use glam::DVec3;
-
-/// How a new cut plane is oriented.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum CutAxis {
-    X,
-    Y,
-    Z,
-    /// Perpendicular to the screen's horizontal: the plane is seen edge-on as a vertical line.
-    View,
-}
 
 /// Something the panel asks the window to do.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Action {
+    /// Open a mesh file (the path as typed).
     OpenMesh(String),
+    /// Load a rig file.
     LoadRig(String),
+    /// Save the current rig.
     SaveRig(String),
+    /// Export the current surface as OBJ.
     ExportObj(String),
+    /// Frame the model in the view.
     Frame,
 }
 
 /// Frame statistics shown in the panel.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Stats {
+    /// Frames drawn per second.
     pub fps: f32,
+    /// Simulation steps per second.
     pub steps_per_second: f32,
+    /// Time of the last step.
     pub step_ms: f32,
 }
 
 /// Panel state that is not part of the session.
 pub struct PanelState {
+    /// The overlays shown.
     pub overlays: Overlays,
+    /// The mesh path field.
     pub open_path: String,
+    /// The rig path field.
     pub rig_path: String,
+    /// The export path field.
     pub export_path: String,
     /// Last message: text and whether it is an error.
     pub message: Option<(String, bool)>,
-    /// The cut tool is active: the next click on the model places the plane.
-    pub cut_tool: bool,
-    pub cut_axis: CutAxis,
     /// Loading: stage and fraction.
     pub loading: Option<(String, f32)>,
+    /// Frame statistics.
     pub stats: Stats,
 }
 
@@ -59,22 +58,8 @@ impl Default for PanelState {
             rig_path: "puppet.rig.toml".into(),
             export_path: "puppet.obj".into(),
             message: None,
-            cut_tool: false,
-            cut_axis: CutAxis::Y,
             loading: None,
             stats: Stats::default(),
-        }
-    }
-}
-
-impl PanelState {
-    /// The unit normal for a new cut, given the camera's right vector.
-    pub fn cut_normal(&self, camera_right: DVec3) -> DVec3 {
-        match self.cut_axis {
-            CutAxis::X => DVec3::X,
-            CutAxis::Y => DVec3::Y,
-            CutAxis::Z => DVec3::Z,
-            CutAxis::View => camera_right.normalize_or(DVec3::X),
         }
     }
 }
@@ -156,7 +141,7 @@ fn file_section(ui: &mut egui::Ui, state: &mut PanelState, actions: &mut Vec<Act
 
 fn material_section(ui: &mut egui::Ui, session: &mut Session) {
     ui.strong("Material");
-    let mut preset = session.puppet.spec.material.clone();
+    let mut preset = session.puppet.rig_file.material.clone();
     egui::ComboBox::from_label("preset")
         .selected_text(preset.as_str())
         .show_ui(ui, |ui| {
@@ -165,8 +150,8 @@ fn material_section(ui: &mut egui::Ui, session: &mut Session) {
             }
             ui.selectable_value(&mut preset, "custom".to_string(), "custom");
         });
-    if preset != session.puppet.spec.material && !session.set_preset(&preset) {
-        session.puppet.spec.material = preset;
+    if preset != session.puppet.rig_file.material && !session.set_preset(&preset) {
+        session.puppet.rig_file.material = preset;
     }
     let mut p: Params = *session.puppet.sim.params();
     let before = p;
@@ -192,7 +177,7 @@ fn material_section(ui: &mut egui::Ui, session: &mut Session) {
             || p.bone_distance != before.bone_distance
             || p.max_length != before.max_length
         {
-            session.puppet.spec.material = "custom".into();
+            session.puppet.rig_file.material = "custom".into();
         }
         session.set_params(p);
     }
@@ -236,7 +221,7 @@ fn pose_section(ui: &mut egui::Ui, session: &mut Session) {
 fn cut_section(ui: &mut egui::Ui, state: &mut PanelState, session: &mut Session) {
     ui.strong("Cuts");
     ui.horizontal(|ui| {
-        ui.toggle_value(&mut state.cut_tool, "Cut tool");
+        ui.toggle_value(&mut session.cut_tool.active, "Cut tool");
         for (axis, label) in [
             (CutAxis::X, "X"),
             (CutAxis::Y, "Y"),
@@ -244,7 +229,7 @@ fn cut_section(ui: &mut egui::Ui, state: &mut PanelState, session: &mut Session)
             (CutAxis::View, "view"),
         ] {
             if ui
-                .selectable_value(&mut state.cut_axis, axis, label)
+                .selectable_value(&mut session.cut_tool.axis, axis, label)
                 .clicked()
             {
                 if let Some(d) = &mut session.draft {
@@ -258,7 +243,7 @@ fn cut_section(ui: &mut egui::Ui, state: &mut PanelState, session: &mut Session)
             }
         }
     });
-    if state.cut_tool && session.draft.is_none() {
+    if session.cut_tool.active && session.draft.is_none() {
         ui.label("click the model where the plane should go");
     }
     let mut apply = false;
@@ -274,14 +259,14 @@ fn cut_section(ui: &mut egui::Ui, state: &mut PanelState, session: &mut Session)
         match session.apply_draft() {
             Ok(()) => {
                 state.message = None;
-                state.cut_tool = false;
+                session.cut_tool.active = false;
             }
             Err(e) => state.message = Some((e.to_string(), true)),
         }
     }
     if cancel {
         session.draft = None;
-        state.cut_tool = false;
+        session.cut_tool.active = false;
     }
     let cuts: Vec<String> = session
         .puppet
@@ -399,8 +384,8 @@ fn stats_section(ui: &mut egui::Ui, state: &PanelState, session: &Session) {
                 "state",
                 if session.paused {
                     "paused".into()
-                } else if session.is_idle() {
-                    "settled (idle)".into()
+                } else if session.is_settled() {
+                    "settled".into()
                 } else {
                     "simulating".into()
                 },

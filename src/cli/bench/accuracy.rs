@@ -1,6 +1,6 @@
 //! `puppet bench --accuracy`: run time against error.
 //!
-//! The scene: the standard scene on the input (the limb swings for 1 s, then holds for
+//! The scenario: the standard scenario on the input (the limb swings for 1 s, then holds for
 //! 1 s; 120 frames at 60 frames/s). For each constraint:
 //! 1. **Reference.** The same equations in `f64` ([`puppet::scenario::reference`]) with
 //!    the step halved from h₀/8 until the largest difference between two successive
@@ -8,7 +8,7 @@
 //!    (or h₀/256), then extrapolated (Richardson, first order: the change halves with
 //!    each halving during the swing); spring reduction gets 64 iterations. The table shows
 //!    the convergence.
-//! 2. **Configurations.** Each runs the scene and is timed per frame (median over the
+//! 2. **Configurations.** Each runs the scenario and is timed per frame (median over the
 //!    frames, then the median over `--runs` runs (at least 5), alternating configurations)
 //!    and compared
 //!    with the reference at every frame: RMS and max vertex distance, relative to the
@@ -24,7 +24,7 @@ use super::{median_p95, method_name, Args, Base};
 use anyhow::{bail, Result};
 use glam::DVec3;
 use puppet::scenario::reference::Reference;
-use puppet::scenario::Scene;
+use puppet::scenario::Scenario;
 use puppet::sim::{Constraint, Options, Params, Simulation};
 
 const FRAMES: usize = 120;
@@ -80,14 +80,14 @@ struct Report {
     rows: Vec<Row>,
 }
 
-fn run_reference(scene: &Scene, params: Params, h: f64) -> Run {
+fn run_reference(scenario: &Scenario, params: Params, h: f64) -> Run {
     let substeps = (FRAME / h).round() as usize;
-    let mut r = Reference::new(scene, params, h);
+    let mut r = Reference::new(scenario, params, h);
     let mut out = Vec::with_capacity(FRAMES);
     for f in 0..FRAMES {
         for s in 0..substeps {
             let t = (f * substeps + s) as f64 * h;
-            r.step(&scene.world(t));
+            r.step(&scenario.world(t));
         }
         out.push(r.positions().to_vec());
     }
@@ -95,7 +95,7 @@ fn run_reference(scene: &Scene, params: Params, h: f64) -> Run {
 }
 
 /// Runs a configuration; returns the per-frame positions and the median ms per frame.
-fn run_config(scene: &Scene, params: Params, c: &Config) -> (Run, f64) {
+fn run_config(scenario: &Scenario, params: Params, c: &Config) -> (Run, f64) {
     let h = FRAME / c.substeps as f64;
     let params = Params {
         time_step: h as f32,
@@ -107,12 +107,12 @@ fn run_config(scene: &Scene, params: Params, c: &Config) -> (Run, f64) {
     match c.solver {
         Solver::F32(options) => {
             let mut sim =
-                Simulation::with_options(scene.rig(params.bone_distance), params, options);
-            sim.set_sections(scene.joints.section_of().to_vec());
+                Simulation::with_options(scenario.rig(params.bone_distance), params, options);
+            sim.set_sections(scenario.joints.section_of().to_vec());
             for f in 0..FRAMES {
                 let started = std::time::Instant::now();
                 for s in 0..c.substeps {
-                    sim.step(&scene.pose((f * c.substeps + s) as f64 * h));
+                    sim.step(&scenario.pose((f * c.substeps + s) as f64 * h));
                 }
                 ms.push(started.elapsed().as_secs_f64() * 1e3);
                 let x = sim.positions();
@@ -120,11 +120,11 @@ fn run_config(scene: &Scene, params: Params, c: &Config) -> (Run, f64) {
             }
         }
         Solver::F64 => {
-            let mut r = Reference::new(scene, params, h);
+            let mut r = Reference::new(scenario, params, h);
             for f in 0..FRAMES {
                 let started = std::time::Instant::now();
                 for s in 0..c.substeps {
-                    r.step(&scene.world((f * c.substeps + s) as f64 * h));
+                    r.step(&scenario.world((f * c.substeps + s) as f64 * h));
                 }
                 ms.push(started.elapsed().as_secs_f64() * 1e3);
                 out.push(r.positions().to_vec());
@@ -210,11 +210,11 @@ fn configs(constraint: Constraint) -> Vec<Config> {
 
 pub fn run(args: &Args) -> Result<()> {
     let base = Base::load(args)?;
-    let scene = base.scene(0, 1.0)?;
-    let diag = scene.diagonal;
+    let scenario = base.scenario(0, 1.0)?;
+    let diag = scenario.diagonal;
     let mut report = Report {
         mesh: base.name.clone(),
-        vertices: scene.mesh.positions.len(),
+        vertices: scenario.mesh.positions.len(),
         frames: FRAMES,
         convergence: Vec::new(),
         rows: Vec::new(),
@@ -231,9 +231,9 @@ pub fn run(args: &Args) -> Result<()> {
             ..params
         };
         let mut divisions = 8usize;
-        let mut reference = run_reference(&scene, ref_params, FRAME / divisions as f64);
+        let mut reference = run_reference(&scenario, ref_params, FRAME / divisions as f64);
         loop {
-            let finer = run_reference(&scene, ref_params, FRAME / (2 * divisions) as f64);
+            let finer = run_reference(&scenario, ref_params, FRAME / (2 * divisions) as f64);
             let (rms, max) = distance(&reference, &finer, diag);
             let swing = FRAMES / 2;
             let (swing_rms, swing_max) = distance(&reference[..swing], &finer[..swing], diag);
@@ -264,7 +264,7 @@ pub fn run(args: &Args) -> Result<()> {
         let mut errors = vec![(0.0, 0.0); configs.len()];
         for run in 0..args.runs.max(5) {
             for (k, c) in configs.iter().enumerate() {
-                let (frames, ms) = run_config(&scene, params, c);
+                let (frames, ms) = run_config(&scenario, params, c);
                 costs[k].push(ms);
                 if run == 0 {
                     errors[k] = distance(&frames, &reference, diag);
@@ -311,7 +311,7 @@ pub fn run(args: &Args) -> Result<()> {
         println!("{}", serde_json::to_string(&report)?);
     } else {
         println!(
-            "{}: {} vertices, standard scene, {} frames at 60 frames/s; errors relative to the bounding-box diagonal",
+            "{}: {} vertices, standard scenario, {} frames at 60 frames/s; errors relative to the bounding-box diagonal",
             report.mesh, report.vertices, FRAMES
         );
         println!();

@@ -1,11 +1,11 @@
 //! `puppet bench`: every measurement in `BENCHMARKS.md`, headless.
 //!
-//! * (default) step throughput on the standard scene ([`puppet::scenario`]), and the largest
+//! * (default) step throughput on the standard scenario ([`puppet::scenario`]), and the largest
 //!   Loop subdivision of the input that still holds 60 steps/s ([`throughput`]);
 //! * `--accuracy`: run time against error for each configuration, against a converged `f64`
 //!   reference, with the Pareto front ([`accuracy`]);
-//! * `--stress`: randomized scenes that try to break the solver ([`stress`]);
-//! * `--skip`: what sleeping saves on a scene where only the limb moves, and what it costs
+//! * `--stress`: randomized scenarios that try to break the solver ([`stress`]);
+//! * `--skip`: what sleeping saves on a scenario where only the limb moves, and what it costs
 //!   in accuracy ([`skip`]);
 //! * `--machine`: copy bandwidth and a plain scalar spring loop, as yardsticks ([`machine`]);
 //! * `--skeleton`, `--skeleton-speed`: the skeleton's accuracy and speed ([`skeleton`]).
@@ -20,7 +20,7 @@ mod throughput;
 use super::load_mesh;
 use anyhow::{anyhow, bail, Result};
 use puppet::mesh::{subdivide_loop_values, vertex_normals, Mesh};
-use puppet::scenario::Scene;
+use puppet::scenario::Scenario;
 use puppet::sim::Constraint;
 use std::path::PathBuf;
 
@@ -39,7 +39,7 @@ pub struct Args {
     /// Constraint for the throughput, skip and stress measurements.
     #[arg(long, default_value = "circumsphere", value_parser = ["circumsphere", "reduction"])]
     pub method: String,
-    /// Timed steps per size (throughput) or frames of the scene (skip).
+    /// Timed steps per size (throughput) or frames of the scenario (skip).
     #[arg(long, default_value_t = 120)]
     pub frames: usize,
     /// Throughput at every subdivision level 0..=--subdivisions, not only up to the first
@@ -55,7 +55,7 @@ pub struct Args {
     /// Randomized stability stress.
     #[arg(long)]
     pub stress: bool,
-    /// Seed of the stress scenes.
+    /// Seed of the stress scenarios.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Simulation steps of the stress run, in all.
@@ -186,15 +186,15 @@ impl Base {
         (mesh, distance)
     }
 
-    /// The standard scene on a (subdivided) copy of the mesh.
-    fn scene_of(&self, mesh: Mesh, distance: Vec<f64>, swing_seconds: f64) -> Result<Scene> {
-        Scene::standard(mesh, distance, swing_seconds).map_err(|e| anyhow!("{}: {e}", self.name))
+    /// The standard scenario on a (subdivided) copy of the mesh.
+    fn scenario_of(&self, mesh: Mesh, distance: Vec<f64>, swing_seconds: f64) -> Result<Scenario> {
+        Scenario::standard(mesh, distance, swing_seconds).map_err(|e| anyhow!("{}: {e}", self.name))
     }
 
-    /// The standard scene on the mesh Loop-subdivided `level` times.
-    fn scene(&self, level: usize, swing_seconds: f64) -> Result<Scene> {
+    /// The standard scenario on the mesh Loop-subdivided `level` times.
+    fn scenario(&self, level: usize, swing_seconds: f64) -> Result<Scenario> {
         let (mesh, distance) = self.subdivided(level);
-        self.scene_of(mesh, distance, swing_seconds)
+        self.scenario_of(mesh, distance, swing_seconds)
     }
 }
 

@@ -1,4 +1,4 @@
-//! What sleeping saves, and what it costs in accuracy: the standard scene (the limb swings
+//! What sleeping saves, and what it costs in accuracy: the standard scenario (the limb swings
 //! for 1 s, then holds) run with every tile integrated and, in lockstep, with sleeping at
 //! several tile sizes. Lockstep means the runs alternate step by step, so load on the
 //! shared machine hits them alike. Error: distance of every vertex to the full run at every
@@ -37,7 +37,7 @@ struct Report {
 pub fn run(args: &Args) -> Result<()> {
     let base = Base::load(args)?;
     let swing = 1.0;
-    let scene = base.scene(args.subdivisions as usize, swing)?;
+    let scenario = base.scenario(args.subdivisions as usize, swing)?;
     let params = Params {
         constraint: args.constraint(),
         time_step: REFERENCE_STEP,
@@ -62,7 +62,7 @@ pub fn run(args: &Args) -> Result<()> {
         configs.push((
             name,
             Options {
-                tile: t.min(scene.mesh.positions.len()),
+                tile: t.min(scenario.mesh.positions.len()),
                 ..Options::default()
             },
         ));
@@ -74,12 +74,12 @@ pub fn run(args: &Args) -> Result<()> {
             ..Options::default()
         },
     ));
-    let rig = scene.rig(params.bone_distance);
+    let rig = scenario.rig(params.bone_distance);
     let mut sims: Vec<Simulation> = configs
         .iter()
         .map(|(_, o)| {
             let mut s = Simulation::with_options(rig.clone(), params, *o);
-            s.set_sections(scene.joints.section_of().to_vec());
+            s.set_sections(scenario.joints.section_of().to_vec());
             s
         })
         .collect();
@@ -94,7 +94,7 @@ pub fn run(args: &Args) -> Result<()> {
     let mut sum2 = vec![0.0f64; k];
     let mut worst = vec![0.0f64; k];
     for step in 0..steps {
-        let pose = scene.pose(step as f64 * REFERENCE_STEP as f64);
+        let pose = scenario.pose(step as f64 * REFERENCE_STEP as f64);
         for (c, sim) in sims.iter_mut().enumerate() {
             let t = std::time::Instant::now();
             sim.step(&pose);
@@ -120,7 +120,7 @@ pub fn run(args: &Args) -> Result<()> {
             }
         }
     }
-    let diag = scene.diagonal;
+    let diag = scenario.diagonal;
     let rows: Vec<Row> = configs
         .iter()
         .enumerate()
@@ -143,7 +143,7 @@ pub fn run(args: &Args) -> Result<()> {
         mesh: base.name.clone(),
         vertices: n,
         springs,
-        limb_vertices: scene.limb_vertices(),
+        limb_vertices: scenario.limb_vertices(),
         steps,
         rows,
     };

@@ -1,6 +1,6 @@
-//! `puppet bench --stress`: randomized scenes that try to break the solver.
+//! `puppet bench --stress`: randomized scenarios that try to break the solver.
 //!
-//! Each scene draws a mesh (an icosahedron of 12 vertices up to Spot subdivided once, 11.7k
+//! Each scenario draws a mesh (an icosahedron of 12 vertices up to Spot subdivided once, 11.7k
 //! vertices), a scale (1e-4, 1 or 1e4), up to two random cuts, every parameter anywhere in
 //! its range with a bias to the extremes (`C_vd` 0..1, `D` from 1e-6 to the maximum the UI
 //! allows, `d_B` 0..1, `sl_max` 1..3, `f_min` 0..1, 1..64 reduction iterations, either
@@ -18,7 +18,7 @@ use glam::{DQuat, DVec3, Vec3};
 use puppet::geom::hilbert::SplitMix;
 use puppet::joints::{Cut, Joints, Local, ROOT};
 use puppet::mesh::{self, shapes, subdivide_loop, Mesh};
-use puppet::scenario::Scene;
+use puppet::scenario::Scenario;
 use puppet::sim::{Constraint, Params, Simulation, MAX_STIFFNESS, REFERENCE_STEP};
 
 struct Rng(SplitMix);
@@ -58,7 +58,7 @@ impl Rng {
 #[derive(serde::Serialize, Default)]
 struct Report {
     seed: u64,
-    scenes: usize,
+    scenarios: usize,
     steps: u64,
     vertex_steps: u64,
     worst_strain: f64,
@@ -115,7 +115,7 @@ pub fn run(args: &Args) -> Result<()> {
         ..Report::default()
     };
     while report.steps < args.steps {
-        // The largest mesh rarely and briefly, so short runs still see many scenes.
+        // The largest mesh rarely and briefly, so short runs still see many scenarios.
         let b = if rng.below(10) == 0 {
             bases.len() - 1
         } else {
@@ -130,7 +130,7 @@ pub fn run(args: &Args) -> Result<()> {
         let distance: Vec<f64> = base.distance.iter().map(|d| d * scale).collect();
         let normals = mesh::vertex_normals(&mesh)?;
         let (lo, hi) = mesh.bounds();
-        let scene = Scene {
+        let scenario = Scenario {
             joints: Joints::new(&[], ROOT),
             normals,
             distance,
@@ -142,20 +142,20 @@ pub fn run(args: &Args) -> Result<()> {
         };
         let name = format!(
             "#{} {} x{scale:e} (seed {})",
-            report.scenes, base.name, args.seed
+            report.scenarios, base.name, args.seed
         );
         let budget = if b == bases.len() - 1 { 100 } else { 2_000 };
         let steps = (rng.range(50.0, budget as f64) as u64).min(args.steps - report.steps);
-        run_scene(&scene, &name, steps.max(1), &mut rng, &mut report)?;
-        report.scenes += 1;
+        run_scenario(&scenario, &name, steps.max(1), &mut rng, &mut report)?;
+        report.scenarios += 1;
     }
     report.seconds = started.elapsed().as_secs_f64();
     if args.json {
         println!("{}", serde_json::to_string(&report)?);
     } else {
         println!(
-            "stress (seed {}): {} scenes, {} steps, {} vertex-steps in {:.1} s: no NaN, every point inside its constraint, motion bounded",
-            report.seed, report.scenes, report.steps, report.vertex_steps, report.seconds
+            "stress (seed {}): {} scenarios, {} steps, {} vertex-steps in {:.1} s: no NaN, every point inside its constraint, motion bounded",
+            report.seed, report.scenarios, report.steps, report.vertex_steps, report.seconds
         );
         println!(
             "worst surface-spring strain {:.3} ({}); worst motion {:.3} of its bound; worst constraint excess {:.1e} of the model size",
@@ -189,23 +189,23 @@ fn random_params(rng: &mut Rng) -> Params {
     }
 }
 
-fn run_scene(
-    scene: &Scene,
+fn run_scenario(
+    scenario: &Scenario,
     name: &str,
     steps: u64,
     rng: &mut Rng,
     report: &mut Report,
 ) -> Result<()> {
     let params = random_params(rng);
-    let (lo, hi) = scene.mesh.bounds();
-    let size = scene.diagonal;
+    let (lo, hi) = scenario.mesh.bounds();
+    let size = scenario.diagonal;
     // Up to two random cuts (a refused cut, e.g. one that misses the skeleton, is skipped).
-    let points: Vec<DVec3> = scene
+    let points: Vec<DVec3> = scenario
         .mesh
         .positions
         .iter()
-        .zip(&scene.normals)
-        .zip(&scene.distance)
+        .zip(&scenario.normals)
+        .zip(&scenario.distance)
         .map(|((p, n), d)| *p - *d * *n)
         .collect();
     let mut joints = Joints::new(&points, ROOT);
@@ -220,7 +220,7 @@ fn run_scene(
             pivot: None,
         });
     }
-    let mut sim = Simulation::new(scene.rig(params.bone_distance), params);
+    let mut sim = Simulation::new(scenario.rig(params.bone_distance), params);
     sim.set_sections(joints.section_of().to_vec());
     let p = *sim.params();
     let n = sim.rig().len();
@@ -289,7 +289,7 @@ fn check(
     for i in 0..rig.len() {
         let y = x.get(i);
         if !y.is_finite() {
-            bail!("stress scene {name}, step {step}: vertex {i} is not finite ({y}) with {p:?}");
+            bail!("stress scenario {name}, step {step}: vertex {i} is not finite ({y}) with {p:?}");
         }
         let target = sim.target(i);
         let l = rig.bone_length[i] as f64;
@@ -318,12 +318,12 @@ fn check(
         };
         report.worst_constraint_excess = report.worst_constraint_excess.max(excess / size);
         if excess > tolerance {
-            bail!("stress scene {name}, step {step}: vertex {i} is {excess:e} outside its constraint with {p:?}");
+            bail!("stress scenario {name}, step {step}: vertex {i} is {excess:e} outside its constraint with {p:?}");
         }
         let moved = (y - before[i]).length() as f64;
         let bound = (target - targets[i]).length() as f64 + 2.0 * radius + 2.0 * tolerance;
         if moved > bound {
-            bail!("stress scene {name}, step {step}: vertex {i} moved {moved:e}, more than its bound {bound:e}, with {p:?}");
+            bail!("stress scenario {name}, step {step}: vertex {i} moved {moved:e}, more than its bound {bound:e}, with {p:?}");
         }
         if bound > 0.0 {
             report.worst_motion_share = report.worst_motion_share.max(moved / bound);

@@ -1,14 +1,14 @@
-//! Step throughput on the standard scene, and the largest subdivision of the input that
+//! Step throughput on the standard scenario, and the largest subdivision of the input that
 //! holds 60 steps/s.
 //!
 //! The limb swings during the whole measurement and sleeping is off, so every step
-//! integrates every spring: this is the full cost, not the cost of a scene at rest
+//! integrates every spring: this is the full cost, not the cost of a scenario at rest
 //! (`--skip` measures what sleeping saves).
 
 use super::{median_p95, method_name, Args, Base};
 use anyhow::Result;
 use puppet::mesh::subdivide_loop_values;
-use puppet::scenario::Scene;
+use puppet::scenario::Scenario;
 use puppet::sim::{Options, Params, Simulation, REFERENCE_STEP};
 
 /// Steps before timing starts.
@@ -47,21 +47,21 @@ fn bytes_per_step(vertices: usize, lane_entries: usize) -> usize {
     vertices * (42 + 16 + 32) + lane_entries * 8
 }
 
-/// Measures `steps` timed steps of `scene` with every tile integrated.
-pub fn measure(scene: &Scene, params: Params, steps: usize) -> Row {
+/// Measures `steps` timed steps of `scenario` with every tile integrated.
+pub fn measure(scenario: &Scenario, params: Params, steps: usize) -> Row {
     let options = Options {
         sleeping: false,
         ..Options::default()
     };
-    let mut sim = Simulation::with_options(scene.rig(params.bone_distance), params, options);
-    sim.set_sections(scene.joints.section_of().to_vec());
+    let mut sim = Simulation::with_options(scenario.rig(params.bone_distance), params, options);
+    sim.set_sections(scenario.joints.section_of().to_vec());
     let springs = sim.rig().spring_count();
     let vertices = sim.rig().len();
     let h = params.time_step as f64;
     let (mut total, mut wake, mut fused, mut sleep) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for k in 0..steps + WARM_UP {
-        let pose = scene.pose(k as f64 * h);
+        let pose = scenario.pose(k as f64 * h);
         let t = std::time::Instant::now();
         sim.step(&pose);
         let dt = t.elapsed().as_secs_f64() * 1e3;
@@ -134,8 +134,8 @@ pub fn run(args: &Args) -> Result<()> {
         if !rows.is_empty() {
             (mesh, distance) = subdivide_loop_values(&mesh, &distance);
         }
-        let scene = base.scene_of(mesh.clone(), distance.clone(), f64::INFINITY)?;
-        let row = measure(&scene, params, args.frames.max(1));
+        let scenario = base.scenario_of(mesh.clone(), distance.clone(), f64::INFINITY)?;
+        let row = measure(&scenario, params, args.frames.max(1));
         let held = row.ms_per_step_median <= BUDGET_MS;
         log::info!(
             "{} springs: {:.3} ms per step",
@@ -168,7 +168,7 @@ pub fn run(args: &Args) -> Result<()> {
         return Ok(());
     }
     println!(
-        "standard scene on {} (Loop-subdivided), {} constraint, {} threads, SIMD {}, median/p95 of {} steps, sleeping off",
+        "standard scenario on {} (Loop-subdivided), {} constraint, {} threads, SIMD {}, median/p95 of {} steps, sleeping off",
         base.name,
         args.method,
         rayon::current_num_threads(),

@@ -3,13 +3,16 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec4Swizzles};
 
+/// An orbit camera looking at `target` from `distance` away.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
+    /// The point looked at (and orbited about).
     pub target: Vec3,
     /// Radians about +y.
     pub yaw: f32,
     /// Radians above the horizon, kept inside ±89°.
     pub pitch: f32,
+    /// Distance from the target.
     pub distance: f32,
     /// Vertical field of view in radians.
     pub fov_y: f32,
@@ -47,10 +50,12 @@ impl Camera {
         self.target + dir * self.distance
     }
 
+    /// The view matrix (world to camera).
     pub fn view(&self) -> Mat4 {
         glam::camera::rh::view::look_at_mat4(self.eye(), self.target, Vec3::Y)
     }
 
+    /// The perspective projection for a viewport of `aspect` = width / height.
     pub fn projection(&self, aspect: f32) -> Mat4 {
         let near = (self.distance * 0.01).max(1e-6);
         let far = self.distance * 100.0 + 1.0;
@@ -58,6 +63,7 @@ impl Camera {
         glam::camera::rh::proj::directx::perspective(self.fov_y, aspect.max(1e-3), near, far)
     }
 
+    /// Projection times view.
     pub fn view_proj(&self, aspect: f32) -> Mat4 {
         self.projection(aspect) * self.view()
     }

@@ -1,5 +1,5 @@
-//! A puppet put together: mesh → skeleton → rig → simulation, with its joints; and the rig
-//! file that describes one (TOML or JSON by extension).
+//! The rig file: everything but the mesh itself that makes a puppet (skeleton method,
+//! material, cuts), as TOML or JSON by extension.
 //!
 //! ```toml
 //! mesh = "spot.obj"              # relative to the rig file; the command line may override
@@ -19,16 +19,13 @@
 //! pivot = [0.0, 0.1, 0.45]       # optional; default: see `joints`
 //! ```
 //!
-//! [`RigSpec::to_toml`] writes every parameter and every resolved pivot, so a rig written
+//! [`RigFile::to_toml`] writes every parameter and every resolved pivot, so a rig written
 //! and read back gives the same simulation bit for bit.
 
 use crate::files::{self, Format};
 use crate::joints::{Cut, JointError, Joints, ROOT};
-use crate::mesh::{self, Mesh, MeshError};
-use crate::progress::Progress;
-use crate::rig::Rig;
-use crate::sim::{self, Constraint, Params, Simulation};
-use crate::skeleton::{self, Method, Skeleton, SkeletonError, SkeletonParams};
+use crate::sim::{self, Constraint, Params};
+use crate::skeleton::Method;
 use glam::DVec3;
 use std::path::{Path, PathBuf};
 
@@ -67,7 +64,7 @@ struct RigEntry {
 
 /// A rig: everything but the mesh itself that makes a puppet.
 #[derive(Clone, Debug, PartialEq)]
-pub struct RigSpec {
+pub struct RigFile {
     /// Mesh file, resolved against the rig file's folder.
     pub mesh: Option<PathBuf>,
     /// Skeleton method.
@@ -82,9 +79,9 @@ pub struct RigSpec {
     pub cuts: Vec<Cut>,
 }
 
-impl Default for RigSpec {
+impl Default for RigFile {
     fn default() -> Self {
-        RigSpec {
+        RigFile {
             mesh: None,
             method: Method::default(),
             material: "skin".into(),
@@ -100,16 +97,16 @@ impl Default for RigSpec {
 #[error("{0}")]
 pub struct RigError(pub String);
 
-impl RigSpec {
+impl RigFile {
     /// Reads a rig file.
-    pub fn load(path: &Path) -> Result<RigSpec, RigError> {
+    pub fn load(path: &Path) -> Result<RigFile, RigError> {
         let text = files::read_text(path).map_err(RigError)?;
         let base = path.parent().unwrap_or(Path::new(""));
-        RigSpec::parse(&text, Format::of(path), base)
+        RigFile::parse(&text, Format::of(path), base)
     }
 
     /// Parses a rig; a relative mesh path is taken relative to `base`.
-    pub fn parse(text: &str, format: Format, base: &Path) -> Result<RigSpec, RigError> {
+    pub fn parse(text: &str, format: Format, base: &Path) -> Result<RigFile, RigError> {
         let entry: RigEntry = files::parse(text, format).map_err(RigError)?;
         let material = entry.material.unwrap_or_else(|| "skin".into());
         let mut params = if material == "custom" {
@@ -133,9 +130,9 @@ impl RigSpec {
         if let Some(overrides) = entry.params {
             params = overlay(params, overrides)?;
         }
-        sim::check_params(&params).map_err(|(field, value, range)| {
-            RigError(format!("params: {field} = {value} is outside {range}"))
-        })?;
+        params
+            .check()
+            .map_err(|e| RigError(format!("params: {e}")))?;
         let root = entry.root.unwrap_or_else(|| ROOT.into());
         if root.trim().is_empty() {
             return Err(RigError("root: the name is empty".into()));
@@ -165,7 +162,7 @@ impl RigSpec {
                 return Err(RigError(format!("{at}: the plane normal is zero")));
             }
         }
-        Ok(RigSpec {
+        Ok(RigFile {
             mesh: entry.mesh.map(|m| base.join(m)),
             method: entry.skeleton.unwrap_or_default(),
             material,
@@ -229,80 +226,12 @@ fn overlay(base: Params, overrides: toml::Table) -> Result<Params, RigError> {
         .map_err(|e: toml::de::Error| RigError(format!("params: {}", e.message())))
 }
 
-/// Why a puppet could not be built.
-#[derive(Debug, thiserror::Error)]
-pub enum BuildError {
-    #[error(transparent)]
-    Mesh(#[from] MeshError),
-    #[error(transparent)]
-    Skeleton(#[from] SkeletonError),
-    #[error(transparent)]
-    Joints(#[from] JointError),
-}
-
-/// A live puppet: the mesh, its skeleton, joints and simulation.
-pub struct Puppet {
-    pub mesh: Mesh,
-    pub skeleton: Skeleton,
-    pub joints: Joints,
-    pub sim: Simulation,
-    pub spec: RigSpec,
-}
-
-impl Puppet {
-    /// Builds the skeleton, rig, simulation and joints of a validated mesh.
-    pub fn build(mesh: Mesh, spec: RigSpec, progress: Progress) -> Result<Puppet, BuildError> {
-        let normals = mesh::vertex_normals(&mesh)?;
-        let params = SkeletonParams {
-            method: spec.method,
-            ..SkeletonParams::default()
-        };
-        let skeleton = skeleton::cache::build_cached(&mesh, &normals, &params, progress)?;
-        let joints = spec.joints(&skeleton.points)?;
-        let rig = Rig::new(
-            &mesh,
-            &normals,
-            &skeleton.distance,
-            spec.params.bone_distance,
-        );
-        let mut sim = Simulation::new(rig, spec.params);
-        sim.set_sections(joints.section_of().to_vec());
-        Ok(Puppet {
-            mesh,
-            skeleton,
-            joints,
-            sim,
-            spec,
-        })
-    }
-
-    /// Writes the current simulated surface as an OBJ file (the welded input's vertex order
-    /// and faces); the error is the I/O failure in words.
-    pub fn save_surface(&self, path: &Path, header: &str) -> Result<(), String> {
-        let x = self.sim.positions();
-        let points: Vec<DVec3> = (0..x.len()).map(|i| x.get(i).as_dvec3()).collect();
-        let write_error = |e: std::io::Error| format!("cannot write: {}", files::io_message(&e));
-        let mut file = std::fs::File::create(path).map_err(write_error)?;
-        mesh::write_obj(&mut file, &points, &self.mesh.triangles, header).map_err(write_error)
-    }
-
-    /// The current rig (parameters and cuts with resolved pivots) as a spec.
-    pub fn current_spec(&self) -> RigSpec {
-        RigSpec {
-            params: *self.sim.params(),
-            cuts: self.joints.cuts().to_vec(),
-            root: self.joints.sections()[0].name.clone(),
-            ..self.spec.clone()
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn parse(text: &str) -> Result<RigSpec, RigError> {
-        RigSpec::parse(text, Format::Toml, Path::new("/rigs"))
+    fn parse(text: &str) -> Result<RigFile, RigError> {
+        RigFile::parse(text, Format::Toml, Path::new("/rigs"))
     }
 
     #[test]
@@ -312,7 +241,7 @@ mod tests {
         assert_eq!(r.params.damping, 0.5);
         assert_eq!(r.params.max_length, 1.4, "from the water preset");
         assert_eq!(r.params.constraint, Constraint::SpringReduction);
-        assert_eq!(parse("").unwrap(), RigSpec::default());
+        assert_eq!(parse("").unwrap(), RigFile::default());
     }
 
     #[test]
@@ -339,7 +268,7 @@ mod tests {
 
     #[test]
     fn toml_round_trip_is_exact() {
-        let spec = RigSpec {
+        let spec = RigFile {
             params: Params {
                 damping: 0.123_456_79,
                 ..Params::default()
@@ -352,13 +281,13 @@ mod tests {
                 normal: DVec3::new(0.0, 1.0, 1e-17),
                 pivot: Some(DVec3::new(std::f64::consts::PI, 0.0, 1.0)),
             }],
-            ..RigSpec::default()
+            ..RigFile::default()
         };
         let text = spec.to_toml(None);
         assert_eq!(parse(&text).unwrap(), spec);
         let json = serde_json::to_string(&toml::from_str::<RigEntry>(&text).unwrap()).unwrap();
         assert_eq!(
-            RigSpec::parse(&json, Format::Json, Path::new("/rigs")).unwrap(),
+            RigFile::parse(&json, Format::Json, Path::new("/rigs")).unwrap(),
             spec
         );
     }

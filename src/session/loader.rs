@@ -1,13 +1,41 @@
-//! Loading a mesh and building its puppet on a background thread, with progress.
+//! Loading a mesh and building its puppet on a background thread, with progress, so the
+//! window stays responsive and the current puppet stays until the new one is ready.
 
-use crate::mesh::{self, Mesh};
-use crate::scene::{Puppet, RigSpec};
+use crate::mesh::{self, Mesh, MeshError};
+use crate::puppet::{BuildError, Puppet, RigFile};
 use std::path::PathBuf;
 use std::sync::mpsc::{channel, Receiver, TryRecvError};
 
+/// Why loading failed; the message names the file first.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The mesh file could not be read or is not a usable mesh.
+    #[error("{name}: {error}")]
+    Mesh {
+        /// The file as shown to the user.
+        name: String,
+        /// What is wrong.
+        error: MeshError,
+    },
+    /// The skeleton, rig or joints could not be built.
+    #[error("{name}: {error}")]
+    Build {
+        /// The file as shown to the user.
+        name: String,
+        /// What is wrong.
+        error: BuildError,
+    },
+    /// The loading thread ended without an answer (it panicked).
+    #[error("the loading thread stopped unexpectedly")]
+    Stopped,
+}
+
+/// A finished load: the puppet and the name to show.
+pub type Loaded = Result<(Box<Puppet>, String), LoadError>;
+
 enum Message {
     Progress(String, f32),
-    Done(Result<(Box<Puppet>, String), String>),
+    Done(Loaded),
 }
 
 /// A build in progress.
@@ -16,35 +44,37 @@ pub struct Loader {
     stage: (String, f32),
 }
 
+/// Where a [`Loader`] is.
 pub enum Status {
+    /// Still working: the stage and the fraction of it done.
     Working(String, f32),
-    Done(Result<(Box<Puppet>, String), String>),
+    /// Finished.
+    Done(Loaded),
 }
 
 impl Loader {
     /// Reads, validates and builds `path` (errors name the file).
-    pub fn open(path: PathBuf, rig: RigSpec) -> Loader {
+    pub fn open(path: PathBuf, rig_file: RigFile) -> Loader {
         Loader::spawn(move |progress| {
             let name = path.display().to_string();
             progress("reading", 0.0);
-            let (mesh, report) = mesh::load_obj(&path).map_err(|e| format!("{name}: {e}"))?;
+            let (mesh, report) = mesh::load_obj(&path).map_err(|error| LoadError::Mesh {
+                name: name.clone(),
+                error,
+            })?;
             for w in report.warnings() {
                 log::warn!("{name}: {w}");
             }
-            build(mesh, name, rig, progress)
+            build(mesh, name, rig_file, progress)
         })
     }
 
     /// Builds the puppet of an already validated mesh.
-    pub fn build(mesh: Mesh, name: String, rig: RigSpec) -> Loader {
-        Loader::spawn(move |progress| build(mesh, name, rig, progress))
+    pub fn build(mesh: Mesh, name: String, rig_file: RigFile) -> Loader {
+        Loader::spawn(move |progress| build(mesh, name, rig_file, progress))
     }
 
-    fn spawn(
-        work: impl FnOnce(&(dyn Fn(&str, f64) + Sync)) -> Result<(Box<Puppet>, String), String>
-            + Send
-            + 'static,
-    ) -> Loader {
+    fn spawn(work: impl FnOnce(&(dyn Fn(&str, f64) + Sync)) -> Loaded + Send + 'static) -> Loader {
         let (tx, rx) = channel();
         std::thread::spawn(move || {
             let progress_tx = tx.clone();
@@ -69,9 +99,7 @@ impl Loader {
                 Err(TryRecvError::Empty) => {
                     return Status::Working(self.stage.0.clone(), self.stage.1)
                 }
-                Err(TryRecvError::Disconnected) => {
-                    return Status::Done(Err("the loading thread stopped unexpectedly".into()))
-                }
+                Err(TryRecvError::Disconnected) => return Status::Done(Err(LoadError::Stopped)),
             }
         }
     }
@@ -80,18 +108,20 @@ impl Loader {
 fn build(
     mesh: Mesh,
     name: String,
-    rig: RigSpec,
+    rig_file: RigFile,
     progress: &(dyn Fn(&str, f64) + Sync),
-) -> Result<(Box<Puppet>, String), String> {
-    let puppet = Puppet::build(mesh, rig, progress).map_err(|e| format!("{name}: {e}"))?;
-    Ok((Box::new(puppet), name))
+) -> Loaded {
+    match Puppet::build(mesh, rig_file, progress) {
+        Ok(puppet) => Ok((Box::new(puppet), name)),
+        Err(error) => Err(LoadError::Build { name, error }),
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn wait(mut l: Loader) -> Result<(Box<Puppet>, String), String> {
+    fn wait(mut l: Loader) -> Loaded {
         loop {
             if let Status::Done(r) = l.poll() {
                 return r;
@@ -106,13 +136,14 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let bad = dir.join("open.obj");
         std::fs::write(&bad, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
-        let err = wait(Loader::open(bad.clone(), RigSpec::default()))
+        let err = wait(Loader::open(bad.clone(), RigFile::default()))
             .err()
-            .unwrap();
+            .unwrap()
+            .to_string();
         assert!(err.starts_with(&bad.display().to_string()), "{err}");
         assert!(err.contains("boundary edges"), "{err}");
         let good = crate::mesh::shapes::icosphere(1.0, 2);
-        let (p, name) = wait(Loader::build(good, "ball".into(), RigSpec::default())).unwrap();
+        let (p, name) = wait(Loader::build(good, "ball".into(), RigFile::default())).unwrap();
         assert_eq!(name, "ball");
         assert_eq!(p.joints.sections().len(), 1);
         let _ = std::fs::remove_dir_all(&dir);

@@ -1,10 +1,12 @@
 use super::*;
+use crate::joints::Cut;
 use crate::mesh::shapes;
-use crate::scene::RigSpec;
+use crate::puppet::RigFile;
+use glam::Vec3;
 
 fn session() -> Session {
     let mesh = shapes::capsule(0.3, 1.0, 4, 12, 12);
-    let spec = RigSpec {
+    let spec = RigFile {
         cuts: vec![
             Cut {
                 name: "arm".into(),
@@ -21,7 +23,7 @@ fn session() -> Session {
                 pivot: None,
             },
         ],
-        ..RigSpec::default()
+        ..RigFile::default()
     };
     let puppet = Puppet::build(mesh, spec, crate::progress::silent()).unwrap();
     Session::new(puppet, "capsule")
@@ -144,16 +146,16 @@ fn sliders_are_sanitized_and_presets_apply() {
 fn the_simulation_sleeps_when_settled_and_wakes_on_a_change() {
     let mut s = session();
     s.advance(1.0 / 60.0, 4);
-    assert!(s.is_idle(), "a rig at rest is settled after one step");
+    assert!(s.is_settled(), "a rig at rest is settled after one step");
     assert_eq!(s.advance(1.0, 4), 0);
     s.select(Some(2), false);
     s.rotate_selected(DQuat::from_rotation_z(0.5));
-    assert!(!s.is_idle());
+    assert!(!s.is_settled());
     let mut steps = 0;
-    while !s.is_idle() && steps < 100_000 {
+    while !s.is_settled() && steps < 100_000 {
         steps += s.advance(1.0 / 60.0, 1);
     }
-    assert!(s.is_idle(), "settles again");
+    assert!(s.is_settled(), "settles again");
     assert!(steps > 10, "the motion took {steps} steps to die out");
 }
 

@@ -1,0 +1,221 @@
+//! One frame: poll the loader, step the simulation for the time that passed, run the
+//! panels, upload what changed and draw the scene and the panels.
+
+use super::window::WindowState;
+use super::Report;
+use crate::render;
+use crate::session::loader::Status;
+use crate::session::Session;
+use crate::ui::panels;
+use anyhow::{anyhow, Result};
+use std::time::{Duration, Instant};
+
+/// What the event loop does after a frame.
+pub(super) enum Next {
+    /// Keep running.
+    Continue,
+    /// The screenshot was taken: exit with its report.
+    Exit(Option<Report>),
+}
+
+impl WindowState {
+    /// Draws one frame.
+    pub fn redraw(&mut self) -> Result<Next> {
+        let now = Instant::now();
+        let seconds = (now - self.last_frame).as_secs_f32().min(0.25);
+        self.last_frame = now;
+        self.poll_loader();
+        self.drive_test();
+        let mut steps = 0;
+        if let Some(s) = &mut self.session {
+            steps = s.advance(seconds, 8);
+        }
+        self.meter_frame(steps);
+
+        let raw = self.egui_state.take_egui_input(&self.window);
+        let panel = &mut self.panel;
+        let session = &mut self.session;
+        let mut actions = Vec::new();
+        let output = self.egui_ctx.run_ui(raw, |ui| {
+            actions = panels::side_panel(ui, panel, session.as_mut());
+        });
+        self.egui_state
+            .handle_platform_output(&self.window, output.platform_output);
+        for a in actions {
+            self.act(a);
+        }
+        if let Some(vo) = output.viewport_output.get(&egui::ViewportId::ROOT) {
+            if vo.repaint_delay.is_zero() {
+                self.window.request_redraw();
+            } else if vo.repaint_delay < Duration::from_secs(3600) {
+                self.repaint_at = Some(Instant::now() + vo.repaint_delay);
+            }
+        }
+        let primitives = self
+            .egui_ctx
+            .tessellate(output.shapes, output.pixels_per_point);
+        let screen = egui_wgpu::ScreenDescriptor {
+            size_in_pixels: [self.config.width, self.config.height],
+            pixels_per_point: output.pixels_per_point,
+        };
+        for (id, deltas) in &output.textures_delta.set {
+            for delta in deltas {
+                self.egui_renderer
+                    .update_texture(&self.gpu.device, &self.gpu.queue, *id, delta);
+            }
+        }
+
+        let frame = match self.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(f)
+            | wgpu::CurrentSurfaceTexture::Suboptimal(f) => Some(f),
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                self.surface.configure(&self.gpu.device, &self.config);
+                self.window.request_redraw();
+                None
+            }
+            _ => None,
+        };
+        let aspect = self.config.width as f32 / self.config.height.max(1) as f32;
+        if let Some(s) = &self.session {
+            let view = s.view(self.panel.overlays);
+            self.scene.prepare(&self.gpu, &view, &self.camera, aspect);
+        }
+        let take_shot = self.exit_after.is_some_and(|n| self.frames + 1 >= n)
+            && self.session.is_some()
+            && self.drive.is_none();
+        if let Some(frame) = frame {
+            self.draw(&frame.texture, &primitives, &screen);
+            self.gpu.queue.present(frame);
+        }
+        let mut next = Next::Continue;
+        if take_shot {
+            if let Some(path) = self.screenshot.clone() {
+                let image = self.capture(&primitives, &screen)?;
+                image
+                    .save_png(&path)
+                    .map_err(|e| anyhow!("{}: cannot write: {e}", path.display()))?;
+                next = Next::Exit(self.report(&path));
+            }
+        }
+        for id in &output.textures_delta.free {
+            self.egui_renderer.free_texture(id);
+        }
+        if self.session.is_some() && self.loader.is_none() {
+            self.frames += 1;
+        }
+        Ok(next)
+    }
+
+    /// Takes the loader's progress, or its puppet when it is done (the current puppet
+    /// stays when loading failed).
+    fn poll_loader(&mut self) {
+        let Some(loader) = &mut self.loader else {
+            self.panel.loading = None;
+            return;
+        };
+        match loader.poll() {
+            Status::Working(stage, fraction) => {
+                self.panel.loading = Some((stage, fraction));
+            }
+            Status::Done(result) => {
+                self.loader = None;
+                self.panel.loading = None;
+                match result {
+                    Ok((puppet, name)) => {
+                        let (lo, hi) = puppet.mesh.bounds();
+                        self.camera.frame(lo.as_vec3(), hi.as_vec3());
+                        self.window.set_title(&format!("puppet — {name}"));
+                        self.panel.message = Some((format!("opened {name}"), false));
+                        self.session = Some(Session::new(*puppet, name));
+                    }
+                    Err(e) => {
+                        let message = e.to_string();
+                        log::error!("{message}");
+                        self.panel.message = Some((message, true));
+                    }
+                }
+            }
+        }
+    }
+
+    /// The scene through an sRGB view, then the panels through the plain view (egui
+    /// blends in gamma space).
+    pub fn draw(
+        &mut self,
+        texture: &wgpu::Texture,
+        primitives: &[egui::ClippedPrimitive],
+        screen: &egui_wgpu::ScreenDescriptor,
+    ) {
+        let plain = texture.create_view(&Default::default());
+        let srgb = texture.create_view(&wgpu::TextureViewDescriptor {
+            format: Some(self.config.format.add_srgb_suffix()),
+            ..Default::default()
+        });
+        let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+        if self.session.is_some() {
+            self.scene.render_to(
+                &self.gpu,
+                &mut encoder,
+                &srgb,
+                self.config.width,
+                self.config.height,
+            );
+        }
+        let extra = self.egui_renderer.update_buffers(
+            &self.gpu.device,
+            &self.gpu.queue,
+            &mut encoder,
+            primitives,
+            screen,
+        );
+        {
+            let load = if self.session.is_some() {
+                wgpu::LoadOp::Load
+            } else {
+                wgpu::LoadOp::Clear(render::BACKGROUND)
+            };
+            let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("egui"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &plain,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load,
+                        store: wgpu::StoreOp::Store,
+                    },
+                    depth_slice: None,
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            self.egui_renderer
+                .render(&mut pass.forget_lifetime(), primitives, screen);
+        }
+        self.gpu
+            .queue
+            .submit(extra.into_iter().chain([encoder.finish()]));
+    }
+
+    /// Frame statistics for the panel, over the last second.
+    fn meter_frame(&mut self, steps: u32) {
+        let (start, frames, total_steps, step_ms) = &mut self.meter;
+        *frames += 1;
+        *total_steps += steps;
+        if steps > 0 {
+            if let Some(s) = &self.session {
+                *step_ms = s.puppet.sim.last_times().total() * 1e3;
+            }
+        }
+        let elapsed = start.elapsed().as_secs_f32();
+        if elapsed >= 1.0 {
+            self.panel.stats.fps = *frames as f32 / elapsed;
+            self.panel.stats.steps_per_second = *total_steps as f32 / elapsed;
+            self.panel.stats.step_ms = *step_ms as f32;
+            *start = Instant::now();
+            *frames = 0;
+            *total_steps = 0;
+        }
+    }
+}

@@ -1,0 +1,85 @@
+//! A puppet put together: mesh → skeleton → rig → simulation, with its joints, as a
+//! [`RigFile`] describes it.
+
+mod rig_file;
+
+pub use rig_file::{RigError, RigFile};
+
+use crate::files;
+use crate::joints::{JointError, Joints};
+use crate::mesh::{self, Mesh, MeshError};
+use crate::progress::Progress;
+use crate::rig::Rig;
+use crate::sim::Simulation;
+use crate::skeleton::{self, Skeleton, SkeletonError, SkeletonParams};
+use glam::DVec3;
+use std::path::Path;
+
+/// Why a puppet could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum BuildError {
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    #[error(transparent)]
+    Skeleton(#[from] SkeletonError),
+    #[error(transparent)]
+    Joints(#[from] JointError),
+}
+
+/// A live puppet: the mesh, its skeleton, joints and simulation.
+pub struct Puppet {
+    pub mesh: Mesh,
+    pub skeleton: Skeleton,
+    pub joints: Joints,
+    pub sim: Simulation,
+    /// The rig file it was built from (material name, skeleton method, mesh path).
+    pub rig_file: RigFile,
+}
+
+impl Puppet {
+    /// Builds the skeleton, rig, simulation and joints of a validated mesh.
+    pub fn build(mesh: Mesh, rig_file: RigFile, progress: Progress) -> Result<Puppet, BuildError> {
+        let normals = mesh::vertex_normals(&mesh)?;
+        let params = SkeletonParams {
+            method: rig_file.method,
+            ..SkeletonParams::default()
+        };
+        let skeleton = skeleton::cache::build_cached(&mesh, &normals, &params, progress)?;
+        let joints = rig_file.joints(&skeleton.points)?;
+        let rig = Rig::new(
+            &mesh,
+            &normals,
+            &skeleton.distance,
+            rig_file.params.bone_distance,
+        );
+        let mut sim = Simulation::new(rig, rig_file.params);
+        sim.set_sections(joints.section_of().to_vec());
+        Ok(Puppet {
+            mesh,
+            skeleton,
+            joints,
+            sim,
+            rig_file,
+        })
+    }
+
+    /// Writes the current simulated surface as an OBJ file (the welded input's vertex order
+    /// and faces); the error is the I/O failure in words.
+    pub fn save_surface(&self, path: &Path, header: &str) -> Result<(), String> {
+        let x = self.sim.positions();
+        let points: Vec<DVec3> = (0..x.len()).map(|i| x.get(i).as_dvec3()).collect();
+        let write_error = |e: std::io::Error| format!("cannot write: {}", files::io_message(&e));
+        let mut file = std::fs::File::create(path).map_err(write_error)?;
+        mesh::write_obj(&mut file, &points, &self.mesh.triangles, header).map_err(write_error)
+    }
+
+    /// The rig file of the puppet as it is now (parameters, and cuts with resolved pivots).
+    pub fn current_rig_file(&self) -> RigFile {
+        RigFile {
+            params: *self.sim.params(),
+            cuts: self.joints.cuts().to_vec(),
+            root: self.joints.sections()[0].name.clone(),
+            ..self.rig_file.clone()
+        }
+    }
+}

@@ -1,0 +1,64 @@
+//! Vertex layouts shared with `shaders/scene.wgsl`, and vertex buffers that grow.
+
+use super::Gpu;
+use bytemuck::{Pod, Zeroable};
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+pub(super) struct Uniforms {
+    pub view_proj: [[f32; 4]; 4],
+    pub eye: [f32; 4],
+    pub light: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Default, Pod, Zeroable)]
+pub(super) struct SurfaceVertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Default, Pod, Zeroable)]
+pub(super) struct LineVertex {
+    pub position: [f32; 3],
+    pub color: [f32; 4],
+}
+
+/// A vertex buffer that grows (doubling) when the data outgrows it.
+pub(super) struct GrowBuffer {
+    pub buffer: wgpu::Buffer,
+    label: &'static str,
+    usage: wgpu::BufferUsages,
+}
+
+impl GrowBuffer {
+    pub fn new(device: &wgpu::Device, label: &'static str, usage: wgpu::BufferUsages) -> Self {
+        let usage = usage | wgpu::BufferUsages::COPY_DST;
+        GrowBuffer {
+            buffer: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: 1024,
+                usage,
+                mapped_at_creation: false,
+            }),
+            label,
+            usage,
+        }
+    }
+
+    pub fn write(&mut self, gpu: &Gpu, data: &[u8]) {
+        if data.len() as u64 > self.buffer.size() {
+            let size = (data.len() as u64).next_power_of_two().max(1024);
+            self.buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(self.label),
+                size,
+                usage: self.usage,
+                mapped_at_creation: false,
+            });
+        }
+        if !data.is_empty() {
+            gpu.queue.write_buffer(&self.buffer, 0, data);
+        }
+    }
+}

@@ -1,0 +1,223 @@
+//! What the puppeteer works on, without any window: the puppet, its pose, the selection,
+//! undo/redo, the cut tool, when the simulation has settled, and what to draw. The window
+//! (`app`, behind the `gui` feature) turns mouse and keys into calls here; tests call the
+//! same functions.
+//!
+//! * [`camera`]: the orbit camera and rays through the cursor;
+//! * [`pointer`]: a mouse button's press, moves and release as clicks and drags;
+//! * [`pick`]: rays against the current surface;
+//! * [`undo`]: snapshots of cuts and pose;
+//! * [`cut_tool`]: the cut being placed, applying and removing cuts;
+//! * [`view`]: what a renderer draws (surface colours, overlay lines) and when it changed;
+//! * [`loader`]: reading a mesh and building its puppet on a background thread.
+
+pub mod camera;
+pub mod cut_tool;
+pub mod loader;
+pub mod pick;
+pub mod pointer;
+pub mod undo;
+pub mod view;
+
+pub use camera::Camera;
+pub use cut_tool::{CutAxis, CutDraft, CutTool};
+pub use pick::Hit;
+pub use view::{Line, Overlays, View};
+
+use crate::joints::{Local, PoseScratch};
+use crate::puppet::Puppet;
+use crate::sim::{self, Params};
+use glam::{DQuat, DVec3};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// The puppet has settled when no vertex moved more than this fraction of the model's
+/// bounding-box diagonal in the last step (invisible at any zoom that shows the whole
+/// model) and the pose did not change.
+pub const SETTLED_MOTION: f64 = 1e-6;
+
+static NEXT_ID: AtomicU64 = AtomicU64::new(1);
+
+/// The working state of the app.
+pub struct Session {
+    /// Unique per session (render caches key on it).
+    pub id: u64,
+    /// The puppet being played.
+    pub puppet: Puppet,
+    /// Mesh name shown in the title and messages.
+    pub name: String,
+    /// Local pose of every section.
+    pub local: Vec<Local>,
+    /// Selected sections.
+    pub selection: Vec<usize>,
+    /// The cut tool's settings.
+    pub cut_tool: CutTool,
+    /// The cut tool's plane, once placed.
+    pub draft: Option<CutDraft>,
+    /// Simulation paused by the user.
+    pub paused: bool,
+    undo: undo::History,
+    scratch: PoseScratch,
+    /// No step needed: pose unchanged and motion died out.
+    settled: bool,
+    /// Bumped whenever the surface or anything drawn changes (render caches key on it).
+    pub revision: u64,
+    /// Bumped when sections, selection or cuts change (colours, overlays).
+    pub layout_revision: u64,
+}
+
+impl Session {
+    /// A session on a freshly built puppet, at rest, nothing selected.
+    pub fn new(puppet: Puppet, name: impl Into<String>) -> Session {
+        let sections = puppet.joints.sections().len();
+        Session {
+            id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
+            puppet,
+            name: name.into(),
+            local: vec![Local::default(); sections],
+            selection: Vec::new(),
+            cut_tool: CutTool::default(),
+            draft: None,
+            paused: false,
+            undo: undo::History::default(),
+            scratch: PoseScratch::default(),
+            settled: false,
+            revision: 0,
+            layout_revision: 0,
+        }
+    }
+
+    /// True when stepping would change nothing: the puppet has settled (see
+    /// [`SETTLED_MOTION`]) or the user paused it. The window then stops stepping and
+    /// drawing.
+    pub fn is_settled(&self) -> bool {
+        self.settled || self.paused
+    }
+
+    /// Something changed: simulate again.
+    pub fn wake(&mut self) {
+        self.settled = false;
+        self.revision += 1;
+    }
+
+    /// Runs the simulation for `seconds` of wall time (at most `max_steps` fixed steps).
+    /// Returns the steps taken; none when settled.
+    pub fn advance(&mut self, seconds: f32, max_steps: u32) -> u32 {
+        if self.is_settled() {
+            return 0;
+        }
+        let pose = self.puppet.joints.pose_into(&self.local, &mut self.scratch);
+        let steps = self.puppet.sim.advance(pose, seconds, max_steps);
+        if steps > 0 {
+            self.revision += 1;
+            let limit = SETTLED_MOTION * self.puppet.mesh.diagonal();
+            if self.puppet.sim.params().is_static()
+                || self.puppet.sim.largest_motion() as f64 <= limit * limit
+            {
+                self.settled = true;
+            }
+        }
+        steps
+    }
+
+    /// Selects `section` (or clears the selection with `None`); `toggle` adds it to the
+    /// selection or takes it out (Shift/Ctrl+click) instead of replacing the selection.
+    pub fn select(&mut self, section: Option<usize>, toggle: bool) {
+        match section {
+            Some(s) if s < self.local.len() => {
+                if toggle {
+                    if let Some(k) = self.selection.iter().position(|&x| x == s) {
+                        self.selection.remove(k);
+                    } else {
+                        self.selection.push(s);
+                    }
+                } else {
+                    self.selection = vec![s];
+                }
+            }
+            _ if !toggle => self.selection.clear(),
+            _ => {}
+        }
+        self.layout_revision += 1;
+        self.revision += 1;
+    }
+
+    fn is_ancestor(&self, a: usize, mut s: usize) -> bool {
+        let sections = self.puppet.joints.sections();
+        while let Some(p) = sections[s].parent {
+            if p == a {
+                return true;
+            }
+            s = p;
+        }
+        false
+    }
+
+    /// Rotates every selected section by `rotation` (world space) about its current pivot.
+    /// A section whose ancestor is also selected is carried by it, not turned twice.
+    pub fn rotate_selected(&mut self, rotation: DQuat) {
+        if !rotation.is_finite() || self.selection.is_empty() {
+            return;
+        }
+        let world = self.puppet.joints.world(&self.local);
+        let sel = self.selection.clone();
+        for &s in &sel {
+            if sel.iter().any(|&a| a != s && self.is_ancestor(a, s)) {
+                continue;
+            }
+            // W_s' = T(p) Q T(-p) W_s  ⇔  R_local' = R_parent⁻¹ Q R_parent R_local.
+            let parent = match self.puppet.joints.sections()[s].parent {
+                Some(p) => DQuat::from_mat3(&world[p].matrix3),
+                None => DQuat::IDENTITY,
+            };
+            let l = &mut self.local[s];
+            l.rotation = (parent.inverse() * rotation * parent * l.rotation).normalize();
+            if !l.rotation.is_finite() {
+                l.rotation = DQuat::IDENTITY;
+            }
+        }
+        self.wake();
+    }
+
+    /// Every section back to rest.
+    pub fn reset_pose(&mut self) {
+        self.checkpoint();
+        self.local.iter_mut().for_each(|l| *l = Local::default());
+        self.wake();
+    }
+
+    /// World position of a section's pivot in the current pose.
+    pub fn pivot_world(&self, section: usize) -> DVec3 {
+        let world = self.puppet.joints.world(&self.local);
+        let p = self.puppet.joints.sections()[section].pivot;
+        world[section].transform_point3(p)
+    }
+
+    /// Sets simulation parameters from the panel (sanitized: a slider cannot break it).
+    pub fn set_params(&mut self, params: Params) {
+        if params != *self.puppet.sim.params() {
+            self.puppet.sim.set_params(params);
+            self.wake();
+        }
+    }
+
+    /// Applies a Table 1 preset by name; returns false for an unknown name.
+    pub fn set_preset(&mut self, name: &str) -> bool {
+        match sim::presets().into_iter().find(|m| m.name == name) {
+            Some(m) => {
+                let constraint = self.puppet.sim.params().constraint;
+                let iterations = self.puppet.sim.params().reduction_iterations;
+                self.puppet.rig_file.material = m.name;
+                self.set_params(Params {
+                    constraint,
+                    reduction_iterations: iterations,
+                    ..m.params
+                });
+                true
+            }
+            None => false,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,319 @@
+//! What a renderer draws, described without any GPU type: the surface (positions,
+//! triangles, a colour per vertex) and overlay lines, with revision counters that tell it
+//! what changed since it last looked. The renderer (`render`, behind the `gui` feature)
+//! only uploads and draws what a [`View`] gives it.
+
+use super::Session;
+use crate::sim::Positions;
+use glam::{DVec3, Vec3};
+
+/// Which overlays are drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Overlays {
+    /// Every mesh edge.
+    pub wireframe: bool,
+    /// A small cross at every skeletal point.
+    pub skeleton: bool,
+    /// Crosses at the inner (green) and outer (red) bone points.
+    pub bone_points: bool,
+    /// The bone springs from each mass point to its two bone points.
+    pub bone_springs: bool,
+    /// The planes of the applied cuts.
+    pub cuts: bool,
+    /// The sections' pivots.
+    pub pivots: bool,
+}
+
+impl Default for Overlays {
+    fn default() -> Self {
+        Overlays {
+            wireframe: false,
+            skeleton: false,
+            bone_points: false,
+            bone_springs: false,
+            cuts: true,
+            pivots: true,
+        }
+    }
+}
+
+impl Overlays {
+    /// True when any overlay is shown.
+    pub fn any(&self) -> bool {
+        self.wireframe
+            || self.skeleton
+            || self.bone_points
+            || self.bone_springs
+            || self.cuts
+            || self.pivots
+    }
+}
+
+/// A coloured line segment in world space (linear RGBA).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Line {
+    /// One end.
+    pub a: Vec3,
+    /// The other end.
+    pub b: Vec3,
+    /// Linear RGB and opacity.
+    pub color: [f32; 4],
+}
+
+/// Counters that change when what they describe changes: a renderer re-uploads only the
+/// parts whose counter moved.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Revisions {
+    /// Another puppet (another mesh, other triangles).
+    pub puppet: u64,
+    /// The surface moved.
+    pub surface: u64,
+    /// Vertex colours changed (sections, selection, the cut draft).
+    pub colours: u64,
+    /// Overlay lines changed.
+    pub overlays: u64,
+}
+
+/// What to draw of a session with a choice of overlays.
+#[derive(Clone, Copy)]
+pub struct View<'a> {
+    session: &'a Session,
+    overlays: Overlays,
+}
+
+impl Session {
+    /// What to draw of this session with `overlays` shown.
+    pub fn view(&self, overlays: Overlays) -> View<'_> {
+        View {
+            session: self,
+            overlays,
+        }
+    }
+
+    /// Changes when the cut draft changes (plane, section or pivot).
+    fn draft_key(&self) -> u64 {
+        let mut key = Fnv::default();
+        if let Some(d) = &self.draft {
+            key.add(d.section as u64);
+            for v in [d.point, d.normal, d.pivot.unwrap_or(DVec3::NAN)] {
+                v.to_array().map(|c| key.add(c.to_bits()));
+            }
+        }
+        key.0
+    }
+}
+
+/// FNV-1a over 64-bit words: a key that changes with its inputs (not a secure hash).
+struct Fnv(u64);
+
+impl Default for Fnv {
+    fn default() -> Self {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Fnv {
+    fn add(&mut self, word: u64) {
+        for byte in word.to_le_bytes() {
+            self.0 = (self.0 ^ byte as u64).wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+}
+
+impl View<'_> {
+    /// The revision counters of what this view draws.
+    pub fn revisions(&self) -> Revisions {
+        let s = self.session;
+        let draft = s.draft_key();
+        let mut colours = Fnv::default();
+        colours.add(s.layout_revision);
+        colours.add(draft);
+        // Overlays follow the pose and the surface when any is shown (or the draft is).
+        let mut overlays = Fnv::default();
+        overlays.add(s.layout_revision);
+        overlays.add(draft);
+        for shown in [
+            self.overlays.wireframe,
+            self.overlays.skeleton,
+            self.overlays.bone_points,
+            self.overlays.bone_springs,
+            self.overlays.cuts,
+            self.overlays.pivots,
+        ] {
+            overlays.add(shown as u64);
+        }
+        if self.overlays.any() || s.draft.is_some() {
+            overlays.add(s.revision);
+        }
+        Revisions {
+            puppet: s.id,
+            surface: s.revision,
+            colours: colours.0,
+            overlays: overlays.0,
+        }
+    }
+
+    /// The triangles (vertex indices, counter-clockwise seen from outside).
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.session.puppet.mesh.triangles
+    }
+
+    /// The current surface positions.
+    pub fn positions(&self) -> Positions<'_> {
+        self.session.puppet.sim.positions()
+    }
+
+    /// Bounding-box diagonal of the mesh (for sizes of overlay marks).
+    pub fn size(&self) -> f64 {
+        self.session.puppet.mesh.diagonal()
+    }
+
+    /// A linear RGBA colour per vertex: its section's, tinted when selected, and tinted
+    /// blue on the side of the cut draft that would become the new section.
+    pub fn colours(&self, out: &mut Vec<[f32; 4]>) {
+        let s = self.session;
+        let sections = s.puppet.joints.section_of();
+        let draft = s.draft.as_ref();
+        let points = &s.puppet.skeleton.points;
+        out.clear();
+        out.extend(sections.iter().enumerate().map(|(i, &k)| {
+            let k = k as usize;
+            let mut c = section_color(k);
+            if s.selection.contains(&k) {
+                c = mix(c, [1.0, 0.42, 0.08], 0.55);
+            }
+            if let Some(d) = draft {
+                if d.section == k && (points[i] - d.point).dot(d.normal) > 0.0 {
+                    c = mix(c, [0.1, 0.75, 1.0], 0.6);
+                }
+            }
+            [c[0], c[1], c[2], 1.0]
+        }));
+    }
+
+    /// The overlay lines: `lines` are depth-tested against the surface, `top` are drawn
+    /// over it (skeletal points, pivots, the cut draft).
+    pub fn lines(&self, lines: &mut Vec<Line>, top: &mut Vec<Line>) {
+        lines.clear();
+        top.clear();
+        let (s, o) = (self.session, self.overlays);
+        let p = &s.puppet;
+        let x = p.sim.positions();
+        let size = p.mesh.diagonal() as f32;
+        let world = p.joints.world(&s.local);
+        if o.wireframe {
+            // The surface springs are the mesh's edges.
+            for e in &p.sim.rig().springs {
+                let color = [0.02, 0.02, 0.02, 0.55];
+                push_line(lines, x.get(e.a as usize), x.get(e.b as usize), color);
+            }
+        }
+        if o.skeleton {
+            let sections = p.joints.section_of();
+            for (i, sp) in p.skeleton.points.iter().enumerate() {
+                let w = world[sections[i] as usize].transform_point3(*sp).as_vec3();
+                push_cross(top, w, size * 0.002, [0.95, 0.9, 0.2, 0.9]);
+            }
+        }
+        if o.bone_springs {
+            for i in 0..x.len() {
+                let (bi, bo) = p.sim.bone_points(i);
+                let xi = x.get(i);
+                push_line(lines, bi, xi, [0.3, 0.9, 0.4, 0.7]);
+                push_line(lines, xi, bo, [0.9, 0.35, 0.3, 0.7]);
+            }
+        }
+        if o.bone_points {
+            for i in 0..x.len() {
+                let (bi, bo) = p.sim.bone_points(i);
+                push_cross(lines, bi, size * 0.0015, [0.3, 0.9, 0.4, 1.0]);
+                push_cross(lines, bo, size * 0.0015, [0.9, 0.35, 0.3, 1.0]);
+            }
+        }
+        let half = p.mesh.diagonal() * 0.18;
+        if o.cuts {
+            let sections = p.joints.sections();
+            for (k, cut) in p.joints.cuts().iter().enumerate() {
+                let parent = sections[k + 1].parent.unwrap_or(0);
+                let w = &world[parent];
+                let centre = w.transform_point3(sections[k + 1].pivot);
+                let normal = w.transform_vector3(cut.normal);
+                push_plane(lines, centre, normal, half, [0.85, 0.85, 0.95, 0.8]);
+            }
+        }
+        if let Some(d) = &s.draft {
+            let w = &world[d.section.min(world.len() - 1)];
+            let (centre, normal) = (w.transform_point3(d.point), w.transform_vector3(d.normal));
+            push_plane(top, centre, normal, half * 1.3, [0.1, 0.8, 1.0, 1.0]);
+            if let Some(pivot) = d.pivot {
+                let c = w.transform_point3(pivot).as_vec3();
+                push_cross(top, c, size * 0.025, [0.1, 0.8, 1.0, 1.0]);
+            }
+        }
+        if o.pivots {
+            for (k, section) in p.joints.sections().iter().enumerate().skip(1) {
+                let c = world[k].transform_point3(section.pivot).as_vec3();
+                let color = if s.selection.contains(&k) {
+                    [1.0, 0.5, 0.1, 1.0]
+                } else {
+                    [1.0, 1.0, 1.0, 1.0]
+                };
+                push_cross(top, c, size * 0.02, color);
+            }
+        }
+    }
+}
+
+fn push_line(out: &mut Vec<Line>, a: Vec3, b: Vec3, color: [f32; 4]) {
+    out.push(Line { a, b, color });
+}
+
+/// Three axis-aligned segments of half-length `r` through `c`.
+fn push_cross(out: &mut Vec<Line>, c: Vec3, r: f32, color: [f32; 4]) {
+    for axis in [Vec3::X, Vec3::Y, Vec3::Z] {
+        push_line(out, c - axis * r, c + axis * r, color);
+    }
+}
+
+/// A square of half-size `half` in the plane, hatched, with its normal as a stroke.
+fn push_plane(out: &mut Vec<Line>, centre: DVec3, normal: DVec3, half: f64, color: [f32; 4]) {
+    let n = normal.normalize_or(DVec3::Y);
+    let u = n.any_orthonormal_vector();
+    let v = n.cross(u);
+    let at = |a: f64, b: f64| (centre + (u * a + v * b) * half).as_vec3();
+    let corners = [at(-1.0, -1.0), at(1.0, -1.0), at(1.0, 1.0), at(-1.0, 1.0)];
+    for k in 0..4 {
+        push_line(out, corners[k], corners[(k + 1) % 4], color);
+    }
+    let faint = [color[0], color[1], color[2], color[3] * 0.4];
+    for t in [-0.5, 0.0, 0.5] {
+        push_line(out, at(t, -1.0), at(t, 1.0), faint);
+    }
+    let tip = (centre + n * half * 0.6).as_vec3();
+    push_line(out, centre.as_vec3(), tip, color);
+}
+
+/// sRGB hex colour to linear.
+fn srgb(hex: u32) -> [f32; 3] {
+    let ch = |s: u32| {
+        let c = ((hex >> s) & 0xff) as f32 / 255.0;
+        if c <= 0.04045 {
+            c / 12.92
+        } else {
+            ((c + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    [ch(16), ch(8), ch(0)]
+}
+
+/// Colour of a section (linear RGB): a warm latex tone for the root, then a palette.
+pub fn section_color(section: usize) -> [f32; 3] {
+    const PALETTE: [u32; 8] = [
+        0xe8c39e, 0x8fb8de, 0xa8d5a2, 0xe5a3b8, 0xd8c878, 0xb4a6e0, 0x86d0c8, 0xe0a878,
+    ];
+    srgb(PALETTE[section % PALETTE.len()])
+}
+
+fn mix(a: [f32; 3], b: [f32; 3], t: f32) -> [f32; 3] {
+    [0, 1, 2].map(|k| a[k] + (b[k] - a[k]) * t)
+}

@@ -1,0 +1,198 @@
+//! One step and its stages (see [`Simulation::step`]), and the fixed-step clock
+//! ([`Simulation::advance`]).
+
+use super::{kernel, Pose, Simulation, StageTimes, REFERENCE_STEP, SLEEP_AFTER};
+use glam::Affine3A;
+use rayon::prelude::*;
+use std::time::Instant;
+
+impl Simulation {
+    /// Runs as many fixed steps as `seconds` of frame time hold (at most `max_steps`; the
+    /// rest of the time is dropped so a slow frame cannot snowball). Returns the steps
+    /// taken.
+    pub fn advance(&mut self, pose: &Pose, seconds: f32, max_steps: u32) -> u32 {
+        if seconds.is_finite() && seconds > 0.0 {
+            self.state.time_debt += seconds;
+        }
+        let h = self.params.time_step;
+        let mut taken = 0;
+        while self.state.time_debt >= h && taken < max_steps {
+            self.step(pose);
+            self.state.time_debt -= h;
+            taken += 1;
+        }
+        if taken == max_steps {
+            self.state.time_debt = 0.0;
+        }
+        taken
+    }
+
+    /// One simulation step of `h = params.time_step`.
+    ///
+    /// 0. **Wake**: sections whose transform differs from the last step wake the tiles that
+    ///    hold their vertices (a parameter or section change wakes all).
+    /// 1. **Bone transforms**: each slot's rest position, normal and bone points are moved
+    ///    rigidly with its section's transform.
+    /// 2. **Forces**: each mass point gathers its surface springs (CSR neighbours) and its
+    ///    two bone springs (Hooke, `stretch × direction`).
+    /// 3. **Verlet** with velocity damping:
+    ///    `x' = x + C_vd^(h/h₀) (x − x_prev) + D (h/h₀)² / (deg + 2) · F`.
+    /// 4. **Constraint**: circumsphere projection, or iterated spring reduction.
+    /// 5. **Sleep**: a tile that moved less than the threshold for [`SLEEP_AFTER`] steps,
+    ///    with still neighbours, stops (its velocity is set to zero); a tile that moved wakes
+    ///    its neighbours for the next step.
+    ///
+    /// Stages 1–4 are fused into one parallel pass over the awake tiles (`kernel`) that
+    /// reads the current positions and writes the new ones over the previous ones, so the
+    /// result does not depend on the number of threads and nothing is allocated. A static
+    /// material (see [`super::Params::is_static`]) skips 2–4: the surface just follows the
+    /// bones.
+    pub fn step(&mut self, pose: &Pose) {
+        let t0 = Instant::now();
+        self.wake(pose);
+        let t1 = Instant::now();
+        if self.params.is_static() {
+            self.follow_bones();
+        } else if self.awake_tiles > 0 {
+            self.integrate();
+        } else {
+            self.largest_motion = 0.0;
+        }
+        let t2 = Instant::now();
+        self.sleep();
+        self.state.steps += 1;
+        self.last_times = StageTimes {
+            wake: (t1 - t0).as_secs_f64(),
+            fused: (t2 - t1).as_secs_f64(),
+            sleep: t2.elapsed().as_secs_f64(),
+        };
+    }
+
+    /// Stage 0.
+    fn wake(&mut self, pose: &Pose) {
+        let (state, scratch) = (&mut self.state, &mut self.scratch);
+        let mut any = false;
+        for (s, (old, changed)) in state
+            .transforms
+            .iter_mut()
+            .zip(scratch.changed.iter_mut())
+            .enumerate()
+        {
+            let new = pose
+                .transforms
+                .get(s)
+                .copied()
+                .unwrap_or(Affine3A::IDENTITY);
+            *changed = new != *old;
+            if *changed {
+                *old = new;
+                any = true;
+            }
+        }
+        let all = state.wake_all || !self.options.sleeping;
+        state.wake_all = false;
+        for t in 0..state.awake.len() {
+            let woken = all
+                || (any
+                    && self
+                        .layout
+                        .sections_of_tile(t)
+                        .iter()
+                        .any(|&s| scratch.changed[s as usize]));
+            if woken {
+                state.awake[t] = true;
+                state.still_steps[t] = 0;
+            }
+        }
+        self.awake_tiles = state.awake.iter().filter(|&&a| a).count();
+    }
+
+    /// Stages 1–4 for a static material: awake tiles take their posed rest positions.
+    fn follow_bones(&mut self) {
+        let (layout, state) = (&self.layout, &mut self.state);
+        let mut largest = 0.0f32;
+        for t in 0..layout.tiles() {
+            if !state.awake[t] {
+                continue;
+            }
+            for k in layout.tile_range(t) {
+                let s = &layout.slots;
+                let r = state.transforms[s.section[k] as usize].transform_point3(s.rest.get(k));
+                largest = largest.max((r - state.cur.get(k)).length_squared());
+                state.cur.set(k, r);
+                state.prev.set(k, r);
+            }
+            self.scratch.motion[t] = 0.0;
+        }
+        self.largest_motion = largest;
+    }
+
+    /// Stages 1–4: the fused kernel over every awake tile.
+    fn integrate(&mut self) {
+        let p = self.params;
+        let ratio = p.time_step / REFERENCE_STEP;
+        let state = &mut self.state;
+        let ctx = kernel::Ctx {
+            layout: &self.layout,
+            cur: &state.cur,
+            transforms: &state.transforms,
+            params: p,
+            stiffness: p.stiffness * ratio * ratio,
+            damping: p.damping.powf(ratio),
+            avx2: self.options.simd,
+        };
+        let tile = self.layout.tile;
+        let awake = &state.awake;
+        state
+            .prev
+            .0
+            .par_chunks_mut(tile)
+            .zip(self.scratch.motion.par_iter_mut())
+            .enumerate()
+            .for_each(|(t, (points, motion))| {
+                if awake[t] {
+                    *motion = kernel::tile(&ctx, ctx.layout.tile_range(t), points);
+                }
+            });
+        std::mem::swap(&mut state.prev, &mut state.cur);
+        self.largest_motion = (0..awake.len())
+            .filter(|&t| awake[t])
+            .map(|t| self.scratch.motion[t])
+            .fold(0.0, f32::max);
+    }
+
+    /// Stage 5.
+    fn sleep(&mut self) {
+        if !self.options.sleeping {
+            return;
+        }
+        let (layout, state, scratch) = (&self.layout, &mut self.state, &mut self.scratch);
+        scratch.to_wake.fill(false);
+        for t in 0..layout.tiles() {
+            if !state.awake[t] {
+                continue;
+            }
+            if scratch.motion[t] > self.still2 {
+                state.still_steps[t] = 0;
+                for &u in layout.neighbours_of_tile(t) {
+                    scratch.to_wake[u as usize] = true;
+                }
+            } else {
+                state.still_steps[t] = state.still_steps[t].saturating_add(1);
+            }
+        }
+        let static_material = self.params.is_static();
+        for t in 0..layout.tiles() {
+            if scratch.to_wake[t] {
+                if !state.awake[t] {
+                    state.awake[t] = true;
+                    state.still_steps[t] = 0;
+                }
+            } else if state.awake[t] && (static_material || state.still_steps[t] >= SLEEP_AFTER) {
+                // Asleep with zero velocity: both buffers hold the same positions.
+                state.awake[t] = false;
+                state.prev.copy_range(&state.cur, layout.tile_range(t));
+            }
+        }
+    }
+}
