@@ -2,7 +2,7 @@ use super::*;
 use crate::geom::hilbert::SplitMix;
 use crate::geom::predicates::insphere;
 use crate::mesh::shapes;
-use std::sync::atomic::AtomicUsize;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Brute force: no input point strictly inside any finite tetrahedron's circumsphere.
 fn assert_empty_spheres(dt: &Delaunay, pts: &[DVec3]) {
@@ -216,7 +216,11 @@ fn phased_idle(
         .num_threads(threads)
         .build()
         .unwrap()
-        .install(|| Delaunay::build_phased(pts, None, &|_| {}, idle, first).unwrap())
+        .install(|| {
+            Delaunay::with_phases_from(pts, idle, first, |_| ())
+                .unwrap()
+                .0
+        })
 }
 
 /// The idle hook runs only while the other side of a phase runs on another thread: never
@@ -324,116 +328,4 @@ fn parallel_phases_are_delaunay_and_do_not_depend_on_the_thread_count() {
             }
         }
     }
-}
-
-/// The shrinking balls taken over the edges as they are made (serially, and in parallel
-/// phases from early on, with many deferred insertions) are those of the definition, a
-/// minimum over all points (brute force; equal up to rounding near ties, never smaller),
-/// and do not depend on the thread count. On bumpy, cospherical and coplanar inputs, and
-/// one with big cavities.
-#[test]
-fn tangent_balls_are_the_minimum_over_all_points() {
-    let mut bumpy = shapes::icosphere(1.0, 4).positions;
-    let mut rng = SplitMix(21);
-    for p in &mut bumpy {
-        *p *= 1.0 + 0.05 * ((rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64);
-    }
-    let inputs = [
-        ("bumpy sphere", bumpy),
-        ("uv sphere", shapes::uv_sphere(1.0, 24, 48).positions),
-        ("cube grid", shapes::cube_grid(2.0, 12).positions),
-        // Cavities with LINK_MAX boundary vertices or more.
-        ("far corners", sphere_and_far_corners()),
-    ];
-    for (name, pts) in inputs {
-        // Any unit vectors will do; these point roughly outwards.
-        let normals: Vec<DVec3> = pts
-            .iter()
-            .map(|p| (*p + DVec3::new(0.1, -0.2, 0.05)).normalize())
-            .collect();
-        let brute = brute_balls(&pts, &normals);
-        let build = |first: usize, threads: usize| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap()
-                .install(|| Delaunay::build_phased(&pts, Some(&normals), &|_| {}, &|| false, first))
-                .unwrap()
-        };
-        let serial = build(pts.len(), 1);
-        let one = build(40, 1);
-        let two = build(40, 2);
-        assert!(one.deferred > 0, "{name}: nothing deferred");
-        assert_eq!(one.tangent_balls(), two.tangent_balls(), "{name}");
-        for dt in [&serial, &two] {
-            assert_balls(dt, &brute, name);
-        }
-    }
-    // Four points: every edge is made by the first tetrahedron, none by an insertion.
-    let pts = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
-    // The first with no point on its inner side.
-    let normals = [DVec3::ONE.normalize(), DVec3::X, DVec3::Y, DVec3::Z];
-    let dt = Delaunay::with_tangent_balls(&pts, &normals, &|_| {}, &|| false).unwrap();
-    let brute = brute_balls(&pts, &normals);
-    assert_eq!(brute, [f64::INFINITY, 0.5, 0.5, 0.5]);
-    assert_balls(&dt, &brute, "tetrahedron");
-}
-
-/// The shrinking ball's definition: a minimum over all points.
-fn brute_balls(pts: &[DVec3], normals: &[DVec3]) -> Vec<f64> {
-    pts.iter()
-        .zip(normals)
-        .map(|(&p, &n)| {
-            pts.iter()
-                .map(|&q| (q - p, -2.0 * n.dot(q - p)))
-                .filter(|&(_, s)| s > 0.0)
-                .map(|(d, s)| d.length_squared() / s)
-                .fold(f64::INFINITY, f64::min)
-        })
-        .collect()
-}
-
-/// `dt`'s tangent balls are `brute`'s (input order) up to rounding near ties.
-fn assert_balls(dt: &Delaunay, brute: &[f64], name: &str) {
-    let (_, input) = dt.insertion_order();
-    let ball = dt.tangent_balls().unwrap();
-    for (&i, &r) in input.iter().zip(ball) {
-        let b = brute[i as usize];
-        assert!(
-            r >= b && r <= b * (1.0 + 1e-12),
-            "{name}: point {i}: {r} against {b}"
-        );
-    }
-}
-
-/// The running minimum without the division is the running minimum with it, exactly: on
-/// random offers and on the boundary cases of its shortcut (`x` the offered radius itself
-/// and its neighbouring floats, 0, ∞, offers on the outer side).
-#[test]
-fn lowering_a_tangent_radius_is_exact() {
-    let mut rng = SplitMix(21);
-    let mut u = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
-    let mut checked = 0;
-    for i in 0..200_000 {
-        let scale = 10f64.powi(i % 9 - 4);
-        let p = DVec3::new(u(), u(), u()) * scale;
-        let n = DVec3::new(u(), u(), u()).normalize();
-        let q = p + DVec3::new(u(), u(), u()) * scale * 0.1;
-        let r = tangent_radius(p, n, q);
-        let near = [
-            r,
-            r.next_up(),
-            r.next_down(),
-            r * (1.0 + 3e-16),
-            r * (1.0 - 3e-16),
-        ];
-        let far = [0.0, f64::INFINITY, scale * u().abs(), near[i as usize % 5]];
-        for x in far {
-            let mut lowered = x;
-            lower_tangent_radius(&mut lowered, p, n, q);
-            assert_eq!(lowered.to_bits(), x.min(r).to_bits(), "{p} {n} {q} x = {x}");
-            checked += usize::from(r.is_finite());
-        }
-    }
-    assert!(checked > 300_000, "{checked}");
 }

@@ -32,9 +32,13 @@
 //! count or on how far the overlap got (tested).
 
 pub mod cache;
+mod shrinking_ball;
 pub mod truth;
 
-use crate::delaunay::{lower_tangent_radius, Delaunay, DelaunayError};
+use shrinking_ball::ShrinkingBalls;
+pub use shrinking_ball::{lower_tangent_radius, tangent_radius};
+
+use crate::delaunay::{Delaunay, DelaunayError};
 use crate::geom::bvh::{Bvh, Ray, PACKET};
 use crate::geom::inside::InsideTest;
 use crate::mesh::Mesh;
@@ -205,9 +209,9 @@ fn build_with(
     progress("tetrahedralize", 0.0);
     let pts = &mesh.positions;
     let t_min = 1e-9 * mesh.diagonal();
-    let dt_done = AtomicBool::new(false);
+    let tetrahedralized = AtomicBool::new(false);
     let more = || match overlap {
-        Overlap::UntilTetrahedralized => !dt_done.load(Ordering::Relaxed),
+        Overlap::UntilTetrahedralized => !tetrahedralized.load(Ordering::Relaxed),
         #[cfg(test)]
         Overlap::Nothing => false,
         #[cfg(test)]
@@ -216,7 +220,7 @@ fn build_with(
     // The rays, once the other core has prepared them.
     let rays = OnceLock::new();
     let waiting = AtomicUsize::new(0);
-    let ((dt, t_dt), (inside, t_aux)) = rayon::join(
+    let ((built, t_tets), (inside, t_aux)) = rayon::join(
         || {
             let t = Instant::now();
             let progress = |f| progress("tetrahedralize", f);
@@ -227,14 +231,15 @@ fn build_with(
                 cast
             };
             // The shrinking ball is taken over the edges as they are made.
-            let dt = match params.method {
-                Method::ShrinkingBall => {
-                    Delaunay::with_tangent_balls(pts, normals, &progress, &idle)
-                }
-                _ => Delaunay::with_progress(pts, &progress),
+            let built = match params.method {
+                Method::ShrinkingBall => Delaunay::with_edge_hook(pts, &progress, &idle, |order| {
+                    ShrinkingBalls::new(normals, order)
+                })
+                .map(|(delaunay, balls)| (delaunay, Some(balls.into_radii()))),
+                _ => Delaunay::with_progress(pts, &progress).map(|delaunay| (delaunay, None)),
             };
-            dt_done.store(true, Ordering::Relaxed);
-            (dt, t.elapsed().as_secs_f64())
+            tetrahedralized.store(true, Ordering::Relaxed);
+            (built, t.elapsed().as_secs_f64())
         },
         || {
             let t = Instant::now();
@@ -268,8 +273,8 @@ fn build_with(
     let Some(rays) = rays.into_inner() else {
         unreachable!("stage 1 prepares the rays")
     };
-    let dt = dt?;
-    seconds.push(("tetrahedralize", t_dt));
+    let (delaunay, balls) = built?;
+    seconds.push(("tetrahedralize", t_tets));
     let aux = if inside.is_some() {
         "inside-oracle+bvh+thickness (parallel)"
     } else {
@@ -279,16 +284,16 @@ fn build_with(
 
     // 2–3. Per-vertex distance from the cells.
     progress("distance", 0.0);
-    let (mut distance, fallback, used, tetrahedra) = match (&inside, dt.tangent_balls()) {
-        (Some(inside), _) => voronoi_distances(&dt, pts, inside, params, &mut seconds),
-        (None, Some(ball)) => ball_distances(&dt, ball, &mut seconds),
+    let (mut distance, fallback, used, tetrahedra) = match (&inside, &balls) {
+        (Some(inside), _) => voronoi_distances(&delaunay, pts, inside, params, &mut seconds),
+        (None, Some(balls)) => ball_distances(&delaunay, balls, &mut seconds),
         // Stage 1 makes one or the other, by the method.
         (None, None) => unreachable!("neither an inside oracle nor tangent balls"),
     };
     // Duplicated positions (only possible without welding) share their vertex's cell;
     // neither path counted them as fallbacks.
     for i in 0..n {
-        if let Some(v) = dt.duplicate_of(i) {
+        if let Some(v) = delaunay.duplicate_of(i) {
             distance[i] = distance[v as usize];
         }
     }
@@ -358,13 +363,13 @@ fn build_with(
 /// vertex, the fallback count, the number of inside circumcentres used and the number of
 /// tetrahedra.
 fn voronoi_distances(
-    dt: &Delaunay,
+    delaunay: &Delaunay,
     pts: &[DVec3],
     inside: &InsideTest,
     params: &SkeletonParams,
     seconds: &mut Vec<(&'static str, f64)>,
 ) -> (Vec<f64>, usize, usize, usize) {
-    let tets = dt.finite_tets();
+    let tets = delaunay.finite_tets();
     // 2. The circumradius if inside (negated for slivers), NaN if outside or undefined.
     let t = Instant::now();
     let sliver = params.sliver_ratio;
@@ -428,23 +433,23 @@ fn voronoi_distances(
         .collect();
     // Duplicates (never inserted) take their vertex's distance in the caller.
     let fallback = (0..n)
-        .filter(|&i| acc[i].count == 0 && dt.duplicate_of(i).is_none())
+        .filter(|&i| acc[i].count == 0 && delaunay.duplicate_of(i).is_none())
         .count();
     seconds.push(("distance", t.elapsed().as_secs_f64()));
     (distance, fallback, used, tets.len())
 }
 
 /// Stage 3 for [`Method::ShrinkingBall`] (no stage 2): the tetrahedralization took the
-/// minimum over the Delaunay edges as it made them ([`Delaunay::with_tangent_balls`]),
+/// minimum over the Delaunay edges as it made them ([`ShrinkingBalls`]),
 /// `ball` in insertion order; mapped back to input order here. Returns the distances, the
 /// fallback count, 0 circumcentres used and the number of tetrahedra.
 fn ball_distances(
-    dt: &Delaunay,
+    delaunay: &Delaunay,
     ball: &[f64],
     seconds: &mut Vec<(&'static str, f64)>,
 ) -> (Vec<f64>, usize, usize, usize) {
     let t = Instant::now();
-    let (_, input) = dt.insertion_order();
+    let (_, input) = delaunay.insertion_order();
     // Every input point has an internal id; duplicates (never inserted) take their
     // vertex's distance in the caller.
     let mut distance = vec![0.0; input.len()];
@@ -452,12 +457,12 @@ fn ball_distances(
     for (&i, &b) in input.iter().zip(ball) {
         if b < f64::INFINITY {
             distance[i as usize] = b;
-        } else if dt.duplicate_of(i as usize).is_none() {
+        } else if delaunay.duplicate_of(i as usize).is_none() {
             fallback += 1;
         }
     }
     seconds.push(("distance", t.elapsed().as_secs_f64()));
-    (distance, fallback, 0, dt.finite_tet_count())
+    (distance, fallback, 0, delaunay.finite_tet_count())
 }
 
 /// Per-vertex accumulator of inside Voronoi vertices.

@@ -106,8 +106,8 @@ fn ellipsoid_medial_radius(axes: DVec3, p: DVec3) -> f64 {
         let mut step = PI / nt as f64;
         while step > 1e-9 {
             let mut improved = false;
-            for (dt, dp) in [(step, 0.0), (-step, 0.0), (0.0, step), (0.0, -step)] {
-                let (t2, p2) = ((theta + dt).clamp(1e-12, PI - 1e-12), phi + dp);
+            for (d_theta, d_phi) in [(step, 0.0), (-step, 0.0), (0.0, step), (0.0, -step)] {
+                let (t2, p2) = ((theta + d_theta).clamp(1e-12, PI - 1e-12), phi + d_phi);
                 let v2 = f(t2, p2);
                 if v2 < v {
                     (v, theta, phi) = (v2, t2, p2);
