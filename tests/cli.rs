@@ -16,15 +16,41 @@ fn ok_json(args: &[&str]) -> serde_json::Value {
 }
 
 #[test]
-fn bench_modes_are_exclusive() {
-    let out = puppet(&["bench", "--stress", "--skip"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).starts_with("error: choose one of"));
+fn bench_needs_one_mode() {
+    for args in [
+        &["bench"][..],
+        &["bench", "stress", "skip"][..],
+        &["bench", "warp"][..],
+    ] {
+        let out = puppet(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(
+            String::from_utf8_lossy(&out.stderr).starts_with("error:"),
+            "{args:?}"
+        );
+    }
+}
+
+#[test]
+fn constraint_and_method_names_are_the_files_names() {
+    // The command line takes exactly the names rig files use.
+    for c in puppet::sim::Constraint::ALL {
+        let serde = serde_json::to_value(c).unwrap();
+        let value = clap::ValueEnum::to_possible_value(&c).unwrap();
+        assert_eq!(serde.as_str(), Some(value.get_name()));
+        assert_eq!(c.name(), value.get_name());
+    }
+    for m in puppet::skeleton::Method::ALL {
+        let serde = serde_json::to_value(m).unwrap();
+        let value = clap::ValueEnum::to_possible_value(&m).unwrap();
+        assert_eq!(serde.as_str(), Some(value.get_name()));
+        assert_eq!(m.name(), value.get_name());
+    }
 }
 
 #[test]
 fn subdivisions_are_capped() {
-    let out = puppet(&["bench", "--scaling", "--subdivisions", "9"]);
+    let out = puppet(&["bench", "throughput", "--scaling", "--subdivisions", "9"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--subdivisions"));
 }
@@ -33,6 +59,7 @@ fn subdivisions_are_capped() {
 fn throughput_json_has_the_documented_fields() {
     let report = ok_json(&[
         "bench",
+        "throughput",
         "--scaling",
         "--subdivisions",
         "0",
@@ -64,6 +91,7 @@ fn throughput_json_has_the_documented_fields() {
 fn throughput_reaches_the_requested_spring_count() {
     let report = ok_json(&[
         "bench",
+        "throughput",
         "--springs",
         "50000",
         "--scaling",
@@ -71,12 +99,12 @@ fn throughput_reaches_the_requested_spring_count() {
         "1",
         "--frames",
         "3",
-        "--method",
-        "reduction",
+        "--constraint",
+        "spring-reduction",
         "--json",
     ]);
     assert!(report["springs"].as_u64().unwrap() >= 50_000);
-    assert_eq!(report["method"], "reduction");
+    assert_eq!(report["method"], "spring-reduction");
 }
 
 #[test]
@@ -84,6 +112,7 @@ fn a_generated_torus_lands_close_to_the_requested_spring_count() {
     // Loop subdivision only reaches sizes four times apart; the torus fills the gaps.
     let report = ok_json(&[
         "bench",
+        "throughput",
         "--torus",
         "--springs",
         "123456",
@@ -106,9 +135,22 @@ fn a_generated_torus_lands_close_to_the_requested_spring_count() {
 #[test]
 fn the_torus_needs_a_spring_count_and_no_mesh() {
     for args in [
-        &["bench", "--torus"][..],
-        &["bench", "--torus", "--springs", "1000", "assets/spot.obj"][..],
-        &["bench", "--torus", "--springs", "999999999999"][..],
+        &["bench", "throughput", "--torus"][..],
+        &[
+            "bench",
+            "throughput",
+            "--torus",
+            "--springs",
+            "1000",
+            "assets/spot.obj",
+        ][..],
+        &[
+            "bench",
+            "throughput",
+            "--torus",
+            "--springs",
+            "999999999999",
+        ][..],
     ] {
         let out = puppet(args);
         assert_eq!(out.status.code(), Some(2), "{args:?}");
@@ -120,7 +162,7 @@ fn the_torus_needs_a_spring_count_and_no_mesh() {
 fn short_stress_run_passes() {
     for seed in ["1", "2"] {
         let report = ok_json(&[
-            "bench", "--stress", "--seed", seed, "--steps", "15000", "--json",
+            "bench", "stress", "--seed", seed, "--steps", "15000", "--json",
         ]);
         assert_eq!(report["steps"], 15_000);
         assert!(report["scenarios"].as_u64().unwrap() >= 5);
@@ -134,7 +176,7 @@ fn skipping_saves_work_and_stays_within_the_error_bound() {
     // Spot at full resolution: 10 s, the limb swinging for the first second.
     let report = ok_json(&[
         "bench",
-        "--skip",
+        "skip",
         "--subdivisions",
         "0",
         "--frames",

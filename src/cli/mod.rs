@@ -48,8 +48,14 @@ pub enum Command {
     Skeleton(skeleton::Args),
     /// Play an animation file through the simulation and write OBJ frames (headless).
     Simulate(simulate::Args),
-    /// Measure: skeleton accuracy against analytic shapes, skeleton speed.
-    Bench(bench::Args),
+    /// Measure (every figure in BENCHMARKS.md): throughput, accuracy, stress, skip,
+    /// skeleton, skeleton-speed, machine.
+    #[command(arg_required_else_help = false)]
+    Bench {
+        /// What to measure.
+        #[command(subcommand)]
+        mode: bench::Bench,
+    },
 }
 
 /// A failure that names the file it concerns: printed as `error: <file>: <message>`.
@@ -87,7 +93,7 @@ pub fn run(cli: Cli) -> Result<()> {
     match &cli.command {
         Some(Command::Skeleton(args)) => skeleton::run(args),
         Some(Command::Simulate(args)) => simulate::run(args),
-        Some(Command::Bench(args)) => bench::run(args),
+        Some(Command::Bench { mode }) => bench::run(mode),
         None => open(&cli),
     }
 }

@@ -11,8 +11,8 @@ use std::path::PathBuf;
 pub struct Args {
     /// Mesh (OBJ); the embedded Spot when omitted.
     pub mesh: Option<PathBuf>,
-    /// Skeletal distance: mean (the paper), pole, shrinking-ball (default).
-    #[arg(long, value_parser = parse_method)]
+    /// How the skeletal distance is taken (default: shrinking-ball).
+    #[arg(long, value_enum)]
     pub method: Option<Method>,
     /// Write the skeletal mesh S here (same vertex order and faces as the welded input).
     #[arg(short = 'o', long = "output")]
@@ -20,10 +20,6 @@ pub struct Args {
     /// Print one JSON object instead of the text summary.
     #[arg(long)]
     pub json: bool,
-}
-
-fn parse_method(s: &str) -> Result<Method, String> {
-    s.parse()
 }
 
 /// Summary printed by the command (`--json` prints exactly these fields).

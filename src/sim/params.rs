@@ -5,7 +5,16 @@ use super::{MAX_STIFFNESS, MIN_STEP, REFERENCE_STEP};
 
 /// Which constraint keeps the mass points near their bones.
 #[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    Hash,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
 )]
 #[serde(rename_all = "kebab-case")]
 pub enum Constraint {

@@ -20,7 +20,7 @@
 //!    change of its last refinement) count as ties. The app's default must not be dominated; the
 //!    command fails if it is.
 
-use super::{median_p95, method_name, Args, Base};
+use super::{median_p95, Base, Input};
 use anyhow::{bail, Result};
 use glam::DVec3;
 use puppet::scenario::reference::Reference;
@@ -208,8 +208,21 @@ fn configs(constraint: Constraint) -> Vec<Config> {
     v
 }
 
+/// `puppet bench accuracy`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    #[command(flatten)]
+    input: Input,
+    /// Runs per configuration; the median time is reported.
+    #[arg(long, default_value_t = 3)]
+    runs: usize,
+    /// Print JSON instead of a Markdown table.
+    #[arg(long)]
+    json: bool,
+}
+
 pub fn run(args: &Args) -> Result<()> {
-    let base = Base::load(args)?;
+    let base = Base::load(&args.input, None)?;
     let scenario = base.scenario(0, 1.0)?;
     let diag = scenario.diagonal;
     let mut report = Report {
@@ -220,7 +233,7 @@ pub fn run(args: &Args) -> Result<()> {
         rows: Vec::new(),
     };
     for constraint in [Constraint::Circumsphere, Constraint::SpringReduction] {
-        let method = method_name(constraint);
+        let method = constraint.name();
         let params = Params {
             constraint,
             ..Params::default()

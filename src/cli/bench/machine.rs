@@ -7,7 +7,7 @@
 //!   gather is local): per vertex the CSR neighbours, `(|d| − rest)/|d| · d` summed, one
 //!   store. No bones, Verlet or constraint: a floor for what one core does per spring.
 
-use super::{median_p95, Args};
+use super::median_p95;
 use anyhow::Result;
 use rayon::prelude::*;
 
@@ -101,6 +101,14 @@ fn plain_loop() -> (usize, usize, f64) {
     }
     // Springs counted as the step counts them: each edge once, plus 2 bone springs.
     (n, 3 * n + 2 * n, median_p95(ms).0)
+}
+
+/// `puppet bench machine`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Print JSON instead of a Markdown table.
+    #[arg(long)]
+    json: bool,
 }
 
 pub fn run(args: &Args) -> Result<()> {

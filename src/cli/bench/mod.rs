@@ -1,14 +1,15 @@
-//! `puppet bench`: every measurement in `BENCHMARKS.md`, headless.
+//! `puppet bench MODE`: every measurement in `BENCHMARKS.md`, headless, one subcommand
+//! per mode:
 //!
-//! * (default) step throughput on the standard scenario ([`puppet::scenario`]), and the largest
-//!   Loop subdivision of the input that still holds 60 steps/s ([`throughput`]);
-//! * `--accuracy`: run time against error for each configuration, against a converged `f64`
+//! * `throughput`: step throughput on the standard scenario ([`puppet::scenario`]), and the
+//!   largest Loop subdivision of the input that still holds 60 steps/s ([`throughput`]);
+//! * `accuracy`: run time against error for each configuration, against a converged `f64`
 //!   reference, with the Pareto front ([`accuracy`]);
-//! * `--stress`: randomized scenarios that try to break the solver ([`stress`]);
-//! * `--skip`: what sleeping saves on a scenario where only the limb moves, and what it costs
+//! * `stress`: randomized scenarios that try to break the solver ([`stress`]);
+//! * `skip`: what sleeping saves on a scenario where only the limb moves, and what it costs
 //!   in accuracy ([`skip`]);
-//! * `--machine`: copy bandwidth and a plain scalar spring loop, as yardsticks ([`machine`]);
-//! * `--skeleton`, `--skeleton-speed`: the skeleton's accuracy and speed ([`skeleton`]).
+//! * `machine`: copy bandwidth and a plain scalar spring loop, as yardsticks ([`machine`]);
+//! * `skeleton`, `skeleton-speed`: the skeleton's accuracy and speed ([`skeleton`]).
 
 mod accuracy;
 mod machine;
@@ -21,107 +22,44 @@ use super::load_mesh;
 use anyhow::{anyhow, bail, Result};
 use puppet::mesh::{subdivide_loop_values, vertex_normals, Mesh};
 use puppet::scenario::Scenario;
-use puppet::sim::Constraint;
 use std::path::PathBuf;
 
-#[derive(clap::Args, Debug)]
-pub struct Args {
+/// `puppet bench MODE`: one subcommand per measurement.
+#[derive(clap::Subcommand, Debug)]
+pub enum Bench {
+    /// Step throughput on the standard scenario, and the largest Loop subdivision of the
+    /// input that holds 60 steps/s.
+    Throughput(throughput::Args),
+    /// Run time against error of each configuration, against a converged f64 reference.
+    Accuracy(accuracy::Args),
+    /// Randomized scenarios that try to break the solver.
+    Stress(stress::Args),
+    /// What sleeping saves, and what it costs in accuracy.
+    Skip(skip::Args),
+    /// Skeleton accuracy against analytic shapes.
+    Skeleton(skeleton::AccuracyArgs),
+    /// Skeleton time per stage on the mesh Loop-subdivided 0..=N times.
+    SkeletonSpeed(skeleton::SpeedArgs),
+    /// This machine's copy bandwidth and a plain scalar spring loop (yardsticks).
+    Machine(machine::Args),
+}
+
+/// The input of the step measurements.
+#[derive(clap::Args, Debug, Clone)]
+pub struct Input {
     /// Mesh to measure on; the embedded Spot when omitted.
     pub mesh: Option<PathBuf>,
-    /// Throughput: Loop-subdivide the mesh until it has at least this many springs.
-    #[arg(long)]
-    pub springs: Option<usize>,
-    /// Throughput: instead of a mesh file, a generated torus (tube radius half the ring
-    /// radius) with about --springs springs (five per vertex), its skeletal distance the
-    /// exact one (the tube radius): sizes between the fourfold steps of subdivision.
-    #[arg(long, requires = "springs", conflicts_with = "mesh")]
-    pub torus: bool,
-    /// Constraint for the throughput, skip and stress measurements.
-    #[arg(long, default_value = "circumsphere", value_parser = ["circumsphere", "reduction"])]
-    pub method: String,
-    /// Timed steps per size (throughput) or frames of the scenario (skip).
-    #[arg(long, default_value_t = 120)]
-    pub frames: usize,
-    /// Throughput at every subdivision level 0..=--subdivisions, not only up to the first
-    /// size that misses 60 steps/s.
-    #[arg(long)]
-    pub scaling: bool,
-    /// Loop subdivision steps (each quadruples the faces; at most 6).
-    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u8).range(0..=6))]
-    pub subdivisions: u8,
-    /// Run time against error, with a converged f64 reference.
-    #[arg(long)]
-    pub accuracy: bool,
-    /// Randomized stability stress.
-    #[arg(long)]
-    pub stress: bool,
-    /// Seed of the stress scenarios.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Simulation steps of the stress run, in all.
-    #[arg(long, default_value_t = 100_000)]
-    pub steps: u64,
-    /// Cost and error of sleeping (skipping still tiles).
-    #[arg(long)]
-    pub skip: bool,
-    /// This machine's copy bandwidth and a plain scalar spring loop (yardsticks).
-    #[arg(long)]
-    pub machine: bool,
-    /// Skeleton accuracy against analytic shapes.
-    #[arg(long)]
-    pub skeleton: bool,
-    /// Resolutions per shape for --skeleton (1 to 3).
-    #[arg(long, default_value_t = 3)]
-    pub levels: usize,
-    /// Skeleton time per stage on the mesh subdivided 0..=--subdivisions times.
-    #[arg(long)]
-    pub skeleton_speed: bool,
-    /// Runs per measurement; the median is reported.
-    #[arg(long, default_value_t = 3)]
-    pub runs: usize,
-    /// Print JSON instead of Markdown tables.
-    #[arg(long)]
-    pub json: bool,
 }
 
-impl Args {
-    fn constraint(&self) -> Constraint {
-        if self.method == "reduction" {
-            Constraint::SpringReduction
-        } else {
-            Constraint::Circumsphere
-        }
-    }
-}
-
-pub fn run(args: &Args) -> Result<()> {
-    let modes = [
-        args.accuracy,
-        args.stress,
-        args.skip,
-        args.machine,
-        args.skeleton,
-        args.skeleton_speed,
-    ];
-    if modes.iter().filter(|&&m| m).count() > 1 {
-        bail!(
-            "choose one of --accuracy, --stress, --skip, --machine, --skeleton, --skeleton-speed"
-        );
-    }
-    if args.accuracy {
-        accuracy::run(args)
-    } else if args.stress {
-        stress::run(args)
-    } else if args.skip {
-        skip::run(args)
-    } else if args.machine {
-        machine::run(args)
-    } else if args.skeleton {
-        skeleton::accuracy(args)
-    } else if args.skeleton_speed {
-        skeleton::speed(args)
-    } else {
-        throughput::run(args)
+pub fn run(bench: &Bench) -> Result<()> {
+    match bench {
+        Bench::Throughput(args) => throughput::run(args),
+        Bench::Accuracy(args) => accuracy::run(args),
+        Bench::Stress(args) => stress::run(args),
+        Bench::Skip(args) => skip::run(args),
+        Bench::Skeleton(args) => skeleton::accuracy(args),
+        Bench::SkeletonSpeed(args) => skeleton::speed(args),
+        Bench::Machine(args) => machine::run(args),
     }
 }
 
@@ -137,14 +75,15 @@ struct Base {
 }
 
 impl Base {
-    fn load(args: &Args) -> Result<Base> {
-        if let (true, Some(springs)) = (args.torus, args.springs) {
+    /// The input mesh, or a generated torus of about `torus` springs.
+    fn load(input: &Input, torus: Option<usize>) -> Result<Base> {
+        if let Some(springs) = torus {
             if springs > MAX_TORUS_SPRINGS {
                 bail!("--torus: at most {MAX_TORUS_SPRINGS} springs, got {springs}");
             }
             return Ok(Base::torus(springs));
         }
-        let (mesh, _, name) = load_mesh(args.mesh.as_deref())?;
+        let (mesh, _, name) = load_mesh(input.mesh.as_deref())?;
         let normals = vertex_normals(&mesh).map_err(|e| anyhow!("{name}: {e}"))?;
         let sk = puppet::skeleton::build(
             &mesh,
@@ -201,11 +140,4 @@ impl Base {
 /// Median and 95th percentile.
 fn median_p95(v: Vec<f64>) -> (f64, f64) {
     puppet::skeleton::truth::median_p95(v)
-}
-
-fn method_name(c: Constraint) -> &'static str {
-    match c {
-        Constraint::Circumsphere => "circumsphere",
-        Constraint::SpringReduction => "reduction",
-    }
 }

@@ -1,13 +1,39 @@
 //! `puppet bench --skeleton` (accuracy against analytic shapes) and `--skeleton-speed`
 //! (time per stage on a mesh Loop-subdivided 0..=N times, with peak memory).
 
-use super::Args;
 use crate::cli::load_mesh;
 use anyhow::Result;
 use puppet::mesh::{subdivide_loop, vertex_normals};
 use puppet::skeleton::{self, truth, Method, SkeletonParams};
 
-pub fn accuracy(args: &Args) -> Result<()> {
+/// `puppet bench skeleton`.
+#[derive(clap::Args, Debug)]
+pub struct AccuracyArgs {
+    /// Resolutions per shape (1 to 3).
+    #[arg(long, default_value_t = 3)]
+    levels: usize,
+    /// Print JSON instead of a Markdown table.
+    #[arg(long)]
+    json: bool,
+}
+
+/// `puppet bench skeleton-speed`.
+#[derive(clap::Args, Debug)]
+pub struct SpeedArgs {
+    /// Mesh to measure on; the embedded Spot when omitted.
+    mesh: Option<std::path::PathBuf>,
+    /// Loop subdivision steps (each quadruples the faces; at most 6).
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u8).range(0..=6))]
+    subdivisions: u8,
+    /// Runs per size; the median is reported.
+    #[arg(long, default_value_t = 3)]
+    runs: usize,
+    /// Print JSON instead of a Markdown table.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn accuracy(args: &AccuracyArgs) -> Result<()> {
     let cases = truth::cases(args.levels);
     let rows = truth::accuracy(&cases, &Method::ALL, SkeletonParams::default().sliver_ratio);
     if args.json {
@@ -42,7 +68,7 @@ struct SpeedRow {
     peak_rss_mib: Option<f64>,
 }
 
-pub fn speed(args: &Args) -> Result<()> {
+pub fn speed(args: &SpeedArgs) -> Result<()> {
     let (mut mesh, _, name) = load_mesh(args.mesh.as_deref())?;
     let mut rows = Vec::new();
     for level in 0..=args.subdivisions as usize {

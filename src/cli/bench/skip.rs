@@ -4,8 +4,9 @@
 //! shared machine hits them alike. Error: distance of every vertex to the full run at every
 //! step, RMS and max, relative to the bounding-box diagonal.
 
-use super::{median_p95, Args, Base};
+use super::{median_p95, Base, Input};
 use anyhow::{bail, Result};
+use puppet::sim::Constraint;
 use puppet::sim::{Options, Params, Simulation, REFERENCE_STEP};
 
 /// The bound the issue sets on the skipping error (relative to the diagonal).
@@ -34,12 +35,31 @@ struct Report {
     rows: Vec<Row>,
 }
 
+/// `puppet bench skip`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    #[command(flatten)]
+    input: Input,
+    /// Loop subdivision steps (each quadruples the faces; at most 6).
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u8).range(0..=6))]
+    subdivisions: u8,
+    /// The constraint.
+    #[arg(long, value_enum, default_value_t = Constraint::Circumsphere)]
+    constraint: Constraint,
+    /// Frames of the scenario.
+    #[arg(long, default_value_t = 120)]
+    frames: usize,
+    /// Print JSON instead of a Markdown table.
+    #[arg(long)]
+    json: bool,
+}
+
 pub fn run(args: &Args) -> Result<()> {
-    let base = Base::load(args)?;
+    let base = Base::load(&args.input, None)?;
     let swing = 1.0;
     let scenario = base.scenario(args.subdivisions as usize, swing)?;
     let params = Params {
-        constraint: args.constraint(),
+        constraint: args.constraint,
         time_step: REFERENCE_STEP,
         ..Params::default()
     };
@@ -159,7 +179,7 @@ pub fn run(args: &Args) -> Result<()> {
             report.limb_vertices,
             steps,
             swing_steps.min(steps),
-            args.method
+            args.constraint
         );
         println!();
         println!("| configuration | ms/step swing | ms/step hold | ms/step all | tiles awake swing | hold | RMS error | max error |");

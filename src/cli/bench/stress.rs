@@ -12,7 +12,6 @@
 //! target moved plus the diameter of its region. It reports the worst surface-spring strain
 //! seen.
 
-use super::Args;
 use anyhow::{bail, Result};
 use glam::{DQuat, DVec3, Vec3};
 use puppet::geom::hilbert::SplitMix;
@@ -62,7 +61,7 @@ struct Report {
     steps: u64,
     vertex_steps: u64,
     worst_strain: f64,
-    worst_strain_scene: String,
+    worst_strain_scenario: String,
     /// Largest one-step displacement as a share of its bound (≤ 1 by the checks).
     worst_motion_share: f64,
     /// Largest constraint excess seen, relative to the model size (≤ 1e-5 by the checks).
@@ -104,6 +103,20 @@ fn bases() -> Result<Vec<Base>> {
             })
         })
         .collect()
+}
+
+/// `puppet bench stress`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Seed of the random scenarios.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Simulation steps in all.
+    #[arg(long, default_value_t = 100_000)]
+    steps: u64,
+    /// Print JSON instead of a summary.
+    #[arg(long)]
+    json: bool,
 }
 
 pub fn run(args: &Args) -> Result<()> {
@@ -160,7 +173,7 @@ pub fn run(args: &Args) -> Result<()> {
         println!(
             "worst surface-spring strain {:.3} ({}); worst motion {:.3} of its bound; worst constraint excess {:.1e} of the model size",
             report.worst_strain,
-            report.worst_strain_scene,
+            report.worst_strain_scenario,
             report.worst_motion_share,
             report.worst_constraint_excess
         );
@@ -337,7 +350,7 @@ fn check(
             let strain = (len / s.rest - 1.0).abs() as f64;
             if strain > report.worst_strain {
                 report.worst_strain = strain;
-                report.worst_strain_scene = name.to_string();
+                report.worst_strain_scenario = name.to_string();
             }
         }
     }

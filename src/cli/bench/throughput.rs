@@ -5,10 +5,11 @@
 //! integrates every spring: this is the full cost, not the cost of a scenario at rest
 //! (`--skip` measures what sleeping saves).
 
-use super::{median_p95, method_name, Args, Base};
+use super::{median_p95, Base, Input};
 use anyhow::Result;
 use puppet::mesh::subdivide_loop_values;
 use puppet::scenario::Scenario;
+use puppet::sim::Constraint;
 use puppet::sim::{Options, Params, Simulation, REFERENCE_STEP};
 
 /// Steps before timing starts.
@@ -80,7 +81,7 @@ pub fn measure(scenario: &Scenario, params: Params, steps: usize) -> Row {
         vertices,
         springs,
         steps,
-        method: method_name(params.constraint),
+        method: params.constraint.name(),
         ms_per_step_median: med,
         ms_per_step_p95: p95,
         wake_ms_median: median_p95(wake).0,
@@ -105,10 +106,41 @@ struct Report {
     sizes: Vec<Row>,
 }
 
+/// `puppet bench throughput`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    #[command(flatten)]
+    input: Input,
+    /// Loop-subdivide the mesh until it has at least this many springs.
+    #[arg(long)]
+    springs: Option<usize>,
+    /// Instead of a mesh file, a generated torus (tube radius half the ring radius) with
+    /// about --springs springs (five per vertex), its skeletal distance the exact one (the
+    /// tube radius): sizes between the fourfold steps of subdivision.
+    #[arg(long, requires = "springs", conflicts_with = "mesh")]
+    torus: bool,
+    /// The constraint.
+    #[arg(long, value_enum, default_value_t = Constraint::Circumsphere)]
+    constraint: Constraint,
+    /// Timed steps per size.
+    #[arg(long, default_value_t = 120)]
+    frames: usize,
+    /// Throughput at every subdivision level 0..=--subdivisions, not only up to the first
+    /// size that misses 60 steps/s.
+    #[arg(long)]
+    scaling: bool,
+    /// Loop subdivision steps for --scaling (each quadruples the faces; at most 6).
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u8).range(0..=6))]
+    subdivisions: u8,
+    /// Print JSON instead of a Markdown table.
+    #[arg(long)]
+    json: bool,
+}
+
 pub fn run(args: &Args) -> Result<()> {
-    let base = Base::load(args)?;
+    let base = Base::load(&args.input, args.springs.filter(|_| args.torus))?;
     let params = Params {
-        constraint: args.constraint(),
+        constraint: args.constraint,
         time_step: REFERENCE_STEP,
         ..Params::default()
     };
@@ -170,7 +202,7 @@ pub fn run(args: &Args) -> Result<()> {
     println!(
         "standard scenario on {} (Loop-subdivided), {} constraint, {} threads, SIMD {}, median/p95 of {} steps, sleeping off",
         base.name,
-        args.method,
+        args.constraint,
         rayon::current_num_threads(),
         if rows[0].simd { "AVX2" } else { "off" },
         args.frames
