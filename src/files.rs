@@ -7,7 +7,9 @@ use std::path::Path;
 /// The serialization of a file, by extension: `.json` is JSON, anything else TOML.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
+    /// TOML (any extension but `.json`).
     Toml,
+    /// JSON.
     Json,
 }
 

@@ -58,9 +58,12 @@ fn default_axis() -> [f64; 3] {
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Track {
+    /// The section the keys turn.
     pub section: String,
+    /// How the keys are interpolated.
     #[serde(default)]
     pub ease: Ease,
+    /// The keys, in time order.
     pub key: Vec<Key>,
 }
 
@@ -73,6 +76,7 @@ pub struct Animation {
     /// Start over after `duration` instead of holding the last pose.
     #[serde(default)]
     pub looping: bool,
+    /// One track per posed section.
     #[serde(default)]
     pub track: Vec<Track>,
 }

@@ -10,8 +10,8 @@
 //! * `screenshot`: `--screenshot` and what it reports;
 //! * `drive`: the window test's synthetic drag.
 //!
-//! The loop sleeps (`ControlFlow::Wait`, no redraw) whenever the session is settled,
-//! nothing is loading and egui wants no repaint; any input wakes it.
+//! The loop waits (`ControlFlow::Wait`, no redraw) whenever the session is not running
+//! (settled or paused), nothing is loading and egui wants no repaint; any input wakes it.
 
 mod actions;
 mod drive;
@@ -165,7 +165,7 @@ impl ApplicationHandler for App {
             return;
         };
         let busy = w.loader.is_some()
-            || w.session.as_ref().is_some_and(|s| !s.is_settled())
+            || w.session.as_ref().is_some_and(Session::is_running)
             || w.screenshot.is_some()
             || w.drive.is_some();
         if busy {

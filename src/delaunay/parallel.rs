@@ -100,8 +100,7 @@ impl<H: EdgeHook> Builder<'_, H> {
     ///
     /// Of the three axes, the plane cuts the fewest tetrahedra inserted so far: a point
     /// whose cavity meets a cut tetrahedron is deferred, and the cuts so far predict the
-    /// later ones (measured: the deferred points follow the order of these counts on
-    /// Spot ×256, koala ×4 and scorpion ×16).
+    /// later ones.
     pub fn start_parallel(&mut self) {
         let n = self.result.pts.len();
         let cells = &self.result.cells;
@@ -132,10 +131,8 @@ impl<H: EdgeHook> Builder<'_, H> {
     }
 
     /// Inserts the points `lo..hi` (internal ids): a parallel round split by the median
-    /// plane of all points, then the deferred ones serially. (A second parallel round for
-    /// the deferred points, split across the first plane, was measured slower than
-    /// inserting them serially: on Spot ×256 it deferred 39 % of them again and took as
-    /// long per point as the serial insertion.)
+    /// plane of all points, then the deferred ones serially (a second parallel round for
+    /// them, split across the first plane, defers too many of them again to pay).
     pub fn phase(&mut self, lo: usize, hi: usize, idle: &(dyn Fn() -> bool + Sync)) {
         let deferred = self.round((lo as u32..hi as u32).collect(), idle);
         #[cfg(test)]

@@ -21,8 +21,8 @@ struct Node {
 ///
 /// The vertices are renumbered in the order their triangles first appear in the leaves,
 /// and their positions copied in that order: a leaf's corners lie close together in
-/// memory, as with a copy of each triangle's corners, in a third of the memory (koala ×16:
-/// 45 MB instead of 134 MB). Most of the build time it saves is page faults (`BENCHMARKS.md`).
+/// memory, as with a copy of each triangle's corners, in a third of the memory (fresh
+/// memory is slow to fault in).
 pub struct Bvh {
     nodes: Vec<Node>,
     /// Input index of each triangle, in leaf order.
@@ -43,7 +43,9 @@ const NO_VERTEX: u32 = u32::MAX;
 /// A ray hit: distance along the (unit or not) direction and the triangle index.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit {
+    /// Distance along the direction, in units of its length.
     pub t: f64,
+    /// Index of the triangle hit.
     pub triangle: u32,
 }
 
@@ -122,8 +124,7 @@ impl Bvh {
 
     /// The `n` vertices in the order their triangles first appear in the leaves, vertices of
     /// no triangle last: spatially coherent, so consecutive casts from them visit the same
-    /// nodes (on koala ×16, whose input order is not coherent, casts in this order take a
-    /// third less time).
+    /// nodes (input order often is not coherent).
     pub fn vertex_order(&self, n: usize) -> Vec<u32> {
         let mut order = Vec::with_capacity(n);
         order.extend_from_slice(&self.input);
@@ -258,10 +259,15 @@ impl Bvh {
 /// triangles having `skip_vertex` as a corner.
 #[derive(Clone, Copy, Debug)]
 pub struct Ray {
+    /// Where it starts.
     pub origin: DVec3,
+    /// Its direction (any length: distances are in its units).
     pub dir: DVec3,
+    /// Hits at or before this distance are ignored.
     pub t_min: f64,
+    /// Hits at or beyond this distance are ignored.
     pub t_max: f64,
+    /// Triangles with this vertex as a corner are ignored (the ray's own vertex).
     pub skip_vertex: u32,
 }
 

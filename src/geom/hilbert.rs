@@ -19,9 +19,8 @@ const LANES: usize = 8;
 ///
 /// Skilling's loop is one long chain of dependent steps per point. Here each step is
 /// done for all lanes together, so the chains of different points overlap (and
-/// vectorize), and without the textbook loop's branches on the coordinate bits: half
-/// the time for BRIO keys (`BENCHMARKS.md`, session 16). The tests check it against the
-/// textbook loop.
+/// vectorize), and without the textbook loop's branches on the coordinate bits. The
+/// tests check it against the textbook loop.
 // Each loop over the lanes indexes several coordinate rows at once.
 #[allow(clippy::needless_range_loop)]
 fn hilbert_lanes<const L: usize>(mut x: [[u32; L]; 3], bits: u32) -> [u64; L] {
@@ -104,6 +103,7 @@ fn hilbert_keys(
 pub struct SplitMix(pub u64);
 
 impl SplitMix {
+    /// The next pseudo-random 64 bits.
     #[inline]
     pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);

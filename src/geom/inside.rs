@@ -44,10 +44,8 @@ impl InsideTest {
         let (lo3, hi) = mesh.bounds();
         let lo = [lo3.x, lo3.y];
         let (w, h) = ((hi.x - lo3.x).max(1e-300), (hi.y - lo3.y).max(1e-300));
-        // About one cell per triangle keeps columns short without a huge grid. Measured with
-        // the skeleton's voronoi stage: on Spot 2.8–3.4 ms against 3.5–3.7 ms with one cell
-        // per two triangles; two cells per triangle gained nothing on Spot ×16 and took
-        // 10 MiB more.
+        // About one cell per triangle keeps columns short without a huge grid (fewer cells
+        // were slower, more gained nothing and cost memory).
         let target = (mesh.triangles.len() as f64).max(1.0);
         let cell = (w * h / target).sqrt().max(w.max(h) / 4096.0);
         let inv_cell = 1.0 / cell;

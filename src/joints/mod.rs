@@ -57,6 +57,7 @@ pub struct Cut {
 /// A section: a node of the joint hierarchy.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Section {
+    /// Its name (the cut's, or the root's).
     pub name: String,
     /// Parent section (`None` for the root).
     pub parent: Option<usize>,
@@ -69,7 +70,9 @@ pub struct Section {
 /// A section's pose relative to its parent: a rotation about its pivot, then a translation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Local {
+    /// Rotation about the section's pivot.
     pub rotation: DQuat,
+    /// Translation after the rotation.
     pub translation: DVec3,
 }
 
@@ -100,28 +103,47 @@ impl Local {
 /// Why a cut or a removal was refused. Nothing changes when one is returned.
 #[derive(Debug, PartialEq, thiserror::Error)]
 pub enum JointError {
+    /// The cut names a section that does not exist.
     #[error("cut '{cut}': unknown section '{section}' (known: {known})")]
     UnknownSection {
+        /// The cut.
         cut: String,
+        /// The section it names.
         section: String,
+        /// The sections there are, comma-separated.
         known: String,
     },
+    /// The cut's name is empty.
     #[error("cut '{0}': the name is empty")]
     EmptyName(String),
+    /// A section of that name exists.
     #[error("cut '{0}': a section with this name already exists")]
     DuplicateName(String),
+    /// A point, normal or pivot with a NaN or infinite coordinate.
     #[error("cut '{cut}': {what} is not a finite vector")]
-    NotFinite { cut: String, what: &'static str },
+    NotFinite {
+        /// The cut.
+        cut: String,
+        /// Which vector.
+        what: &'static str,
+    },
+    /// The plane normal has zero length.
     #[error("cut '{0}': the plane normal is zero")]
     ZeroNormal(String),
+    /// The plane leaves one side of the section without a skeletal point.
     #[error("cut '{cut}': leaves {side} of section '{section}' empty (no skeletal point on that side of the plane)")]
     EmptySide {
+        /// The cut.
         cut: String,
+        /// The section it cuts.
         section: String,
+        /// Which side is empty.
         side: &'static str,
     },
+    /// More than [`MAX_SECTIONS`] sections.
     #[error("too many sections (at most {MAX_SECTIONS})")]
     TooMany,
+    /// No cut of that name to remove.
     #[error("no cut named '{0}'")]
     NoSuchCut(String),
 }

@@ -37,22 +37,51 @@ pub struct Mesh {
 /// What can be wrong with a mesh. The message never names the file: the caller adds it.
 #[derive(Debug, thiserror::Error)]
 pub enum MeshError {
+    /// The file cannot be read (why, in words).
     #[error("cannot read file: {0}")]
     Io(String),
+    /// Binary or not UTF-8.
     #[error("not a text OBJ file: {0}")]
     NotText(String),
+    /// A malformed line.
     #[error("line {line}: {message}")]
-    Syntax { line: usize, message: String },
+    Syntax {
+        /// Line number, from 1.
+        line: usize,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// The parser refused the file.
     #[error("{0}")]
     Parse(String),
+    /// No faces.
     #[error("no triangles: the file holds {vertices} vertices and no faces")]
-    Empty { vertices: usize },
+    Empty {
+        /// Vertices in the file.
+        vertices: usize,
+    },
+    /// A NaN or infinite coordinate.
     #[error("vertex {vertex} has a non-finite coordinate ({value})")]
-    NonFinite { vertex: usize, value: f64 },
+    NonFinite {
+        /// The vertex, from 1 (as the file counts).
+        vertex: usize,
+        /// The coordinate.
+        value: f64,
+    },
+    /// A coordinate beyond [`MAX_COORDINATE`].
     #[error("vertex {vertex} has coordinate {value:e}, beyond the supported range ±{max:e}")]
-    TooLarge { vertex: usize, value: f64, max: f64 },
+    TooLarge {
+        /// The vertex, from 1.
+        vertex: usize,
+        /// The coordinate.
+        value: f64,
+        /// The largest accepted magnitude.
+        max: f64,
+    },
+    /// No volume, or a vertex without a normal.
     #[error("the mesh is degenerate: {0}")]
     Degenerate(String),
+    /// Not a closed, consistently oriented 2-manifold (what, how many, an example).
     #[error("not a closed 2-manifold: {0}")]
     Topology(String),
 }

@@ -18,19 +18,26 @@ use std::path::Path;
 /// Why a puppet could not be built.
 #[derive(Debug, thiserror::Error)]
 pub enum BuildError {
+    /// The mesh has no usable normals.
     #[error(transparent)]
     Mesh(#[from] MeshError),
+    /// The skeleton could not be built.
     #[error(transparent)]
     Skeleton(#[from] SkeletonError),
+    /// A cut of the rig file is impossible on this skeleton.
     #[error(transparent)]
     Joints(#[from] JointError),
 }
 
 /// A live puppet: the mesh, its skeleton, joints and simulation.
 pub struct Puppet {
+    /// The validated mesh.
     pub mesh: Mesh,
+    /// Its medial skeleton.
     pub skeleton: Skeleton,
+    /// Sections, cuts and pivots.
     pub joints: Joints,
+    /// The mass points and their state.
     pub sim: Simulation,
     /// The rig file it was built from (material name, skeleton method, mesh path).
     pub rig_file: RigFile,

@@ -6,8 +6,11 @@ use std::path::Path;
 /// An 8-bit RGBA image, rows top to bottom.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Image {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// Four bytes per pixel, rows top to bottom.
     pub rgba: Vec<u8>,
 }
 

@@ -14,8 +14,11 @@ use glam::{DVec3, Vec3};
 /// A spring between two mass points.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Spring {
+    /// One end (a vertex).
     pub a: u32,
+    /// The other end.
     pub b: u32,
+    /// Rest length.
     pub rest: f32,
 }
 
@@ -32,19 +35,23 @@ pub struct Rig {
     pub springs: Vec<Spring>,
     /// CSR: the neighbours of vertex `i` are `neighbour[start[i]..start[i+1]]`.
     pub start: Vec<u32>,
+    /// Neighbours by vertex (see `start`).
     pub neighbour: Vec<u32>,
+    /// Rest length of the spring to each neighbour.
     pub neighbour_rest: Vec<f32>,
     /// Bone distance factor `f_bd` (0..1).
     pub bone_distance: f32,
     /// `L_i = f_bd d_i`.
     pub bone_length: Vec<f32>,
-    /// Inner and outer bone points in the rest pose.
+    /// Inner bone points `p_i − L_i n_i` in the rest pose.
     pub inner: Vec<Vec3>,
+    /// Outer bone points `p_i + L_i n_i` in the rest pose.
     pub outer: Vec<Vec3>,
     /// Rest lengths of the inner and outer bone springs as the solver measures them (equal
     /// to `L_i` up to rounding; taken from the same f32 arithmetic, so a rig at rest has
     /// exactly zero force).
     pub inner_rest: Vec<f32>,
+    /// As `inner_rest`, for the outer bone springs.
     pub outer_rest: Vec<f32>,
 }
 

@@ -28,9 +28,13 @@ pub const SWING_PERIOD: f64 = 1.0;
 /// A mesh with skeletal distances, one cut and the limb's animation.
 #[derive(Clone, Debug)]
 pub struct Scenario {
+    /// The mesh.
     pub mesh: Mesh,
+    /// Its unit vertex normals.
     pub normals: Vec<DVec3>,
+    /// Its skeletal distances.
     pub distance: Vec<f64>,
+    /// The body and the limb.
     pub joints: Joints,
     /// Index of the limb section.
     pub limb: usize,

@@ -86,11 +86,16 @@ impl Session {
         }
     }
 
-    /// True when stepping would change nothing: the puppet has settled (see
-    /// [`SETTLED_MOTION`]) or the user paused it. The window then stops stepping and
-    /// drawing.
+    /// True when the puppet has settled (see [`SETTLED_MOTION`]): stepping would change
+    /// nothing until something else does.
     pub fn is_settled(&self) -> bool {
-        self.settled || self.paused
+        self.settled
+    }
+
+    /// True when the simulation needs steps: neither settled nor paused. When it does not,
+    /// the window stops stepping and drawing until the next input.
+    pub fn is_running(&self) -> bool {
+        !self.settled && !self.paused
     }
 
     /// Something changed: simulate again.
@@ -100,9 +105,9 @@ impl Session {
     }
 
     /// Runs the simulation for `seconds` of wall time (at most `max_steps` fixed steps).
-    /// Returns the steps taken; none when settled.
+    /// Returns the steps taken; none when not running.
     pub fn advance(&mut self, seconds: f32, max_steps: u32) -> u32 {
-        if self.is_settled() {
+        if !self.is_running() {
             return 0;
         }
         let pose = self.puppet.joints.pose_into(&self.local, &mut self.scratch);

@@ -96,7 +96,9 @@ impl Session {
         if let Some(d) = &self.draft {
             key.add(d.section as u64);
             for v in [d.point, d.normal, d.pivot.unwrap_or(DVec3::NAN)] {
-                v.to_array().map(|c| key.add(c.to_bits()));
+                for c in v.to_array() {
+                    key.add(c.to_bits());
+                }
             }
         }
         key.0

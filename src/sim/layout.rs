@@ -4,9 +4,8 @@
 //! * **Order.** Vertex `v` of the rig is solver slot `slot[v]`; slot `k` holds vertex
 //!   `order[k]`. Slots follow the 3D Hilbert curve of the rest positions, so a vertex's
 //!   neighbours sit in nearby slots and the step's neighbour gathers hit cache lines that are
-//!   already loaded. Measured on Spot subdivided four times (Loop subdivision appends every new
-//!   vertex at the end, the worst case): the step went from 64 / 76 ms to 55 / 50 ms (two
-//!   runs each, alternating; BENCHMARKS.md).
+//!   already loaded (it matters most on Loop-subdivided meshes, which append every new vertex
+//!   at the end).
 //! * **Tiles.** Consecutive runs of [`Layout::tile`] slots. A tile is the unit of work of one
 //!   parallel task and the unit of sleeping: Hilbert tiles are compact patches of the surface,
 //!   so a still region is a set of whole tiles. For each tile the layout keeps the sections its
@@ -33,21 +32,27 @@ pub(super) fn len3(x: f32, y: f32, z: f32) -> f32 {
 /// Struct-of-arrays vectors.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Soa {
+    /// The x coordinates.
     pub x: Vec<f32>,
+    /// The y coordinates.
     pub y: Vec<f32>,
+    /// The z coordinates.
     pub z: Vec<f32>,
 }
 
 impl Soa {
+    /// Vector `k`.
     #[inline(always)]
     pub fn get(&self, k: usize) -> Vec3 {
         Vec3::new(self.x[k], self.y[k], self.z[k])
     }
 
+    /// Number of vectors.
     pub fn len(&self) -> usize {
         self.x.len()
     }
 
+    /// True when there is none.
     pub fn is_empty(&self) -> bool {
         self.x.is_empty()
     }
@@ -59,6 +64,7 @@ impl Soa {
 pub struct Packed(pub Vec<[f32; 4]>);
 
 impl Packed {
+    /// Point `k`.
     #[inline(always)]
     pub fn get(&self, k: usize) -> Vec3 {
         let [x, y, z, _] = self.0[k];
@@ -70,10 +76,12 @@ impl Packed {
         self.0[k] = [p.x, p.y, p.z, 0.0];
     }
 
+    /// Number of points.
     pub fn len(&self) -> usize {
         self.0.len()
     }
 
+    /// True when there is none.
     pub fn is_empty(&self) -> bool {
         self.0.is_empty()
     }
@@ -93,8 +101,9 @@ pub struct Slots {
     pub normal: Soa,
     /// Bone length `L_i`.
     pub bone_length: Vec<f32>,
-    /// Rest lengths of the inner and outer bone springs as the kernel measures them.
+    /// Rest length of the inner bone spring as the kernel measures it.
     pub inner_rest: Vec<f32>,
+    /// Rest length of the outer bone spring as the kernel measures it.
     pub outer_rest: Vec<f32>,
     /// Joint section.
     pub section: Vec<u16>,
@@ -106,7 +115,9 @@ pub struct Slots {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
 pub struct Edge {
+    /// The neighbour's slot.
     pub neighbour: u32,
+    /// The spring's rest length.
     pub rest: f32,
 }
 
@@ -122,6 +133,7 @@ pub struct Layout {
     /// CSR of surface springs by slot: the springs of slot `k` are
     /// `edges[start[k]..start[k+1]]`.
     pub start: Vec<u32>,
+    /// The half-springs (see `start`).
     pub edges: Vec<Edge>,
     /// The surface springs in the kernel's order: the slots of each tile in groups of
     /// [`Layout::LANES`] (the last group of a tile may be short), and for group `g` the
@@ -137,15 +149,19 @@ pub struct Layout {
     /// Invariant the kernel's unchecked loads rely on: every offset + 4 ≤ 4 × [`Layout::len`].
     /// `build_lanes` is the only writer and keeps it (private, read through the method).
     lane_offset: Vec<u32>,
+    /// Rest lengths of the spring rows (see above).
     pub lane_rest: Vec<f32>,
+    /// Where each group's rows start (see above).
     pub group_start: Vec<u32>,
     /// Slots per tile.
     pub tile: usize,
     /// Sections present in tile `t`: `tile_sections[tile_section_start[t]..[t+1]]`.
     pub tile_section_start: Vec<u32>,
+    /// The sections of all tiles (see `tile_section_start`).
     pub tile_sections: Vec<u16>,
     /// Tiles reached by the springs of tile `t` (itself excluded), same CSR shape.
     pub tile_neighbour_start: Vec<u32>,
+    /// The neighbours of all tiles (see `tile_neighbour_start`).
     pub tile_neighbours: Vec<u32>,
 }
 
@@ -224,6 +240,7 @@ impl Layout {
         self.order.len()
     }
 
+    /// True for a rig without vertices.
     pub fn is_empty(&self) -> bool {
         self.order.is_empty()
     }

@@ -93,7 +93,7 @@ struct State {
     /// Per tile: integrated by the next step, and how many steps in a row it stayed under
     /// the sleep threshold.
     awake: Vec<bool>,
-    still_steps: Vec<u16>,
+    steps_under_threshold: Vec<u16>,
     /// Every tile wakes at the next step (a parameter, option or section change).
     wake_all: bool,
     /// Steps taken.
@@ -121,8 +121,8 @@ pub struct Simulation {
     layout: Layout,
     state: State,
     scratch: Scratch,
-    /// Squared absolute sleep threshold.
-    still2: f32,
+    /// The sleep threshold as a squared distance.
+    sleep_threshold2: f32,
     diagonal: f32,
     /// What the last step did.
     awake_tiles: usize,
@@ -158,7 +158,7 @@ impl Simulation {
                 prev: cur.clone(),
                 cur,
                 awake: vec![true; tiles],
-                still_steps: vec![0; tiles],
+                steps_under_threshold: vec![0; tiles],
                 wake_all: true,
                 steps: 0,
                 time_debt: 0.0,
@@ -168,7 +168,7 @@ impl Simulation {
                 changed: vec![false; 1],
                 to_wake: vec![false; tiles],
             },
-            still2: 0.0,
+            sleep_threshold2: 0.0,
             diagonal,
             awake_tiles: tiles,
             largest_motion: 0.0,
@@ -206,7 +206,7 @@ impl Simulation {
             self.layout.set_sections(&self.state.section_of);
             let tiles = self.layout.tiles();
             self.state.awake = vec![true; tiles];
-            self.state.still_steps = vec![0; tiles];
+            self.state.steps_under_threshold = vec![0; tiles];
             self.scratch.motion = vec![0.0; tiles];
             self.scratch.to_wake = vec![false; tiles];
         }
@@ -221,7 +221,7 @@ impl Simulation {
             simd: options.simd && kernel::avx2_available(),
             ..options
         };
-        self.still2 = (threshold * self.diagonal).powi(2);
+        self.sleep_threshold2 = (threshold * self.diagonal).powi(2);
         self.state.wake_all = true;
     }
 

@@ -4,7 +4,7 @@
 /// Solver options.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Options {
-    /// Let still tiles sleep (see [`super::Simulation::step`], stage 5).
+    /// Let tiles that stopped moving sleep (see [`super::Simulation::step`], stage 5).
     pub sleeping: bool,
     /// A tile whose every mass point moved less than this fraction of the rig's bounding-box
     /// diagonal per step, for [`SLEEP_AFTER`] steps in a row, with no moving neighbour and

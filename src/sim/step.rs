@@ -101,7 +101,7 @@ impl Simulation {
                         .any(|&s| scratch.changed[s as usize]));
             if woken {
                 state.awake[t] = true;
-                state.still_steps[t] = 0;
+                state.steps_under_threshold[t] = 0;
             }
         }
         self.awake_tiles = state.awake.iter().filter(|&&a| a).count();
@@ -172,13 +172,13 @@ impl Simulation {
             if !state.awake[t] {
                 continue;
             }
-            if scratch.motion[t] > self.still2 {
-                state.still_steps[t] = 0;
+            if scratch.motion[t] > self.sleep_threshold2 {
+                state.steps_under_threshold[t] = 0;
                 for &u in layout.neighbours_of_tile(t) {
                     scratch.to_wake[u as usize] = true;
                 }
             } else {
-                state.still_steps[t] = state.still_steps[t].saturating_add(1);
+                state.steps_under_threshold[t] = state.steps_under_threshold[t].saturating_add(1);
             }
         }
         let static_material = self.params.is_static();
@@ -186,9 +186,11 @@ impl Simulation {
             if scratch.to_wake[t] {
                 if !state.awake[t] {
                     state.awake[t] = true;
-                    state.still_steps[t] = 0;
+                    state.steps_under_threshold[t] = 0;
                 }
-            } else if state.awake[t] && (static_material || state.still_steps[t] >= SLEEP_AFTER) {
+            } else if state.awake[t]
+                && (static_material || state.steps_under_threshold[t] >= SLEEP_AFTER)
+            {
                 // Asleep with zero velocity: both buffers hold the same positions.
                 state.awake[t] = false;
                 state.prev.copy_range(&state.cur, layout.tile_range(t));

@@ -163,8 +163,10 @@ pub struct Skeleton {
 /// Why no skeleton could be built.
 #[derive(Debug, thiserror::Error)]
 pub enum SkeletonError {
+    /// No tetrahedralization of the vertices.
     #[error("tetrahedralization failed: {0}")]
     Delaunay(#[from] DelaunayError),
+    /// Not one normal per vertex (normals, vertices).
     #[error("{0} normals for {1} vertices")]
     Normals(usize, usize),
 }
@@ -651,10 +653,9 @@ impl<'a> Rays<'a> {
 
 /// For every vertex, twice an upper bound on its shrinking-ball radius, slightly widened:
 /// the ball is empty of every vertex, so it is no larger than the ball that any one vertex
-/// limits, here its mesh neighbours (infinite where none lies on the inner side). A median
-/// of 1.4–1.5 times the radius on Spot ×256 and scorpion ×16, so a thickness ray cast
-/// before the radius is known can stop there: 3.0 → 1.9 µs per ray on Spot ×256. Calls
-/// `poll()` every few thousand triangles.
+/// limits, here its mesh neighbours (infinite where none lies on the inner side). It is
+/// usually close to the radius, so a thickness ray cast before the radius is known can stop
+/// there instead of crossing the model. Calls `poll()` every few thousand triangles.
 fn ring_bounds(
     pts: &[DVec3],
     normals: &[DVec3],

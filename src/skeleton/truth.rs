@@ -18,21 +18,32 @@ use std::f64::consts::{PI, TAU};
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 #[serde(tag = "shape", rename_all = "kebab-case")]
 pub enum Shape {
+    /// A sphere about the origin.
     Sphere {
+        /// Its radius.
         radius: f64,
     },
     /// Semi-axes along x, y (the polar axis of the generator), z.
     Ellipsoid {
+        /// Semi-axis along x.
         a: f64,
+        /// Semi-axis along y.
         b: f64,
+        /// Semi-axis along z.
         c: f64,
     },
+    /// A cylinder with hemispherical caps along y.
     Capsule {
+        /// Its radius.
         radius: f64,
+        /// Half the length of the cylinder part.
         half: f64,
     },
+    /// A torus about the y axis.
     Torus {
+        /// Ring radius (centre to tube axis).
         major: f64,
+        /// Tube radius.
         minor: f64,
     },
 }
@@ -125,7 +136,9 @@ fn ellipsoid_medial_radius(axes: DVec3, p: DVec3) -> f64 {
 
 /// One test case: a shape at a resolution.
 pub struct Case {
+    /// The shape, which knows the true medial radius.
     pub shape: Shape,
+    /// A mesh whose vertices lie on it.
     pub mesh: Mesh,
     /// Human-readable resolution ("32x64", "ico 4", ...).
     pub resolution: String,
@@ -179,16 +192,23 @@ pub fn cases(levels: usize) -> Vec<Case> {
 /// Accuracy of one method on one case.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct AccuracyRow {
+    /// The shape's name.
     pub shape: String,
+    /// The mesh's resolution.
     pub resolution: String,
+    /// Its vertices.
     pub vertices: usize,
+    /// The skeleton method.
     pub method: Method,
     /// Median of `|d_i − r_i| / r_i`.
     pub median_rel_error: f64,
     /// 95th percentile of the same.
     pub p95_rel_error: f64,
+    /// Vertices that fell back to `d = 0`.
     pub fallback: usize,
+    /// Vertices whose distance the thickness bound cut by more than 1 %.
     pub clamped: usize,
+    /// Time to build the skeleton.
     pub seconds: f64,
 }
 
