@@ -23,11 +23,25 @@ impl Format {
     }
 }
 
+/// Why a text file could not be read; the message is one line.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum FileError {
+    /// The file cannot be read (why, in words).
+    #[error("cannot read file: {0}")]
+    Read(String),
+    /// Binary, or not UTF-8.
+    #[error("not a text file (invalid UTF-8)")]
+    NotText,
+    /// Not valid TOML or JSON for what it should hold, with the line and column.
+    #[error("{0}")]
+    Syntax(String),
+}
+
 /// Parses `text`; the error is one line naming the line and column.
-pub fn parse<T: DeserializeOwned>(text: &str, format: Format) -> Result<T, String> {
+pub fn parse<T: DeserializeOwned>(text: &str, format: Format) -> Result<T, FileError> {
     match format {
-        Format::Toml => toml::from_str(text).map_err(|e| one_line_toml(&e)),
-        Format::Json => serde_json::from_str(text).map_err(|e| e.to_string()),
+        Format::Toml => toml::from_str(text).map_err(|e| FileError::Syntax(one_line_toml(&e))),
+        Format::Json => serde_json::from_str(text).map_err(|e| FileError::Syntax(e.to_string())),
     }
 }
 
@@ -60,12 +74,12 @@ pub fn io_message(e: &std::io::Error) -> String {
 }
 
 /// Reads a whole text file; the error says why in words.
-pub fn read_text(path: &Path) -> Result<String, String> {
+pub fn read_text(path: &Path) -> Result<String, FileError> {
     if path.is_dir() {
-        return Err("cannot read file: is a directory".into());
+        return Err(FileError::Read("is a directory".into()));
     }
-    let bytes = std::fs::read(path).map_err(|e| format!("cannot read file: {}", io_message(&e)))?;
-    String::from_utf8(bytes).map_err(|_| "not a text file (invalid UTF-8)".into())
+    let bytes = std::fs::read(path).map_err(|e| FileError::Read(io_message(&e)))?;
+    String::from_utf8(bytes).map_err(|_| FileError::NotText)
 }
 
 #[cfg(test)]
@@ -80,11 +94,13 @@ mod tests {
 
     #[test]
     fn toml_errors_are_one_line_with_a_position() {
-        let e = parse::<T>("b = 1\n", Format::Toml).unwrap_err();
+        let e = parse::<T>("b = 1\n", Format::Toml).unwrap_err().to_string();
         assert!(!e.contains('\n'), "{e}");
         assert!(e.contains("line 1"), "{e}");
         assert!(e.contains("missing field `a`"), "{e}");
-        let e = parse::<T>("{\"a\": \"x\"}", Format::Json).unwrap_err();
+        let e = parse::<T>("{\"a\": \"x\"}", Format::Json)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("line 1"), "{e}");
     }
 }

@@ -89,7 +89,7 @@ pub struct AnimError(pub String);
 impl Animation {
     /// Parses and checks an animation (sections are checked by [`Animation::bind`]).
     pub fn parse(text: &str, format: Format) -> Result<Animation, AnimError> {
-        let anim: Animation = files::parse(text, format).map_err(AnimError)?;
+        let anim: Animation = files::parse(text, format).map_err(|e| AnimError(e.to_string()))?;
         anim.check()?;
         Ok(anim)
     }

@@ -6,7 +6,6 @@ use super::Report;
 use crate::render;
 use crate::session::loader::Status;
 use crate::session::Session;
-use crate::ui::panels;
 use anyhow::{anyhow, Result};
 use std::time::{Duration, Instant};
 
@@ -37,7 +36,7 @@ impl WindowState {
         let session = &mut self.session;
         let mut actions = Vec::new();
         let output = self.egui_ctx.run_ui(raw, |ui| {
-            actions = panels::side_panel(ui, panel, session.as_mut());
+            actions = crate::ui::side_panel(ui, panel, session.as_mut());
         });
         self.egui_state
             .handle_platform_output(&self.window, output.platform_output);

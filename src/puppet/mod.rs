@@ -29,6 +29,11 @@ pub enum BuildError {
     Joints(#[from] JointError),
 }
 
+/// A file could not be written; the message says why in words.
+#[derive(Debug, thiserror::Error)]
+#[error("cannot write: {}", files::io_message(.0))]
+pub struct WriteError(#[from] pub std::io::Error);
+
 /// A live puppet: the mesh, its skeleton, joints and simulation.
 pub struct Puppet {
     /// The validated mesh.
@@ -71,13 +76,12 @@ impl Puppet {
     }
 
     /// Writes the current simulated surface as an OBJ file (the welded input's vertex order
-    /// and faces); the error is the I/O failure in words.
-    pub fn save_surface(&self, path: &Path, header: &str) -> Result<(), String> {
+    /// and faces).
+    pub fn save_surface(&self, path: &Path, header: &str) -> Result<(), WriteError> {
         let x = self.sim.positions();
         let points: Vec<DVec3> = (0..x.len()).map(|i| x.get(i).as_dvec3()).collect();
-        let write_error = |e: std::io::Error| format!("cannot write: {}", files::io_message(&e));
-        let mut file = std::fs::File::create(path).map_err(write_error)?;
-        mesh::write_obj(&mut file, &points, &self.mesh.triangles, header).map_err(write_error)
+        let mut file = std::fs::File::create(path).map_err(WriteError::from)?;
+        mesh::write_obj(&mut file, &points, &self.mesh.triangles, header).map_err(WriteError::from)
     }
 
     /// The rig file of the puppet as it is now (parameters, and cuts with resolved pivots).

@@ -100,14 +100,14 @@ pub struct RigError(pub String);
 impl RigFile {
     /// Reads a rig file.
     pub fn load(path: &Path) -> Result<RigFile, RigError> {
-        let text = files::read_text(path).map_err(RigError)?;
+        let text = files::read_text(path).map_err(|e| RigError(e.to_string()))?;
         let base = path.parent().unwrap_or(Path::new(""));
         RigFile::parse(&text, Format::of(path), base)
     }
 
     /// Parses a rig; a relative mesh path is taken relative to `base`.
     pub fn parse(text: &str, format: Format, base: &Path) -> Result<RigFile, RigError> {
-        let entry: RigEntry = files::parse(text, format).map_err(RigError)?;
+        let entry: RigEntry = files::parse(text, format).map_err(|e| RigError(e.to_string()))?;
         let material = entry.material.unwrap_or_else(|| "skin".into());
         let mut params = if material == "custom" {
             Params::default()

@@ -3,6 +3,26 @@
 use super::{Gpu, RenderError};
 use std::path::Path;
 
+/// Why an image could not be read or written.
+#[derive(Debug, thiserror::Error)]
+pub enum ImageError {
+    /// The file could not be opened or written.
+    #[error("{0}")]
+    Io(#[from] std::io::Error),
+    /// PNG encoding failed.
+    #[error("{0}")]
+    Encode(#[from] png::EncodingError),
+    /// PNG decoding failed.
+    #[error("{0}")]
+    Decode(#[from] png::DecodingError),
+    /// Not 8-bit RGB or RGBA (the colour type and depth).
+    #[error("unsupported PNG format {0}")]
+    Format(String),
+    /// Too large to hold in memory.
+    #[error("image too large")]
+    TooLarge,
+}
+
 /// An 8-bit RGBA image, rows top to bottom.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Image {
@@ -27,32 +47,31 @@ impl Image {
     }
 
     /// Writes a PNG.
-    pub fn save_png(&self, path: &Path) -> Result<(), String> {
-        let file = std::fs::File::create(path).map_err(|e| e.to_string())?;
+    pub fn save_png(&self, path: &Path) -> Result<(), ImageError> {
+        let file = std::fs::File::create(path)?;
         let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), self.width, self.height);
         encoder.set_color(png::ColorType::Rgba);
         encoder.set_depth(png::BitDepth::Eight);
         encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
-        let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
-        writer
-            .write_image_data(&self.rgba)
-            .map_err(|e| e.to_string())
+        let mut writer = encoder.write_header()?;
+        Ok(writer.write_image_data(&self.rgba)?)
     }
 
     /// Reads an 8-bit RGB or RGBA PNG.
-    pub fn load_png(path: &Path) -> Result<Image, String> {
-        let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    pub fn load_png(path: &Path) -> Result<Image, ImageError> {
+        let file = std::fs::File::open(path)?;
         let decoder = png::Decoder::new(std::io::BufReader::new(file));
-        let mut reader = decoder.read_info().map_err(|e| e.to_string())?;
-        let mut buf = vec![0; reader.output_buffer_size().ok_or("image too large")?];
-        let info = reader.next_frame(&mut buf).map_err(|e| e.to_string())?;
+        let mut reader = decoder.read_info()?;
+        let size = reader.output_buffer_size().ok_or(ImageError::TooLarge)?;
+        let mut buf = vec![0; size];
+        let info = reader.next_frame(&mut buf)?;
         let rgba = match (info.color_type, info.bit_depth) {
             (png::ColorType::Rgba, png::BitDepth::Eight) => buf[..info.buffer_size()].to_vec(),
             (png::ColorType::Rgb, png::BitDepth::Eight) => buf[..info.buffer_size()]
                 .chunks(3)
                 .flat_map(|c| [c[0], c[1], c[2], 255])
                 .collect(),
-            other => return Err(format!("unsupported PNG format {other:?}")),
+            other => return Err(ImageError::Format(format!("{other:?}"))),
         };
         Ok(Image {
             width: info.width,

@@ -13,7 +13,7 @@
 pub mod reference;
 
 use crate::joints::{Cut, JointError, Joints, Local, ROOT};
-use crate::mesh::{self, Mesh};
+use crate::mesh::{self, Mesh, MeshError};
 use crate::rig::Rig;
 use crate::sim::Pose;
 use glam::{DAffine3, DVec3};
@@ -24,6 +24,17 @@ pub const LIMB_AT: f64 = 0.8;
 pub const SWING_DEGREES: f64 = 40.0;
 /// Period of the swing (seconds).
 pub const SWING_PERIOD: f64 = 1.0;
+
+/// Why the standard scenario cannot be set up on a mesh.
+#[derive(Debug, thiserror::Error)]
+pub enum ScenarioError {
+    /// The mesh has no normals (degenerate).
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    /// The standard cut leaves a side empty.
+    #[error(transparent)]
+    Joints(#[from] JointError),
+}
 
 /// A mesh with skeletal distances, one cut and the limb's animation.
 #[derive(Clone, Debug)]
@@ -57,8 +68,8 @@ impl Scenario {
         mesh: Mesh,
         distance: Vec<f64>,
         swing_seconds: f64,
-    ) -> Result<Scenario, String> {
-        let normals = mesh::vertex_normals(&mesh).map_err(|e| e.to_string())?;
+    ) -> Result<Scenario, ScenarioError> {
+        let normals = mesh::vertex_normals(&mesh)?;
         let points: Vec<DVec3> = mesh
             .positions
             .iter()
@@ -78,15 +89,13 @@ impl Scenario {
         let along = DVec3::AXES[axis_index];
         let across = DVec3::AXES[(axis_index + 1) % 3];
         let mut joints = Joints::new(&points, ROOT);
-        let limb = joints
-            .add_cut(Cut {
-                name: "limb".into(),
-                section: ROOT.into(),
-                point: lo + ext * LIMB_AT,
-                normal: along,
-                pivot: None,
-            })
-            .map_err(|e: JointError| e.to_string())?;
+        let limb = joints.add_cut(Cut {
+            name: "limb".into(),
+            section: ROOT.into(),
+            point: lo + ext * LIMB_AT,
+            normal: along,
+            pivot: None,
+        })?;
         Ok(Scenario {
             diagonal: ext.length(),
             mesh,

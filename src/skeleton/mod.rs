@@ -33,19 +33,23 @@
 
 pub mod cache;
 mod shrinking_ball;
+mod thickness;
 pub mod truth;
+mod voronoi;
 
-use shrinking_ball::ShrinkingBalls;
+use shrinking_ball::{ball_distances, ShrinkingBalls};
 pub use shrinking_ball::{lower_tangent_radius, tangent_radius};
+use thickness::{clamp, ring_bounds, Rays};
+use voronoi::voronoi_distances;
 
 use crate::delaunay::{Delaunay, DelaunayError};
-use crate::geom::bvh::{Bvh, Ray, PACKET};
+use crate::geom::bvh::{Bvh, PACKET};
 use crate::geom::inside::InsideTest;
 use crate::mesh::Mesh;
 use crate::progress::Progress;
 use glam::DVec3;
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::OnceLock;
 use std::time::Instant;
 
@@ -102,18 +106,6 @@ impl Method {
 impl std::fmt::Display for Method {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for Method {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        Method::ALL
-            .into_iter()
-            .find(|m| m.name() == s)
-            .ok_or_else(|| {
-                format!("unknown skeleton method '{s}' (expected mean, pole or shrinking-ball)")
-            })
     }
 }
 
@@ -368,330 +360,6 @@ fn build_with(
         inside_voronoi_vertices: used,
         seconds,
     })
-}
-
-/// Stages 2–3 for the methods that read the inside Voronoi vertices: the distance per
-/// vertex, the fallback count, the number of inside circumcentres used and the number of
-/// tetrahedra.
-fn voronoi_distances(
-    delaunay: &Delaunay,
-    pts: &[DVec3],
-    inside: &InsideTest,
-    params: &SkeletonParams,
-    seconds: &mut Vec<(&'static str, f64)>,
-) -> (Vec<f64>, usize, usize, usize) {
-    let tets = delaunay.finite_tets();
-    // 2. The circumradius if inside (negated for slivers), NaN if outside or undefined.
-    let t = Instant::now();
-    let sliver = params.sliver_ratio;
-    let radius: Vec<f64> = tets
-        .par_iter()
-        .map(|tv| {
-            let [a, b, c, d] = tv.map(|v| pts[v as usize]);
-            let (u, v, w) = (b - a, c - a, d - a);
-            let vol6 = u.dot(v.cross(w)).abs();
-            let lmax2 = u
-                .length_squared()
-                .max(v.length_squared())
-                .max(w.length_squared())
-                .max((c - b).length_squared())
-                .max((d - b).length_squared())
-                .max((d - c).length_squared());
-            let sign = if vol6 < sliver * lmax2 * lmax2.sqrt() {
-                -1.0
-            } else {
-                1.0
-            };
-            match crate::geom::predicates::circumcenter(a, b, c, d) {
-                Some(cc) if inside.contains(cc) => sign * (cc - a).length(),
-                _ => f64::NAN,
-            }
-        })
-        .collect();
-    seconds.push(("voronoi", t.elapsed().as_secs_f64()));
-
-    // 3. The tetrahedra are split in two fixed halves accumulated on both cores and merged
-    // in a fixed order: the result does not depend on the thread count.
-    let t = Instant::now();
-    let half = tets.len() / 2;
-    let n = pts.len();
-    let (first, second) = rayon::join(
-        || accumulate(n, &tets[..half], &radius[..half]),
-        || accumulate(n, &tets[half..], &radius[half..]),
-    );
-    let used = first.used + second.used;
-    let mut acc = first.acc;
-    let mut sliver_acc = first.sliver_acc;
-    for (a, b) in acc.iter_mut().zip(&second.acc) {
-        a.merge(b);
-    }
-    for (a, b) in sliver_acc.iter_mut().zip(&second.sliver_acc) {
-        a.merge(b);
-    }
-    for (a, s) in acc.iter_mut().zip(&sliver_acc) {
-        if a.count == 0 {
-            // Vertices whose every inside Voronoi vertex comes from a sliver use those.
-            *a = *s;
-        }
-    }
-    let distance = acc
-        .iter()
-        .map(|a| match (a.count, params.method) {
-            (0, _) => 0.0,
-            (c, Method::Mean) => a.sum / c as f64,
-            _ => a.max,
-        })
-        .collect();
-    // Duplicates (never inserted) take their vertex's distance in the caller.
-    let fallback = (0..n)
-        .filter(|&i| acc[i].count == 0 && delaunay.duplicate_of(i).is_none())
-        .count();
-    seconds.push(("distance", t.elapsed().as_secs_f64()));
-    (distance, fallback, used, tets.len())
-}
-
-/// Stage 3 for [`Method::ShrinkingBall`] (no stage 2): the tetrahedralization took the
-/// minimum over the Delaunay edges as it made them ([`ShrinkingBalls`]),
-/// `ball` in insertion order; mapped back to input order here. Returns the distances, the
-/// fallback count, 0 circumcentres used and the number of tetrahedra.
-fn ball_distances(
-    delaunay: &Delaunay,
-    ball: &[f64],
-    seconds: &mut Vec<(&'static str, f64)>,
-) -> (Vec<f64>, usize, usize, usize) {
-    let t = Instant::now();
-    let (_, input) = delaunay.insertion_order();
-    // Every input point has an internal id; duplicates (never inserted) take their
-    // vertex's distance in the caller.
-    let mut distance = vec![0.0; input.len()];
-    let mut fallback = 0;
-    for (&i, &b) in input.iter().zip(ball) {
-        if b < f64::INFINITY {
-            distance[i as usize] = b;
-        } else if delaunay.duplicate_of(i as usize).is_none() {
-            fallback += 1;
-        }
-    }
-    seconds.push(("distance", t.elapsed().as_secs_f64()));
-    (distance, fallback, 0, delaunay.finite_tet_count())
-}
-
-/// Per-vertex accumulator of inside Voronoi vertices.
-#[derive(Clone, Copy, Debug, Default)]
-struct Acc {
-    sum: f64,
-    max: f64,
-    count: u32,
-}
-
-impl Acc {
-    #[inline]
-    fn add(&mut self, r: f64) {
-        self.sum += r;
-        self.max = self.max.max(r);
-        self.count += 1;
-    }
-
-    fn merge(&mut self, o: &Acc) {
-        self.sum += o.sum;
-        self.max = self.max.max(o.max);
-        self.count += o.count;
-    }
-}
-
-/// Per-vertex accumulators over a run of tetrahedra.
-struct Accumulated {
-    acc: Vec<Acc>,
-    sliver_acc: Vec<Acc>,
-    used: usize,
-}
-
-/// Accumulates the inside circumradii `radius` of `tets` (negative for slivers, NaN when
-/// outside) on their corners, for `n` vertices.
-fn accumulate(n: usize, tets: &[[u32; 4]], radius: &[f64]) -> Accumulated {
-    let mut acc = vec![Acc::default(); n];
-    let mut sliver_acc = vec![Acc::default(); n];
-    let mut used = 0;
-    for (tv, &r) in tets.iter().zip(radius) {
-        if r.is_nan() {
-            continue;
-        }
-        let target = if r > 0.0 {
-            used += 1;
-            &mut acc
-        } else {
-            &mut sliver_acc
-        };
-        for &v in tv {
-            target[v as usize].add(r.abs());
-        }
-    }
-    Accumulated {
-        acc,
-        sliver_acc,
-        used,
-    }
-}
-
-/// The thickness rays: the BVH, the order they are cast in, how far each looks in stage 1,
-/// and what stage 1 measured. Packets are claimed in order by whichever thread is free
-/// (the BVH's thread between its other jobs, the tetrahedralizing thread while it waits
-/// for its other worker), so the measured ones are always a prefix of the order.
-struct Rays<'a> {
-    bvh: Bvh,
-    pts: &'a [DVec3],
-    normals: &'a [DVec3],
-    /// Hits closer than this are ignored.
-    t_min: f64,
-    /// The vertices in the BVH's leaf order: neighbours cast nearly the same rays.
-    order: Vec<u32>,
-    /// How far the ray of each vertex looks in stage 1 (twice a bound on `d`, by
-    /// [`ring_bounds`]); everywhere infinite without it.
-    reach: Option<Vec<f64>>,
-    /// The next packet to claim.
-    next: AtomicUsize,
-    /// The thickness of `order[k]` as `f64` bits, for `k` below [`Rays::measured`].
-    thickness: Vec<AtomicU64>,
-}
-
-impl<'a> Rays<'a> {
-    fn new(
-        bvh: Bvh,
-        pts: &'a [DVec3],
-        normals: &'a [DVec3],
-        t_min: f64,
-        reach: Option<Vec<f64>>,
-    ) -> Self {
-        // Rays in a spatially coherent order share the nodes they visit.
-        let order = bvh.vertex_order(pts.len());
-        let thickness = order.iter().map(|_| AtomicU64::new(0)).collect();
-        Rays {
-            bvh,
-            pts,
-            normals,
-            t_min,
-            order,
-            reach,
-            next: AtomicUsize::new(0),
-            thickness,
-        }
-    }
-
-    /// How far stage 1 looks from vertex `v`.
-    fn reach(&self, v: u32) -> f64 {
-        self.reach.as_ref().map_or(f64::INFINITY, |r| r[v as usize])
-    }
-
-    /// Claims the next packet and measures it up to its reach; false when none is left.
-    fn cast_next(&self) -> bool {
-        let n = self.order.len();
-        let k = self.next.fetch_add(1, Ordering::Relaxed) * PACKET;
-        if k >= n {
-            return false;
-        }
-        let verts = &self.order[k..(k + PACKET).min(n)];
-        let mut far = [0.0; PACKET];
-        for (f, &v) in far.iter_mut().zip(verts) {
-            *f = self.reach(v);
-        }
-        let m = verts.len();
-        let mut th = [f64::INFINITY; PACKET];
-        self.cast(verts, &far[..m], &mut th[..m]);
-        for (slot, t) in self.thickness[k..k + m].iter().zip(th) {
-            slot.store(t.to_bits(), Ordering::Relaxed);
-        }
-        true
-    }
-
-    /// How many vertices (a prefix of the order) stage 1 measured. Only once no thread
-    /// casts any more (every claimed packet is then finished).
-    fn measured(&self) -> usize {
-        (self.next.load(Ordering::Relaxed) * PACKET).min(self.order.len())
-    }
-
-    /// The thickness stage 1 measured for `order[k]`, `k` below [`Rays::measured`].
-    fn known(&self, k: usize) -> f64 {
-        f64::from_bits(self.thickness[k].load(Ordering::Relaxed))
-    }
-
-    /// The thickness along `−n` of each of `verts` (at most [`PACKET`], neighbours in the
-    /// order), looking as far as `far` (no cast where that is 0: `th` is kept): one packet
-    /// of rays, each ignoring its own vertex's triangles. Infinite where nothing is hit.
-    fn cast(&self, verts: &[u32], far: &[f64], th: &mut [f64]) {
-        let mut rays = [Ray {
-            origin: DVec3::ZERO,
-            dir: DVec3::ZERO,
-            t_min: self.t_min,
-            t_max: 0.0,
-            skip_vertex: u32::MAX,
-        }; PACKET];
-        let mut lane = [0; PACKET];
-        let mut m = 0;
-        for (j, (&v, &f)) in verts.iter().zip(far).enumerate() {
-            if f > 0.0 {
-                let i = v as usize;
-                rays[m] = Ray {
-                    origin: self.pts[i],
-                    dir: -self.normals[i],
-                    t_min: self.t_min,
-                    t_max: f,
-                    skip_vertex: v,
-                };
-                lane[m] = j;
-                m += 1;
-            }
-        }
-        if m == 0 {
-            return;
-        }
-        let hits = self.bvh.cast_packet(&rays[..m]);
-        for (&j, hit) in lane[..m].iter().zip(hits) {
-            th[j] = hit.map_or(f64::INFINITY, |h| h.t);
-        }
-    }
-}
-
-/// For every vertex, twice an upper bound on its shrinking-ball radius, slightly widened:
-/// the ball is empty of every vertex, so it is no larger than the ball that any one vertex
-/// limits, here its mesh neighbours (infinite where none lies on the inner side). It is
-/// usually close to the radius, so a thickness ray cast before the radius is known can stop
-/// there instead of crossing the model. Calls `poll()` every few thousand triangles.
-fn ring_bounds(
-    pts: &[DVec3],
-    normals: &[DVec3],
-    triangles: &[[u32; 3]],
-    poll: &dyn Fn(),
-) -> Vec<f64> {
-    let mut bound = vec![f64::INFINITY; pts.len()];
-    for chunk in triangles.chunks(4096) {
-        poll();
-        for tri in chunk {
-            for k in 0..3 {
-                let a = tri[k] as usize;
-                for q in [tri[(k + 1) % 3], tri[(k + 2) % 3]] {
-                    lower_tangent_radius(&mut bound[a], pts[a], normals[a], pts[q as usize]);
-                }
-            }
-        }
-    }
-    // The radius's own expression, but the radius may come from another neighbour that
-    // rounds differently: a margin far above rounding keeps the bound safe.
-    for b in &mut bound {
-        *b *= 2.0 * (1.0 + 1e-9);
-    }
-    bound
-}
-
-/// Limits `d` to half the thickness `th` (skipping `d = 0`, the fallback); true when that
-/// was a real correction, not a rounding-level one (a sphere's centre is at exactly half
-/// the thickness).
-fn clamp(d: &mut f64, th: f64) -> bool {
-    if *d == 0.0 || th * 0.5 >= *d {
-        return false;
-    }
-    let significant = th * 0.5 < *d * 0.99;
-    *d = th * 0.5;
-    significant
 }
 
 #[cfg(test)]

@@ -7,9 +7,10 @@
 //! tetrahedra (an edge destroyed later only offers a candidate no smaller than the
 //! minimum).
 
-use crate::delaunay::EdgeHook;
+use crate::delaunay::{Delaunay, EdgeHook};
 use glam::DVec3;
 use std::cell::UnsafeCell;
+use std::time::Instant;
 
 /// Radius of the ball tangent at `p` with its centre on `−n` (unit) and `q` on its sphere,
 /// `|q − p|² / (−2 n·(q − p))`; infinite when `q` is not on the inner side of the tangent
@@ -100,6 +101,32 @@ impl EdgeHook for ShrinkingBalls {
             lower_tangent_radius(r, pts[v], self.normals[v], pts[w]);
         }
     }
+}
+
+/// Stage 3 for [`Method::ShrinkingBall`] (no stage 2): the tetrahedralization took the
+/// minimum over the Delaunay edges as it made them ([`ShrinkingBalls`]),
+/// `ball` in insertion order; mapped back to input order here. Returns the distances, the
+/// fallback count, 0 circumcentres used and the number of tetrahedra.
+pub(super) fn ball_distances(
+    delaunay: &Delaunay,
+    ball: &[f64],
+    seconds: &mut Vec<(&'static str, f64)>,
+) -> (Vec<f64>, usize, usize, usize) {
+    let t = Instant::now();
+    let (_, input) = delaunay.insertion_order();
+    // Every input point has an internal id; duplicates (never inserted) take their
+    // vertex's distance in the caller.
+    let mut distance = vec![0.0; input.len()];
+    let mut fallback = 0;
+    for (&i, &b) in input.iter().zip(ball) {
+        if b < f64::INFINITY {
+            distance[i as usize] = b;
+        } else if delaunay.duplicate_of(i as usize).is_none() {
+            fallback += 1;
+        }
+    }
+    seconds.push(("distance", t.elapsed().as_secs_f64()));
+    (distance, fallback, 0, delaunay.finite_tet_count())
 }
 
 #[cfg(test)]

@@ -1,0 +1,140 @@
+//! The Cuts section: the cut tool (axis, the draft's plane and pivot, apply) and the list
+//! of applied cuts.
+
+use super::PanelState;
+use crate::session::{CutAxis, CutDraft, Session};
+use glam::DVec3;
+
+pub(super) fn cut_section(ui: &mut egui::Ui, state: &mut PanelState, session: &mut Session) {
+    ui.strong("Cuts");
+    ui.horizontal(|ui| {
+        ui.toggle_value(&mut session.cut_tool.active, "Cut tool");
+        for (axis, label) in [
+            (CutAxis::X, "X"),
+            (CutAxis::Y, "Y"),
+            (CutAxis::Z, "Z"),
+            (CutAxis::View, "view"),
+        ] {
+            if ui
+                .selectable_value(&mut session.cut_tool.axis, axis, label)
+                .clicked()
+            {
+                if let Some(d) = &mut session.draft {
+                    d.normal = match axis {
+                        CutAxis::X => DVec3::X,
+                        CutAxis::Y => DVec3::Y,
+                        CutAxis::Z => DVec3::Z,
+                        CutAxis::View => d.normal,
+                    };
+                }
+            }
+        }
+    });
+    if session.cut_tool.active && session.draft.is_none() {
+        ui.label("click the model where the plane should go");
+    }
+    let mut apply = false;
+    let mut cancel = false;
+    if let Some(d) = &mut session.draft {
+        draft_editor(ui, d, session.puppet.mesh.diagonal());
+        ui.horizontal(|ui| {
+            apply = ui.button("Apply cut").clicked();
+            cancel = ui.button("Cancel").clicked();
+        });
+    }
+    if apply {
+        match session.apply_draft() {
+            Ok(()) => {
+                state.message = None;
+                session.cut_tool.active = false;
+            }
+            Err(e) => state.message = Some((e.to_string(), true)),
+        }
+    }
+    if cancel {
+        session.draft = None;
+        session.cut_tool.active = false;
+    }
+    let cuts: Vec<String> = session
+        .puppet
+        .joints
+        .cuts()
+        .iter()
+        .map(|c| c.name.clone())
+        .collect();
+    for name in cuts {
+        ui.horizontal(|ui| {
+            let index = session.puppet.joints.find(&name);
+            let selected = index.is_some_and(|i| session.selection.contains(&i));
+            if ui.selectable_label(selected, name.as_str()).clicked() {
+                session.select(index, ui.input(|i| i.modifiers.shift));
+            }
+            if ui.small_button("remove").clicked() {
+                if let Err(e) = session.remove_cut(&name) {
+                    state.message = Some((e.to_string(), true));
+                }
+            }
+        });
+    }
+}
+
+fn draft_editor(ui: &mut egui::Ui, d: &mut CutDraft, size: f64) {
+    ui.horizontal(|ui| {
+        ui.label("name");
+        ui.text_edit_singleline(&mut d.name);
+    });
+    // Offset along the normal and tilt of the normal, applied incrementally.
+    let mut offset = 0.0;
+    ui.add(
+        egui::Slider::new(&mut offset, -0.05..=0.05)
+            .text("move")
+            .fixed_decimals(3),
+    );
+    if offset != 0.0 {
+        d.point += d.normal.normalize_or_zero() * offset * size;
+    }
+    let (mut yaw, mut pitch) = (0.0f64, 0.0f64);
+    ui.add(egui::Slider::new(&mut yaw, -5.0..=5.0).text("turn °"));
+    ui.add(egui::Slider::new(&mut pitch, -5.0..=5.0).text("tilt °"));
+    if yaw != 0.0 || pitch != 0.0 {
+        let n = d.normal.normalize_or(DVec3::Y);
+        let side = n.any_orthonormal_vector();
+        let q = glam::DQuat::from_axis_angle(n.cross(side), yaw.to_radians())
+            * glam::DQuat::from_axis_angle(side, pitch.to_radians());
+        d.normal = q * n;
+    }
+    if ui.button("flip side").clicked() {
+        d.normal = -d.normal;
+    }
+    let mut custom = d.pivot.is_some();
+    ui.checkbox(
+        &mut custom,
+        "place the pivot (default: centroid of the nearest skeletal points)",
+    );
+    match (custom, d.pivot) {
+        (false, _) => d.pivot = None,
+        (true, None) => d.pivot = Some(d.point),
+        (true, Some(pivot)) => {
+            let n = d.normal.normalize_or(DVec3::Y);
+            let u = n.any_orthonormal_vector();
+            let v = n.cross(u);
+            let (mut du, mut dv, mut dn) = (0.0f64, 0.0f64, 0.0f64);
+            ui.add(
+                egui::Slider::new(&mut du, -0.05..=0.05)
+                    .text("pivot ←→")
+                    .fixed_decimals(3),
+            );
+            ui.add(
+                egui::Slider::new(&mut dv, -0.05..=0.05)
+                    .text("pivot ↓↑")
+                    .fixed_decimals(3),
+            );
+            ui.add(
+                egui::Slider::new(&mut dn, -0.05..=0.05)
+                    .text("pivot along normal")
+                    .fixed_decimals(3),
+            );
+            d.pivot = Some(pivot + (u * du + v * dv + n * dn) * size);
+        }
+    }
+}

@@ -1,0 +1,23 @@
+//! The Show section: which overlays are drawn.
+
+use super::{Action, PanelState};
+
+pub(super) fn overlay_section(
+    ui: &mut egui::Ui,
+    state: &mut PanelState,
+    actions: &mut Vec<Action>,
+) {
+    ui.strong("Show");
+    let o = &mut state.overlays;
+    ui.horizontal_wrapped(|ui| {
+        ui.checkbox(&mut o.wireframe, "wireframe");
+        ui.checkbox(&mut o.skeleton, "skeleton");
+        ui.checkbox(&mut o.bone_points, "bone points");
+        ui.checkbox(&mut o.bone_springs, "bone springs");
+        ui.checkbox(&mut o.cuts, "cut planes");
+        ui.checkbox(&mut o.pivots, "pivots");
+    });
+    if ui.button("Frame model (F)").clicked() {
+        actions.push(Action::Frame);
+    }
+}

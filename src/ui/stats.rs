@@ -1,0 +1,36 @@
+//! The Stats section: sizes, step time, rates, state.
+
+use super::PanelState;
+use crate::session::Session;
+
+pub(super) fn stats_section(ui: &mut egui::Ui, state: &PanelState, session: &Session) {
+    ui.strong("Stats");
+    let p = &session.puppet;
+    egui::Grid::new("stats").num_columns(2).show(ui, |ui| {
+        let rows = [
+            ("mesh", session.name.clone()),
+            ("vertices", p.mesh.positions.len().to_string()),
+            ("springs", p.sim.rig().spring_count().to_string()),
+            ("sections", p.joints.sections().len().to_string()),
+            ("step", format!("{:.2} ms", state.stats.step_ms)),
+            ("steps/s", format!("{:.0}", state.stats.steps_per_second)),
+            ("fps", format!("{:.0}", state.stats.fps)),
+            (
+                "state",
+                if session.paused {
+                    "paused".into()
+                } else if session.is_settled() {
+                    "settled".into()
+                } else {
+                    "simulating".into()
+                },
+            ),
+        ];
+        for (k, v) in rows {
+            ui.label(k);
+            ui.label(v);
+            ui.end_row();
+        }
+    });
+    ui.small("drag: turn selection or orbit · right drag: pan · wheel: zoom · F: frame · R: reset pose · Ctrl+Z/Y: undo/redo · W: wireframe · Space: pause");
+}
