@@ -274,6 +274,7 @@ key = [
             point: DVec3::new(0.0, 4.5, 0.0),
             normal: DVec3::Y,
             pivot: None,
+            connected: false,
         })
         .unwrap();
         j

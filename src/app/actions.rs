@@ -1,12 +1,23 @@
 //! Keys and the panels' actions: opening meshes and rigs (in the background; the current
-//! puppet stays until the new one is ready), saving, exporting, undo, framing.
+//! puppet stays until the new one is ready), saving, exporting, undo, framing, suggesting
+//! joints.
 
+use super::dialog::{self, Dialog};
 use super::window::WindowState;
 use crate::puppet::RigFile;
 use crate::session::loader::Loader;
-use crate::ui::Action;
+use crate::ui::{Action, FilePurpose};
 use std::path::{Path, PathBuf};
 use winit::keyboard::{Key, NamedKey};
+
+/// What a key asks of the event loop.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum KeyOutcome {
+    /// Nothing more.
+    Handled,
+    /// Close the window (Ctrl+Q).
+    Quit,
+}
 
 impl WindowState {
     /// Starts loading a mesh (or the current one with a new rig) in the background; the
@@ -23,11 +34,16 @@ impl WindowState {
             rig_file
         });
         match path {
-            Some(p) => self.loader = Some(Loader::open(p, rig_file)),
+            Some(p) => {
+                self.settings.opened(&p);
+                self.panel.recent = self.settings.recent.clone();
+                self.loader = Some(Loader::open(p, rig_file));
+            }
             None => {
                 if let Some(s) = &self.session {
                     let (mesh, name) = (s.puppet.mesh.clone(), s.name.clone());
-                    self.loader = Some(Loader::build(mesh, name, rig_file));
+                    let source = self.panel.source.clone();
+                    self.loader = Some(Loader::build(mesh, name, source, rig_file));
                 }
             }
         }
@@ -36,13 +52,24 @@ impl WindowState {
     }
 
     /// A key went down.
-    pub fn key(&mut self, key: &Key) {
+    pub fn key(&mut self, key: &Key) -> KeyOutcome {
         let ctrl = self.modifiers.control_key();
         let shift = self.modifiers.shift_key();
         match key {
             Key::Character(c) => match (c.to_lowercase().as_str(), ctrl) {
+                ("q", true) => return KeyOutcome::Quit,
+                ("o", true) => self.act(Action::Browse(FilePurpose::OpenMesh)),
                 ("f", false) => self.frame_model(),
                 ("w", false) => self.panel.overlays.wireframe ^= true,
+                ("c", false) => {
+                    if let Some(s) = &mut self.session {
+                        s.cut_tool.active ^= true;
+                        if !s.cut_tool.active {
+                            s.draft = None;
+                        }
+                        s.revision += 1;
+                    }
+                }
                 ("r", false) => {
                     if let Some(s) = &mut self.session {
                         s.reset_pose();
@@ -69,6 +96,7 @@ impl WindowState {
             _ => {}
         }
         self.window.request_redraw();
+        KeyOutcome::Handled
     }
 
     fn undo(&mut self) {
@@ -92,35 +120,71 @@ impl WindowState {
 
     /// Carries out what a panel asked for; the outcome goes to the panel's message line.
     pub fn act(&mut self, action: Action) {
-        let result: Result<String, String> = match action {
-            Action::OpenMesh(path) => {
-                self.start_loading(Some(PathBuf::from(path)), None);
+        match action {
+            Action::Frame => self.frame_model(),
+            Action::SuggestJoints => {
+                if let Some(s) = &mut self.session {
+                    let message = match s.suggest_joints() {
+                        Ok(0) => ("no joints found on this shape".to_string(), false),
+                        Ok(n) => (format!("suggested {n} joints"), false),
+                        Err(e) => (e.to_string(), true),
+                    };
+                    self.panel.message = Some(message);
+                }
+            }
+            Action::Browse(purpose) => {
+                if !dialog::available() {
+                    self.panel.message = Some((
+                        "no file dialog on this system (install zenity or an XDG desktop portal): type the path under \"Type a path\", pick a recent file, or drop the file on the window".into(),
+                        true,
+                    ));
+                    return;
+                }
+                let dir = self
+                    .panel
+                    .source
+                    .as_deref()
+                    .and_then(Path::parent)
+                    .map(Path::to_path_buf);
+                self.dialog = Some(Dialog::show(purpose, dir));
+            }
+            Action::File(purpose, path) => self.use_file(purpose, path),
+        }
+        self.window.request_redraw();
+    }
+
+    /// What a file is for, done: open, load, save or export.
+    pub fn use_file(&mut self, purpose: FilePurpose, path: PathBuf) {
+        let shown = crate::ui::file_name(&path);
+        let result: Result<String, String> = match purpose {
+            FilePurpose::OpenMesh => {
+                self.start_loading(Some(path), None);
                 return;
             }
-            Action::Frame => {
-                self.frame_model();
-                return;
-            }
-            Action::LoadRig(path) => match RigFile::load(Path::new(&path)) {
+            FilePurpose::LoadRig => match RigFile::load(&path) {
                 Ok(rig_file) => {
+                    self.settings.opened(&path);
+                    self.panel.recent = self.settings.recent.clone();
                     let mesh = rig_file.mesh.clone();
                     self.start_loading(mesh, Some(rig_file));
                     return;
                 }
-                Err(e) => Err(format!("{path}: {e}")),
+                Err(e) => Err(format!("{shown}: {e}")),
             },
-            Action::SaveRig(path) => match self.session() {
+            FilePurpose::SaveRig => match self.session() {
                 Some(s) => std::fs::write(&path, s.puppet.current_rig_file().to_toml(None))
-                    .map(|_| format!("saved {path}"))
-                    .map_err(|e| format!("{path}: cannot write: {e}")),
+                    .map(|_| format!("saved {shown}"))
+                    .map_err(|e| {
+                        format!("{shown}: cannot write: {}", crate::files::io_message(&e))
+                    }),
                 None => return,
             },
-            Action::ExportObj(path) => match self.session() {
+            FilePurpose::ExportSurface => match self.session() {
                 Some(s) => s
                     .puppet
-                    .save_surface(Path::new(&path), "exported by puppet")
-                    .map(|_| format!("exported {path}"))
-                    .map_err(|e| format!("{path}: {e}")),
+                    .save_surface(&path, "exported by puppet")
+                    .map(|_| format!("exported {shown}"))
+                    .map_err(|e| format!("{shown}: {e}")),
                 None => return,
             },
         };

@@ -14,7 +14,7 @@ pub(super) enum Next {
     /// Keep running.
     Continue,
     /// The screenshot was taken: exit with its report.
-    Exit(Option<Report>),
+    Exit(Option<Box<Report>>),
 }
 
 impl WindowState {
@@ -24,6 +24,7 @@ impl WindowState {
         let seconds = (now - self.last_frame).as_secs_f32().min(0.25);
         self.last_frame = now;
         self.poll_loader();
+        self.poll_dialog();
         self.drive_test();
         let mut steps = 0;
         if let Some(s) = &mut self.session {
@@ -93,7 +94,7 @@ impl WindowState {
                 image
                     .save_png(&path)
                     .map_err(|e| anyhow!("{}: cannot write: {e}", path.display()))?;
-                next = Next::Exit(self.report(&path));
+                next = Next::Exit(Some(Box::new(self.report(Some(&path)))));
             }
         }
         for id in &output.textures_delta.free {
@@ -102,7 +103,36 @@ impl WindowState {
         if self.session.is_some() && self.loader.is_none() {
             self.frames += 1;
         }
+        // The first turn of a section ends the first-run hint for good.
+        if self.panel.hint && self.pointer.drag == crate::session::pointer::Drag::Rotate {
+            let turned = self
+                .session
+                .as_ref()
+                .is_some_and(|s| s.local.iter().any(|l| l.rotation != glam::DQuat::IDENTITY));
+            if turned {
+                self.panel.hint = false;
+                self.settings.hint_done = true;
+                self.settings.save();
+            }
+        }
+        if self.loader.is_none() && !self.session.as_ref().is_some_and(Session::is_running) {
+            self.write_report();
+        }
         Ok(next)
+    }
+
+    /// Takes the file dialog's answer, when there is one.
+    fn poll_dialog(&mut self) {
+        let Some(dialog) = &mut self.dialog else {
+            return;
+        };
+        if let Some(answer) = dialog.poll() {
+            let purpose = dialog.purpose;
+            self.dialog = None;
+            if let Some(path) = answer {
+                self.use_file(purpose, path);
+            }
+        }
     }
 
     /// Takes the loader's progress, or its puppet when it is done (the current puppet
@@ -120,12 +150,21 @@ impl WindowState {
                 self.loader = None;
                 self.panel.loading = None;
                 match result {
-                    Ok((puppet, name)) => {
-                        let (lo, hi) = puppet.mesh.bounds();
+                    Ok(opened) => {
+                        let (lo, hi) = opened.puppet.mesh.bounds();
                         self.camera.frame(lo.as_vec3(), hi.as_vec3());
+                        let name = opened.name;
                         self.window.set_title(&format!("puppet — {name}"));
                         self.panel.message = Some((format!("opened {name}"), false));
-                        self.session = Some(Session::new(*puppet, name));
+                        self.panel.source = opened.source;
+                        let mut session = Session::new(*opened.puppet, name);
+                        if std::mem::take(&mut self.suggest) {
+                            if let Err(e) = session.puppet.suggest_joints() {
+                                self.panel.message = Some((e.to_string(), true));
+                            }
+                            session = Session::new(session.puppet, session.name);
+                        }
+                        self.session = Some(session);
                     }
                     Err(e) => {
                         let message = e.to_string();

@@ -7,19 +7,23 @@
 //! * `window`: creating the window, its surface and egui;
 //! * `frame`: one frame (step, panels, draw, present);
 //! * `actions`: keys and panel actions (open, save, export, undo);
-//! * `screenshot`: `--screenshot` and what it reports;
+//! * `screenshot`, `report`: `--screenshot`, and what the window shows as data (`--report`);
+//! * `settings`: what the app remembers between runs (recent files, the first-run hint);
 //! * `drive`: the window test's synthetic drag.
 //!
 //! The loop waits (`ControlFlow::Wait`, no redraw) whenever the session is not running
 //! (settled or paused), nothing is loading and egui wants no repaint; any input wakes it.
 
 mod actions;
+mod dialog;
 mod drive;
 mod frame;
+mod report;
 mod screenshot;
+mod settings;
 mod window;
 
-pub use screenshot::Report;
+pub use report::Report;
 
 use crate::puppet::RigFile;
 use crate::session::pointer::Button;
@@ -38,10 +42,14 @@ use winit::window::WindowId;
 pub struct Options {
     /// The validated mesh to open.
     pub mesh: crate::mesh::Mesh,
-    /// Its display name.
+    /// Its display name (the file's name).
     pub name: String,
+    /// The file's full path, when it came from a file.
+    pub source: Option<PathBuf>,
     /// The rig to build it with.
     pub rig_file: RigFile,
+    /// Replace the rig's cuts with the suggested joints once it is built.
+    pub suggest: bool,
     /// Save a screenshot here after `frames` frames and exit (documentation, tests).
     pub screenshot: Option<PathBuf>,
     /// Frames to draw before the screenshot.
@@ -49,6 +57,9 @@ pub struct Options {
     /// Test hook: once the puppet is built, drag the section under the window centre the
     /// way a mouse would, then take the screenshot.
     pub drive: bool,
+    /// Write what the window shows to this file (JSON) whenever the puppet settles and
+    /// when the window closes (tests and scripts drive the window and read it).
+    pub report: Option<PathBuf>,
 }
 
 /// Opens the window and runs until it is closed. With a screenshot requested, returns what
@@ -102,11 +113,17 @@ impl ApplicationHandler for App {
             return;
         };
         let response = w.egui_state.on_window_event(&w.window, &event);
-        if response.repaint {
+        // egui asks for a repaint after every event, `RedrawRequested` included: honouring
+        // that one would redraw forever (a settled window must cost nothing). What egui
+        // itself needs after a frame comes back as the frame's repaint delay.
+        if response.repaint && !matches!(event, WindowEvent::RedrawRequested) {
             w.window.request_redraw();
         }
         match event {
-            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::CloseRequested => {
+                w.write_report();
+                event_loop.exit();
+            }
             WindowEvent::Resized(size) => {
                 w.config.width = size.width.max(1);
                 w.config.height = size.height.max(1);
@@ -116,7 +133,7 @@ impl ApplicationHandler for App {
             WindowEvent::RedrawRequested => match w.redraw() {
                 Ok(frame::Next::Continue) => {}
                 Ok(frame::Next::Exit(report)) => {
-                    self.report = report;
+                    self.report = report.map(|r| *r);
                     event_loop.exit();
                 }
                 Err(e) => {
@@ -132,10 +149,15 @@ impl ApplicationHandler for App {
                 w.pointer.toggle = m.shift_key() || m.control_key();
                 w.modifiers = m;
             }
-            _ if response.consumed => {}
+            // The pointer's position always goes to the puppet's pointer (it acts only on
+            // a drag of its own).
             WindowEvent::CursorMoved { position, .. } => {
                 w.cursor_moved(Vec2::new(position.x as f32, position.y as f32));
             }
+            // Whether a press is the panels' or the model's is decided by where the cursor
+            // is now, not by egui's hover state of the last frame: after a move from the
+            // panel, a press and release arriving before the next frame (a tap, a fast
+            // click) would otherwise go to the panel and be lost.
             WindowEvent::MouseInput { state, button, .. } => {
                 let button = match button {
                     MouseButton::Left => Button::Left,
@@ -143,9 +165,12 @@ impl ApplicationHandler for App {
                     MouseButton::Middle => Button::Middle,
                     _ => return,
                 };
-                w.mouse_button(button, state == ElementState::Pressed);
+                let pressed = state == ElementState::Pressed;
+                if !pressed || !w.over_panels() {
+                    w.mouse_button(button, pressed);
+                }
             }
-            WindowEvent::MouseWheel { delta, .. } => {
+            WindowEvent::MouseWheel { delta, .. } if !w.over_panels() => {
                 let steps = match delta {
                     MouseScrollDelta::LineDelta(_, y) => y,
                     MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
@@ -153,8 +178,17 @@ impl ApplicationHandler for App {
                 w.camera.zoom(steps);
                 w.window.request_redraw();
             }
-            WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed => {
-                w.key(&event.logical_key);
+            // Keys go to a text field being typed in, otherwise to the puppet.
+            WindowEvent::KeyboardInput { event, .. }
+                if event.state == ElementState::Pressed && !response.consumed =>
+            {
+                match w.key(&event.logical_key) {
+                    actions::KeyOutcome::Quit => {
+                        w.write_report();
+                        event_loop.exit();
+                    }
+                    actions::KeyOutcome::Handled => {}
+                }
             }
             _ => {}
         }
@@ -168,6 +202,11 @@ impl ApplicationHandler for App {
             || w.session.as_ref().is_some_and(Session::is_running)
             || w.screenshot.is_some()
             || w.drive.is_some();
+        if w.dialog.is_some() && !busy {
+            // Look for the dialog's answer ten times a second.
+            let at = Instant::now() + Duration::from_millis(100);
+            w.repaint_at = Some(w.repaint_at.map_or(at, |r| r.min(at)));
+        }
         if busy {
             // Simulate and draw at most at 60 frames per second.
             let next = w.last_frame + Duration::from_micros(16_667);
@@ -194,6 +233,15 @@ impl ApplicationHandler for App {
 impl WindowState {
     fn viewport(&self) -> Vec2 {
         Vec2::new(self.config.width as f32, self.config.height as f32)
+    }
+
+    /// Is the cursor over a panel or a popup of egui's (or is egui dragging something)?
+    /// Decided from the layers' places in the last frame, which do not move with the
+    /// pointer.
+    fn over_panels(&self) -> bool {
+        let ppp = self.egui_ctx.pixels_per_point().max(1e-3);
+        let at = egui::pos2(self.pointer.cursor.x / ppp, self.pointer.cursor.y / ppp);
+        self.egui_ctx.egui_is_using_pointer() || self.egui_ctx.layer_id_at(at).is_some()
     }
 
     fn cursor_moved(&mut self, at: Vec2) {

@@ -1,6 +1,8 @@
 //! Creating the window: its wgpu surface (format and present mode chosen from what the
 //! adapter offers), the scene renderer and egui.
 
+use super::dialog::Dialog;
+use super::settings::Settings;
 use super::Options;
 use crate::render::{Gpu, SceneRenderer};
 use crate::session::loader::Loader;
@@ -42,6 +44,14 @@ pub(super) struct WindowState {
     pub drive: Option<u32>,
     /// When egui asked to be drawn again.
     pub repaint_at: Option<Instant>,
+    /// What the app remembers between runs.
+    pub settings: Settings,
+    /// A file dialog being shown.
+    pub dialog: Option<Dialog>,
+    /// Where `--report` writes.
+    pub report_path: Option<PathBuf>,
+    /// Suggest joints on the puppet being loaded, once it is built.
+    pub suggest: bool,
 }
 
 impl WindowState {
@@ -123,11 +133,23 @@ impl WindowState {
             exit_after: None,
             drive: options.drive.then_some(0),
             repaint_at: None,
+            settings: Settings::load(),
+            dialog: None,
+            report_path: options.report,
+            suggest: false,
         };
+        state.panel.recent = state.settings.recent.clone();
+        state.panel.hint = !state.settings.hint_done;
         if state.screenshot.is_some() {
             state.exit_after = Some(options.frames.max(1));
         }
-        state.loader = Some(Loader::build(options.mesh, options.name, options.rig_file));
+        state.loader = Some(Loader::build(
+            options.mesh,
+            options.name,
+            options.source,
+            options.rig_file,
+        ));
+        state.suggest = options.suggest;
         Ok(state)
     }
 }

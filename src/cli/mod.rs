@@ -6,6 +6,7 @@ pub mod bench;
 pub mod progress_bar;
 pub mod simulate;
 pub mod skeleton;
+pub mod suggest;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -40,12 +41,23 @@ pub struct Cli {
     /// Test hook: drag the last section with synthetic mouse events before the screenshot.
     #[arg(long, hide = true)]
     pub drive_test: bool,
+    /// Open with the joints the skeleton suggests (the default for the embedded cow when
+    /// no rig is given).
+    #[arg(long)]
+    pub suggest_joints: bool,
+    /// Write what the window shows (JSON) to this file whenever the puppet settles and when
+    /// the window closes: for tests and scripts that drive the window.
+    #[arg(long, hide = true)]
+    pub report: Option<PathBuf>,
 }
 
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Build the medial skeleton of a mesh and write the skeletal mesh S (M = S + dN).
     Skeleton(skeleton::Args),
+    /// Suggest joints: print the cuts where the mesh's protrusions narrow, and write them
+    /// as a rig file.
+    Suggest(suggest::Args),
     /// Play an animation file through the simulation and write OBJ frames (headless).
     Simulate(simulate::Args),
     /// Measure (every figure in BENCHMARKS.md): throughput, accuracy, stress, skip,
@@ -75,6 +87,17 @@ impl FileError {
     }
 }
 
+/// How a mesh is named in the window: its file's name (the embedded one's own name).
+pub fn display_name(path: Option<&Path>) -> String {
+    match path {
+        Some(p) => p.file_name().map_or_else(
+            || p.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        ),
+        None => DEFAULT_MESH_NAME.to_string(),
+    }
+}
+
 /// Loads `path` (or the embedded default), logging load warnings.
 pub fn load_mesh(path: Option<&Path>) -> Result<(Mesh, LoadReport, String)> {
     let (name, result) = match path {
@@ -93,6 +116,7 @@ pub fn run(cli: Cli) -> Result<()> {
     match &cli.command {
         Some(Command::Skeleton(args)) => skeleton::run(args),
         Some(Command::Simulate(args)) => simulate::run(args),
+        Some(Command::Suggest(args)) => suggest::run(args),
         Some(Command::Bench { mode }) => bench::run(mode),
         None => open(&cli),
     }
@@ -110,14 +134,19 @@ fn open(cli: &Cli) -> Result<()> {
         None => puppet::RigFile::default(),
     };
     let mesh_path = cli.mesh.clone().or_else(|| rig_file.mesh.clone());
-    let (mesh, _report, name) = load_mesh(mesh_path.as_deref())?;
+    let (mesh, _report, _) = load_mesh(mesh_path.as_deref())?;
+    // The embedded cow opens ready to play: with its suggested joints.
+    let suggest = cli.suggest_joints || (mesh_path.is_none() && cli.rig.is_none());
     let report = puppet::app::run(puppet::app::Options {
         mesh,
-        name,
+        name: display_name(mesh_path.as_deref()),
+        source: mesh_path.map(|p| p.canonicalize().unwrap_or(p)),
         rig_file,
+        suggest,
         screenshot: cli.screenshot.clone(),
         frames: cli.frames,
         drive: cli.drive_test,
+        report: cli.report.clone(),
     })?;
     if let Some(report) = report {
         println!("{}", serde_json::to_string(&report)?);

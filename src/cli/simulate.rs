@@ -39,6 +39,10 @@ pub struct Args {
     /// Write the final surface here (same vertex order as the welded input).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Replace the rig's cuts with the joints the skeleton suggests (see `puppet suggest`
+    /// for their names).
+    #[arg(long)]
+    pub suggest_joints: bool,
     /// Print one JSON object instead of the text summary.
     #[arg(long)]
     pub json: bool,
@@ -125,6 +129,11 @@ pub fn run(args: &Args) -> Result<()> {
         e => FileError::new(&mesh_name, e),
     })?;
     bar.finish();
+    if args.suggest_joints {
+        puppet
+            .suggest_joints()
+            .map_err(|e| FileError::new(&mesh_name, e))?;
+    }
     let seconds_skeleton = t_skeleton.elapsed().as_secs_f64();
     let bound: Option<Bound> = match (&anim, &args.anim) {
         (Some(a), Some(path)) => Some(

@@ -25,13 +25,37 @@
 //! rotation is about its elbow *as carried by the upper arm*. Every section can be posed at
 //! once (both jaws of a mouth).
 //!
+//! # Connected cuts
+//! A plane reaches across the whole section: a cut at one hip would take both legs. A
+//! *connected* cut takes only the piece of the positive side that is connected (through
+//! mesh edges) to the skeletal point nearest the cut's point: the leg you cut, not the
+//! other. Cuts made in the window and suggested cuts are connected; a rig file's cut is a
+//! plain plane unless it says `connected = true`.
+//!
+//! # Riders
+//! Small separate closed parts (eyes, teeth) have no skeleton of their own worth the name:
+//! each of their vertices rides with the section of a *host* vertex of the body (the one
+//! nearest to it), whatever the cuts.
+//!
+//! # Files
+//! * this file: the types, and the joints of one puppet;
+//! * `cut`: applying and removing cuts, pivots, connected pieces;
+//! * `pose`: composing a pose down the section tree;
+//! * `suggest`: joints suggested from the skeleton.
+//!
 //! # Removing cuts
 //! Removing a cut merges its section back into the section it was cut from; its children
 //! and the cuts applied to it move to that section. The assignment is replayed from the
 //! remaining cuts (O(vertices × cuts)); the skeleton is never recomputed.
 
-use crate::sim::Pose;
-use glam::{Affine3A, DAffine3, DQuat, DVec3};
+mod cut;
+mod pose;
+pub mod suggest;
+
+pub use pose::{to_f32, PoseScratch};
+
+use glam::{DQuat, DVec3};
+use std::sync::Arc;
 
 /// Most sections a rig may have (the simulation stores a `u16` section per vertex).
 pub const MAX_SECTIONS: usize = 4096;
@@ -52,6 +76,8 @@ pub struct Cut {
     pub normal: DVec3,
     /// Rotation point; `None` takes the default (see module docs).
     pub pivot: Option<DVec3>,
+    /// Take only the piece of the positive side connected to the point (see module docs).
+    pub connected: bool,
 }
 
 /// A section: a node of the joint hierarchy.
@@ -148,11 +174,26 @@ pub enum JointError {
     NoSuchCut(String),
 }
 
+/// What the joints know of the body, shared by every copy of them (undo keeps copies).
+#[derive(Clone, Debug, Default, PartialEq)]
+struct Body {
+    /// Skeletal point of each vertex.
+    points: Vec<DVec3>,
+    /// Mesh neighbours of each vertex (CSR): `neighbours[start[i]..start[i + 1]]`; empty
+    /// without a mesh, where connected cuts take the whole positive side.
+    start: Vec<u32>,
+    neighbours: Vec<u32>,
+    /// For each vertex of a rider, its host vertex; `u32::MAX` for the body's own.
+    host: Vec<u32>,
+}
+
+/// No host: a vertex of the body.
+const NO_HOST: u32 = u32::MAX;
+
 /// The joints of one puppet: cuts, the sections they make and each vertex's section.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Joints {
-    /// Skeletal point of each vertex.
-    points: Vec<DVec3>,
+    body: Arc<Body>,
     /// Cuts in the order applied, with resolved pivots.
     cuts: Vec<Cut>,
     sections: Vec<Section>,
@@ -163,22 +204,110 @@ pub struct Joints {
 
 impl Joints {
     /// One root section named `root` holding every vertex; `skeleton_points` are the
-    /// skeletal points `sp_i`.
+    /// skeletal points `sp_i`. Without a mesh, connected cuts take the whole positive side.
     pub fn new(skeleton_points: &[DVec3], root: &str) -> Joints {
-        let n = skeleton_points.len().max(1) as f64;
-        let centroid = skeleton_points.iter().copied().sum::<DVec3>() / n;
+        Joints::with_body(
+            Body {
+                points: skeleton_points.to_vec(),
+                ..Body::default()
+            },
+            root,
+        )
+    }
+
+    /// As [`Joints::new`], with the mesh's `triangles` (for connected cuts) and a host
+    /// vertex for every vertex of a rider (`None` for the body's own; see module docs).
+    ///
+    /// # Panics
+    /// If `hosts` is not empty and not one per skeletal point, or a triangle or host names a
+    /// vertex that does not exist.
+    pub fn with_mesh(
+        skeleton_points: &[DVec3],
+        triangles: &[[u32; 3]],
+        hosts: &[Option<u32>],
+        root: &str,
+    ) -> Joints {
+        let n = skeleton_points.len();
+        assert!(
+            hosts.is_empty() || hosts.len() == n,
+            "one host entry per vertex"
+        );
+        let edges = crate::mesh::unique_edges(triangles);
+        let mut start = vec![0u32; n + 1];
+        for &(a, b) in &edges {
+            start[a as usize + 1] += 1;
+            start[b as usize + 1] += 1;
+        }
+        for i in 0..n {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut neighbours = vec![0u32; 2 * edges.len()];
+        for &(a, b) in &edges {
+            for (from, to) in [(a, b), (b, a)] {
+                neighbours[fill[from as usize] as usize] = to;
+                fill[from as usize] += 1;
+            }
+        }
+        let host = if hosts.iter().any(Option::is_some) {
+            hosts.iter().map(|h| h.unwrap_or(NO_HOST)).collect()
+        } else {
+            Vec::new()
+        };
+        Joints::with_body(
+            Body {
+                points: skeleton_points.to_vec(),
+                start,
+                neighbours,
+                host,
+            },
+            root,
+        )
+    }
+
+    fn with_body(body: Body, root: &str) -> Joints {
+        let n = body.points.len();
+        let own: Vec<DVec3> = (0..n)
+            .filter(|&i| !body.is_rider(i))
+            .map(|i| body.points[i])
+            .collect();
+        let centroid = own.iter().copied().sum::<DVec3>() / own.len().max(1) as f64;
         Joints {
-            points: skeleton_points.to_vec(),
+            body: Arc::new(body),
             cuts: Vec::new(),
             sections: vec![Section {
                 name: root.to_string(),
                 parent: None,
                 pivot: centroid,
-                vertices: skeleton_points.len(),
+                vertices: n,
             }],
-            section_of: vec![0; skeleton_points.len()],
+            section_of: vec![0; n],
             order: vec![0],
         }
+    }
+
+    /// The same body with no cuts and the root named `root` (its pivot kept).
+    pub fn without_cuts(&self, root: &str) -> Joints {
+        let mut j = self.uncut();
+        j.sections[0].name = root.to_string();
+        j
+    }
+
+    /// The same body with no cuts (the root keeps its name and pivot).
+    fn uncut(&self) -> Joints {
+        let mut j = Joints {
+            body: self.body.clone(),
+            cuts: Vec::new(),
+            sections: vec![Section {
+                parent: None,
+                vertices: self.section_of.len(),
+                ..self.sections[0].clone()
+            }],
+            section_of: vec![0; self.section_of.len()],
+            order: vec![0],
+        };
+        j.sections[0].pivot = self.sections[0].pivot;
+        j
     }
 
     /// The sections; index 0 is the root.
@@ -196,245 +325,30 @@ impl Joints {
         &self.section_of
     }
 
+    /// The skeletal points the cuts classify.
+    pub fn points(&self) -> &[DVec3] {
+        &self.body.points
+    }
+
     /// Index of the section named `name`.
     pub fn find(&self, name: &str) -> Option<usize> {
         self.sections.iter().position(|s| s.name == name)
     }
-
-    /// Applies a cut; returns the new section's index. On error nothing changes.
-    pub fn add_cut(&mut self, cut: Cut) -> Result<usize, JointError> {
-        let name = cut.name.clone();
-        if name.trim().is_empty() {
-            return Err(JointError::EmptyName(name));
-        }
-        if self.find(&name).is_some() {
-            return Err(JointError::DuplicateName(name));
-        }
-        if self.sections.len() >= MAX_SECTIONS {
-            return Err(JointError::TooMany);
-        }
-        let parent = self
-            .find(&cut.section)
-            .ok_or_else(|| JointError::UnknownSection {
-                cut: name.clone(),
-                section: cut.section.clone(),
-                known: self
-                    .sections
-                    .iter()
-                    .map(|s| s.name.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", "),
-            })?;
-        for (what, v) in [
-            ("point", Some(cut.point)),
-            ("normal", Some(cut.normal)),
-            ("pivot", cut.pivot),
-        ] {
-            if v.is_some_and(|v| !v.is_finite()) {
-                return Err(JointError::NotFinite {
-                    cut: name.clone(),
-                    what,
-                });
-            }
-        }
-        let normal = cut.normal.normalize_or_zero();
-        if normal == DVec3::ZERO || !normal.is_finite() {
-            return Err(JointError::ZeroNormal(name));
-        }
-        let side = |p: DVec3| (p - cut.point).dot(normal);
-        let (mut inside, mut outside) = (0usize, 0usize);
-        for (i, &s) in self.section_of.iter().enumerate() {
-            if s as usize == parent {
-                if side(self.points[i]) > 0.0 {
-                    inside += 1;
-                } else {
-                    outside += 1;
-                }
-            }
-        }
-        for (count, side) in [
-            (inside, "the side the normal points to"),
-            (outside, "the other side"),
-        ] {
-            if count == 0 {
-                return Err(JointError::EmptySide {
-                    cut: name,
-                    section: cut.section.clone(),
-                    side,
-                });
-            }
-        }
-        let pivot = match cut.pivot {
-            Some(p) => p,
-            None => self.default_pivot(parent, cut.point, normal),
-        };
-        let index = self.sections.len();
-        for (i, s) in self.section_of.iter_mut().enumerate() {
-            if *s as usize == parent && side(self.points[i]) > 0.0 {
-                *s = index as u16;
-            }
-        }
-        // Children of the split section whose pivot is on the new side follow it.
-        for s in &mut self.sections {
-            if s.parent == Some(parent) && side(s.pivot) > 0.0 {
-                s.parent = Some(index);
-            }
-        }
-        self.sections[parent].vertices = outside;
-        self.sections.push(Section {
-            name,
-            parent: Some(parent),
-            pivot,
-            vertices: inside,
-        });
-        self.cuts.push(Cut {
-            pivot: Some(pivot),
-            ..cut
-        });
-        self.order = parents_first(&self.sections);
-        Ok(index)
-    }
-
-    /// Removes the cut that made section `name`: the section merges back into the one it was
-    /// cut from, and cuts that split it now split that one. The skeleton is not touched. On
-    /// error (the replay of the remaining cuts fails) nothing changes.
-    pub fn remove_cut(&mut self, name: &str) -> Result<(), JointError> {
-        let k = self
-            .cuts
-            .iter()
-            .position(|c| c.name == name)
-            .ok_or_else(|| JointError::NoSuchCut(name.to_string()))?;
-        let mut cuts = self.cuts.clone();
-        let removed = cuts.remove(k);
-        for c in &mut cuts {
-            if c.section == removed.name {
-                c.section = removed.section.clone();
-            }
-        }
-        let mut rebuilt = Joints::new(&self.points, &self.sections[0].name);
-        rebuilt.sections[0].pivot = self.sections[0].pivot;
-        for c in cuts {
-            rebuilt.add_cut(c)?;
-        }
-        *self = rebuilt;
-        Ok(())
-    }
-
-    /// Moves the pivot of section `index` (for the root too).
-    pub fn set_pivot(&mut self, index: usize, pivot: DVec3) {
-        if !pivot.is_finite() || index >= self.sections.len() {
-            return;
-        }
-        self.sections[index].pivot = pivot;
-        if index > 0 {
-            self.cuts[index - 1].pivot = Some(pivot);
-        }
-    }
-
-    /// The pivot a cut gets by default: the centroid of the skeletal points of `section`
-    /// nearest the plane (the `max(4, √m)` nearest of its `m` points), projected onto the
-    /// plane.
-    fn default_pivot(&self, section: usize, point: DVec3, normal: DVec3) -> DVec3 {
-        let mut near: Vec<(f64, DVec3)> = self
-            .section_of
-            .iter()
-            .zip(&self.points)
-            .filter(|(s, _)| **s as usize == section)
-            .map(|(_, p)| ((*p - point).dot(normal).abs(), *p))
-            .collect();
-        let k = ((near.len() as f64).sqrt().ceil() as usize)
-            .max(4)
-            .min(near.len());
-        if k == 0 {
-            return point;
-        }
-        near.select_nth_unstable_by(k - 1, |a, b| a.0.total_cmp(&b.0));
-        let centroid = near[..k].iter().map(|(_, p)| *p).sum::<DVec3>() / k as f64;
-        centroid - normal * (centroid - point).dot(normal)
-    }
-
-    /// World transform of every section for the given local poses (one per section; missing
-    /// entries are at rest), composed from the root down (see module docs).
-    pub fn world(&self, local: &[Local]) -> Vec<DAffine3> {
-        let mut world = Vec::new();
-        self.world_into(local, &mut world);
-        world
-    }
-
-    /// [`Joints::world`] into existing storage.
-    pub fn world_into(&self, local: &[Local], world: &mut Vec<DAffine3>) {
-        world.clear();
-        world.resize(self.sections.len(), DAffine3::IDENTITY);
-        for &s in &self.order {
-            let l = local.get(s).copied().unwrap_or_default();
-            let pivot = self.sections[s].pivot;
-            let own = DAffine3::from_translation(pivot + l.translation)
-                * DAffine3::from_quat(l.rotation)
-                * DAffine3::from_translation(-pivot);
-            world[s] = match self.sections[s].parent {
-                Some(p) => world[p] * own,
-                None => own,
-            };
-        }
-    }
-
-    /// The simulation's pose (single precision) for the given local poses.
-    pub fn pose(&self, local: &[Local]) -> Pose {
-        let mut scratch = PoseScratch::default();
-        self.pose_into(local, &mut scratch);
-        scratch.pose
-    }
-
-    /// [`Joints::pose`] reusing `scratch` (nothing allocated once it has grown).
-    pub fn pose_into<'a>(&self, local: &[Local], scratch: &'a mut PoseScratch) -> &'a Pose {
-        self.world_into(local, &mut scratch.world);
-        scratch.pose.transforms.clear();
-        scratch
-            .pose
-            .transforms
-            .extend(scratch.world.iter().map(to_f32));
-        &scratch.pose
-    }
 }
 
-/// Storage for [`Joints::pose_into`].
-#[derive(Clone, Debug)]
-pub struct PoseScratch {
-    world: Vec<DAffine3>,
-    pose: Pose,
-}
+impl Body {
+    /// Is vertex `i` part of a rider (it goes with its host's section)?
+    fn is_rider(&self, i: usize) -> bool {
+        self.host.get(i).is_some_and(|&h| h != NO_HOST)
+    }
 
-impl Default for PoseScratch {
-    fn default() -> Self {
-        PoseScratch {
-            world: Vec::new(),
-            pose: Pose::rest(1),
+    /// The mesh neighbours of vertex `i` (none without a mesh).
+    fn neighbours(&self, i: usize) -> &[u32] {
+        match (self.start.get(i), self.start.get(i + 1)) {
+            (Some(&a), Some(&b)) => &self.neighbours[a as usize..b as usize],
+            _ => &[],
         }
     }
-}
-
-/// An f64 affine transform in f32.
-pub fn to_f32(t: &DAffine3) -> Affine3A {
-    Affine3A::from_cols_array(&t.to_cols_array().map(|v| v as f32))
-}
-
-/// Section indices ordered so every parent precedes its children.
-fn parents_first(sections: &[Section]) -> Vec<usize> {
-    let mut children = vec![Vec::new(); sections.len()];
-    let mut roots = Vec::new();
-    for (i, s) in sections.iter().enumerate() {
-        match s.parent {
-            Some(p) => children[p].push(i),
-            None => roots.push(i),
-        }
-    }
-    let mut order = Vec::with_capacity(sections.len());
-    let mut stack = roots;
-    while let Some(s) = stack.pop() {
-        order.push(s);
-        stack.extend(children[s].iter().rev());
-    }
-    order
 }
 
 #[cfg(test)]

@@ -14,6 +14,7 @@ fn cut(name: &str, section: &str, y: f64) -> Cut {
         point: DVec3::new(0.0, y, 0.0),
         normal: DVec3::Y,
         pivot: None,
+        connected: false,
     }
 }
 

@@ -57,7 +57,8 @@ impl Puppet {
             ..SkeletonParams::default()
         };
         let skeleton = skeleton::cache::build_cached(&mesh, &normals, &params, progress)?;
-        let joints = rig_file.joints(&skeleton.points)?;
+        let uncut = Joints::with_mesh(&skeleton.points, &mesh.triangles, &[], &rig_file.root);
+        let joints = rig_file.joints(uncut)?;
         let rig = Rig::new(
             &mesh,
             &normals,
@@ -82,6 +83,20 @@ impl Puppet {
         let points: Vec<DVec3> = (0..x.len()).map(|i| x.get(i).as_dvec3()).collect();
         let mut file = std::fs::File::create(path).map_err(WriteError::from)?;
         mesh::write_obj(&mut file, &points, &self.mesh.triangles, header).map_err(WriteError::from)
+    }
+
+    /// Replaces the cuts with the joints suggested by the skeleton
+    /// ([`crate::joints::suggest`]); returns how many. On error nothing changes.
+    pub fn suggest_joints(&mut self) -> Result<usize, JointError> {
+        let root = self.joints.sections()[0].name.clone();
+        let cuts = crate::joints::suggest::suggest(&self.mesh, &self.skeleton, &root);
+        let mut joints = self.joints.without_cuts(&root);
+        for c in &cuts {
+            joints.add_cut(c.clone())?;
+        }
+        self.joints = joints;
+        self.sim.set_sections(self.joints.section_of().to_vec());
+        Ok(cuts.len())
     }
 
     /// The rig file of the puppet as it is now (parameters, and cuts with resolved pivots).

@@ -40,6 +40,8 @@ struct CutEntry {
     normal: [f64; 3],
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pivot: Option<[f64; 3]>,
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    connected: bool,
 }
 
 /// The rig file as written.
@@ -146,6 +148,7 @@ impl RigFile {
                 point: c.point.into(),
                 normal: c.normal.into(),
                 pivot: c.pivot.map(DVec3::from),
+                connected: c.connected,
             })
             .collect::<Vec<_>>();
         for (k, c) in cuts.iter().enumerate() {
@@ -174,9 +177,19 @@ impl RigFile {
 
     /// The rig as TOML with every parameter written out; `mesh` is written as given.
     pub fn to_toml(&self, mesh: Option<&str>) -> String {
+        toml::to_string_pretty(&self.entry(mesh)).unwrap_or_default()
+    }
+
+    /// The rig as JSON, like [`RigFile::to_toml`].
+    pub fn to_json(&self, mesh: Option<&str>) -> String {
+        serde_json::to_string_pretty(&self.entry(mesh)).unwrap_or_default()
+    }
+
+    /// The rig as written.
+    fn entry(&self, mesh: Option<&str>) -> RigEntry {
         let mut params = toml::Table::try_from(self.params).unwrap_or_default();
         params.remove("constraint");
-        let entry = RigEntry {
+        RigEntry {
             mesh: mesh.map(str::to_string),
             skeleton: Some(self.method),
             material: Some(self.material.clone()),
@@ -192,15 +205,16 @@ impl RigFile {
                     point: c.point.into(),
                     normal: c.normal.into(),
                     pivot: c.pivot.map(Into::into),
+                    connected: c.connected,
                 })
                 .collect(),
-        };
-        toml::to_string_pretty(&entry).unwrap_or_default()
+        }
     }
 
-    /// The joints of this rig on the given skeletal points. The error names the cut.
-    pub fn joints(&self, skeleton_points: &[DVec3]) -> Result<Joints, JointError> {
-        let mut joints = Joints::new(skeleton_points, &self.root);
+    /// This rig's cuts applied to `uncut` (joints without cuts; the root takes this rig's
+    /// name). The error names the cut.
+    pub fn joints(&self, uncut: Joints) -> Result<Joints, JointError> {
+        let mut joints = uncut.without_cuts(&self.root);
         for c in &self.cuts {
             joints.add_cut(c.clone())?;
         }
@@ -280,6 +294,7 @@ mod tests {
                 point: DVec3::new(0.1, 1.0 / 3.0, -2.0),
                 normal: DVec3::new(0.0, 1.0, 1e-17),
                 pivot: Some(DVec3::new(std::f64::consts::PI, 0.0, 1.0)),
+                connected: true,
             }],
             ..RigFile::default()
         };

@@ -95,6 +95,7 @@ impl Scenario {
             point: lo + ext * LIMB_AT,
             normal: along,
             pivot: None,
+            connected: false,
         })?;
         Ok(Scenario {
             diagonal: ext.length(),

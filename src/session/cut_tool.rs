@@ -51,6 +51,9 @@ pub struct CutDraft {
     pub normal: DVec3,
     /// Pivot; `None` takes the default.
     pub pivot: Option<DVec3>,
+    /// Only the piece connected to the point (the limb picked, not every limb beyond the
+    /// plane).
+    pub connected: bool,
     /// Name the new section will get.
     pub name: String,
 }
@@ -63,6 +66,7 @@ impl Session {
             point,
             normal,
             pivot: None,
+            connected: true,
             name: self.fresh_section_name(),
         });
         self.revision += 1;
@@ -82,6 +86,7 @@ impl Session {
             point: d.point,
             normal: d.normal,
             pivot: d.pivot,
+            connected: d.connected,
         });
         match result {
             Ok(index) => {
@@ -124,6 +129,24 @@ impl Session {
             .set_sections(self.puppet.joints.section_of().to_vec());
         self.layout_revision += 1;
         self.wake();
+    }
+
+    /// Replaces the cuts with the joints the skeleton suggests (undoable); returns how
+    /// many. On error nothing changes.
+    pub fn suggest_joints(&mut self) -> Result<usize, JointError> {
+        self.checkpoint();
+        match self.puppet.suggest_joints() {
+            Ok(n) => {
+                self.local.clear();
+                self.selection.clear();
+                self.after_cut_change();
+                Ok(n)
+            }
+            Err(e) => {
+                self.drop_checkpoint();
+                Err(e)
+            }
+        }
     }
 
     /// A name for the next cut that no section has yet.

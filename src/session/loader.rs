@@ -30,8 +30,18 @@ pub enum LoadError {
     Stopped,
 }
 
-/// A finished load: the puppet and the name to show.
-pub type Loaded = Result<(Box<Puppet>, String), LoadError>;
+/// A puppet built by a [`Loader`].
+pub struct Opened {
+    /// The puppet.
+    pub puppet: Box<Puppet>,
+    /// The name to show: the file's name.
+    pub name: String,
+    /// The file's full path, when it came from a file.
+    pub source: Option<PathBuf>,
+}
+
+/// A finished load.
+pub type Loaded = Result<Opened, LoadError>;
 
 enum Message {
     Progress(String, f32),
@@ -53,25 +63,36 @@ pub enum Status {
 }
 
 impl Loader {
-    /// Reads, validates and builds `path` (errors name the file).
+    /// Reads, validates and builds `path` (errors name the file as given).
     pub fn open(path: PathBuf, rig_file: RigFile) -> Loader {
         Loader::spawn(move |progress| {
-            let name = path.display().to_string();
+            let given = path.display().to_string();
             progress("reading", 0.0);
             let (mesh, report) = mesh::load_obj(&path).map_err(|error| LoadError::Mesh {
-                name: name.clone(),
+                name: given.clone(),
                 error,
             })?;
             for w in report.warnings() {
-                log::warn!("{name}: {w}");
+                log::warn!("{given}: {w}");
             }
-            build(mesh, name, rig_file, progress)
+            let name = path
+                .file_name()
+                .map_or(given.clone(), |n| n.to_string_lossy().into_owned());
+            let source = Some(path.canonicalize().unwrap_or(path));
+            let mut opened = build(mesh, given, rig_file, progress)?;
+            opened.name = name;
+            opened.source = source;
+            Ok(opened)
         })
     }
 
-    /// Builds the puppet of an already validated mesh.
-    pub fn build(mesh: Mesh, name: String, rig_file: RigFile) -> Loader {
-        Loader::spawn(move |progress| build(mesh, name, rig_file, progress))
+    /// Builds the puppet of an already validated mesh named `name`, from `source`.
+    pub fn build(mesh: Mesh, name: String, source: Option<PathBuf>, rig_file: RigFile) -> Loader {
+        Loader::spawn(move |progress| {
+            let mut opened = build(mesh, name, rig_file, progress)?;
+            opened.source = source;
+            Ok(opened)
+        })
     }
 
     fn spawn(work: impl FnOnce(&(dyn Fn(&str, f64) + Sync)) -> Loaded + Send + 'static) -> Loader {
@@ -112,7 +133,11 @@ fn build(
     progress: &(dyn Fn(&str, f64) + Sync),
 ) -> Loaded {
     match Puppet::build(mesh, rig_file, progress) {
-        Ok(puppet) => Ok((Box::new(puppet), name)),
+        Ok(puppet) => Ok(Opened {
+            puppet: Box::new(puppet),
+            name,
+            source: None,
+        }),
         Err(error) => Err(LoadError::Build { name, error }),
     }
 }
@@ -143,9 +168,9 @@ mod tests {
         assert!(err.starts_with(&bad.display().to_string()), "{err}");
         assert!(err.contains("boundary edges"), "{err}");
         let good = crate::mesh::shapes::icosphere(1.0, 2);
-        let (p, name) = wait(Loader::build(good, "ball".into(), RigFile::default())).unwrap();
-        assert_eq!(name, "ball");
-        assert_eq!(p.joints.sections().len(), 1);
+        let opened = wait(Loader::build(good, "ball".into(), None, RigFile::default())).unwrap();
+        assert_eq!(opened.name, "ball");
+        assert_eq!(opened.puppet.joints.sections().len(), 1);
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

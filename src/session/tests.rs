@@ -14,6 +14,7 @@ fn session() -> Session {
                 point: DVec3::new(0.0, 0.0, 0.0),
                 normal: DVec3::Y,
                 pivot: None,
+                connected: false,
             },
             Cut {
                 name: "hand".into(),
@@ -21,6 +22,7 @@ fn session() -> Session {
                 point: DVec3::new(0.0, 0.8, 0.0),
                 normal: DVec3::Y,
                 pivot: None,
+                connected: false,
             },
         ],
         ..RigFile::default()
@@ -89,6 +91,7 @@ fn undo_and_redo_pose_changes_and_cuts() {
         point: DVec3::new(0.0, -0.6, 0.0),
         normal: -DVec3::Y,
         pivot: None,
+        connected: false,
         name: s.fresh_section_name(),
     });
     s.apply_draft().unwrap();
@@ -120,6 +123,7 @@ fn a_refused_cut_changes_nothing() {
         point: DVec3::new(0.0, -5.0, 0.0),
         normal: -DVec3::Y,
         pivot: None,
+        connected: false,
         name: "x".into(),
     });
     assert!(s.apply_draft().is_err());

@@ -88,7 +88,7 @@ impl Session {
             rig_file.cuts = s.cuts.clone();
             // Replaying cuts that were valid before cannot fail; keep the current state if
             // it somehow does.
-            if let Ok(mut joints) = rig_file.joints(&self.puppet.skeleton.points) {
+            if let Ok(mut joints) = rig_file.joints(self.puppet.joints.clone()) {
                 joints.set_pivot(0, s.root_pivot);
                 self.puppet.joints = joints;
                 self.puppet

@@ -95,6 +95,7 @@ impl Session {
         let mut key = Fnv::default();
         if let Some(d) = &self.draft {
             key.add(d.section as u64);
+            key.add(d.connected as u64);
             for v in [d.point, d.normal, d.pivot.unwrap_or(DVec3::NAN)] {
                 for c in v.to_array() {
                     key.add(c.to_bits());
@@ -175,8 +176,11 @@ impl View<'_> {
     pub fn colours(&self, out: &mut Vec<[f32; 4]>) {
         let s = self.session;
         let sections = s.puppet.joints.section_of();
-        let draft = s.draft.as_ref();
-        let points = &s.puppet.skeleton.points;
+        let taken = s.draft.as_ref().map(|d| {
+            s.puppet
+                .joints
+                .preview(d.section, d.point, d.normal, d.connected)
+        });
         out.clear();
         out.extend(sections.iter().enumerate().map(|(i, &k)| {
             let k = k as usize;
@@ -184,10 +188,8 @@ impl View<'_> {
             if s.selection.contains(&k) {
                 c = mix(c, [1.0, 0.42, 0.08], 0.55);
             }
-            if let Some(d) = draft {
-                if d.section == k && (points[i] - d.point).dot(d.normal) > 0.0 {
-                    c = mix(c, [0.1, 0.75, 1.0], 0.6);
-                }
+            if taken.as_ref().is_some_and(|t| t[i]) {
+                c = mix(c, [0.1, 0.75, 1.0], 0.6);
             }
             [c[0], c[1], c[2], 1.0]
         }));

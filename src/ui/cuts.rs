@@ -1,14 +1,26 @@
 //! The Cuts section: the cut tool (axis, the draft's plane and pivot, apply) and the list
 //! of applied cuts.
 
-use super::PanelState;
+use super::{Action, PanelState};
 use crate::session::{CutAxis, CutDraft, Session};
 use glam::DVec3;
 
-pub(super) fn cut_section(ui: &mut egui::Ui, state: &mut PanelState, session: &mut Session) {
+pub(super) fn cut_section(
+    ui: &mut egui::Ui,
+    state: &mut PanelState,
+    session: &mut Session,
+    actions: &mut Vec<Action>,
+) {
     ui.strong("Cuts");
+    if ui
+        .button("Suggest joints")
+        .on_hover_text("cut where the limbs, neck, tail, ears and fingers narrow (replaces the cuts; undo brings them back)")
+        .clicked()
+    {
+        actions.push(Action::SuggestJoints);
+    }
     ui.horizontal(|ui| {
-        ui.toggle_value(&mut session.cut_tool.active, "Cut tool");
+        ui.toggle_value(&mut session.cut_tool.active, "Cut tool (C)");
         for (axis, label) in [
             (CutAxis::X, "X"),
             (CutAxis::Y, "Y"),
@@ -106,6 +118,10 @@ fn draft_editor(ui: &mut egui::Ui, d: &mut CutDraft, size: f64) {
     if ui.button("flip side").clicked() {
         d.normal = -d.normal;
     }
+    ui.checkbox(
+        &mut d.connected,
+        "only the piece clicked (not everything beyond the plane)",
+    );
     let mut custom = d.pivot.is_some();
     ui.checkbox(
         &mut custom,

@@ -1,32 +1,83 @@
-//! The File section: open a mesh, load and save a rig, export the surface.
+//! The File section: what is open (its file name; the full path on hover), open a mesh,
+//! recent files, load and save a rig, export the surface. Files come from the system's
+//! dialog, the recent list, a typed path, or a file dropped on the window.
 
-use super::{Action, PanelState};
+use super::{Action, FilePurpose, PanelState};
+use std::path::{Path, PathBuf};
 
-pub(super) fn file_section(ui: &mut egui::Ui, state: &mut PanelState, actions: &mut Vec<Action>) {
-    ui.collapsing("File", |ui| {
-        ui.label("Mesh (OBJ), or drop a file on the window:");
-        ui.horizontal(|ui| {
-            ui.text_edit_singleline(&mut state.open_path);
-            if ui.button("Open").clicked() && !state.open_path.trim().is_empty() {
-                actions.push(Action::OpenMesh(state.open_path.trim().to_string()));
-            }
-        });
-        ui.label("Rig file:");
-        ui.horizontal(|ui| {
-            ui.text_edit_singleline(&mut state.rig_path);
-            if ui.button("Load").clicked() {
-                actions.push(Action::LoadRig(state.rig_path.trim().to_string()));
-            }
-            if ui.button("Save").clicked() {
-                actions.push(Action::SaveRig(state.rig_path.trim().to_string()));
-            }
-        });
-        ui.label("Export the current surface:");
-        ui.horizontal(|ui| {
-            ui.text_edit_singleline(&mut state.export_path);
-            if ui.button("Export OBJ").clicked() {
-                actions.push(Action::ExportObj(state.export_path.trim().to_string()));
+pub(super) fn file_section(
+    ui: &mut egui::Ui,
+    state: &mut PanelState,
+    shown: Option<&str>,
+    actions: &mut Vec<Action>,
+) {
+    if let Some(name) = shown {
+        let label = ui.label(egui::RichText::new(name).strong());
+        if let Some(source) = &state.source {
+            label.on_hover_text(source.display().to_string());
+        }
+    }
+    ui.horizontal_wrapped(|ui| {
+        if ui.button("Open mesh…").clicked() {
+            actions.push(Action::Browse(FilePurpose::OpenMesh));
+        }
+        if !state.recent.is_empty() {
+            egui::ComboBox::from_id_salt("recent")
+                .selected_text("Recent")
+                .show_ui(ui, |ui| {
+                    for path in &state.recent {
+                        let response = ui.selectable_label(false, file_name(path));
+                        if response.on_hover_text(path.display().to_string()).clicked() {
+                            actions.push(Action::File(purpose_of(path), path.clone()));
+                        }
+                    }
+                });
+        }
+    });
+    ui.horizontal_wrapped(|ui| {
+        if ui.button("Load rig…").clicked() {
+            actions.push(Action::Browse(FilePurpose::LoadRig));
+        }
+        if ui.button("Save rig…").clicked() {
+            actions.push(Action::Browse(FilePurpose::SaveRig));
+        }
+        if ui.button("Export OBJ…").clicked() {
+            actions.push(Action::Browse(FilePurpose::ExportSurface));
+        }
+    });
+    ui.collapsing("Type a path", |ui| {
+        ui.small("for systems without a file dialog; or drop a file on the window");
+        ui.text_edit_singleline(&mut state.path);
+        let path = PathBuf::from(state.path.trim());
+        let typed = !state.path.trim().is_empty();
+        ui.horizontal_wrapped(|ui| {
+            for (label, purpose) in [
+                ("Open", FilePurpose::OpenMesh),
+                ("Load rig", FilePurpose::LoadRig),
+                ("Save rig", FilePurpose::SaveRig),
+                ("Export", FilePurpose::ExportSurface),
+            ] {
+                if ui.add_enabled(typed, egui::Button::new(label)).clicked() {
+                    actions.push(Action::File(purpose, path.clone()));
+                }
             }
         });
     });
+}
+
+/// A path as the panel shows it: its file name (never a `..` path).
+pub fn file_name(path: &Path) -> String {
+    path.file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| path.display().to_string())
+}
+
+/// A recent file is a rig when it is named like one, else a mesh.
+fn purpose_of(path: &Path) -> FilePurpose {
+    let name = file_name(path).to_ascii_lowercase();
+    if name.ends_with(".toml") || name.ends_with(".json") {
+        FilePurpose::LoadRig
+    } else {
+        FilePurpose::OpenMesh
+    }
 }

@@ -9,21 +9,34 @@ mod overlays;
 mod pose;
 mod stats;
 
+pub use file::file_name;
+
 use crate::session::{Overlays, Session};
+
+/// What a file dialog is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FilePurpose {
+    /// Open a mesh.
+    OpenMesh,
+    /// Load a rig file.
+    LoadRig,
+    /// Save the rig.
+    SaveRig,
+    /// Export the current surface.
+    ExportSurface,
+}
 
 /// Something the panel asks the window to do.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Action {
-    /// Open a mesh file (the path as typed).
-    OpenMesh(String),
-    /// Load a rig file.
-    LoadRig(String),
-    /// Save the current rig.
-    SaveRig(String),
-    /// Export the current surface as OBJ.
-    ExportObj(String),
+    /// Ask for a file with the system's dialog.
+    Browse(FilePurpose),
+    /// Use this file (typed, picked from the recent files, or from a dialog).
+    File(FilePurpose, std::path::PathBuf),
     /// Frame the model in the view.
     Frame,
+    /// Replace the cuts with the ones suggested by the skeleton.
+    SuggestJoints,
 }
 
 /// Frame statistics shown in the panel.
@@ -41,12 +54,18 @@ pub struct Stats {
 pub struct PanelState {
     /// The overlays shown.
     pub overlays: Overlays,
-    /// The mesh path field.
-    pub open_path: String,
-    /// The rig path field.
-    pub rig_path: String,
-    /// The export path field.
-    pub export_path: String,
+    /// The path field (for a typed path when there is no file dialog).
+    pub path: String,
+    /// Files opened recently, the latest first.
+    pub recent: Vec<std::path::PathBuf>,
+    /// The full path of the file shown, if it came from a file.
+    pub source: Option<std::path::PathBuf>,
+    /// The first-run hint is shown in the view.
+    pub hint: bool,
+    /// Where the side panel is (in egui points), from the last frame.
+    pub rect: Option<egui::Rect>,
+    /// Its width in pixels.
+    pub width_px: f32,
     /// Last message: text and whether it is an error.
     pub message: Option<(String, bool)>,
     /// Loading: stage and fraction.
@@ -59,9 +78,12 @@ impl Default for PanelState {
     fn default() -> Self {
         PanelState {
             overlays: Overlays::default(),
-            open_path: String::new(),
-            rig_path: "puppet.rig.toml".into(),
-            export_path: "puppet.obj".into(),
+            path: String::new(),
+            recent: Vec::new(),
+            source: None,
+            hint: false,
+            rect: None,
+            width_px: 0.0,
             message: None,
             loading: None,
             stats: Stats::default(),
@@ -76,13 +98,14 @@ pub fn side_panel(
     session: Option<&mut Session>,
 ) -> Vec<Action> {
     let mut actions = Vec::new();
-    egui::Panel::left("puppet")
+    let shown = session.as_ref().map(|s| s.name.clone());
+    let panel = egui::Panel::left("puppet")
         .resizable(true)
         .default_size(290.0)
         .show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
                 ui.heading("puppet");
-                file::file_section(ui, state, &mut actions);
+                file::file_section(ui, state, shown.as_deref(), &mut actions);
                 if let Some((stage, fraction)) = &state.loading {
                     ui.add(
                         egui::ProgressBar::new(*fraction)
@@ -104,7 +127,7 @@ pub fn side_panel(
                     ui.separator();
                     pose::pose_section(ui, session);
                     ui.separator();
-                    cuts::cut_section(ui, state, session);
+                    cuts::cut_section(ui, state, session, &mut actions);
                     ui.separator();
                     overlays::overlay_section(ui, state, &mut actions);
                     ui.separator();
@@ -112,5 +135,31 @@ pub fn side_panel(
                 }
             });
         });
+    let rect = panel.response.rect;
+    state.rect = Some(rect);
+    state.width_px = rect.right() * ui.ctx().pixels_per_point();
+    if state.hint {
+        hint(ui.ctx(), rect.right());
+    }
     actions
+}
+
+/// The first-run hint, at the bottom of the 3D view (not interactable: clicks go through
+/// it to the model).
+fn hint(ctx: &egui::Context, left: f32) {
+    let view = ctx.content_rect();
+    let centre = egui::pos2((left + view.right()) * 0.5, view.bottom() - 24.0);
+    egui::Area::new(egui::Id::unique("first-run hint"))
+        .interactable(false)
+        .pivot(egui::Align2::CENTER_BOTTOM)
+        .fixed_pos(centre)
+        .show(ctx, |ui| {
+            egui::Frame::popup(ui.style()).show(ui, |ui| {
+                ui.label(
+                    egui::RichText::new("Drag a coloured part of the puppet to turn it").strong(),
+                );
+                ui.label("drag the background to look around · right-drag to pan · wheel to zoom");
+                ui.label("Cuts (left): suggest joints, or cut your own with the cut tool (C)");
+            });
+        });
 }

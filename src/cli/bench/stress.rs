@@ -231,6 +231,7 @@ fn run_scenario(
             point,
             normal: rng.direction(),
             pivot: None,
+            connected: false,
         });
     }
     let mut sim = Simulation::new(scenario.rig(params.bone_distance), params);

@@ -1,0 +1,69 @@
+//! What the app remembers between runs: recent files and whether the first-run hint was
+//! followed. Kept in `settings.toml` under `$PUPPET_CONFIG_DIR`, else
+//! `$XDG_CONFIG_HOME/puppet`, else `~/.config/puppet`; best effort (a settings file that
+//! cannot be read or written is logged and otherwise ignored).
+
+use std::path::{Path, PathBuf};
+
+/// How many recent files are kept.
+pub const RECENT: usize = 8;
+
+/// The remembered settings.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct Settings {
+    /// Meshes and rigs opened, the latest first.
+    pub recent: Vec<PathBuf>,
+    /// The puppeteer has turned a section once: no more first-run hint.
+    pub hint_done: bool,
+}
+
+impl Settings {
+    /// The folder the settings live in, if one can be named.
+    fn dir() -> Option<PathBuf> {
+        let var = |k: &str| {
+            std::env::var_os(k)
+                .filter(|v| !v.is_empty())
+                .map(PathBuf::from)
+        };
+        var("PUPPET_CONFIG_DIR")
+            .or_else(|| var("XDG_CONFIG_HOME").map(|d| d.join("puppet")))
+            .or_else(|| var("HOME").map(|d| d.join(".config/puppet")))
+    }
+
+    /// Reads the settings (defaults when there are none or they cannot be read).
+    pub fn load() -> Settings {
+        let Some(path) = Self::dir().map(|d| d.join("settings.toml")) else {
+            return Settings::default();
+        };
+        match std::fs::read_to_string(&path) {
+            Ok(text) => toml::from_str(&text).unwrap_or_else(|e| {
+                log::warn!("{}: ignored: {}", path.display(), e.message());
+                Settings::default()
+            }),
+            Err(_) => Settings::default(),
+        }
+    }
+
+    /// Writes the settings (a failure is logged).
+    pub fn save(&self) {
+        let Some(dir) = Self::dir() else {
+            return;
+        };
+        let path = dir.join("settings.toml");
+        let result = std::fs::create_dir_all(&dir)
+            .and_then(|()| std::fs::write(&path, toml::to_string_pretty(self).unwrap_or_default()));
+        if let Err(e) = result {
+            log::warn!("{}: cannot write: {e}", path.display());
+        }
+    }
+
+    /// Puts `path` first in the recent files (once) and saves.
+    pub fn opened(&mut self, path: &Path) {
+        let path = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
+        self.recent.retain(|p| *p != path);
+        self.recent.insert(0, path);
+        self.recent.truncate(RECENT);
+        self.save();
+    }
+}

@@ -1,0 +1,137 @@
+//! `puppet suggest MESH [-o RIG.toml] [--json]`: the joints the skeleton suggests, printed
+//! as a section tree and written as a rig file.
+
+use super::progress_bar::ProgressBar;
+use super::{load_mesh, FileError};
+use anyhow::Result;
+use puppet::{Puppet, RigFile};
+use std::path::PathBuf;
+use std::time::Instant;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Mesh; the embedded Spot when omitted.
+    pub mesh: Option<PathBuf>,
+    /// Write the suggested cuts here as a rig file (TOML, or JSON with a .json extension).
+    #[arg(short = 'o', long = "output")]
+    pub output: Option<PathBuf>,
+    /// Print one JSON object instead of the tree.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// What the command prints (`--json` prints exactly these fields).
+#[derive(serde::Serialize)]
+struct Summary {
+    mesh: String,
+    vertices: usize,
+    cuts: Vec<CutRow>,
+    seconds_skeleton: f64,
+    seconds_suggest: f64,
+    output: Option<String>,
+}
+
+#[derive(serde::Serialize)]
+struct CutRow {
+    name: String,
+    parent: String,
+    vertices: usize,
+    pivot: [f64; 3],
+    normal: [f64; 3],
+}
+
+pub fn run(args: &Args) -> Result<()> {
+    let (mesh, _report, name) = load_mesh(args.mesh.as_deref())?;
+    let bar = ProgressBar::new();
+    let t = Instant::now();
+    let mut puppet = Puppet::build(mesh, RigFile::default(), &|s, f| bar.update(s, f))
+        .map_err(|e| FileError::new(&name, e))?;
+    bar.finish();
+    let seconds_skeleton = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    puppet
+        .suggest_joints()
+        .map_err(|e| FileError::new(&name, e))?;
+    let seconds_suggest = t.elapsed().as_secs_f64();
+    let joints = &puppet.joints;
+    let sections = joints.sections();
+    let cuts: Vec<CutRow> = joints
+        .cuts()
+        .iter()
+        .enumerate()
+        .map(|(k, c)| {
+            let s = &sections[k + 1];
+            CutRow {
+                name: c.name.clone(),
+                parent: s.parent.map_or(String::new(), |p| sections[p].name.clone()),
+                vertices: s.vertices,
+                pivot: s.pivot.to_array(),
+                normal: c.normal.normalize_or_zero().to_array(),
+            }
+        })
+        .collect();
+    if let Some(out) = &args.output {
+        let mut rig = puppet.current_rig_file();
+        rig.mesh = args.mesh.clone();
+        let mesh_entry = args.mesh.as_ref().map(|m| {
+            m.canonicalize()
+                .unwrap_or_else(|_| m.clone())
+                .display()
+                .to_string()
+        });
+        let text = match puppet::files::Format::of(out) {
+            puppet::files::Format::Json => rig.to_json(mesh_entry.as_deref()),
+            puppet::files::Format::Toml => rig.to_toml(mesh_entry.as_deref()),
+        };
+        std::fs::write(out, text).map_err(|e| {
+            FileError::new(
+                out.display().to_string(),
+                format!("cannot write: {}", puppet::files::io_message(&e)),
+            )
+        })?;
+    }
+    let summary = Summary {
+        mesh: name,
+        vertices: puppet.mesh.positions.len(),
+        cuts,
+        seconds_skeleton,
+        seconds_suggest,
+        output: args.output.as_ref().map(|p| p.display().to_string()),
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&summary)?);
+        return Ok(());
+    }
+    println!(
+        "{}: {} vertices, {} suggested joints (skeleton {:.0} ms, suggestion {:.1} ms)",
+        summary.mesh,
+        summary.vertices,
+        summary.cuts.len(),
+        summary.seconds_skeleton * 1e3,
+        summary.seconds_suggest * 1e3
+    );
+    print_tree(&summary.cuts, &sections[0].name, 1);
+    if let Some(o) = &summary.output {
+        println!("wrote {o}");
+    }
+    Ok(())
+}
+
+/// The cuts under `parent`, indented by depth.
+fn print_tree(cuts: &[CutRow], parent: &str, depth: usize) {
+    if depth == 1 {
+        println!("{parent}");
+    }
+    for c in cuts.iter().filter(|c| c.parent == parent) {
+        println!(
+            "{}{} ({} vertices, pivot {:.3} {:.3} {:.3})",
+            "  ".repeat(depth),
+            c.name,
+            c.vertices,
+            c.pivot[0],
+            c.pivot[1],
+            c.pivot[2]
+        );
+        print_tree(cuts, &c.name, depth + 1);
+    }
+}
