@@ -7,6 +7,13 @@ use std::io::Write;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
+    // A reader that stops early (`puppet suggest … | head`) ends the program quietly, as
+    // for other command-line tools; Rust's default would panic in `println!`.
+    #[cfg(unix)]
+    // SAFETY: restoring a signal's default disposition at startup, before any thread runs.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     env_logger::Builder::from_env(
         env_logger::Env::default().default_filter_or("warn,winit=error,sctk_adwaita=error"),
     )

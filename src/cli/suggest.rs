@@ -15,6 +15,9 @@ pub struct Args {
     /// Write the suggested cuts here as a rig file (TOML, or JSON with a .json extension).
     #[arg(short = 'o', long = "output")]
     pub output: Option<PathBuf>,
+    /// Also draw the suggested sections (PNG, rendered offscreen by the app's renderer).
+    #[arg(long)]
+    pub image: Option<PathBuf>,
     /// Print one JSON object instead of the tree.
     #[arg(long)]
     pub json: bool,
@@ -54,7 +57,7 @@ pub fn run(args: &Args) -> Result<()> {
         .map_err(|e| FileError::new(&name, e))?;
     let seconds_suggest = t.elapsed().as_secs_f64();
     let joints = &puppet.joints;
-    let sections = joints.sections();
+    let sections = joints.sections().to_vec();
     let cuts: Vec<CutRow> = joints
         .cuts()
         .iter()
@@ -90,9 +93,13 @@ pub fn run(args: &Args) -> Result<()> {
             )
         })?;
     }
+    let vertices = puppet.mesh.positions.len();
+    if let Some(path) = &args.image {
+        picture(puppet, path)?;
+    }
     let summary = Summary {
         mesh: name,
-        vertices: puppet.mesh.positions.len(),
+        vertices,
         cuts,
         seconds_skeleton,
         seconds_suggest,
@@ -134,4 +141,63 @@ fn print_tree(cuts: &[CutRow], parent: &str, depth: usize) {
         );
         print_tree(cuts, &c.name, depth + 1);
     }
+}
+
+/// The puppet's sections drawn from the front and from the side, side by side.
+#[cfg(feature = "gui")]
+fn picture(puppet: Puppet, path: &std::path::Path) -> Result<()> {
+    use puppet::render::{render_image, Gpu, Image, SceneRenderer, OFFSCREEN_FORMAT};
+    use puppet::session::{Camera, Overlays, Session};
+    let gpu = Gpu::headless()?;
+    let mut renderer = SceneRenderer::new(&gpu, OFFSCREEN_FORMAT);
+    let session = Session::new(puppet, "suggest");
+    let (lo, hi) = session.puppet.mesh.bounds();
+    let (w, h) = (480, 480);
+    let overlays = Overlays {
+        cuts: false,
+        ..Overlays::default()
+    };
+    let mut shots = Vec::new();
+    for yaw in [0.0f32, std::f32::consts::FRAC_PI_2] {
+        let mut camera = Camera {
+            yaw,
+            pitch: 0.1,
+            ..Camera::default()
+        };
+        camera.frame(lo.as_vec3(), hi.as_vec3());
+        shots.push(render_image(
+            &gpu,
+            &mut renderer,
+            &session.view(overlays),
+            &camera,
+            w,
+            h,
+        )?);
+    }
+    let mut rgba = Vec::with_capacity((2 * w * h * 4) as usize);
+    for y in 0..h as usize {
+        for shot in &shots {
+            let row = y * w as usize * 4;
+            rgba.extend_from_slice(&shot.rgba[row..row + w as usize * 4]);
+        }
+    }
+    let image = Image {
+        width: 2 * w,
+        height: h,
+        rgba,
+    };
+    image
+        .save_png(path)
+        .map_err(|e| FileError::new(path.display().to_string(), format!("cannot write: {e}")))?;
+    Ok(())
+}
+
+/// Without the `gui` feature there is no renderer.
+#[cfg(not(feature = "gui"))]
+fn picture(_puppet: Puppet, path: &std::path::Path) -> Result<()> {
+    Err(FileError::new(
+        path.display().to_string(),
+        "drawing needs the renderer (a build with the `gui` feature)",
+    )
+    .into())
 }

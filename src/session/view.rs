@@ -310,12 +310,37 @@ fn srgb(hex: u32) -> [f32; 3] {
     [ch(16), ch(8), ch(0)]
 }
 
-/// Colour of a section (linear RGB): a warm latex tone for the root, then a palette.
+/// Colour of a section (linear RGB): a warm latex tone for the root, then a palette, then
+/// hues a golden angle apart (no two sections of a puppet look alike).
 pub fn section_color(section: usize) -> [f32; 3] {
     const PALETTE: [u32; 8] = [
         0xe8c39e, 0x8fb8de, 0xa8d5a2, 0xe5a3b8, 0xd8c878, 0xb4a6e0, 0x86d0c8, 0xe0a878,
     ];
-    srgb(PALETTE[section % PALETTE.len()])
+    if let Some(&hex) = PALETTE.get(section) {
+        return srgb(hex);
+    }
+    let hue = (section as f32 * 0.618_034).fract() * 6.0;
+    let (s, v) = (0.42, 0.88);
+    let c = v * s;
+    let x = c * (1.0 - ((hue % 2.0) - 1.0).abs());
+    let [r, g, b] = match hue as u32 {
+        0 => [c, x, 0.0],
+        1 => [x, c, 0.0],
+        2 => [0.0, c, x],
+        3 => [0.0, x, c],
+        4 => [x, 0.0, c],
+        _ => [c, 0.0, x],
+    };
+    let m = v - c;
+    let to_linear = |u: f32| {
+        let u = u + m;
+        if u <= 0.04045 {
+            u / 12.92
+        } else {
+            ((u + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    [to_linear(r), to_linear(g), to_linear(b)]
 }
 
 fn mix(a: [f32; 3], b: [f32; 3], t: f32) -> [f32; 3] {

@@ -1,0 +1,154 @@
+//! Suggested joints on real meshes: the hand gets each finger and its joints, the human
+//! its head, arms and legs with their elbows and knees; the command prints and writes them.
+
+mod common;
+
+use common::{puppet, scratch, test_mesh};
+use puppet::{mesh, Puppet, RigFile};
+
+/// The suggested section tree: how many cuts lie between vertex `v` and the root.
+fn depth(p: &Puppet, v: usize) -> usize {
+    let sections = p.joints.sections();
+    let mut s = p.joints.section_of()[v] as usize;
+    let mut depth = 0;
+    while let Some(parent) = sections[s].parent {
+        depth += 1;
+        s = parent;
+    }
+    depth
+}
+
+/// The section right under the root that vertex `v` hangs from (its limb).
+fn limb(p: &Puppet, v: usize) -> usize {
+    let sections = p.joints.sections();
+    let mut s = p.joints.section_of()[v] as usize;
+    while let Some(parent) = sections[s].parent.filter(|&q| q != 0) {
+        s = parent;
+    }
+    s
+}
+
+fn suggested(name: &str) -> Puppet {
+    let (m, _) = mesh::load_obj(&test_mesh(name)).unwrap();
+    let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
+    let n = p.suggest_joints().unwrap();
+    assert_eq!(n, p.joints.cuts().len());
+    p
+}
+
+#[test]
+fn the_hand_gets_each_finger_and_its_joints() {
+    let p = suggested("hand.obj");
+    // Fingertips found once in hand.obj: thumb, index, middle, ring, little finger.
+    let tips = [0, 1082, 2146, 3012, 3399];
+    let sections: Vec<u16> = tips.iter().map(|&v| p.joints.section_of()[v]).collect();
+    let mut distinct = sections.clone();
+    distinct.sort_unstable();
+    distinct.dedup();
+    assert_eq!(
+        distinct.len(),
+        5,
+        "each fingertip in a section of its own: {sections:?}"
+    );
+    assert!(
+        tips.iter().all(|&v| depth(&p, v) >= 1),
+        "every finger is cut"
+    );
+    // The four fingers bend at two joints each, besides their base.
+    let jointed = tips[1..].iter().filter(|&&v| depth(&p, v) >= 3).count();
+    assert!(
+        jointed >= 3,
+        "{jointed} of the four fingers have their joints"
+    );
+    // Each finger hangs from the palm by a cut of its own.
+    let mut bases: Vec<usize> = tips.iter().map(|&v| limb(&p, v)).collect();
+    bases.sort_unstable();
+    bases.dedup();
+    assert!(bases.len() >= 4, "finger bases: {bases:?}");
+}
+
+#[test]
+fn the_human_gets_head_arms_and_legs_with_elbows_and_knees() {
+    let p = suggested("human.obj");
+    // Found once in human.obj: the top of the head, both fingertips, both toes.
+    let (head, hands, feet) = (411, [2445, 5906], [3215, 6618]);
+    assert!(depth(&p, head) >= 1, "the head turns");
+    for v in hands {
+        // Shoulder, elbow and wrist (at least) between the fingertip and the body.
+        assert!(depth(&p, v) >= 3, "hand {v}: {} cuts", depth(&p, v));
+    }
+    for v in feet {
+        // Hip, knee and ankle.
+        assert!(depth(&p, v) >= 3, "foot {v}: {} cuts", depth(&p, v));
+    }
+    // Left and right are separate limbs, and neither is the head's.
+    let limbs = [limb(&p, hands[0]), limb(&p, hands[1]), limb(&p, head)];
+    assert!(limbs[0] != limbs[1] && limbs[0] != limbs[2] && limbs[1] != limbs[2]);
+    assert_ne!(
+        p.joints.section_of()[feet[0]],
+        p.joints.section_of()[feet[1]]
+    );
+    // The root keeps the torso: most of the vertices around the chest stay in it.
+    let (m, _) = mesh::load_obj(&test_mesh("human.obj")).unwrap();
+    let chest: Vec<usize> = (0..m.positions.len())
+        .filter(|&i| (1.1..1.25).contains(&m.positions[i].y) && m.positions[i].x.abs() < 0.1)
+        .collect();
+    let in_root = chest
+        .iter()
+        .filter(|&&i| p.joints.section_of()[i] == 0)
+        .count();
+    assert!(
+        in_root * 10 >= chest.len() * 9,
+        "{in_root} of {}",
+        chest.len()
+    );
+}
+
+#[test]
+fn suggest_prints_the_tree_and_writes_a_rig_that_loads() {
+    let dir = scratch("suggest");
+    let rig = dir.join("hand.rig.toml");
+    let hand = test_mesh("hand.obj");
+    let out = puppet(&[
+        "suggest",
+        hand.to_str().unwrap(),
+        "-o",
+        rig.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let cuts = report["cuts"].as_array().unwrap();
+    assert!(cuts.len() >= 5, "{report}");
+    assert!(
+        report["seconds_suggest"].as_f64().unwrap()
+            < report["seconds_skeleton"].as_f64().unwrap() + 0.5
+    );
+    // The rig file rebuilds the same sections.
+    let spec = RigFile::load(&rig).unwrap();
+    assert_eq!(spec.cuts.len(), cuts.len());
+    assert!(spec.cuts.iter().all(|c| c.connected));
+    let (m, _) = mesh::load_obj(&hand).unwrap();
+    let rebuilt = Puppet::build(m, spec, puppet::progress::silent()).unwrap();
+    let again = suggested("hand.obj");
+    assert_eq!(rebuilt.joints.section_of(), again.joints.section_of());
+    // The text form is a tree under the root.
+    let text = puppet(&["suggest", hand.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(text.lines().nth(1) == Some("root"), "{text}");
+    assert!(text.contains("  joint 1"), "{text}");
+    // Bad input: one error line, status 2.
+    let bad = dir.join("open.obj");
+    std::fs::write(&bad, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let out = puppet(&["suggest", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.starts_with("error: ") && err.lines().count() == 1,
+        "{err}"
+    );
+}
