@@ -4,8 +4,9 @@
 set -euo pipefail
 
 need=()
-# Software Vulkan (lavapipe) and a virtual X server: the render and window tests use them.
-for pkg in mesa-vulkan-drivers libvulkan1 xvfb xauth; do
+# Software Vulkan (lavapipe), a virtual X server, and xdotool to drive the real window in
+# the window tests the way a user would.
+for pkg in mesa-vulkan-drivers libvulkan1 xvfb xauth xdotool; do
   dpkg -s "$pkg" >/dev/null 2>&1 || need+=("$pkg")
 done
 if [ ${#need[@]} -gt 0 ]; then

@@ -101,3 +101,76 @@ fn the_window_shows_the_puppet_and_panels_and_a_drag_turns_a_section() {
         std::fs::copy(&shot, dst).unwrap();
     }
 }
+
+/// A settled window costs nothing: after the default cow settles, the process uses no CPU
+/// while nobody touches it (a window that redraws when nothing changed would use a core).
+#[test]
+fn a_settled_window_uses_no_cpu() {
+    let dir = common::scratch("window-idle");
+    let w = common::Window::open(&dir, &[]);
+    // Let the first frames' work (shader compilation, uploads) pass.
+    std::thread::sleep(Duration::from_secs(2));
+    let before = w.cpu_ticks();
+    std::thread::sleep(Duration::from_secs(4));
+    let used = w.cpu_ticks() - before;
+    // At most 1 % of a core over 4 s (100 ticks a second).
+    assert!(used <= 4, "{used} CPU ticks in 4 s of a settled window");
+    assert!(w.quit().success());
+}
+
+/// The first five minutes, as a user meets them: the default cow opens with its suggested
+/// joints and the first-run hint; a tap (press and release at once) on a part selects it;
+/// a drag turns it and ends the hint for good; the cut tool places its plane on a tap too.
+#[test]
+fn taps_select_drags_turn_and_the_hint_goes_after_the_first_drag() {
+    let dir = common::scratch("window-first");
+    let mut w = common::Window::open(&dir, &[]);
+    let r = w.state().unwrap();
+    assert_eq!(r["hint"], true, "{r}");
+    let sections = r["sections"].as_array().unwrap().len();
+    assert!(
+        sections >= 5,
+        "the cow opens with its suggested joints: {r}"
+    );
+    // A part with a visible pixel (not the root).
+    let targets = r["targets"].as_object().unwrap();
+    let (name, at) = targets
+        .iter()
+        .find(|(n, _)| n.as_str() != "root")
+        .map(|(n, a)| (n.clone(), [a[0].as_f64().unwrap(), a[1].as_f64().unwrap()]))
+        .expect("a part on screen");
+    // Rest on the panel first (egui then thinks the pointer is its own), then tap the part.
+    w.hover([120.0, 400.0]);
+    std::thread::sleep(Duration::from_millis(300));
+    w.click(at);
+    w.wait(
+        |r| r["selection"] == serde_json::json!([name]),
+        "the tap to select",
+    );
+    // Drag it: it turns, and the hint is gone.
+    w.drag(at, [0.0, 60.0]);
+    let r = w.wait(
+        |r| r["hint"] == false && !r["turned"].as_array().unwrap().is_empty(),
+        "the drag to turn it",
+    );
+    assert!(
+        r["turned"][0]
+            .as_str()
+            .unwrap()
+            .starts_with(&format!("{name}:")),
+        "{r}"
+    );
+    // The cut tool (C), then a tap on the body places its plane.
+    w.key("c");
+    w.wait(|r| r["cut_tool"] == true, "the cut tool");
+    let body = w.state().unwrap()["targets"]["root"].clone();
+    let body = [body[0].as_f64().unwrap(), body[1].as_f64().unwrap()];
+    w.click(body);
+    w.wait(|r| r["draft"] == true, "the tap to place the cut");
+    let config = w.config.clone();
+    assert!(w.quit().success());
+    // The hint stays gone in the next run.
+    let mut again = common::Window::open_with(&dir, &[], &config);
+    assert_eq!(again.wait(|_| true, "a report")["hint"], false);
+    assert!(again.quit().success());
+}

@@ -235,13 +235,19 @@ impl WindowState {
         Vec2::new(self.config.width as f32, self.config.height as f32)
     }
 
-    /// Is the cursor over a panel or a popup of egui's (or is egui dragging something)?
-    /// Decided from the layers' places in the last frame, which do not move with the
-    /// pointer.
+    /// Is the cursor over the side panel or a popup of egui's (or is egui dragging
+    /// something)? Decided from where they were in the last frame, which does not move
+    /// with the pointer. (The view itself is egui's background layer: not a panel.)
     fn over_panels(&self) -> bool {
         let ppp = self.egui_ctx.pixels_per_point().max(1e-3);
         let at = egui::pos2(self.pointer.cursor.x / ppp, self.pointer.cursor.y / ppp);
-        self.egui_ctx.egui_is_using_pointer() || self.egui_ctx.layer_id_at(at).is_some()
+        let popup = self
+            .egui_ctx
+            .layer_id_at(at)
+            .is_some_and(|l| l.order != egui::Order::Background);
+        self.egui_ctx.egui_is_using_pointer()
+            || popup
+            || self.panel.rect.is_some_and(|r| r.contains(at))
     }
 
     fn cursor_moved(&mut self, at: Vec2) {

@@ -41,6 +41,13 @@ pub struct Report {
     pub targets: BTreeMap<String, [f32; 2]>,
     /// The graphics adapter.
     pub adapter: String,
+    /// The process, and the X display and authority it draws on (for scripts that drive
+    /// the window with `xdotool`).
+    pub pid: u32,
+    /// `$DISPLAY`.
+    pub display: Option<String>,
+    /// `$XAUTHORITY`.
+    pub xauthority: Option<String>,
 }
 
 impl WindowState {
@@ -55,6 +62,9 @@ impl WindowState {
             hint: self.panel.hint,
             message: self.panel.message.as_ref().map(|(m, _)| m.clone()),
             adapter: self.gpu.adapter.get_info().name,
+            pid: std::process::id(),
+            display: std::env::var("DISPLAY").ok(),
+            xauthority: std::env::var("XAUTHORITY").ok(),
             ..Report::default()
         };
         let Some(s) = &self.session else {

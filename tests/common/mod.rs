@@ -38,3 +38,200 @@ pub fn test_mesh(name: &str) -> PathBuf {
 pub fn approx(a: f64, b: f64, rel: f64) -> bool {
     (a - b).abs() <= rel * a.abs().max(b.abs()).max(1e-300)
 }
+
+/// The real window under Xvfb, driven with xdotool the way a user would, its state read
+/// from the app's `--report` file.
+pub struct Window {
+    child: std::process::Child,
+    /// Where the app writes what it shows.
+    pub report: PathBuf,
+    /// The app's settings folder (a fresh one per test).
+    pub config: PathBuf,
+    display: String,
+    xauthority: Option<String>,
+    pid: u32,
+    window: String,
+}
+
+impl Window {
+    /// Starts `puppet ARGS` in a virtual X server in `dir` and waits until its puppet is
+    /// built and settled.
+    pub fn open(dir: &Path, args: &[&str]) -> Window {
+        let runtime = dir.join("xdg");
+        std::fs::create_dir_all(&runtime).unwrap();
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            std::fs::set_permissions(&runtime, std::fs::Permissions::from_mode(0o700)).unwrap();
+        }
+        let config = dir.join("config");
+        std::fs::create_dir_all(&config).unwrap();
+        Window::open_with(dir, args, &config)
+    }
+
+    /// As [`Window::open`], with the settings in `config`.
+    pub fn open_with(dir: &Path, args: &[&str], config: &Path) -> Window {
+        let report = dir.join("report.json");
+        let _ = std::fs::remove_file(&report);
+        let child = Command::new("xvfb-run")
+            .args(["-a", "-s", "-screen 0 1280x800x24"])
+            .arg(env!("CARGO_BIN_EXE_puppet"))
+            .args(args)
+            .arg("--report")
+            .arg(&report)
+            .env("XDG_RUNTIME_DIR", dir.join("xdg"))
+            .env("PUPPET_CONFIG_DIR", config)
+            .env("RUST_LOG", "warn")
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .expect("xvfb-run (scripts/setup.sh installs it)");
+        let mut w = Window {
+            child,
+            report,
+            config: config.to_path_buf(),
+            display: String::new(),
+            xauthority: None,
+            pid: 0,
+            window: String::new(),
+        };
+        let r = w.wait(|r| r["state"] == "settled", "the puppet to settle");
+        w.display = r["display"].as_str().unwrap_or(":99").to_string();
+        w.xauthority = r["xauthority"].as_str().map(str::to_string);
+        w.pid = r["pid"].as_u64().unwrap() as u32;
+        let found = w.xdo(&["search", "--sync", "--pid", &w.pid.to_string()]);
+        w.window = found.lines().last().unwrap_or("").trim().to_string();
+        assert!(!w.window.is_empty(), "no window of pid {}", w.pid);
+        w
+    }
+
+    /// The app's last report.
+    pub fn state(&self) -> Option<serde_json::Value> {
+        let text = std::fs::read_to_string(&self.report).ok()?;
+        serde_json::from_str(&text).ok()
+    }
+
+    /// Waits (at most 60 s) until the report satisfies `ok`; returns it.
+    pub fn wait(
+        &mut self,
+        ok: impl Fn(&serde_json::Value) -> bool,
+        what: &str,
+    ) -> serde_json::Value {
+        let start = std::time::Instant::now();
+        loop {
+            if let Some(r) = self.state() {
+                if ok(&r) {
+                    return r;
+                }
+            }
+            if let Ok(Some(status)) = self.child.try_wait() {
+                panic!("the app exited ({status}) while waiting for {what}");
+            }
+            assert!(
+                start.elapsed() < std::time::Duration::from_secs(60),
+                "timed out waiting for {what}: {:?}",
+                self.state()
+            );
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+    }
+
+    /// Runs xdotool on the window's display; returns its output.
+    pub fn xdo(&self, args: &[&str]) -> String {
+        let mut cmd = Command::new("xdotool");
+        cmd.args(args).env("DISPLAY", &self.display);
+        if let Some(a) = &self.xauthority {
+            cmd.env("XAUTHORITY", a);
+        }
+        let out = cmd
+            .output()
+            .expect("xdotool (scripts/setup.sh installs it)");
+        assert!(
+            out.status.success(),
+            "xdotool {args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    }
+
+    /// Moves the pointer to a pixel of the window.
+    pub fn hover(&self, at: [f64; 2]) {
+        let (x, y) = (format!("{}", at[0].round()), format!("{}", at[1].round()));
+        self.xdo(&["mousemove", "--window", &self.window, &x, &y]);
+    }
+
+    /// A click (press and release at once, as a tap) at a pixel of the window.
+    pub fn click(&self, at: [f64; 2]) {
+        let (x, y) = (format!("{}", at[0].round()), format!("{}", at[1].round()));
+        self.xdo(&["mousemove", "--window", &self.window, &x, &y, "click", "1"]);
+    }
+
+    /// A drag with the left button from a pixel, by `(dx, dy)`, in a few moves.
+    pub fn drag(&self, at: [f64; 2], by: [f64; 2]) {
+        let p = |k: f64| {
+            [
+                format!("{}", (at[0] + by[0] * k).round()),
+                format!("{}", (at[1] + by[1] * k).round()),
+            ]
+        };
+        let [x, y] = p(0.0);
+        self.xdo(&[
+            "mousemove",
+            "--window",
+            &self.window,
+            &x,
+            &y,
+            "mousedown",
+            "1",
+        ]);
+        for k in 1..=5 {
+            let [x, y] = p(k as f64 / 5.0);
+            self.xdo(&["mousemove", "--window", &self.window, &x, &y]);
+            std::thread::sleep(std::time::Duration::from_millis(30));
+        }
+        self.xdo(&["mouseup", "1"]);
+    }
+
+    /// Keys, as xdotool names them (`c`, `ctrl+q`), to the window.
+    pub fn key(&self, keys: &str) {
+        self.xdo(&["windowfocus", "--sync", &self.window]);
+        self.xdo(&["key", keys]);
+    }
+
+    /// The app's CPU time so far, in clock ticks (user + system).
+    pub fn cpu_ticks(&self) -> u64 {
+        let stat = std::fs::read_to_string(format!("/proc/{}/stat", self.pid)).unwrap();
+        // The fields after the command name (which may hold spaces) start after the last ')'.
+        let rest = &stat[stat.rfind(')').unwrap() + 2..];
+        let fields: Vec<&str> = rest.split_whitespace().collect();
+        fields[11].parse::<u64>().unwrap() + fields[12].parse::<u64>().unwrap()
+    }
+
+    /// Closes the window with Ctrl+Q and waits for the app to exit; its status.
+    pub fn quit(mut self) -> std::process::ExitStatus {
+        self.key("ctrl+q");
+        let start = std::time::Instant::now();
+        loop {
+            if let Some(s) = self.child.try_wait().unwrap() {
+                return s;
+            }
+            assert!(
+                start.elapsed() < std::time::Duration::from_secs(30),
+                "the app did not quit"
+            );
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+    }
+}
+
+impl Drop for Window {
+    fn drop(&mut self) {
+        if let Ok(None) = self.child.try_wait() {
+            if self.pid != 0 {
+                let _ = Command::new("kill").arg(self.pid.to_string()).status();
+            }
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
+    }
+}
