@@ -202,7 +202,7 @@ fn a_three_level_hierarchy_composes_as_documented() {
 fn the_frog_jaw_folds_without_nan_or_escape() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let spec = RigFile::load(&root.join("assets/examples/spot-jaw.rig.toml")).expect("example rig");
-    let (mesh, _) = mesh::load_obj(spec.mesh.as_deref().unwrap()).unwrap();
+    let (mesh, _) = mesh::load(spec.mesh.as_deref().unwrap()).unwrap();
     for constraint in [Constraint::Circumsphere, Constraint::SpringReduction] {
         let mut spec = spec.clone();
         spec.params.constraint = constraint;
@@ -321,7 +321,7 @@ fn random_extreme_poses_and_sliders_never_break_the_jaw() {
     };
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let spec = RigFile::load(&root.join("assets/examples/spot-jaw.rig.toml")).unwrap();
-    let (mesh, _) = mesh::load_obj(&common::test_mesh("spot-small.obj")).unwrap();
+    let (mesh, _) = mesh::load(&common::test_mesh("spot-small.obj")).unwrap();
     let mut p = Puppet::build(mesh, spec, puppet::progress::silent()).unwrap();
     let mut local = vec![Local::default(); p.joints.sections().len()];
     for step in 0..400 {

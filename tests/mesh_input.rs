@@ -138,9 +138,20 @@ fn no_faces() {
 }
 
 #[test]
-fn open_and_non_manifold_meshes() {
+fn what_cannot_be_repaired_is_refused() {
+    // With hole filling off, an open mesh is refused, and the message says so.
     let open = TETRA.replace("f 2 3 4\n", "");
-    assert_refused("open.obj", open.as_bytes(), "3 boundary edges");
+    let dir = scratch("refuse-open-nofill");
+    let path = dir.join("open.obj");
+    std::fs::write(&path, &open).unwrap();
+    let out = puppet(&["skeleton", path.to_str().unwrap(), "--fill-holes", "0"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.trim()
+            .ends_with("3 boundary edges (e.g. 2-3); 1 hole (hole filling is off)"),
+        "{err}"
+    );
     // A third face on edge 1-2.
     let fin = format!("{TETRA}v 0.5 -1 0.3\nf 1 2 5\n");
     assert_refused("fin.obj", fin.as_bytes(), "non-manifold edges");
@@ -148,12 +159,31 @@ fn open_and_non_manifold_meshes() {
     let bowtie =
         format!("{TETRA}v -1 0 0\nv 0 -1 0\nv 0 0 -1\nf 1 5 6\nf 1 7 5\nf 1 6 7\nf 5 7 6\n");
     assert_refused("bowtie.obj", bowtie.as_bytes(), "1 non-manifold vertices");
-    let flipped = TETRA.replace("f 2 3 4", "f 2 4 3");
-    assert_refused(
-        "flipped-face.obj",
-        flipped.as_bytes(),
-        "inconsistently oriented",
-    );
+    // A Möbius-like twist cannot be oriented: a strip of quads closed with a half turn.
+    let mut mobius = String::new();
+    let n = 12;
+    for k in 0..n {
+        let a = std::f64::consts::TAU * k as f64 / n as f64;
+        let (c, s) = (a.cos(), a.sin());
+        let (tc, ts) = ((a / 2.0).cos() * 0.3, (a / 2.0).sin() * 0.3);
+        mobius.push_str(&format!("v {} {} {}\n", c * (1.0 + tc), s * (1.0 + tc), ts));
+        mobius.push_str(&format!(
+            "v {} {} {}\n",
+            c * (1.0 - tc),
+            s * (1.0 - tc),
+            -ts
+        ));
+    }
+    for k in 0..n {
+        let (a, b) = (2 * k + 1, 2 * k + 2);
+        let (c, d) = if k + 1 < n {
+            (2 * k + 3, 2 * k + 4)
+        } else {
+            (2, 1)
+        };
+        mobius.push_str(&format!("f {a} {b} {d}\nf {a} {d} {c}\n"));
+    }
+    assert_refused("mobius.obj", mobius.as_bytes(), "not a closed 2-manifold");
 }
 
 #[test]

@@ -3,7 +3,7 @@
 mod common;
 use common::{approx, puppet, scratch, test_mesh};
 use puppet::geom::inside::InsideTest;
-use puppet::mesh::{load_obj, parse_obj, shapes, vertex_normals};
+use puppet::mesh::{load, parse_obj, shapes, vertex_normals};
 use puppet::progress::silent;
 use puppet::skeleton::{build, truth, Method, SkeletonParams};
 
@@ -70,7 +70,7 @@ fn sphere_skeleton_converges_to_the_centre() {
 #[test]
 fn skeletal_points_stay_inside_real_meshes() {
     for name in ["spot-small.obj", "scorpion.obj", "bunny.obj"] {
-        let (m, _) = load_obj(&test_mesh(name)).unwrap();
+        let (m, _) = load(&test_mesh(name)).unwrap();
         let n = vertex_normals(&m).unwrap();
         let oracle = InsideTest::new(&m);
         for method in Method::ALL {

@@ -29,7 +29,7 @@ fn limb(p: &Puppet, v: usize) -> usize {
 }
 
 fn suggested(name: &str) -> Puppet {
-    let (m, _) = mesh::load_obj(&test_mesh(name)).unwrap();
+    let (m, _) = mesh::load(&test_mesh(name)).unwrap();
     let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
     let n = p.suggest_joints().unwrap();
     assert_eq!(n, p.joints.cuts().len());
@@ -89,7 +89,7 @@ fn the_human_gets_head_arms_and_legs_with_elbows_and_knees() {
         p.joints.section_of()[feet[1]]
     );
     // The root keeps the torso: most of the vertices around the chest stay in it.
-    let (m, _) = mesh::load_obj(&test_mesh("human.obj")).unwrap();
+    let (m, _) = mesh::load(&test_mesh("human.obj")).unwrap();
     let chest: Vec<usize> = (0..m.positions.len())
         .filter(|&i| (1.1..1.25).contains(&m.positions[i].y) && m.positions[i].x.abs() < 0.1)
         .collect();
@@ -132,7 +132,7 @@ fn suggest_prints_the_tree_and_writes_a_rig_that_loads() {
     let spec = RigFile::load(&rig).unwrap();
     assert_eq!(spec.cuts.len(), cuts.len());
     assert!(spec.cuts.iter().all(|c| c.connected));
-    let (m, _) = mesh::load_obj(&hand).unwrap();
+    let (m, _) = mesh::load(&hand).unwrap();
     let rebuilt = Puppet::build(m, spec, puppet::progress::silent()).unwrap();
     let again = suggested("hand.obj");
     assert_eq!(rebuilt.joints.section_of(), again.joints.section_of());

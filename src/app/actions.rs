@@ -37,13 +37,13 @@ impl WindowState {
             Some(p) => {
                 self.settings.opened(&p);
                 self.panel.recent = self.settings.recent.clone();
-                self.loader = Some(Loader::open(p, rig_file));
+                self.loader = Some(Loader::open(p, rig_file, self.load));
             }
             None => {
                 if let Some(s) = &self.session {
                     let (mesh, name) = (s.puppet.mesh.clone(), s.name.clone());
                     let source = self.panel.source.clone();
-                    self.loader = Some(Loader::build(mesh, name, source, rig_file));
+                    self.loader = Some(Loader::build(mesh, name, source, None, rig_file));
                 }
             }
         }

@@ -32,7 +32,7 @@ impl Dialog {
             let picked = match purpose {
                 FilePurpose::OpenMesh => d
                     .set_title("Open a mesh")
-                    .add_filter("meshes", &["obj", "ply", "stl", "glb", "gltf"])
+                    .add_filter("meshes", &["obj", "ply", "stl", "OBJ", "PLY", "STL"])
                     .pick_file(),
                 FilePurpose::LoadRig => d
                     .set_title("Load a rig")

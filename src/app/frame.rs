@@ -155,7 +155,22 @@ impl WindowState {
                         self.camera.frame(lo.as_vec3(), hi.as_vec3());
                         let name = opened.name;
                         self.window.set_title(&format!("puppet — {name}"));
-                        self.panel.message = Some((format!("opened {name}"), false));
+                        let warnings = opened
+                            .report
+                            .as_ref()
+                            .map(|r| r.warnings())
+                            .unwrap_or_default();
+                        let said = if warnings.is_empty() {
+                            format!("opened {name} in {:.1} s", opened.seconds)
+                        } else {
+                            format!(
+                                "opened {name} in {:.1} s: {}",
+                                opened.seconds,
+                                warnings.join("; ")
+                            )
+                        };
+                        self.panel.message = Some((said, false));
+                        self.panel.opened = Some((opened.seconds, opened.report.clone()));
                         self.panel.source = opened.source;
                         let mut session = Session::new(*opened.puppet, name);
                         if std::mem::take(&mut self.suggest) {

@@ -42,6 +42,10 @@ use winit::window::WindowId;
 pub struct Options {
     /// The validated mesh to open.
     pub mesh: crate::mesh::Mesh,
+    /// How it was read (repairs, riders, seconds per stage).
+    pub load_report: Option<crate::mesh::LoadReport>,
+    /// How meshes opened from the window are read.
+    pub load: crate::mesh::LoadOptions,
     /// Its display name (the file's name).
     pub name: String,
     /// The file's full path, when it came from a file.

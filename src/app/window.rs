@@ -52,6 +52,8 @@ pub(super) struct WindowState {
     pub report_path: Option<PathBuf>,
     /// Suggest joints on the puppet being loaded, once it is built.
     pub suggest: bool,
+    /// How meshes opened from the window are read.
+    pub load: crate::mesh::LoadOptions,
 }
 
 impl WindowState {
@@ -137,6 +139,7 @@ impl WindowState {
             dialog: None,
             report_path: options.report,
             suggest: false,
+            load: options.load,
         };
         state.panel.recent = state.settings.recent.clone();
         state.panel.hint = !state.settings.hint_done;
@@ -147,6 +150,7 @@ impl WindowState {
             options.mesh,
             options.name,
             options.source,
+            options.load_report,
             options.rig_file,
         ));
         state.suggest = options.suggest;

@@ -27,8 +27,11 @@ pub const DEFAULT_MESH_NAME: &str = "spot.obj (embedded)";
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
-    /// Mesh to open (OBJ); the embedded Spot when omitted.
+    /// Mesh to open (OBJ, PLY or STL); the embedded Spot when omitted.
     pub mesh: Option<PathBuf>,
+    /// How meshes are read (for the window and every command).
+    #[command(flatten)]
+    pub load: LoadArgs,
     /// Rig file to open with it (material, constraint, cuts).
     #[arg(long)]
     pub rig: Option<PathBuf>,
@@ -70,6 +73,23 @@ pub enum Command {
     },
 }
 
+/// Options for reading a mesh, accepted by the window and every command.
+#[derive(clap::Args, Debug, Clone, Copy)]
+pub struct LoadArgs {
+    /// Close holes of up to this many boundary edges (0: close none).
+    #[arg(long, global = true, value_name = "EDGES", default_value_t = mesh::FILL_HOLES)]
+    pub fill_holes: usize,
+}
+
+impl LoadArgs {
+    /// The library's options.
+    pub fn options(&self) -> mesh::LoadOptions {
+        mesh::LoadOptions {
+            fill_holes: self.fill_holes,
+        }
+    }
+}
+
 /// A failure that names the file it concerns: printed as `error: <file>: <message>`.
 #[derive(Debug, thiserror::Error)]
 #[error("{file}: {message}")]
@@ -88,6 +108,7 @@ impl FileError {
 }
 
 /// How a mesh is named in the window: its file's name (the embedded one's own name).
+#[cfg(feature = "gui")]
 pub fn display_name(path: Option<&Path>) -> String {
     match path {
         Some(p) => p.file_name().map_or_else(
@@ -99,10 +120,18 @@ pub fn display_name(path: Option<&Path>) -> String {
 }
 
 /// Loads `path` (or the embedded default), logging load warnings.
-pub fn load_mesh(path: Option<&Path>) -> Result<(Mesh, LoadReport, String)> {
+pub fn load_mesh(path: Option<&Path>, load: &LoadArgs) -> Result<(Mesh, LoadReport, String)> {
+    let options = load.options();
+    let silent = puppet::progress::silent();
     let (name, result) = match path {
-        Some(p) => (p.display().to_string(), mesh::load_obj(p)),
-        None => (DEFAULT_MESH_NAME.to_string(), mesh::parse_obj(DEFAULT_MESH)),
+        Some(p) => (
+            p.display().to_string(),
+            mesh::load_with(p, &options, silent),
+        ),
+        None => (
+            DEFAULT_MESH_NAME.to_string(),
+            mesh::parse(DEFAULT_MESH, mesh::Format::Obj, &options, silent),
+        ),
     };
     let (mesh, report) = result.map_err(|e| FileError::new(&name, e))?;
     for w in report.warnings() {
@@ -114,10 +143,10 @@ pub fn load_mesh(path: Option<&Path>) -> Result<(Mesh, LoadReport, String)> {
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> Result<()> {
     match &cli.command {
-        Some(Command::Skeleton(args)) => skeleton::run(args),
-        Some(Command::Simulate(args)) => simulate::run(args),
-        Some(Command::Suggest(args)) => suggest::run(args),
-        Some(Command::Bench { mode }) => bench::run(mode),
+        Some(Command::Skeleton(args)) => skeleton::run(args, &cli.load),
+        Some(Command::Simulate(args)) => simulate::run(args, &cli.load),
+        Some(Command::Suggest(args)) => suggest::run(args, &cli.load),
+        Some(Command::Bench { mode }) => bench::run(mode, &cli.load),
         None => open(&cli),
     }
 }
@@ -134,11 +163,13 @@ fn open(cli: &Cli) -> Result<()> {
         None => puppet::RigFile::default(),
     };
     let mesh_path = cli.mesh.clone().or_else(|| rig_file.mesh.clone());
-    let (mesh, _report, _) = load_mesh(mesh_path.as_deref())?;
+    let (mesh, load_report, _) = load_mesh(mesh_path.as_deref(), &cli.load)?;
     // The embedded cow opens ready to play: with its suggested joints.
     let suggest = cli.suggest_joints || (mesh_path.is_none() && cli.rig.is_none());
     let report = puppet::app::run(puppet::app::Options {
         mesh,
+        load_report: Some(load_report),
+        load: cli.load.options(),
         name: display_name(mesh_path.as_deref()),
         source: mesh_path.map(|p| p.canonicalize().unwrap_or(p)),
         rig_file,

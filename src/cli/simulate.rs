@@ -76,7 +76,7 @@ struct Summary {
 /// Frames beyond this are refused (a typo, not a render).
 const MAX_FRAMES: u64 = 10_000_000;
 
-pub fn run(args: &Args) -> Result<()> {
+pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     if !(args.fps.is_finite() && args.fps > 0.0 && args.fps <= 10_000.0) {
         bail!("--fps {} must be in (0, 10000]", args.fps);
     }
@@ -107,7 +107,7 @@ pub fn run(args: &Args) -> Result<()> {
         bail!("--frames {frames} must be in 1..={MAX_FRAMES}");
     }
     let mesh_path = args.mesh.clone().or_else(|| spec.mesh.clone());
-    let (mesh, _report, mesh_name) = load_mesh(mesh_path.as_deref())?;
+    let (mesh, _report, mesh_name) = load_mesh(mesh_path.as_deref(), load)?;
     if let Some(dir) = &args.out_dir {
         std::fs::create_dir_all(dir).map_err(|e| {
             FileError::new(

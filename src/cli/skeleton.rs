@@ -33,6 +33,7 @@ struct Summary<'a> {
     inside_voronoi_vertices: usize,
     fallback: usize,
     clamped: usize,
+    riders: usize,
     d_min: f64,
     d_median: f64,
     d_max: f64,
@@ -40,8 +41,8 @@ struct Summary<'a> {
     output: Option<String>,
 }
 
-pub fn run(args: &Args) -> Result<()> {
-    let (mesh, _report, name) = load_mesh(args.mesh.as_deref())?;
+pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
+    let (mesh, report, name) = load_mesh(args.mesh.as_deref(), load)?;
     let t_load = std::time::Instant::now();
     let normals = vertex_normals(&mesh).map_err(|e| FileError::new(&name, e))?;
     let t_normals = t_load.elapsed().as_secs_f64();
@@ -53,9 +54,11 @@ pub fn run(args: &Args) -> Result<()> {
     let sk = skeleton::build(&mesh, &normals, &params, &|s, f| bar.update(s, f))
         .map_err(|e| FileError::new(&name, e))?;
     bar.finish();
+    let mut t_written = None;
     if let Some(out) = &args.output {
         let file = std::fs::File::create(out)
             .map_err(|e| FileError::new(out.display().to_string(), format!("cannot write: {e}")))?;
+        let t_write = std::time::Instant::now();
         let header = format!(
             "skeletal mesh of {name} by puppet {} (method {}): vertex i is p_i - d_i n_i",
             env!("CARGO_PKG_VERSION"),
@@ -63,12 +66,19 @@ pub fn run(args: &Args) -> Result<()> {
         );
         write_obj(&mut &file, &sk.points, &mesh.triangles, &header)
             .map_err(|e| FileError::new(out.display().to_string(), format!("cannot write: {e}")))?;
+        t_written = Some(t_write.elapsed().as_secs_f64());
     }
     let (d_min, d_median, d_max) = min_median_max(&sk.distance);
     let mut seconds = serde_json::Map::new();
+    for (stage, s) in &report.seconds {
+        seconds.insert((*stage).into(), (*s).into());
+    }
     seconds.insert("normals".into(), t_normals.into());
     for (stage, s) in &sk.seconds {
         seconds.insert((*stage).into(), (*s).into());
+    }
+    if let Some(w) = t_written {
+        seconds.insert("write".into(), w.into());
     }
     let summary = Summary {
         file: &name,
@@ -79,6 +89,7 @@ pub fn run(args: &Args) -> Result<()> {
         inside_voronoi_vertices: sk.inside_voronoi_vertices,
         fallback: sk.fallback,
         clamped: sk.clamped,
+        riders: sk.riders,
         d_min,
         d_median,
         d_max,

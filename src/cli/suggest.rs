@@ -43,8 +43,8 @@ struct CutRow {
     normal: [f64; 3],
 }
 
-pub fn run(args: &Args) -> Result<()> {
-    let (mesh, _report, name) = load_mesh(args.mesh.as_deref())?;
+pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
+    let (mesh, _report, name) = load_mesh(args.mesh.as_deref(), load)?;
     let bar = ProgressBar::new();
     let t = Instant::now();
     let mut puppet = Puppet::build(mesh, RigFile::default(), &|s, f| bar.update(s, f))

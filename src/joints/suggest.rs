@@ -61,11 +61,24 @@ const SMALLEST: f64 = 0.002;
 /// Cuts where the protrusions of `mesh` narrow, organised parent-first as a section tree
 /// under the root section `root`. Every cut applies, in order, to joints without cuts.
 pub fn suggest(mesh: &Mesh, skeleton: &Skeleton, root: &str) -> Vec<Cut> {
-    let tree = Tree::new(mesh, skeleton);
-    let limbs = tree.limbs();
+    // Riders have no skeleton: the limbs are the body's, and riders go with their hosts.
+    let (limbs, hosts) = if skeleton.riders > 0 {
+        let parts = crate::mesh::Parts::of(mesh);
+        let (body, old) = parts.body(mesh);
+        let body_skeleton = Skeleton {
+            distance: old.iter().map(|&v| skeleton.distance[v as usize]).collect(),
+            points: old.iter().map(|&v| skeleton.points[v as usize]).collect(),
+            riders: 0,
+            ..skeleton.clone()
+        };
+        let limbs = Tree::new(&body, &body_skeleton).limbs();
+        (limbs, parts.hosts(&mesh.positions))
+    } else {
+        (Tree::new(mesh, skeleton).limbs(), Vec::new())
+    };
     // Apply them in order; one that cannot apply (a side left empty) is dropped and what
     // hangs from it hangs from its parent instead.
-    let mut joints = Joints::with_mesh(&skeleton.points, &mesh.triangles, &[], root);
+    let mut joints = Joints::with_mesh(&skeleton.points, &mesh.triangles, &hosts, root);
     let mut applied: Vec<Option<String>> = Vec::with_capacity(limbs.len());
     let mut count: std::collections::HashMap<String, usize> = Default::default();
     let mut cuts = Vec::new();

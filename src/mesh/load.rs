@@ -1,24 +1,100 @@
-//! OBJ input and output.
-//!
-//! Faces, polygons, groups and objects are read by `tobj` (polygons are fan-triangulated,
-//! all objects merged). The `v` and `f` lines are also scanned here, cheaply, for two reasons:
-//! errors name the offending line, and vertices keep the order of the file (tobj renumbers
-//! them by first use), so `puppet skeleton` output lines up with the input file.
+//! From a file to a validated [`Mesh`]: read, parse (OBJ, PLY or STL), weld, repair what
+//! can be repaired, validate. Each stage is timed; the report says what was done to the
+//! file's contents, for the warnings.
 
-use super::{validate, weld, Mesh, MeshError, MAX_COORDINATE};
-use glam::DVec3;
-use std::collections::HashMap;
-use std::io::Write;
+use super::edges::HalfEdges;
+use super::parts::Parts;
+use super::repair::{fill_holes, orient, weld_seams, Holes};
+use super::soup::Soup;
+use super::validate::validate_with;
+use super::{obj, ply, stl, weld, Mesh, MeshError};
+use crate::progress::{silent, Progress};
 use std::path::Path;
+use std::time::Instant;
+
+/// Largest hole (a boundary loop, in edges) filled unless the user says otherwise.
+pub const FILL_HOLES: usize = 32;
+
+/// Relative weld tolerance: vertices closer than this times the bounding-box diagonal are
+/// one vertex.
+pub const WELD_TOLERANCE: f64 = 1e-7;
+
+/// What loading may repair.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct LoadOptions {
+    /// Largest hole, in boundary edges, that is closed; 0 closes none. Default
+    /// [`FILL_HOLES`].
+    pub fill_holes: usize,
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        LoadOptions {
+            fill_holes: FILL_HOLES,
+        }
+    }
+}
+
+/// The mesh file formats read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Format {
+    /// Wavefront OBJ.
+    Obj,
+    /// Stanford PLY.
+    Ply,
+    /// Stereolithography STL.
+    Stl,
+}
+
+impl Format {
+    /// The format of a file: by its extension (`.obj`, `.ply`, `.stl`, any case), otherwise
+    /// by its first bytes (`ply`; a binary STL's size; `solid` then `facet`), otherwise OBJ.
+    pub fn of(path: Option<&Path>, bytes: &[u8]) -> Format {
+        let ext = path
+            .and_then(|p| p.extension())
+            .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        match ext.as_deref() {
+            Some("obj") => return Format::Obj,
+            Some("ply") => return Format::Ply,
+            Some("stl") => return Format::Stl,
+            _ => {}
+        }
+        if bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r\n") {
+            return Format::Ply;
+        }
+        let binary_stl = bytes.len() >= 84 && {
+            let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
+            bytes.len() == 84 + 50 * n
+        };
+        let head = &bytes[..bytes.len().min(512)];
+        let ascii_stl = head.starts_with(b"solid") && head.windows(5).any(|w| w == b"facet");
+        if binary_stl || ascii_stl {
+            return Format::Stl;
+        }
+        Format::Obj
+    }
+
+    /// The name users know.
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::Obj => "OBJ",
+            Format::Ply => "PLY",
+            Format::Stl => "STL",
+        }
+    }
+}
 
 /// What loading did to the file's contents, for the summary and the warnings.
-#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct LoadReport {
+    /// The file's format.
+    pub format: Format,
     /// Objects/groups merged into one mesh.
     pub objects: usize,
-    /// `v` lines in the file.
+    /// Vertices in the file.
     pub file_vertices: usize,
-    /// Triangles after triangulating polygons.
+    /// Triangles after splitting polygons.
     pub file_triangles: usize,
     /// Vertices merged into another by welding (exact duplicates included).
     pub welded: usize,
@@ -26,13 +102,50 @@ pub struct LoadReport {
     pub dropped_degenerate: usize,
     /// Vertices no face uses, removed.
     pub unreferenced: usize,
+    /// Vertices of open seams welded to their neighbour across the gap.
+    pub seams_welded: usize,
+    /// Faces turned to agree with their neighbours.
+    pub reoriented: usize,
+    /// Holes closed.
+    pub holes_filled: usize,
+    /// Faces added to close them.
+    pub hole_faces: usize,
+    /// Small separate parts that ride along with the body.
+    pub riders: usize,
     /// Faces with zero area kept (they are needed to close the surface).
     pub zero_area: usize,
-    /// True when the whole mesh was inside out and was flipped.
-    pub flipped: bool,
+    /// Parts that were inside out and were flipped.
+    pub flipped_parts: usize,
+    /// Seconds per stage (read, parse, weld, repair, check), in order.
+    pub seconds: Vec<(&'static str, f64)>,
 }
 
 impl LoadReport {
+    fn new(format: Format) -> LoadReport {
+        LoadReport {
+            format,
+            objects: 0,
+            file_vertices: 0,
+            file_triangles: 0,
+            welded: 0,
+            dropped_degenerate: 0,
+            unreferenced: 0,
+            seams_welded: 0,
+            reoriented: 0,
+            holes_filled: 0,
+            hole_faces: 0,
+            riders: 0,
+            zero_area: 0,
+            flipped_parts: 0,
+            seconds: Vec::new(),
+        }
+    }
+
+    /// Total seconds from file to validated mesh.
+    pub fn total_seconds(&self) -> f64 {
+        self.seconds.iter().map(|s| s.1).sum()
+    }
+
     /// Human-readable warnings, one per line, empty when the file was clean.
     pub fn warnings(&self) -> Vec<String> {
         let mut w = Vec::new();
@@ -48,202 +161,194 @@ impl LoadReport {
         if self.unreferenced > 0 {
             w.push(format!("removed {} unused vertices", self.unreferenced));
         }
+        if self.seams_welded > 0 {
+            w.push(format!(
+                "closed open seams by welding {} across their gaps",
+                plural(self.seams_welded, "vertex pair")
+            ));
+        }
+        if self.reoriented > 0 {
+            w.push(format!(
+                "turned {} oriented against {} neighbours",
+                plural(self.reoriented, "face"),
+                if self.reoriented == 1 { "its" } else { "their" }
+            ));
+        }
+        if self.holes_filled > 0 {
+            w.push(format!(
+                "filled {} with {}",
+                plural(self.holes_filled, "hole"),
+                plural(self.hole_faces, "new face")
+            ));
+        }
+        if self.riders > 0 {
+            w.push(format!(
+                "{} along with the body (no skeleton of {} own)",
+                if self.riders == 1 {
+                    "1 small separate part rides".to_string()
+                } else {
+                    format!("{} small separate parts ride", self.riders)
+                },
+                if self.riders == 1 { "its" } else { "their" }
+            ));
+        }
         if self.zero_area > 0 {
             w.push(format!("{} faces have zero area", self.zero_area));
         }
-        if self.flipped {
-            w.push("the mesh was inside out; faces were flipped".to_string());
+        if self.flipped_parts > 0 {
+            w.push(format!(
+                "{} was inside out; its faces were flipped",
+                if self.flipped_parts == 1 {
+                    "the mesh".to_string()
+                } else {
+                    format!("{} parts", self.flipped_parts)
+                }
+            ));
         }
         w
     }
 }
 
-/// Loads, welds and validates an OBJ file.
+/// `1 hole`, `2 holes`.
+fn plural(n: usize, word: &str) -> String {
+    if n == 1 {
+        format!("1 {word}")
+    } else {
+        format!("{n} {word}s")
+    }
+}
+
+/// Loads a mesh file with the default repairs.
+pub fn load(path: &Path) -> Result<(Mesh, LoadReport), MeshError> {
+    load_with(path, &LoadOptions::default(), silent())
+}
+
+/// Loads, welds, repairs and validates a mesh file, reporting each stage to `progress`
+/// (`reading`, `parsing`, `welding`, `repairing`, `checking`).
 ///
-/// Relative weld tolerance is `1e-7` of the bounding-box diagonal.
-pub fn load_obj(path: &Path) -> Result<(Mesh, LoadReport), MeshError> {
+/// # Errors
+/// [`MeshError`] saying what is wrong (never naming the file: the caller adds it).
+pub fn load_with(
+    path: &Path,
+    options: &LoadOptions,
+    progress: Progress,
+) -> Result<(Mesh, LoadReport), MeshError> {
     if path.is_dir() {
         return Err(MeshError::Io("is a directory".into()));
     }
+    progress("reading", 0.0);
+    let t = Instant::now();
     let bytes = std::fs::read(path).map_err(|e| MeshError::Io(crate::files::io_message(&e)))?;
-    parse_obj(&bytes)
-}
-
-/// Parses, welds and validates OBJ text held in memory.
-pub fn parse_obj(bytes: &[u8]) -> Result<(Mesh, LoadReport), MeshError> {
-    if bytes.iter().all(|b| b.is_ascii_whitespace()) {
-        return Err(MeshError::Parse("the file is empty".into()));
-    }
-    if let Some(pos) = bytes.iter().position(|&b| b == 0) {
-        return Err(MeshError::NotText(format!("NUL byte at offset {pos}")));
-    }
-    let text = std::str::from_utf8(bytes)
-        .map_err(|e| MeshError::NotText(format!("invalid UTF-8 at byte {}", e.valid_up_to())))?;
-    let file_positions = scan(text)?;
-
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        single_index: false,
-        ignore_points: true,
-        ignore_lines: true,
-    };
-    let mut reader = std::io::BufReader::new(bytes);
-    let (models, _materials) = tobj::load_obj_buf(&mut reader, &options, |_| {
-        Err(tobj::LoadError::OpenFileFailed)
-    })
-    .map_err(|e| MeshError::Parse(format!("OBJ parser: {e}")))?;
-
-    // tobj renumbers vertices per model by first use; map them back to file order through
-    // the exact bit patterns (both sides parse the same text with `f64::from_str`).
-    let mut index_of: HashMap<[u64; 3], u32> = HashMap::with_capacity(file_positions.len());
-    for (i, p) in file_positions.iter().enumerate() {
-        index_of
-            .entry([p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
-            .or_insert(i as u32);
-    }
-    let mut triangles: Vec<[u32; 3]> = Vec::new();
-    for model in &models {
-        let m = &model.mesh;
-        let local: Vec<u32> = m
-            .positions
-            .chunks_exact(3)
-            .map(|c| {
-                let key = [c[0].to_bits(), c[1].to_bits(), c[2].to_bits()];
-                index_of.get(&key).copied().ok_or_else(|| {
-                    MeshError::Parse("OBJ parser returned a vertex not in the file".into())
-                })
-            })
-            .collect::<Result<_, _>>()?;
-        for t in m.indices.chunks_exact(3) {
-            let tri = [t[0], t[1], t[2]].map(|k| local.get(k as usize).copied());
-            match tri {
-                [Some(a), Some(b), Some(c)] => triangles.push([a, b, c]),
-                _ => return Err(MeshError::Parse("face index out of range".into())),
-            }
-        }
-    }
-    let mut report = LoadReport {
-        objects: models.len(),
-        file_vertices: file_positions.len(),
-        file_triangles: triangles.len(),
-        ..Default::default()
-    };
-    if triangles.is_empty() {
-        return Err(MeshError::Empty {
-            vertices: file_positions.len(),
-        });
-    }
-    // Only vertices that faces use are checked and kept.
-    let mut used = vec![false; file_positions.len()];
-    for t in &triangles {
-        for &v in t {
-            used[v as usize] = true;
-        }
-    }
-    for (i, p) in file_positions.iter().enumerate() {
-        if !used[i] {
-            continue;
-        }
-        for value in p.to_array() {
-            if !value.is_finite() {
-                return Err(MeshError::NonFinite {
-                    vertex: i + 1,
-                    value,
-                });
-            }
-            if value.abs() > MAX_COORDINATE {
-                return Err(MeshError::TooLarge {
-                    vertex: i + 1,
-                    value,
-                    max: MAX_COORDINATE,
-                });
-            }
-        }
-    }
-    let mut mesh = Mesh {
-        positions: file_positions,
-        triangles,
-    };
-    let stats = weld(&mut mesh, 1e-7);
-    report.welded = stats.merged;
-    report.dropped_degenerate = stats.dropped_faces;
-    report.unreferenced = stats.removed_vertices.saturating_sub(stats.merged);
-    let topo = validate(&mut mesh)?;
-    report.zero_area = topo.zero_area_faces;
-    report.flipped = topo.flipped;
+    let read = t.elapsed().as_secs_f64();
+    let format = Format::of(Some(path), &bytes);
+    let (mesh, mut report) = parse(&bytes, format, options, progress)?;
+    report.seconds.insert(0, ("read", read));
     Ok((mesh, report))
 }
 
-/// Checks every `v` and `f` line and returns the positions in file order.
-fn scan(text: &str) -> Result<Vec<DVec3>, MeshError> {
-    let mut positions = Vec::new();
-    for (n, line) in text.lines().enumerate() {
-        let line_no = n + 1;
-        let mut words = line.split_whitespace();
-        match words.next() {
-            Some("v") => {
-                let mut xyz = [0.0f64; 3];
-                for (k, slot) in xyz.iter_mut().enumerate() {
-                    let word = words.next().ok_or_else(|| MeshError::Syntax {
-                        line: line_no,
-                        message: format!("vertex has {k} coordinates, expected 3"),
-                    })?;
-                    *slot = word.parse().map_err(|_| MeshError::Syntax {
-                        line: line_no,
-                        message: format!("'{word}' is not a number"),
-                    })?;
-                }
-                positions.push(DVec3::from_array(xyz));
-            }
-            Some("f") => {
-                let mut count = 0;
-                for word in words {
-                    count += 1;
-                    let first = word.split('/').next().unwrap_or("");
-                    let idx: i64 = first.parse().map_err(|_| MeshError::Syntax {
-                        line: line_no,
-                        message: format!("'{word}' is not a vertex index"),
-                    })?;
-                    let n = positions.len() as i64;
-                    let resolved = if idx < 0 { n + idx } else { idx - 1 };
-                    if idx == 0 || resolved < 0 || resolved >= n {
-                        return Err(MeshError::Syntax {
-                            line: line_no,
-                            message: format!(
-                                "vertex index {idx} is out of range (the file has {n} vertices so far)"
-                            ),
-                        });
-                    }
-                }
-                if count < 3 {
-                    return Err(MeshError::Syntax {
-                        line: line_no,
-                        message: format!("face has {count} vertices, expected at least 3"),
-                    });
-                }
-            }
-            _ => {}
-        }
-    }
-    Ok(positions)
+/// Parses, welds and validates OBJ text held in memory (default repairs).
+pub fn parse_obj(bytes: &[u8]) -> Result<(Mesh, LoadReport), MeshError> {
+    parse(bytes, Format::Obj, &LoadOptions::default(), silent())
 }
 
-/// Writes `positions` and 1-based triangles as a plain OBJ.
-pub fn write_obj(
-    out: &mut dyn Write,
-    positions: &[DVec3],
-    triangles: &[[u32; 3]],
-    header: &str,
-) -> std::io::Result<()> {
-    let mut w = std::io::BufWriter::new(out);
-    for line in header.lines() {
-        writeln!(w, "# {line}")?;
+/// Parses, welds, repairs and validates a mesh file held in memory.
+///
+/// # Errors
+/// [`MeshError`] saying what is wrong.
+pub fn parse(
+    bytes: &[u8],
+    format: Format,
+    options: &LoadOptions,
+    progress: Progress,
+) -> Result<(Mesh, LoadReport), MeshError> {
+    let mut report = LoadReport::new(format);
+    let mut clock = Instant::now();
+    // Ends a stage and announces the next.
+    let mut lap = |report: &mut LoadReport, stage: &'static str, next: &str| {
+        let now = Instant::now();
+        report.seconds.push((stage, (now - clock).as_secs_f64()));
+        clock = now;
+        progress(next, 0.0);
+    };
+    progress("parsing", 0.0);
+    let soup: Soup = match format {
+        Format::Obj => obj::parse(bytes)?,
+        Format::Ply => ply::parse(bytes)?,
+        Format::Stl => stl::parse(bytes)?,
+    };
+    report.objects = soup.objects;
+    report.file_vertices = soup.positions.len();
+    report.file_triangles = soup.triangles.len();
+    let (mut mesh, _) = soup.into_mesh()?;
+    lap(&mut report, "parse", "welding");
+
+    let stats = weld(&mut mesh, WELD_TOLERANCE);
+    report.welded = stats.merged;
+    report.dropped_degenerate = stats.dropped_faces;
+    report.unreferenced = stats.removed_vertices.saturating_sub(stats.merged);
+    if mesh.triangles.is_empty() {
+        return Err(MeshError::Degenerate(
+            "no triangles left: every face collapses when its vertices are welded".into(),
+        ));
     }
-    for p in positions {
-        writeln!(w, "v {} {} {}", p.x, p.y, p.z)?;
+    lap(&mut report, "weld", "checking");
+
+    let mut half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
+    // The check and the parts in parallel (finding the parts is mostly one thread's work).
+    let (closed, measured) = rayon::join(|| half.is_closed_manifold(), || Parts::measured(&mesh));
+    let (mut closed, mut measured) = (Some(closed), Some(measured));
+    let mut holes = Holes::default();
+    if closed == Some(false) {
+        let c = half.census(&|_| true);
+        if !c.is_clean() {
+            (closed, measured) = (None, None);
+            if c.boundary > 0 {
+                report.seams_welded = weld_seams(&mut mesh, &half);
+                if report.seams_welded > 0 {
+                    half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
+                }
+            }
+            if c.inconsistent > 0 {
+                if let Some(turned) = orient(&mut mesh, &half) {
+                    report.reoriented = turned;
+                    half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
+                }
+            }
+            if c.boundary > 0 && options.fill_holes > 0 {
+                holes = fill_holes(&mut mesh, &half, options.fill_holes);
+                report.holes_filled = holes.filled;
+                report.hole_faces = holes.faces;
+                if holes.filled > 0 {
+                    half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
+                }
+            } else if c.boundary > 0 {
+                holes = fill_holes(&mut mesh.clone(), &half, 0);
+            }
+            lap(&mut report, "repair", "checking");
+        }
     }
-    for t in triangles {
-        writeln!(w, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1)?;
-    }
-    w.flush()
+
+    let topo = validate_with(&mut mesh, &half, closed, measured).map_err(|e| match e {
+        MeshError::Topology(m) if holes.too_large > 0 && m.contains("boundary") => {
+            MeshError::Topology(if options.fill_holes == 0 {
+                format!(
+                    "{m}; {} (hole filling is off)",
+                    plural(holes.too_large, "hole")
+                )
+            } else {
+                format!(
+                    "{m}; {} larger than the {} edges filled (the largest has {})",
+                    plural(holes.too_large, "hole"),
+                    options.fill_holes,
+                    holes.largest_left
+                )
+            })
+        }
+        e => e,
+    })?;
+    report.zero_area = topo.zero_area_faces;
+    report.flipped_parts = topo.flipped_parts;
+    report.riders = topo.riders;
+    lap(&mut report, "check", "checked");
+    Ok((mesh, report))
 }

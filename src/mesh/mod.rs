@@ -1,19 +1,41 @@
-//! Triangle meshes: loading (OBJ through `tobj`), welding, validation as a closed oriented
-//! 2-manifold, angle-weighted normals, analytic test shapes and subdivision.
+//! Triangle meshes: reading files, welding, repairing and validating them, angle-weighted
+//! normals, analytic test shapes and subdivision.
 //!
 //! Everything downstream (skeleton, rig, simulation) takes a [`Mesh`] that passed
-//! [`validate`]: a welded, closed, consistently and outwardly oriented 2-manifold whose
-//! vertex order is the order of first occurrence in the input file.
+//! [`validate`]: a welded mesh whose body is a closed, consistently and outwardly oriented
+//! 2-manifold (small separate parts may ride along, see [`Parts`]), with the vertex order
+//! of the input file (vertices added to close holes come last).
+//!
+//! Files, in the order a load runs them:
+//! * `obj`, `ply`, `stl`: parsing into a `soup` (positions and triangles as the file has them);
+//! * `weld`: one vertex where the file has several at the same place;
+//! * `edges`: the half-edges by vertex and the edge census that repairs and checks read;
+//! * `repair`: open seams, faces turned against their neighbours, small holes;
+//! * `parts`: the connected pieces, body and riders;
+//! * `validate`: the checks, and turning inside-out parts;
+//! * `load`: the pipeline, its options and its report;
+//! * `normals`, `shapes`, `subdivide`: vertex normals, test shapes, refinement.
 
+mod edges;
 mod load;
 mod normals;
+mod obj;
+mod parts;
+mod ply;
+mod repair;
 pub mod shapes;
+mod soup;
+mod stl;
 mod subdivide;
 mod validate;
 mod weld;
 
-pub use load::{load_obj, parse_obj, write_obj, LoadReport};
+pub use load::{
+    load, load_with, parse, parse_obj, Format, LoadOptions, LoadReport, FILL_HOLES, WELD_TOLERANCE,
+};
 pub use normals::vertex_normals;
+pub use obj::write as write_obj;
+pub use parts::{Parts, RIDER_AREA};
 pub use subdivide::{subdivide_loop, subdivide_loop_values, subdivide_midpoint};
 pub use validate::{validate, Topology};
 pub use weld::weld;
@@ -113,6 +135,15 @@ impl Mesh {
             })
             .sum()
     }
+}
+
+/// A message from another crate on one line (errors are one line each).
+fn one_line(message: &str) -> String {
+    let words: Vec<&str> = message.split_whitespace().collect();
+    let line = words.join(" ");
+    // A parser's internal state says nothing to a user.
+    let line = line.split(" Error: ParseError").next().unwrap_or(&line);
+    line.replace(". Error:", ":")
 }
 
 /// Bounding box of a point set; `(0, 0)` when empty.

@@ -1,196 +1,187 @@
-//! Validation: is the mesh a closed, consistently oriented 2-manifold the skeleton can use?
-//! Refusals say what is wrong and how much ("37 boundary edges, e.g. 4–9").
+//! Validation: is the mesh's body a closed, consistently oriented 2-manifold the skeleton can
+//! use? Refusals say what is wrong and how much ("37 boundary edges, e.g. 4–9"). Riders
+//! (small separate parts, see `parts`) are not held to it: they only ride along.
 
+use super::edges::{target, EdgeCensus, HalfEdges};
+use super::parts::{Measures, Parts};
 use super::{Mesh, MeshError};
+use glam::DVec3;
+use rayon::prelude::*;
 
 /// Facts found by [`validate`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Topology {
     /// Unique edges.
     pub edges: usize,
-    /// Connected components (by shared edges).
+    /// Connected components (by shared vertices).
     pub components: usize,
+    /// Components that ride along (see `parts`).
+    pub riders: usize,
     /// Faces of exactly zero area (kept: they close the surface).
     pub zero_area_faces: usize,
-    /// The mesh was inside out and its faces were flipped.
+    /// Some part was inside out and its faces were flipped.
     pub flipped: bool,
+    /// How many parts were flipped.
+    pub flipped_parts: usize,
 }
 
-/// Checks that `mesh` is a closed, consistently oriented 2-manifold, flips it if it is
-/// inside out, and reports what it found.
+/// Checks that `mesh`'s body is a closed, consistently oriented 2-manifold, turns every
+/// closed part that is inside out, and reports what it found.
 ///
 /// # Errors
 /// [`MeshError::Topology`] naming boundary, non-manifold and inconsistently oriented edges
 /// and non-manifold vertices with counts and an example; [`MeshError::Empty`] or
 /// [`MeshError::Degenerate`] for meshes without volume.
 pub fn validate(mesh: &mut Mesh) -> Result<Topology, MeshError> {
+    let half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
+    validate_with(mesh, &half, None, None)
+}
+
+/// [`validate`] with the half-edges of `mesh` already made; `closed` when
+/// [`HalfEdges::is_closed_manifold`] was asked (and what it said), and the measured parts
+/// when they were taken.
+pub(super) fn validate_with(
+    mesh: &mut Mesh,
+    half: &HalfEdges,
+    closed: Option<bool>,
+    measured: Option<(Parts, Measures)>,
+) -> Result<Topology, MeshError> {
     if mesh.triangles.is_empty() {
         return Err(MeshError::Empty {
             vertices: mesh.positions.len(),
         });
     }
-    // Directed edges sorted by undirected key.
-    let mut edges: Vec<(u32, u32, bool)> = Vec::with_capacity(mesh.triangles.len() * 3);
-    for t in &mesh.triangles {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            edges.push((a.min(b), a.max(b), a < b));
+    let (parts, measures) = measured.unwrap_or_else(|| Parts::measured(mesh));
+    let body = |v: u32| !parts.is_rider_vertex(v as usize);
+    // The whole mesh a closed manifold (the usual case): nothing to look into.
+    let manifold = closed.unwrap_or_else(|| half.is_closed_manifold());
+    let census = if manifold {
+        EdgeCensus {
+            edges: half.len() / 2,
+            ..EdgeCensus::default()
         }
-    }
-    edges.sort_unstable();
-    let (mut boundary, mut nonmanifold, mut flipped_edges, mut unique) = (0, 0, 0, 0);
-    let mut examples: [Option<(u32, u32)>; 3] = [None; 3];
-    let mut i = 0;
-    while i < edges.len() {
-        let mut j = i;
-        while j < edges.len() && edges[j].0 == edges[i].0 && edges[j].1 == edges[i].1 {
-            j += 1;
+    } else {
+        let census = half.census(&body);
+        problems(&census)?;
+        let bad_vertices = nonmanifold_vertices(mesh, half, &parts);
+        if let Some(&first) = bad_vertices.first() {
+            return Err(MeshError::Topology(format!(
+                "{} non-manifold vertices where separate surface sheets touch (e.g. vertex {})",
+                bad_vertices.len(),
+                first + 1
+            )));
         }
-        unique += 1;
-        let key = (edges[i].0 + 1, edges[i].1 + 1);
-        match j - i {
-            1 => {
-                boundary += 1;
-                examples[0].get_or_insert(key);
-            }
-            2 if edges[i].2 == edges[i + 1].2 => {
-                flipped_edges += 1;
-                examples[2].get_or_insert(key);
-            }
-            2 => {}
-            _ => {
-                nonmanifold += 1;
-                examples[1].get_or_insert(key);
-            }
-        }
-        i = j;
-    }
-    let mut problems = Vec::new();
-    let eg = |e: Option<(u32, u32)>| {
-        e.map(|(a, b)| format!(" (e.g. {a}-{b})"))
-            .unwrap_or_default()
+        census
     };
-    if boundary > 0 {
-        problems.push(format!("{boundary} boundary edges{}", eg(examples[0])));
+    // Riders count only when closed.
+    let closed = closed_parts(half, &parts);
+    let volume = measures.volume;
+    let mut lo = vec![DVec3::splat(f64::INFINITY); parts.len()];
+    let mut hi = vec![DVec3::splat(f64::NEG_INFINITY); parts.len()];
+    for (v, p) in mesh.positions.iter().enumerate() {
+        let k = parts.part_of[v] as usize;
+        lo[k] = lo[k].min(*p);
+        hi[k] = hi[k].max(*p);
     }
-    if nonmanifold > 0 {
-        problems.push(format!(
-            "{nonmanifold} non-manifold edges shared by more than two faces{}",
-            eg(examples[1])
-        ));
-    }
-    if flipped_edges > 0 {
-        problems.push(format!(
-            "{flipped_edges} edges between inconsistently oriented faces{}",
-            eg(examples[2])
-        ));
-    }
-    if !problems.is_empty() {
-        return Err(MeshError::Topology(problems.join(", ")));
-    }
-    let bad_vertices = nonmanifold_vertices(mesh);
-    if let Some(&first) = bad_vertices.first() {
-        return Err(MeshError::Topology(format!(
-            "{} non-manifold vertices where separate surface sheets touch (e.g. vertex {})",
-            bad_vertices.len(),
-            first + 1
-        )));
-    }
-    let components = count_components(mesh);
-    let zero_area_faces = mesh
-        .triangles
-        .iter()
-        .filter(|t| {
-            let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
-            (b - a).cross(c - a) == glam::DVec3::ZERO
-        })
-        .count();
-    let volume = mesh.signed_volume();
-    let scale = mesh.diagonal();
-    if volume.is_nan() || volume.abs() <= 1e-12 * scale * scale * scale {
-        return Err(MeshError::Degenerate(format!(
-            "it encloses no volume (signed volume {volume:e})"
-        )));
-    }
-    let flipped = volume < 0.0;
-    if flipped {
-        for t in &mut mesh.triangles {
-            t.swap(1, 2);
+    let mut flip = vec![false; parts.len()];
+    for k in 0..parts.len() {
+        let scale = (hi[k] - lo[k]).length();
+        let flat = volume[k].is_nan() || volume[k].abs() <= 1e-12 * scale * scale * scale;
+        if !parts.rider[k] && flat {
+            return Err(MeshError::Degenerate(format!(
+                "it encloses no volume (signed volume {:e})",
+                volume[k]
+            )));
         }
+        flip[k] = closed[k] && !flat && volume[k] < 0.0;
+    }
+    let flipped_parts = flip.iter().filter(|&&f| f).count();
+    if flipped_parts > 0 {
+        mesh.triangles.par_iter_mut().for_each(|t| {
+            if flip[parts.part_of[t[0] as usize] as usize] {
+                t.swap(1, 2);
+            }
+        });
     }
     Ok(Topology {
-        edges: unique,
-        components,
-        zero_area_faces,
-        flipped,
+        edges: if manifold || parts.riders() == 0 {
+            census.edges
+        } else {
+            census.edges + half.census(&|v| !body(v)).edges
+        },
+        components: parts.len(),
+        riders: parts.riders(),
+        zero_area_faces: measures.zero_area_faces,
+        flipped: flipped_parts > 0,
+        flipped_parts,
     })
 }
 
-/// Vertices whose faces do not form a single fan (edges must already be manifold).
-fn nonmanifold_vertices(mesh: &Mesh) -> Vec<u32> {
-    let n = mesh.positions.len();
-    // CSR of the "opposite edges" of each vertex's faces: for face (v, a, b): a -> b.
-    let mut start = vec![0u32; n + 1];
-    for t in &mesh.triangles {
-        for &v in t {
-            start[v as usize + 1] += 1;
-        }
+/// The refusal for a census with problems.
+fn problems(census: &EdgeCensus) -> Result<(), MeshError> {
+    let eg = |e: Option<(u32, u32)>| {
+        e.map(|(a, b)| format!(" (e.g. {}-{})", a + 1, b + 1))
+            .unwrap_or_default()
+    };
+    let mut problems = Vec::new();
+    if census.boundary > 0 {
+        problems.push(format!(
+            "{} boundary edges{}",
+            census.boundary,
+            eg(census.examples[0])
+        ));
     }
-    for i in 0..n {
-        start[i + 1] += start[i];
+    if census.nonmanifold > 0 {
+        problems.push(format!(
+            "{} non-manifold edges shared by more than two faces{}",
+            census.nonmanifold,
+            eg(census.examples[1])
+        ));
     }
-    let mut fill = start.clone();
-    let mut opp = vec![(0u32, 0u32); mesh.triangles.len() * 3];
-    for t in &mesh.triangles {
-        for k in 0..3 {
-            let v = t[k] as usize;
-            opp[fill[v] as usize] = (t[(k + 1) % 3], t[(k + 2) % 3]);
-            fill[v] += 1;
-        }
+    if census.inconsistent > 0 {
+        problems.push(format!(
+            "{} edges between inconsistently oriented faces{}",
+            census.inconsistent,
+            eg(census.examples[2])
+        ));
     }
-    let mut bad = Vec::new();
-    for v in 0..n {
-        let fan = &mut opp[start[v] as usize..start[v + 1] as usize];
-        if fan.is_empty() {
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(MeshError::Topology(problems.join(", ")))
+    }
+}
+
+/// Body vertices whose faces do not form a single fan (edges must already be manifold and
+/// consistent).
+fn nonmanifold_vertices(mesh: &Mesh, half: &HalfEdges, parts: &Parts) -> Vec<u32> {
+    (0..mesh.positions.len() as u32)
+        .into_par_iter()
+        .filter(|&v| !parts.is_rider_vertex(v as usize) && !half.single_fan(v))
+        .collect()
+}
+
+/// Whether each part is closed and consistently oriented (every edge of two faces running
+/// opposite ways). Body parts are, once [`problems`] passed; riders are checked here.
+fn closed_parts(half: &HalfEdges, parts: &Parts) -> Vec<bool> {
+    let mut closed = vec![true; parts.len()];
+    if parts.riders() == 0 {
+        return closed;
+    }
+    for a in 0..half.vertices() as u32 {
+        let k = parts.part_of[a as usize] as usize;
+        if !parts.rider[k] || !closed[k] {
             continue;
         }
-        fan.sort_unstable();
-        // Follow a -> b from the first edge; a single fan visits every edge once.
-        let first = fan[0].0;
-        let mut cur = first;
-        let mut steps = 0;
-        while let Ok(k) = fan.binary_search_by_key(&cur, |e| e.0) {
-            cur = fan[k].1;
-            steps += 1;
-            if cur == first || steps > fan.len() {
+        let row = half.row(a);
+        for (i, &e) in row.iter().enumerate() {
+            let b = target(e);
+            let repeated = i + 1 < row.len() && target(row[i + 1]) == b;
+            if repeated || half.count(b, a) != 1 {
+                closed[k] = false;
                 break;
             }
         }
-        if steps != fan.len() || cur != first {
-            bad.push(v as u32);
-        }
     }
-    bad
-}
-
-fn count_components(mesh: &Mesh) -> usize {
-    let n = mesh.positions.len();
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn find(p: &mut [u32], mut x: u32) -> u32 {
-        while p[x as usize] != x {
-            p[x as usize] = p[p[x as usize] as usize];
-            x = p[x as usize];
-        }
-        x
-    }
-    for t in &mesh.triangles {
-        let r0 = find(&mut parent, t[0]);
-        for &v in &t[1..] {
-            let r = find(&mut parent, v);
-            if r != r0 {
-                parent[r as usize] = r0;
-            }
-        }
-    }
-    (0..n as u32).filter(|&v| find(&mut parent, v) == v).count()
+    closed
 }

@@ -57,7 +57,13 @@ impl Puppet {
             ..SkeletonParams::default()
         };
         let skeleton = skeleton::cache::build_cached(&mesh, &normals, &params, progress)?;
-        let uncut = Joints::with_mesh(&skeleton.points, &mesh.triangles, &[], &rig_file.root);
+        // Riders go with the section of the body vertex nearest to them.
+        let hosts = if skeleton.riders > 0 {
+            mesh::Parts::of(&mesh).hosts(&mesh.positions)
+        } else {
+            Vec::new()
+        };
+        let uncut = Joints::with_mesh(&skeleton.points, &mesh.triangles, &hosts, &rig_file.root);
         let joints = rig_file.joints(uncut)?;
         let rig = Rig::new(
             &mesh,

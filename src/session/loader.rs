@@ -1,7 +1,7 @@
 //! Loading a mesh and building its puppet on a background thread, with progress, so the
 //! window stays responsive and the current puppet stays until the new one is ready.
 
-use crate::mesh::{self, Mesh, MeshError};
+use crate::mesh::{self, LoadOptions, LoadReport, Mesh, MeshError};
 use crate::puppet::{BuildError, Puppet, RigFile};
 use std::path::PathBuf;
 use std::sync::mpsc::{channel, Receiver, TryRecvError};
@@ -38,6 +38,10 @@ pub struct Opened {
     pub name: String,
     /// The file's full path, when it came from a file.
     pub source: Option<PathBuf>,
+    /// What reading the file did (repairs, riders) and how long each stage took.
+    pub report: Option<LoadReport>,
+    /// Seconds from the file to the puppet: reading (when the report says) and building.
+    pub seconds: f64,
 }
 
 /// A finished load.
@@ -63,15 +67,15 @@ pub enum Status {
 }
 
 impl Loader {
-    /// Reads, validates and builds `path` (errors name the file as given).
-    pub fn open(path: PathBuf, rig_file: RigFile) -> Loader {
+    /// Reads, repairs, validates and builds `path` (errors name the file as given).
+    pub fn open(path: PathBuf, rig_file: RigFile, options: LoadOptions) -> Loader {
         Loader::spawn(move |progress| {
             let given = path.display().to_string();
-            progress("reading", 0.0);
-            let (mesh, report) = mesh::load_obj(&path).map_err(|error| LoadError::Mesh {
-                name: given.clone(),
-                error,
-            })?;
+            let (mesh, report) =
+                mesh::load_with(&path, &options, progress).map_err(|error| LoadError::Mesh {
+                    name: given.clone(),
+                    error,
+                })?;
             for w in report.warnings() {
                 log::warn!("{given}: {w}");
             }
@@ -82,15 +86,28 @@ impl Loader {
             let mut opened = build(mesh, given, rig_file, progress)?;
             opened.name = name;
             opened.source = source;
+            opened.seconds += report.seconds.iter().map(|s| s.1).sum::<f64>();
+            opened.report = Some(report);
             Ok(opened)
         })
     }
 
-    /// Builds the puppet of an already validated mesh named `name`, from `source`.
-    pub fn build(mesh: Mesh, name: String, source: Option<PathBuf>, rig_file: RigFile) -> Loader {
+    /// Builds the puppet of an already validated mesh named `name`, from `source`; `report`
+    /// says how the mesh was read, when it was.
+    pub fn build(
+        mesh: Mesh,
+        name: String,
+        source: Option<PathBuf>,
+        report: Option<LoadReport>,
+        rig_file: RigFile,
+    ) -> Loader {
         Loader::spawn(move |progress| {
             let mut opened = build(mesh, name, rig_file, progress)?;
             opened.source = source;
+            if let Some(r) = &report {
+                opened.seconds += r.total_seconds();
+            }
+            opened.report = report;
             Ok(opened)
         })
     }
@@ -132,11 +149,14 @@ fn build(
     rig_file: RigFile,
     progress: &(dyn Fn(&str, f64) + Sync),
 ) -> Loaded {
+    let start = std::time::Instant::now();
     match Puppet::build(mesh, rig_file, progress) {
         Ok(puppet) => Ok(Opened {
             puppet: Box::new(puppet),
             name,
             source: None,
+            report: None,
+            seconds: start.elapsed().as_secs_f64(),
         }),
         Err(error) => Err(LoadError::Build { name, error }),
     }
@@ -161,14 +181,22 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let bad = dir.join("open.obj");
         std::fs::write(&bad, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
-        let err = wait(Loader::open(bad.clone(), RigFile::default()))
+        let options = LoadOptions { fill_holes: 0 };
+        let err = wait(Loader::open(bad.clone(), RigFile::default(), options))
             .err()
             .unwrap()
             .to_string();
         assert!(err.starts_with(&bad.display().to_string()), "{err}");
         assert!(err.contains("boundary edges"), "{err}");
         let good = crate::mesh::shapes::icosphere(1.0, 2);
-        let opened = wait(Loader::build(good, "ball".into(), None, RigFile::default())).unwrap();
+        let opened = wait(Loader::build(
+            good,
+            "ball".into(),
+            None,
+            None,
+            RigFile::default(),
+        ))
+        .unwrap();
         assert_eq!(opened.name, "ball");
         assert_eq!(opened.puppet.joints.sections().len(), 1);
         let _ = std::fs::remove_dir_all(&dir);

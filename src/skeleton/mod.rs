@@ -143,6 +143,9 @@ pub struct Skeleton {
     pub fallback: usize,
     /// Vertices whose distance was limited by the local thickness by more than 1 %.
     pub clamped: usize,
+    /// Vertices of riders (small separate parts, see [`crate::mesh::Parts`]): no skeleton of
+    /// their own, `d = 0` and `sp = p`.
+    pub riders: usize,
     /// Finite tetrahedra of the Delaunay tetrahedralization.
     pub tetrahedra: usize,
     /// Circumcentres used (inside, not slivers); 0 for [`Method::ShrinkingBall`], which
@@ -163,20 +166,50 @@ pub enum SkeletonError {
     Normals(usize, usize),
 }
 
-/// Builds the skeleton of a validated mesh with unit outward `normals`.
+/// Builds the skeleton of a validated mesh with unit outward `normals`. Riders (small
+/// separate parts, [`crate::mesh::Parts`]) are left out of it: the body's skeleton is built
+/// alone, and each rider vertex gets `d = 0`, `sp = p`.
 pub fn build(
     mesh: &Mesh,
     normals: &[DVec3],
     params: &SkeletonParams,
     progress: Progress,
 ) -> Result<Skeleton, SkeletonError> {
-    build_with(
-        mesh,
-        normals,
+    let n = mesh.positions.len();
+    if normals.len() != n {
+        return Err(SkeletonError::Normals(normals.len(), n));
+    }
+    let parts = crate::mesh::Parts::of(mesh);
+    if parts.riders() == 0 {
+        return build_with(
+            mesh,
+            normals,
+            params,
+            progress,
+            Overlap::UntilTetrahedralized,
+        );
+    }
+    let (body, old) = parts.body(mesh);
+    let body_normals: Vec<DVec3> = old.iter().map(|&v| normals[v as usize]).collect();
+    let sk = build_with(
+        &body,
+        &body_normals,
         params,
         progress,
         Overlap::UntilTetrahedralized,
-    )
+    )?;
+    let mut distance = vec![0.0; n];
+    let mut points = mesh.positions.clone();
+    for (k, &v) in old.iter().enumerate() {
+        distance[v as usize] = sk.distance[k];
+        points[v as usize] = sk.points[k];
+    }
+    Ok(Skeleton {
+        distance,
+        points,
+        riders: n - old.len(),
+        ..sk
+    })
 }
 
 /// How much of the thickness stage runs alongside the tetrahedralization.
@@ -352,6 +385,7 @@ fn build_with(
     seconds.push(("total", clock.elapsed().as_secs_f64()));
     progress("done", 1.0);
     Ok(Skeleton {
+        riders: 0,
         distance,
         points,
         fallback,

@@ -70,6 +70,8 @@ pub struct PanelState {
     pub message: Option<(String, bool)>,
     /// Loading: stage and fraction.
     pub loading: Option<(String, f32)>,
+    /// The puppet shown took this many seconds from its file, read as the report says.
+    pub opened: Option<(f64, Option<crate::mesh::LoadReport>)>,
     /// Frame statistics.
     pub stats: Stats,
 }
@@ -86,6 +88,7 @@ impl Default for PanelState {
             width_px: 0.0,
             message: None,
             loading: None,
+            opened: None,
             stats: Stats::default(),
         }
     }

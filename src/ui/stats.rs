@@ -31,6 +31,25 @@ pub(super) fn stats_section(ui: &mut egui::Ui, state: &PanelState, session: &Ses
             ui.label(v);
             ui.end_row();
         }
+        if let Some((seconds, report)) = &state.opened {
+            // The whole path from the file, stage by stage on hover.
+            ui.label("opened in");
+            let label = ui.label(format!("{seconds:.2} s"));
+            let mut stages: Vec<String> = report
+                .iter()
+                .flat_map(|r| r.seconds.iter())
+                .map(|(k, v)| format!("{k} {:.0} ms", v * 1e3))
+                .collect();
+            stages.extend(
+                p.skeleton
+                    .seconds
+                    .iter()
+                    .filter(|(k, _)| *k == "total")
+                    .map(|(_, v)| format!("skeleton {:.0} ms", v * 1e3)),
+            );
+            label.on_hover_text(stages.join(", "));
+            ui.end_row();
+        }
     });
     ui.small("drag: turn selection or orbit · right drag: pan · wheel: zoom · F: frame · R: reset pose · Ctrl+Z/Y: undo/redo · W: wireframe · Space: pause");
 }

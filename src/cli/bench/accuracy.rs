@@ -22,6 +22,7 @@
 //!    sweep of reduction iterations is shown but not held against it).
 
 use super::{median_p95, Base, Input};
+use crate::cli::LoadArgs;
 use anyhow::{bail, Result};
 use glam::DVec3;
 use puppet::scenario::reference::Reference;
@@ -232,8 +233,8 @@ pub struct Args {
     json: bool,
 }
 
-pub fn run(args: &Args) -> Result<()> {
-    let base = Base::load(&args.input, None)?;
+pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
+    let base = Base::load(&args.input, load, None)?;
     let scenario = base.scenario(0, 1.0)?;
     let diag = scenario.diagonal;
     let mut report = Report {

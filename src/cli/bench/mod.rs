@@ -18,7 +18,7 @@ mod skip;
 mod stress;
 mod throughput;
 
-use super::load_mesh;
+use super::{load_mesh, LoadArgs};
 use anyhow::{anyhow, bail, Result};
 use puppet::mesh::{subdivide_loop_values, vertex_normals, Mesh};
 use puppet::scenario::Scenario;
@@ -38,7 +38,7 @@ pub enum Bench {
     Skip(skip::Args),
     /// Skeleton accuracy against analytic shapes.
     Skeleton(skeleton::AccuracyArgs),
-    /// Skeleton time per stage on the mesh Loop-subdivided 0..=N times.
+    /// Time from file to skeleton, per stage, on the mesh Loop-subdivided 0..=N times.
     SkeletonSpeed(skeleton::SpeedArgs),
     /// This machine's copy bandwidth and a plain scalar spring loop (yardsticks).
     Machine(machine::Args),
@@ -51,14 +51,14 @@ pub struct Input {
     pub mesh: Option<PathBuf>,
 }
 
-pub fn run(bench: &Bench) -> Result<()> {
+pub fn run(bench: &Bench, load: &LoadArgs) -> Result<()> {
     match bench {
-        Bench::Throughput(args) => throughput::run(args),
-        Bench::Accuracy(args) => accuracy::run(args),
+        Bench::Throughput(args) => throughput::run(args, load),
+        Bench::Accuracy(args) => accuracy::run(args, load),
         Bench::Stress(args) => stress::run(args),
-        Bench::Skip(args) => skip::run(args),
+        Bench::Skip(args) => skip::run(args, load),
         Bench::Skeleton(args) => skeleton::accuracy(args),
-        Bench::SkeletonSpeed(args) => skeleton::speed(args),
+        Bench::SkeletonSpeed(args) => skeleton::speed(args, load),
         Bench::Machine(args) => machine::run(args),
     }
 }
@@ -76,14 +76,14 @@ struct Base {
 
 impl Base {
     /// The input mesh, or a generated torus of about `torus` springs.
-    fn load(input: &Input, torus: Option<usize>) -> Result<Base> {
+    fn load(input: &Input, load: &LoadArgs, torus: Option<usize>) -> Result<Base> {
         if let Some(springs) = torus {
             if springs > MAX_TORUS_SPRINGS {
                 bail!("--torus: at most {MAX_TORUS_SPRINGS} springs, got {springs}");
             }
             return Ok(Base::torus(springs));
         }
-        let (mesh, _, name) = load_mesh(input.mesh.as_deref())?;
+        let (mesh, _, name) = load_mesh(input.mesh.as_deref(), load)?;
         let normals = vertex_normals(&mesh).map_err(|e| anyhow!("{name}: {e}"))?;
         let sk = puppet::skeleton::build(
             &mesh,

@@ -1,10 +1,12 @@
-//! `puppet bench --skeleton` (accuracy against analytic shapes) and `--skeleton-speed`
-//! (time per stage on a mesh Loop-subdivided 0..=N times, with peak memory).
+//! `puppet bench skeleton` (accuracy against analytic shapes) and `skeleton-speed` (the
+//! time from a file to its skeleton, per stage, on a mesh Loop-subdivided 0..=N times, the
+//! time to write the skeletal OBJ against the disk's own speed, and peak memory).
 
-use crate::cli::load_mesh;
-use anyhow::Result;
-use puppet::mesh::{subdivide_loop, vertex_normals};
+use crate::cli::{load_mesh, FileError, LoadArgs};
+use anyhow::{bail, Result};
+use puppet::mesh::{self, subdivide_loop, vertex_normals, write_obj};
 use puppet::skeleton::{self, truth, Method, SkeletonParams};
+use std::time::Instant;
 
 /// `puppet bench skeleton`.
 #[derive(clap::Args, Debug)]
@@ -28,6 +30,14 @@ pub struct SpeedArgs {
     /// Runs per size; the median is reported.
     #[arg(long, default_value_t = 3)]
     runs: usize,
+    /// Fail (exit status 1) when reading a file of 100k vertices or more (read, parse,
+    /// weld, repair, check) takes longer than this fraction of its skeleton.
+    #[arg(long)]
+    max_load_ratio: Option<f64>,
+    /// Fail when writing the skeletal OBJ is slower than this fraction of writing the same
+    /// number of bytes straight to the same disk.
+    #[arg(long)]
+    min_write_speed: Option<f64>,
     /// Print JSON instead of a Markdown table.
     #[arg(long)]
     json: bool,
@@ -62,77 +72,201 @@ pub fn accuracy(args: &AccuracyArgs) -> Result<()> {
 struct SpeedRow {
     vertices: usize,
     faces: usize,
+    file_mib: f64,
     runs: usize,
+    /// From the file to the skeleton: load, normals, skeleton.
     seconds_median: f64,
+    /// Read, parse, weld, (repair,) check.
+    load_median: f64,
+    skeleton_median: f64,
+    load_ratio: f64,
     stages_median: Vec<(String, f64)>,
+    /// Writing the skeletal OBJ, and the same bytes written straight to the same disk.
+    write_median: f64,
+    raw_write_median: f64,
     peak_rss_mib: Option<f64>,
 }
 
-pub fn speed(args: &SpeedArgs) -> Result<()> {
-    let (mut mesh, _, name) = load_mesh(args.mesh.as_deref())?;
+/// Files of the measurement, removed when it ends.
+struct Scratch(std::path::PathBuf);
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// Median of each stage over runs (stages in the order of the first run).
+fn stage_medians(runs: &[Vec<(String, f64)>]) -> Vec<(String, f64)> {
+    runs[0]
+        .iter()
+        .map(|(stage, _)| {
+            let values = runs
+                .iter()
+                .filter_map(|r| r.iter().find(|(s, _)| s == stage).map(|x| x.1))
+                .collect();
+            (stage.clone(), truth::median_p95(values).0)
+        })
+        .collect()
+}
+
+pub fn speed(args: &SpeedArgs, load: &LoadArgs) -> Result<()> {
+    let (mut mesh, _, name) = load_mesh(args.mesh.as_deref(), load)?;
+    let dir = std::env::temp_dir().join(format!("puppet-skeleton-speed-{}", std::process::id()));
+    std::fs::create_dir_all(&dir)?;
+    let scratch = Scratch(dir);
+    let options = load.options();
     let mut rows = Vec::new();
+    let runs = args.runs.max(1);
     for level in 0..=args.subdivisions as usize {
-        if level > 0 {
-            mesh = subdivide_loop(&mesh);
-        }
-        let normals = vertex_normals(&mesh)?;
-        let params = SkeletonParams::default();
+        // The input file itself, then each subdivision written as an OBJ file.
+        let file = match (level, &args.mesh) {
+            (0, Some(path)) => path.clone(),
+            _ => {
+                if level > 0 {
+                    mesh = subdivide_loop(&mesh);
+                }
+                let path = scratch.0.join(format!("level-{level}.obj"));
+                let mut out = std::io::BufWriter::new(std::fs::File::create(&path)?);
+                write_obj(
+                    &mut out,
+                    &mesh.positions,
+                    &mesh.triangles,
+                    "skeleton-speed input",
+                )?;
+                path
+            }
+        };
+        let file_bytes = std::fs::metadata(&file)?.len();
         let mut totals = Vec::new();
-        let mut stages: Vec<Vec<(&'static str, f64)>> = Vec::new();
-        for _ in 0..args.runs.max(1) {
-            let t = std::time::Instant::now();
-            let sk = skeleton::build(&mesh, &normals, &params, puppet::progress::silent())?;
+        let mut loads = Vec::new();
+        let mut skeletons = Vec::new();
+        let mut stages: Vec<Vec<(String, f64)>> = Vec::new();
+        let mut writes = Vec::new();
+        let mut raw_writes = Vec::new();
+        let (mut vertices, mut faces) = (0, 0);
+        for _ in 0..runs {
+            let t = Instant::now();
+            let (m, report) = mesh::load_with(&file, &options, puppet::progress::silent())
+                .map_err(|e| FileError::new(file.display().to_string(), e))?;
+            let load_seconds = report.total_seconds();
+            let t_normals = Instant::now();
+            let normals = vertex_normals(&m)?;
+            let normals_seconds = t_normals.elapsed().as_secs_f64();
+            let t_skeleton = Instant::now();
+            let sk = skeleton::build(
+                &m,
+                &normals,
+                &SkeletonParams::default(),
+                puppet::progress::silent(),
+            )?;
+            // The whole call, riders' bookkeeping included.
+            let sk_total = t_skeleton.elapsed().as_secs_f64();
             totals.push(t.elapsed().as_secs_f64());
-            stages.push(sk.seconds);
+            loads.push(load_seconds);
+            skeletons.push(sk_total);
+            let mut st: Vec<(String, f64)> = report
+                .seconds
+                .iter()
+                .map(|(k, v)| (k.to_string(), *v))
+                .collect();
+            st.push(("normals".into(), normals_seconds));
+            st.extend(
+                sk.seconds
+                    .iter()
+                    .filter(|s| s.0 != "total")
+                    .map(|(k, v)| (k.to_string(), *v)),
+            );
+            stages.push(st);
+            // Writing the skeletal mesh, then as many bytes written plainly.
+            let out = scratch.0.join("skeletal.obj");
+            let t = Instant::now();
+            let mut w = std::io::BufWriter::new(std::fs::File::create(&out)?);
+            write_obj(&mut w, &sk.points, &m.triangles, "skeletal mesh")?;
+            drop(w);
+            writes.push(t.elapsed().as_secs_f64());
+            let size = std::fs::metadata(&out)?.len() as usize;
+            let bytes = vec![b'x'; size];
+            let t = Instant::now();
+            std::fs::write(scratch.0.join("raw.bin"), &bytes)?;
+            raw_writes.push(t.elapsed().as_secs_f64());
+            (vertices, faces) = (m.positions.len(), m.triangles.len());
         }
-        let stages_median = stages[0]
-            .iter()
-            .enumerate()
-            .map(|(k, (stage, _))| {
-                let (m, _) = truth::median_p95(stages.iter().map(|s| s[k].1).collect());
-                (stage.to_string(), m)
-            })
-            .collect();
-        let (seconds_median, _) = truth::median_p95(totals);
+        let load_median = truth::median_p95(loads).0;
+        let skeleton_median = truth::median_p95(skeletons).0;
         rows.push(SpeedRow {
-            vertices: mesh.positions.len(),
-            faces: mesh.triangles.len(),
-            runs: args.runs.max(1),
-            seconds_median,
-            stages_median,
+            vertices,
+            faces,
+            file_mib: file_bytes as f64 / (1024.0 * 1024.0),
+            runs,
+            seconds_median: truth::median_p95(totals).0,
+            load_median,
+            skeleton_median,
+            load_ratio: load_median / skeleton_median.max(1e-12),
+            stages_median: stage_medians(&stages),
+            write_median: truth::median_p95(writes).0,
+            raw_write_median: truth::median_p95(raw_writes).0,
             peak_rss_mib: peak_rss_mib(),
         });
     }
+    drop(scratch);
     if args.json {
         println!("{}", serde_json::to_string(&rows)?);
-        return Ok(());
+    } else {
+        print_speed(&name, runs, &rows);
     }
+    for r in &rows {
+        if let Some(max) = args.max_load_ratio {
+            if r.vertices >= 100_000 && r.load_ratio > max {
+                bail!(
+                    "reading {} vertices took {:.2} of the skeleton's time (at most {max})",
+                    r.vertices,
+                    r.load_ratio
+                );
+            }
+        }
+        if let Some(min) = args.min_write_speed {
+            let speed = r.raw_write_median / r.write_median.max(1e-12);
+            if r.vertices >= 100_000 && speed < min {
+                bail!(
+                    "writing the skeletal OBJ of {} vertices ran at {speed:.2} of the disk's speed (at least {min})",
+                    r.vertices
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+fn print_speed(name: &str, runs: usize, rows: &[SpeedRow]) {
     println!(
-        "skeleton speed on {name} (Loop-subdivided), default parameters, median of {} runs",
-        args.runs.max(1)
+        "from file to skeleton on {name} (Loop-subdivided, each size read from an OBJ file), default parameters, median of {runs} runs"
     );
     println!();
-    println!("| vertices | faces | total ms | stages (ms) | peak RSS MiB |");
-    println!("|---:|---:|---:|---|---:|");
-    for r in &rows {
+    println!("| vertices | file MiB | total ms | load ms | skeleton ms | load / skeleton | stages (ms) | write ms (disk ms) | peak RSS MiB |");
+    println!("|---:|---:|---:|---:|---:|---:|---|---:|---:|");
+    for r in rows {
         let st: Vec<String> = r
             .stages_median
             .iter()
-            .filter(|(s, _)| s != "total")
             .map(|(s, v)| format!("{s} {:.1}", v * 1e3))
             .collect();
         println!(
-            "| {} | {} | {:.1} | {} | {} |",
+            "| {} | {:.1} | {:.1} | {:.1} | {:.1} | {:.2} | {} | {:.1} ({:.1}) | {} |",
             r.vertices,
-            r.faces,
+            r.file_mib,
             r.seconds_median * 1e3,
+            r.load_median * 1e3,
+            r.skeleton_median * 1e3,
+            r.load_ratio,
             st.join(", "),
+            r.write_median * 1e3,
+            r.raw_write_median * 1e3,
             r.peak_rss_mib
                 .map(|m| format!("{m:.0}"))
                 .unwrap_or_else(|| "?".into())
         );
     }
-    Ok(())
 }
 
 /// Peak resident memory of this process so far (Linux), in MiB.

@@ -5,6 +5,7 @@
 //! step, RMS and max, relative to the bounding-box diagonal.
 
 use super::{median_p95, Base, Input};
+use crate::cli::LoadArgs;
 use anyhow::{bail, Result};
 use puppet::sim::Constraint;
 use puppet::sim::{Options, Params, Simulation, REFERENCE_STEP};
@@ -54,8 +55,8 @@ pub struct Args {
     json: bool,
 }
 
-pub fn run(args: &Args) -> Result<()> {
-    let base = Base::load(&args.input, None)?;
+pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
+    let base = Base::load(&args.input, load, None)?;
     let swing = 1.0;
     let scenario = base.scenario(args.subdivisions as usize, swing)?;
     let params = Params {

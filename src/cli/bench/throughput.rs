@@ -6,6 +6,7 @@
 //! (`--skip` measures what sleeping saves).
 
 use super::{median_p95, Base, Input};
+use crate::cli::LoadArgs;
 use anyhow::Result;
 use puppet::mesh::subdivide_loop_values;
 use puppet::scenario::Scenario;
@@ -137,8 +138,8 @@ pub struct Args {
     json: bool,
 }
 
-pub fn run(args: &Args) -> Result<()> {
-    let base = Base::load(&args.input, args.springs.filter(|_| args.torus))?;
+pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
+    let base = Base::load(&args.input, load, args.springs.filter(|_| args.torus))?;
     let params = Params {
         constraint: args.constraint,
         time_step: REFERENCE_STEP,

@@ -1,0 +1,299 @@
+//! Repairs of what downloaded meshes often get wrong, each run only when the edge census
+//! shows it is needed:
+//!
+//! * **open seams**: boundary vertices almost on top of another boundary vertex (closer
+//!   than a tenth of their shortest edge: a gap no modeller meant) are welded;
+//! * **inconsistent orientation**: faces are turned to agree with their neighbours, part by
+//!   part, from each part's first face (the part's outward side is settled later by the sign
+//!   of its volume); a part that cannot be oriented (a Möbius strip) is left as it is;
+//! * **small holes**: a boundary loop of at most the given number of edges is closed, a
+//!   triangle for three edges and otherwise a fan around a new vertex at the loop's centre.
+//!   Loops through a vertex with more than one boundary (two holes touching) are left.
+
+use super::edges::{target, HalfEdges};
+use super::weld::remap;
+use super::Mesh;
+use glam::DVec3;
+
+/// Welds boundary vertices closer than a tenth of the shortest edge at either. Returns how
+/// many vertices were merged (0 leaves the mesh untouched).
+pub(super) fn weld_seams(mesh: &mut Mesh, half: &HalfEdges) -> usize {
+    let n = mesh.positions.len();
+    // Boundary vertices and their shortest incident edge.
+    let mut reach = vec![f64::INFINITY; n];
+    let mut boundary = Vec::new();
+    for a in 0..n as u32 {
+        let mut on_boundary = false;
+        for &e in half.row(a) {
+            let b = target(e);
+            let len = mesh.positions[a as usize].distance(mesh.positions[b as usize]);
+            reach[a as usize] = reach[a as usize].min(len);
+            reach[b as usize] = reach[b as usize].min(len);
+            if half.count(b, a) == 0 {
+                on_boundary = true;
+            }
+        }
+        if on_boundary {
+            boundary.push(a);
+        }
+    }
+    // Also the end of a boundary half-edge (its own row may have no boundary edge).
+    let mut is_boundary = vec![false; n];
+    for &a in &boundary {
+        is_boundary[a as usize] = true;
+        for &e in half.row(a) {
+            let b = target(e);
+            if half.count(b, a) == 0 {
+                is_boundary[b as usize] = true;
+            }
+        }
+    }
+    let mut list: Vec<u32> = (0..n as u32).filter(|&v| is_boundary[v as usize]).collect();
+    if list.len() < 2 {
+        return 0;
+    }
+    list.sort_by(|&a, &b| {
+        mesh.positions[a as usize]
+            .x
+            .total_cmp(&mesh.positions[b as usize].x)
+            .then(a.cmp(&b))
+    });
+    let tol = |v: u32| 0.1 * reach[v as usize];
+    let mut pairs = Vec::new();
+    for (k, &a) in list.iter().enumerate() {
+        let pa = mesh.positions[a as usize];
+        for &b in &list[k + 1..] {
+            let pb = mesh.positions[b as usize];
+            if pb.x - pa.x > tol(a) {
+                break;
+            }
+            let t = tol(a).min(tol(b));
+            // Not two ends of one edge (that would collapse a face).
+            if pa.distance(pb) <= t && half.count(a, b) + half.count(b, a) == 0 {
+                pairs.push((a.max(b), a.min(b)));
+            }
+        }
+    }
+    pairs.sort_unstable();
+    let mut rep: Vec<u32> = (0..n as u32).collect();
+    let mut merged = 0;
+    for (i, j) in pairs {
+        if rep[i as usize] == i && rep[j as usize] == j {
+            rep[i as usize] = j;
+            merged += 1;
+        }
+    }
+    if merged > 0 {
+        remap(mesh, &rep);
+    }
+    merged
+}
+
+/// Turns faces to agree with their neighbours across two-face edges, part by part from the
+/// part's first face. Returns how many faces were turned (in each part, the smaller of the
+/// two sides), or `None` when some part cannot be oriented (nothing changes then).
+pub(super) fn orient(mesh: &mut Mesh, half: &HalfEdges) -> Option<usize> {
+    let f = mesh.triangles.len();
+    let mut flip: Vec<Option<bool>> = vec![None; f];
+    let mut turned = 0;
+    let mut queue = Vec::new();
+    let mut members = Vec::new();
+    for seed in 0..f {
+        if flip[seed].is_some() {
+            continue;
+        }
+        flip[seed] = Some(false);
+        queue.push(seed as u32);
+        members.clear();
+        while let Some(face) = queue.pop() {
+            members.push(face);
+            let me = flip[face as usize] == Some(true);
+            let t = mesh.triangles[face as usize];
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let mut same = half.faces(a, b).filter(|&g| g != face);
+                let mut opposite = half.faces(b, a);
+                // Only a two-face edge has a neighbour to agree with. One running the same
+                // way along the edge must be turned relative to this face.
+                let (g, relative) =
+                    match (same.next(), same.next(), opposite.next(), opposite.next()) {
+                        (Some(g), None, None, None) => (g, true),
+                        (None, None, Some(g), None) => (g, false),
+                        _ => continue,
+                    };
+                let want = me ^ relative;
+                match flip[g as usize] {
+                    None => {
+                        flip[g as usize] = Some(want);
+                        queue.push(g);
+                    }
+                    Some(have) if have != want => return None,
+                    Some(_) => {}
+                }
+            }
+        }
+        let flipped = members
+            .iter()
+            .filter(|&&g| flip[g as usize] == Some(true))
+            .count();
+        if 2 * flipped > members.len() {
+            // Fewer changes the other way round (the volume decides the outside later).
+            for &g in &members {
+                flip[g as usize] = flip[g as usize].map(|x| !x);
+            }
+        }
+        turned += flipped.min(members.len() - flipped);
+    }
+    for (t, fl) in mesh.triangles.iter_mut().zip(&flip) {
+        if *fl == Some(true) {
+            t.swap(1, 2);
+        }
+    }
+    Some(turned)
+}
+
+/// A boundary loop that was or was not closed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(super) struct Holes {
+    /// Loops closed.
+    pub filled: usize,
+    /// Faces added to close them.
+    pub faces: usize,
+    /// Loops left open because they are longer than the limit.
+    pub too_large: usize,
+    /// Edges of the longest loop left open.
+    pub largest_left: usize,
+}
+
+/// Closes boundary loops of at most `max_edges` edges (see module docs).
+pub(super) fn fill_holes(mesh: &mut Mesh, half: &HalfEdges, max_edges: usize) -> Holes {
+    let n = mesh.positions.len();
+    // The boundary half-edge leaving each vertex (u32::MAX: none; MANY: more than one).
+    const NONE: u32 = u32::MAX;
+    const MANY: u32 = u32::MAX - 1;
+    let mut next = vec![NONE; n];
+    for a in 0..n as u32 {
+        let row = half.row(a);
+        for (k, &e) in row.iter().enumerate() {
+            let b = target(e);
+            if k > 0 && target(row[k - 1]) == b {
+                continue;
+            }
+            if half.count(a, b) == 1 && half.count(b, a) == 0 {
+                next[a as usize] = if next[a as usize] == NONE { b } else { MANY };
+            }
+        }
+    }
+    let mut holes = Holes::default();
+    let mut done = vec![false; n];
+    let mut lp = Vec::new();
+    for start in 0..n {
+        if done[start] || next[start] == NONE || next[start] == MANY {
+            continue;
+        }
+        lp.clear();
+        let mut v = start as u32;
+        let closed = loop {
+            lp.push(v);
+            done[v as usize] = true;
+            let w = next[v as usize];
+            if w == NONE || w == MANY {
+                break false;
+            }
+            if w == start as u32 {
+                break true;
+            }
+            if done[w as usize] || lp.len() > n {
+                break false;
+            }
+            v = w;
+        };
+        if !closed {
+            continue;
+        }
+        if lp.len() > max_edges {
+            holes.too_large += 1;
+            holes.largest_left = holes.largest_left.max(lp.len());
+            continue;
+        }
+        // The loop runs along the faces' boundary edges a → b; new faces use b → a.
+        if lp.len() == 3 {
+            mesh.triangles.push([lp[0], lp[2], lp[1]]);
+            holes.faces += 1;
+        } else {
+            let centre = lp
+                .iter()
+                .map(|&v| mesh.positions[v as usize])
+                .sum::<DVec3>()
+                / lp.len() as f64;
+            let c = mesh.positions.len() as u32;
+            mesh.positions.push(centre);
+            for k in 0..lp.len() {
+                let (a, b) = (lp[k], lp[(k + 1) % lp.len()]);
+                mesh.triangles.push([b, a, c]);
+            }
+            holes.faces += lp.len();
+        }
+        holes.filled += 1;
+    }
+    holes
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::shapes;
+
+    fn census(m: &Mesh) -> super::super::edges::EdgeCensus {
+        HalfEdges::new(m.positions.len(), &m.triangles).census(&|_| true)
+    }
+
+    #[test]
+    fn a_missing_cap_is_filled_and_closes_the_sphere() {
+        let mut m = shapes::uv_sphere(1.0, 8, 12);
+        // Remove the faces around the first vertex (a pole): a 12-edge hole.
+        m.triangles.retain(|t| !t.contains(&0));
+        let half = HalfEdges::new(m.positions.len(), &m.triangles);
+        assert_eq!(census(&m).boundary, 12);
+        let small = fill_holes(&mut m.clone(), &half, 11);
+        assert_eq!(
+            (small.filled, small.too_large, small.largest_left),
+            (0, 1, 12)
+        );
+        let holes = fill_holes(&mut m, &half, 16);
+        assert_eq!((holes.filled, holes.faces), (1, 12));
+        assert!(census(&m).is_clean());
+    }
+
+    #[test]
+    fn flipped_faces_are_turned_back() {
+        let mut m = shapes::uv_sphere(1.0, 12, 8);
+        let reference = m.clone();
+        for k in [3, 10, 11, 40] {
+            m.triangles[k].swap(1, 2);
+        }
+        let half = HalfEdges::new(m.positions.len(), &m.triangles);
+        assert_eq!(orient(&mut m, &half), Some(4));
+        assert!(census(&m).is_clean());
+        assert_eq!(m, reference);
+    }
+
+    #[test]
+    fn a_gap_in_a_seam_is_welded() {
+        let mut m = shapes::uv_sphere(1.0, 12, 8);
+        // Split vertex 5 into a copy a hair away for two of its faces.
+        let copy = m.positions.len() as u32;
+        m.positions.push(m.positions[5] + DVec3::splat(1e-4));
+        let mut moved = 0;
+        for t in &mut m.triangles {
+            if moved < 2 && t.contains(&5) {
+                *t = t.map(|v| if v == 5 { copy } else { v });
+                moved += 1;
+            }
+        }
+        assert!(!census(&m).is_clean());
+        let half = HalfEdges::new(m.positions.len(), &m.triangles);
+        assert_eq!(weld_seams(&mut m, &half), 1);
+        assert!(census(&m).is_clean());
+    }
+}
