@@ -67,7 +67,7 @@ fn holes_flipped_faces_and_seams_are_repaired_with_a_warning() {
     let (code, _, err) = skeleton(&capless, &[]);
     assert_eq!(code, Some(2), "{err}");
     assert!(
-        err.contains("1 hole larger than the 32 edges filled (the largest has 40)"),
+        err.contains("1 hole larger than the 32 edges filled (the largest has 40: --fill-holes 40 closes it)"),
         "{err}"
     );
     let (code, v, err) = skeleton(&capless, &["--fill-holes", "40"]);

@@ -285,15 +285,16 @@ impl<'a> Tree<'a> {
         // tips (the middle of the body, not its thickest end).
         let (d0, _) = graph.distances(0);
         let a = farthest(&d0);
-        let (da, _) = graph.distances(a);
+        let (da, pred) = graph.distances(a);
         let b = farthest(&da);
-        let (db, pred) = graph.distances(b);
-        let span = db[a];
-        let mut root = a;
+        // The path from b back to a is a shortest path: along it, the distance from b is
+        // the span less the distance from a.
+        let span = da[b];
+        let mut root = b;
         let mut best = f64::NEG_INFINITY;
-        let mut v = a;
-        while v != b && pred[v] != u32::MAX {
-            let along = db[v] / span.max(f64::MIN_POSITIVE);
+        let mut v = b;
+        while v != a && pred[v] != u32::MAX {
+            let along = 1.0 - da[v] / span.max(f64::MIN_POSITIVE);
             if (0.4..=0.6).contains(&along) && skeleton.distance[v] > best {
                 best = skeleton.distance[v];
                 root = v;

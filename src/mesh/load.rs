@@ -337,9 +337,11 @@ pub fn parse(
                 )
             } else {
                 format!(
-                    "{m}; {} larger than the {} edges filled (the largest has {})",
+                    "{m}; {} larger than the {} edges filled (the largest has {}: \
+                     --fill-holes {} closes it)",
                     plural(holes.too_large, "hole"),
                     options.fill_holes,
+                    holes.largest_left,
                     holes.largest_left
                 )
             })

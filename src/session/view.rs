@@ -18,7 +18,8 @@ pub struct Overlays {
     pub bone_points: bool,
     /// The bone springs from each mass point to its two bone points.
     pub bone_springs: bool,
-    /// The planes of the applied cuts.
+    /// The planes of all applied cuts (without it, only those of the selected sections, or
+    /// all while the cut tool is on: eleven suggested planes at once hide the puppet).
     pub cuts: bool,
     /// The sections' pivots.
     pub pivots: bool,
@@ -31,7 +32,7 @@ impl Default for Overlays {
             skeleton: false,
             bone_points: false,
             bone_springs: false,
-            cuts: true,
+            cuts: false,
             pivots: true,
         }
     }
@@ -145,7 +146,8 @@ impl View<'_> {
         ] {
             overlays.add(shown as u64);
         }
-        if self.overlays.any() || s.draft.is_some() {
+        overlays.add(s.cut_tool.active as u64);
+        if self.overlays.any() || s.draft.is_some() || !s.selection.is_empty() {
             overlays.add(s.revision);
         }
         Revisions {
@@ -235,9 +237,13 @@ impl View<'_> {
             }
         }
         let half = p.mesh.diagonal() * 0.18;
-        if o.cuts {
+        {
             let sections = p.joints.sections();
+            let all = o.cuts || s.cut_tool.active;
             for (k, cut) in p.joints.cuts().iter().enumerate() {
+                if !all && !s.selection.contains(&(k + 1)) {
+                    continue;
+                }
                 let parent = sections[k + 1].parent.unwrap_or(0);
                 let w = &world[parent];
                 let centre = w.transform_point3(sections[k + 1].pivot);
