@@ -15,18 +15,33 @@ fn params(method: Method) -> SkeletonParams {
 }
 
 /// Error bounds per method, from the measured table in BENCHMARKS.md (with headroom): they
-/// fail if a change makes the skeleton measurably worse.
+/// fail if a change makes the skeleton measurably worse. The fitted ball is held to the
+/// targets (median 1 %, 95th percentile 3 %) from the second resolution on, on tidy and
+/// uneven shapes alike; the torus (first-order in the edge length) and the coarsest
+/// resolution to what they measure.
 #[test]
 fn accuracy_against_analytic_shapes() {
     let cases = truth::cases(2);
     let rows = truth::accuracy(&cases, &Method::ALL, SkeletonParams::default().sliver_ratio);
     assert_eq!(rows.len(), cases.len() * Method::ALL.len());
-    for r in &rows {
-        let (med, p95) = match (r.method, r.shape.as_str()) {
-            (Method::ShrinkingBall, _) => (0.05, 0.07),
-            (Method::Pole, s) if s.starts_with("ellipsoid") => (0.20, 0.35),
-            (Method::Mean, s) if s.starts_with("ellipsoid") => (0.06, 0.30),
-            (_, _) => (0.005, 0.05),
+    for (k, r) in rows.iter().enumerate() {
+        let coarse = k / Method::ALL.len() < cases.len() / 2;
+        let uneven = r.resolution.contains("gaps")
+            || r.resolution.contains("jittered")
+            || r.resolution.contains("decimated")
+            || r.resolution.contains("skinny");
+        let ellipsoid = r.shape.starts_with("ellipsoid");
+        let (med, p95) = match r.method {
+            Method::FittedBall if coarse && r.shape == "torus" => (0.06, 0.07),
+            Method::FittedBall if coarse => (0.02, 0.11),
+            Method::FittedBall if r.shape == "torus" => (0.025, 0.035),
+            Method::FittedBall => (0.01, 0.03),
+            Method::ShrinkingBall if uneven => (0.35, 0.45),
+            Method::ShrinkingBall => (0.05, 0.07),
+            Method::Pole if ellipsoid => (0.20, 0.35),
+            Method::Mean if ellipsoid => (0.06, 0.30),
+            _ if uneven => (0.01, 0.12),
+            _ => (0.005, 0.05),
         };
         assert!(
             r.median_rel_error <= med && r.p95_rel_error <= p95,
@@ -39,16 +54,18 @@ fn accuracy_against_analytic_shapes() {
         );
         assert_eq!(r.fallback, 0, "{} {} {}", r.shape, r.resolution, r.method);
     }
-    // The default must be the best worst case (largest p95 over the shapes).
+    // The fitted ball has the best worst case (largest p95 over the shapes).
     let worst = |m: Method| {
         rows.iter()
             .filter(|r| r.method == m)
             .map(|r| r.p95_rel_error)
             .fold(0.0, f64::max)
     };
-    let default = SkeletonParams::default().method;
     for m in Method::ALL {
-        assert!(worst(default) <= worst(m), "{default} worse than {m}");
+        assert!(
+            worst(Method::FittedBall) <= worst(m),
+            "fitted-ball worse than {m}"
+        );
     }
 }
 

@@ -16,6 +16,7 @@
 //! * `load`: the pipeline, its options and its report;
 //! * `normals`, `shapes`, `subdivide`: vertex normals, test shapes, refinement.
 
+mod decimate;
 mod edges;
 mod load;
 mod normals;
@@ -30,10 +31,11 @@ mod subdivide;
 mod validate;
 mod weld;
 
+pub use decimate::decimate;
 pub use load::{
     load, load_with, parse, parse_obj, Format, LoadOptions, LoadReport, FILL_HOLES, WELD_TOLERANCE,
 };
-pub use normals::vertex_normals;
+pub use normals::{fitted_normals, vertex_normals};
 pub use obj::write as write_obj;
 pub use parts::{Parts, RIDER_AREA};
 pub use subdivide::{subdivide_loop, subdivide_loop_values, subdivide_midpoint};

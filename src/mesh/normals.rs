@@ -99,3 +99,155 @@ fn normals_of_range(mesh: &Mesh, lo: u32, hi: u32, out: &mut [DVec3]) -> Option<
     }
     missing
 }
+
+/// Normals from a local quadric fit: in the frame of the `rough` normal at `p`, the height
+/// `z = a x² + b xy + c y² + d x + e y` through `p` is fitted to the neighbours (the
+/// 1-ring, with the 2-ring where the 1-ring has fewer than [`FIT_MIN`] vertices) by least
+/// squares, twice (the second time in the frame of the first fit), and the normal is the
+/// height's at `p`. On a smooth surface its error falls with the cube of the edge length
+/// whatever the triangles around `p` look like, where the angle-weighted normal tilts by
+/// a few degrees on an uneven fan (see `ARCHITECTURE.md`, skeleton). A vertex whose fit is
+/// ill-conditioned, or turns its normal by more than [`FIT_MAX_TURN`] (a crease, a corner:
+/// no smooth surface to fit), keeps its rough normal.
+pub fn fitted_normals(mesh: &Mesh, rough: &[DVec3]) -> Vec<DVec3> {
+    let n = mesh.positions.len();
+    // The 1-ring of every vertex (each directed edge of a closed manifold once).
+    let mut start = vec![0u32; n + 1];
+    for t in &mesh.triangles {
+        for &v in t {
+            start[v as usize + 1] += 1;
+        }
+    }
+    for i in 0..n {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    // Each corner's next and previous vertex: the neighbours, and the faces around.
+    let mut ring = vec![0u32; 3 * mesh.triangles.len()];
+    let mut other = vec![0u32; 3 * mesh.triangles.len()];
+    for t in &mesh.triangles {
+        for k in 0..3 {
+            let a = t[k] as usize;
+            ring[fill[a] as usize] = t[(k + 1) % 3];
+            other[fill[a] as usize] = t[(k + 2) % 3];
+            fill[a] += 1;
+        }
+    }
+    let ring_of = |v: usize| &ring[start[v] as usize..start[v + 1] as usize];
+    let pos = &mesh.positions;
+    // Every face around `v` must face the fitted normal, so that `-n` points into the
+    // object at `v` (the ray of the thickness clamp starts inside).
+    let faced = |v: usize, n: DVec3| {
+        let p = pos[v];
+        (start[v] as usize..start[v + 1] as usize).all(|k| {
+            let (b, c) = (pos[ring[k] as usize], pos[other[k] as usize]);
+            (b - p).cross(c - p).dot(n) > 0.0
+        })
+    };
+    let cos_max = FIT_MAX_TURN.to_radians().cos();
+    (0..n)
+        .into_par_iter()
+        .with_min_len(1024)
+        .map(|v| {
+            let p = mesh.positions[v];
+            let one = ring_of(v);
+            let two: Vec<u32>;
+            let near = if one.len() < FIT_MIN {
+                let mut both = one.to_vec();
+                for &w in one {
+                    both.extend(ring_of(w as usize).iter().filter(|&&x| x as usize != v));
+                }
+                both.sort_unstable();
+                both.dedup();
+                two = both;
+                &two[..]
+            } else {
+                one
+            };
+            let mut normal = rough[v];
+            for _ in 0..FIT_ROUNDS {
+                match fit(p, normal, near.iter().map(|&w| mesh.positions[w as usize])) {
+                    Some(f) if f.dot(rough[v]) >= cos_max && faced(v, f) => normal = f,
+                    _ => return rough[v],
+                }
+            }
+            normal
+        })
+        .collect()
+}
+
+/// Fits per vertex, each in the frame of the one before.
+pub const FIT_ROUNDS: usize = 1;
+
+/// Fewer neighbours than this and the fit takes the 2-ring too.
+pub const FIT_MIN: usize = 6;
+
+/// A fitted normal further than this from the rough one (degrees) is not taken.
+pub const FIT_MAX_TURN: f64 = 25.0;
+
+/// The normal of the height through `p` fitted to `points` in the frame of `n`: a quadric,
+/// or a cubic when there are enough points for one.
+fn fit(p: DVec3, n: DVec3, points: impl Iterator<Item = DVec3> + Clone) -> Option<DVec3> {
+    let u = n.any_orthonormal_vector();
+    let w = n.cross(u);
+    // Scaled to unit mean distance, for conditioning.
+    let (sum, count) = points
+        .clone()
+        .fold((0.0, 0usize), |(s, c), q| (s + q.distance(p), c + 1));
+    if count < 5 || sum <= 0.0 {
+        return None;
+    }
+    let k = if count >= CUBIC_MIN { 9 } else { 5 };
+    let scale = count as f64 / sum;
+    let mut m = [[0.0f64; 10]; 9];
+    for q in points {
+        let d = (q - p) * scale;
+        let (x, y, z) = (d.dot(u), d.dot(w), d.dot(n));
+        let row = [
+            x,
+            y,
+            x * x,
+            x * y,
+            y * y,
+            x * x * x,
+            x * x * y,
+            x * y * y,
+            y * y * y,
+        ];
+        for i in 0..k {
+            for j in 0..k {
+                m[i][j] += row[i] * row[j];
+            }
+            m[i][9] += row[i] * z;
+        }
+    }
+    // Gaussian elimination with partial pivoting.
+    for col in 0..k {
+        let pivot = (col..k).max_by(|&a, &b| m[a][col].abs().total_cmp(&m[b][col].abs()))?;
+        if m[pivot][col].abs() < 1e-9 {
+            return None;
+        }
+        m.swap(col, pivot);
+        let top = m[col];
+        for row in &mut m[col + 1..k] {
+            let f = row[col] / top[col];
+            for (x, t) in row[col..].iter_mut().zip(&top[col..]) {
+                *x -= f * t;
+            }
+        }
+    }
+    let mut s = [0.0; 9];
+    for r in (0..k).rev() {
+        let mut acc = m[r][9];
+        for c in r + 1..k {
+            acc -= m[r][c] * s[c];
+        }
+        s[r] = acc / m[r][r];
+    }
+    let (gx, gy) = (s[0], s[1]);
+    let out = (n - u * gx - w * gy).normalize();
+    out.is_finite().then_some(out)
+}
+
+/// With this many points or more the fit is a cubic.
+pub const CUBIC_MIN: usize = 12;

@@ -20,11 +20,19 @@ fn outward(mut m: Mesh) -> Mesh {
 /// Surface of revolution about +y from a profile of `(radius, y)` pairs running from the
 /// north pole (radius 0) to the south pole (radius 0).
 fn revolve(profile: &[(f64, f64)], segments: usize) -> Mesh {
+    let angles: Vec<f64> = (0..segments)
+        .map(|j| TAU * j as f64 / segments as f64)
+        .collect();
+    revolve_at(profile, &angles)
+}
+
+/// [`revolve`] with the ring vertices at the given angles (increasing, in `[0, 2π)`).
+fn revolve_at(profile: &[(f64, f64)], angles: &[f64]) -> Mesh {
+    let segments = angles.len();
     let rings = &profile[1..profile.len() - 1];
     let mut positions = vec![DVec3::new(0.0, profile[0].1, 0.0)];
     for &(r, y) in rings {
-        for j in 0..segments {
-            let phi = TAU * j as f64 / segments as f64;
+        for &phi in angles {
             positions.push(DVec3::new(r * phi.cos(), y, r * phi.sin()));
         }
     }
@@ -88,6 +96,31 @@ pub fn ellipsoid(a: f64, b: f64, c: f64, rings: usize, segments: usize) -> Mesh 
 /// Capsule along y: a cylinder of `radius` and half-length `half` capped by hemispheres.
 /// `rings` bands per hemisphere, `len_rings` bands along the cylinder.
 pub fn capsule(radius: f64, half: f64, rings: usize, len_rings: usize, segments: usize) -> Mesh {
+    revolve(
+        &capsule_profile(radius, half, rings, len_rings),
+        segments.max(3),
+    )
+}
+
+/// A [`capsule`] whose ring vertices alternate a short and a long gap (2 : 4 of the mean,
+/// `segments` even): every vertex on the capsule, every fan uneven, so angle-weighted
+/// normals tilt by a few degrees around the tube.
+pub fn uneven_capsule(
+    radius: f64,
+    half: f64,
+    rings: usize,
+    len_rings: usize,
+    segments: usize,
+) -> Mesh {
+    let segments = segments.max(4) & !1;
+    let gap = TAU / segments as f64;
+    let angles: Vec<f64> = (0..segments)
+        .map(|j| gap * (j as f64 - if j % 2 == 1 { 1.0 / 3.0 } else { 0.0 }))
+        .collect();
+    revolve_at(&capsule_profile(radius, half, rings, len_rings), &angles)
+}
+
+fn capsule_profile(radius: f64, half: f64, rings: usize, len_rings: usize) -> Vec<(f64, f64)> {
     let rings = rings.max(1);
     let mut profile = vec![(0.0, half + radius)];
     for k in 1..=rings {
@@ -105,7 +138,30 @@ pub fn capsule(radius: f64, half: f64, rings: usize, len_rings: usize, segments:
         profile.push((radius * theta.cos(), -half - radius * theta.sin()));
     }
     profile.push((0.0, -half - radius));
-    revolve(&profile, segments.max(3))
+    profile
+}
+
+/// An [`icosphere`] scaled to the ellipsoid with semi-axes `axes`, each vertex first moved
+/// along the unit sphere by up to `jitter` of the mean edge length in a random direction
+/// (seeded): every vertex stays exactly on the surface while its fan becomes uneven.
+pub fn jittered_ellipsoid(axes: DVec3, levels: usize, jitter: f64, seed: u64) -> Mesh {
+    let mut m = icosphere(1.0, levels);
+    let edges = super::unique_edges(&m.triangles);
+    let mean = edges
+        .iter()
+        .map(|&(a, b)| m.positions[a as usize].distance(m.positions[b as usize]))
+        .sum::<f64>()
+        / edges.len().max(1) as f64;
+    let mut rng = crate::geom::hilbert::SplitMix(seed);
+    let mut unit = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+    for p in &mut m.positions {
+        let n = p.normalize();
+        let u = n.any_orthonormal_vector();
+        let v = n.cross(u);
+        let (angle, amount) = (TAU * unit(), jitter * mean * unit());
+        *p = (n + (u * angle.cos() + v * angle.sin()) * amount).normalize() * axes;
+    }
+    outward(m)
 }
 
 /// Torus around y: major radius `major`, tube radius `minor`.

@@ -9,7 +9,7 @@
 //! plus local refinement.
 
 use super::{build, Method, SkeletonParams};
-use crate::mesh::{shapes, vertex_normals, Mesh};
+use crate::mesh::{decimate, shapes, vertex_normals, Mesh};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
@@ -184,6 +184,52 @@ pub fn cases(levels: usize) -> Vec<Case> {
             },
             mesh: shapes::torus(1.0, 0.35, 32 * s, 12 * s),
             resolution: format!("{}x{}", 32 * s, 12 * s),
+        });
+        // Uneven meshes: every vertex exactly on the surface, the fans around them not.
+        let ellipsoid = Shape::Ellipsoid {
+            a: 1.5,
+            b: 1.0,
+            c: 0.5,
+        };
+        let thin = Shape::Capsule {
+            radius: 0.3,
+            half: 1.0,
+        };
+        out.push(Case {
+            shape: thin,
+            mesh: shapes::uneven_capsule(0.3, 1.0, 8 * s, 16 * s, 2 * segs),
+            resolution: format!("alternating gaps {}x{}", 32 * s, 2 * segs),
+        });
+        out.push(Case {
+            shape: thin,
+            mesh: shapes::capsule(0.3, 1.0, 8 * s, 2, 2 * segs),
+            resolution: format!("skinny {}x{}", 16 * s + 2, 2 * segs),
+        });
+        out.push(Case {
+            shape: Shape::Sphere { radius: 1.0 },
+            mesh: shapes::jittered_ellipsoid(DVec3::ONE, 3 + k, 0.3, 1 + k as u64),
+            resolution: format!("jittered ico {}", 3 + k),
+        });
+        out.push(Case {
+            shape: ellipsoid,
+            mesh: shapes::jittered_ellipsoid(DVec3::new(1.5, 1.0, 0.5), 3 + k, 0.3, 11 + k as u64),
+            resolution: format!("jittered ico {}", 3 + k),
+        });
+        let fine = shapes::icosphere(1.0, 4 + k);
+        let target = fine.positions.len() / 4;
+        out.push(Case {
+            shape: Shape::Sphere { radius: 1.0 },
+            mesh: decimate(&fine, target),
+            resolution: format!("decimated ico {} to {target}", 4 + k),
+        });
+        let mut fine = fine;
+        for p in &mut fine.positions {
+            *p *= DVec3::new(1.5, 1.0, 0.5);
+        }
+        out.push(Case {
+            shape: ellipsoid,
+            mesh: decimate(&fine, target),
+            resolution: format!("decimated ico {} to {target}", 4 + k),
         });
     }
     out
