@@ -232,23 +232,7 @@ impl Joints {
             hosts.is_empty() || hosts.len() == n,
             "one host entry per vertex"
         );
-        let edges = crate::mesh::unique_edges(triangles);
-        let mut start = vec![0u32; n + 1];
-        for &(a, b) in &edges {
-            start[a as usize + 1] += 1;
-            start[b as usize + 1] += 1;
-        }
-        for i in 0..n {
-            start[i + 1] += start[i];
-        }
-        let mut fill = start.clone();
-        let mut neighbours = vec![0u32; 2 * edges.len()];
-        for &(a, b) in &edges {
-            for (from, to) in [(a, b), (b, a)] {
-                neighbours[fill[from as usize] as usize] = to;
-                fill[from as usize] += 1;
-            }
-        }
+        let (start, neighbours) = crate::mesh::neighbours(n, &crate::mesh::unique_edges(triangles));
         let host = if hosts.iter().any(Option::is_some) {
             hosts.iter().map(|h| h.unwrap_or(NO_HOST)).collect()
         } else {

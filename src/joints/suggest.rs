@@ -154,26 +154,13 @@ impl Graph {
         let mut sorted: Vec<f64> = distance.iter().copied().filter(|d| *d > 0.0).collect();
         sorted.sort_by(f64::total_cmp);
         let floor = 1e-3 * sorted.get(sorted.len() / 2).copied().unwrap_or(1.0);
-        let edges = crate::mesh::unique_edges(&mesh.triangles);
-        let mut start = vec![0u32; n + 1];
-        for &(a, b) in &edges {
-            start[a as usize + 1] += 1;
-            start[b as usize + 1] += 1;
-        }
-        for i in 0..n {
-            start[i + 1] += start[i];
-        }
-        let mut fill = start.clone();
-        let mut to = vec![0u32; 2 * edges.len()];
-        let mut len = vec![0.0; 2 * edges.len()];
-        for &(a, b) in &edges {
-            let thickness = 0.5 * (distance[a as usize] + distance[b as usize]);
-            let l = points[a as usize].distance(points[b as usize]) / thickness.max(floor);
-            for (u, v) in [(a, b), (b, a)] {
-                let k = fill[u as usize] as usize;
-                to[k] = v;
-                len[k] = l;
-                fill[u as usize] += 1;
+        let (start, to) = crate::mesh::neighbours(n, &crate::mesh::unique_edges(&mesh.triangles));
+        let mut len = vec![0.0; to.len()];
+        for a in 0..n {
+            for k in start[a] as usize..start[a + 1] as usize {
+                let b = to[k] as usize;
+                let thickness = 0.5 * (distance[a] + distance[b]);
+                len[k] = points[a].distance(points[b]) / thickness.max(floor);
             }
         }
         Graph { start, to, len }

@@ -159,6 +159,28 @@ pub fn bounds(points: &[DVec3]) -> (DVec3, DVec3) {
     )
 }
 
+/// Each vertex's neighbours over `edges` (as [`unique_edges`] gives them) as a CSR: the
+/// neighbours of `v` are `to[start[v]..start[v + 1]]`, in the order of `edges`.
+pub fn neighbours(n: usize, edges: &[(u32, u32)]) -> (Vec<u32>, Vec<u32>) {
+    let mut start = vec![0u32; n + 1];
+    for &(a, b) in edges {
+        start[a as usize + 1] += 1;
+        start[b as usize + 1] += 1;
+    }
+    for i in 0..n {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut to = vec![0u32; 2 * edges.len()];
+    for &(a, b) in edges {
+        for (from, other) in [(a, b), (b, a)] {
+            to[fill[from as usize] as usize] = other;
+            fill[from as usize] += 1;
+        }
+    }
+    (start, to)
+}
+
 /// Unique undirected edges `(a, b)` with `a < b`, sorted.
 ///
 /// A counting sort on `a` (a bucket per vertex), then each small bucket sorted on `b`:

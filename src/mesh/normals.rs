@@ -6,6 +6,7 @@
 //! corners at its own vertices: the sums are those of one pass face by face, to the bit,
 //! whatever the number of threads.
 
+use super::edges::{target, third, HalfEdges};
 use super::{Mesh, MeshError};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -103,81 +104,46 @@ fn normals_of_range(mesh: &Mesh, lo: u32, hi: u32, out: &mut [DVec3]) -> Option<
 /// Normals from a local quadric fit: in the frame of the `rough` normal at `p`, the height
 /// `z = a x² + b xy + c y² + d x + e y` through `p` is fitted to the neighbours (the
 /// 1-ring, with the 2-ring where the 1-ring has fewer than [`FIT_MIN`] vertices) by least
-/// squares, twice (the second time in the frame of the first fit), and the normal is the
-/// height's at `p`. On a smooth surface its error falls with the cube of the edge length
+/// squares, and the normal is the height's at `p`. On a smooth surface its error falls with the cube of the edge length
 /// whatever the triangles around `p` look like, where the angle-weighted normal tilts by
 /// a few degrees on an uneven fan (see `ARCHITECTURE.md`, skeleton). A vertex whose fit is
 /// ill-conditioned, or turns its normal by more than [`FIT_MAX_TURN`] (a crease, a corner:
 /// no smooth surface to fit), keeps its rough normal.
 pub fn fitted_normals(mesh: &Mesh, rough: &[DVec3]) -> Vec<DVec3> {
-    let n = mesh.positions.len();
-    // The 1-ring of every vertex (each directed edge of a closed manifold once).
-    let mut start = vec![0u32; n + 1];
-    for t in &mesh.triangles {
-        for &v in t {
-            start[v as usize + 1] += 1;
-        }
-    }
-    for i in 0..n {
-        start[i + 1] += start[i];
-    }
-    let mut fill = start.clone();
-    // Each corner's next and previous vertex: the neighbours, and the faces around.
-    let mut ring = vec![0u32; 3 * mesh.triangles.len()];
-    let mut other = vec![0u32; 3 * mesh.triangles.len()];
-    for t in &mesh.triangles {
-        for k in 0..3 {
-            let a = t[k] as usize;
-            ring[fill[a] as usize] = t[(k + 1) % 3];
-            other[fill[a] as usize] = t[(k + 2) % 3];
-            fill[a] += 1;
-        }
-    }
-    let ring_of = |v: usize| &ring[start[v] as usize..start[v + 1] as usize];
     let pos = &mesh.positions;
+    let half = HalfEdges::new(pos.len(), &mesh.triangles);
+    let ring = |v: u32| half.row(v).iter().map(|&e| target(e));
     // Every face around `v` must face the fitted normal, so that `-n` points into the
     // object at `v` (the ray of the thickness clamp starts inside).
-    let faced = |v: usize, n: DVec3| {
-        let p = pos[v];
-        (start[v] as usize..start[v + 1] as usize).all(|k| {
-            let (b, c) = (pos[ring[k] as usize], pos[other[k] as usize]);
+    let faced = |v: u32, n: DVec3| {
+        let p = pos[v as usize];
+        half.row(v).iter().all(|&e| {
+            let (b, c) = (pos[target(e) as usize], pos[third(e) as usize]);
             (b - p).cross(c - p).dot(n) > 0.0
         })
     };
     let cos_max = FIT_MAX_TURN.to_radians().cos();
-    (0..n)
+    (0..pos.len() as u32)
         .into_par_iter()
         .with_min_len(1024)
         .map(|v| {
-            let p = mesh.positions[v];
-            let one = ring_of(v);
-            let two: Vec<u32>;
-            let near = if one.len() < FIT_MIN {
-                let mut both = one.to_vec();
-                for &w in one {
-                    both.extend(ring_of(w as usize).iter().filter(|&&x| x as usize != v));
-                }
-                both.sort_unstable();
-                both.dedup();
-                two = both;
-                &two[..]
+            let (p, r) = (pos[v as usize], rough[v as usize]);
+            let fitted = if half.row(v).len() >= FIT_MIN {
+                fit(p, r, ring(v).map(|w| pos[w as usize]))
             } else {
-                one
+                let mut near: Vec<u32> = ring(v).chain(ring(v).flat_map(ring)).collect();
+                near.retain(|&x| x != v);
+                near.sort_unstable();
+                near.dedup();
+                fit(p, r, near.iter().map(|&w| pos[w as usize]))
             };
-            let mut normal = rough[v];
-            for _ in 0..FIT_ROUNDS {
-                match fit(p, normal, near.iter().map(|&w| mesh.positions[w as usize])) {
-                    Some(f) if f.dot(rough[v]) >= cos_max && faced(v, f) => normal = f,
-                    _ => return rough[v],
-                }
+            match fitted {
+                Some(f) if f.dot(rough[v as usize]) >= cos_max && faced(v, f) => f,
+                _ => rough[v as usize],
             }
-            normal
         })
         .collect()
 }
-
-/// Fits per vertex, each in the frame of the one before.
-pub const FIT_ROUNDS: usize = 1;
 
 /// Fewer neighbours than this and the fit takes the 2-ring too.
 pub const FIT_MIN: usize = 6;
