@@ -160,7 +160,7 @@ fn skeleton_command_writes_s_with_the_mesh_connectivity() {
     }
     assert_eq!(v["vertices"], 2930);
     assert_eq!(v["faces"], 5856);
-    assert_eq!(v["method"], "shrinking-ball");
+    assert_eq!(v["method"], "fitted-ball");
     let text = std::fs::read_to_string(&out_path).unwrap();
     assert_eq!(text.lines().filter(|l| l.starts_with("v ")).count(), 2930);
     let faces: Vec<&str> = text.lines().filter(|l| l.starts_with("f ")).collect();
@@ -181,5 +181,32 @@ fn every_method_runs_from_the_command_line() {
         assert_eq!(out.status.code(), Some(0));
         let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
         assert_eq!(v["method"], m);
+    }
+}
+
+/// `bench skeleton-change` on every test mesh: the default method against the shrinking
+/// ball: no skeletal point leaves its mesh (the command fails otherwise).
+#[test]
+fn every_test_meshs_skeletal_points_stay_inside_with_the_default_method() {
+    let meshes = ["bunny", "hand", "human", "scorpion", "spot-small"]
+        .map(|m| format!("{}/tests/data/meshes/{m}.obj", env!("CARGO_MANIFEST_DIR")));
+    let mut args = vec!["bench", "skeleton-change", "--json"];
+    args.extend(meshes.iter().map(String::as_str));
+    let out = puppet(&args);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let rows = rows.as_array().unwrap();
+    assert_eq!(rows.len(), meshes.len());
+    for r in rows {
+        assert_eq!(r["newly_outside"], 0, "{r}");
+        // The normals change, so points move; by a small share of the local distance (the
+        // most on the coarse 441-vertex Spot, 15 %).
+        assert!(r["moved"].as_u64().unwrap() > 0, "{r}");
+        assert!(r["median_rel_move"].as_f64().unwrap() < 0.25, "{r}");
     }
 }

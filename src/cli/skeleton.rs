@@ -11,7 +11,7 @@ use std::path::PathBuf;
 pub struct Args {
     /// Mesh (OBJ); the embedded Spot when omitted.
     pub mesh: Option<PathBuf>,
-    /// How the skeletal distance is taken (default: shrinking-ball).
+    /// How the skeletal distance is taken (default: fitted-ball).
     #[arg(long, value_enum)]
     pub method: Option<Method>,
     /// Write the skeletal mesh S here (same vertex order and faces as the welded input).

@@ -21,6 +21,9 @@ pub struct Args {
     /// Print one JSON object instead of the tree.
     #[arg(long)]
     pub json: bool,
+    /// How the skeletal distance is taken (default: the rig file's default method).
+    #[arg(long, value_enum)]
+    pub method: Option<puppet::skeleton::Method>,
 }
 
 /// What the command prints (`--json` prints exactly these fields).
@@ -47,8 +50,12 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     let (mesh, _report, name) = load_mesh(args.mesh.as_deref(), load)?;
     let bar = ProgressBar::new();
     let t = Instant::now();
-    let mut puppet = Puppet::build(mesh, RigFile::default(), &|s, f| bar.update(s, f))
-        .map_err(|e| FileError::new(&name, e))?;
+    let mut rig = RigFile::default();
+    if let Some(method) = args.method {
+        rig.method = method;
+    }
+    let mut puppet =
+        Puppet::build(mesh, rig, &|s, f| bar.update(s, f)).map_err(|e| FileError::new(&name, e))?;
     bar.finish();
     let seconds_skeleton = t.elapsed().as_secs_f64();
     let t = Instant::now();

@@ -16,8 +16,9 @@
 //!    starts; shorter ones (bumps) fold into the longest.
 //! 3. **Cuts.** A segment that hangs from a fork, is narrower than the trunk below it
 //!    ([`THINNER`], by the rings' sizes) and longer than wide is a *limb*: it is cut at its
-//!    base. A part as wide as the body with two or more limbs of its own (a head with ears)
-//!    is cut at its base too ([`HEAD`]). Inside a part, cuts go where the medial radius or
+//!    base. A part as wide as the body with two or more limbs of its own, each at most
+//!    [`SLENDER`] of its width (a head with ears and horns, a hand with fingers, not a palm
+//!    with its wrist), is cut at its base too ([`HEAD`]). Inside a part, cuts go where the medial radius or
 //!    the ring's size narrows between wider parts ([`DIP`]: an elbow, a knee, a neck); where
 //!    a limb widens into an extremity that limbs grow from (a wrist); along a digit (a tip
 //!    among four or more of one extremity) at 45 % and 72 % of its length; and in the
@@ -25,7 +26,8 @@
 //! 4. **Sections.** Each cut is a connected plane through the ring's centre, across the
 //!    limb's axis there, its pivot on the axis; cuts apply parent-first, are named by their
 //!    place in the tree (`joint 2`, `joint 2.1`, …), and one that would leave a section of
-//!    fewer than [`SMALLEST`] of the vertices is dropped.
+//!    fewer than [`SMALLEST`] of the vertices, or whose plane takes more than twice what
+//!    lies past it in the join tree (it slipped past the limb into the body), is dropped.
 
 use super::{Cut, Joints};
 use crate::mesh::Mesh;
@@ -55,6 +57,8 @@ const LONG: f64 = 10.0;
 /// A part as thick as the body with limbs of its own turns at its base when it reaches
 /// this many radii out.
 const HEAD: f64 = 3.0;
+/// ... and every limb it has is at most this share of its width.
+const SLENDER: f64 = 0.5;
 /// Sections smaller than this share of the vertices (or 12 vertices) are not suggested.
 const SMALLEST: f64 = 0.002;
 
@@ -117,7 +121,9 @@ pub fn suggest(mesh: &Mesh, skeleton: &Skeleton, root: &str) -> Vec<Cut> {
                 .iter()
                 .filter(|&&t| t)
                 .count();
-            taken >= smallest && joints.sections()[s].vertices - taken >= smallest
+            taken >= smallest
+                && joints.sections()[s].vertices - taken >= smallest
+                && taken <= 2 * limb.expected + smallest
         });
         if !big_enough {
             *count.entry(cut.section).or_default() -= 1;
@@ -252,6 +258,8 @@ struct Tree<'a> {
     skeleton: &'a Skeleton,
     g: Vec<f64>,
     segments: Vec<Segment>,
+    /// Each segment's children (the segments whose parent it is).
+    children: Vec<Vec<usize>>,
 }
 
 impl<'a> Tree<'a> {
@@ -264,6 +272,7 @@ impl<'a> Tree<'a> {
             skeleton,
             g: Vec::new(),
             segments: Vec::new(),
+            children: Vec::new(),
         };
         if n < 4 {
             return tree;
@@ -316,6 +325,7 @@ impl<'a> Tree<'a> {
         let (g, _) = graph.distances_from(&core);
         tree.g = g;
         tree.segments = tree.sweep(&graph);
+        tree.children = tree.children();
         tree
     }
 
@@ -478,7 +488,7 @@ impl<'a> Tree<'a> {
             let Some(parent) = self.segments[k].parent else {
                 continue;
             };
-            let limbs = self.limbs_hanging(k, &children, &base);
+            let hanging = self.limbs_hanging(k, &children, &base);
             let low = seg
                 .iter()
                 .map(|&v| self.g[v as usize])
@@ -488,8 +498,17 @@ impl<'a> Tree<'a> {
                 .iter()
                 .map(|&v| self.g[v as usize])
                 .fold(f64::NEG_INFINITY, f64::max);
-            if limbs >= 2 && low > 0.0 && high - low >= HEAD && parent != root {
-                base[k] = self.cut_at(seg, low + BASE);
+            if hanging.len() < 2 || low <= 0.0 || high - low < HEAD || parent == root {
+                continue;
+            }
+            // Its limbs are thin beside it (ears and horns on a head, fingers on a hand):
+            // where one is about as wide (a wrist below a palm), this is a stretch of the
+            // body where limbs meet, not a part of its own.
+            let Some(cut) = self.cut_at(k, low + BASE) else {
+                continue;
+            };
+            if hanging.iter().all(|&w| w <= SLENDER * cut.width) {
+                base[k] = Some(cut);
             }
         }
         let mut owner = vec![root; n];
@@ -593,18 +612,17 @@ impl<'a> Tree<'a> {
         }
     }
 
-    /// How many limbs hang from segment `k`, directly or through forks that are no limbs.
-    fn limbs_hanging(&self, k: usize, children: &[Vec<usize>], base: &[Option<Limb>]) -> usize {
-        children[k]
-            .iter()
-            .map(|&c| {
-                if base[c].is_some() {
-                    1
-                } else {
-                    self.limbs_hanging(c, children, base)
-                }
-            })
-            .sum()
+    /// The widths of the limbs that hang from segment `k`, directly or through forks that
+    /// are no limbs.
+    fn limbs_hanging(&self, k: usize, children: &[Vec<usize>], base: &[Option<Limb>]) -> Vec<f64> {
+        let mut out = Vec::new();
+        for &c in &children[k] {
+            match base[c] {
+                Some(limb) => out.push(limb.width),
+                None => out.extend(self.limbs_hanging(c, children, base)),
+            }
+        }
+        out
     }
 
     /// The vertices with `g` in `[lo, hi)` of segment `k` and the segments below it.
@@ -660,7 +678,7 @@ impl<'a> Tree<'a> {
         // Through the ring a radius above the fork, across the axis there: far enough out
         // that the plane does not reach a neighbour at the fork (the other leg at the
         // crotch).
-        self.cut_at(seg, low + BASE)
+        self.cut_at(k, low + BASE)
     }
 
     /// The profile of segment `k` from its base up, in bins half its radius long: the
@@ -738,10 +756,9 @@ impl<'a> Tree<'a> {
         }
         if !limb {
             at.sort_unstable();
-            let seg = &self.segments[k].vertices;
             return at
                 .into_iter()
-                .filter_map(|b| self.cut_at(seg, p.low + (b as f64 + 0.5) * p.step))
+                .filter_map(|b| self.cut_at(k, p.low + (b as f64 + 0.5) * p.step))
                 .collect();
         }
         // Where it widens into an extremity: the narrowest ring of its last half, if the
@@ -784,15 +801,15 @@ impl<'a> Tree<'a> {
             }
             at.sort_unstable();
         }
-        let seg = &self.segments[k].vertices;
         at.into_iter()
-            .filter_map(|b| self.cut_at(seg, p.low + (b as f64 + 0.5) * p.step))
+            .filter_map(|b| self.cut_at(k, p.low + (b as f64 + 0.5) * p.step))
             .collect()
     }
 
     /// A cut through the ring of `seg` at level `at`, across the axis (from the centre of
     /// the ring a radius below to the one a radius above), its pivot on the axis.
-    fn cut_at(&self, seg: &[u32], at: f64) -> Option<Limb> {
+    fn cut_at(&self, k: usize, at: f64) -> Option<Limb> {
+        let seg = &self.segments[k].vertices;
         let half = 0.25;
         let ring = self.ring(seg, at - half, at + half);
         let below = self.ring(seg, at - 1.0 - half, at - 1.0 + half);
@@ -817,8 +834,15 @@ impl<'a> Tree<'a> {
         }
         // The pivot on the plane, at the axis.
         let pivot = pivot - normal * (pivot - point).dot(normal);
+        let expected = self
+            .subtree(k, &self.children)
+            .iter()
+            .filter(|&&v| self.g[v as usize] >= at)
+            .count();
         Some(Limb {
             parent: None,
+            expected,
+            width: self.size(&ring),
             point,
             normal,
             pivot,
@@ -894,6 +918,11 @@ fn smooth(v: &[f64]) -> Vec<f64> {
 struct Limb {
     /// The cut below it (index in the list), `None` for one on the root.
     parent: Option<usize>,
+    /// How many vertices lie past it in the join tree: a plane that takes far more has
+    /// slipped past the limb into the body.
+    expected: usize,
+    /// The size ([`Tree::size`]) of its ring.
+    width: f64,
     point: DVec3,
     normal: DVec3,
     pivot: DVec3,

@@ -3,7 +3,7 @@
 //!
 //! ```toml
 //! mesh = "spot.obj"              # relative to the rig file; the command line may override
-//! skeleton = "shrinking-ball"    # mean | pole | shrinking-ball | fitted-ball
+//! skeleton = "fitted-ball"       # fitted-ball | shrinking-ball | pole | mean
 //! material = "skin"              # a Table 1 preset, or "custom" (the defaults)
 //! constraint = "circumsphere"    # or "spring-reduction"
 //! root = "body"                  # name of the uncut section (default "root")

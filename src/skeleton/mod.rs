@@ -77,15 +77,14 @@ pub enum Method {
     /// `q` and `p` lie on an empty sphere, so `pq` is a Delaunay edge: the minimum over the
     /// Delaunay neighbours of `p` is exact, no kd-tree needed, and no circumcentre has to be
     /// classified (the cheapest method: no inside oracle). A vertex with no Delaunay
-    /// neighbour on the inner side of its tangent plane is a fallback. The default (best
-    /// worst case in the accuracy table of `BENCHMARKS.md`).
-    #[default]
+    /// neighbour on the inner side of its tangent plane is a fallback. Along angle-weighted
+    /// normals, which tilt on an uneven fan: see [`Method::FittedBall`].
     ShrinkingBall,
     /// The shrinking ball along normals from a local quadric fit
     /// ([`crate::mesh::fitted_normals`]) instead of the angle-weighted ones: within 1 % on
     /// uneven meshes (alternating gaps, jittered, decimated) where the shrinking ball is off
-    /// by up to 33 % (`BENCHMARKS.md`). Not yet the default: the suggested joints of the
-    /// hand, tuned on the shrinking ball, lose fingers with it.
+    /// by up to 33 % (`BENCHMARKS.md`), and as good on tidy ones. The default.
+    #[default]
     FittedBall,
 }
 
@@ -488,15 +487,29 @@ mod tests {
         let mesh = bumpy_ellipsoid(5);
         let normals = crate::mesh::vertex_normals(&mesh).unwrap();
         let none = |_: &str, _: f64| {};
-        let sk = build(&mesh, &normals, &SkeletonParams::default(), &none).unwrap();
-        let bound = ring_bounds(&mesh.positions, &normals, &mesh.triangles, &|| {});
-        let mut tight = 0;
-        for (i, (&d, &b)) in sk.distance.iter().zip(&bound).enumerate() {
-            assert!(2.0 * d <= b, "vertex {i}: 2d = {} > {b}", 2.0 * d);
-            tight += usize::from(b < 6.0 * d);
+        for method in [Method::ShrinkingBall, Method::FittedBall] {
+            let params = SkeletonParams {
+                method,
+                ..SkeletonParams::default()
+            };
+            let sk = build(&mesh, &normals, &params, &none).unwrap();
+            // The bound is taken along the normals the balls use.
+            let used = match method {
+                Method::FittedBall => crate::mesh::fitted_normals(&mesh, &normals),
+                _ => normals.clone(),
+            };
+            let bound = ring_bounds(&mesh.positions, &used, &mesh.triangles, &|| {});
+            let mut tight = 0;
+            for (i, (&d, &b)) in sk.distance.iter().zip(&bound).enumerate() {
+                assert!(2.0 * d <= b, "{method} vertex {i}: 2d = {} > {b}", 2.0 * d);
+                tight += usize::from(b < 6.0 * d);
+            }
+            // The bounded radius is within 3 times the radius for most vertices.
+            assert!(
+                tight > sk.distance.len() / 2,
+                "{method}: {tight} tight bounds"
+            );
         }
-        // The bounded radius is within 3 times the radius for most vertices.
-        assert!(tight > sk.distance.len() / 2, "{tight} tight bounds");
     }
 
     /// A repeated position (possible without welding) is never inserted in the

@@ -40,6 +40,9 @@ pub enum Bench {
     Skeleton(skeleton::AccuracyArgs),
     /// Time from file to skeleton, per stage, on the mesh Loop-subdivided 0..=N times.
     SkeletonSpeed(skeleton::SpeedArgs),
+    /// How far the skeletal points of real meshes move from one method to another, and
+    /// whether every one is still inside.
+    SkeletonChange(skeleton::ChangeArgs),
     /// This machine's copy bandwidth and a plain scalar spring loop (yardsticks).
     Machine(machine::Args),
 }
@@ -59,6 +62,7 @@ pub fn run(bench: &Bench, load: &LoadArgs) -> Result<()> {
         Bench::Skip(args) => skip::run(args, load),
         Bench::Skeleton(args) => skeleton::accuracy(args),
         Bench::SkeletonSpeed(args) => skeleton::speed(args, load),
+        Bench::SkeletonChange(args) => skeleton::change(args, load),
         Bench::Machine(args) => machine::run(args),
     }
 }

@@ -276,3 +276,133 @@ pub fn peak_rss_mib() -> Option<f64> {
     let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kib / 1024.0)
 }
+
+/// `puppet bench skeleton-change`.
+#[derive(clap::Args, Debug)]
+pub struct ChangeArgs {
+    /// Meshes to compare on; the embedded Spot when none is given.
+    meshes: Vec<std::path::PathBuf>,
+    /// The method compared against.
+    #[arg(long, value_enum, default_value_t = Method::ShrinkingBall)]
+    from: Method,
+    /// The method compared (default: the default method).
+    #[arg(long, value_enum)]
+    to: Option<Method>,
+    /// Print JSON instead of a Markdown table.
+    #[arg(long)]
+    json: bool,
+}
+
+/// One mesh's row of `skeleton-change`.
+#[derive(serde::Serialize)]
+struct ChangeRow {
+    mesh: String,
+    vertices: usize,
+    /// Skeletal points that moved by more than 1e-9 of the bounding-box diagonal.
+    moved: usize,
+    /// Median, 95th percentile and largest move of the moved points, relative to the
+    /// point's skeletal distance under `from`.
+    median_rel_move: f64,
+    p95_rel_move: f64,
+    max_rel_move: f64,
+    /// Largest move relative to the bounding-box diagonal.
+    max_move_of_diagonal: f64,
+    /// Skeletal points of `to` (with a positive distance) outside the mesh.
+    outside: usize,
+    /// Of those, the ones whose point under `from` is inside (where a mesh intersects
+    /// itself, a point can be "outside" under every method).
+    newly_outside: usize,
+}
+
+/// How far each skeletal point moves from one method to another on real meshes, and whether
+/// every one of the new points is still inside. Fails (exit status 1) if one that was
+/// inside is not.
+pub fn change(args: &ChangeArgs, load: &LoadArgs) -> Result<()> {
+    let to = args.to.unwrap_or_default();
+    let inputs: Vec<Option<&std::path::Path>> = if args.meshes.is_empty() {
+        vec![None]
+    } else {
+        args.meshes.iter().map(|m| Some(m.as_path())).collect()
+    };
+    let mut rows = Vec::new();
+    for input in inputs {
+        let (mesh, _, name) = load_mesh(input, load)?;
+        let normals = vertex_normals(&mesh).map_err(|e| FileError::new(&name, e))?;
+        let none = puppet::progress::silent();
+        let build = |method| {
+            let params = SkeletonParams {
+                method,
+                ..SkeletonParams::default()
+            };
+            skeleton::build(&mesh, &normals, &params, none).map_err(|e| FileError::new(&name, e))
+        };
+        let (old, new) = (build(args.from)?, build(to)?);
+        let (lo, hi) = mesh.bounds();
+        let diagonal = (hi - lo).length().max(f64::MIN_POSITIVE);
+        let mut rel: Vec<f64> = Vec::new();
+        let mut largest: f64 = 0.0;
+        for ((a, b), d) in old.points.iter().zip(&new.points).zip(&old.distance) {
+            let moved = a.distance(*b);
+            if moved > 1e-9 * diagonal {
+                rel.push(moved / d.max(1e-12 * diagonal));
+                largest = largest.max(moved);
+            }
+        }
+        rel.sort_by(f64::total_cmp);
+        let at = |q: f64| {
+            rel.get(((rel.len() as f64 - 1.0) * q).round() as usize)
+                .copied()
+                .unwrap_or(0.0)
+        };
+        let inside = puppet::geom::inside::InsideTest::new(&mesh);
+        let out = |sk: &skeleton::Skeleton, v: usize| {
+            sk.distance[v] > 0.0 && !inside.contains(sk.points[v])
+        };
+        let outside: Vec<usize> = (0..mesh.positions.len())
+            .filter(|&v| out(&new, v))
+            .collect();
+        let newly_outside = outside.iter().filter(|&&v| !out(&old, v)).count();
+        rows.push(ChangeRow {
+            mesh: name,
+            vertices: mesh.positions.len(),
+            moved: rel.len(),
+            median_rel_move: at(0.5),
+            p95_rel_move: at(0.95),
+            max_rel_move: rel.last().copied().unwrap_or(0.0),
+            max_move_of_diagonal: largest / diagonal,
+            outside: outside.len(),
+            newly_outside,
+        });
+    }
+    if args.json {
+        println!("{}", serde_json::to_string(&rows)?);
+    } else {
+        println!("{} -> {to}", args.from);
+        println!();
+        println!("| mesh | vertices | points moved | median move / d | p95 move / d | largest move / d | largest move / diagonal | outside (newly) |");
+        println!("|---|---:|---:|---:|---:|---:|---:|---:|");
+        for r in &rows {
+            println!(
+                "| {} | {} | {} ({:.1} %) | {:.4} | {:.4} | {:.3} | {:.5} | {} ({}) |",
+                r.mesh,
+                r.vertices,
+                r.moved,
+                100.0 * r.moved as f64 / r.vertices.max(1) as f64,
+                r.median_rel_move,
+                r.p95_rel_move,
+                r.max_rel_move,
+                r.max_move_of_diagonal,
+                r.outside,
+                r.newly_outside
+            );
+        }
+    }
+    let outside: usize = rows.iter().map(|r| r.newly_outside).sum();
+    if outside > 0 {
+        bail!(
+            "{outside} skeletal points of {to} lie outside their mesh where those of {} do not",
+            args.from
+        );
+    }
+    Ok(())
+}
