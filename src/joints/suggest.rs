@@ -18,11 +18,12 @@
 //!    ([`THINNER`], by the rings' sizes) and longer than wide is a *limb*: it is cut at its
 //!    base. A part as wide as the body with two or more limbs of its own, each at most
 //!    [`SLENDER`] of its width (a head with ears and horns, a hand with fingers, not a palm
-//!    with its wrist), is cut at its base too ([`HEAD`]). Inside a part, cuts go where the medial radius or
-//!    the ring's size narrows between wider parts ([`DIP`]: an elbow, a knee, a neck); where
-//!    a limb widens into an extremity that limbs grow from (a wrist); along a digit (a tip
-//!    among four or more of one extremity) at 45 % and 72 % of its length; and in the
-//!    middle of a limb's stretch longer than [`LONG`] radii without a joint.
+//!    with its wrist), is cut at its base too ([`HEAD`]). Inside a part, cuts go where the
+//!    medial radius or the ring's size narrows between wider parts ([`DIP`]: an elbow, a
+//!    knee, a neck); where a limb widens into an extremity that limbs grow from (a wrist);
+//!    along a digit (a tip among four or more of one extremity) at 45 % and 72 % of its
+//!    length; and in the middle of a limb's stretch longer than [`LONG`] radii without a
+//!    joint.
 //! 4. **Sections.** Each cut is a connected plane through the ring's centre, across the
 //!    limb's axis there, its pivot on the axis; cuts apply parent-first, are named by their
 //!    place in the tree (`joint 2`, `joint 2.1`, …), and one that would leave a section of
@@ -458,7 +459,7 @@ impl<'a> Tree<'a> {
         if self.segments.is_empty() {
             return out;
         }
-        let children = self.children();
+        let children = &self.children;
         // The segment holding the root (the smallest g).
         let Some(root) = (0..self.segments.len()).find(|&k| {
             self.segments[k].parent.is_none()
@@ -474,7 +475,7 @@ impl<'a> Tree<'a> {
         let n = self.segments.len();
         let mut base: Vec<Option<Limb>> = (0..n)
             .map(|k| match self.segments[k].parent {
-                Some(p) if !self.segments[k].vertices.is_empty() => self.base_cut(k, p, &children),
+                Some(p) if !self.segments[k].vertices.is_empty() => self.base_cut(k, p, children),
                 _ => None,
             })
             .collect();
@@ -488,13 +489,13 @@ impl<'a> Tree<'a> {
             let Some(parent) = self.segments[k].parent else {
                 continue;
             };
-            let hanging = self.limbs_hanging(k, &children, &base);
+            let hanging = self.limbs_hanging(k, children, &base);
             let low = seg
                 .iter()
                 .map(|&v| self.g[v as usize])
                 .fold(f64::INFINITY, f64::min);
             let high = self
-                .subtree(k, &children)
+                .subtree(k, children)
                 .iter()
                 .map(|&v| self.g[v as usize])
                 .fold(f64::NEG_INFINITY, f64::max);
@@ -535,7 +536,7 @@ impl<'a> Tree<'a> {
             }
         }
         let shape = Shape {
-            children: &children,
+            children,
             base: &base,
             owner: &owner,
             limbs_from: &limbs_from,
