@@ -202,3 +202,32 @@ fn skipping_saves_work_and_stays_within_the_error_bound() {
         "{default}"
     );
 }
+
+#[test]
+fn presets_sag_in_the_documented_order() {
+    // Spot under 1 g: plastic does not sag at all (static: the surface follows the bones);
+    // skin, the thinnest layer (d_B 0.2, sl_max 1.25), sags least of the elastic ones;
+    // tight cloth is soft (D 0.2) but held tight (sl_max 1.35 over d_B 0.4); thick skin has
+    // the thickest layer of the skins (d_B 0.5); water (d_B 1, sl_max 1.4, C_vd 0.99) sags
+    // most and sloshes longest.
+    let report = ok_json(&["bench", "sag", "--json"]);
+    let rows = report["presets"].as_array().unwrap();
+    let order: Vec<&str> = rows
+        .iter()
+        .map(|r| r["material"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        order,
+        ["plastic", "skin", "tight cloth", "thick skin", "water"]
+    );
+    assert_eq!(rows[0]["sag"], 0.0);
+    let sags: Vec<f64> = rows.iter().map(|r| r["sag"].as_f64().unwrap()).collect();
+    assert!(sags.windows(2).all(|w| w[0] < w[1]), "{sags:?}");
+    let water = rows[4]["settle_seconds"].as_f64().unwrap();
+    assert!(
+        rows[..4]
+            .iter()
+            .all(|r| r["settle_seconds"].as_f64().unwrap() < water),
+        "water settles last"
+    );
+}

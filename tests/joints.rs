@@ -348,6 +348,9 @@ fn random_extreme_poses_and_sliders_never_break_the_jaw() {
                 },
                 reduction_iterations: 1 + (rnd() * 8.0) as u32,
                 time_step: pick(rnd(), 1.0 / 2000.0, 1.0 / 60.0),
+                gravity: [0.0, pick(rnd(), -10.0, 10.0), 0.0],
+                stiffening: (rnd() * 5.0) as u32,
+                ..Params::default()
             });
         }
         for l in local.iter_mut() {

@@ -55,6 +55,13 @@ fn assert_constraint(sim: &Simulation, step: usize) {
     for i in 0..rig.len() {
         let x = sim.positions().get(i);
         assert!(x.is_finite(), "step {step}: vertex {i} is not finite");
+        if let Some(y) = sim.floor_y() {
+            // The floor wins over the constraint.
+            assert!(x.y >= y, "step {step}: vertex {i} below the floor");
+            if x.y == y {
+                continue;
+            }
+        }
         let l = rig.bone_length[i];
         match p.constraint {
             Constraint::Circumsphere => {
@@ -293,6 +300,11 @@ fn extreme_parameters_never_produce_nan() {
             },
             reduction_iterations: 1 + (u() * 8.0) as u32,
             time_step: [1.0 / 240.0, 1.0 / 10.0, f32::NAN][(u() * 3.0) as usize % 3],
+            gravity: [u() * 40.0 - 20.0, f32::NAN, -u()],
+            floor: u() < 0.5,
+            floor_height: u() - 0.5,
+            floor_friction: u() * 2.0,
+            stiffening: (u() * 8.0) as u32,
         };
         let mut sim = Simulation::new(rig(), params);
         for step in 0..100 {

@@ -174,3 +174,33 @@ fn taps_select_drags_turn_and_the_hint_goes_after_the_first_drag() {
     assert_eq!(again.wait(|_| true, "a report")["hint"], false);
     assert!(again.quit().success());
 }
+
+/// The brush as a user meets it: B turns it on (painting the pinning at first), a drag on
+/// the model paints instead of turning, Ctrl+Z takes the stroke back, and B again turns it
+/// off so a drag turns the part again.
+#[test]
+fn the_brush_paints_pinning_with_a_drag_and_undo_takes_it_back() {
+    let dir = common::scratch("window-brush");
+    let mut w = common::Window::open(&dir, &[]);
+    let r = w.state().unwrap();
+    let at = r["targets"]["root"].clone();
+    let at = [at[0].as_f64().unwrap(), at[1].as_f64().unwrap()];
+    w.hover([120.0, 400.0]);
+    std::thread::sleep(Duration::from_millis(300));
+    w.key("b");
+    w.wait(|r| r["brush"] == true, "the brush");
+    w.drag(at, [40.0, 0.0]);
+    let r = w.wait(
+        |r| r["painted"].as_u64().unwrap() > 0 && r["pinned"].as_u64().unwrap() > 0,
+        "the stroke to pin",
+    );
+    assert!(
+        r["turned"].as_array().unwrap().is_empty(),
+        "painting turns nothing: {r}"
+    );
+    w.key("ctrl+z");
+    w.wait(|r| r["pinned"] == 0, "undo to take the stroke back");
+    w.key("b");
+    w.wait(|r| r["brush"] == false, "the brush off");
+    assert!(w.quit().success());
+}

@@ -64,10 +64,16 @@ impl WindowState {
                 ("c", false) => {
                     if let Some(s) = &mut self.session {
                         s.cut_tool.active ^= true;
+                        s.paint_tool.active = false;
                         if !s.cut_tool.active {
                             s.draft = None;
                         }
                         s.revision += 1;
+                    }
+                }
+                ("b", false) => {
+                    if let Some(s) = &mut self.session {
+                        s.toggle_brush();
                     }
                 }
                 ("r", false) => {
@@ -89,6 +95,7 @@ impl WindowState {
             Key::Named(NamedKey::Escape) => {
                 if let Some(s) = &mut self.session {
                     s.cut_tool.active = false;
+                    s.paint_tool.active = false;
                     s.draft = None;
                     s.select(None, false);
                 }

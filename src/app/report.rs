@@ -31,6 +31,12 @@ pub struct Report {
     pub cut_tool: bool,
     /// A cut draft is placed.
     pub draft: bool,
+    /// The brush is on.
+    pub brush: bool,
+    /// Vertices the brush's target (a region, or the pinning) has painted.
+    pub painted: usize,
+    /// Vertices the simulation pins (weight above 0).
+    pub pinned: usize,
     /// `running`, `settled` or `paused`.
     pub state: String,
     /// The first-run hint is shown.
@@ -88,6 +94,12 @@ impl WindowState {
             .collect();
         report.cut_tool = s.cut_tool.active;
         report.draft = s.draft.is_some();
+        report.brush = s.paint_tool.active;
+        report.painted = s.painted();
+        let regions = s.puppet.sim.regions();
+        report.pinned = (0..s.puppet.mesh.positions.len())
+            .filter(|&i| regions.pin_of(i) > 0.0)
+            .count();
         report.state = if s.paused {
             "paused"
         } else if s.is_settled() {

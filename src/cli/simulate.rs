@@ -1,6 +1,6 @@
 //! `puppet simulate [MESH.obj] --rig RIG --anim ANIM [--frames N] [--fps F]
-//! [--out-dir DIR] [--out FINAL.obj] [--json]`: plays an animation through the full
-//! simulation, headless.
+//! [--out-dir DIR] [--out FINAL.obj] [--gravity G] [--floor H] [--friction F] [--json]`:
+//! plays an animation through the full simulation, headless.
 //!
 //! Frame `k` (1-based) shows time `k / fps`. The simulation runs on its own fixed step (the
 //! rig's `time_step`); the pose is sampled from the animation at every step, not every
@@ -43,6 +43,16 @@ pub struct Args {
     /// for their names).
     #[arg(long)]
     pub suggest_joints: bool,
+    /// Gravity in g pulling down (−y), over the rig's `gravity` (see `Params::gravity`:
+    /// 1 is 9.81 m/s² on a puppet one metre across).
+    #[arg(long, allow_negative_numbers = true)]
+    pub gravity: Option<f32>,
+    /// A floor this high above the mesh's lowest rest point (mesh units), over the rig's.
+    #[arg(long, allow_negative_numbers = true)]
+    pub floor: Option<f32>,
+    /// The floor's friction, 0..1 (over the rig's `floor_friction`).
+    #[arg(long)]
+    pub friction: Option<f32>,
     /// Print one JSON object instead of the text summary.
     #[arg(long)]
     pub json: bool,
@@ -126,9 +136,25 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         .unwrap_or_else(|| mesh_name.clone());
     let mut puppet = Puppet::build(mesh, spec, &|s, f| bar.update(s, f)).map_err(|e| match e {
         puppet::puppet::BuildError::Joints(e) => FileError::new(&rig_name, e),
+        e @ puppet::puppet::BuildError::Regions(_) => FileError::new(&rig_name, e),
         e => FileError::new(&mesh_name, e),
     })?;
     bar.finish();
+    let mut params = *puppet.sim.params();
+    if let Some(g) = args.gravity {
+        params.gravity = [0.0, -g, 0.0];
+    }
+    if let Some(h) = args.floor {
+        params.floor = true;
+        params.floor_height = h;
+    }
+    if let Some(f) = args.friction {
+        params.floor_friction = f;
+    }
+    params
+        .check()
+        .map_err(|e| anyhow::anyhow!("--gravity/--floor/--friction: {e}"))?;
+    puppet.sim.set_params(params);
     if args.suggest_joints {
         puppet
             .suggest_joints()

@@ -1,16 +1,18 @@
 //! A puppet put together: mesh → skeleton → rig → simulation, with its joints, as a
 //! [`RigFile`] describes it.
 
+pub mod paint;
 mod rig_file;
 
-pub use rig_file::{RigError, RigFile};
+pub use paint::Paint;
+pub use rig_file::{Region, RigError, RigFile};
 
 use crate::files;
 use crate::joints::{JointError, Joints};
 use crate::mesh::{self, Mesh, MeshError};
 use crate::progress::Progress;
 use crate::rig::Rig;
-use crate::sim::Simulation;
+use crate::sim::{Layer, Regions, Simulation};
 use crate::skeleton::{self, Skeleton, SkeletonError, SkeletonParams};
 use glam::DVec3;
 use std::path::Path;
@@ -27,6 +29,9 @@ pub enum BuildError {
     /// A cut of the rig file is impossible on this skeleton.
     #[error(transparent)]
     Joints(#[from] JointError),
+    /// A region or the pinning of the rig file does not fit this mesh or these sections.
+    #[error("{0}")]
+    Regions(String),
 }
 
 /// A file could not be written; the message says why in words.
@@ -73,13 +78,48 @@ impl Puppet {
         );
         let mut sim = Simulation::new(rig, rig_file.params);
         sim.set_sections(joints.section_of().to_vec());
-        Ok(Puppet {
+        let mut puppet = Puppet {
             mesh,
             skeleton,
             joints,
             sim,
             rig_file,
-        })
+        };
+        let regions = puppet.regions(true).map_err(BuildError::Regions)?;
+        puppet.sim.set_regions(regions);
+        Ok(puppet)
+    }
+
+    /// The rig file's regions and pinning resolved on the current sections. `strict`: an
+    /// unknown section or painted weights for another vertex count are errors (see
+    /// [`Paint::resolve`]).
+    pub fn regions(&self, strict: bool) -> Result<Regions, String> {
+        let mut out = Regions::default();
+        for r in &self.rig_file.regions {
+            out.layers.push(Layer {
+                params: r.params,
+                weight: r
+                    .paint
+                    .resolve(&self.joints, strict)
+                    .map_err(|e| format!("region '{}': {e}", r.name))?,
+            });
+        }
+        out.pin = self
+            .rig_file
+            .pin
+            .resolve(&self.joints, strict)
+            .map_err(|e| format!("pin: {e}"))?;
+        Ok(out)
+    }
+
+    /// Gives the simulation the current sections, and the regions and pinning resolved on
+    /// them (a region naming a section that no longer exists skips it). Call after any
+    /// change of cuts, regions or paint.
+    pub fn sync_sections(&mut self) {
+        self.sim.set_sections(self.joints.section_of().to_vec());
+        if let Ok(regions) = self.regions(false) {
+            self.sim.set_regions(regions);
+        }
     }
 
     /// Writes the current simulated surface as an OBJ file (the welded input's vertex order
@@ -101,7 +141,7 @@ impl Puppet {
             joints.add_cut(c.clone())?;
         }
         self.joints = joints;
-        self.sim.set_sections(self.joints.section_of().to_vec());
+        self.sync_sections();
         Ok(cuts.len())
     }
 

@@ -17,11 +17,24 @@
 //! point = [0.0, 0.0, 0.45]       # a point on the plane
 //! normal = [0.0, 0.0, 1.0]
 //! pivot = [0.0, 0.1, 0.45]       # optional; default: see `joints`
+//!
+//! [[region]]                     # optional: another material on part of the surface
+//! name = "belly"
+//! material = "water"             # a preset, or "custom" (the defaults)
+//! sections = ["head"]            # weight 1 on every vertex of these sections
+//! painted = "0*1200 255*40 0*1690"   # painted weights per welded vertex (see `paint`)
+//! [region.params]                # optional: material fields over the preset
+//! stiffening = 2
+//!
+//! [pin]                          # optional: glue the surface to its bones
+//! sections = ["body"]
+//! painted = "0*2900 255*30"
 //! ```
 //!
 //! [`RigFile::to_toml`] writes every parameter and every resolved pivot, so a rig written
 //! and read back gives the same simulation bit for bit.
 
+use super::paint::{self, Paint};
 use crate::files::{self, Format};
 use crate::joints::{Cut, JointError, Joints, ROOT};
 use crate::sim::{self, Constraint, Params};
@@ -44,6 +57,31 @@ struct CutEntry {
     connected: bool,
 }
 
+/// A material region as written.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RegionEntry {
+    name: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    material: Option<String>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    sections: Vec<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    painted: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    params: Option<toml::Table>,
+}
+
+/// The pinning as written.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PinEntry {
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    sections: Vec<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    painted: Option<String>,
+}
+
 /// The rig file as written.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -62,6 +100,24 @@ struct RigEntry {
     params: Option<toml::Table>,
     #[serde(default)]
     cut: Vec<CutEntry>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    region: Vec<RegionEntry>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pin: Option<PinEntry>,
+}
+
+/// A material region: a material and where it applies (see [`Paint`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Region {
+    /// The name panels show.
+    pub name: String,
+    /// Material name (a preset, or "custom").
+    pub material: String,
+    /// Its parameters (preset, then the file's overrides); only the material fields count
+    /// (see [`crate::sim::regions`]).
+    pub params: Params,
+    /// Where it applies.
+    pub paint: Paint,
 }
 
 /// A rig: everything but the mesh itself that makes a puppet.
@@ -79,6 +135,10 @@ pub struct RigFile {
     pub root: String,
     /// Cuts in order.
     pub cuts: Vec<Cut>,
+    /// Material regions, blended over the base material in order.
+    pub regions: Vec<Region>,
+    /// Where the surface is pinned to its bones.
+    pub pin: Paint,
 }
 
 impl Default for RigFile {
@@ -90,8 +150,35 @@ impl Default for RigFile {
             params: Params::default(),
             root: ROOT.into(),
             cuts: Vec::new(),
+            regions: Vec::new(),
+            pin: Paint::default(),
         }
     }
+}
+
+/// A preset's parameters by name, or the defaults for "custom".
+fn preset(material: &str) -> Result<Params, RigError> {
+    if material == "custom" {
+        return Ok(Params::default());
+    }
+    sim::presets()
+        .into_iter()
+        .find(|m| m.name == material)
+        .map(|m| m.params)
+        .ok_or_else(|| {
+            let names: Vec<String> = sim::presets().into_iter().map(|m| m.name).collect();
+            RigError(format!(
+                "material '{material}' is not a preset (presets: {}; or \"custom\")",
+                names.join(", ")
+            ))
+        })
+}
+
+/// Painted weights from a file, the error saying where.
+fn painted(text: Option<&str>, at: &str) -> Result<Vec<f32>, RigError> {
+    text.map_or(Ok(Vec::new()), |t| {
+        paint::decode(t).map_err(|e| RigError(format!("{at}: painted: {e}")))
+    })
 }
 
 /// What is wrong with a rig file; the message says where.
@@ -111,21 +198,7 @@ impl RigFile {
     pub fn parse(text: &str, format: Format, base: &Path) -> Result<RigFile, RigError> {
         let entry: RigEntry = files::parse(text, format).map_err(|e| RigError(e.to_string()))?;
         let material = entry.material.unwrap_or_else(|| "skin".into());
-        let mut params = if material == "custom" {
-            Params::default()
-        } else {
-            sim::presets()
-                .into_iter()
-                .find(|m| m.name == material)
-                .map(|m| m.params)
-                .ok_or_else(|| {
-                    let names: Vec<String> = sim::presets().into_iter().map(|m| m.name).collect();
-                    RigError(format!(
-                        "material '{material}' is not a preset (presets: {}; or \"custom\")",
-                        names.join(", ")
-                    ))
-                })?
-        };
+        let mut params = preset(&material)?;
         if let Some(c) = entry.constraint {
             params.constraint = c;
         }
@@ -165,6 +238,35 @@ impl RigFile {
                 return Err(RigError(format!("{at}: the plane normal is zero")));
             }
         }
+        let mut regions = Vec::new();
+        for (k, r) in entry.region.into_iter().enumerate() {
+            let at = format!("region {} ('{}')", k + 1, r.name);
+            if r.name.trim().is_empty() {
+                return Err(RigError(format!("region {}: the name is empty", k + 1)));
+            }
+            let material = r.material.unwrap_or_else(|| "custom".into());
+            let mut params = preset(&material).map_err(|e| RigError(format!("{at}: {e}")))?;
+            if let Some(overrides) = r.params {
+                params = overlay(params, overrides).map_err(|e| RigError(format!("{at}: {e}")))?;
+            }
+            params
+                .check()
+                .map_err(|e| RigError(format!("{at}: params: {e}")))?;
+            regions.push(Region {
+                paint: Paint {
+                    sections: r.sections,
+                    weights: painted(r.painted.as_deref(), &at)?,
+                },
+                name: r.name,
+                material,
+                params,
+            });
+        }
+        let pin = entry.pin.unwrap_or_default();
+        let pin = Paint {
+            weights: painted(pin.painted.as_deref(), "pin")?,
+            sections: pin.sections,
+        };
         Ok(RigFile {
             mesh: entry.mesh.map(|m| base.join(m)),
             method: entry.skeleton.unwrap_or_default(),
@@ -172,6 +274,8 @@ impl RigFile {
             params,
             root,
             cuts,
+            regions,
+            pin,
         })
     }
 
@@ -208,6 +312,21 @@ impl RigFile {
                     connected: c.connected,
                 })
                 .collect(),
+            region: self
+                .regions
+                .iter()
+                .map(|r| RegionEntry {
+                    name: r.name.clone(),
+                    material: Some(r.material.clone()),
+                    sections: r.paint.sections.clone(),
+                    painted: written(&r.paint.weights),
+                    params: Some(material_table(&r.params)),
+                })
+                .collect(),
+            pin: (!self.pin.is_empty()).then(|| PinEntry {
+                sections: self.pin.sections.clone(),
+                painted: written(&self.pin.weights),
+            }),
         }
     }
 
@@ -220,6 +339,31 @@ impl RigFile {
         }
         Ok(joints)
     }
+}
+
+/// Painted weights as written: `None` when nothing is painted.
+fn written(weights: &[f32]) -> Option<String> {
+    weights
+        .iter()
+        .any(|&w| w > 0.0)
+        .then(|| paint::encode(weights))
+}
+
+/// The fields of a region's material that count (see [`crate::sim::regions`]).
+fn material_table(p: &Params) -> toml::Table {
+    const FIELDS: [&str; 6] = [
+        "damping",
+        "stiffness",
+        "bone_distance",
+        "max_length",
+        "min_length",
+        "stiffening",
+    ];
+    toml::Table::try_from(p)
+        .unwrap_or_default()
+        .into_iter()
+        .filter(|(k, _)| FIELDS.contains(&&**k))
+        .collect()
 }
 
 /// `base` with the fields of `overrides` replaced; unknown fields are errors.

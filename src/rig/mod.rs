@@ -128,14 +128,23 @@ impl Rig {
 
     /// Moves the bone points for a new bone distance factor (clamped to 0..1), in O(n).
     pub fn set_bone_distance(&mut self, f_bd: f32) {
-        let f = if f_bd.is_finite() {
-            f_bd.clamp(0.0, 1.0)
-        } else {
-            0.0
+        self.set_bone_distances(f_bd, |_| f_bd);
+    }
+
+    /// Moves the bone points for a bone distance factor per vertex (`of(i)`, clamped to
+    /// 0..1; several materials on one puppet), in O(n). `base` is recorded as
+    /// [`Rig::bone_distance`].
+    pub fn set_bone_distances(&mut self, base: f32, of: impl Fn(usize) -> f32) {
+        let clamp = |f: f32| {
+            if f.is_finite() {
+                f.clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
         };
-        self.bone_distance = f;
+        self.bone_distance = clamp(base);
         for i in 0..self.len() {
-            let l = f * self.skeletal_distance[i];
+            let l = clamp(of(i)) * self.skeletal_distance[i];
             let (p, n) = (self.rest[i], self.normals[i]);
             self.bone_length[i] = l;
             self.inner[i] = p - l * n;

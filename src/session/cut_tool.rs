@@ -124,9 +124,7 @@ impl Session {
         let n = self.puppet.joints.sections().len();
         self.local.resize(n, Local::default());
         self.selection.retain(|&s| s < n);
-        self.puppet
-            .sim
-            .set_sections(self.puppet.joints.section_of().to_vec());
+        self.puppet.sync_sections();
         self.layout_revision += 1;
         self.wake();
     }

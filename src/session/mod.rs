@@ -8,12 +8,14 @@
 //! * [`pick`]: rays against the current surface;
 //! * [`undo`]: snapshots of cuts and pose;
 //! * [`cut_tool`]: the cut being placed, applying and removing cuts;
+//! * [`paint_tool`]: the brush that paints material regions and pinning;
 //! * [`view`]: what a renderer draws (surface colours, overlay lines) and when it changed;
 //! * [`loader`]: reading a mesh and building its puppet on a background thread.
 
 pub mod camera;
 pub mod cut_tool;
 pub mod loader;
+pub mod paint_tool;
 pub mod pick;
 pub mod pointer;
 pub mod undo;
@@ -21,6 +23,7 @@ pub mod view;
 
 pub use camera::Camera;
 pub use cut_tool::{CutAxis, CutDraft, CutTool};
+pub use paint_tool::PaintTool;
 pub use pick::Hit;
 pub use view::{Line, Overlays, View};
 
@@ -53,8 +56,12 @@ pub struct Session {
     pub cut_tool: CutTool,
     /// The cut tool's plane, once placed.
     pub draft: Option<CutDraft>,
+    /// The brush's settings.
+    pub paint_tool: PaintTool,
     /// Simulation paused by the user.
     pub paused: bool,
+    /// The regions and pinning as undo keeps them.
+    regions_state: paint_tool::RegionsState,
     undo: undo::History,
     scratch: PoseScratch,
     /// No step needed: pose unchanged and motion died out.
@@ -69,6 +76,10 @@ impl Session {
     /// A session on a freshly built puppet, at rest, nothing selected.
     pub fn new(puppet: Puppet, name: impl Into<String>) -> Session {
         let sections = puppet.joints.sections().len();
+        let regions_state = paint_tool::RegionsState::of(
+            puppet.rig_file.regions.clone(),
+            puppet.rig_file.pin.clone(),
+        );
         Session {
             id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
             puppet,
@@ -77,7 +88,9 @@ impl Session {
             selection: Vec::new(),
             cut_tool: CutTool::default(),
             draft: None,
+            paint_tool: PaintTool::default(),
             paused: false,
+            regions_state,
             undo: undo::History::default(),
             scratch: PoseScratch::default(),
             settled: false,
@@ -209,12 +222,17 @@ impl Session {
     pub fn set_preset(&mut self, name: &str) -> bool {
         match sim::presets().into_iter().find(|m| m.name == name) {
             Some(m) => {
-                let constraint = self.puppet.sim.params().constraint;
-                let iterations = self.puppet.sim.params().reduction_iterations;
+                // A preset is a material: the constraint, the step and the world stay.
+                let now = *self.puppet.sim.params();
                 self.puppet.rig_file.material = m.name;
                 self.set_params(Params {
-                    constraint,
-                    reduction_iterations: iterations,
+                    constraint: now.constraint,
+                    reduction_iterations: now.reduction_iterations,
+                    time_step: now.time_step,
+                    gravity: now.gravity,
+                    floor: now.floor,
+                    floor_height: now.floor_height,
+                    floor_friction: now.floor_friction,
                     ..m.params
                 });
                 true

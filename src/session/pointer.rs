@@ -1,6 +1,7 @@
 //! The mouse as the puppeteer uses it: a press on a section selects it and starts turning
-//! it, a press on the background orbits, the right or middle button pans, and with the cut
-//! tool on a press on the model places the plane. The window maps its events onto
+//! it, a press on the background orbits, the right or middle button pans, with the cut
+//! tool on a press on the model places the plane, and with the brush on a drag on the
+//! model paints. The window maps its events onto
 //! [`Pointer`]; nothing here needs one.
 
 use super::{Camera, Session};
@@ -29,6 +30,8 @@ pub enum Drag {
     Pan,
     /// Turning the selected sections.
     Rotate,
+    /// Painting with the brush.
+    Paint,
 }
 
 /// The mouse: where it is, what a held button is doing, and whether a modifier that
@@ -59,6 +62,11 @@ impl Pointer {
             (Button::Left, Some(s)) => {
                 let (origin, dir) = camera.ray(self.cursor, viewport);
                 match s.pick(origin, dir) {
+                    Some(h) if s.paint_tool.active => {
+                        s.checkpoint();
+                        s.paint_at(h.point);
+                        Drag::Paint
+                    }
                     Some(h) if s.cut_tool.active => {
                         let right = camera.view().row(0).truncate().as_dvec3();
                         let section = s.section_at(&h);
@@ -102,6 +110,14 @@ impl Pointer {
             Drag::Rotate => {
                 if let Some(s) = session {
                     s.rotate_selected(trackball(camera, delta, viewport.y));
+                }
+            }
+            Drag::Paint => {
+                if let Some(s) = session {
+                    let (origin, dir) = camera.ray(at, viewport);
+                    if let Some(h) = s.pick(origin, dir) {
+                        s.paint_at(h.point);
+                    }
                 }
             }
         }

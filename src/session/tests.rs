@@ -175,3 +175,69 @@ fn picking_hits_the_nearest_surface() {
         .pick(Vec3::new(3.0, 0.5, 5.0), Vec3::new(0.0, 0.0, -1.0))
         .is_none());
 }
+
+#[test]
+fn the_brush_paints_blends_erases_and_undoes() {
+    let mut s = session();
+    s.set_regions(
+        vec![crate::puppet::Region {
+            name: "jelly".into(),
+            material: "water".into(),
+            params: sim::presets()
+                .into_iter()
+                .find(|m| m.name == "water")
+                .unwrap()
+                .params,
+            paint: crate::puppet::Paint::default(),
+        }],
+        crate::puppet::Paint::default(),
+    );
+    s.paint_tool = PaintTool {
+        active: true,
+        target: Some(0),
+        radius: 0.4,
+        falloff: 0.5,
+        erase: false,
+    };
+    let tip = s
+        .puppet
+        .mesh
+        .positions
+        .iter()
+        .map(|p| p.y)
+        .fold(f64::MIN, f64::max);
+    s.checkpoint();
+    s.paint_at(Vec3::new(0.0, tip as f32, 0.0));
+    let w = s.puppet.rig_file.regions[0].paint.weights.clone();
+    let painted = w.iter().filter(|&&w| w > 0.0).count();
+    assert!(painted > 0 && w.contains(&1.0), "a hard core");
+    assert!(w.iter().any(|&w| w > 0.0 && w < 1.0), "a soft edge");
+    assert!(s.puppet.sim.regions().is_mixed());
+    // Erasing with a larger hard brush takes it all away; undo brings the paint back.
+    s.checkpoint();
+    s.paint_tool.erase = true;
+    s.paint_tool.falloff = 0.0;
+    s.paint_tool.radius = 0.5;
+    s.paint_at(Vec3::new(0.0, tip as f32, 0.0));
+    assert!(s.puppet.rig_file.regions[0]
+        .paint
+        .weights
+        .iter()
+        .all(|&w| w == 0.0));
+    assert!(!s.puppet.sim.regions().is_mixed());
+    s.undo();
+    assert_eq!(s.puppet.rig_file.regions[0].paint.weights, w);
+    assert!(s.puppet.sim.regions().is_mixed());
+    // Pinning by the brush, and removing the region, keep the simulation in step.
+    s.paint_tool = PaintTool {
+        target: None,
+        erase: false,
+        radius: 0.4,
+        ..s.paint_tool
+    };
+    s.paint_at(Vec3::new(0.0, tip as f32, 0.0));
+    assert!(s.puppet.sim.regions().is_pinned());
+    s.set_regions(Vec::new(), s.puppet.rig_file.pin.clone());
+    assert!(!s.puppet.sim.regions().is_mixed());
+    assert!(s.paint_tool.target.is_none());
+}

@@ -1,6 +1,7 @@
 //! Undo and redo: snapshots of everything a puppeteer changes by hand (the cuts with their
-//! pivots, and the pose), taken once before each change.
+//! pivots, the pose, the regions and pinning), taken once before each change.
 
+use super::paint_tool::RegionsState;
 use super::Session;
 use crate::joints::{Cut, Local};
 use glam::DVec3;
@@ -8,12 +9,14 @@ use glam::DVec3;
 /// How many undo steps are kept.
 pub const UNDO_DEPTH: usize = 200;
 
-/// Everything undo restores: the cuts (with pivots) and the pose.
+/// Everything undo restores: the cuts (with pivots), the pose, and the material regions
+/// and pinning.
 #[derive(Clone, Debug, PartialEq)]
 pub(super) struct Snapshot {
     cuts: Vec<Cut>,
     root_pivot: DVec3,
     local: Vec<Local>,
+    regions: RegionsState,
 }
 
 /// The undo and redo stacks.
@@ -29,6 +32,7 @@ impl Session {
             cuts: self.puppet.joints.cuts().to_vec(),
             root_pivot: self.puppet.joints.sections()[0].pivot,
             local: self.local.clone(),
+            regions: self.regions_state.clone(),
         }
     }
 
@@ -91,10 +95,13 @@ impl Session {
             if let Ok(mut joints) = rig_file.joints(self.puppet.joints.clone()) {
                 joints.set_pivot(0, s.root_pivot);
                 self.puppet.joints = joints;
-                self.puppet
-                    .sim
-                    .set_sections(self.puppet.joints.section_of().to_vec());
+                self.puppet.sync_sections();
             }
+        }
+        if s.regions != self.regions_state {
+            let (regions, pin) = (*s.regions.data).clone();
+            self.regions_state = s.regions;
+            self.apply_regions(regions, pin);
         }
         self.local = s.local;
         self.local

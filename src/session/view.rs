@@ -147,6 +147,12 @@ impl View<'_> {
             overlays.add(shown as u64);
         }
         overlays.add(s.cut_tool.active as u64);
+        overlays.add(
+            s.puppet
+                .sim
+                .floor_y()
+                .map_or(u64::MAX, |y| y.to_bits() as u64),
+        );
         if self.overlays.any() || s.draft.is_some() || !s.selection.is_empty() {
             overlays.add(s.revision);
         }
@@ -173,8 +179,9 @@ impl View<'_> {
         self.session.puppet.mesh.diagonal()
     }
 
-    /// A linear RGBA colour per vertex: its section's, tinted when selected, and tinted
-    /// blue on the side of the cut draft that would become the new section.
+    /// A linear RGBA colour per vertex: its section's, tinted by the weight of each material
+    /// region and of the pinning, tinted when selected, and tinted blue on the side of the
+    /// cut draft that would become the new section.
     pub fn colours(&self, out: &mut Vec<[f32; 4]>) {
         let s = self.session;
         let sections = s.puppet.joints.section_of();
@@ -183,10 +190,22 @@ impl View<'_> {
                 .joints
                 .preview(d.section, d.point, d.normal, d.connected)
         });
+        let regions = s.puppet.sim.regions();
         out.clear();
         out.extend(sections.iter().enumerate().map(|(i, &k)| {
             let k = k as usize;
             let mut c = section_color(k);
+            // Other materials tint towards their colour, pinning towards slate, by weight.
+            for (r, layer) in regions.layers.iter().enumerate() {
+                let w = layer.weight.get(i).copied().unwrap_or(0.0);
+                if w > 0.0 {
+                    c = mix(c, REGION_COLORS[r % REGION_COLORS.len()], 0.6 * w);
+                }
+            }
+            let pinned = regions.pin_of(i);
+            if pinned > 0.0 {
+                c = mix(c, [0.22, 0.24, 0.3], 0.75 * pinned);
+            }
             if s.selection.contains(&k) {
                 c = mix(c, [1.0, 0.42, 0.08], 0.55);
             }
@@ -260,6 +279,19 @@ impl View<'_> {
                 push_cross(top, c, size * 0.025, [0.1, 0.8, 1.0, 1.0]);
             }
         }
+        if let Some(y) = p.sim.floor_y() {
+            // The floor: a grid under the model, centred below it.
+            let (lo, hi) = p.mesh.bounds();
+            let c = ((lo + hi) * 0.5).as_vec3();
+            let half = size * 0.75;
+            let color = [0.55, 0.55, 0.5, 0.6];
+            for k in -8..=8 {
+                let t = half * k as f32 / 8.0;
+                let at = |a: f32, b: f32| Vec3::new(c.x + a, y, c.z + b);
+                push_line(lines, at(t, -half), at(t, half), color);
+                push_line(lines, at(-half, t), at(half, t), color);
+            }
+        }
         if o.pivots {
             for (k, section) in p.joints.sections().iter().enumerate().skip(1) {
                 let c = world[k].transform_point3(section.pivot).as_vec3();
@@ -273,6 +305,14 @@ impl View<'_> {
         }
     }
 }
+
+/// Tints of material regions, in order (pinning is slate).
+const REGION_COLORS: [[f32; 3]; 4] = [
+    [0.55, 0.2, 0.85],
+    [0.1, 0.7, 0.65],
+    [0.95, 0.75, 0.1],
+    [0.9, 0.2, 0.45],
+];
 
 fn push_line(out: &mut Vec<Line>, a: Vec3, b: Vec3, color: [f32; 4]) {
     out.push(Line { a, b, color });

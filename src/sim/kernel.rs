@@ -31,6 +31,7 @@
 use super::lanes::Avx;
 use super::lanes::{Lanes, Portable, LANES};
 use super::layout::{Layout, Packed};
+use super::regions::PerSlot;
 use super::{Constraint, Params};
 use glam::{Affine3A, Vec3};
 use std::ops::Range;
@@ -46,9 +47,29 @@ pub(super) struct Ctx<'a> {
     pub damping: f32,
     /// Use the AVX2 build of the kernel.
     pub avx2: bool,
+    /// Gravity's displacement per step, `g (h)²` (`None`: off).
+    pub gravity: Option<[f32; 3]>,
+    /// The floor: its height `y` and the share of sliding motion a touching point keeps per
+    /// step (`None`: no floor).
+    pub floor: Option<(f32, f32)>,
+    /// Per-slot materials (`None`: every slot has `params`).
+    pub mixed: Option<&'a PerSlot>,
+    /// Per-slot pin weights (`None`: nothing pinned).
+    pub pin: Option<&'a [f32]>,
 }
 
 impl Ctx<'_> {
+    /// True when the step needs more than the paper's machinery: gravity, a floor, several
+    /// materials, pinning or stiffening bone springs. Without them the kernel is compiled
+    /// without those stages (a scene that does not use them pays nothing).
+    pub fn extras(&self) -> bool {
+        self.gravity.is_some()
+            || self.floor.is_some()
+            || self.mixed.is_some()
+            || self.pin.is_some()
+            || self.params.stiffening > 0
+    }
+
     #[inline(always)]
     pub fn transform(&self, section: u16) -> Affine3A {
         self.transforms
@@ -79,14 +100,22 @@ pub(super) fn tile(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) -> f
         // SAFETY: `ctx.avx2` is only set when `avx2_available()` said the CPU has AVX2.
         return unsafe { tile_avx2(ctx, range, points) };
     }
-    tile_body::<Portable>(ctx, range, points)
+    if ctx.extras() {
+        tile_body::<Portable, true>(ctx, range, points)
+    } else {
+        tile_body::<Portable, false>(ctx, range, points)
+    }
 }
 
 /// The kernel compiled for AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn tile_avx2(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) -> f32 {
-    tile_body::<Avx>(ctx, range, points)
+    if ctx.extras() {
+        tile_body::<Avx, true>(ctx, range, points)
+    } else {
+        tile_body::<Avx, false>(ctx, range, points)
+    }
 }
 
 /// Spring factor `(|d| − rest) / |d|` in lanes, 0 where `|d| = 0`: the force of the spring
@@ -112,7 +141,11 @@ struct V3<V> {
 }
 
 #[inline(always)]
-fn tile_body<V: Lanes>(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) -> f32 {
+fn tile_body<V: Lanes, const EXTRAS: bool>(
+    ctx: &Ctx,
+    range: Range<usize>,
+    points: &mut [[f32; 4]],
+) -> f32 {
     let l = ctx.layout;
     let cur = &ctx.cur.0[..];
     let g0 = range.start / l.tile * l.groups_per_tile();
@@ -139,7 +172,7 @@ fn tile_body<V: Lanes>(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) 
             rows: rows(gi),
         };
         // SAFETY: `cur.len() == l.len()` (asserted above) and the layout's invariant.
-        let (new, moved) = unsafe { group(ctx, cur, g, Lanes8::Run(k0), &mut buf) };
+        let (new, moved) = unsafe { group::<V, EXTRAS>(ctx, cur, g, Lanes8::Run(k0), &mut buf) };
         moved_max = moved.max(moved_max);
         V::store3([new.x, new.y, new.z], points, j0);
     }
@@ -163,7 +196,7 @@ fn tile_body<V: Lanes>(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) 
             rows: rows(full),
         };
         // SAFETY: `cur.len() == l.len()` (asserted above) and the layout's invariant.
-        let (new, moved) = unsafe { group(ctx, cur, g, Lanes8::Slots(own), &mut buf) };
+        let (new, moved) = unsafe { group::<V, EXTRAS>(ctx, cur, g, Lanes8::Slots(own), &mut buf) };
         moved_max = moved.max(moved_max);
         let [nx, ny, nz] = arrays(new);
         for (l, q) in points[j0..j0 + n].iter_mut().enumerate() {
@@ -213,7 +246,7 @@ struct Group<V> {
 /// # Safety
 /// Every neighbour in the group's spring rows must be less than `cur.len()`.
 #[inline(always)]
-unsafe fn group<V: Lanes>(
+unsafe fn group<V: Lanes, const EXTRAS: bool>(
     ctx: &Ctx,
     cur: &[[f32; 4]],
     Group { x, before, t, rows }: Group<V>,
@@ -302,8 +335,14 @@ unsafe fn group<V: Lanes>(
         y: outer.y - x.y,
         z: outer.z - x.z,
     };
-    let fi = factor(i.x, i.y, i.z, slots.load::<V>(&s.inner_rest));
-    let fo = factor(o.x, o.y, o.z, slots.load::<V>(&s.outer_rest));
+    let m = material::<V, EXTRAS>(ctx, slots);
+    let mut fi = factor(i.x, i.y, i.z, slots.load::<V>(&s.inner_rest));
+    let mut fo = factor(o.x, o.y, o.z, slots.load::<V>(&s.outer_rest));
+    if EXTRAS && m.max_exponent > 0 {
+        let rho = m.reach * lb;
+        fi = fi * stiffening(i, slots.load::<V>(&s.inner_rest), rho, &m);
+        fo = fo * stiffening(o, slots.load::<V>(&s.outer_rest), rho, &m);
+    }
     let g = V3 {
         x: f.x + fi * i.x + fo * o.x,
         y: f.y + fi * i.y + fo * o.y,
@@ -311,15 +350,35 @@ unsafe fn group<V: Lanes>(
     };
 
     // Stage 3: Verlet, `x + C_vd (x − x_prev) + D / m · F` (same order as Vec3 code).
-    let (damping, k) = (
-        V::splat(ctx.damping),
-        V::splat(ctx.stiffness) * slots.load::<V>(&s.inv_mass),
-    );
-    let y = V3 {
+    let (damping, k) = (m.damping, m.stiffness * slots.load::<V>(&s.inv_mass));
+    let mut y = V3 {
         x: x.x + damping * (x.x - before.x) + k * g.x,
         y: x.y + damping * (x.y - before.y) + k * g.y,
         z: x.z + damping * (x.z - before.z) + k * g.z,
     };
+    // Gravity, then pinning (a pinned point is drawn to its posed rest position).
+    if let (true, Some([gx, gy, gz])) = (EXTRAS, ctx.gravity) {
+        y = V3 {
+            x: y.x + V::splat(gx),
+            y: y.y + V::splat(gy),
+            z: y.z + V::splat(gz),
+        };
+    }
+    if let (true, Some(pin)) = (EXTRAS, ctx.pin) {
+        let w = slots.load::<V>(pin);
+        y = V3 {
+            x: y.x + (r.x - y.x) * w,
+            y: y.y + (r.y - y.y) * w,
+            z: y.z + (r.z - y.z) * w,
+        };
+    }
+
+    // The floor's friction: a point that would pass the floor keeps only part of its
+    // sliding motion (before the constraint, so friction never holds a point away from
+    // its bones).
+    if let (true, Some((height, keep))) = (EXTRAS, ctx.floor) {
+        y = friction(y, x, V::splat(height), V::splat(keep));
+    }
 
     // Stage 4: the constraint.
     let new = match p.constraint {
@@ -330,7 +389,7 @@ unsafe fn group<V: Lanes>(
                 z: y.z - r.z,
             };
             let d2 = v.x * v.x + v.y * v.y + v.z * v.z;
-            let rho = V::splat(p.max_length - 1.0) * lb;
+            let rho = m.reach * lb;
             let sc = rho / d2.sqrt();
             let rho2 = rho * rho;
             V3 {
@@ -339,7 +398,22 @@ unsafe fn group<V: Lanes>(
                 z: d2.le_select(rho2, y.z, r.z + v.z * sc),
             }
         }
-        Constraint::SpringReduction => spring_reduction_lanes(y, r, nrm, inner, outer, lb, p),
+        Constraint::SpringReduction => {
+            let bounds = (m.min_length * lb, m.max_length * lb);
+            spring_reduction_lanes(y, r, nrm, inner, outer, bounds, p.reduction_iterations)
+        }
+    };
+    // Stage 4b: the floor, which no point passes: it wins over the constraint, so a section
+    // posed into the floor squashes against it.
+    let new = match (EXTRAS, ctx.floor) {
+        (true, Some((height, _))) => {
+            let below = new.y.lt(V::splat(height));
+            V3 {
+                y: below.select(V::splat(height), new.y),
+                ..new
+            }
+        }
+        _ => new,
     };
     let (mx, my, mz) = (new.x - x.x, new.y - x.y, new.z - x.z);
     (new, mx * mx + my * my + mz * mz)
@@ -402,7 +476,8 @@ fn v3<V: Lanes>([x, y, z]: [V; 3]) -> V3<V> {
 
 /// The iterated spring reduction (`spring_reduction` in this module's tests) in lanes: the
 /// same operations in the same order, lane by lane, so the results are the same bit for
-/// bit. `inner` and `outer` are the bone points `r ∓ lb n`. All lanes iterate until none is
+/// bit. `inner` and `outer` are the bone points `r ∓ lb n`, `(lo, hi)` the bounds
+/// `(f_min lb, sl_max lb)`. All lanes iterate until none is
 /// violated (a lane with no violation is not changed by further iterations, so this is the
 /// per-lane early exit); lanes still violated after the last iteration take the fallback,
 /// also in lanes.
@@ -413,18 +488,17 @@ fn spring_reduction_lanes<V: Lanes>(
     n: V3<V>,
     inner: V3<V>,
     outer: V3<V>,
-    lb: V,
-    p: &Params,
+    (lo, hi): (V, V),
+    iterations: u32,
 ) -> V3<V> {
     let away_outer = V3 {
         x: n.x.neg(),
         y: n.y.neg(),
         z: n.z.neg(),
     };
-    let (lo, hi) = (V::splat(p.min_length) * lb, V::splat(p.max_length) * lb);
     let zero = V::splat(0.0);
     let mut violated = V::mask(true);
-    for _ in 0..p.reduction_iterations {
+    for _ in 0..iterations {
         violated = V::mask(false);
         for (b, away) in [(inner, n), (outer, away_outer)] {
             let v = V3 {
@@ -470,6 +544,75 @@ fn spring_reduction_lanes<V: Lanes>(
         x: need.select(fallback.x, y.x),
         y: need.select(fallback.y, y.y),
         z: need.select(fallback.z, y.z),
+    }
+}
+
+/// The material constants of a group's lanes.
+struct Material<V> {
+    /// `C_vd^(h/h₀)` and `D (h/h₀)²`.
+    damping: V,
+    stiffness: V,
+    /// `sl_max − 1`, `f_min`, `sl_max`.
+    reach: V,
+    min_length: V,
+    max_length: V,
+    /// Stiffening exponent per lane, and the largest of any slot (0: Hooke everywhere).
+    exponent: V,
+    max_exponent: u32,
+}
+
+/// The lanes' material: the parameters' (the same for every slot) or each slot's own.
+#[inline(always)]
+fn material<V: Lanes, const EXTRAS: bool>(ctx: &Ctx, slots: Lanes8) -> Material<V> {
+    let p = &ctx.params;
+    match (EXTRAS, ctx.mixed) {
+        (false, _) | (true, None) => Material {
+            damping: V::splat(ctx.damping),
+            stiffness: V::splat(ctx.stiffness),
+            reach: V::splat(p.max_length - 1.0),
+            min_length: V::splat(p.min_length),
+            max_length: V::splat(p.max_length),
+            exponent: V::splat(p.stiffening as f32),
+            max_exponent: p.stiffening,
+        },
+        (true, Some(m)) => Material {
+            damping: slots.load(&m.damping),
+            stiffness: slots.load(&m.stiffness),
+            reach: slots.load(&m.reach),
+            min_length: slots.load(&m.min_length),
+            max_length: slots.load(&m.max_length),
+            exponent: slots.load(&m.exponent),
+            max_exponent: m.max_exponent,
+        },
+    }
+}
+
+/// The stiffening of a bone spring `d` (from the mass point to the bone point) of rest
+/// length `rest`: `min(|(|d| − rest)| / ρ, 1)^e` (1 where `ρ = 0`).
+#[inline(always)]
+fn stiffening<V: Lanes>(d: V3<V>, rest: V, rho: V, m: &Material<V>) -> V {
+    let one = V::splat(1.0);
+    let stretch = (d.x * d.x + d.y * d.y + d.z * d.z).sqrt() - rest;
+    let size = stretch.max(stretch.neg()) / rho;
+    let s = rho
+        .gt(V::splat(0.0))
+        .select(size.lt(one).select(size, one), one);
+    let mut out = one;
+    for e in 0..m.max_exponent {
+        out = m.exponent.gt(V::splat(e as f32)).select(out * s, out);
+    }
+    out
+}
+
+/// Lifts points below the floor `height` onto it; those keep `keep` of their sliding
+/// motion from `x`.
+#[inline(always)]
+fn friction<V: Lanes>(new: V3<V>, x: V3<V>, height: V, keep: V) -> V3<V> {
+    let below = new.y.lt(height);
+    V3 {
+        x: below.select(x.x + (new.x - x.x) * keep, new.x),
+        y: below.select(height, new.y),
+        z: below.select(x.z + (new.z - x.z) * keep, new.z),
     }
 }
 
@@ -619,14 +762,15 @@ mod tests {
                         z: lane(&|l| f(l).z),
                     };
                     let bone = |l: usize| bones(group[l].1, group[l].2, group[l].3);
+                    let lb = lane(&|l| group[l].3);
                     let got = spring_reduction_lanes(
                         v3(&|l| group[l].0),
                         v3(&|l| group[l].1),
                         v3(&|l| group[l].2),
                         v3(&|l| bone(l).0),
                         v3(&|l| bone(l).1),
-                        lane(&|l| group[l].3),
-                        &p,
+                        (V::splat(p.min_length) * lb, V::splat(p.max_length) * lb),
+                        p.reduction_iterations,
                     );
                     let got = arrays(got);
                     for (l, &(y, r, n, lb)) in group.iter().enumerate() {

@@ -29,6 +29,8 @@
 //! # Where things are
 //! * [`params`]: [`Params`] (one struct, the paper's names) and [`Constraint`];
 //! * [`material`]: Table 1's presets and materials files;
+//! * [`regions`]: several materials on one puppet (layers with a weight per vertex) and
+//!   pinning;
 //! * [`pose`]: the [`Pose`] a step takes and the [`Positions`] it leaves;
 //! * [`options`]: solver [`Options`] (sleeping, tile size, SIMD);
 //! * `step`: [`Simulation::step`], its numbered stages, and sleeping;
@@ -42,16 +44,19 @@ pub mod material;
 pub mod options;
 pub mod params;
 pub mod pose;
+pub mod regions;
 mod step;
 
 pub use material::{parse_materials, presets, write_materials, Material, MaterialError};
 pub use options::{Options, SLEEP_AFTER};
-pub use params::{Constraint, ParamError, Params};
+pub use params::{Constraint, ParamError, Params, MAX_GRAVITY, MAX_STIFFENING, STANDARD_GRAVITY};
 pub use pose::{Pose, Positions};
+pub use regions::{Layer, Regions};
 
 use crate::rig::Rig;
 use glam::{Affine3A, Vec3};
 use layout::{Layout, Packed};
+use regions::PerSlot;
 
 /// The reference step `h₀` that `D` and `C_vd` are defined at (seconds).
 pub const REFERENCE_STEP: f32 = 1.0 / 60.0;
@@ -121,9 +126,18 @@ pub struct Simulation {
     layout: Layout,
     state: State,
     scratch: Scratch,
+    /// Material and pin weight per vertex, and what the kernel reads of them by slot
+    /// (`None` when every vertex has the parameters' material / nothing is pinned).
+    regions: Regions,
+    per_slot: Option<PerSlot>,
+    pin: Option<Vec<f32>>,
+    /// Every vertex's material is static: the surface just follows the bones.
+    all_static: bool,
     /// The sleep threshold as a squared distance.
     sleep_threshold2: f32,
     diagonal: f32,
+    /// The rest mesh's lowest `y` (the floor's origin).
+    lowest: f32,
     /// What the last step did.
     awake_tiles: usize,
     largest_motion: f32,
@@ -168,8 +182,13 @@ impl Simulation {
                 changed: vec![false; 1],
                 to_wake: vec![false; tiles],
             },
+            regions: Regions::default(),
+            per_slot: None,
+            pin: None,
+            all_static: params.is_static(),
             sleep_threshold2: 0.0,
             diagonal,
+            lowest: if n > 0 { lo.y } else { 0.0 },
             awake_tiles: tiles,
             largest_motion: 0.0,
             last_times: StageTimes::default(),
@@ -233,11 +252,66 @@ impl Simulation {
             return;
         }
         self.params = params;
-        if self.params.bone_distance != self.rig.bone_distance {
-            self.rig.set_bone_distance(self.params.bone_distance);
-            self.layout.set_bone_length(&self.rig);
+        if self.regions.is_mixed() {
+            self.refresh_regions();
+        } else {
+            if self.params.bone_distance != self.rig.bone_distance {
+                self.rig.set_bone_distance(self.params.bone_distance);
+                self.layout.set_bone_length(&self.rig);
+            }
+            self.all_static = self.params.is_static();
         }
         self.state.wake_all = true;
+    }
+
+    /// Gives vertices their own materials and pin weights (see [`Regions`]); every tile
+    /// wakes. Weights missing at the end count as 0; extra ones are dropped.
+    pub fn set_regions(&mut self, mut regions: Regions) {
+        let n = self.rig.len();
+        for layer in &mut regions.layers {
+            layer.weight.resize(n, 0.0);
+        }
+        regions.pin.resize(n, 0.0);
+        if regions == self.regions {
+            return;
+        }
+        self.regions = regions;
+        self.refresh_regions();
+        self.state.wake_all = true;
+    }
+
+    /// The materials and pin weights in force.
+    pub fn regions(&self) -> &Regions {
+        &self.regions
+    }
+
+    /// Rebuilds the per-slot constants and the bone points from the regions.
+    fn refresh_regions(&mut self) {
+        let (regions, base) = (&self.regions, self.params);
+        if regions.is_mixed() {
+            self.rig.set_bone_distances(base.bone_distance, |i| {
+                regions.params_of(i, &base).bone_distance
+            });
+            self.per_slot = Some(PerSlot::new(regions, &base, &self.layout.order));
+            self.all_static = (0..self.rig.len()).all(|i| regions.params_of(i, &base).is_static());
+        } else {
+            self.rig.set_bone_distance(base.bone_distance);
+            self.per_slot = None;
+            self.all_static = base.is_static();
+        }
+        self.layout.set_bone_length(&self.rig);
+        self.pin = regions.is_pinned().then(|| {
+            self.layout
+                .order
+                .iter()
+                .map(|&v| regions.pin_of(v as usize))
+                .collect()
+        });
+    }
+
+    /// True when no vertex is integrated: every material is static.
+    pub fn is_static(&self) -> bool {
+        self.all_static
     }
 
     /// Assigns vertices to joint sections (used by the joints module). Every tile wakes.

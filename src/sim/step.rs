@@ -1,7 +1,7 @@
 //! One step and its stages (see [`Simulation::step`]), and the fixed-step clock
 //! ([`Simulation::advance`]).
 
-use super::{kernel, Pose, Simulation, StageTimes, REFERENCE_STEP, SLEEP_AFTER};
+use super::{kernel, Pose, Simulation, StageTimes, REFERENCE_STEP, SLEEP_AFTER, STANDARD_GRAVITY};
 use glam::Affine3A;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -36,22 +36,28 @@ impl Simulation {
     /// 2. **Forces**: each mass point gathers its surface springs (CSR neighbours) and its
     ///    two bone springs (Hooke, `stretch × direction`).
     /// 3. **Verlet** with velocity damping:
-    ///    `x' = x + C_vd^(h/h₀) (x − x_prev) + D (h/h₀)² / (deg + 2) · F`.
-    /// 4. **Constraint**: circumsphere projection, or iterated spring reduction.
+    ///    `x' = x + C_vd^(h/h₀) (x − x_prev) + D (h/h₀)² / (deg + 2) · F`, plus gravity
+    ///    `g h²`; a pinned point is then drawn to its posed rest position by its weight, and
+    ///    one that would pass the floor loses part of its sliding motion (friction).
+    /// 4. **Constraint**: circumsphere projection, or iterated spring reduction; then the
+    ///    floor lifts any point below it onto it.
     /// 5. **Sleep**: a tile that moved less than the threshold for [`SLEEP_AFTER`] steps,
     ///    with still neighbours, stops (its velocity is set to zero); a tile that moved wakes
     ///    its neighbours for the next step.
     ///
+    /// With several materials ([`super::Regions`]) stages 2–4 take each vertex's own
+    /// parameters; the stiffening exponent shapes the bone springs of stage 2.
+    ///
     /// Stages 1–4 are fused into one parallel pass over the awake tiles (`kernel`) that
     /// reads the current positions and writes the new ones over the previous ones, so the
     /// result does not depend on the number of threads and nothing is allocated. A static
-    /// material (see [`super::Params::is_static`]) skips 2–4: the surface just follows the
-    /// bones.
+    /// material everywhere (see [`super::Params::is_static`]) skips 2–4: the surface just
+    /// follows the bones (and the floor).
     pub fn step(&mut self, pose: &Pose) {
         let t0 = Instant::now();
         self.wake(pose);
         let t1 = Instant::now();
-        if self.params.is_static() {
+        if self.is_static() {
             self.follow_bones();
         } else if self.awake_tiles > 0 {
             self.integrate();
@@ -109,6 +115,7 @@ impl Simulation {
 
     /// Stages 1–4 for a static material: awake tiles take their posed rest positions.
     fn follow_bones(&mut self) {
+        let floor = self.floor().map(|(height, _)| height);
         let (layout, state) = (&self.layout, &mut self.state);
         let mut largest = 0.0f32;
         for t in 0..layout.tiles() {
@@ -117,7 +124,10 @@ impl Simulation {
             }
             for k in layout.tile_range(t) {
                 let s = &layout.slots;
-                let r = state.transforms[s.section[k] as usize].transform_point3(s.rest.get(k));
+                let mut r = state.transforms[s.section[k] as usize].transform_point3(s.rest.get(k));
+                if let Some(height) = floor {
+                    r.y = r.y.max(height);
+                }
                 largest = largest.max((r - state.cur.get(k)).length_squared());
                 state.cur.set(k, r);
                 state.prev.set(k, r);
@@ -131,6 +141,7 @@ impl Simulation {
     fn integrate(&mut self) {
         let p = self.params;
         let ratio = p.time_step / REFERENCE_STEP;
+        let (gravity, floor) = (self.gravity_per_step(), self.floor());
         let state = &mut self.state;
         let ctx = kernel::Ctx {
             layout: &self.layout,
@@ -140,6 +151,10 @@ impl Simulation {
             stiffness: p.stiffness * ratio * ratio,
             damping: p.damping.powf(ratio),
             avx2: self.options.simd,
+            gravity,
+            floor,
+            mixed: self.per_slot.as_ref(),
+            pin: self.pin.as_deref(),
         };
         let tile = self.layout.tile;
         let awake = &state.awake;
@@ -161,11 +176,36 @@ impl Simulation {
             .fold(0.0, f32::max);
     }
 
+    /// Gravity's displacement in one step, `g h²` (`None` when off or static).
+    fn gravity_per_step(&self) -> Option<[f32; 3]> {
+        let p = &self.params;
+        if !p.has_gravity() {
+            return None;
+        }
+        let scale = STANDARD_GRAVITY * self.diagonal * p.time_step * p.time_step;
+        Some(p.gravity.map(|g| g * scale))
+    }
+
+    /// The floor's `y` when there is one.
+    pub fn floor_y(&self) -> Option<f32> {
+        self.floor().map(|(y, _)| y)
+    }
+
+    /// The floor's height and the share of sliding motion a touching point keeps per step.
+    pub(super) fn floor(&self) -> Option<(f32, f32)> {
+        let p = &self.params;
+        p.floor.then(|| {
+            let keep = (1.0 - p.floor_friction).powf(p.time_step / REFERENCE_STEP);
+            (self.lowest + p.floor_height, keep)
+        })
+    }
+
     /// Stage 5.
     fn sleep(&mut self) {
         if !self.options.sleeping {
             return;
         }
+        let static_material = self.is_static();
         let (layout, state, scratch) = (&self.layout, &mut self.state, &mut self.scratch);
         scratch.to_wake.fill(false);
         for t in 0..layout.tiles() {
@@ -181,7 +221,6 @@ impl Simulation {
                 state.steps_under_threshold[t] = state.steps_under_threshold[t].saturating_add(1);
             }
         }
-        let static_material = self.params.is_static();
         for t in 0..layout.tiles() {
             if scratch.to_wake[t] {
                 if !state.awake[t] {

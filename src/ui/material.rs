@@ -1,7 +1,7 @@
 //! The Material section: Table 1's presets and a slider per parameter.
 
 use crate::session::Session;
-use crate::sim::{self, Constraint, Params, MAX_STIFFNESS};
+use crate::sim::{self, Constraint, Params, MAX_STIFFENING, MAX_STIFFNESS};
 
 pub(super) fn material_section(ui: &mut egui::Ui, session: &mut Session) {
     ui.strong("Material");
@@ -24,6 +24,8 @@ pub(super) fn material_section(ui: &mut egui::Ui, session: &mut Session) {
     ui.add(egui::Slider::new(&mut p.bone_distance, 0.0..=1.0).text("d_B bone distance"));
     ui.add(egui::Slider::new(&mut p.max_length, 1.0..=3.0).text("sl_max max length"));
     ui.add(egui::Slider::new(&mut p.min_length, 0.0..=1.0).text("f_min min length"));
+    ui.add(egui::Slider::new(&mut p.stiffening, 0..=MAX_STIFFENING).text("stiffening"))
+        .on_hover_text("bone springs soft near rest and hard far from it (0: Hooke)");
     ui.horizontal(|ui| {
         ui.radio_value(&mut p.constraint, Constraint::Circumsphere, "circumsphere");
         ui.radio_value(
@@ -40,6 +42,8 @@ pub(super) fn material_section(ui: &mut egui::Ui, session: &mut Session) {
             || p.stiffness != before.stiffness
             || p.bone_distance != before.bone_distance
             || p.max_length != before.max_length
+            || p.min_length != before.min_length
+            || p.stiffening != before.stiffening
         {
             session.puppet.rig_file.material = "custom".into();
         }

@@ -1,5 +1,5 @@
-//! The puppeteer's panels (egui): file, material, pose, cuts, overlays and stats, one file
-//! each. They edit the core's [`Session`] directly and hand what needs the window (opening
+//! The puppeteer's panels (egui): file, material, world (gravity, floor), regions (other
+//! materials, pinning, the brush), pose, cuts, overlays and stats, one file each. They edit the core's [`Session`] directly and hand what needs the window (opening
 //! files, framing) back as [`Action`]s.
 
 mod cuts;
@@ -7,7 +7,9 @@ mod file;
 mod material;
 mod overlays;
 mod pose;
+mod regions;
 mod stats;
+mod world;
 
 pub use file::file_name;
 
@@ -127,6 +129,10 @@ pub fn side_panel(
                 if let Some(session) = session {
                     ui.separator();
                     material::material_section(ui, session);
+                    ui.separator();
+                    world::world_section(ui, session);
+                    ui.separator();
+                    regions::regions_section(ui, session);
                     ui.separator();
                     pose::pose_section(ui, session);
                     ui.separator();

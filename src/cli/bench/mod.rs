@@ -8,11 +8,14 @@
 //! * `stress`: randomized scenarios that try to break the solver ([`stress`]);
 //! * `skip`: what sleeping saves on a scenario where only the limb moves, and what it costs
 //!   in accuracy ([`skip`]);
+//! * `sag`: how far each Table 1 preset sags under gravity, and how long it takes to
+//!   settle ([`sag`]);
 //! * `machine`: copy bandwidth and a plain scalar spring loop, as yardsticks ([`machine`]);
 //! * `skeleton`, `skeleton-speed`: the skeleton's accuracy and speed ([`skeleton`]).
 
 mod accuracy;
 mod machine;
+mod sag;
 mod skeleton;
 mod skip;
 mod stress;
@@ -36,6 +39,8 @@ pub enum Bench {
     Stress(stress::Args),
     /// What sleeping saves, and what it costs in accuracy.
     Skip(skip::Args),
+    /// How far each Table 1 preset sags under gravity, and how long it takes to settle.
+    Sag(sag::Args),
     /// Skeleton accuracy against analytic shapes.
     Skeleton(skeleton::AccuracyArgs),
     /// Time from file to skeleton, per stage, on the mesh Loop-subdivided 0..=N times.
@@ -60,6 +65,7 @@ pub fn run(bench: &Bench, load: &LoadArgs) -> Result<()> {
         Bench::Accuracy(args) => accuracy::run(args, load),
         Bench::Stress(args) => stress::run(args),
         Bench::Skip(args) => skip::run(args, load),
+        Bench::Sag(args) => sag::run(args, load),
         Bench::Skeleton(args) => skeleton::accuracy(args),
         Bench::SkeletonSpeed(args) => skeleton::speed(args, load),
         Bench::SkeletonChange(args) => skeleton::change(args, load),

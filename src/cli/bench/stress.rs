@@ -11,6 +11,13 @@
 //! model size), and bounded motion: no mass point moves farther in one step than its
 //! target moved plus the diameter of its region. It reports the worst surface-spring strain
 //! seen.
+//!
+//! Half the scenarios have gravity in a random direction up to 10 g, a third a floor
+//! (anywhere from below the puppet to its middle, friction 0..1: points on it may leave
+//! their constraint, none may be below it), a third one to three material layers (by
+//! section or painted per vertex with weights 0, 1 or random, each material drawn like the
+//! parameters), a third pin weights (0, 1 or random), and the bone-spring stiffening
+//! exponent is drawn from 0 to 4.
 
 use anyhow::{bail, Result};
 use glam::{DQuat, DVec3, Vec3};
@@ -18,7 +25,10 @@ use puppet::geom::hilbert::SplitMix;
 use puppet::joints::{Cut, Joints, Local, ROOT};
 use puppet::mesh::{self, shapes, subdivide_loop, Mesh};
 use puppet::scenario::Scenario;
-use puppet::sim::{Constraint, Params, Simulation, MAX_STIFFNESS, REFERENCE_STEP};
+use puppet::sim::{
+    Constraint, Layer, Params, Regions, Simulation, MAX_GRAVITY, MAX_STIFFENING, MAX_STIFFNESS,
+    REFERENCE_STEP,
+};
 
 struct Rng(SplitMix);
 
@@ -199,7 +209,51 @@ fn random_params(rng: &mut Rng) -> Params {
         },
         reduction_iterations: 1 + rng.below(64) as u32,
         time_step: rng.range(1.0 / 240.0, REFERENCE_STEP as f64) as f32,
+        gravity: if rng.below(2) == 0 {
+            (rng.direction() * rng.extreme(0.0, MAX_GRAVITY as f64))
+                .to_array()
+                .map(|g| g as f32)
+        } else {
+            [0.0; 3]
+        },
+        floor: rng.below(3) == 0,
+        floor_height: 0.0,
+        floor_friction: rng.extreme(0.0, 1.0) as f32,
+        stiffening: rng.below(MAX_STIFFENING as usize + 1) as u32,
     }
+}
+
+/// Material layers (by section, or painted at random with soft weights) and pin weights at
+/// extreme values, each in a third of the scenarios.
+fn random_regions(rng: &mut Rng, section_of: &[u16]) -> Regions {
+    let n = section_of.len();
+    let mut regions = Regions::default();
+    let weight = |rng: &mut Rng| match rng.below(4) {
+        0 => 1.0,
+        1 => rng.unit() as f32,
+        _ => 0.0,
+    };
+    if rng.below(3) == 0 {
+        for _ in 0..1 + rng.below(3) {
+            let params = random_params(rng);
+            let by_section: Vec<f32> = (0..64).map(|_| weight(rng)).collect();
+            let painted = rng.below(2) == 0;
+            let weight = (0..n)
+                .map(|i| {
+                    if painted {
+                        weight(rng)
+                    } else {
+                        by_section[section_of[i] as usize % 64]
+                    }
+                })
+                .collect();
+            regions.layers.push(Layer { params, weight });
+        }
+    }
+    if rng.below(3) == 0 {
+        regions.pin = (0..n).map(|_| weight(rng)).collect();
+    }
+    regions
 }
 
 fn run_scenario(
@@ -236,6 +290,19 @@ fn run_scenario(
     }
     let mut sim = Simulation::new(scenario.rig(params.bone_distance), params);
     sim.set_sections(joints.section_of().to_vec());
+    sim.set_regions(random_regions(rng, joints.section_of()));
+    let p = *sim.params();
+    // The floor somewhere between a little below the puppet and its middle.
+    let floor = p.floor.then(|| {
+        let height = rng.range(-0.1, 0.5) * (hi.y - lo.y);
+        let mut q = p;
+        q.floor_height = height as f32;
+        sim.set_params(q);
+        let lowest = (0..sim.rig().len())
+            .map(|i| sim.rig().rest[i].y)
+            .fold(f32::MAX, f32::min);
+        (lowest + height as f32) as f64
+    });
     let p = *sim.params();
     let n = sim.rig().len();
     let mut local = vec![Local::default(); joints.sections().len()];
@@ -269,6 +336,7 @@ fn run_scenario(
             check(
                 &sim,
                 &p,
+                floor,
                 &mut targets,
                 &mut before,
                 tolerance,
@@ -289,7 +357,8 @@ fn run_scenario(
 #[allow(clippy::too_many_arguments)]
 fn check(
     sim: &Simulation,
-    p: &Params,
+    base: &Params,
+    floor: Option<f64>,
     targets: &mut [Vec3],
     before: &mut [Vec3],
     tolerance: f64,
@@ -301,6 +370,7 @@ fn check(
     let rig = sim.rig();
     let step = sim.steps();
     for i in 0..rig.len() {
+        let p = &sim.regions().params_of(i, base);
         let y = x.get(i);
         if !y.is_finite() {
             bail!("stress scenario {name}, step {step}: vertex {i} is not finite ({y}) with {p:?}");
@@ -308,7 +378,7 @@ fn check(
         let target = sim.target(i);
         let l = rig.bone_length[i] as f64;
         // The region's radius around the target, and the constraint excess.
-        let (radius, excess) = if p.is_static() {
+        let (radius, excess) = if sim.is_static() {
             (0.0, (y - target).length() as f64)
         } else {
             match p.constraint {
@@ -330,14 +400,30 @@ fn check(
                 }
             }
         };
-        report.worst_constraint_excess = report.worst_constraint_excess.max(excess / size);
-        if excess > tolerance {
-            bail!("stress scenario {name}, step {step}: vertex {i} is {excess:e} outside its constraint with {p:?}");
+        // A point on the floor may be outside its constraint (the floor wins); none is
+        // below it.
+        let (on_floor, lift) = match floor {
+            Some(height) => {
+                let below = height - y.y as f64;
+                if below > tolerance {
+                    bail!("stress scenario {name}, step {step}: vertex {i} is {below:e} below the floor with {p:?}");
+                }
+                // How far the floor reaches into the region now and at the last step.
+                let lift = |t: Vec3| (height - (t.y as f64 - radius)).max(0.0);
+                (below >= -tolerance, lift(target) + lift(targets[i]))
+            }
+            None => (false, 0.0),
+        };
+        if !on_floor {
+            report.worst_constraint_excess = report.worst_constraint_excess.max(excess / size);
+            if excess > tolerance {
+                bail!("stress scenario {name}, step {step}: vertex {i} is {excess:e} outside its constraint with {p:?}");
+            }
         }
         let moved = (y - before[i]).length() as f64;
-        let bound = (target - targets[i]).length() as f64 + 2.0 * radius + 2.0 * tolerance;
+        let bound = (target - targets[i]).length() as f64 + 2.0 * radius + lift + 2.0 * tolerance;
         if moved > bound {
-            bail!("stress scenario {name}, step {step}: vertex {i} moved {moved:e}, more than its bound {bound:e}, with {p:?}");
+            bail!("stress scenario {name}, step {step}: vertex {i} moved {moved:e}, more than its bound {bound:e} (radius {radius:e}, lift {lift:e}, from {} to {y}, target {target}, floor {floor:?}), with {p:?}", before[i]);
         }
         if bound > 0.0 {
             report.worst_motion_share = report.worst_motion_share.max(moved / bound);

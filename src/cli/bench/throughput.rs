@@ -11,7 +11,7 @@ use anyhow::Result;
 use puppet::mesh::subdivide_loop_values;
 use puppet::scenario::Scenario;
 use puppet::sim::Constraint;
-use puppet::sim::{Options, Params, Simulation, REFERENCE_STEP};
+use puppet::sim::{Layer, Options, Params, Regions, Simulation, REFERENCE_STEP};
 
 /// Steps before timing starts.
 const WARM_UP: usize = 20;
@@ -50,13 +50,14 @@ fn bytes_per_step(vertices: usize, lane_entries: usize) -> usize {
 }
 
 /// Measures `steps` timed steps of `scenario` with every tile integrated.
-pub fn measure(scenario: &Scenario, params: Params, steps: usize) -> Row {
+pub fn measure(scenario: &Scenario, params: Params, regions: Regions, steps: usize) -> Row {
     let options = Options {
         sleeping: false,
         ..Options::default()
     };
     let mut sim = Simulation::with_options(scenario.rig(params.bone_distance), params, options);
     sim.set_sections(scenario.joints.section_of().to_vec());
+    sim.set_regions(regions);
     let springs = sim.rig().spring_count();
     let vertices = sim.rig().len();
     let h = params.time_step as f64;
@@ -133,9 +134,48 @@ pub struct Args {
     /// Loop subdivision steps for --scaling (each quadruples the faces; at most 6).
     #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u8).range(0..=6))]
     subdivisions: u8,
+    /// Gravity in g, pulling down (`-y`).
+    #[arg(long, default_value_t = 0.0)]
+    gravity: f32,
+    /// A floor a tenth of the mesh's height above its lowest point (the limb and the body
+    /// squash against it).
+    #[arg(long)]
+    floor: bool,
+    /// Painted materials: the half of the surface with `x` above the middle is "thick skin",
+    /// with stiffening exponent 2, and every tenth vertex is pinned with weight 0.5.
+    #[arg(long)]
+    mixed: bool,
     /// Print JSON instead of a Markdown table.
     #[arg(long)]
     json: bool,
+}
+
+/// The painted materials of `--mixed` (see there).
+fn mixed_regions(scenario: &Scenario) -> Regions {
+    let (lo, hi) = scenario.mesh.bounds();
+    let middle = 0.5 * (lo.x + hi.x);
+    let thick = puppet::sim::presets()
+        .into_iter()
+        .find(|m| m.name == "thick skin")
+        .map(|m| m.params)
+        .unwrap_or_default();
+    Regions {
+        layers: vec![Layer {
+            params: Params {
+                stiffening: 2,
+                ..thick
+            },
+            weight: scenario
+                .mesh
+                .positions
+                .iter()
+                .map(|p| if p.x > middle { 1.0 } else { 0.0 })
+                .collect(),
+        }],
+        pin: (0..scenario.mesh.positions.len())
+            .map(|i| if i % 10 == 0 { 0.5 } else { 0.0 })
+            .collect(),
+    }
 }
 
 pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
@@ -143,8 +183,11 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     let params = Params {
         constraint: args.constraint,
         time_step: REFERENCE_STEP,
+        gravity: [0.0, -args.gravity, 0.0],
+        floor: args.floor,
         ..Params::default()
-    };
+    }
+    .sanitized();
     let max_level = if args.scaling {
         args.subdivisions as usize
     } else {
@@ -168,7 +211,17 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             (mesh, distance) = subdivide_loop_values(&mesh, &distance);
         }
         let scenario = base.scenario_of(mesh.clone(), distance.clone(), f64::INFINITY)?;
-        let row = measure(&scenario, params, args.frames.max(1));
+        let (lo, hi) = scenario.mesh.bounds();
+        let params = Params {
+            floor_height: (0.1 * (hi.y - lo.y)) as f32,
+            ..params
+        };
+        let regions = if args.mixed {
+            mixed_regions(&scenario)
+        } else {
+            Regions::default()
+        };
+        let row = measure(&scenario, params, regions, args.frames.max(1));
         let held = row.ms_per_step_median <= BUDGET_MS;
         log::info!(
             "{} springs: {:.3} ms per step",

@@ -1,0 +1,143 @@
+//! The Regions section: other materials on parts of the surface (paper §5) and pinning,
+//! assigned by section or painted with the brush.
+
+use crate::puppet::{Paint, Region};
+use crate::session::Session;
+use crate::sim::{self, MAX_STIFFENING};
+
+/// Adds the selected sections' names to `paint` (once each).
+fn add_selected(paint: &mut Paint, session: &Session) {
+    for &k in &session.selection {
+        if let Some(s) = session.puppet.joints.sections().get(k) {
+            if !paint.sections.contains(&s.name) {
+                paint.sections.push(s.name.clone());
+            }
+        }
+    }
+}
+
+/// What a paint covers, in words.
+fn describe(paint: &Paint) -> String {
+    let painted = paint.weights.iter().filter(|&&w| w > 0.0).count();
+    match (paint.sections.is_empty(), painted) {
+        (true, 0) => "nowhere yet".into(),
+        (false, 0) => paint.sections.join(", "),
+        (true, n) => format!("{n} painted vertices"),
+        (false, n) => format!("{} + {n} painted vertices", paint.sections.join(", ")),
+    }
+}
+
+pub(super) fn regions_section(ui: &mut egui::Ui, session: &mut Session) {
+    ui.strong("Regions");
+    let mut regions = session.puppet.rig_file.regions.clone();
+    let mut pin = session.puppet.rig_file.pin.clone();
+    let before = (regions.clone(), pin.clone());
+    let mut remove = None;
+    let presets = sim::presets();
+    for (k, r) in regions.iter_mut().enumerate() {
+        ui.horizontal(|ui| {
+            let mut painting = session.paint_tool.active && session.paint_tool.target == Some(k);
+            if ui
+                .toggle_value(&mut painting, r.name.as_str())
+                .on_hover_text("paint this region with the brush")
+                .changed()
+            {
+                session.paint_tool.target = Some(k);
+                if painting != session.paint_tool.active {
+                    session.toggle_brush();
+                }
+            }
+            egui::ComboBox::from_id_salt(("region material", k))
+                .selected_text(r.material.as_str())
+                .width(90.0)
+                .show_ui(ui, |ui| {
+                    for m in &presets {
+                        if ui
+                            .selectable_label(r.material == m.name, m.name.as_str())
+                            .clicked()
+                        {
+                            r.material = m.name.clone();
+                            r.params = sim::Params {
+                                stiffening: r.params.stiffening,
+                                ..m.params
+                            };
+                        }
+                    }
+                });
+            if ui
+                .small_button("+ selected")
+                .on_hover_text("add the selected sections to this region")
+                .clicked()
+            {
+                add_selected(&mut r.paint, session);
+            }
+            if ui.small_button("clear").clicked() {
+                r.paint = Paint::default();
+            }
+            if ui.small_button("remove").clicked() {
+                remove = Some(k);
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.small(describe(&r.paint));
+            ui.add(
+                egui::Slider::new(&mut r.params.stiffening, 0..=MAX_STIFFENING).text("stiffening"),
+            );
+        });
+    }
+    if let Some(k) = remove {
+        regions.remove(k);
+        session.paint_tool.target = None;
+        session.paint_tool.active = false;
+    }
+    if ui
+        .button("New region")
+        .on_hover_text("another material (water) on the selected sections; paint to add more")
+        .clicked()
+    {
+        let water = presets.iter().find(|m| m.name == "water");
+        let mut region = Region {
+            name: format!("region {}", regions.len() + 1),
+            material: water.map_or("custom".into(), |m| m.name.clone()),
+            params: water.map_or_else(sim::Params::default, |m| m.params),
+            paint: Paint::default(),
+        };
+        add_selected(&mut region.paint, session);
+        regions.push(region);
+    }
+    ui.horizontal(|ui| {
+        let mut painting = session.paint_tool.active && session.paint_tool.target.is_none();
+        if ui
+            .toggle_value(&mut painting, "pin")
+            .on_hover_text("paint where the surface is glued to its bones")
+            .changed()
+        {
+            session.paint_tool.target = None;
+            if painting != session.paint_tool.active {
+                session.toggle_brush();
+            }
+        }
+        if ui.small_button("+ selected").clicked() {
+            add_selected(&mut pin, session);
+        }
+        if ui.small_button("clear").clicked() {
+            pin = Paint::default();
+        }
+        ui.small(describe(&pin));
+    });
+    if session.paint_tool.active {
+        let size = session.puppet.mesh.diagonal() as f32;
+        let tool = &mut session.paint_tool;
+        ui.add(
+            egui::Slider::new(&mut tool.radius, 0.005 * size..=0.5 * size)
+                .logarithmic(true)
+                .text("brush radius"),
+        );
+        ui.add(egui::Slider::new(&mut tool.falloff, 0.0..=1.0).text("falloff"));
+        ui.checkbox(&mut tool.erase, "erase");
+        ui.small("drag on the model to paint (B toggles the brush)");
+    }
+    if (regions.clone(), pin.clone()) != before {
+        session.set_regions(regions, pin);
+    }
+}
