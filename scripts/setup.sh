@@ -18,3 +18,10 @@ if [ ${#need[@]} -gt 0 ]; then
 fi
 command -v cargo >/dev/null || { echo "setup: cargo not found; install Rust from https://rustup.rs" >&2; exit 1; }
 rustup component list --installed 2>/dev/null | grep -q clippy || rustup component add clippy rustfmt >/dev/null 2>&1 || true
+# The Khronos glTF validator for the export tests (tests/export.rs runs it when Node is
+# here). Optional: without npm or the registry the test says so and checks what it can.
+if command -v npm >/dev/null && [ ! -d target/npm/node_modules/gltf-validator ]; then
+  mkdir -p target/npm
+  npm install --prefix target/npm --silent --no-audit --no-fund gltf-validator@2.0.0-dev.3.10 >/dev/null 2>&1 \
+    || echo "setup: could not install gltf-validator from npm (the export test will skip it)" >&2
+fi

@@ -6,7 +6,7 @@
 //! Data flows one way through the core:
 //!
 //! [`mesh`] → [`skeleton`] (on [`delaunay`] and [`geom`]) → [`rig`] → [`sim`] ← [`joints`];
-//! [`anim`], [`puppet`], [`scenario`] and [`session`] on top.
+//! [`anim`], [`puppet`], [`scenario`], [`session`] and [`export`] on top.
 //!
 //! The shell (`render`, `ui`, `app`, behind the default `gui` feature, and the command line
 //! in the binary) only reads the core. The core never imports a GPU or windowing crate: they
@@ -17,6 +17,7 @@
 
 pub mod anim;
 pub mod delaunay;
+pub mod export;
 pub mod files;
 pub mod geom;
 pub mod joints;

@@ -36,9 +36,15 @@ pub struct Args {
     /// Write every frame as DIR/frame_00001.obj, ...
     #[arg(long)]
     pub out_dir: Option<PathBuf>,
-    /// Write the final surface here (same vertex order as the welded input).
+    /// `FINAL.obj`: the final surface (same vertex order as the welded input);
+    /// `TAKE.glb`: every frame as a morph target with an animation of the weights (Blender
+    /// shape keys, game engines); `TAKE.pc2`: a PC2 point cache and `TAKE.obj` beside it
+    /// (Blender's Mesh Cache modifier, 3ds Max); `DIR/`: one OBJ per frame.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Export every Nth frame (with `--out TAKE.glb | TAKE.pc2 | DIR/`).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
+    pub frame_step: u64,
     /// Replace the rig's cuts with the joints the skeleton suggests (see `puppet suggest`
     /// for their names).
     #[arg(long)]
@@ -81,6 +87,8 @@ struct Summary {
     final_max_offset: f64,
     out: Option<String>,
     out_dir: Option<String>,
+    /// Frames written to `--out` when it is a take (`.glb`, `.pc2`, a folder).
+    exported_frames: u64,
 }
 
 /// Frames beyond this are refused (a typo, not a render).
@@ -116,9 +124,12 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     if frames == 0 || frames > MAX_FRAMES {
         bail!("--frames {frames} must be in 1..={MAX_FRAMES}");
     }
+    let out = Out::of(args.out.as_deref())?;
     let mesh_path = args.mesh.clone().or_else(|| spec.mesh.clone());
     let (mesh, _report, mesh_name) = load_mesh(mesh_path.as_deref(), load)?;
-    if let Some(dir) = &args.out_dir {
+    // Bad output paths fail now, not after the simulation.
+    let out_files = out.open()?;
+    if let Some(dir) = args.out_dir.as_ref().or(out.sequence()) {
         std::fs::create_dir_all(dir).map_err(|e| {
             FileError::new(
                 dir.display().to_string(),
@@ -176,6 +187,7 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     // step: 1/60 is not exact).
     let steps_by = |k: u64| (k as f64 / args.fps / h + 1e-4).floor() as u64;
     let mut step_ms = Vec::with_capacity(steps_by(frames).min(1 << 20) as usize);
+    let mut take: Vec<Vec<glam::Vec3>> = Vec::new();
     let mut steps = 0u64;
     for frame in 1..=frames {
         let target = steps_by(frame);
@@ -190,7 +202,15 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
             puppet.sim.step(pose);
             step_ms.push(t.elapsed().as_secs_f64() * 1e3);
         }
-        if let Some(dir) = &args.out_dir {
+        let exported = (frame - 1) % args.frame_step == 0;
+        if exported && out_files.is_some() {
+            let x = puppet.sim.positions();
+            take.push((0..x.len()).map(|i| x.get(i)).collect());
+        }
+        if let (true, Some(dir)) = (
+            exported || args.out_dir.is_some(),
+            args.out_dir.as_ref().or(out.sequence()),
+        ) {
             let path = dir.join(format!("frame_{frame:05}.obj"));
             write_surface(
                 &puppet,
@@ -199,8 +219,21 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
             )?;
         }
     }
-    if let Some(out) = &args.out {
-        write_surface(&puppet, out, &format!("final frame {frames}"))?;
+    if let Out::Final(path) = &out {
+        write_surface(&puppet, path, &format!("final frame {frames}"))?;
+    }
+    if let Some(files) = out_files {
+        let normals = puppet::mesh::vertex_normals(&puppet.mesh)
+            .map_err(|e| FileError::new(&mesh_name, e))?;
+        let frames = puppet::export::Frames {
+            triangles: puppet.mesh.triangles.clone(),
+            rest: puppet.mesh.positions.iter().map(|p| p.as_vec3()).collect(),
+            normals: normals.iter().map(|n| n.as_vec3()).collect(),
+            frames: take,
+            fps: args.fps / args.frame_step as f64,
+            first: 1,
+        };
+        files.write(&frames, &puppet)?;
     }
 
     let positions = puppet.sim.positions();
@@ -238,6 +271,7 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         seconds_total: t_start.elapsed().as_secs_f64(),
         final_max_offset,
         out: args.out.as_ref().map(|p| p.display().to_string()),
+        exported_frames: frames.div_ceil(args.frame_step),
         out_dir: args.out_dir.as_ref().map(|p| p.display().to_string()),
     };
     if args.json {
@@ -282,4 +316,114 @@ fn write_surface(puppet: &Puppet, path: &Path, header: &str) -> Result<()> {
         .save_surface(path, &format!("puppet simulate: {header}"))
         .map_err(|e| FileError::new(path.display().to_string(), e))?;
     Ok(())
+}
+
+/// What `--out` asks for.
+enum Out {
+    None,
+    /// The final surface as OBJ.
+    Final(PathBuf),
+    /// Every exported frame, as glTF binary or a PC2 point cache.
+    Glb(PathBuf),
+    Pc2(PathBuf),
+    /// One OBJ per exported frame in a folder.
+    Sequence(PathBuf),
+}
+
+/// A take's output files, created before the simulation runs.
+enum OutFiles {
+    Glb(PathBuf, std::fs::File),
+    Pc2(PathBuf, std::fs::File, PathBuf),
+}
+
+impl Out {
+    fn of(path: Option<&Path>) -> Result<Out> {
+        let Some(path) = path else {
+            return Ok(Out::None);
+        };
+        let text = path.to_string_lossy();
+        if text.ends_with('/') || text.ends_with(std::path::MAIN_SEPARATOR) || path.is_dir() {
+            return Ok(Out::Sequence(path.to_path_buf()));
+        }
+        let ext = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        Ok(match ext.as_deref() {
+            Some("obj") => Out::Final(path.to_path_buf()),
+            Some("glb") => Out::Glb(path.to_path_buf()),
+            Some("pc2") => Out::Pc2(path.to_path_buf()),
+            _ => {
+                return Err(FileError::new(
+                    path.display().to_string(),
+                    "not a format simulate writes (FINAL.obj, TAKE.glb, TAKE.pc2, or DIR/)",
+                )
+                .into())
+            }
+        })
+    }
+
+    fn sequence(&self) -> Option<&PathBuf> {
+        match self {
+            Out::Sequence(dir) => Some(dir),
+            _ => None,
+        }
+    }
+
+    /// Creates the take's files (so a bad path fails before the simulation).
+    fn open(&self) -> Result<Option<OutFiles>> {
+        let create = |p: &Path| {
+            std::fs::File::create(p).map_err(|e| {
+                FileError::new(
+                    p.display().to_string(),
+                    format!("cannot write: {}", files::io_message(&e)),
+                )
+            })
+        };
+        Ok(match self {
+            Out::Glb(p) => Some(OutFiles::Glb(p.clone(), create(p)?)),
+            Out::Pc2(p) => {
+                let base = p.with_extension("obj");
+                create(&base)?;
+                Some(OutFiles::Pc2(p.clone(), create(p)?, base))
+            }
+            _ => None,
+        })
+    }
+}
+
+impl OutFiles {
+    fn write(self, frames: &puppet::export::Frames, puppet: &Puppet) -> Result<()> {
+        use std::io::Write;
+        let (path, mut file, bytes) = match self {
+            OutFiles::Glb(path, file) => {
+                let bytes = puppet::export::glb::write(frames)
+                    .map_err(|e| FileError::new(path.display().to_string(), e))?;
+                (path, file, bytes)
+            }
+            OutFiles::Pc2(path, file, base) => {
+                let rest: Vec<glam::DVec3> = frames.rest.iter().map(|p| p.as_dvec3()).collect();
+                let mut obj = std::fs::File::create(&base)
+                    .map_err(|e| FileError::new(base.display().to_string(), e))?;
+                puppet::mesh::write_obj(
+                    &mut obj,
+                    &rest,
+                    &puppet.mesh.triangles,
+                    "puppet simulate: the rest surface of the PC2 point cache beside it",
+                )
+                .map_err(|e| FileError::new(base.display().to_string(), e))?;
+                let bytes = puppet::export::pc2::write(frames)
+                    .map_err(|e| FileError::new(path.display().to_string(), e))?;
+                (path, file, bytes)
+            }
+        };
+        file.write_all(&bytes)
+            .and_then(|()| file.flush())
+            .map_err(|e| {
+                FileError::new(
+                    path.display().to_string(),
+                    format!("cannot write: {}", files::io_message(&e)),
+                )
+            })?;
+        Ok(())
+    }
 }

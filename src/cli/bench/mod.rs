@@ -10,10 +10,12 @@
 //!   in accuracy ([`skip`]);
 //! * `sag`: how far each Table 1 preset sags under gravity, and how long it takes to
 //!   settle ([`sag`]);
+//! * `export`: time and size of a take in each export format ([`export`]);
 //! * `machine`: copy bandwidth and a plain scalar spring loop, as yardsticks ([`machine`]);
 //! * `skeleton`, `skeleton-speed`: the skeleton's accuracy and speed ([`skeleton`]).
 
 mod accuracy;
+mod export;
 mod machine;
 mod sag;
 mod skeleton;
@@ -41,6 +43,8 @@ pub enum Bench {
     Skip(skip::Args),
     /// How far each Table 1 preset sags under gravity, and how long it takes to settle.
     Sag(sag::Args),
+    /// Time and file size of a take in each export format.
+    Export(export::Args),
     /// Skeleton accuracy against analytic shapes.
     Skeleton(skeleton::AccuracyArgs),
     /// Time from file to skeleton, per stage, on the mesh Loop-subdivided 0..=N times.
@@ -66,6 +70,7 @@ pub fn run(bench: &Bench, load: &LoadArgs) -> Result<()> {
         Bench::Stress(args) => stress::run(args),
         Bench::Skip(args) => skip::run(args, load),
         Bench::Sag(args) => sag::run(args, load),
+        Bench::Export(args) => export::run(args, load),
         Bench::Skeleton(args) => skeleton::accuracy(args),
         Bench::SkeletonSpeed(args) => skeleton::speed(args, load),
         Bench::SkeletonChange(args) => skeleton::change(args, load),

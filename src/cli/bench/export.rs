@@ -1,0 +1,151 @@
+//! `puppet bench export`: time and file size of a take in each export format.
+//!
+//! The standard scenario on the mesh Loop-subdivided `--subdivisions` times (Spot twice:
+//! 46,850 vertices) plays `--frames` frames at 30 fps; each format then writes every frame
+//! to a scratch folder (removed afterwards), timed from the frames in memory to the file
+//! closed.
+
+use super::{Base, Input};
+use crate::cli::LoadArgs;
+use anyhow::{Context, Result};
+use puppet::export::{glb, pc2, Frames};
+use puppet::sim::{Params, Simulation};
+use std::io::Write;
+use std::time::Instant;
+
+/// `puppet bench export`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    #[command(flatten)]
+    input: Input,
+    /// Loop subdivisions of the mesh.
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(0..=4))]
+    subdivisions: u8,
+    /// Frames in the take.
+    #[arg(long, default_value_t = 300, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    frames: u64,
+    /// Print JSON instead of a Markdown table.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(serde::Serialize)]
+struct Row {
+    format: &'static str,
+    seconds: f64,
+    bytes: u64,
+    files: usize,
+}
+
+#[derive(serde::Serialize)]
+struct Report {
+    mesh: String,
+    vertices: usize,
+    frames: u64,
+    rows: Vec<Row>,
+}
+
+pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
+    let base = Base::load(&args.input, load, None)?;
+    let scenario = base.scenario(args.subdivisions as usize, 1.0)?;
+    let params = Params::default();
+    let mut sim = Simulation::new(scenario.rig(params.bone_distance), params);
+    sim.set_sections(scenario.joints.section_of().to_vec());
+    let fps = 30.0;
+    let h = params.time_step as f64;
+    let mut frames = Vec::with_capacity(args.frames as usize);
+    let mut steps = 0u64;
+    for k in 1..=args.frames {
+        while (steps as f64) * h < k as f64 / fps - 1e-9 {
+            steps += 1;
+            sim.step(&scenario.pose(steps as f64 * h));
+        }
+        let x = sim.positions();
+        frames.push((0..x.len()).map(|i| x.get(i)).collect());
+    }
+    let normals = puppet::mesh::vertex_normals(&scenario.mesh)?;
+    let take = Frames {
+        triangles: scenario.mesh.triangles.clone(),
+        rest: scenario
+            .mesh
+            .positions
+            .iter()
+            .map(|p| p.as_vec3())
+            .collect(),
+        normals: normals.iter().map(|n| n.as_vec3()).collect(),
+        frames,
+        fps,
+        first: 1,
+    };
+    let dir = std::env::temp_dir().join(format!("puppet-bench-export-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).with_context(|| dir.display().to_string())?;
+    let write = |name: &str, bytes: &[u8]| -> Result<u64> {
+        let path = dir.join(name);
+        let mut f = std::fs::File::create(&path).with_context(|| path.display().to_string())?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        Ok(bytes.len() as u64)
+    };
+    let mut rows = Vec::new();
+    let t = Instant::now();
+    let bytes = write("take.glb", &glb::write(&take)?)?;
+    rows.push(Row {
+        format: "glTF binary (.glb)",
+        seconds: t.elapsed().as_secs_f64(),
+        bytes,
+        files: 1,
+    });
+    let t = Instant::now();
+    let rest: Vec<glam::DVec3> = take.rest.iter().map(|p| p.as_dvec3()).collect();
+    let mut obj = Vec::new();
+    puppet::mesh::write_obj(&mut obj, &rest, &take.triangles, "base")?;
+    let bytes = write("take.obj", &obj)? + write("take.pc2", &pc2::write(&take)?)?;
+    rows.push(Row {
+        format: "PC2 + base OBJ",
+        seconds: t.elapsed().as_secs_f64(),
+        bytes,
+        files: 2,
+    });
+    let t = Instant::now();
+    let mut bytes = 0;
+    for (k, frame) in take.frames.iter().enumerate() {
+        let points: Vec<glam::DVec3> = frame.iter().map(|p| p.as_dvec3()).collect();
+        let mut obj = Vec::new();
+        puppet::mesh::write_obj(&mut obj, &points, &take.triangles, "frame")?;
+        bytes += write(&format!("frame_{:05}.obj", k + 1), &obj)?;
+    }
+    rows.push(Row {
+        format: "OBJ sequence",
+        seconds: t.elapsed().as_secs_f64(),
+        bytes,
+        files: take.frames.len(),
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    let report = Report {
+        mesh: base.name.clone(),
+        vertices: take.rest.len(),
+        frames: args.frames,
+        rows,
+    };
+    if args.json {
+        println!("{}", serde_json::to_string(&report)?);
+        return Ok(());
+    }
+    println!(
+        "{} Loop-subdivided {}x ({} vertices), {} frames",
+        report.mesh, args.subdivisions, report.vertices, report.frames
+    );
+    println!();
+    println!("| format | seconds | MB | files |");
+    println!("|---|---:|---:|---:|");
+    for r in &report.rows {
+        println!(
+            "| {} | {:.2} | {:.1} | {} |",
+            r.format,
+            r.seconds,
+            r.bytes as f64 / 1e6,
+            r.files
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,60 @@
+//! Taking a performance to other tools: a sequence of simulated surfaces (a **take**'s
+//! frames) written as glTF binary with morph targets ([`glb`]), as a PC2 point cache
+//! ([`pc2`]), or as one OBJ per frame.
+//!
+//! Every format writes the welded mesh's vertices in its order (which is the file's order
+//! for a file without duplicate vertices: welding keeps the earliest of a group).
+
+pub mod glb;
+pub mod pc2;
+
+use glam::Vec3;
+
+/// The frames of a take: the surface at each exported frame, on one mesh.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Frames {
+    /// The mesh's triangles.
+    pub triangles: Vec<[u32; 3]>,
+    /// The rest surface (the base of morph targets and of the PC2's OBJ).
+    pub rest: Vec<Vec3>,
+    /// Unit vertex normals of the rest surface.
+    pub normals: Vec<Vec3>,
+    /// Per exported frame, every vertex's position.
+    pub frames: Vec<Vec<Vec3>>,
+    /// Exported frames per second.
+    pub fps: f64,
+    /// The number of the first exported frame (1-based, as `simulate` counts).
+    pub first: u64,
+}
+
+/// Why a take could not be exported.
+#[derive(Debug, thiserror::Error)]
+pub enum ExportError {
+    /// Nothing to export.
+    #[error("no frames to export")]
+    Empty,
+    /// A frame with another vertex count than the mesh, or a non-finite position.
+    #[error("frame {0} does not fit the mesh (vertex count or a non-finite position)")]
+    BadFrame(usize),
+    /// The file would pass a format's size limit.
+    #[error("{0}")]
+    TooLarge(String),
+    /// The glTF JSON could not be written.
+    #[error("glTF: {0}")]
+    Gltf(String),
+}
+
+impl Frames {
+    /// Checks that every frame fits the mesh.
+    pub fn check(&self) -> Result<(), ExportError> {
+        if self.frames.is_empty() || self.rest.is_empty() {
+            return Err(ExportError::Empty);
+        }
+        for (k, f) in self.frames.iter().enumerate() {
+            if f.len() != self.rest.len() || !f.iter().all(|p| p.is_finite()) {
+                return Err(ExportError::BadFrame(k));
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,181 @@
+//! `puppet simulate --out TAKE.glb | TAKE.pc2 | DIR/`: a take in the formats other tools
+//! read. The `.glb` is read back with the `gltf` crate and checked by the Khronos
+//! validator when Node and the validator are installed (`scripts/setup.sh`); every format
+//! gives the same positions as the OBJ frames.
+
+mod common;
+use common::{puppet, scratch};
+use std::path::{Path, PathBuf};
+
+fn example(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/examples")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+/// The example take (45 frames at 30 fps) written to `out`.
+fn simulate(out: &Path, extra: &[&str]) {
+    let mut args = vec![
+        "simulate".to_string(),
+        "--rig".into(),
+        example("spot-jaw.rig.toml"),
+        "--anim".into(),
+        example("spot-jaw.anim.toml"),
+        "--frames".into(),
+        "45".into(),
+        "--out".into(),
+        out.display().to_string(),
+    ];
+    args.extend(extra.iter().map(|s| s.to_string()));
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = puppet(&args);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+/// Vertex positions of an OBJ frame.
+fn obj_vertices(path: &Path) -> Vec<[f32; 3]> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|l| {
+            let v: Vec<f32> = l.split_whitespace().map(|c| c.parse().unwrap()).collect();
+            [v[0], v[1], v[2]]
+        })
+        .collect()
+}
+
+fn close(a: [f32; 3], b: [f32; 3]) -> bool {
+    (0..3).all(|c| (a[c] - b[c]).abs() <= 1e-5)
+}
+
+fn frames_dir(test: &str) -> PathBuf {
+    let dir = scratch(test).join("frames");
+    simulate(&PathBuf::from(format!("{}/", dir.display())), &[]);
+    dir
+}
+
+#[test]
+fn glb_reads_back_with_one_target_per_frame_and_the_frames_positions() {
+    let dir = scratch("export_glb");
+    let glb = dir.join("take.glb");
+    simulate(&glb, &["--frame-step", "4"]);
+    let bytes = std::fs::read(&glb).unwrap();
+    let gltf = gltf::Gltf::from_slice(&bytes).expect("a valid glTF binary");
+    let blob = gltf.blob.clone().expect("a BIN chunk");
+    let mesh = gltf.meshes().next().expect("a mesh");
+    let prim = mesh.primitives().next().unwrap();
+    let reader = prim.reader(|_| Some(&blob));
+    let rest: Vec<[f32; 3]> = reader.read_positions().unwrap().collect();
+    let targets: Vec<Vec<[f32; 3]>> = reader
+        .read_morph_targets()
+        .map(|(p, _, _)| p.unwrap().collect())
+        .collect();
+    // Frames 1, 5, ..., 45: 12 targets, and an animation of their weights.
+    assert_eq!(targets.len(), 12);
+    assert_eq!(gltf.animations().count(), 1);
+    let sampler = gltf.animations().next().unwrap().samplers().next().unwrap();
+    assert_eq!(sampler.input().count(), 12);
+    assert_eq!(sampler.output().count(), 12 * 12);
+    // Frame 45 (the last target) is the OBJ frame 45 of the same take.
+    let frames = frames_dir("export_glb_frames");
+    let obj = obj_vertices(&frames.join("frame_00045.obj"));
+    assert_eq!(obj.len(), rest.len());
+    for (i, o) in obj.iter().enumerate() {
+        let d = targets[11][i];
+        let p = [rest[i][0] + d[0], rest[i][1] + d[1], rest[i][2] + d[2]];
+        assert!(close(p, *o), "vertex {i}: {p:?} vs {o:?}");
+    }
+    validate(&glb);
+}
+
+/// The Khronos validator, when Node and the validator (`scripts/setup.sh`) are here.
+fn validate(glb: &Path) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let modules = root.join("target/npm/node_modules");
+    let node = std::process::Command::new("node").arg("--version").output();
+    if node.is_err() || !modules.join("gltf-validator").exists() {
+        eprintln!("gltf-validator not installed (scripts/setup.sh installs it): not run");
+        return;
+    }
+    let out = std::process::Command::new("node")
+        .arg(root.join("tests/data/gltf-validate.js"))
+        .arg(glb)
+        .env("NODE_PATH", &modules)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(report["errors"], 0, "{report}");
+}
+
+#[test]
+fn pc2_holds_every_frame_in_vertex_order_beside_its_base_obj() {
+    let dir = scratch("export_pc2");
+    let pc2 = dir.join("take.pc2");
+    simulate(&pc2, &[]);
+    let b = std::fs::read(&pc2).unwrap();
+    assert_eq!(&b[..12], b"POINTCACHE2\0");
+    let i = |at: usize| i32::from_le_bytes(b[at..at + 4].try_into().unwrap());
+    let f = |at: usize| f32::from_le_bytes(b[at..at + 4].try_into().unwrap());
+    let (points, samples) = (i(16) as usize, i(28) as usize);
+    assert_eq!(samples, 45);
+    assert_eq!(b.len(), 32 + points * samples * 12);
+    let base = obj_vertices(&dir.join("take.obj"));
+    assert_eq!(base.len(), points, "the base OBJ has the cache's points");
+    let frames = frames_dir("export_pc2_frames");
+    for k in [1usize, 20, 45] {
+        let obj = obj_vertices(&frames.join(format!("frame_{k:05}.obj")));
+        for (v, o) in obj.iter().enumerate() {
+            let at = 32 + ((k - 1) * points + v) * 12;
+            let p = [f(at), f(at + 4), f(at + 8)];
+            assert!(close(p, *o), "frame {k} vertex {v}: {p:?} vs {o:?}");
+        }
+    }
+}
+
+#[test]
+fn bad_export_paths_are_one_error_line_before_simulating() {
+    let dir = scratch("export_bad");
+    // A .pc2's base OBJ is created first: its error names it.
+    let pc2 = puppet(&[
+        "simulate",
+        "--frames",
+        "2",
+        "--out",
+        "/nonexistent/take.pc2",
+    ]);
+    assert_eq!(pc2.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&pc2.stderr)
+        .starts_with("error: /nonexistent/take.obj: cannot write"));
+    for (out, says) in [
+        ("/nonexistent/take.glb", "cannot write"),
+        ("/nonexistent/take.obj", "cannot write"),
+        ("take.fbx", "not a format simulate writes"),
+    ] {
+        let target = if out.starts_with('/') {
+            out.to_string()
+        } else {
+            dir.join(out).display().to_string()
+        };
+        let o = puppet(&["simulate", "--frames", "2", "--out", &target]);
+        assert_eq!(o.status.code(), Some(2), "{out}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(
+            err.starts_with(&format!("error: {target}: ")) && err.contains(says),
+            "{err}"
+        );
+    }
+}
