@@ -94,6 +94,13 @@ fn glb_reads_back_with_one_target_per_frame_and_the_frames_positions() {
         assert!(close(p, *o), "vertex {i}: {p:?} vs {o:?}");
     }
     validate(&glb);
+    // And it opens as a mesh (glTF input): the same welded vertices and triangles.
+    let (mesh, report) = puppet::mesh::load(&glb).expect("the .glb opens as a mesh");
+    assert_eq!(report.format, puppet::mesh::Format::Gltf);
+    assert_eq!(mesh.positions.len(), rest.len());
+    let (spot, _) =
+        puppet::mesh::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/spot.obj")).unwrap();
+    assert_eq!(mesh.triangles, spot.triangles);
 }
 
 /// The Khronos validator, when Node and the validator (`scripts/setup.sh`) are here.

@@ -32,7 +32,12 @@ impl Dialog {
             let picked = match purpose {
                 FilePurpose::OpenMesh => d
                     .set_title("Open a mesh")
-                    .add_filter("meshes", &["obj", "ply", "stl", "OBJ", "PLY", "STL"])
+                    .add_filter(
+                        "meshes",
+                        &[
+                            "obj", "ply", "stl", "glb", "gltf", "OBJ", "PLY", "STL", "GLB", "GLTF",
+                        ],
+                    )
                     .pick_file(),
                 FilePurpose::LoadRig => d
                     .set_title("Load a rig")

@@ -7,7 +7,7 @@ use super::parts::Parts;
 use super::repair::{fill_holes, orient, weld_seams, Holes};
 use super::soup::Soup;
 use super::validate::validate_with;
-use super::{obj, ply, stl, weld, Mesh, MeshError};
+use super::{gltf, obj, ply, stl, weld, Mesh, MeshError};
 use crate::progress::{silent, Progress};
 use std::path::Path;
 use std::time::Instant;
@@ -45,11 +45,14 @@ pub enum Format {
     Ply,
     /// Stereolithography STL.
     Stl,
+    /// glTF 2.0 (`.glb`, or `.gltf` with embedded buffers).
+    Gltf,
 }
 
 impl Format {
-    /// The format of a file: by its extension (`.obj`, `.ply`, `.stl`, any case), otherwise
-    /// by its first bytes (`ply`; a binary STL's size; `solid` then `facet`), otherwise OBJ.
+    /// The format of a file: by its extension (`.obj`, `.ply`, `.stl`, `.glb`, `.gltf`, any
+    /// case), otherwise by its first bytes (`ply`; `glTF`; a binary STL's size; `solid` then
+    /// `facet`), otherwise OBJ.
     pub fn of(path: Option<&Path>, bytes: &[u8]) -> Format {
         let ext = path
             .and_then(|p| p.extension())
@@ -58,7 +61,11 @@ impl Format {
             Some("obj") => return Format::Obj,
             Some("ply") => return Format::Ply,
             Some("stl") => return Format::Stl,
+            Some("glb" | "gltf") => return Format::Gltf,
             _ => {}
+        }
+        if bytes.starts_with(b"glTF") {
+            return Format::Gltf;
         }
         if bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r\n") {
             return Format::Ply;
@@ -81,6 +88,7 @@ impl Format {
             Format::Obj => "OBJ",
             Format::Ply => "PLY",
             Format::Stl => "STL",
+            Format::Gltf => "glTF",
         }
     }
 }
@@ -275,6 +283,7 @@ pub fn parse(
         Format::Obj => obj::parse(bytes)?,
         Format::Ply => ply::parse(bytes)?,
         Format::Stl => stl::parse(bytes)?,
+        Format::Gltf => gltf::parse(bytes)?,
     };
     report.objects = soup.objects;
     report.file_vertices = soup.positions.len();

@@ -18,6 +18,7 @@
 
 mod decimate;
 mod edges;
+mod gltf;
 mod load;
 mod normals;
 mod obj;

@@ -1,0 +1,201 @@
+//! glTF 2.0 input (`.glb`, or `.gltf` with its buffers embedded as data URIs) through the
+//! `gltf` crate: every triangle primitive of every mesh in the default scene (or the first),
+//! placed by its node's transform, becomes part of one soup (then welded and validated like
+//! any other file). The vertex order is the order primitives and their vertices appear.
+
+use super::soup::Soup;
+use super::MeshError;
+use glam::{DMat4, Mat4};
+
+fn bad(what: impl std::fmt::Display) -> MeshError {
+    MeshError::Parse(format!("glTF: {}", super::one_line(&what.to_string())))
+}
+
+/// Parses a glTF file held in memory.
+///
+/// # Errors
+/// [`MeshError::Parse`] saying what is wrong (an external buffer file included: this
+/// reader takes `.glb` and `.gltf` with embedded buffers).
+pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
+    let gltf = gltf::Gltf::from_slice(bytes).map_err(bad)?;
+    let mut buffers: Vec<Vec<u8>> = Vec::new();
+    for b in gltf.buffers() {
+        let data = match b.source() {
+            gltf::buffer::Source::Bin => gltf
+                .blob
+                .clone()
+                .ok_or_else(|| bad("the binary chunk the file refers to is missing"))?,
+            gltf::buffer::Source::Uri(uri) => match uri.strip_prefix("data:") {
+                Some(rest) => {
+                    let (_, data) = rest
+                        .split_once(";base64,")
+                        .ok_or_else(|| bad("a data URI that is not base64"))?;
+                    base64(data).ok_or_else(|| bad("a data URI with invalid base64"))?
+                }
+                None => {
+                    return Err(bad(format!(
+                        "the buffer is in a separate file ('{uri}'); export as .glb (binary glTF) instead"
+                    )))
+                }
+            },
+        };
+        if data.len() < b.length() {
+            return Err(bad("a buffer is shorter than the file says"));
+        }
+        buffers.push(data);
+    }
+    let mut soup = Soup {
+        objects: 0,
+        ..Soup::default()
+    };
+    let scene = gltf.default_scene().or_else(|| gltf.scenes().next());
+    let roots: Vec<gltf::Node> = match &scene {
+        Some(s) => s.nodes().collect(),
+        None => Vec::new(),
+    };
+    let mut stack: Vec<(gltf::Node, DMat4)> =
+        roots.into_iter().map(|n| (n, DMat4::IDENTITY)).collect();
+    let mut depth = 0usize;
+    while let Some((node, parent)) = stack.pop() {
+        depth += 1;
+        if depth > 1_000_000 {
+            return Err(bad("the node tree is too deep or has a cycle"));
+        }
+        let local = Mat4::from_cols_array_2d(&node.transform().matrix()).as_dmat4();
+        let world = parent * local;
+        if let Some(mesh) = node.mesh() {
+            for prim in mesh.primitives() {
+                if prim.mode() != gltf::mesh::Mode::Triangles {
+                    continue;
+                }
+                let reader = prim.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+                let Some(positions) = reader.read_positions() else {
+                    continue;
+                };
+                let base = soup.positions.len() as u32;
+                let count = positions.len();
+                soup.positions.extend(
+                    positions.map(|p| world.transform_point3(glam::Vec3::from(p).as_dvec3())),
+                );
+                let indices: Vec<u32> = match reader.read_indices() {
+                    Some(i) => i.into_u32().collect(),
+                    None => (0..count as u32).collect(),
+                };
+                if indices.iter().any(|&i| i as usize >= count) {
+                    return Err(bad("a triangle names a missing vertex"));
+                }
+                soup.triangles.extend(
+                    indices
+                        .chunks_exact(3)
+                        .map(|t| [base + t[0], base + t[1], base + t[2]]),
+                );
+                soup.objects += 1;
+            }
+        }
+        stack.extend(node.children().map(|c| (c, world)));
+    }
+    soup.objects = soup.objects.max(1);
+    Ok(soup)
+}
+
+/// Standard base64 (with or without padding); `None` on any other character.
+fn base64(text: &str) -> Option<Vec<u8>> {
+    let value = |c: u8| -> Option<u32> {
+        Some(match c {
+            b'A'..=b'Z' => c - b'A',
+            b'a'..=b'z' => c - b'a' + 26,
+            b'0'..=b'9' => c - b'0' + 52,
+            b'+' => 62,
+            b'/' => 63,
+            _ => return None,
+        } as u32)
+    };
+    let clean: Vec<u8> = text.bytes().filter(|&c| c != b'=').collect();
+    let mut out = Vec::with_capacity(clean.len() * 3 / 4);
+    for chunk in clean.chunks(4) {
+        let mut acc = 0u32;
+        for &c in chunk {
+            acc = (acc << 6) | value(c)?;
+        }
+        acc <<= 6 * (4 - chunk.len()) as u32;
+        let bytes = acc.to_be_bytes();
+        match chunk.len() {
+            4 => out.extend_from_slice(&bytes[1..4]),
+            3 => out.extend_from_slice(&bytes[1..3]),
+            2 => out.push(bytes[1]),
+            _ => return None,
+        }
+    }
+    Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    #[test]
+    fn base64_decodes() {
+        assert_eq!(base64("aGVsbG8=").unwrap(), b"hello");
+        assert_eq!(base64("aGVsbG8").unwrap(), b"hello");
+        assert_eq!(base64("AAAA").unwrap(), vec![0, 0, 0]);
+        assert!(base64("a$==").is_none());
+        assert!(base64("a").is_none());
+    }
+
+    /// A tetrahedron as `.gltf` JSON with its buffer in a data URI, under a node that moves
+    /// it by +10 in x.
+    fn tetrahedron() -> String {
+        let positions: [[f32; 3]; 4] = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
+        let indices: [u16; 12] = [0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3];
+        let mut bin = Vec::new();
+        for p in positions {
+            for c in p {
+                bin.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+        for i in indices {
+            bin.extend_from_slice(&i.to_le_bytes());
+        }
+        const A: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        let mut b64 = String::new();
+        for chunk in bin.chunks(3) {
+            let n = chunk.iter().fold(0u32, |a, &b| a << 8 | b as u32) << (8 * (3 - chunk.len()));
+            for k in 0..=chunk.len() {
+                b64.push(A[(n >> (18 - 6 * k) & 63) as usize] as char);
+            }
+        }
+        format!(
+            r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],
+            "nodes":[{{"mesh":0,"translation":[10,0,0]}}],
+            "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1}}]}}],
+            "buffers":[{{"byteLength":{len},"uri":"data:application/octet-stream;base64,{b64}"}}],
+            "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":48}},{{"buffer":0,"byteOffset":48,"byteLength":24}}],
+            "accessors":[{{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[0,0,0],"max":[1,1,1]}},
+            {{"bufferView":1,"componentType":5123,"count":12,"type":"SCALAR"}}]}}"#,
+            len = bin.len()
+        )
+    }
+
+    #[test]
+    fn an_embedded_gltf_reads_with_its_node_transform() {
+        let soup = parse(tetrahedron().as_bytes()).unwrap();
+        assert_eq!(soup.positions.len(), 4);
+        assert_eq!(soup.triangles.len(), 4);
+        assert_eq!(soup.positions[1], DVec3::new(11.0, 0.0, 0.0));
+    }
+
+    #[test]
+    fn bad_gltf_says_what() {
+        let text = tetrahedron();
+        let external = text.replace(
+            &text[text.find("data:").unwrap()
+                ..text.find("\"}],\n            \"bufferViews").unwrap()],
+            "mesh.bin",
+        );
+        let e = parse(external.as_bytes()).unwrap_err().to_string();
+        assert!(e.contains("separate file ('mesh.bin')"), "{e}");
+        assert!(parse(b"glTF\x02\x00\x00\x00").is_err());
+        assert!(parse(b"{\"asset\": 3}").is_err());
+    }
+}
