@@ -204,3 +204,44 @@ fn the_brush_paints_pinning_with_a_drag_and_undo_takes_it_back() {
     w.wait(|r| r["brush"] == false, "the brush off");
     assert!(w.quit().success());
 }
+
+/// An animation opened with the window plays at once; Space pauses it, → steps a frame,
+/// Home goes back to the start.
+#[test]
+fn an_animation_plays_pauses_steps_and_restarts() {
+    let dir = common::scratch("window-anim");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples");
+    let rig = root.join("spot-jaw.rig.toml");
+    let anim = root.join("spot-jaw.anim.toml");
+    let mut w = common::Window::open(
+        &dir,
+        &[
+            "--rig",
+            rig.to_str().unwrap(),
+            "--anim",
+            anim.to_str().unwrap(),
+        ],
+    );
+    // It plays from the start (it may have finished by the time the window is up).
+    w.wait(
+        |r| r["animation_time"].as_f64().is_some_and(|t| t > 0.0),
+        "the animation to play",
+    );
+    w.hover([120.0, 400.0]);
+    w.key("Home");
+    w.wait(
+        |r| r["animation_time"] == 0.0 && r["playing"] == false,
+        "Home to go back to the start",
+    );
+    w.key("space");
+    w.wait(|r| r["playing"] == true, "Space to play");
+    w.key("space");
+    let r = w.wait(|r| r["playing"] == false, "Space to pause");
+    let paused_at = r["animation_time"].as_f64().unwrap();
+    w.key("Right");
+    w.wait(
+        |r| r["animation_time"].as_f64().unwrap() > paused_at + 0.02,
+        "→ to step a frame",
+    );
+    assert!(w.quit().success());
+}

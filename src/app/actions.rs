@@ -88,8 +88,33 @@ impl WindowState {
             },
             Key::Named(NamedKey::Space) => {
                 if let Some(s) = &mut self.session {
-                    s.paused ^= true;
-                    s.wake();
+                    if s.playback.is_some() {
+                        s.toggle_play();
+                    } else {
+                        s.paused ^= true;
+                        s.wake();
+                    }
+                }
+            }
+            Key::Named(
+                key @ (NamedKey::ArrowLeft | NamedKey::ArrowRight | NamedKey::Home | NamedKey::End),
+            ) => {
+                if let Some(s) = &mut self.session {
+                    if let Some((t, duration)) = s.playback_time() {
+                        // A frame of the timeline is 1/30 s (simulate's default rate).
+                        let frame = 1.0 / 30.0;
+                        match key {
+                            NamedKey::ArrowLeft => s.scrub(t - frame),
+                            NamedKey::ArrowRight => s.scrub(t + frame),
+                            NamedKey::Home => {
+                                s.restart();
+                                if s.is_playing() {
+                                    s.toggle_play();
+                                }
+                            }
+                            _ => s.scrub(duration),
+                        }
+                    }
                 }
             }
             Key::Named(NamedKey::Escape) => {

@@ -115,7 +115,10 @@ impl WindowState {
                 self.settings.save();
             }
         }
-        if self.loader.is_none() && !self.session.as_ref().is_some_and(Session::is_running) {
+        // While an animation plays the puppet never settles: report every frame then.
+        let quiet = !self.session.as_ref().is_some_and(Session::is_running);
+        let playing = self.session.as_ref().is_some_and(Session::is_playing);
+        if self.loader.is_none() && (quiet || playing) {
             self.write_report();
         }
         Ok(next)
@@ -178,6 +181,11 @@ impl WindowState {
                                 self.panel.message = Some((e.to_string(), true));
                             }
                             session = Session::new(session.puppet, session.name);
+                        }
+                        if let Some(animation) = self.animation.take() {
+                            if let Err(e) = session.set_animation(animation) {
+                                self.panel.message = Some((format!("animation: {e}"), true));
+                            }
                         }
                         self.session = Some(session);
                     }

@@ -54,6 +54,8 @@ pub struct Options {
     pub rig_file: RigFile,
     /// Replace the rig's cuts with the suggested joints once it is built.
     pub suggest: bool,
+    /// An animation to play once the puppet is built.
+    pub animation: Option<crate::anim::Animation>,
     /// Save a screenshot here after `frames` frames and exit (documentation, tests).
     pub screenshot: Option<PathBuf>,
     /// Frames to draw before the screenshot.

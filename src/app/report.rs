@@ -33,6 +33,10 @@ pub struct Report {
     pub draft: bool,
     /// The brush is on.
     pub brush: bool,
+    /// An animation plays.
+    pub playing: bool,
+    /// Where the animation is, in seconds (when one is loaded).
+    pub animation_time: Option<f64>,
     /// Vertices the brush's target (a region, or the pinning) has painted.
     pub painted: usize,
     /// Vertices the simulation pins (weight above 0).
@@ -95,6 +99,8 @@ impl WindowState {
         report.cut_tool = s.cut_tool.active;
         report.draft = s.draft.is_some();
         report.brush = s.paint_tool.active;
+        report.playing = s.is_playing();
+        report.animation_time = s.playback_time().map(|(t, _)| t);
         report.painted = s.painted();
         let regions = s.puppet.sim.regions();
         report.pinned = (0..s.puppet.mesh.positions.len())

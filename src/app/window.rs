@@ -52,6 +52,8 @@ pub(super) struct WindowState {
     pub report_path: Option<PathBuf>,
     /// Suggest joints on the puppet being loaded, once it is built.
     pub suggest: bool,
+    /// Play this animation on the puppet being loaded, once it is built.
+    pub animation: Option<crate::anim::Animation>,
     /// How meshes opened from the window are read.
     pub load: crate::mesh::LoadOptions,
 }
@@ -139,6 +141,7 @@ impl WindowState {
             dialog: None,
             report_path: options.report,
             suggest: false,
+            animation: options.animation,
             load: options.load,
         };
         state.panel.recent = state.settings.recent.clone();

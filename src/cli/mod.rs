@@ -27,7 +27,7 @@ pub const DEFAULT_MESH_NAME: &str = "spot.obj (embedded)";
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
-    /// Mesh to open (OBJ, PLY or STL); the embedded Spot when omitted.
+    /// Mesh to open (OBJ, PLY, STL or glTF); the embedded Spot when omitted.
     pub mesh: Option<PathBuf>,
     /// How meshes are read (for the window and every command).
     #[command(flatten)]
@@ -35,6 +35,9 @@ pub struct Cli {
     /// Rig file to open with it (material, constraint, cuts).
     #[arg(long)]
     pub rig: Option<PathBuf>,
+    /// Animation file to play in the window (the format `simulate --anim` reads).
+    #[arg(long)]
+    pub anim: Option<PathBuf>,
     /// Save a screenshot of the window (PNG) after --frames frames, then exit.
     #[arg(long)]
     pub screenshot: Option<PathBuf>,
@@ -162,6 +165,17 @@ fn open(cli: &Cli) -> Result<()> {
             .map_err(|e| FileError::new(path.display().to_string(), e))?,
         None => puppet::RigFile::default(),
     };
+    let animation = match &cli.anim {
+        Some(path) => {
+            let text = puppet::files::read_text(path)
+                .map_err(|e| FileError::new(path.display().to_string(), e))?;
+            Some(
+                puppet::anim::Animation::parse(&text, puppet::files::Format::of(path))
+                    .map_err(|e| FileError::new(path.display().to_string(), e))?,
+            )
+        }
+        None => None,
+    };
     let mesh_path = cli.mesh.clone().or_else(|| rig_file.mesh.clone());
     let (mesh, load_report, _) = load_mesh(mesh_path.as_deref(), &cli.load)?;
     // The embedded cow opens ready to play: with its suggested joints.
@@ -174,6 +188,7 @@ fn open(cli: &Cli) -> Result<()> {
         source: mesh_path.map(|p| p.canonicalize().unwrap_or(p)),
         rig_file,
         suggest,
+        animation,
         screenshot: cli.screenshot.clone(),
         frames: cli.frames,
         drive: cli.drive_test,

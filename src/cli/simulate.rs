@@ -193,13 +193,15 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         let target = steps_by(frame);
         while steps < target {
             steps += 1;
-            match &bound {
-                Some(b) => b.sample(steps as f64 * h, &mut local),
-                None => local.clear(),
-            }
-            let pose = puppet.joints.pose_into(&local, &mut scratch);
             let t = Instant::now();
-            puppet.sim.step(pose);
+            match &bound {
+                Some(b) => puppet.step_animated(b, steps, &mut local, &mut scratch),
+                None => {
+                    local.clear();
+                    let pose = puppet.joints.pose_into(&local, &mut scratch);
+                    puppet.sim.step(pose);
+                }
+            }
             step_ms.push(t.elapsed().as_secs_f64() * 1e3);
         }
         let exported = (frame - 1) % args.frame_step == 0;

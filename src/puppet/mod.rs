@@ -7,8 +7,9 @@ mod rig_file;
 pub use paint::Paint;
 pub use rig_file::{Region, RigError, RigFile};
 
+use crate::anim::Bound;
 use crate::files;
-use crate::joints::{JointError, Joints};
+use crate::joints::{JointError, Joints, Local, PoseScratch};
 use crate::mesh::{self, Mesh, MeshError};
 use crate::progress::Progress;
 use crate::rig::Rig;
@@ -143,6 +144,23 @@ impl Puppet {
         self.joints = joints;
         self.sync_sections();
         Ok(cuts.len())
+    }
+
+    /// Step `step` (1-based) of an animation: the pose at `step × h` into `local`, then one
+    /// simulation step. `simulate` and the window's playback both play animations through
+    /// this, so a take previewed in the window and baked by `simulate` give the same
+    /// positions bit for bit (same fixed step, same pose sampling).
+    pub fn step_animated(
+        &mut self,
+        animation: &Bound,
+        step: u64,
+        local: &mut Vec<Local>,
+        scratch: &mut PoseScratch,
+    ) {
+        let h = self.sim.params().time_step as f64;
+        animation.sample(step as f64 * h, local);
+        let pose = self.joints.pose_into(local, scratch);
+        self.sim.step(pose);
     }
 
     /// The rig file of the puppet as it is now (parameters, and cuts with resolved pivots).

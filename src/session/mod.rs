@@ -9,6 +9,7 @@
 //! * [`undo`]: snapshots of cuts and pose;
 //! * [`cut_tool`]: the cut being placed, applying and removing cuts;
 //! * [`paint_tool`]: the brush that paints material regions and pinning;
+//! * [`playback`]: playing an animation file (what `simulate` bakes, bit for bit);
 //! * [`view`]: what a renderer draws (surface colours, overlay lines) and when it changed;
 //! * [`loader`]: reading a mesh and building its puppet on a background thread.
 
@@ -17,6 +18,7 @@ pub mod cut_tool;
 pub mod loader;
 pub mod paint_tool;
 pub mod pick;
+pub mod playback;
 pub mod pointer;
 pub mod undo;
 pub mod view;
@@ -25,6 +27,7 @@ pub use camera::Camera;
 pub use cut_tool::{CutAxis, CutDraft, CutTool};
 pub use paint_tool::PaintTool;
 pub use pick::Hit;
+pub use playback::Playback;
 pub use view::{Line, Overlays, View};
 
 use crate::joints::{Local, PoseScratch};
@@ -58,6 +61,8 @@ pub struct Session {
     pub draft: Option<CutDraft>,
     /// The brush's settings.
     pub paint_tool: PaintTool,
+    /// The animation loaded, if any, and where its playback is.
+    pub playback: Option<Playback>,
     /// Simulation paused by the user.
     pub paused: bool,
     /// The regions and pinning as undo keeps them.
@@ -89,6 +94,7 @@ impl Session {
             cut_tool: CutTool::default(),
             draft: None,
             paint_tool: PaintTool::default(),
+            playback: None,
             paused: false,
             regions_state,
             undo: undo::History::default(),
@@ -123,12 +129,24 @@ impl Session {
         if !self.is_running() {
             return 0;
         }
+        if self.is_playing() {
+            let due = self.puppet.sim.steps_due(seconds, max_steps);
+            self.play_steps(due as u64);
+            // A finished animation that does not loop holds its last pose.
+            let time = self.playback_time();
+            if let (Some(p), Some((t, duration))) = (&mut self.playback, time) {
+                if !p.animation.looping && t >= duration {
+                    p.playing = false;
+                }
+            }
+            return due;
+        }
         let pose = self.puppet.joints.pose_into(&self.local, &mut self.scratch);
         let steps = self.puppet.sim.advance(pose, seconds, max_steps);
         if steps > 0 {
             self.revision += 1;
             let limit = SETTLED_MOTION * self.puppet.mesh.diagonal();
-            if self.puppet.sim.params().is_static()
+            if self.puppet.sim.is_static()
                 || self.puppet.sim.largest_motion() as f64 <= limit * limit
             {
                 self.settled = true;

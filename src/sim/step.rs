@@ -11,20 +11,45 @@ impl Simulation {
     /// rest of the time is dropped so a slow frame cannot snowball). Returns the steps
     /// taken.
     pub fn advance(&mut self, pose: &Pose, seconds: f32, max_steps: u32) -> u32 {
+        let due = self.steps_due(seconds, max_steps);
+        for _ in 0..due {
+            self.step(pose);
+        }
+        due
+    }
+
+    /// The fixed steps `seconds` of frame time hold (with the time not yet simulated, at
+    /// most `max_steps`; the rest is dropped so a slow frame cannot snowball). The caller
+    /// takes them (with a pose per step: an animation's playback).
+    pub fn steps_due(&mut self, seconds: f32, max_steps: u32) -> u32 {
         if seconds.is_finite() && seconds > 0.0 {
             self.state.time_debt += seconds;
         }
         let h = self.params.time_step;
-        let mut taken = 0;
-        while self.state.time_debt >= h && taken < max_steps {
-            self.step(pose);
+        let mut due = 0;
+        while self.state.time_debt >= h && due < max_steps {
             self.state.time_debt -= h;
-            taken += 1;
+            due += 1;
         }
-        if taken == max_steps {
+        if due == max_steps {
             self.state.time_debt = 0.0;
         }
-        taken
+        due
+    }
+
+    /// Back to rest: every mass point at its rest position with no velocity, every section
+    /// at rest, no step taken (what a freshly built simulation is).
+    pub fn reset(&mut self) {
+        let s = &mut self.state;
+        s.cur = self.layout.rest_positions();
+        s.prev = s.cur.clone();
+        s.transforms.fill(glam::Affine3A::IDENTITY);
+        s.awake.fill(true);
+        s.steps_under_threshold.fill(0);
+        s.wake_all = true;
+        s.steps = 0;
+        s.time_debt = 0.0;
+        self.largest_motion = 0.0;
     }
 
     /// One simulation step of `h = params.time_step`.

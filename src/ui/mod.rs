@@ -9,6 +9,7 @@ mod overlays;
 mod pose;
 mod regions;
 mod stats;
+mod timeline;
 mod world;
 
 pub use file::file_name;
@@ -103,6 +104,10 @@ pub fn side_panel(
     session: Option<&mut Session>,
 ) -> Vec<Action> {
     let mut actions = Vec::new();
+    let mut session = session;
+    if let Some(s) = session.as_deref_mut() {
+        timeline::timeline(ui, s);
+    }
     let shown = session.as_ref().map(|s| s.name.clone());
     let panel = egui::Panel::left("puppet")
         .resizable(true)

@@ -1,0 +1,123 @@
+//! Playing an animation file in the window: play, pause, restart, loop and scrub. Every
+//! step samples the pose at `step × h` through [`crate::puppet::Puppet::step_animated`],
+//! the same call `simulate` makes, from the same rest state, so what the window previews is
+//! what `simulate` bakes, bit for bit.
+
+use super::Session;
+use crate::anim::{AnimError, Animation, Bound};
+use crate::joints::Local;
+
+/// An animation bound to the puppet's sections, and where its playback is.
+#[derive(Clone, Debug)]
+pub struct Playback {
+    /// The animation as loaded (saved back as it is).
+    pub animation: Animation,
+    bound: Bound,
+    /// Steps played since the start.
+    pub steps: u64,
+    /// Stepping on.
+    pub playing: bool,
+}
+
+/// Longest scrub, in steps (a scrub re-simulates from the start).
+const MAX_SCRUB_STEPS: u64 = 1_000_000;
+
+impl Session {
+    /// Loads an animation: bound to the sections by name, the puppet back at rest, playing
+    /// from the start. On error nothing changes.
+    pub fn set_animation(&mut self, animation: Animation) -> Result<(), AnimError> {
+        animation.check()?;
+        let bound = animation.bind(&self.puppet.joints)?;
+        self.playback = Some(Playback {
+            animation,
+            bound,
+            steps: 0,
+            playing: true,
+        });
+        self.restart();
+        Ok(())
+    }
+
+    /// Back to the start of the animation, the puppet at rest.
+    pub fn restart(&mut self) {
+        if let Some(p) = &mut self.playback {
+            p.steps = 0;
+            self.puppet.sim.reset();
+            let mut local = Vec::new();
+            p.bound.sample(0.0, &mut local);
+            self.local = local;
+            self.wake();
+        }
+    }
+
+    /// Plays or pauses the animation.
+    pub fn toggle_play(&mut self) {
+        if let Some(p) = &mut self.playback {
+            p.playing ^= true;
+            self.wake();
+        }
+    }
+
+    /// Seconds into the animation, and its duration.
+    pub fn playback_time(&self) -> Option<(f64, f64)> {
+        let p = self.playback.as_ref()?;
+        let h = self.puppet.sim.params().time_step as f64;
+        Some((p.steps as f64 * h, p.animation.duration))
+    }
+
+    /// Jumps to `seconds`: the simulation runs from rest to there (a physical simulation
+    /// has no shortcut), then holds, paused.
+    pub fn scrub(&mut self, seconds: f64) {
+        let h = self.puppet.sim.params().time_step as f64;
+        if self.playback.is_none() || !seconds.is_finite() {
+            return;
+        }
+        let target = ((seconds.max(0.0) / h).round() as u64).min(MAX_SCRUB_STEPS);
+        self.restart();
+        self.play_steps(target);
+        if let Some(p) = &mut self.playback {
+            p.playing = false;
+        }
+    }
+
+    /// Takes `n` steps of the animation.
+    pub(super) fn play_steps(&mut self, n: u64) {
+        let Some(p) = &mut self.playback else {
+            return;
+        };
+        for _ in 0..n {
+            p.steps += 1;
+            self.puppet
+                .step_animated(&p.bound, p.steps, &mut self.local, &mut self.scratch);
+        }
+        self.revision += 1;
+    }
+
+    /// True while an animation drives the pose.
+    pub fn is_playing(&self) -> bool {
+        self.playback.as_ref().is_some_and(|p| p.playing)
+    }
+
+    /// The pose the animation holds now (what a turn by hand starts from).
+    pub fn animated_pose(&self) -> Option<Vec<Local>> {
+        let p = self.playback.as_ref()?;
+        let mut local = Vec::new();
+        let h = self.puppet.sim.params().time_step as f64;
+        p.bound.sample(p.steps as f64 * h, &mut local);
+        Some(local)
+    }
+}
+
+impl Session {
+    /// Loops the animation or not (kept in it, so saving writes it).
+    pub fn set_looping(&mut self, looping: bool) {
+        let joints = &self.puppet.joints;
+        if let Some(p) = &mut self.playback {
+            p.animation.looping = looping;
+            if let Ok(bound) = p.animation.bind(joints) {
+                p.bound = bound;
+            }
+            self.wake();
+        }
+    }
+}
