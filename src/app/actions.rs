@@ -211,6 +211,14 @@ impl WindowState {
                     }),
                 None => return,
             },
+            FilePurpose::OpenAnimation => match &mut self.session {
+                Some(s) => s.open_animation(&path),
+                None => return,
+            },
+            FilePurpose::SaveAnimation => match self.session() {
+                Some(s) => s.save_animation(&path),
+                None => return,
+            },
             FilePurpose::ExportSurface => match self.session() {
                 Some(s) => s
                     .puppet

@@ -53,6 +53,15 @@ impl Dialog {
                     .add_filter("OBJ", &["obj"])
                     .set_file_name("puppet.obj")
                     .save_file(),
+                FilePurpose::OpenAnimation => d
+                    .set_title("Open an animation")
+                    .add_filter("animation files", &["toml", "json"])
+                    .pick_file(),
+                FilePurpose::SaveAnimation => d
+                    .set_title("Save the animation")
+                    .add_filter("animation files", &["toml", "json"])
+                    .set_file_name("puppet.anim.toml")
+                    .save_file(),
             };
             let _ = tx.send(picked);
         });

@@ -147,8 +147,20 @@ impl ApplicationHandler for App {
                     event_loop.exit();
                 }
             },
+            // A dropped animation plays; a dropped rig loads; anything else opens as a mesh.
             WindowEvent::DroppedFile(path) => {
-                w.start_loading(Some(path), None);
+                let text_file = path.extension().is_some_and(|e| {
+                    e.eq_ignore_ascii_case("toml") || e.eq_ignore_ascii_case("json")
+                });
+                let purpose = if !text_file {
+                    crate::ui::FilePurpose::OpenMesh
+                } else if crate::session::playback::is_animation_file(&path) {
+                    crate::ui::FilePurpose::OpenAnimation
+                } else {
+                    crate::ui::FilePurpose::LoadRig
+                };
+                w.use_file(purpose, path);
+                w.window.request_redraw();
             }
             WindowEvent::ModifiersChanged(m) => {
                 let m = m.state();

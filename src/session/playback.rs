@@ -121,3 +121,49 @@ impl Session {
         }
     }
 }
+
+impl Session {
+    /// Reads an animation file (TOML, or JSON by extension) and plays it; returns what the
+    /// panel says. On error the puppet and any animation loaded stay as they were.
+    pub fn open_animation(&mut self, path: &std::path::Path) -> Result<String, String> {
+        let name = path.file_name().map_or_else(
+            || path.display().to_string(),
+            |n| n.to_string_lossy().into(),
+        );
+        let text = crate::files::read_text(path).map_err(|e| format!("{name}: {e}"))?;
+        let animation = Animation::parse(&text, crate::files::Format::of(path))
+            .map_err(|e| format!("{name}: {e}"))?;
+        self.set_animation(animation)
+            .map_err(|e| format!("{name}: {e}"))?;
+        Ok(format!("playing {name}"))
+    }
+
+    /// Writes the loaded animation (TOML, or JSON by extension); returns what the panel
+    /// says.
+    pub fn save_animation(&self, path: &std::path::Path) -> Result<String, String> {
+        let name = path.file_name().map_or_else(
+            || path.display().to_string(),
+            |n| n.to_string_lossy().into(),
+        );
+        let Some(p) = &self.playback else {
+            return Err("no animation to save (open one first)".into());
+        };
+        let text = match crate::files::Format::of(path) {
+            crate::files::Format::Json => {
+                serde_json::to_string_pretty(&p.animation).map_err(|e| e.to_string())?
+            }
+            crate::files::Format::Toml => p.animation.to_toml(),
+        };
+        std::fs::write(path, text)
+            .map(|()| format!("saved {name}"))
+            .map_err(|e| format!("{name}: cannot write: {}", crate::files::io_message(&e)))
+    }
+}
+
+/// True when `path` holds an animation file (its text parses as one with tracks): what
+/// a file dropped on the window is taken for before a rig.
+pub fn is_animation_file(path: &std::path::Path) -> bool {
+    crate::files::read_text(path).is_ok_and(|text| {
+        Animation::parse(&text, crate::files::Format::of(path)).is_ok_and(|a| !a.track.is_empty())
+    })
+}

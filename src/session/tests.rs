@@ -241,3 +241,47 @@ fn the_brush_paints_blends_erases_and_undoes() {
     assert!(!s.puppet.sim.regions().is_mixed());
     assert!(s.paint_tool.target.is_none());
 }
+
+#[test]
+fn animations_open_save_and_bad_ones_change_nothing() {
+    let mut s = session();
+    let dir = std::env::temp_dir().join(format!("puppet-anim-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let good = dir.join("wave.anim.toml");
+    std::fs::write(
+        &good,
+        "duration = 1\n[[track]]\nsection = \"arm\"\nkey = [{ time = 0, axis = [0, 0, 1], angle = 0 }, { time = 1, axis = [0, 0, 1], angle = 45 }]\n",
+    )
+    .unwrap();
+    assert_eq!(s.open_animation(&good).unwrap(), "playing wave.anim.toml");
+    assert!(s.is_playing());
+    assert!(crate::session::playback::is_animation_file(&good));
+    s.advance(0.5, 100);
+    assert!(s.playback_time().unwrap().0 > 0.4);
+    // Bad files: one message naming the file; what plays stays.
+    let bad = dir.join("bad.anim.toml");
+    std::fs::write(&bad, "duration = 1\n[[track]]\nsection = \"tail\"\nkey = [{ time = 0, axis = [0, 0, 1], angle = 0 }]\n").unwrap();
+    let e = s.open_animation(&bad).unwrap_err();
+    assert!(
+        e.starts_with("bad.anim.toml: ") && e.contains("tail"),
+        "{e}"
+    );
+    assert!(s.open_animation(&dir.join("missing.toml")).is_err());
+    assert_eq!(
+        s.playback.as_ref().unwrap().animation.track[0].section,
+        "arm"
+    );
+    // Saved as TOML and as JSON, both read back the same.
+    for name in ["saved.anim.toml", "saved.anim.json"] {
+        let path = dir.join(name);
+        s.save_animation(&path).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let back = crate::anim::Animation::parse(&text, crate::files::Format::of(&path)).unwrap();
+        assert_eq!(back, s.playback.as_ref().unwrap().animation);
+    }
+    assert!(s.save_animation(&dir.join("no/such/dir/a.toml")).is_err());
+    assert!(!crate::session::playback::is_animation_file(
+        &dir.join("missing.toml")
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -45,6 +45,18 @@ pub(super) fn file_section(
             actions.push(Action::Browse(FilePurpose::ExportSurface));
         }
     });
+    ui.horizontal_wrapped(|ui| {
+        if ui
+            .button("Open animation…")
+            .on_hover_text("an animation file (the format `puppet simulate --anim` reads)")
+            .clicked()
+        {
+            actions.push(Action::Browse(FilePurpose::OpenAnimation));
+        }
+        if ui.button("Save animation…").clicked() {
+            actions.push(Action::Browse(FilePurpose::SaveAnimation));
+        }
+    });
     ui.collapsing("Type a path", |ui| {
         ui.small("for systems without a file dialog; or drop a file on the window");
         ui.text_edit_singleline(&mut state.path);
@@ -56,6 +68,8 @@ pub(super) fn file_section(
                 ("Load rig", FilePurpose::LoadRig),
                 ("Save rig", FilePurpose::SaveRig),
                 ("Export", FilePurpose::ExportSurface),
+                ("Open anim", FilePurpose::OpenAnimation),
+                ("Save anim", FilePurpose::SaveAnimation),
             ] {
                 if ui.add_enabled(typed, egui::Button::new(label)).clicked() {
                     actions.push(Action::File(purpose, path.clone()));

@@ -27,6 +27,10 @@ pub enum FilePurpose {
     SaveRig,
     /// Export the current surface.
     ExportSurface,
+    /// Open an animation file and play it.
+    OpenAnimation,
+    /// Save the animation loaded.
+    SaveAnimation,
 }
 
 /// Something the panel asks the window to do.
