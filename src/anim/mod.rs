@@ -18,6 +18,8 @@
 //! the file asks for beyond it (0° → 270° turns three quarters, not a quarter back).
 //! Translations are interpolated linearly. Before the first key the first holds.
 
+pub mod record;
+
 use crate::files::{self, Format};
 use crate::joints::{Joints, Local};
 use glam::{DQuat, DVec3};

@@ -10,6 +10,7 @@
 //! * [`cut_tool`]: the cut being placed, applying and removing cuts;
 //! * [`paint_tool`]: the brush that paints material regions and pinning;
 //! * [`playback`]: playing an animation file (what `simulate` bakes, bit for bit);
+//! * [`recording`]: recording a take from the puppeteer's hands;
 //! * [`view`]: what a renderer draws (surface colours, overlay lines) and when it changed;
 //! * [`loader`]: reading a mesh and building its puppet on a background thread.
 
@@ -20,6 +21,7 @@ pub mod paint_tool;
 pub mod pick;
 pub mod playback;
 pub mod pointer;
+pub mod recording;
 pub mod undo;
 pub mod view;
 
@@ -28,6 +30,7 @@ pub use cut_tool::{CutAxis, CutDraft, CutTool};
 pub use paint_tool::PaintTool;
 pub use pick::Hit;
 pub use playback::Playback;
+pub use recording::Recorder;
 pub use view::{Line, Overlays, View};
 
 use crate::joints::{Local, PoseScratch};
@@ -63,6 +66,8 @@ pub struct Session {
     pub paint_tool: PaintTool,
     /// The animation loaded, if any, and where its playback is.
     pub playback: Option<Playback>,
+    /// Recording settings and the take being recorded.
+    pub recorder: Recorder,
     /// Simulation paused by the user.
     pub paused: bool,
     /// The regions and pinning as undo keeps them.
@@ -95,6 +100,7 @@ impl Session {
             draft: None,
             paint_tool: PaintTool::default(),
             playback: None,
+            recorder: Recorder::default(),
             paused: false,
             regions_state,
             undo: undo::History::default(),
@@ -128,6 +134,9 @@ impl Session {
     pub fn advance(&mut self, seconds: f32, max_steps: u32) -> u32 {
         if !self.is_running() {
             return 0;
+        }
+        if self.is_recording() {
+            return self.record_steps(seconds, max_steps);
         }
         if self.is_playing() {
             let due = self.puppet.sim.steps_due(seconds, max_steps);

@@ -285,3 +285,46 @@ fn animations_open_save_and_bad_ones_change_nothing() {
     ));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_recorded_take_plays_back_what_the_hands_did() {
+    let mut s = session();
+    s.select(Some(1), false);
+    s.start_recording();
+    assert!(s.is_recording());
+    // Turn the arm a little every frame for a second, then hold for half a second.
+    for frame in 0..90 {
+        if frame < 60 {
+            s.rotate_selected(DQuat::from_rotation_z(1.5f64.to_radians()));
+        }
+        s.advance(1.0 / 60.0, 8);
+    }
+    let held = s.local[1].rotation;
+    let said = s.stop_recording().unwrap();
+    assert!(said.starts_with("recorded 1.5 s"), "{said}");
+    let p = s.playback.as_ref().unwrap();
+    assert_eq!(p.animation.track.len(), 1, "only the arm moved");
+    assert_eq!(p.animation.track[0].section, "arm");
+    let keys = p.animation.track[0].key.len();
+    assert!((2..=10).contains(&keys), "{keys} keys for 90 samples");
+    assert!(s.is_playing());
+    // Played to the end, the arm holds what the hands left it at (within the tolerance).
+    s.scrub(1.5);
+    let end = s.animated_pose().unwrap()[1].rotation;
+    assert!(end.angle_between(held).to_degrees() <= s.recorder.tolerance + 1e-9);
+    // A take in which nothing moved is no take.
+    s.start_recording();
+    s.advance(0.5, 100);
+    assert!(s.stop_recording().is_err());
+    assert!(!s.is_recording());
+    // Slow motion: half speed records half the simulated time.
+    s.recorder.speed = 0.5;
+    s.start_recording();
+    s.rotate_selected(DQuat::from_rotation_z(0.3));
+    s.advance(1.0, 1000);
+    assert!(
+        (s.recorded_seconds() - 0.5).abs() < 0.02,
+        "{}",
+        s.recorded_seconds()
+    );
+}

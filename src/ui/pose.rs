@@ -1,4 +1,4 @@
-//! The Pose section: what is selected, reset, undo and redo.
+//! The Pose section: what is selected, reset, undo and redo, recording a take.
 
 use crate::session::Session;
 
@@ -31,4 +31,36 @@ pub(super) fn pose_section(ui: &mut egui::Ui, session: &mut Session) {
             session.redo();
         }
     });
+    record(ui, session);
+}
+
+/// Recording a take: start/stop, how closely keys follow it, slow motion.
+fn record(ui: &mut egui::Ui, session: &mut Session) {
+    ui.horizontal(|ui| {
+        if session.is_recording() {
+            let label = format!("Stop ({:.1} s)", session.recorded_seconds());
+            if ui
+                .button(egui::RichText::new(label).color(egui::Color32::from_rgb(255, 110, 100)))
+                .clicked()
+            {
+                session.recorder.said = Some(session.stop_recording().unwrap_or_else(|e| e));
+            }
+        } else if ui
+            .button("Record")
+            .on_hover_text("turn sections while recording; Stop makes the take the animation")
+            .clicked()
+        {
+            session.start_recording();
+        }
+    });
+    if let Some(said) = &session.recorder.said {
+        ui.small(said.as_str());
+    }
+    ui.add(
+        egui::Slider::new(&mut session.recorder.tolerance, 0.1..=10.0)
+            .logarithmic(true)
+            .text("key tolerance (°)"),
+    );
+    ui.add(egui::Slider::new(&mut session.recorder.speed, 0.1..=1.0).text("recording speed"))
+        .on_hover_text("below 1: record in slow motion, play back at normal speed");
 }
