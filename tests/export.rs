@@ -4,16 +4,8 @@
 //! gives the same positions as the OBJ frames.
 
 mod common;
-use common::{puppet, scratch};
+use common::{example, ok, puppet, scratch};
 use std::path::{Path, PathBuf};
-
-fn example(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("assets/examples")
-        .join(name)
-        .display()
-        .to_string()
-}
 
 /// The example take (45 frames at 30 fps) written to `out`.
 fn simulate(out: &Path, extra: &[&str]) {
@@ -30,13 +22,7 @@ fn simulate(out: &Path, extra: &[&str]) {
     ];
     args.extend(extra.iter().map(|s| s.to_string()));
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    let o = puppet(&args);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    ok(&puppet(&args));
 }
 
 /// Vertex positions of an OBJ frame.

@@ -3,25 +3,8 @@
 //! line with exit status 2.
 
 mod common;
-use common::{puppet, scratch, test_mesh};
+use common::{example, ok, puppet, scratch, test_mesh};
 use std::path::{Path, PathBuf};
-
-fn example(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("assets/examples")
-        .join(name)
-        .display()
-        .to_string()
-}
-
-fn ok(out: &std::process::Output) {
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
 
 /// Runs simulate with a rig and an animation written into a scratch folder; returns the
 /// single stderr line of a failure and the rig/anim paths.

@@ -3,19 +3,11 @@
 //! behave exactly as before.
 
 mod common;
-use common::{puppet, scratch};
+use common::{example, ok, puppet, scratch};
 use glam::{Affine3A, Quat, Vec3};
 use puppet::sim::{Params, Pose, Regions, Simulation};
 use puppet::{Puppet, RigFile};
 use std::path::Path;
-
-fn example(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("assets/examples")
-        .join(name)
-        .display()
-        .to_string()
-}
 
 /// FNV-1a over the vertex lines of an OBJ file (the header names paths and versions).
 fn vertex_hash(obj: &Path) -> u64 {
@@ -52,12 +44,7 @@ fn simulate_hash(test: &str, extra: &str) -> u64 {
         "--out",
         out_obj.to_str().unwrap(),
     ]);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    ok(&out);
     vertex_hash(&out_obj)
 }
 
@@ -286,12 +273,7 @@ fn simulate_takes_gravity_and_the_floor() {
         "--out",
         out_obj.to_str().unwrap(),
     ]);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    ok(&out);
     let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert!(report["final_max_offset"].as_f64().unwrap() > 1e-3);
     let bad = run(&["--gravity", "11"]);

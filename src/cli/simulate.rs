@@ -335,7 +335,8 @@ enum Out {
 /// A take's output files, created before the simulation runs.
 enum OutFiles {
     Glb(PathBuf, std::fs::File),
-    Pc2(PathBuf, std::fs::File, PathBuf),
+    /// The cache, and its base OBJ.
+    Pc2(PathBuf, std::fs::File, PathBuf, std::fs::File),
 }
 
 impl Out {
@@ -385,8 +386,8 @@ impl Out {
             Out::Glb(p) => Some(OutFiles::Glb(p.clone(), create(p)?)),
             Out::Pc2(p) => {
                 let base = p.with_extension("obj");
-                create(&base)?;
-                Some(OutFiles::Pc2(p.clone(), create(p)?, base))
+                let base_file = create(&base)?;
+                Some(OutFiles::Pc2(p.clone(), create(p)?, base, base_file))
             }
             _ => None,
         })
@@ -402,10 +403,8 @@ impl OutFiles {
                     .map_err(|e| FileError::new(path.display().to_string(), e))?;
                 (path, file, bytes)
             }
-            OutFiles::Pc2(path, file, base) => {
+            OutFiles::Pc2(path, file, base, mut obj) => {
                 let rest: Vec<glam::DVec3> = frames.rest.iter().map(|p| p.as_dvec3()).collect();
-                let mut obj = std::fs::File::create(&base)
-                    .map_err(|e| FileError::new(base.display().to_string(), e))?;
                 puppet::mesh::write_obj(
                     &mut obj,
                     &rest,

@@ -146,18 +146,16 @@ pub fn write(take: &Frames) -> Result<Vec<u8>, ExportError> {
 
     // One target per frame: its displacement from the rest surface.
     let mut deltas = Vec::with_capacity(frames * n * 12);
+    let mut ranges = Vec::with_capacity(frames);
     for frame in &take.frames {
-        for (p, r) in frame.iter().zip(&take.rest) {
-            for c in (*p - *r).to_array() {
-                f32s(&mut deltas, c);
-            }
-        }
+        let d: Vec<glam::Vec3> = frame.iter().zip(&take.rest).map(|(p, r)| *p - *r).collect();
+        deltas.extend_from_slice(&vec3s(&d));
+        ranges.push(bounds(&mut d.into_iter()));
     }
     let v = view(&mut root, &mut bin, deltas, Some(12), Some(B::ArrayBuffer));
     let mut targets = Vec::with_capacity(frames);
-    for (k, frame) in take.frames.iter().enumerate() {
-        let d = &mut frame.iter().zip(&take.rest).map(|(p, r)| *p - *r);
-        let a = root.push(accessor(v, k * n * 12, n, C::F32, T::Vec3, Some(bounds(d))));
+    for (k, range) in ranges.into_iter().enumerate() {
+        let a = root.push(accessor(v, k * n * 12, n, C::F32, T::Vec3, Some(range)));
         targets.push(json::mesh::MorphTarget {
             positions: Some(a),
             normals: None,

@@ -114,10 +114,16 @@ impl Puppet {
     }
 
     /// Gives the simulation the current sections, and the regions and pinning resolved on
-    /// them (a region naming a section that no longer exists skips it). Call after any
-    /// change of cuts, regions or paint.
+    /// them ([`Puppet::sync_regions`]). Call after any change of cuts.
     pub fn sync_sections(&mut self) {
         self.sim.set_sections(self.joints.section_of().to_vec());
+        self.sync_regions();
+    }
+
+    /// Gives the simulation the rig file's regions and pinning, resolved on the current
+    /// sections (a region naming a section that no longer exists skips it). Call after a
+    /// change of regions or paint.
+    pub fn sync_regions(&mut self) {
         if let Ok(regions) = self.regions(false) {
             self.sim.set_regions(regions);
         }

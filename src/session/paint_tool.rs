@@ -116,7 +116,7 @@ impl Session {
         }
         self.puppet.rig_file.regions = regions;
         self.puppet.rig_file.pin = pin;
-        self.puppet.sync_sections();
+        self.puppet.sync_regions();
         self.layout_revision += 1;
         self.wake();
     }

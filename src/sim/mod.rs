@@ -289,11 +289,13 @@ impl Simulation {
     fn refresh_regions(&mut self) {
         let (regions, base) = (&self.regions, self.params);
         if regions.is_mixed() {
-            self.rig.set_bone_distances(base.bone_distance, |i| {
-                regions.params_of(i, &base).bone_distance
-            });
-            self.per_slot = Some(PerSlot::new(regions, &base, &self.layout.order));
-            self.all_static = (0..self.rig.len()).all(|i| regions.params_of(i, &base).is_static());
+            let of_vertex: Vec<Params> = (0..self.rig.len())
+                .map(|i| regions.params_of(i, &base))
+                .collect();
+            self.rig
+                .set_bone_distances(base.bone_distance, |i| of_vertex[i].bone_distance);
+            self.per_slot = Some(PerSlot::new(&of_vertex, &base, &self.layout.order));
+            self.all_static = of_vertex.iter().all(Params::is_static);
         } else {
             self.rig.set_bone_distance(base.bone_distance);
             self.per_slot = None;

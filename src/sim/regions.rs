@@ -54,14 +54,15 @@ impl Regions {
 
     /// True when some vertex has some of another material than the base one.
     pub fn is_mixed(&self) -> bool {
+        // NaN is not above 0: the same as `weight`'s reading.
         self.layers
             .iter()
-            .any(|l| (0..l.weight.len()).any(|i| weight(&l.weight, i) > 0.0))
+            .any(|l| l.weight.iter().any(|&w| w > 0.0))
     }
 
     /// True when some vertex is pinned.
     pub fn is_pinned(&self) -> bool {
-        (0..self.pin.len()).any(|i| weight(&self.pin, i) > 0.0)
+        self.pin.iter().any(|&w| w > 0.0)
     }
 
     /// The parameters of vertex `i`: `base` blended towards each layer's material.
@@ -110,12 +111,13 @@ pub(super) struct PerSlot {
 }
 
 impl PerSlot {
-    /// The constants of every slot (`order`: slot → rig vertex).
-    pub fn new(regions: &Regions, base: &Params, order: &[u32]) -> PerSlot {
+    /// The constants of every slot from each rig vertex's parameters (`order`: slot →
+    /// rig vertex; `base` gives the step).
+    pub fn new(of_vertex: &[Params], base: &Params, order: &[u32]) -> PerSlot {
         let ratio = base.time_step / REFERENCE_STEP;
         let mut out = PerSlot::default();
         for &v in order {
-            let p = regions.params_of(v as usize, base);
+            let p = &of_vertex[v as usize];
             out.damping.push(p.damping.powf(ratio));
             out.stiffness.push(p.stiffness * ratio * ratio);
             out.reach.push(p.max_length - 1.0);

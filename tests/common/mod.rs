@@ -21,6 +21,25 @@ pub fn puppet(args: &[&str]) -> Output {
         .expect("run puppet")
 }
 
+/// A file of `assets/examples` (the example rig and animation), as a path string.
+pub fn example(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/examples")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+/// Asserts that a command exited with status 0 (showing its stderr otherwise).
+pub fn ok(out: &Output) {
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 /// A test mesh from `tests/data/meshes` (credits in its README).
 pub fn test_mesh(name: &str) -> PathBuf {
     let p = Path::new(env!("CARGO_MANIFEST_DIR"))

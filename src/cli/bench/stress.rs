@@ -298,10 +298,7 @@ fn run_scenario(
         let mut q = p;
         q.floor_height = height as f32;
         sim.set_params(q);
-        let lowest = (0..sim.rig().len())
-            .map(|i| sim.rig().rest[i].y)
-            .fold(f32::MAX, f32::min);
-        (lowest + height as f32) as f64
+        sim.floor_y().map_or(f64::NEG_INFINITY, f64::from)
     });
     let p = *sim.params();
     let n = sim.rig().len();
