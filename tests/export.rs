@@ -215,3 +215,198 @@ fn the_bake_equals_the_preview_bit_for_bit() {
     let again = session.puppet.sim.positions();
     assert!((0..points).all(|v| again.get(v) == x[v]));
 }
+
+/// The PC2 cache of a file with duplicate and unused vertices is in the file's vertex
+/// order: every file vertex, a duplicate moving with the vertex it was welded into, an
+/// unused one staying, and the base OBJ holding the file's vertices.
+#[test]
+fn pc2_follows_the_files_vertex_order_when_welding_merged_duplicates() {
+    let dir = scratch("export_pc2_order");
+    let spot = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/spot.obj");
+    let text = std::fs::read_to_string(&spot).unwrap();
+    let vertices: Vec<&str> = text.lines().filter(|l| l.starts_with("v ")).collect();
+    let n = vertices.len();
+    // Vertex n+1 duplicates vertex 1 and the first face uses it; vertex n+2 is unused.
+    let mut out = String::new();
+    let mut first_face = true;
+    for line in text.lines() {
+        if let (Some(face), true) = (line.strip_prefix("f "), first_face) {
+            first_face = false;
+            let corners: Vec<String> = face
+                .split_whitespace()
+                .map(|c| {
+                    let v = c.split('/').next().unwrap();
+                    if v == "1" {
+                        (n + 1).to_string()
+                    } else {
+                        v.to_string()
+                    }
+                })
+                .collect();
+            out.push_str(&format!("f {}\n", corners.join(" ")));
+            continue;
+        }
+        out.push_str(line);
+        out.push('\n');
+    }
+    out.push_str(&vertices[0].to_string());
+    out.push('\n');
+    out.push_str("v 5 5 5\n");
+    let mesh = dir.join("spot-dup.obj");
+    std::fs::write(&mesh, out).unwrap();
+    let pc2 = dir.join("take.pc2");
+    let o = puppet(&[
+        "simulate",
+        &mesh.display().to_string(),
+        "--rig",
+        &example("spot-jaw.rig.toml"),
+        "--anim",
+        &example("spot-jaw.anim.toml"),
+        "--frames",
+        "20",
+        "--out",
+        &pc2.display().to_string(),
+    ]);
+    ok(&o);
+    let b = std::fs::read(&pc2).unwrap();
+    let i = |at: usize| i32::from_le_bytes(b[at..at + 4].try_into().unwrap());
+    let f = |at: usize| f32::from_le_bytes(b[at..at + 4].try_into().unwrap());
+    let (points, samples) = (i(16) as usize, i(28) as usize);
+    assert_eq!(
+        (points, samples),
+        (n + 2, 20),
+        "every file vertex, in order"
+    );
+    let base = obj_vertices(&dir.join("take.obj"));
+    assert_eq!(base.len(), n + 2, "the base OBJ has the file's vertices");
+    let at = |frame: usize, v: usize| {
+        let k = 32 + (frame * points + v) * 12;
+        [f(k), f(k + 4), f(k + 8)]
+    };
+    let mut moved = false;
+    for frame in 0..samples {
+        assert_eq!(
+            at(frame, n),
+            at(frame, 0),
+            "the duplicate moves with vertex 1"
+        );
+        assert_eq!(at(frame, n + 1), [5.0, 5.0, 5.0], "the unused vertex stays");
+        moved |= !close(at(frame, 0), base[0]);
+    }
+    assert!(moved, "vertex 1 moves in the take");
+}
+
+/// `--quantize`: 16-bit positions and targets (KHR_mesh_quantization) that decode, through
+/// the node's transform, to the float take within half a grid step, in a smaller file the
+/// validator accepts.
+#[test]
+fn a_quantized_glb_decodes_to_the_take_and_is_smaller() {
+    let dir = scratch("export_glb_quantized");
+    let (full, small) = (dir.join("full.glb"), dir.join("small.glb"));
+    simulate(&full, &["--frame-step", "4"]);
+    simulate(&small, &["--frame-step", "4", "--quantize"]);
+    let (a, b) = (
+        std::fs::metadata(&full).unwrap().len(),
+        std::fs::metadata(&small).unwrap().len(),
+    );
+    assert!(b * 10 < a * 8, "{b} bytes quantized vs {a}");
+    validate(&small);
+    // The gltf crate does not implement the extension: read it without its checks.
+    let gltf = gltf::Gltf::from_slice_without_validation(&std::fs::read(&small).unwrap()).unwrap();
+    assert!(gltf
+        .extensions_required()
+        .any(|e| e == "KHR_mesh_quantization"));
+    let blob = gltf.blob.clone().unwrap();
+    let node = gltf.nodes().next().unwrap();
+    let (t, _, s) = node.transform().decomposed();
+    let prim = gltf.meshes().next().unwrap().primitives().next().unwrap();
+    // Reads a VEC3 of i16 accessor.
+    let shorts = |a: gltf::Accessor| -> Vec<[f32; 3]> {
+        assert_eq!(a.data_type(), gltf::accessor::DataType::I16);
+        let view = a.view().unwrap();
+        let stride = view.stride().unwrap_or(6);
+        let start = view.offset() + a.offset();
+        (0..a.count())
+            .map(|k| {
+                let at = start + k * stride;
+                let c = |j: usize| {
+                    i16::from_le_bytes(blob[at + 2 * j..at + 2 * j + 2].try_into().unwrap()) as f32
+                };
+                [c(0), c(1), c(2)]
+            })
+            .collect()
+    };
+    let rest = shorts(prim.get(&gltf::Semantic::Positions).unwrap());
+    let last = prim.morph_targets().last().unwrap();
+    let delta = shorts(last.positions().unwrap());
+    // Frame 45 (the last target) against the float take's OBJ frame.
+    let frames = frames_dir("export_glb_quantized_frames");
+    let obj = obj_vertices(&frames.join("frame_00045.obj"));
+    let step = s[0];
+    for (v, o) in obj.iter().enumerate() {
+        for c in 0..3 {
+            let decoded = t[c] + s[c] * (rest[v][c] + delta[v][c]);
+            assert!(
+                (decoded - o[c]).abs() <= step * 0.5 + 1e-5,
+                "vertex {v}: {decoded} vs {}",
+                o[c]
+            );
+        }
+    }
+}
+
+/// *Export animation* in a session gives the bytes `simulate` writes for the same range,
+/// a bad path is a message that leaves the take being recorded alone, and a cancel
+/// removes the partial file.
+#[test]
+fn the_windows_export_equals_simulates_and_can_be_cancelled() {
+    let dir = scratch("export_session");
+    let cli = dir.join("cli.pc2");
+    simulate(&cli, &["--first-frame", "5", "--frame-step", "5"]);
+    let rig = puppet::RigFile::load(Path::new(&example("spot-jaw.rig.toml"))).unwrap();
+    let source = rig.mesh.clone().unwrap();
+    let (mesh, _) = puppet::mesh::load(&source).unwrap();
+    let built = puppet::Puppet::build(mesh, rig, puppet::progress::silent()).unwrap();
+    let mut session = puppet::session::Session::new(built, "spot");
+    let text = std::fs::read_to_string(example("spot-jaw.anim.toml")).unwrap();
+    let anim = puppet::anim::Animation::parse(&text, puppet::files::Format::Toml).unwrap();
+    session.set_animation(anim).unwrap();
+    // Play a little: the export starts from rest whatever the window shows.
+    session.advance(0.3, 20);
+    session.export_settings = puppet::session::ExportSettings {
+        fps: 30.0,
+        first: 5,
+        last: 45,
+        step: 5,
+        quantize: false,
+    };
+    let win = dir.join("window.pc2");
+    session.start_export(&win, Some(&source)).unwrap();
+    let said = session.wait_export().unwrap().unwrap();
+    assert!(said.contains("exported 9 frames"), "{said}");
+    assert_eq!(std::fs::read(&win).unwrap(), std::fs::read(&cli).unwrap());
+    assert_eq!(
+        std::fs::read(dir.join("window.obj")).unwrap().len(),
+        std::fs::read(dir.join("cli.obj")).unwrap().len()
+    );
+
+    // A bad path: a message, and the take being recorded goes on.
+    session.start_recording();
+    let bad = session.start_export(Path::new("/nonexistent/take.glb"), None);
+    assert!(bad.unwrap_err().contains("cannot write"));
+    let bad = session.start_export(&dir.join("take.fbx"), None);
+    assert!(bad.unwrap_err().contains("choose a .glb"));
+    assert!(session.is_recording());
+    let _ = session.stop_recording();
+
+    // Cancelled: no partial file left.
+    session.export_settings.last = 2000;
+    session.export_settings.step = 1;
+    let long = dir.join("long.glb");
+    session.start_export(&long, None).unwrap();
+    assert!(session.export_job().is_some());
+    session.cancel_export();
+    let said = session.wait_export().unwrap();
+    assert!(said.unwrap_err().contains("cancelled"));
+    assert!(!long.exists());
+}

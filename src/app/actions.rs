@@ -215,6 +215,13 @@ impl WindowState {
                 Some(s) => s.open_animation(&path),
                 None => return,
             },
+            FilePurpose::ExportAnimation => {
+                let source = self.panel.source.clone();
+                match &mut self.session {
+                    Some(s) => s.start_export(&path, source.as_deref()),
+                    None => return,
+                }
+            }
             FilePurpose::SaveAnimation => match self.session() {
                 Some(s) => s.save_animation(&path),
                 None => return,

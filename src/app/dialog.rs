@@ -57,6 +57,12 @@ impl Dialog {
                     .set_title("Open an animation")
                     .add_filter("animation files", &["toml", "json"])
                     .pick_file(),
+                FilePurpose::ExportAnimation => d
+                    .set_title("Export the animation")
+                    .add_filter("glTF binary (shape keys)", &["glb"])
+                    .add_filter("PC2 point cache", &["pc2"])
+                    .set_file_name("take.glb")
+                    .save_file(),
                 FilePurpose::SaveAnimation => d
                     .set_title("Save the animation")
                     .add_filter("animation files", &["toml", "json"])

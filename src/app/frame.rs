@@ -29,6 +29,12 @@ impl WindowState {
         let mut steps = 0;
         if let Some(s) = &mut self.session {
             steps = s.advance(seconds, 8);
+            if let Some(said) = s.poll_export() {
+                self.panel.message = Some(match said {
+                    Ok(m) => (m, false),
+                    Err(m) => (m, true),
+                });
+            }
         }
         self.meter_frame(steps);
 

@@ -220,8 +220,9 @@ impl ApplicationHandler for App {
             || w.session.as_ref().is_some_and(Session::is_running)
             || w.screenshot.is_some()
             || w.drive.is_some();
-        if w.dialog.is_some() && !busy {
-            // Look for the dialog's answer ten times a second.
+        let exporting = w.session.as_ref().is_some_and(|s| s.export_job().is_some());
+        if (w.dialog.is_some() || exporting) && !busy {
+            // Look for the dialog's answer (the export's progress) ten times a second.
             let at = Instant::now() + Duration::from_millis(100);
             w.repaint_at = Some(w.repaint_at.map_or(at, |r| r.min(at)));
         }

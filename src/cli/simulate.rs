@@ -10,8 +10,9 @@ use super::progress_bar::ProgressBar;
 use super::{load_mesh, FileError};
 use anyhow::{bail, Result};
 use puppet::anim::{Animation, Bound};
+use puppet::export::{FileOrder, Kind, TakeFiles, TakeOptions};
 use puppet::files::{self, Format};
-use puppet::joints::PoseScratch;
+use puppet::puppet::bake::{FrameRange, Player, MAX_FRAMES};
 use puppet::skeleton::truth::median_p95;
 use puppet::{Puppet, RigFile};
 use std::path::{Path, PathBuf};
@@ -45,6 +46,15 @@ pub struct Args {
     /// Export every Nth frame (with `--out TAKE.glb | TAKE.pc2 | DIR/`).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
     pub frame_step: u64,
+    /// The first frame exported (with `--out TAKE.glb | TAKE.pc2 | DIR/`; the frames before
+    /// it are simulated, not written).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
+    pub first_frame: u64,
+    /// Write the `.glb`'s positions and morph targets as 16-bit integers
+    /// (`KHR_mesh_quantization`, about two thirds of the size; error at most 1/32766 of the
+    /// take's extent).
+    #[arg(long)]
+    pub quantize: bool,
     /// Replace the rig's cuts with the joints the skeleton suggests (see `puppet suggest`
     /// for their names).
     #[arg(long)]
@@ -91,8 +101,9 @@ struct Summary {
     exported_frames: u64,
 }
 
-/// Frames beyond this are refused (a typo, not a render).
-const MAX_FRAMES: u64 = 10_000_000;
+/// How far a file vertex may be from the welded vertex it follows in a point cache (share
+/// of the diagonal: the weld tolerance and a seam's gap are far below it).
+const FILE_ORDER_TOLERANCE: f64 = 1e-3;
 
 pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     if !(args.fps.is_finite() && args.fps > 0.0 && args.fps <= 10_000.0) {
@@ -124,12 +135,12 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     if frames == 0 || frames > MAX_FRAMES {
         bail!("--frames {frames} must be in 1..={MAX_FRAMES}");
     }
-    let out = Out::of(args.out.as_deref())?;
+    let (out, out_kind) = Out::of(args.out.as_deref())?;
     let mesh_path = args.mesh.clone().or_else(|| spec.mesh.clone());
     let (mesh, _report, mesh_name) = load_mesh(mesh_path.as_deref(), load)?;
-    // Bad output paths fail now, not after the simulation.
-    let out_files = out.open()?;
-    if let Some(dir) = args.out_dir.as_ref().or(out.sequence()) {
+    // Bad output paths fail now, not after the simulation (a take's files are created
+    // once the puppet is built, before the first step).
+    if let Some(dir) = &args.out_dir {
         std::fs::create_dir_all(dir).map_err(|e| {
             FileError::new(
                 dir.display().to_string(),
@@ -181,38 +192,58 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     };
 
     let h = puppet.sim.params().time_step as f64;
-    let mut local = Vec::new();
-    let mut scratch = PoseScratch::default();
-    // Steps done by the end of frame `k` (the tolerance absorbs the rounding of an f32
-    // step: 1/60 is not exact).
-    let steps_by = |k: u64| (k as f64 / args.fps / h + 1e-4).floor() as u64;
-    let mut step_ms = Vec::with_capacity(steps_by(frames).min(1 << 20) as usize);
-    let mut take: Vec<Vec<glam::Vec3>> = Vec::new();
-    let mut steps = 0u64;
+    let mut player = Player::new(bound, args.fps);
+    let range = FrameRange {
+        first: args.first_frame,
+        last: frames,
+        step: args.frame_step,
+        fps: args.fps,
+    };
+    range
+        .check()
+        .map_err(|e| anyhow::anyhow!("--first-frame/--frames: {e}"))?;
+    let mut take = match (&out, out_kind) {
+        (Out::Take(path), Some(kind)) => {
+            let normals = puppet::mesh::vertex_normals(&puppet.mesh)
+                .map_err(|e| FileError::new(&mesh_name, e))?;
+            let order = match (kind, &mesh_path) {
+                (Kind::Pc2, Some(path)) => file_order(&puppet, path)?,
+                _ => None,
+            };
+            let options = TakeOptions {
+                quantize: args.quantize,
+                order,
+            };
+            Some(
+                TakeFiles::create(
+                    path,
+                    kind,
+                    &puppet.mesh,
+                    &normals,
+                    options,
+                    args.fps,
+                    range.first,
+                    range.step,
+                )
+                .map_err(|e| FileError::new(e.path, e.message))?,
+            )
+        }
+        _ => None,
+    };
+    let mut step_ms = Vec::with_capacity(player.steps_by(h, frames).min(1 << 20) as usize);
     for frame in 1..=frames {
-        let target = steps_by(frame);
-        while steps < target {
-            steps += 1;
+        let target = player.steps_by(h, frame);
+        while player.steps() < target {
             let t = Instant::now();
-            match &bound {
-                Some(b) => puppet.step_animated(b, steps, &mut local, &mut scratch),
-                None => {
-                    local.clear();
-                    let pose = puppet.joints.pose_into(&local, &mut scratch);
-                    puppet.sim.step(pose);
-                }
-            }
+            player.step(&mut puppet);
             step_ms.push(t.elapsed().as_secs_f64() * 1e3);
         }
-        let exported = (frame - 1) % args.frame_step == 0;
-        if exported && out_files.is_some() {
+        if let (Some(take), true) = (&mut take, range.keeps(frame)) {
             let x = puppet.sim.positions();
-            take.push((0..x.len()).map(|i| x.get(i)).collect());
+            take.add(frame, (0..x.len()).map(|i| x.get(i)).collect())
+                .map_err(|e| FileError::new(e.path, e.message))?;
         }
-        if let (true, Some(dir)) = (
-            exported || args.out_dir.is_some(),
-            args.out_dir.as_ref().or(out.sequence()),
-        ) {
+        if let Some(dir) = &args.out_dir {
             let path = dir.join(format!("frame_{frame:05}.obj"));
             write_surface(
                 &puppet,
@@ -221,21 +252,13 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
             )?;
         }
     }
+    let steps = player.steps();
     if let Out::Final(path) = &out {
         write_surface(&puppet, path, &format!("final frame {frames}"))?;
     }
-    if let Some(files) = out_files {
-        let normals = puppet::mesh::vertex_normals(&puppet.mesh)
-            .map_err(|e| FileError::new(&mesh_name, e))?;
-        let frames = puppet::export::Frames {
-            triangles: puppet.mesh.triangles.clone(),
-            rest: puppet.mesh.positions.iter().map(|p| p.as_vec3()).collect(),
-            normals: normals.iter().map(|n| n.as_vec3()).collect(),
-            frames: take,
-            fps: args.fps / args.frame_step as f64,
-            first: 1,
-        };
-        files.write(&frames, &puppet)?;
+    if let Some(take) = take {
+        take.finish()
+            .map_err(|e| FileError::new(e.path, e.message))?;
     }
 
     let positions = puppet.sim.positions();
@@ -273,7 +296,7 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         seconds_total: t_start.elapsed().as_secs_f64(),
         final_max_offset,
         out: args.out.as_ref().map(|p| p.display().to_string()),
-        exported_frames: frames.div_ceil(args.frame_step),
+        exported_frames: range.count(),
         out_dir: args.out_dir.as_ref().map(|p| p.display().to_string()),
     };
     if args.json {
@@ -325,106 +348,39 @@ enum Out {
     None,
     /// The final surface as OBJ.
     Final(PathBuf),
-    /// Every exported frame, as glTF binary or a PC2 point cache.
-    Glb(PathBuf),
-    Pc2(PathBuf),
-    /// One OBJ per exported frame in a folder.
-    Sequence(PathBuf),
-}
-
-/// A take's output files, created before the simulation runs.
-enum OutFiles {
-    Glb(PathBuf, std::fs::File),
-    /// The cache, and its base OBJ.
-    Pc2(PathBuf, std::fs::File, PathBuf, std::fs::File),
+    /// Every exported frame: `.glb`, `.pc2` or a folder of OBJ files.
+    Take(PathBuf),
 }
 
 impl Out {
-    fn of(path: Option<&Path>) -> Result<Out> {
+    fn of(path: Option<&Path>) -> Result<(Out, Option<Kind>)> {
         let Some(path) = path else {
-            return Ok(Out::None);
+            return Ok((Out::None, None));
         };
-        let text = path.to_string_lossy();
-        if text.ends_with('/') || text.ends_with(std::path::MAIN_SEPARATOR) || path.is_dir() {
-            return Ok(Out::Sequence(path.to_path_buf()));
+        if let Some(kind) = Kind::of(path) {
+            return Ok((Out::Take(path.to_path_buf()), Some(kind)));
         }
         let ext = path
             .extension()
             .map(|e| e.to_string_lossy().to_ascii_lowercase());
-        Ok(match ext.as_deref() {
-            Some("obj") => Out::Final(path.to_path_buf()),
-            Some("glb") => Out::Glb(path.to_path_buf()),
-            Some("pc2") => Out::Pc2(path.to_path_buf()),
-            _ => {
-                return Err(FileError::new(
-                    path.display().to_string(),
-                    "not a format simulate writes (FINAL.obj, TAKE.glb, TAKE.pc2, or DIR/)",
-                )
-                .into())
-            }
-        })
-    }
-
-    fn sequence(&self) -> Option<&PathBuf> {
-        match self {
-            Out::Sequence(dir) => Some(dir),
-            _ => None,
+        if ext.as_deref() == Some("obj") {
+            return Ok((Out::Final(path.to_path_buf()), None));
         }
-    }
-
-    /// Creates the take's files (so a bad path fails before the simulation).
-    fn open(&self) -> Result<Option<OutFiles>> {
-        let create = |p: &Path| {
-            std::fs::File::create(p).map_err(|e| {
-                FileError::new(
-                    p.display().to_string(),
-                    format!("cannot write: {}", files::io_message(&e)),
-                )
-            })
-        };
-        Ok(match self {
-            Out::Glb(p) => Some(OutFiles::Glb(p.clone(), create(p)?)),
-            Out::Pc2(p) => {
-                let base = p.with_extension("obj");
-                let base_file = create(&base)?;
-                Some(OutFiles::Pc2(p.clone(), create(p)?, base, base_file))
-            }
-            _ => None,
-        })
+        Err(FileError::new(
+            path.display().to_string(),
+            "not a format simulate writes (FINAL.obj, TAKE.glb, TAKE.pc2, or DIR/)",
+        )
+        .into())
     }
 }
 
-impl OutFiles {
-    fn write(self, frames: &puppet::export::Frames, puppet: &Puppet) -> Result<()> {
-        use std::io::Write;
-        let (path, mut file, bytes) = match self {
-            OutFiles::Glb(path, file) => {
-                let bytes = puppet::export::glb::write(frames)
-                    .map_err(|e| FileError::new(path.display().to_string(), e))?;
-                (path, file, bytes)
-            }
-            OutFiles::Pc2(path, file, base, mut obj) => {
-                let rest: Vec<glam::DVec3> = frames.rest.iter().map(|p| p.as_dvec3()).collect();
-                puppet::mesh::write_obj(
-                    &mut obj,
-                    &rest,
-                    &puppet.mesh.triangles,
-                    "puppet simulate: the rest surface of the PC2 point cache beside it",
-                )
-                .map_err(|e| FileError::new(base.display().to_string(), e))?;
-                let bytes = puppet::export::pc2::write(frames)
-                    .map_err(|e| FileError::new(path.display().to_string(), e))?;
-                (path, file, bytes)
-            }
-        };
-        file.write_all(&bytes)
-            .and_then(|()| file.flush())
-            .map_err(|e| {
-                FileError::new(
-                    path.display().to_string(),
-                    format!("cannot write: {}", files::io_message(&e)),
-                )
-            })?;
-        Ok(())
-    }
+/// The mesh file's own vertex order for a point cache, when welding changed it.
+fn file_order(puppet: &Puppet, path: &Path) -> Result<Option<FileOrder>> {
+    let file =
+        puppet::mesh::file_mesh(path).map_err(|e| FileError::new(path.display().to_string(), e))?;
+    Ok(FileOrder::new(
+        &file,
+        &puppet.mesh.positions,
+        FILE_ORDER_TOLERANCE * puppet.mesh.diagonal(),
+    ))
 }

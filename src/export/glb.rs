@@ -9,12 +9,69 @@ use json::validation::Checked::Valid;
 use json::validation::USize64;
 use std::borrow::Cow;
 
-/// The bytes of a `.glb`.
+/// The bytes of a `.glb` (32-bit floats).
 ///
 /// # Errors
 /// [`ExportError`] when a frame does not fit the mesh or the file would pass 4 GiB.
 pub fn write(take: &Frames) -> Result<Vec<u8>, ExportError> {
+    write_with(take, false)
+}
+
+/// 16-bit quantisation (`KHR_mesh_quantization`): positions and target displacements as
+/// integers on one grid, which the node's translation and uniform scale map back. The grid
+/// step is the half-extent of everything the take visits over 16383, so a displacement
+/// (a difference of two grid points) still fits 16 bits; the error is at most half a step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Grid {
+    /// The grid's origin.
+    pub center: glam::Vec3,
+    /// Mesh units per grid step.
+    pub scale: f32,
+}
+
+/// Grid points from the centre to the edge of the visited box (half the `i16` range, so
+/// that the difference of two points fits).
+const GRID_HALF: f32 = 16383.0;
+
+impl Grid {
+    /// The grid of a take: every rest and frame position on it.
+    pub fn of(take: &Frames) -> Grid {
+        let (lo, hi) = take
+            .frames
+            .iter()
+            .flatten()
+            .chain(&take.rest)
+            .fold((glam::Vec3::MAX, glam::Vec3::MIN), |(lo, hi), p| {
+                (lo.min(*p), hi.max(*p))
+            });
+        let center = (lo + hi) * 0.5;
+        let half = ((hi - lo) * 0.5).max_element();
+        let scale = if half.is_finite() && half > 0.0 {
+            half / GRID_HALF
+        } else {
+            1.0
+        };
+        Grid { center, scale }
+    }
+
+    /// The grid point of `p`.
+    pub fn point(&self, p: glam::Vec3) -> [i32; 3] {
+        ((p - self.center) / self.scale)
+            .round()
+            .clamp(glam::Vec3::splat(-GRID_HALF), glam::Vec3::splat(GRID_HALF))
+            .as_ivec3()
+            .to_array()
+    }
+}
+
+/// The bytes of a `.glb`; `quantize` writes positions and targets as 16-bit integers
+/// ([`Grid`]) instead of 32-bit floats (about two thirds of the size).
+///
+/// # Errors
+/// [`ExportError`] when a frame does not fit the mesh or the file would pass 4 GiB.
+pub fn write_with(take: &Frames, quantize: bool) -> Result<Vec<u8>, ExportError> {
     take.check()?;
+    let grid = quantize.then(|| Grid::of(take));
     let (n, frames) = (take.rest.len(), take.frames.len());
     let mut bin: Vec<u8> = Vec::new();
     let mut root = json::Root {
@@ -113,21 +170,48 @@ pub fn write(take: &Frames) -> Result<Vec<u8>, ExportError> {
         T::Scalar,
         None,
     ));
-    let v = view(
-        &mut root,
-        &mut bin,
-        vec3s(&take.rest),
-        None,
-        Some(B::ArrayBuffer),
-    );
-    let positions = root.push(accessor(
-        v,
-        0,
-        n,
-        C::F32,
-        T::Vec3,
-        Some(bounds(&mut take.rest.iter().copied())),
-    ));
+    // Three 16-bit integers padded to 8 bytes (vertex attributes are 4-byte aligned).
+    let shorts = |points: &mut dyn Iterator<Item = [i32; 3]>| {
+        let mut out = Vec::new();
+        let (mut lo, mut hi) = ([i32::MAX; 3], [i32::MIN; 3]);
+        for q in points {
+            for (c, &x) in q.iter().enumerate() {
+                lo[c] = lo[c].min(x);
+                hi[c] = hi[c].max(x);
+                out.extend_from_slice(&(x as i16).to_le_bytes());
+            }
+            out.extend_from_slice(&[0, 0]);
+        }
+        let range = (
+            json::Value::from(lo.to_vec()),
+            json::Value::from(hi.to_vec()),
+        );
+        (out, range)
+    };
+    let positions = match &grid {
+        None => {
+            let v = view(
+                &mut root,
+                &mut bin,
+                vec3s(&take.rest),
+                None,
+                Some(B::ArrayBuffer),
+            );
+            root.push(accessor(
+                v,
+                0,
+                n,
+                C::F32,
+                T::Vec3,
+                Some(bounds(&mut take.rest.iter().copied())),
+            ))
+        }
+        Some(g) => {
+            let (bytes, range) = shorts(&mut take.rest.iter().map(|&p| g.point(p)));
+            let v = view(&mut root, &mut bin, bytes, Some(8), Some(B::ArrayBuffer));
+            root.push(accessor(v, 0, n, C::I16, T::Vec3, Some(range)))
+        }
+    };
     let normals: Vec<glam::Vec3> = take
         .normals
         .iter()
@@ -145,17 +229,49 @@ pub fn write(take: &Frames) -> Result<Vec<u8>, ExportError> {
     let normals = root.push(accessor(v, 0, n, C::F32, T::Vec3, None));
 
     // One target per frame: its displacement from the rest surface.
-    let mut deltas = Vec::with_capacity(frames * n * 12);
+    let size = if grid.is_some() { 8 } else { 12 };
+    let mut deltas = Vec::with_capacity(frames * n * size);
     let mut ranges = Vec::with_capacity(frames);
+    let rest_points: Vec<[i32; 3]> = match &grid {
+        Some(g) => take.rest.iter().map(|&p| g.point(p)).collect(),
+        None => Vec::new(),
+    };
     for frame in &take.frames {
-        let d: Vec<glam::Vec3> = frame.iter().zip(&take.rest).map(|(p, r)| *p - *r).collect();
-        deltas.extend_from_slice(&vec3s(&d));
-        ranges.push(bounds(&mut d.into_iter()));
+        match &grid {
+            None => {
+                let d: Vec<glam::Vec3> =
+                    frame.iter().zip(&take.rest).map(|(p, r)| *p - *r).collect();
+                deltas.extend_from_slice(&vec3s(&d));
+                ranges.push(bounds(&mut d.into_iter()));
+            }
+            Some(g) => {
+                let (bytes, range) = shorts(&mut frame.iter().zip(&rest_points).map(|(&p, r)| {
+                    let q = g.point(p);
+                    [q[0] - r[0], q[1] - r[1], q[2] - r[2]]
+                }));
+                deltas.extend_from_slice(&bytes);
+                ranges.push(range);
+            }
+        }
     }
-    let v = view(&mut root, &mut bin, deltas, Some(12), Some(B::ArrayBuffer));
+    let v = view(
+        &mut root,
+        &mut bin,
+        deltas,
+        Some(size),
+        Some(B::ArrayBuffer),
+    );
     let mut targets = Vec::with_capacity(frames);
+    let component = if grid.is_some() { C::I16 } else { C::F32 };
     for (k, range) in ranges.into_iter().enumerate() {
-        let a = root.push(accessor(v, k * n * 12, n, C::F32, T::Vec3, Some(range)));
+        let a = root.push(accessor(
+            v,
+            k * n * size,
+            n,
+            component,
+            T::Vec3,
+            Some(range),
+        ));
         targets.push(json::mesh::MorphTarget {
             positions: Some(a),
             normals: None,
@@ -183,8 +299,16 @@ pub fn write(take: &Frames) -> Result<Vec<u8>, ExportError> {
     let node = root.push(json::Node {
         mesh: Some(mesh),
         name: Some("puppet".into()),
+        // The quantisation grid back to mesh units.
+        translation: grid.map(|g| g.center.to_array()),
+        scale: grid.map(|g| [g.scale; 3]),
         ..Default::default()
     });
+    if grid.is_some() {
+        root.extensions_used.push("KHR_mesh_quantization".into());
+        root.extensions_required
+            .push("KHR_mesh_quantization".into());
+    }
     let scene = root.push(json::Scene {
         extensions: None,
         extras: Default::default(),

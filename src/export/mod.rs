@@ -2,11 +2,19 @@
 //! frames) written as glTF binary with morph targets ([`glb`]), as a PC2 point cache
 //! ([`pc2`]), or as one OBJ per frame.
 //!
-//! Every format writes the welded mesh's vertices in its order (which is the file's order
-//! for a file without duplicate vertices: welding keeps the earliest of a group).
+//! The `.glb` and the OBJ sequence hold the welded mesh (the file's vertex order for a
+//! file without duplicate vertices: welding keeps the earliest of a group); the PC2 point
+//! cache can be written in the file's own vertex order ([`FileOrder`]), which is what
+//! Blender's Mesh Cache modifier needs on the mesh the user imported. [`TakeFiles`]
+//! creates the files before a take is simulated and writes them at its end.
 
 pub mod glb;
+mod order;
 pub mod pc2;
+mod take;
+
+pub use order::FileOrder;
+pub use take::{Kind, TakeError, TakeFiles, TakeOptions};
 
 use glam::Vec3;
 

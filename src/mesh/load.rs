@@ -254,6 +254,24 @@ pub fn load_with(
     Ok((mesh, report))
 }
 
+/// The mesh exactly as the file holds it: every vertex in the file's order (unused ones
+/// too) and every face split into triangles; nothing welded, repaired or checked beyond
+/// what parsing needs. What a point cache in the file's vertex order is written against.
+///
+/// # Errors
+/// [`MeshError`] when the file cannot be read or parsed.
+pub fn file_mesh(path: &Path) -> Result<Mesh, MeshError> {
+    let bytes = std::fs::read(path).map_err(|e| MeshError::Io(crate::files::io_message(&e)))?;
+    let format = Format::of(Some(path), &bytes);
+    let soup: Soup = match format {
+        Format::Obj => obj::parse(&bytes)?,
+        Format::Ply => ply::parse(&bytes)?,
+        Format::Stl => stl::parse(&bytes)?,
+        Format::Gltf => gltf::parse(&bytes)?,
+    };
+    Ok(soup.into_mesh()?.0)
+}
+
 /// Parses, welds and validates OBJ text held in memory (default repairs).
 pub fn parse_obj(bytes: &[u8]) -> Result<(Mesh, LoadReport), MeshError> {
     parse(bytes, Format::Obj, &LoadOptions::default(), silent())

@@ -34,7 +34,8 @@ mod weld;
 
 pub use decimate::decimate;
 pub use load::{
-    load, load_with, parse, parse_obj, Format, LoadOptions, LoadReport, FILL_HOLES, WELD_TOLERANCE,
+    file_mesh, load, load_with, parse, parse_obj, Format, LoadOptions, LoadReport, FILL_HOLES,
+    WELD_TOLERANCE,
 };
 pub use normals::{fitted_normals, vertex_normals};
 pub use obj::write as write_obj;

@@ -1,6 +1,7 @@
 //! A puppet put together: mesh → skeleton → rig → simulation, with its joints, as a
 //! [`RigFile`] describes it.
 
+pub mod bake;
 pub mod paint;
 mod rig_file;
 
@@ -41,6 +42,7 @@ pub enum BuildError {
 pub struct WriteError(#[from] pub std::io::Error);
 
 /// A live puppet: the mesh, its skeleton, joints and simulation.
+#[derive(Clone)]
 pub struct Puppet {
     /// The validated mesh.
     pub mesh: Mesh,

@@ -11,11 +11,13 @@
 //! * [`paint_tool`]: the brush that paints material regions and pinning;
 //! * [`playback`]: playing an animation file (what `simulate` bakes, bit for bit);
 //! * [`recording`]: recording a take from the puppeteer's hands;
+//! * [`export`]: baking the animation to `.glb`, `.pc2` or OBJ files on a thread;
 //! * [`view`]: what a renderer draws (surface colours, overlay lines) and when it changed;
 //! * [`loader`]: reading a mesh and building its puppet on a background thread.
 
 pub mod camera;
 pub mod cut_tool;
+pub mod export;
 pub mod loader;
 pub mod paint_tool;
 pub mod pick;
@@ -27,6 +29,7 @@ pub mod view;
 
 pub use camera::Camera;
 pub use cut_tool::{CutAxis, CutDraft, CutTool};
+pub use export::{ExportJob, ExportSettings};
 pub use paint_tool::PaintTool;
 pub use pick::Hit;
 pub use playback::Playback;
@@ -68,6 +71,10 @@ pub struct Session {
     pub playback: Option<Playback>,
     /// Recording settings and the take being recorded.
     pub recorder: Recorder,
+    /// What *Export animation* writes.
+    pub export_settings: ExportSettings,
+    /// The export running, if any.
+    export: Option<ExportJob>,
     /// Simulation paused by the user.
     pub paused: bool,
     /// The regions and pinning as undo keeps them.
@@ -101,6 +108,8 @@ impl Session {
             paint_tool: PaintTool::default(),
             playback: None,
             recorder: Recorder::default(),
+            export_settings: ExportSettings::default(),
+            export: None,
             paused: false,
             regions_state,
             undo: undo::History::default(),

@@ -119,6 +119,7 @@ struct Scratch {
 }
 
 /// A simulated puppet: rig, parameters, options, state and scratch.
+#[derive(Clone)]
 pub struct Simulation {
     rig: Rig,
     params: Params,

@@ -70,6 +70,7 @@ pub(super) fn file_section(
                 ("Export", FilePurpose::ExportSurface),
                 ("Open anim", FilePurpose::OpenAnimation),
                 ("Save anim", FilePurpose::SaveAnimation),
+                ("Export anim", FilePurpose::ExportAnimation),
             ] {
                 if ui.add_enabled(typed, egui::Button::new(label)).clicked() {
                     actions.push(Action::File(purpose, path.clone()));

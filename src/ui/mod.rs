@@ -3,6 +3,7 @@
 //! files, framing) back as [`Action`]s.
 
 mod cuts;
+mod export;
 mod file;
 mod material;
 mod overlays;
@@ -31,6 +32,8 @@ pub enum FilePurpose {
     OpenAnimation,
     /// Save the animation loaded.
     SaveAnimation,
+    /// Bake the animation to `.glb`, `.pc2` or a folder of OBJ files.
+    ExportAnimation,
 }
 
 /// Something the panel asks the window to do.
@@ -136,6 +139,7 @@ pub fn side_panel(
                     ui.colored_label(color, text.as_str());
                 }
                 if let Some(session) = session {
+                    export::export_section(ui, session, &mut actions);
                     ui.separator();
                     material::material_section(ui, session);
                     ui.separator();

@@ -1,0 +1,219 @@
+//! *Export animation*: the loaded animation baked from rest on a copy of the puppet, on a
+//! thread of its own (the window keeps playing), with its progress and a cancel. It plays
+//! through [`crate::puppet::bake`] like `simulate --out`, so the window's export and
+//! `simulate`'s give the same frames.
+
+use super::Session;
+use crate::export::{FileOrder, Kind, TakeFiles, TakeOptions};
+use crate::puppet::bake::{self, BakeError, FrameRange};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+
+/// The frames and format an export writes (the panel edits them).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ExportSettings {
+    /// Frames per second.
+    pub fps: f64,
+    /// First and last frame (1-based; `last` 0: to the end of the animation).
+    pub first: u64,
+    /// Last frame; 0 is the animation's end.
+    pub last: u64,
+    /// Every `step`th frame.
+    pub step: u64,
+    /// `.glb`: 16-bit positions and targets.
+    pub quantize: bool,
+}
+
+impl Default for ExportSettings {
+    fn default() -> Self {
+        ExportSettings {
+            fps: 30.0,
+            first: 1,
+            last: 0,
+            step: 1,
+            quantize: false,
+        }
+    }
+}
+
+/// How far a file vertex may be from the welded vertex it follows in a point cache (share
+/// of the diagonal).
+const FILE_ORDER_TOLERANCE: f64 = 1e-3;
+
+/// An export running on its own thread.
+pub struct ExportJob {
+    /// Where it writes.
+    pub path: PathBuf,
+    /// Frames it keeps.
+    pub frames: u64,
+    done: Arc<AtomicU64>,
+    cancel: Arc<AtomicBool>,
+    thread: Option<JoinHandle<Result<String, String>>>,
+}
+
+/// Progress is kept in millionths.
+const SCALE: f64 = 1e6;
+
+impl ExportJob {
+    /// The fraction done, 0..1.
+    pub fn progress(&self) -> f64 {
+        self.done.load(Ordering::Relaxed) as f64 / SCALE
+    }
+}
+
+impl Session {
+    /// The frames an export with these settings plays, for the loaded animation.
+    pub fn export_range(&self) -> Option<FrameRange> {
+        let p = self.playback.as_ref()?;
+        let s = &self.export_settings;
+        let whole = FrameRange::of_duration(p.animation.duration, s.fps);
+        Some(FrameRange {
+            first: s.first,
+            last: if s.last == 0 { whole.last } else { s.last },
+            step: s.step,
+            fps: s.fps,
+        })
+    }
+
+    /// Starts exporting the loaded animation to `path` (`.glb`, `.pc2` or a folder);
+    /// `source` is the mesh file (a point cache follows its vertex order). The files are
+    /// created now, so a bad path is an error at once; the take being recorded and what
+    /// plays are not touched.
+    pub fn start_export(&mut self, path: &Path, source: Option<&Path>) -> Result<String, String> {
+        let name = path.display().to_string();
+        if self.export.is_some() {
+            return Err("an export is running (cancel it first)".into());
+        }
+        let Some(playback) = &self.playback else {
+            return Err("no animation to export: open or record one first".into());
+        };
+        let Some(kind) = Kind::of(path) else {
+            return Err(format!(
+                "{name}: choose a .glb, a .pc2 or a folder (ending in /) to export to"
+            ));
+        };
+        let range = self.export_range().ok_or("no animation")?;
+        range.check().map_err(|e| format!("export: {e}"))?;
+        let bound = playback
+            .animation
+            .bind(&self.puppet.joints)
+            .map_err(|e| e.to_string())?;
+        let order = match (kind, source) {
+            (Kind::Pc2, Some(src)) => {
+                let file =
+                    crate::mesh::file_mesh(src).map_err(|e| format!("{}: {e}", src.display()))?;
+                FileOrder::new(
+                    &file,
+                    &self.puppet.mesh.positions,
+                    FILE_ORDER_TOLERANCE * self.puppet.mesh.diagonal(),
+                )
+            }
+            _ => None,
+        };
+        let normals = crate::mesh::vertex_normals(&self.puppet.mesh).map_err(|e| e.to_string())?;
+        let options = TakeOptions {
+            quantize: self.export_settings.quantize,
+            order,
+        };
+        let mut take = TakeFiles::create(
+            path,
+            kind,
+            &self.puppet.mesh,
+            &normals,
+            options,
+            range.fps,
+            range.first,
+            range.step,
+        )
+        .map_err(|e| e.to_string())?;
+        let mut puppet = self.puppet.clone();
+        let done = Arc::new(AtomicU64::new(0));
+        let cancel = Arc::new(AtomicBool::new(false));
+        let (d, c, target) = (done.clone(), cancel.clone(), path.to_path_buf());
+        let thread = std::thread::spawn(move || {
+            let mut sink = |frame: u64, p: &crate::Puppet| {
+                let x = p.sim.positions();
+                take.add(frame, (0..x.len()).map(|i| x.get(i)).collect())
+                    .map_err(|e| e.to_string())
+            };
+            let mut go = |f: f64| {
+                d.store((f * SCALE) as u64, Ordering::Relaxed);
+                !c.load(Ordering::Relaxed)
+            };
+            let shown = target.display().to_string();
+            match bake::bake(&mut puppet, Some(bound), &range, &mut sink, &mut go) {
+                Ok(()) => {
+                    let frames = take.frames_added();
+                    let bytes = take.finish().map_err(|e| e.to_string())?;
+                    Ok(if bytes > 0 {
+                        format!(
+                            "exported {frames} frames to {shown} ({:.1} MB)",
+                            bytes as f64 / 1e6
+                        )
+                    } else {
+                        format!("exported {frames} frames to {shown}")
+                    })
+                }
+                Err(BakeError::Cancelled) => {
+                    drop(take);
+                    if kind != Kind::Sequence {
+                        let _ = std::fs::remove_file(&target);
+                        if kind == Kind::Pc2 {
+                            let _ = std::fs::remove_file(target.with_extension("obj"));
+                        }
+                    }
+                    Err(format!("export to {shown} cancelled"))
+                }
+                Err(e) => Err(e.to_string()),
+            }
+        });
+        self.export = Some(ExportJob {
+            path: path.to_path_buf(),
+            frames: range.count(),
+            done,
+            cancel,
+            thread: Some(thread),
+        });
+        Ok(format!("exporting {} frames to {name}", range.count()))
+    }
+
+    /// The running export, if any.
+    pub fn export_job(&self) -> Option<&ExportJob> {
+        self.export.as_ref()
+    }
+
+    /// Asks the running export to stop (its partial files are removed).
+    pub fn cancel_export(&mut self) {
+        if let Some(job) = &self.export {
+            job.cancel.store(true, Ordering::Relaxed);
+        }
+    }
+
+    /// What the export said once it ended (`None` while it runs or when there is none).
+    pub fn poll_export(&mut self) -> Option<Result<String, String>> {
+        let job = self.export.as_mut()?;
+        if !job.thread.as_ref().is_some_and(JoinHandle::is_finished) {
+            return None;
+        }
+        let thread = job.thread.take()?;
+        self.export = None;
+        Some(
+            thread
+                .join()
+                .unwrap_or_else(|_| Err("the export failed (please report this)".into())),
+        )
+    }
+
+    /// Waits for the running export to end and returns what it said.
+    pub fn wait_export(&mut self) -> Option<Result<String, String>> {
+        let thread = self.export.as_mut()?.thread.take()?;
+        self.export = None;
+        Some(
+            thread
+                .join()
+                .unwrap_or_else(|_| Err("the export failed (please report this)".into())),
+        )
+    }
+}
