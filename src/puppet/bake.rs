@@ -124,7 +124,7 @@ impl FrameRange {
 
     /// True when frame `frame` is kept.
     pub fn keeps(&self, frame: u64) -> bool {
-        frame >= self.first && frame <= self.last && (frame - self.first) % self.step == 0
+        frame >= self.first && frame <= self.last && (frame - self.first).is_multiple_of(self.step)
     }
 
     /// How many frames are kept.
