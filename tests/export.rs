@@ -249,7 +249,7 @@ fn pc2_follows_the_files_vertex_order_when_welding_merged_duplicates() {
         out.push_str(line);
         out.push('\n');
     }
-    out.push_str(&vertices[0].to_string());
+    out.push_str(vertices[0]);
     out.push('\n');
     out.push_str("v 5 5 5\n");
     let mesh = dir.join("spot-dup.obj");
