@@ -245,3 +245,42 @@ fn an_animation_plays_pauses_steps_and_restarts() {
     );
     assert!(w.quit().success());
 }
+
+/// Recording with the mouse: Ctrl+R records, a drag on a part turns it, Ctrl+R stops and
+/// the take plays with a track for that part; Ctrl+Z takes the take back.
+#[test]
+fn a_take_is_recorded_with_the_mouse_plays_back_and_undo_takes_it_back() {
+    let dir = common::scratch("window-record");
+    let mut w = common::Window::open(&dir, &[]);
+    let r = w.state().unwrap();
+    let targets = r["targets"].as_object().unwrap();
+    let (name, at) = targets
+        .iter()
+        .find(|(n, _)| n.as_str() != "root")
+        .map(|(n, a)| (n.clone(), [a[0].as_f64().unwrap(), a[1].as_f64().unwrap()]))
+        .expect("a part on screen");
+    w.hover([120.0, 400.0]);
+    std::thread::sleep(Duration::from_millis(300));
+    w.key("ctrl+r");
+    w.wait(|r| r["recording"] == true, "Ctrl+R to record");
+    w.drag(at, [0.0, 60.0]);
+    w.wait(
+        |r| !r["turned"].as_array().unwrap().is_empty(),
+        "the drag to turn the part",
+    );
+    w.hover([120.0, 400.0]);
+    w.key("ctrl+r");
+    let r = w.wait(|r| r["recording"] == false, "Ctrl+R to stop");
+    let tracks = r["tracks"].as_array().unwrap();
+    assert!(
+        tracks.iter().any(|t| t.as_str() == Some(name.as_str())),
+        "the take has a track for {name}: {r}"
+    );
+    assert!(r["animation_time"].is_number(), "the take plays: {r}");
+    w.key("ctrl+z");
+    w.wait(
+        |r| r["animation_time"].is_null(),
+        "undo to take the take back",
+    );
+    assert!(w.quit().success());
+}

@@ -80,7 +80,7 @@ impl Samples {
             if locals.is_empty() || still {
                 continue;
             }
-            track.push(self.thin(name, &locals, tolerance, size));
+            track.push(thin(&self.times, name, &locals, tolerance, size));
         }
         Animation {
             duration,
@@ -88,40 +88,44 @@ impl Samples {
             track,
         }
     }
+}
 
-    /// Greedy thinning of one section's samples (see the module docs).
-    fn thin(&self, name: &str, locals: &[Local], tolerance: f64, size: f64) -> Track {
-        let mut keys = vec![key_of(self.times[0], &locals[0])];
-        let mut last = 0;
-        let n = locals.len();
-        let mut j = 1;
-        while j < n {
-            // Can the segment from `last` reach `j + 1` and still pass every sample?
-            let fits = |end: usize| {
-                let t = Track {
-                    section: name.into(),
-                    ease: Ease::Linear,
-                    key: vec![
-                        keys[keys.len() - 1].clone(),
-                        key_of(self.times[end], &locals[end]),
-                    ],
-                };
-                (last + 1..end)
-                    .all(|k| miss(&sample_track(&t, self.times[k]), &locals[k], size) <= tolerance)
+/// One section's samples (`locals` at `times`) as a linear track thinned greedily to
+/// `tolerance` degrees (see the module docs); `size` is the model's size (translations).
+///
+/// # Panics
+/// When `times` or `locals` is empty.
+pub fn thin(times: &[f64], name: &str, locals: &[Local], tolerance: f64, size: f64) -> Track {
+    let mut keys = vec![key_of(times[0], &locals[0])];
+    let mut last = 0;
+    let n = locals.len().min(times.len());
+    let mut j = 1;
+    while j < n {
+        // Can the segment from `last` reach `j + 1` and still pass every sample?
+        let fits = |end: usize| {
+            let t = Track {
+                section: name.into(),
+                ease: Ease::Linear,
+                key: vec![
+                    keys[keys.len() - 1].clone(),
+                    key_of(times[end], &locals[end]),
+                ],
             };
-            if j + 1 < n && fits(j + 1) {
-                j += 1;
-                continue;
-            }
-            keys.push(key_of(self.times[j], &locals[j]));
-            last = j;
+            (last + 1..end)
+                .all(|k| miss(&sample_track(&t, times[k]), &locals[k], size) <= tolerance)
+        };
+        if j + 1 < n && fits(j + 1) {
             j += 1;
+            continue;
         }
-        Track {
-            section: name.into(),
-            ease: Ease::Linear,
-            key: keys,
-        }
+        keys.push(key_of(times[j], &locals[j]));
+        last = j;
+        j += 1;
+    }
+    Track {
+        section: name.into(),
+        ease: Ease::Linear,
+        key: keys,
     }
 }
 

@@ -81,6 +81,20 @@ impl WindowState {
                         s.reset_pose();
                     }
                 }
+                ("r", true) => {
+                    if let Some(s) = &mut self.session {
+                        if s.is_recording() {
+                            let said = s.stop_recording();
+                            s.recorder.said = Some(said.clone().unwrap_or_else(|e| e));
+                            self.panel.message = Some(match said {
+                                Ok(m) => (m, false),
+                                Err(m) => (m, true),
+                            });
+                        } else {
+                            s.start_recording();
+                        }
+                    }
+                }
                 ("z", true) if shift => self.redo(),
                 ("z", true) => self.undo(),
                 ("y", true) => self.redo(),
@@ -101,8 +115,8 @@ impl WindowState {
             ) => {
                 if let Some(s) = &mut self.session {
                     if let Some((t, duration)) = s.playback_time() {
-                        // A frame of the timeline is 1/30 s (simulate's default rate).
-                        let frame = 1.0 / 30.0;
+                        // A frame at the timeline's rate (the export's).
+                        let frame = 1.0 / s.export_settings.fps.clamp(1.0, 240.0);
                         match key {
                             NamedKey::ArrowLeft => s.scrub(t - frame),
                             NamedKey::ArrowRight => s.scrub(t + frame),

@@ -121,9 +121,13 @@ impl WindowState {
                 self.settings.save();
             }
         }
-        // While an animation plays the puppet never settles: report every frame then.
+        // While an animation plays or a take records the puppet never settles: report
+        // every frame then.
         let quiet = !self.session.as_ref().is_some_and(Session::is_running);
-        let playing = self.session.as_ref().is_some_and(Session::is_playing);
+        let playing = self
+            .session
+            .as_ref()
+            .is_some_and(|s| s.is_playing() || s.is_recording());
         if self.loader.is_none() && (quiet || playing) {
             self.write_report();
         }

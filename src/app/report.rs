@@ -37,6 +37,10 @@ pub struct Report {
     pub playing: bool,
     /// Where the animation is, in seconds (when one is loaded).
     pub animation_time: Option<f64>,
+    /// A take is being recorded.
+    pub recording: bool,
+    /// Sections the loaded animation has tracks for.
+    pub tracks: Vec<String>,
     /// Vertices the brush's target (a region, or the pinning) has painted.
     pub painted: usize,
     /// Vertices the simulation pins (weight above 0).
@@ -101,6 +105,14 @@ impl WindowState {
         report.brush = s.paint_tool.active;
         report.playing = s.is_playing();
         report.animation_time = s.playback_time().map(|(t, _)| t);
+        report.recording = s.is_recording();
+        report.tracks = s.playback.as_ref().map_or_else(Vec::new, |p| {
+            p.animation
+                .track
+                .iter()
+                .map(|t| t.section.clone())
+                .collect()
+        });
         report.painted = s.painted();
         let regions = s.puppet.sim.regions();
         report.pinned = (0..s.puppet.mesh.positions.len())

@@ -218,6 +218,7 @@ impl Session {
             if sel.iter().any(|&a| a != s && self.is_ancestor(a, s)) {
                 continue;
             }
+            self.touch(&[s]);
             // W_s' = T(p) Q T(-p) W_s  ⇔  R_local' = R_parent⁻¹ Q R_parent R_local.
             let parent = match self.puppet.joints.sections()[s].parent {
                 Some(p) => DQuat::from_mat3(&world[p].matrix3),

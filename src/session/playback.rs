@@ -6,13 +6,14 @@
 use super::Session;
 use crate::anim::{AnimError, Animation, Bound};
 use crate::joints::Local;
+use std::sync::Arc;
 
 /// An animation bound to the puppet's sections, and where its playback is.
 #[derive(Clone, Debug)]
 pub struct Playback {
-    /// The animation as loaded (saved back as it is).
-    pub animation: Animation,
-    bound: Bound,
+    /// The animation as loaded (saved back as it is; shared with the undo history).
+    pub animation: Arc<Animation>,
+    pub(super) bound: Bound,
     /// Steps played since the start.
     pub steps: u64,
     /// Stepping on.
@@ -26,6 +27,14 @@ impl Session {
     /// Loads an animation: bound to the sections by name, the puppet back at rest, playing
     /// from the start. On error nothing changes.
     pub fn set_animation(&mut self, animation: Animation) -> Result<(), AnimError> {
+        self.set_shared_animation(Arc::new(animation))
+    }
+
+    /// [`Session::set_animation`] with an animation the undo history may share.
+    pub(super) fn set_shared_animation(
+        &mut self,
+        animation: Arc<Animation>,
+    ) -> Result<(), AnimError> {
         animation.check()?;
         let bound = animation.bind(&self.puppet.joints)?;
         self.playback = Some(Playback {
@@ -113,7 +122,7 @@ impl Session {
     pub fn set_looping(&mut self, looping: bool) {
         let joints = &self.puppet.joints;
         if let Some(p) = &mut self.playback {
-            p.animation.looping = looping;
+            Arc::make_mut(&mut p.animation).looping = looping;
             if let Ok(bound) = p.animation.bind(joints) {
                 p.bound = bound;
             }
@@ -133,6 +142,10 @@ impl Session {
         let text = crate::files::read_text(path).map_err(|e| format!("{name}: {e}"))?;
         let animation = Animation::parse(&text, crate::files::Format::of(path))
             .map_err(|e| format!("{name}: {e}"))?;
+        animation
+            .bind(&self.puppet.joints)
+            .map_err(|e| format!("{name}: {e}"))?;
+        self.checkpoint();
         self.set_animation(animation)
             .map_err(|e| format!("{name}: {e}"))?;
         Ok(format!("playing {name}"))
@@ -150,7 +163,7 @@ impl Session {
         };
         let text = match crate::files::Format::of(path) {
             crate::files::Format::Json => {
-                serde_json::to_string_pretty(&p.animation).map_err(|e| e.to_string())?
+                serde_json::to_string_pretty(&*p.animation).map_err(|e| e.to_string())?
             }
             crate::files::Format::Toml => p.animation.to_toml(),
         };

@@ -1,7 +1,9 @@
 use super::*;
+use crate::anim::Animation;
 use crate::joints::Cut;
 use crate::mesh::shapes;
 use crate::puppet::RigFile;
+use crate::session::recording::BLEND_BACK;
 use glam::Vec3;
 
 fn session() -> Session {
@@ -277,7 +279,7 @@ fn animations_open_save_and_bad_ones_change_nothing() {
         s.save_animation(&path).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         let back = crate::anim::Animation::parse(&text, crate::files::Format::of(&path)).unwrap();
-        assert_eq!(back, s.playback.as_ref().unwrap().animation);
+        assert_eq!(back, *s.playback.as_ref().unwrap().animation);
     }
     assert!(s.save_animation(&dir.join("no/such/dir/a.toml")).is_err());
     assert!(!crate::session::playback::is_animation_file(
@@ -327,4 +329,53 @@ fn a_recorded_take_plays_back_what_the_hands_did() {
         "{}",
         s.recorded_seconds()
     );
+}
+
+#[test]
+fn a_take_over_an_animation_replaces_only_what_the_hands_turned_over_its_range() {
+    let mut s = session();
+    // The arm swings 0° → 60° over 2 s.
+    let text = "duration = 2.0\n[[track]]\nsection = \"arm\"\nkey = [\n  { time = 0.0, axis = [0, 0, 1], angle = 0 },\n  { time = 2.0, axis = [0, 0, 1], angle = 60 },\n]\n";
+    let anim = Animation::parse(text, crate::files::Format::Toml).unwrap();
+    s.set_animation(anim.clone()).unwrap();
+    s.scrub(0.5);
+    // Over 0.5 s .. 1.0 s the hand is turned; the arm goes on swinging meanwhile.
+    s.select(Some(2), false);
+    s.start_recording();
+    for _ in 0..30 {
+        s.rotate_selected(DQuat::from_rotation_x(1.0f64.to_radians()));
+        s.advance(1.0 / 60.0, 8);
+    }
+    let arm_at_stop = s.local[1].rotation;
+    let said = s.stop_recording().unwrap();
+    assert!(said.contains("over 0.5"), "{said}");
+    let deg = |q: DQuat| q.to_axis_angle().1.to_degrees();
+    assert!(
+        (deg(arm_at_stop) - 30.0).abs() < 1.0,
+        "the arm kept playing"
+    );
+    let p = s.playback.as_ref().unwrap();
+    let arm = p
+        .animation
+        .track
+        .iter()
+        .find(|t| t.section == "arm")
+        .unwrap();
+    assert_eq!(arm, &anim.track[0], "the untouched track is as it was");
+    assert!(p.animation.track.iter().any(|t| t.section == "hand"));
+    assert_eq!(p.animation.duration, 2.0);
+    // The hand: at rest before the take, turned in it, back to rest after the blend.
+    let at = |s: &mut Session, t: f64| {
+        s.scrub(t);
+        deg(s.animated_pose().unwrap()[2].rotation)
+    };
+    assert!(at(&mut s, 0.4) < 1.0);
+    assert!((at(&mut s, 0.98) - 29.0).abs() < 2.0);
+    assert!(at(&mut s, 1.0 + BLEND_BACK + 0.05) < 1.0);
+    // One undo takes the take back; redo brings it again.
+    s.undo();
+    let p = s.playback.as_ref().unwrap();
+    assert_eq!(*p.animation, anim);
+    s.redo();
+    assert!(s.playback.as_ref().unwrap().animation.track.len() == 2);
 }

@@ -1,10 +1,28 @@
 //! Undo and redo: snapshots of everything a puppeteer changes by hand (the cuts with their
-//! pivots, the pose, the regions and pinning), taken once before each change.
+//! pivots, the pose, the regions and pinning, the animation a take or a file replaced),
+//! taken once before each change.
 
 use super::paint_tool::RegionsState;
 use super::Session;
+use crate::anim::Animation;
 use crate::joints::{Cut, Local};
 use glam::DVec3;
+use std::sync::Arc;
+
+/// The animation loaded, shared (a snapshot costs a pointer; two are the same animation
+/// when they share it).
+#[derive(Clone, Debug, Default)]
+pub(super) struct AnimationState(Option<Arc<Animation>>);
+
+impl PartialEq for AnimationState {
+    fn eq(&self, other: &Self) -> bool {
+        match (&self.0, &other.0) {
+            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+            (None, None) => true,
+            _ => false,
+        }
+    }
+}
 
 /// How many undo steps are kept.
 pub const UNDO_DEPTH: usize = 200;
@@ -17,6 +35,7 @@ pub(super) struct Snapshot {
     root_pivot: DVec3,
     local: Vec<Local>,
     regions: RegionsState,
+    animation: AnimationState,
 }
 
 /// The undo and redo stacks.
@@ -33,6 +52,7 @@ impl Session {
             root_pivot: self.puppet.joints.sections()[0].pivot,
             local: self.local.clone(),
             regions: self.regions_state.clone(),
+            animation: AnimationState(self.playback.as_ref().map(|p| p.animation.clone())),
         }
     }
 
@@ -102,6 +122,15 @@ impl Session {
             let (regions, pin) = (*s.regions.data).clone();
             self.regions_state = s.regions;
             self.apply_regions(regions, pin);
+        }
+        if s.animation != AnimationState(self.playback.as_ref().map(|p| p.animation.clone())) {
+            match s.animation.0 {
+                // It played on these sections before; keep what plays if it somehow cannot.
+                Some(a) => {
+                    let _ = self.set_shared_animation(a);
+                }
+                None => self.playback = None,
+            }
         }
         self.local = s.local;
         self.local

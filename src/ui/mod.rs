@@ -161,16 +161,21 @@ pub fn side_panel(
     state.rect = Some(rect);
     state.width_px = rect.right() * ui.ctx().pixels_per_point();
     if state.hint {
-        hint(ui.ctx(), rect.right());
+        // Above the timeline, when there is one.
+        let bottom = ui.available_rect_before_wrap().bottom();
+        hint(ui.ctx(), rect.right(), bottom);
     }
     actions
 }
 
 /// The first-run hint, at the bottom of the 3D view (not interactable: clicks go through
 /// it to the model).
-fn hint(ctx: &egui::Context, left: f32) {
+fn hint(ctx: &egui::Context, left: f32, bottom: f32) {
     let view = ctx.content_rect();
-    let centre = egui::pos2((left + view.right()) * 0.5, view.bottom() - 24.0);
+    let centre = egui::pos2(
+        (left + view.right()) * 0.5,
+        bottom.min(view.bottom()) - 24.0,
+    );
     egui::Area::new(egui::Id::unique("first-run hint"))
         .interactable(false)
         .pivot(egui::Align2::CENTER_BOTTOM)

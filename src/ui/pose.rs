@@ -47,7 +47,10 @@ fn record(ui: &mut egui::Ui, session: &mut Session) {
             }
         } else if ui
             .button("Record")
-            .on_hover_text("turn sections while recording; Stop makes the take the animation")
+            .on_hover_text(
+                "Ctrl+R; turn sections while recording; Stop makes the take the animation \
+                 (or records it over the animation from where it stands)",
+            )
             .clicked()
         {
             session.start_recording();

@@ -1,5 +1,7 @@
-//! The timeline at the bottom, while an animation is loaded: play/pause, restart, scrub,
-//! loop, the time. Space plays, ←/→ step a frame, Home/End jump (`app::actions`).
+//! The timeline at the bottom, while an animation is loaded: play/pause, restart, loop,
+//! the time and frame at the timeline's rate, and a ruler with the playhead and the keys
+//! of the selected sections as ticks (click or drag on it to scrub). Space plays, ←/→ step
+//! a frame, Home/End jump (`app::actions`).
 
 use crate::session::Session;
 
@@ -20,16 +22,6 @@ pub(super) fn timeline(ui: &mut egui::Ui, session: &mut Session) {
             if ui.button("Restart").on_hover_text("Home").clicked() {
                 session.restart();
             }
-            let mut at = t.min(duration.max(t));
-            let end = duration.max(t).max(1e-3);
-            let slider = ui.add(
-                egui::Slider::new(&mut at, 0.0..=end)
-                    .show_value(false)
-                    .text(format!("{t:.2} / {duration:.2} s")),
-            );
-            if slider.changed() {
-                session.scrub(at);
-            }
             let mut looping = session
                 .playback
                 .as_ref()
@@ -37,6 +29,73 @@ pub(super) fn timeline(ui: &mut egui::Ui, session: &mut Session) {
             if ui.checkbox(&mut looping, "loop").changed() {
                 session.set_looping(looping);
             }
+            let fps = &mut session.export_settings.fps;
+            ui.add(egui::DragValue::new(fps).range(1.0..=240.0).suffix(" fps"))
+                .on_hover_text("the timeline's frame rate (←/→ step a frame; Export uses it)");
+            let frame = (t * *fps + 1e-6).floor() as u64;
+            ui.monospace(format!("{t:6.2} / {duration:.2} s   frame {frame}"));
         });
+        ruler(ui, session, t, duration);
     });
+}
+
+/// The ruler: the animation's length across, the playhead, a tick per key of the selected
+/// sections; a click or a drag scrubs.
+fn ruler(ui: &mut egui::Ui, session: &mut Session, t: f64, duration: f64) {
+    let width = ui.available_width();
+    let (rect, response) =
+        ui.allocate_exact_size(egui::vec2(width, 18.0), egui::Sense::click_and_drag());
+    let end = duration.max(t).max(1e-3);
+    let x_of = |time: f64| rect.left() + (time / end).clamp(0.0, 1.0) as f32 * rect.width();
+    let painter = ui.painter_at(rect);
+    let visuals = ui.visuals();
+    painter.rect_filled(rect, 2.0, visuals.extreme_bg_color);
+    // Whole seconds.
+    for s in 0..=(end.floor() as usize).min(10_000) {
+        let x = x_of(s as f64);
+        painter.line_segment(
+            [
+                egui::pos2(x, rect.bottom() - 5.0),
+                egui::pos2(x, rect.bottom()),
+            ],
+            egui::Stroke::new(1.0, visuals.weak_text_color()),
+        );
+    }
+    // Keys of the selected sections.
+    if let Some(p) = &session.playback {
+        let sections = session.puppet.joints.sections();
+        let key_colour = egui::Color32::from_rgb(255, 190, 80);
+        for &s in &session.selection {
+            let Some(name) = sections.get(s).map(|x| &x.name) else {
+                continue;
+            };
+            for track in p.animation.track.iter().filter(|tr| &tr.section == name) {
+                for key in &track.key {
+                    let x = x_of(key.time);
+                    painter.line_segment(
+                        [
+                            egui::pos2(x, rect.top() + 3.0),
+                            egui::pos2(x, rect.bottom() - 3.0),
+                        ],
+                        egui::Stroke::new(2.0, key_colour),
+                    );
+                }
+            }
+        }
+    }
+    let x = x_of(t);
+    painter.line_segment(
+        [egui::pos2(x, rect.top()), egui::pos2(x, rect.bottom())],
+        egui::Stroke::new(2.0, visuals.strong_text_color()),
+    );
+    let response =
+        response.on_hover_text("click or drag to scrub; ticks: keys of the selected sections");
+    if response.clicked() || response.dragged() {
+        if let Some(pos) = response.interact_pointer_pos() {
+            let at = ((pos.x - rect.left()) / rect.width().max(1.0)).clamp(0.0, 1.0) as f64 * end;
+            if (at - t).abs() > 1e-9 {
+                session.scrub(at);
+            }
+        }
+    }
 }
