@@ -150,6 +150,7 @@ impl Session {
         if self.is_playing() {
             let due = self.puppet.sim.steps_due(seconds, max_steps);
             self.play_steps(due as u64);
+            self.wrap_loop_range();
             // A finished animation that does not loop holds its last pose.
             let time = self.playback_time();
             if let (Some(p), Some((t, duration))) = (&mut self.playback, time) {

@@ -18,6 +18,10 @@ pub struct Playback {
     pub steps: u64,
     /// Stepping on.
     pub playing: bool,
+    /// Plays only this part (seconds, from < to) over and over: at its end playback goes
+    /// back to its start, re-simulated from rest (so each pass is what the bake shows
+    /// there). Not saved with the animation.
+    pub loop_range: Option<(f64, f64)>,
 }
 
 /// Longest scrub, in steps (a scrub re-simulates from the start).
@@ -42,6 +46,7 @@ impl Session {
             bound,
             steps: 0,
             playing: true,
+            loop_range: None,
         });
         self.restart();
         Ok(())
@@ -118,6 +123,40 @@ impl Session {
 }
 
 impl Session {
+    /// Plays only `range` (seconds) over and over, or the whole animation with `None`. A
+    /// range that is empty or not finite is ignored.
+    pub fn set_loop_range(&mut self, range: Option<(f64, f64)>) {
+        let Some(p) = &mut self.playback else {
+            return;
+        };
+        p.loop_range = match range {
+            Some((a, b)) if a.is_finite() && b.is_finite() && b > a.max(0.0) => {
+                Some((a.max(0.0), b))
+            }
+            Some(_) => return,
+            None => None,
+        };
+        self.wake();
+    }
+
+    /// At the end of the loop range: back to its start, still playing.
+    pub(super) fn wrap_loop_range(&mut self) {
+        let Some((t, _)) = self.playback_time() else {
+            return;
+        };
+        let Some(p) = &self.playback else {
+            return;
+        };
+        if let (Some((from, to)), true) = (p.loop_range, p.playing) {
+            if t >= to {
+                self.scrub(from);
+                if let Some(p) = &mut self.playback {
+                    p.playing = true;
+                }
+            }
+        }
+    }
+
     /// Loops the animation or not (kept in it, so saving writes it).
     pub fn set_looping(&mut self, looping: bool) {
         let joints = &self.puppet.joints;

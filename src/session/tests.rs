@@ -379,3 +379,41 @@ fn a_take_over_an_animation_replaces_only_what_the_hands_turned_over_its_range()
     s.redo();
     assert!(s.playback.as_ref().unwrap().animation.track.len() == 2);
 }
+
+#[test]
+fn a_loop_range_plays_its_part_over_and_over_as_the_bake_shows_it() {
+    let mut s = session();
+    let text = "duration = 2.0\n[[track]]\nsection = \"arm\"\nkey = [\n  { time = 0.0, axis = [0, 0, 1], angle = 0 },\n  { time = 2.0, axis = [0, 0, 1], angle = 60 },\n]\n";
+    s.set_animation(Animation::parse(text, crate::files::Format::Toml).unwrap())
+        .unwrap();
+    s.set_loop_range(Some((0.5, 1.0)));
+    // Bad ranges change nothing.
+    s.set_loop_range(Some((1.0, 0.5)));
+    s.set_loop_range(Some((f64::NAN, 1.0)));
+    assert_eq!(s.playback.as_ref().unwrap().loop_range, Some((0.5, 1.0)));
+    // The surface at the range's start, as playing from rest gives it.
+    s.scrub(0.5);
+    let start = s.puppet.sim.positions().to_vec();
+    s.restart();
+    s.toggle_play();
+    let mut wraps = 0;
+    let mut last = 0.0;
+    for _ in 0..200 {
+        s.advance(1.0 / 60.0, 8);
+        let t = s.playback_time().unwrap().0;
+        assert!(t <= 1.0 + 1e-6, "never past the range: {t}");
+        if t < last {
+            wraps += 1;
+            assert!((t - 0.5).abs() < 1e-6, "back to the range's start: {t}");
+            assert!(
+                s.puppet.sim.positions().to_vec() == start,
+                "as the bake has it"
+            );
+        }
+        last = t;
+    }
+    assert!(wraps >= 3, "{wraps} passes");
+    assert!(s.is_playing());
+    s.set_loop_range(None);
+    assert_eq!(s.playback.as_ref().unwrap().loop_range, None);
+}

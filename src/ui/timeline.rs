@@ -1,4 +1,5 @@
-//! The timeline at the bottom, while an animation is loaded: play/pause, restart, loop,
+//! The timeline at the bottom, while an animation is loaded: play/pause, restart, loop (the
+//! whole animation, or a range of it),
 //! the time and frame at the timeline's rate, and a ruler with the playhead and the keys
 //! of the selected sections as ticks (click or drag on it to scrub). Space plays, ←/→ step
 //! a frame, Home/End jump (`app::actions`).
@@ -29,6 +30,32 @@ pub(super) fn timeline(ui: &mut egui::Ui, session: &mut Session) {
             if ui.checkbox(&mut looping, "loop").changed() {
                 session.set_looping(looping);
             }
+            let range = session.playback.as_ref().and_then(|p| p.loop_range);
+            let mut ranged = range.is_some();
+            if ui
+                .checkbox(&mut ranged, "range")
+                .on_hover_text("play only a part, over and over")
+                .changed()
+            {
+                session.set_loop_range(ranged.then_some((0.0, duration.max(1e-3))));
+            }
+            if let Some((mut from, mut to)) = range {
+                let a = ui.add(
+                    egui::DragValue::new(&mut from)
+                        .range(0.0..=duration)
+                        .speed(0.01)
+                        .suffix(" s"),
+                );
+                let b = ui.add(
+                    egui::DragValue::new(&mut to)
+                        .range(0.0..=duration)
+                        .speed(0.01)
+                        .suffix(" s"),
+                );
+                if a.changed() || b.changed() {
+                    session.set_loop_range(Some((from, to)));
+                }
+            }
             let fps = &mut session.export_settings.fps;
             ui.add(egui::DragValue::new(fps).range(1.0..=240.0).suffix(" fps"))
                 .on_hover_text("the timeline's frame rate (←/→ step a frame; Export uses it)");
@@ -50,6 +77,11 @@ fn ruler(ui: &mut egui::Ui, session: &mut Session, t: f64, duration: f64) {
     let painter = ui.painter_at(rect);
     let visuals = ui.visuals();
     painter.rect_filled(rect, 2.0, visuals.extreme_bg_color);
+    // The loop range.
+    if let Some((from, to)) = session.playback.as_ref().and_then(|p| p.loop_range) {
+        let band = egui::Rect::from_x_y_ranges(x_of(from)..=x_of(to), rect.y_range());
+        painter.rect_filled(band, 0.0, visuals.selection.bg_fill.gamma_multiply(0.5));
+    }
     // Whole seconds.
     for s in 0..=(end.floor() as usize).min(10_000) {
         let x = x_of(s as f64);
