@@ -287,6 +287,7 @@ fn small_separate_parts_ride_with_the_section_they_sit_in() {
             normal: DVec3::Y,
             pivot: None,
             connected: false,
+            band: None,
         }],
         ..RigFile::default()
     };

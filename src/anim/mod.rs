@@ -277,6 +277,7 @@ key = [
             normal: DVec3::Y,
             pivot: None,
             connected: false,
+            band: None,
         })
         .unwrap();
         j

@@ -111,6 +111,7 @@ impl Joints {
         });
         self.place_riders();
         self.order = parents_first(&self.sections);
+        self.refresh_bands();
         Ok(index)
     }
 

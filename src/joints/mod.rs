@@ -48,10 +48,12 @@
 //! and the cuts applied to it move to that section. The assignment is replayed from the
 //! remaining cuts (O(vertices × cuts)); the skeleton is never recomputed.
 
+pub mod band;
 mod cut;
 mod pose;
 pub mod suggest;
 
+pub use band::{Band, DEFAULT_BAND, MAX_BAND};
 pub use pose::{to_f32, PoseScratch};
 
 use glam::{DQuat, DVec3};
@@ -78,6 +80,9 @@ pub struct Cut {
     pub pivot: Option<DVec3>,
     /// Take only the piece of the positive side connected to the point (see module docs).
     pub connected: bool,
+    /// Half-width of the joint band in local medial radii (see [`band`]); `None` takes
+    /// [`DEFAULT_BAND`], 0 is a hinge.
+    pub band: Option<f64>,
 }
 
 /// A section: a node of the joint hierarchy.
@@ -185,6 +190,9 @@ struct Body {
     neighbours: Vec<u32>,
     /// For each vertex of a rider, its host vertex; `u32::MAX` for the body's own.
     host: Vec<u32>,
+    /// Skeletal distance (medial radius) of each vertex; empty when unknown (then every
+    /// cut is a hinge).
+    radius: Vec<f64>,
 }
 
 /// No host: a vertex of the body.
@@ -200,6 +208,11 @@ pub struct Joints {
     section_of: Vec<u16>,
     /// Sections parents-first (for composing transforms).
     order: Vec<usize>,
+    /// Per cut, its joint band (see [`band`]).
+    bands: Vec<Option<Band>>,
+    /// Per vertex, the transform the simulation moves it with (its section's or a band
+    /// level's).
+    transform_of: Vec<u16>,
 }
 
 impl Joints {
@@ -244,6 +257,7 @@ impl Joints {
                 start,
                 neighbours,
                 host,
+                radius: Vec::new(),
             },
             root,
         )
@@ -267,7 +281,20 @@ impl Joints {
             }],
             section_of: vec![0; n],
             order: vec![0],
+            bands: Vec::new(),
+            transform_of: vec![0; n],
         }
+    }
+
+    /// Gives the joints each vertex's skeletal distance (the medial radius), which sets the
+    /// width of the joint bands; without it every cut is a hinge.
+    ///
+    /// # Panics
+    /// If `radii` is not one per skeletal point.
+    pub fn set_radii(&mut self, radii: &[f64]) {
+        assert_eq!(radii.len(), self.body.points.len(), "one radius per vertex");
+        Arc::make_mut(&mut self.body).radius = radii.to_vec();
+        self.refresh_bands();
     }
 
     /// The same body with no cuts and the root named `root` (its pivot kept).
@@ -289,6 +316,8 @@ impl Joints {
             }],
             section_of: vec![0; self.section_of.len()],
             order: vec![0],
+            bands: Vec::new(),
+            transform_of: vec![0; self.section_of.len()],
         };
         j.sections[0].pivot = self.sections[0].pivot;
         j

@@ -1,8 +1,9 @@
 //! Composing a pose down the section tree: `W(s) = W(parent) · T(pivot + t) · R · T(−pivot)`.
 
+use super::band::LEVELS;
 use super::{Joints, Local, Section};
 use crate::sim::Pose;
-use glam::{Affine3A, DAffine3};
+use glam::{Affine3A, DAffine3, DQuat};
 
 impl Joints {
     /// World transform of every section for the given local poses (one per section; missing
@@ -37,14 +38,25 @@ impl Joints {
         scratch.pose
     }
 
-    /// [`Joints::pose`] reusing `scratch` (nothing allocated once it has grown).
+    /// [`Joints::pose`] reusing `scratch` (nothing allocated once it has grown): every
+    /// section's transform, then every joint band's levels (see [`super::band`]).
     pub fn pose_into<'a>(&self, local: &[Local], scratch: &'a mut PoseScratch) -> &'a Pose {
         self.world_into(local, &mut scratch.world);
-        scratch.pose.transforms.clear();
-        scratch
-            .pose
-            .transforms
-            .extend(scratch.world.iter().map(to_f32));
+        let transforms = &mut scratch.pose.transforms;
+        transforms.clear();
+        transforms.extend(scratch.world.iter().map(to_f32));
+        for band in self.bands.iter().flatten() {
+            let l = local.get(band.child).copied().unwrap_or_default();
+            let pivot = self.sections[band.child].pivot;
+            let parent = scratch.world[band.parent];
+            for level in 1..LEVELS {
+                let w = level as f64 / LEVELS as f64;
+                let own = DAffine3::from_translation(pivot + l.translation * w)
+                    * DAffine3::from_quat(DQuat::IDENTITY.slerp(l.rotation, w))
+                    * DAffine3::from_translation(-pivot);
+                transforms.push(to_f32(&(parent * own)));
+            }
+        }
         &scratch.pose
     }
 }

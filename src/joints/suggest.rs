@@ -113,6 +113,7 @@ pub fn suggest(mesh: &Mesh, skeleton: &Skeleton, root: &str) -> Vec<Cut> {
             normal: limb.normal,
             pivot: Some(limb.pivot),
             connected: true,
+            band: None,
         };
         // Too small a piece, or too little left, is no joint worth a section.
         let smallest = (SMALLEST * skeleton.points.len() as f64).max(12.0) as usize;

@@ -15,6 +15,7 @@ fn cut(name: &str, section: &str, y: f64) -> Cut {
         normal: DVec3::Y,
         pivot: None,
         connected: false,
+        band: None,
     }
 }
 

@@ -71,7 +71,9 @@ impl Puppet {
         } else {
             Vec::new()
         };
-        let uncut = Joints::with_mesh(&skeleton.points, &mesh.triangles, &hosts, &rig_file.root);
+        let mut uncut =
+            Joints::with_mesh(&skeleton.points, &mesh.triangles, &hosts, &rig_file.root);
+        uncut.set_radii(&skeleton.distance);
         let joints = rig_file.joints(uncut)?;
         let rig = Rig::new(
             &mesh,
@@ -80,7 +82,7 @@ impl Puppet {
             rig_file.params.bone_distance,
         );
         let mut sim = Simulation::new(rig, rig_file.params);
-        sim.set_sections(joints.section_of().to_vec());
+        sim.set_sections(joints.transform_of().to_vec());
         let mut puppet = Puppet {
             mesh,
             skeleton,
@@ -118,7 +120,7 @@ impl Puppet {
     /// Gives the simulation the current sections, and the regions and pinning resolved on
     /// them ([`Puppet::sync_regions`]). Call after any change of cuts.
     pub fn sync_sections(&mut self) {
-        self.sim.set_sections(self.joints.section_of().to_vec());
+        self.sim.set_sections(self.joints.transform_of().to_vec());
         self.sync_regions();
     }
 

@@ -55,6 +55,9 @@ struct CutEntry {
     pivot: Option<[f64; 3]>,
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     connected: bool,
+    /// Joint band half-width in local medial radii (0: a hinge; unset: the default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    band: Option<f64>,
 }
 
 /// A material region as written.
@@ -222,6 +225,7 @@ impl RigFile {
                 normal: c.normal.into(),
                 pivot: c.pivot.map(DVec3::from),
                 connected: c.connected,
+                band: c.band,
             })
             .collect::<Vec<_>>();
         for (k, c) in cuts.iter().enumerate() {
@@ -267,6 +271,17 @@ impl RigFile {
             weights: painted(pin.painted.as_deref(), "pin")?,
             sections: pin.sections,
         };
+        for c in &cuts {
+            if let Some(b) = c.band {
+                if !(b.is_finite() && (0.0..=crate::joints::MAX_BAND).contains(&b)) {
+                    return Err(RigError(format!(
+                        "cut '{}': band = {b} must be in 0..={} (local medial radii; 0 is a hinge)",
+                        c.name,
+                        crate::joints::MAX_BAND
+                    )));
+                }
+            }
+        }
         Ok(RigFile {
             mesh: entry.mesh.map(|m| base.join(m)),
             method: entry.skeleton.unwrap_or_default(),
@@ -310,6 +325,7 @@ impl RigFile {
                     normal: c.normal.into(),
                     pivot: c.pivot.map(Into::into),
                     connected: c.connected,
+                    band: c.band,
                 })
                 .collect(),
             region: self
@@ -439,6 +455,7 @@ mod tests {
                 normal: DVec3::new(0.0, 1.0, 1e-17),
                 pivot: Some(DVec3::new(std::f64::consts::PI, 0.0, 1.0)),
                 connected: true,
+                band: None,
             }],
             ..RigFile::default()
         };

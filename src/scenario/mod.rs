@@ -96,6 +96,7 @@ impl Scenario {
             normal: along,
             pivot: None,
             connected: false,
+            band: None,
         })?;
         Ok(Scenario {
             diagonal: ext.length(),

@@ -87,6 +87,7 @@ impl Session {
             normal: d.normal,
             pivot: d.pivot,
             connected: d.connected,
+            band: None,
         });
         match result {
             Ok(index) => {
@@ -100,6 +101,19 @@ impl Session {
                 self.drop_checkpoint();
                 Err(e)
             }
+        }
+    }
+
+    /// Sets the joint band of cut `name` (half-width in local medial radii; 0 a hinge).
+    /// `checkpoint`: record it for undo (once per drag of the slider).
+    pub fn set_band(&mut self, name: &str, band: f64, checkpoint: bool) {
+        if checkpoint {
+            self.checkpoint();
+        }
+        if self.puppet.joints.set_band(name, Some(band)) {
+            self.puppet.sync_sections();
+            self.layout_revision += 1;
+            self.wake();
         }
     }
 

@@ -17,6 +17,7 @@ fn session() -> Session {
                 normal: DVec3::Y,
                 pivot: None,
                 connected: false,
+                band: None,
             },
             Cut {
                 name: "hand".into(),
@@ -25,6 +26,7 @@ fn session() -> Session {
                 normal: DVec3::Y,
                 pivot: None,
                 connected: false,
+                band: None,
             },
         ],
         ..RigFile::default()

@@ -86,6 +86,24 @@ pub(super) fn cut_section(
                     state.message = Some((e.to_string(), true));
                 }
             }
+            let cut = session.puppet.joints.cuts().iter().find(|c| c.name == name);
+            if let Some(mut band) = cut.map(|c| c.band_factor()) {
+                let r = ui
+                    .add(
+                        egui::DragValue::new(&mut band)
+                            .range(0.0..=crate::joints::MAX_BAND)
+                            .speed(0.02)
+                            .prefix("band "),
+                    )
+                    .on_hover_text(
+                        "joint band half-width in local medial radii: the bone points \
+                         this near the cut turn by part of the angle (0: a hinge)",
+                    );
+                if r.changed() {
+                    let first = r.drag_started() || !r.dragged();
+                    session.set_band(&name, band, first);
+                }
+            }
         });
     }
 }

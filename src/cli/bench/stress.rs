@@ -1,7 +1,7 @@
 //! `puppet bench --stress`: randomized scenarios that try to break the solver.
 //!
 //! Each scenario draws a mesh (an icosahedron of 12 vertices up to Spot subdivided once, 11.7k
-//! vertices), a scale (1e-4, 1 or 1e4), up to two random cuts, every parameter anywhere in
+//! vertices), a scale (1e-4, 1 or 1e4), up to two random cuts (half with a joint band of any width), every parameter anywhere in
 //! its range with a bias to the extremes (`C_vd` 0..1, `D` from 1e-6 to the maximum the UI
 //! allows, `d_B` 0..1, `sl_max` 1..3, `f_min` 0..1, 1..64 reduction iterations, either
 //! constraint), a fixed step from 1/240 to 1/60 s and frames from 1/240 to 1/10 s long (a
@@ -276,6 +276,7 @@ fn run_scenario(
         .map(|((p, n), d)| *p - *d * *n)
         .collect();
     let mut joints = Joints::new(&points, ROOT);
+    joints.set_radii(&scenario.distance);
     for c in 0..rng.below(3) {
         let point = lo + (hi - lo) * DVec3::new(rng.unit(), rng.unit(), rng.unit());
         let sections: Vec<String> = joints.sections().iter().map(|s| s.name.clone()).collect();
@@ -286,10 +287,12 @@ fn run_scenario(
             normal: rng.direction(),
             pivot: None,
             connected: false,
+            // Half the cuts with a joint band of any width.
+            band: (rng.below(2) == 1).then(|| rng.range(0.0, puppet::joints::MAX_BAND)),
         });
     }
     let mut sim = Simulation::new(scenario.rig(params.bone_distance), params);
-    sim.set_sections(joints.section_of().to_vec());
+    sim.set_sections(joints.transform_of().to_vec());
     sim.set_regions(random_regions(rng, joints.section_of()));
     let p = *sim.params();
     // The floor somewhere between a little below the puppet and its middle.
