@@ -132,13 +132,7 @@ fn taps_select_drags_turn_and_the_hint_goes_after_the_first_drag() {
         sections >= 5,
         "the cow opens with its suggested joints: {r}"
     );
-    // A part with a visible pixel (not the root).
-    let targets = r["targets"].as_object().unwrap();
-    let (name, at) = targets
-        .iter()
-        .find(|(n, _)| n.as_str() != "root")
-        .map(|(n, a)| (n.clone(), [a[0].as_f64().unwrap(), a[1].as_f64().unwrap()]))
-        .expect("a part on screen");
+    let (name, at) = common::part_on_screen(&r);
     // Rest on the panel first (egui then thinks the pointer is its own), then tap the part.
     w.hover([120.0, 400.0]);
     std::thread::sleep(Duration::from_millis(300));
@@ -253,12 +247,7 @@ fn a_take_is_recorded_with_the_mouse_plays_back_and_undo_takes_it_back() {
     let dir = common::scratch("window-record");
     let mut w = common::Window::open(&dir, &[]);
     let r = w.state().unwrap();
-    let targets = r["targets"].as_object().unwrap();
-    let (name, at) = targets
-        .iter()
-        .find(|(n, _)| n.as_str() != "root")
-        .map(|(n, a)| (n.clone(), [a[0].as_f64().unwrap(), a[1].as_f64().unwrap()]))
-        .expect("a part on screen");
+    let (name, at) = common::part_on_screen(&r);
     w.hover([120.0, 400.0]);
     std::thread::sleep(Duration::from_millis(300));
     w.key("ctrl+r");

@@ -101,10 +101,6 @@ struct Summary {
     exported_frames: u64,
 }
 
-/// How far a file vertex may be from the welded vertex it follows in a point cache (share
-/// of the diagonal: the weld tolerance and a seam's gap are far below it).
-const FILE_ORDER_TOLERANCE: f64 = 1e-3;
-
 pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     if !(args.fps.is_finite() && args.fps > 0.0 && args.fps <= 10_000.0) {
         bail!("--fps {} must be in (0, 10000]", args.fps);
@@ -135,11 +131,45 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     if frames == 0 || frames > MAX_FRAMES {
         bail!("--frames {frames} must be in 1..={MAX_FRAMES}");
     }
-    let (out, out_kind) = Out::of(args.out.as_deref())?;
+    let out = Out::of(args.out.as_deref())?;
+    let range = FrameRange {
+        first: args.first_frame,
+        last: frames,
+        step: args.frame_step,
+        fps: args.fps,
+    };
+    range
+        .check()
+        .map_err(|e| anyhow::anyhow!("--first-frame/--frames: {e}"))?;
     let mesh_path = args.mesh.clone().or_else(|| spec.mesh.clone());
     let (mesh, _report, mesh_name) = load_mesh(mesh_path.as_deref(), load)?;
-    // Bad output paths fail now, not after the simulation (a take's files are created
-    // once the puppet is built, before the first step).
+    // Bad output paths fail now, not after the skeleton and the simulation.
+    let mut take = match &out {
+        Out::Take(path, kind) => {
+            let order = match (kind, &mesh_path) {
+                (Kind::Pc2, Some(file)) => FileOrder::of_file(file, &mesh)
+                    .map_err(|e| FileError::new(file.display().to_string(), e))?,
+                _ => None,
+            };
+            let options = TakeOptions {
+                quantize: args.quantize,
+                order,
+            };
+            Some(
+                TakeFiles::create(
+                    path,
+                    *kind,
+                    &mesh,
+                    options,
+                    args.fps,
+                    range.first,
+                    range.step,
+                )
+                .map_err(|e| FileError::new(e.path, e.message))?,
+            )
+        }
+        _ => None,
+    };
     if let Some(dir) = &args.out_dir {
         std::fs::create_dir_all(dir).map_err(|e| {
             FileError::new(
@@ -193,43 +223,6 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
 
     let h = puppet.sim.params().time_step as f64;
     let mut player = Player::new(bound, args.fps);
-    let range = FrameRange {
-        first: args.first_frame,
-        last: frames,
-        step: args.frame_step,
-        fps: args.fps,
-    };
-    range
-        .check()
-        .map_err(|e| anyhow::anyhow!("--first-frame/--frames: {e}"))?;
-    let mut take = match (&out, out_kind) {
-        (Out::Take(path), Some(kind)) => {
-            let normals = puppet::mesh::vertex_normals(&puppet.mesh)
-                .map_err(|e| FileError::new(&mesh_name, e))?;
-            let order = match (kind, &mesh_path) {
-                (Kind::Pc2, Some(path)) => file_order(&puppet, path)?,
-                _ => None,
-            };
-            let options = TakeOptions {
-                quantize: args.quantize,
-                order,
-            };
-            Some(
-                TakeFiles::create(
-                    path,
-                    kind,
-                    &puppet.mesh,
-                    &normals,
-                    options,
-                    args.fps,
-                    range.first,
-                    range.step,
-                )
-                .map_err(|e| FileError::new(e.path, e.message))?,
-            )
-        }
-        _ => None,
-    };
     let mut step_ms = Vec::with_capacity(player.steps_by(h, frames).min(1 << 20) as usize);
     for frame in 1..=frames {
         let target = player.steps_by(h, frame);
@@ -349,22 +342,22 @@ enum Out {
     /// The final surface as OBJ.
     Final(PathBuf),
     /// Every exported frame: `.glb`, `.pc2` or a folder of OBJ files.
-    Take(PathBuf),
+    Take(PathBuf, Kind),
 }
 
 impl Out {
-    fn of(path: Option<&Path>) -> Result<(Out, Option<Kind>)> {
+    fn of(path: Option<&Path>) -> Result<Out> {
         let Some(path) = path else {
-            return Ok((Out::None, None));
+            return Ok(Out::None);
         };
         if let Some(kind) = Kind::of(path) {
-            return Ok((Out::Take(path.to_path_buf()), Some(kind)));
+            return Ok(Out::Take(path.to_path_buf(), kind));
         }
         let ext = path
             .extension()
             .map(|e| e.to_string_lossy().to_ascii_lowercase());
         if ext.as_deref() == Some("obj") {
-            return Ok((Out::Final(path.to_path_buf()), None));
+            return Ok(Out::Final(path.to_path_buf()));
         }
         Err(FileError::new(
             path.display().to_string(),
@@ -372,15 +365,4 @@ impl Out {
         )
         .into())
     }
-}
-
-/// The mesh file's own vertex order for a point cache, when welding changed it.
-fn file_order(puppet: &Puppet, path: &Path) -> Result<Option<FileOrder>> {
-    let file =
-        puppet::mesh::file_mesh(path).map_err(|e| FileError::new(path.display().to_string(), e))?;
-    Ok(FileOrder::new(
-        &file,
-        &puppet.mesh.positions,
-        FILE_ORDER_TOLERANCE * puppet.mesh.diagonal(),
-    ))
 }

@@ -13,7 +13,7 @@ mod order;
 pub mod pc2;
 mod take;
 
-pub use order::FileOrder;
+pub use order::{FileOrder, FILE_ORDER_TOLERANCE};
 pub use take::{Kind, TakeError, TakeFiles, TakeOptions};
 
 use glam::Vec3;

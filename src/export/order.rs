@@ -4,9 +4,14 @@
 //! place (the one welding merged it into), offset by the difference of their rest
 //! positions; a vertex no face uses stays where the file has it.
 
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, MeshError};
 use glam::{DVec3, Vec3};
 use std::collections::HashMap;
+use std::path::Path;
+
+/// How far a file vertex may be from the welded vertex it follows, as a share of the
+/// diagonal (the weld tolerance and a repaired seam's gap are far below it).
+pub const FILE_ORDER_TOLERANCE: f64 = 1e-3;
 
 /// The file's vertices and faces, and the welded vertex each follows.
 #[derive(Clone, Debug, PartialEq)]
@@ -22,6 +27,21 @@ pub struct FileOrder {
 }
 
 impl FileOrder {
+    /// The order of the mesh file at `path` for `welded`, the mesh loaded from it
+    /// ([`crate::mesh::file_mesh`] reads the file again without welding). `None` when the
+    /// file's vertices are the welded ones already.
+    ///
+    /// # Errors
+    /// [`MeshError`] when the file cannot be read or parsed again.
+    pub fn of_file(path: &Path, welded: &Mesh) -> Result<Option<FileOrder>, MeshError> {
+        let file = crate::mesh::file_mesh(path)?;
+        Ok(FileOrder::new(
+            &file,
+            &welded.positions,
+            FILE_ORDER_TOLERANCE * welded.diagonal(),
+        ))
+    }
+
     /// Matches `file`'s vertices to the welded mesh's rest positions `welded`: an exact
     /// match first, else the nearest welded vertex within `tolerance` (mesh units; the weld
     /// and seam tolerances). `None` when the two are the same vertex list already.

@@ -4,7 +4,7 @@
 
 use super::{glb, pc2, FileOrder, Frames};
 use crate::files::io_message;
-use crate::mesh::{write_obj, Mesh};
+use crate::mesh::{vertex_normals, write_obj, Mesh};
 use glam::{DVec3, Vec3};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -81,22 +81,23 @@ pub struct TakeFiles {
 }
 
 impl TakeFiles {
-    /// Creates the files for a take of `mesh` (rest surface and `normals`) at `path`:
-    /// frames numbered from `first`, `fps` frames per second before `step` thins them.
+    /// Creates the files for a take of `mesh` (its rest surface and normals are the base)
+    /// at `path`: frames numbered from `first`, `fps` frames per second before `step`
+    /// thins them.
     ///
     /// # Errors
-    /// [`TakeError`] naming the file or folder that cannot be created.
-    #[allow(clippy::too_many_arguments)]
+    /// [`TakeError`] naming the file or folder that cannot be created (or the mesh when it
+    /// has no normals: it was not validated).
     pub fn create(
         path: &Path,
         kind: Kind,
         mesh: &Mesh,
-        normals: &[DVec3],
         options: TakeOptions,
         fps: f64,
         first: u64,
         step: u64,
     ) -> Result<TakeFiles, TakeError> {
+        let normals = vertex_normals(mesh).map_err(|e| failed(path, e))?;
         let create = |p: &Path| {
             std::fs::File::create(p)
                 .map_err(|e| failed(p, format!("cannot write: {}", io_message(&e))))
@@ -169,43 +170,32 @@ impl TakeFiles {
             Kind::Glb => glb::write_with(&self.frames, self.options.quantize)
                 .map_err(|e| failed(&self.path, e))?,
             Kind::Pc2 => {
-                let mut base_bytes = Vec::new();
-                let (frames, rest, triangles) = match &self.options.order {
-                    Some(order) => (
-                        Frames {
-                            frames: self.frames.frames.iter().map(|f| order.frame(f)).collect(),
-                            rest: order.positions.iter().map(|p| p.as_vec3()).collect(),
-                            ..Frames::default()
-                        },
-                        order.positions.clone(),
-                        &order.triangles,
-                    ),
+                let mut take = self.frames;
+                // The base OBJ: the file's vertices and faces, or the welded mesh's.
+                let (rest, triangles): (Vec<DVec3>, _) = match &self.options.order {
+                    Some(order) => {
+                        take.frames = take.frames.iter().map(|f| order.frame(f)).collect();
+                        take.rest = order.positions.iter().map(|p| p.as_vec3()).collect();
+                        (order.positions.clone(), &order.triangles)
+                    }
                     None => (
-                        self.frames.clone(),
-                        self.frames.rest.iter().map(|p| p.as_dvec3()).collect(),
-                        &self.frames.triangles,
+                        take.rest.iter().map(|p| p.as_dvec3()).collect(),
+                        &take.triangles,
                     ),
                 };
-                let frames = Frames {
-                    fps: self.frames.fps,
-                    first: self.frames.first,
-                    ..frames
-                };
-                if let Some((base, _)) = &self.base {
+                if let Some((base, mut file)) = self.base {
+                    let mut text = Vec::new();
                     write_obj(
-                        &mut base_bytes,
+                        &mut text,
                         &rest,
                         triangles,
                         "puppet: the rest surface of the PC2 point cache beside it",
                     )
-                    .map_err(|e| failed(base, e))?;
+                    .and_then(|()| file.write_all(&text))
+                    .and_then(|()| file.flush())
+                    .map_err(|e| failed(&base, format!("cannot write: {}", io_message(&e))))?;
                 }
-                if let Some((base, mut file)) = self.base {
-                    file.write_all(&base_bytes)
-                        .and_then(|()| file.flush())
-                        .map_err(|e| failed(&base, format!("cannot write: {}", io_message(&e))))?;
-                }
-                pc2::write(&frames).map_err(|e| failed(&self.path, e))?
+                pc2::write(&take).map_err(|e| failed(&self.path, e))?
             }
         };
         let mut file = self.file.ok_or_else(|| failed(&self.path, "not open"))?;

@@ -38,10 +38,6 @@ impl Default for ExportSettings {
     }
 }
 
-/// How far a file vertex may be from the welded vertex it follows in a point cache (share
-/// of the diagonal).
-const FILE_ORDER_TOLERANCE: f64 = 1e-3;
-
 /// An export running on its own thread.
 pub struct ExportJob {
     /// Where it writes.
@@ -50,7 +46,7 @@ pub struct ExportJob {
     pub frames: u64,
     done: Arc<AtomicU64>,
     cancel: Arc<AtomicBool>,
-    thread: Option<JoinHandle<Result<String, String>>>,
+    thread: JoinHandle<Result<String, String>>,
 }
 
 /// Progress is kept in millionths.
@@ -101,18 +97,10 @@ impl Session {
             .bind(&self.puppet.joints)
             .map_err(|e| e.to_string())?;
         let order = match (kind, source) {
-            (Kind::Pc2, Some(src)) => {
-                let file =
-                    crate::mesh::file_mesh(src).map_err(|e| format!("{}: {e}", src.display()))?;
-                FileOrder::new(
-                    &file,
-                    &self.puppet.mesh.positions,
-                    FILE_ORDER_TOLERANCE * self.puppet.mesh.diagonal(),
-                )
-            }
+            (Kind::Pc2, Some(src)) => FileOrder::of_file(src, &self.puppet.mesh)
+                .map_err(|e| format!("{}: {e}", src.display()))?,
             _ => None,
         };
-        let normals = crate::mesh::vertex_normals(&self.puppet.mesh).map_err(|e| e.to_string())?;
         let options = TakeOptions {
             quantize: self.export_settings.quantize,
             order,
@@ -121,7 +109,6 @@ impl Session {
             path,
             kind,
             &self.puppet.mesh,
-            &normals,
             options,
             range.fps,
             range.first,
@@ -174,7 +161,7 @@ impl Session {
             frames: range.count(),
             done,
             cancel,
-            thread: Some(thread),
+            thread,
         });
         Ok(format!("exporting {} frames to {name}", range.count()))
     }
@@ -193,25 +180,18 @@ impl Session {
 
     /// What the export said once it ended (`None` while it runs or when there is none).
     pub fn poll_export(&mut self) -> Option<Result<String, String>> {
-        let job = self.export.as_mut()?;
-        if !job.thread.as_ref().is_some_and(JoinHandle::is_finished) {
+        let job = self.export.as_ref()?;
+        if !job.thread.is_finished() {
             return None;
         }
-        let thread = job.thread.take()?;
-        self.export = None;
-        Some(
-            thread
-                .join()
-                .unwrap_or_else(|_| Err("the export failed (please report this)".into())),
-        )
+        self.wait_export()
     }
 
     /// Waits for the running export to end and returns what it said.
     pub fn wait_export(&mut self) -> Option<Result<String, String>> {
-        let thread = self.export.as_mut()?.thread.take()?;
-        self.export = None;
+        let job = self.export.take()?;
         Some(
-            thread
+            job.thread
                 .join()
                 .unwrap_or_else(|_| Err("the export failed (please report this)".into())),
         )

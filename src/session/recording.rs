@@ -205,6 +205,9 @@ fn merge(
     size: f64,
 ) -> (Animation, usize) {
     let mut animation = (*over.animation).clone();
+    if !over.touched.contains(&true) {
+        return (animation, 0);
+    }
     let length = take.times.last().copied().unwrap_or(0.0);
     let end = over.start + length;
     let h = if take.times.len() > 1 {
@@ -216,7 +219,15 @@ fn merge(
     let count = (duration / h).ceil() as usize + 1;
     let times: Vec<f64> = (0..count).map(|k| (k as f64 * h).min(duration)).collect();
     let mut changed = 0;
-    let mut played = Vec::new();
+    // What the animation played, at every time, once for all touched sections.
+    let played: Vec<Vec<Local>> = times
+        .iter()
+        .map(|&t| {
+            let mut pose = Vec::new();
+            over.bound.sample(t, &mut pose);
+            pose
+        })
+        .collect();
     for (s, name) in names.iter().enumerate() {
         if !over.touched.get(s).copied().unwrap_or(false) {
             continue;
@@ -224,9 +235,8 @@ fn merge(
         let recorded = |k: usize| take.poses.get(k).and_then(|p| p.get(s)).copied();
         let last = recorded(take.poses.len().saturating_sub(1)).unwrap_or_default();
         let mut locals = Vec::with_capacity(count);
-        for &t in &times {
-            over.bound.sample(t, &mut played);
-            let old = played.get(s).copied().unwrap_or_default();
+        for (&t, pose) in times.iter().zip(&played) {
+            let old = pose.get(s).copied().unwrap_or_default();
             let l = if t < over.start - 1e-9 {
                 old
             } else if t <= end + 1e-9 {

@@ -46,13 +46,17 @@ pub(super) struct History {
 }
 
 impl Session {
+    fn animation_state(&self) -> AnimationState {
+        AnimationState(self.playback.as_ref().map(|p| p.animation.clone()))
+    }
+
     fn snapshot(&self) -> Snapshot {
         Snapshot {
             cuts: self.puppet.joints.cuts().to_vec(),
             root_pivot: self.puppet.joints.sections()[0].pivot,
             local: self.local.clone(),
             regions: self.regions_state.clone(),
-            animation: AnimationState(self.playback.as_ref().map(|p| p.animation.clone())),
+            animation: self.animation_state(),
         }
     }
 
@@ -123,7 +127,7 @@ impl Session {
             self.regions_state = s.regions;
             self.apply_regions(regions, pin);
         }
-        if s.animation != AnimationState(self.playback.as_ref().map(|p| p.animation.clone())) {
+        if s.animation != self.animation_state() {
             match s.animation.0 {
                 // It played on these sections before; keep what plays if it somehow cannot.
                 Some(a) => {

@@ -58,6 +58,18 @@ pub fn approx(a: f64, b: f64, rel: f64) -> bool {
     (a - b).abs() <= rel * a.abs().max(b.abs()).max(1e-300)
 }
 
+/// A part other than the root with a visible pixel in a window report: its name and where
+/// to click it.
+pub fn part_on_screen(report: &serde_json::Value) -> (String, [f64; 2]) {
+    report["targets"]
+        .as_object()
+        .expect("targets in the report")
+        .iter()
+        .find(|(n, _)| n.as_str() != "root")
+        .map(|(n, a)| (n.clone(), [a[0].as_f64().unwrap(), a[1].as_f64().unwrap()]))
+        .expect("a part on screen")
+}
+
 /// The real window under Xvfb, driven with xdotool the way a user would, its state read
 /// from the app's `--report` file.
 pub struct Window {
