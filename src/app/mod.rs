@@ -200,12 +200,14 @@ impl ApplicationHandler for App {
             WindowEvent::KeyboardInput { event, .. }
                 if event.state == ElementState::Pressed && !response.consumed =>
             {
+                w.keys += 1;
                 match w.key(&event.logical_key) {
                     actions::KeyOutcome::Quit => {
                         w.write_report();
                         event_loop.exit();
                     }
-                    actions::KeyOutcome::Handled => {}
+                    // The report says at once that the key arrived (`--report` only).
+                    actions::KeyOutcome::Handled => w.write_report(),
                 }
             }
             _ => {}

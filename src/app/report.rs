@@ -19,6 +19,8 @@ pub struct Report {
     pub height: u32,
     /// Frames drawn with the puppet.
     pub frames: u32,
+    /// Key presses received.
+    pub keys: u64,
     /// The mesh's name.
     pub mesh: String,
     /// Every section, root first.
@@ -73,6 +75,7 @@ impl WindowState {
             width: self.config.width,
             height: self.config.height,
             frames: self.frames,
+            keys: self.keys,
             hint: self.panel.hint,
             message: self.panel.message.as_ref().map(|(m, _)| m.clone()),
             adapter: self.gpu.adapter.get_info().name,

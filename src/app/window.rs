@@ -36,6 +36,9 @@ pub(super) struct WindowState {
     pub last_frame: Instant,
     /// Frames drawn since the puppet was ready.
     pub frames: u32,
+    /// Key presses the window received (the report says how many, so a test driving it
+    /// knows a key arrived).
+    pub keys: u64,
     /// Frame statistics over the last second: start, frames, steps, last step time (ms).
     pub meter: (Instant, u32, u32, f64),
     pub screenshot: Option<PathBuf>,
@@ -132,6 +135,7 @@ impl WindowState {
             modifiers: ModifiersState::default(),
             last_frame: Instant::now(),
             frames: 0,
+            keys: 0,
             meter: (Instant::now(), 0, 0, 0.0),
             screenshot: options.screenshot,
             exit_after: None,

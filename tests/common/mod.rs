@@ -223,10 +223,28 @@ impl Window {
         self.xdo(&["mouseup", "1"]);
     }
 
-    /// Keys, as xdotool names them (`c`, `ctrl+q`), to the window.
+    /// Keys, as xdotool names them (`c`, `ctrl+q`), to the window. Under load the X server
+    /// now and then loses a synthetic key press; the report counts the presses the window
+    /// got, so a press that did not arrive within a few seconds is sent again.
     pub fn key(&self, keys: &str) {
-        self.xdo(&["windowfocus", "--sync", &self.window]);
-        self.xdo(&["key", keys]);
+        let presses = keys.split('+').count() as u64;
+        let before = self.state().and_then(|r| r["keys"].as_u64());
+        for _ in 0..3 {
+            self.xdo(&["windowfocus", "--sync", &self.window]);
+            self.xdo(&["key", keys]);
+            let Some(before) = before else {
+                return;
+            };
+            let start = std::time::Instant::now();
+            while start.elapsed() < std::time::Duration::from_secs(5) {
+                let got = self.state().and_then(|r| r["keys"].as_u64());
+                if got.is_none_or(|k| k >= before + presses) {
+                    return;
+                }
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+            eprintln!("the window did not get {keys}: sending it again");
+        }
     }
 
     /// The app's CPU time so far, in clock ticks (user + system).
