@@ -11,6 +11,8 @@ use puppet::sim::{Constraint, Params};
 use puppet::{Puppet, RigFile};
 use std::path::Path;
 
+/// A plane cut across y, as a hinge (band 0): these tests hold sections rigidly posed;
+/// joint bands are tested below.
 fn cut(name: &str, section: &str, y: f64) -> Cut {
     Cut {
         name: name.into(),
@@ -19,7 +21,7 @@ fn cut(name: &str, section: &str, y: f64) -> Cut {
         normal: DVec3::Y,
         pivot: None,
         connected: false,
-        band: None,
+        band: Some(0.0),
     }
 }
 
@@ -429,8 +431,6 @@ fn a_joint_band_bends_smoothly_where_a_hinge_makes_a_corner() {
     let at_rest = largest_dihedral(&banded, &rest, 0.0, 0.5);
     let corner = largest_dihedral(&hinge, &hinge_bent, 0.0, 0.5);
     let smooth = largest_dihedral(&banded, &band_bent, 0.0, 0.5);
-    // Today (no volume keeping or collision yet, issue 26) the inner side still creases:
-    // 109° against the hinge's 176° and 18° at rest on this capsule.
     assert!(
         smooth < corner * 0.7,
         "largest dihedral: band {smooth:.1}°, hinge {corner:.1}°, rest {at_rest:.1}°"
@@ -441,7 +441,7 @@ fn a_joint_band_bends_smoothly_where_a_hinge_makes_a_corner() {
         "the arm's radius: {}",
         band.radius
     );
-    // The band round-trips through the rig file, and the default is a hinge.
+    // The band round-trips through the rig file; without one a cut takes the default.
     let text = banded.current_rig_file().to_toml(None);
     assert!(text.contains("band = 2.0"), "{text}");
     let back = RigFile::parse(&text, Format::Toml, Path::new(".")).unwrap();
@@ -449,6 +449,67 @@ fn a_joint_band_bends_smoothly_where_a_hinge_makes_a_corner() {
     let bad = "[[cut]]\nname = \"a\"\npoint = [0, 0, 0]\nnormal = [0, 1, 0]\nband = -1\n";
     let err = RigFile::parse(bad, Format::Toml, Path::new(".")).unwrap_err();
     assert!(err.to_string().contains("band = -1"), "{err}");
-    let plain = arm(vec![cut("forearm", "root", 0.0)], Params::default());
-    assert!(plain.joints.bands()[0].is_none());
+    let mut c = cut("forearm", "root", 0.0);
+    c.band = None;
+    let plain = arm(vec![c], Params::default());
+    let band = plain.joints.bands()[0].as_ref().expect("the default band");
+    assert!((band.width / band.radius - puppet::joints::DEFAULT_BAND).abs() < 1e-12);
+}
+
+/// The human mesh the joint measurements use.
+fn human() -> puppet::mesh::Mesh {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/meshes/human.obj");
+    mesh::load(&path).expect("human.obj").0
+}
+
+#[test]
+fn the_elbow_bent_90_degrees_keeps_its_skin_whole_its_volume_and_a_smooth_bend() {
+    use puppet::puppet::bend::JOINTS;
+    let elbow = JOINTS[0];
+    assert_eq!(elbow.name, "human elbow");
+    let m = human();
+    // The default (a joint band with its contacts and swelling).
+    let b = elbow.bend(&m, None, 90.0, Params::default()).unwrap();
+    assert_eq!(b.crossing, 0, "faces crossing: {b:?}");
+    assert!(b.volume.abs() <= 0.03, "{b:?}");
+    assert!(b.region_volume.abs() <= 0.03, "{b:?}");
+    assert!(b.dihedral <= b.rest_dihedral + 30.0, "{b:?}");
+    // A hinge folds: faces cross and the skin makes a corner.
+    let h = elbow.bend(&m, Some(0.0), 90.0, Params::default()).unwrap();
+    assert!(h.crossing >= 10, "{h:?}");
+    assert!(h.dihedral >= h.rest_dihedral + 90.0, "{h:?}");
+}
+
+#[test]
+fn at_135_degrees_the_elbow_s_two_sides_meet_without_passing_through() {
+    use puppet::puppet::bend::JOINTS;
+    let m = human();
+    let b = JOINTS[0].bend(&m, None, 135.0, Params::default()).unwrap();
+    let h = JOINTS[0]
+        .bend(&m, Some(0.0), 135.0, Params::default())
+        .unwrap();
+    assert!(h.crossing >= 10, "{h:?}");
+    assert!(
+        b.crossing * 10 <= h.crossing,
+        "{} against {}",
+        b.crossing,
+        h.crossing
+    );
+    assert!(b.region_volume.abs() <= 0.03, "{b:?}");
+}
+
+#[test]
+fn a_banded_joint_held_still_changes_no_transform_and_falls_asleep() {
+    let mut c = cut("forearm", "root", 0.0);
+    c.band = None;
+    let mut p = arm(vec![c], Params::default());
+    let local = [Local::default(), Local::axis_angle(DVec3::Z, 60.0)];
+    let (a, b) = (p.joints.pose(&local), p.joints.pose(&local));
+    assert_eq!(
+        a.transforms, b.transforms,
+        "the same pose, the same transforms"
+    );
+    assert!(a.transforms.len() > 2 + 63, "levels and contacts");
+    hold(&mut p, &local, 2000);
+    assert!(p.sim.is_asleep(), "a still bent joint sleeps");
 }

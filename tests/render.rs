@@ -143,3 +143,56 @@ fn a_turned_section_shows_in_the_image() {
         "turning the head changes the picture ({diff:.2})"
     );
 }
+
+/// The human's elbow bent 90°, seen from above, as a hinge and with the default joint band:
+/// the README's before/after pictures (`docs/images/elbow-90-hinge.png`,
+/// `docs/images/elbow-90-band.png`), regenerated with `PUPPET_BLESS=1`.
+#[test]
+fn the_readme_s_pictures_of_the_bent_elbow() {
+    use puppet::puppet::bend::JOINTS;
+    let gpu = Gpu::headless().expect("a graphics adapter");
+    let mut renderer = SceneRenderer::new(&gpu, OFFSCREEN_FORMAT);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/meshes/human.obj");
+    let mesh = puppet::mesh::load(&path).unwrap().0;
+    let elbow = JOINTS[0];
+    let mut shots = Vec::new();
+    for (band, name) in [(Some(0.0), "hinge"), (None, "band")] {
+        let p = elbow
+            .bent(&mesh, band, 90.0, puppet::sim::Params::default())
+            .unwrap();
+        let session = Session::new(p, "elbow");
+        let mut cam = Camera {
+            yaw: 0.6,
+            pitch: 1.0,
+            ..Camera::default()
+        };
+        let around = glam::Vec3::new(-0.50, 1.33, 0.0);
+        cam.frame(
+            around - glam::Vec3::splat(0.14),
+            around + glam::Vec3::splat(0.14),
+        );
+        let image = render_image(
+            &gpu,
+            &mut renderer,
+            &session.view(Overlays::default()),
+            &cam,
+            480,
+            360,
+        )
+        .expect("offscreen render");
+        let reference =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("docs/images/elbow-90-{name}.png"));
+        if std::env::var_os("PUPPET_BLESS").is_some() {
+            image.save_png(&reference).unwrap();
+        }
+        let expected = Image::load_png(&reference).expect("the README's picture");
+        let d = image.mean_abs_diff(&expected).expect("same size");
+        assert!(
+            d < 2.0,
+            "{name}: differs from the README's picture by {d:.2}"
+        );
+        shots.push(image);
+    }
+    // The two pictures show different skin.
+    assert!(shots[0].mean_abs_diff(&shots[1]).unwrap() > 1.0);
+}

@@ -5,6 +5,7 @@ pub mod bvh;
 pub mod exact;
 pub mod hilbert;
 pub mod inside;
+pub mod intersect;
 pub mod predicates;
 
 /// The smaller of two values neither of which is NaN: one comparison (`f64::min` and

@@ -21,23 +21,59 @@
 //! pivot (within the child's cross-section, `2.5 r` from the pivot in the plane), so the
 //! other leg at a hip cut or the body beside a shoulder stays put.
 //!
+//! # Volume
+//! Turning part of the bone points by part of the angle keeps a symmetric cross-section's
+//! volume to first order (the inner side is compressed as much as the outer is stretched),
+//! but the simulated skin does not: the stretched outer side pulls in like a rubber band
+//! over a bend. So a bent band also swells across the cut's normal, away from the pivot's
+//! line, by `BULGE · φ · 4w(1 − w)` of each vertex's distance from it (`φ` the bend angle in
+//! radians, `w` the weight): nothing at the band's ends or at rest, most at its middle. The
+//! swelling moves a vertex with its bone points (a translation in its contact transform,
+//! below), so the bone springs keep their lengths and the constraints stay feasible. [`BULGE`] is chosen by
+//! `puppet bench joints` (the region's volume within 3 % at 45–135° on the human elbow and
+//! knee and two finger joints, `BENCHMARKS.md`).
+//!
+//! # Contacts
+//! Bent far enough, the inner sides of the two parts of a limb meet (at 135° a limb of
+//! radius `r` overlaps itself up to `2.4 r` from the pivot). The two sides then meet on the
+//! *contact plane*: through the pivot, halfway between the cut's plane and the child's
+//! turned one. Every vertex of the band's parent, child or levels within
+//! [`CONTACT_REACH`] radii of the plane (at least the band's width) has a transform of its
+//! own: its band motion, plus, when it is on the inner side of the bend and its posed rest
+//! position crosses the contact plane, the push back onto it. The bone points move with
+//! it, so the simulated skin is held on its side like any other target; nothing changes in
+//! the step's kernel, and the transforms stay those of the band while nothing crosses.
+//!
+//! # Transforms
 //! The weight is quantised to [`LEVELS`] steps: the simulation gets one transform per
-//! level and band (after the sections' own) and each vertex the index of its transform, so
-//! the step's kernel is unchanged and a joint that does not bend wakes nothing.
+//! level and band (after the sections' own), then one per contact, and each vertex the
+//! index of its transform, so the step's kernel is unchanged and a joint that does not
+//! bend wakes nothing. The simulation indexes transforms with a `u16`: a band whose
+//! contacts would pass 65,536 transforms in all (a limb of tens of thousands of vertices)
+//! bends without them.
 
 use super::{Cut, Joints};
 use glam::DVec3;
 
-/// Band half-width in local medial radii when a cut does not say: 0, a hinge, until the
-/// measurements of issue 26 (self-intersections, volume, dihedral angles at 45–135°)
-/// choose the default.
-pub const DEFAULT_BAND: f64 = 0.0;
+/// Band half-width in local medial radii when a cut does not say, chosen by
+/// `puppet bench joints` (no face crossing at 45–135° on the measured joints; the widest
+/// band smooths the bend the most, `BENCHMARKS.md`).
+pub const DEFAULT_BAND: f64 = 4.0;
 
 /// Largest band factor accepted.
-pub const MAX_BAND: f64 = 4.0;
+pub const MAX_BAND: f64 = 6.0;
 
 /// Weight steps per band (the transforms between the parent's, level 0, and the child's).
 pub const LEVELS: usize = 64;
+
+/// How far from the plane, in local medial radii, a band's contacts reach (at least its
+/// width): at 135° the two sides of a limb of radius `r` overlap up to `tan(67.5°) r ≈
+/// 2.4 r` from the pivot.
+pub const CONTACT_REACH: f64 = 3.0;
+
+/// How much a bent band swells across the limb, per radian of bend, at its middle (see the
+/// module docs).
+pub const BULGE: f64 = 0.015;
 
 /// Most transforms the simulation can index (it stores a `u16` per vertex).
 const MAX_TRANSFORMS: usize = u16::MAX as usize + 1;
@@ -53,6 +89,26 @@ pub struct Band {
     pub width: f64,
     /// The local medial radius it was measured from.
     pub radius: f64,
+    /// The cut's unit normal.
+    pub normal: DVec3,
+    /// Index of its first level's transform in the pose.
+    pub first_level: usize,
+    /// The vertices that may touch the other side when the joint bends (see the module
+    /// docs), each with the next transform from `first_contact` on.
+    pub contacts: Vec<Contact>,
+    /// Index of the first contact's transform in the pose.
+    pub first_contact: usize,
+}
+
+/// A vertex near a cut that is kept on its own side of the bend's contact plane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact {
+    /// The vertex.
+    pub vertex: u32,
+    /// The share of the child's rotation it moves with (0: the parent, 1: the child).
+    pub weight: f64,
+    /// On the child's side of the cut's plane at rest.
+    pub child_side: bool,
 }
 
 impl Cut {
@@ -98,65 +154,106 @@ impl Joints {
         true
     }
 
+    /// The local medial radius at cut `k` (see the module docs) and its child and parent
+    /// sections; `None` without radii or when the cut's section is gone.
+    fn local_radius(&self, k: usize) -> Option<(f64, usize, usize)> {
+        let n = self.section_of.len();
+        let cut = self.cuts.get(k)?;
+        if self.body.radius.len() != n {
+            return None;
+        }
+        let child = self.find(&cut.name)?;
+        let parent = self.sections[child].parent?;
+        let normal = cut.normal.normalize_or_zero();
+        let mut near: Vec<(f64, f64)> = (0..n)
+            .filter(|&i| !self.body.is_rider(i) && self.section_of[i] as usize == child)
+            .map(|i| {
+                let d = (self.body.points[i] - cut.point).dot(normal);
+                (d.abs(), self.body.radius[i])
+            })
+            .collect();
+        if near.is_empty() {
+            return None;
+        }
+        let m = (near.len() / 50).max(8).min(near.len());
+        near.select_nth_unstable_by(m - 1, |a, b| a.0.total_cmp(&b.0));
+        let mut radii: Vec<f64> = near[..m].iter().map(|x| x.1).collect();
+        radii.sort_by(f64::total_cmp);
+        let radius = radii[radii.len() / 2];
+        (radius.is_finite() && radius > 0.0).then_some((radius, child, parent))
+    }
+
+    /// The body's vertices (riders excluded) near cut `k`, with the signed distance `d` of
+    /// their skeletal point from its plane (positive into the child): the child's with
+    /// `d < width`, and the parent's with `−width < d ≤ 0` within `2.5 r` of the pivot in
+    /// the plane (see the module docs). What a band of half-width `width` moves.
+    fn near_cut(&self, k: usize, radius: f64, width: f64) -> Vec<(usize, f64)> {
+        let cut = &self.cuts[k];
+        let Some(child) = self.find(&cut.name) else {
+            return Vec::new();
+        };
+        let parent = self.sections[child].parent;
+        let normal = cut.normal.normalize_or_zero();
+        let pivot = self.sections[child].pivot;
+        let reach = 2.5 * radius;
+        (0..self.section_of.len())
+            .filter(|&i| !self.body.is_rider(i))
+            .filter_map(|i| {
+                let p = self.body.points[i];
+                let d = (p - cut.point).dot(normal);
+                let s = self.section_of[i] as usize;
+                let v = p - pivot;
+                let in_plane = (v - normal * v.dot(normal)).length();
+                let member = (s == child && d < width)
+                    || (Some(s) == parent && d <= 0.0 && d > -width && in_plane <= reach);
+                member.then_some((i, d))
+            })
+            .collect()
+    }
+
+    /// The vertices (riders included, with their host) whose skeletal point lies within
+    /// `radii` local medial radii of the plane of the cut named `name`, on the limb's two
+    /// sides as a band takes them (see the module docs), and that radius; `None` for an
+    /// unknown cut or without radii. Where a bend is measured.
+    pub fn joint_region(&self, name: &str, radii: f64) -> Option<(Vec<bool>, f64)> {
+        let k = self.cuts.iter().position(|c| c.name == name)?;
+        let (radius, _, _) = self.local_radius(k)?;
+        let mut region = vec![false; self.section_of.len()];
+        for (i, _) in self.near_cut(k, radius, radii * radius) {
+            region[i] = true;
+        }
+        for (i, &h) in self.body.host.iter().enumerate() {
+            if h != super::NO_HOST {
+                region[i] = region[h as usize];
+            }
+        }
+        Some((region, radius))
+    }
+
     /// Recomputes the bands and every vertex's transform (after the cuts changed).
     pub(super) fn refresh_bands(&mut self) {
         let n = self.section_of.len();
         self.transform_of.clone_from(&self.section_of);
         self.bands = vec![None; self.cuts.len()];
-        if self.body.radius.len() != n {
-            return;
-        }
         let sections = self.sections.len();
         // Per vertex, how deep inside its band it is (|d| / W); the nearest plane wins.
         let mut depth = vec![f64::INFINITY; n];
         let mut slot = 0;
-        for (k, cut) in self.cuts.iter().enumerate() {
-            let factor = cut.band_factor();
-            let Some(child) = self.find(&cut.name) else {
-                continue;
-            };
-            let Some(parent) = self.sections[child].parent else {
-                continue;
-            };
+        for k in 0..self.cuts.len() {
+            let factor = self.cuts[k].band_factor();
             let first = sections + slot * (LEVELS - 1);
             if factor <= 0.0 || first + LEVELS - 1 > MAX_TRANSFORMS {
                 continue;
             }
-            let normal = cut.normal.normalize_or_zero();
-            let pivot = self.sections[child].pivot;
-            let own = |i: usize| !self.body.is_rider(i);
-            let signed = |i: usize| (self.body.points[i] - cut.point).dot(normal);
-            // The local medial radius: the child's vertices nearest the plane.
-            let mut near: Vec<(f64, f64)> = (0..n)
-                .filter(|&i| own(i) && self.section_of[i] as usize == child)
-                .map(|i| (signed(i).abs(), self.body.radius[i]))
-                .collect();
-            if near.is_empty() {
+            let Some((radius, child, parent)) = self.local_radius(k) else {
                 continue;
-            }
-            let m = (near.len() / 50).max(8).min(near.len());
-            near.select_nth_unstable_by(m - 1, |a, b| a.0.total_cmp(&b.0));
-            let mut radii: Vec<f64> = near[..m].iter().map(|x| x.1).collect();
-            radii.sort_by(f64::total_cmp);
-            let radius = radii[radii.len() / 2];
+            };
             let width = factor * radius;
             if !(width.is_finite() && width > 0.0) {
                 continue;
             }
-            let reach = 2.5 * radius;
-            let in_plane = |p: DVec3| {
-                let v = p - pivot;
-                (v - normal * v.dot(normal)).length()
-            };
-            for i in (0..n).filter(|&i| own(i)) {
-                let s = self.section_of[i] as usize;
-                let d = signed(i);
-                let member = (s == child && d < width)
-                    || (s == parent
-                        && d <= 0.0
-                        && d > -width
-                        && in_plane(self.body.points[i]) <= reach);
-                if !member || d.abs() / width >= depth[i] {
+            for (i, d) in self.near_cut(k, radius, width) {
+                if d.abs() / width >= depth[i] {
                     continue;
                 }
                 let w = smoothstep((d + width) / (2.0 * width));
@@ -173,8 +270,53 @@ impl Joints {
                 parent,
                 width,
                 radius,
+                normal: self.cuts[k].normal.normalize_or_zero(),
+                first_level: first,
+                contacts: Vec::new(),
+                first_contact: 0,
             });
             slot += 1;
+        }
+        // Contacts, once every vertex has its level: a vertex moving with this band's
+        // parent, child or one of its levels, within reach of the plane, gets a transform
+        // of its own (the first band to reach it keeps it).
+        let mut next = sections + slot * (LEVELS - 1);
+        let mut taken = vec![false; n];
+        for k in 0..self.cuts.len() {
+            let Some(band) = &self.bands[k] else {
+                continue;
+            };
+            let (child, parent, first) = (band.child as u16, band.parent as u16, band.first_level);
+            let reach = band.width.max(CONTACT_REACH * band.radius);
+            let mut contacts = Vec::new();
+            for (i, d) in self.near_cut(k, band.radius, reach) {
+                let t = self.transform_of[i];
+                let weight = match t {
+                    _ if taken[i] => continue,
+                    t if t == parent => 0.0,
+                    t if t == child => 1.0,
+                    t if (first..first + LEVELS - 1).contains(&(t as usize)) => {
+                        (t as usize - first + 1) as f64 / LEVELS as f64
+                    }
+                    _ => continue,
+                };
+                contacts.push((i, weight, d > 0.0));
+            }
+            if next + contacts.len() > MAX_TRANSFORMS {
+                continue;
+            }
+            let band = self.bands[k].as_mut().expect("a band");
+            band.first_contact = next;
+            for (j, &(i, weight, child_side)) in contacts.iter().enumerate() {
+                taken[i] = true;
+                self.transform_of[i] = (next + j) as u16;
+                band.contacts.push(Contact {
+                    vertex: i as u32,
+                    weight,
+                    child_side,
+                });
+            }
+            next += contacts.len();
         }
         // Riders move with their host.
         for i in 0..n {

@@ -193,6 +193,8 @@ struct Body {
     /// Skeletal distance (medial radius) of each vertex; empty when unknown (then every
     /// cut is a hinge).
     radius: Vec<f64>,
+    /// Rest position of each surface vertex (with `radius`; empty when unknown).
+    rest: Vec<DVec3>,
 }
 
 /// No host: a vertex of the body.
@@ -258,6 +260,7 @@ impl Joints {
                 neighbours,
                 host,
                 radius: Vec::new(),
+                rest: Vec::new(),
             },
             root,
         )
@@ -286,14 +289,19 @@ impl Joints {
         }
     }
 
-    /// Gives the joints each vertex's skeletal distance (the medial radius), which sets the
-    /// width of the joint bands; without it every cut is a hinge.
+    /// Gives the joints the surface's rest positions and each vertex's skeletal distance
+    /// (the medial radius), which set the joint bands and their contacts (see [`band`]);
+    /// without them every cut is a hinge.
     ///
     /// # Panics
-    /// If `radii` is not one per skeletal point.
-    pub fn set_radii(&mut self, radii: &[f64]) {
-        assert_eq!(radii.len(), self.body.points.len(), "one radius per vertex");
-        Arc::make_mut(&mut self.body).radius = radii.to_vec();
+    /// If `positions` or `radii` is not one per skeletal point.
+    pub fn set_surface(&mut self, positions: &[DVec3], radii: &[f64]) {
+        let n = self.body.points.len();
+        assert_eq!(positions.len(), n, "one position per vertex");
+        assert_eq!(radii.len(), n, "one radius per vertex");
+        let body = Arc::make_mut(&mut self.body);
+        body.rest = positions.to_vec();
+        body.radius = radii.to_vec();
         self.refresh_bands();
     }
 

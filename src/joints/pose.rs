@@ -1,9 +1,9 @@
 //! Composing a pose down the section tree: `W(s) = W(parent) · T(pivot + t) · R · T(−pivot)`.
 
-use super::band::LEVELS;
+use super::band::{BULGE, LEVELS};
 use super::{Joints, Local, Section};
 use crate::sim::Pose;
-use glam::{Affine3A, DAffine3, DQuat};
+use glam::{Affine3A, DAffine3, DQuat, DVec3};
 
 impl Joints {
     /// World transform of every section for the given local poses (one per section; missing
@@ -47,18 +47,116 @@ impl Joints {
         transforms.extend(scratch.world.iter().map(to_f32));
         for band in self.bands.iter().flatten() {
             let l = local.get(band.child).copied().unwrap_or_default();
-            let pivot = self.sections[band.child].pivot;
             let parent = scratch.world[band.parent];
             for level in 1..LEVELS {
                 let w = level as f64 / LEVELS as f64;
-                let own = DAffine3::from_translation(pivot + l.translation * w)
-                    * DAffine3::from_quat(DQuat::IDENTITY.slerp(l.rotation, w))
-                    * DAffine3::from_translation(-pivot);
-                transforms.push(to_f32(&(parent * own)));
+                transforms.push(to_f32(&(parent * self.band_motion(band, &l, w))));
+            }
+        }
+        for band in self.bands.iter().flatten() {
+            let l = local.get(band.child).copied().unwrap_or_default();
+            let parent = scratch.world[band.parent];
+            let plane = self.contact_plane(band, &l);
+            for c in &band.contacts {
+                let level = (c.weight * LEVELS as f64).round() as usize;
+                let base = match level {
+                    0 => band.parent,
+                    l if l >= LEVELS => band.child,
+                    l => band.first_level + l - 1,
+                };
+                let rest = self.body.rest[c.vertex as usize];
+                let own = self.band_motion(band, &l, c.weight);
+                let swell = self.swelling(band, &l, rest, c.weight);
+                let own = if swell == DVec3::ZERO {
+                    own
+                } else {
+                    DAffine3::from_translation(own.matrix3 * swell) * own
+                };
+                let push = plane.and_then(|plane| plane.push(&own, rest, c));
+                transforms.push(match push {
+                    Some(v) => to_f32(&(parent * DAffine3::from_translation(v) * own)),
+                    None if swell == DVec3::ZERO => transforms[base],
+                    None => to_f32(&(parent * own)),
+                });
             }
         }
         &scratch.pose
     }
+}
+
+impl Joints {
+    /// The motion, relative to the parent, of the bone points a band moves with weight
+    /// `w` of the child's `local` pose: `T(pivot + w t) · slerp(I, R, w) · S · T(−pivot)`,
+    /// `S` the band's swelling across the cut's normal (see [`super::band`]).
+    fn band_motion(&self, band: &super::Band, local: &Local, w: f64) -> DAffine3 {
+        let pivot = self.sections[band.child].pivot;
+        DAffine3::from_translation(pivot + local.translation * w)
+            * DAffine3::from_quat(DQuat::IDENTITY.slerp(local.rotation, w))
+            * DAffine3::from_translation(-pivot)
+    }
+
+    /// How far a bent band's swelling moves the vertex at `rest` with weight `w`, before
+    /// the band's motion: `BULGE · φ · 4w(1 − w)` times its offset from the pivot's line
+    /// across the cut's normal. A translation, so its bone points move with it and keep
+    /// their spacing (the constraints stay feasible).
+    fn swelling(&self, band: &super::Band, local: &Local, rest: DVec3, w: f64) -> DVec3 {
+        let n = band.normal;
+        let swell = BULGE * bend_angle(n, local.rotation) * 4.0 * w * (1.0 - w);
+        if swell <= 0.0 {
+            return DVec3::ZERO;
+        }
+        let v = rest - self.sections[band.child].pivot;
+        (v - n * v.dot(n)) * swell
+    }
+
+    /// The plane the two sides of a bent band meet on, in the parent's frame: through the
+    /// pivot, halfway between the cut's plane and the child's turned one; `None` when the
+    /// joint does not bend (a twist about the normal, or nothing).
+    fn contact_plane(&self, band: &super::Band, local: &Local) -> Option<ContactPlane> {
+        let n = band.normal;
+        let turned = local.rotation * n;
+        let inner = turned - n * n.dot(turned);
+        let normal = (n + turned).normalize_or_zero();
+        if inner.length() < 1e-9 || normal == DVec3::ZERO {
+            return None;
+        }
+        let pivot = self.sections[band.child].pivot;
+        Some(ContactPlane {
+            point: pivot + local.translation * 0.5,
+            normal,
+            pivot,
+            inner: inner.normalize(),
+        })
+    }
+}
+
+/// See [`Joints::contact_plane`].
+#[derive(Clone, Copy, Debug)]
+struct ContactPlane {
+    point: DVec3,
+    normal: DVec3,
+    /// The cut's pivot at rest, and the side of the limb the child turns towards.
+    pivot: DVec3,
+    inner: DVec3,
+}
+
+impl ContactPlane {
+    /// The push that brings contact `c` (rest position `rest`, moved by `own`) back onto
+    /// its side of the plane, if it is on the inner side of the bend and across.
+    fn push(&self, own: &DAffine3, rest: DVec3, c: &super::band::Contact) -> Option<DVec3> {
+        if (rest - self.pivot).dot(self.inner) <= 0.0 {
+            return None;
+        }
+        let s = (own.transform_point3(rest) - self.point).dot(self.normal);
+        let across = if c.child_side { s < 0.0 } else { s > 0.0 };
+        across.then_some(-s * self.normal)
+    }
+}
+
+/// The angle (radians) between `n` and `rotation · n`: how far a rotation bends a limb
+/// along `n` (a twist about it does not count).
+pub fn bend_angle(n: DVec3, rotation: DQuat) -> f64 {
+    n.dot(rotation * n).clamp(-1.0, 1.0).acos()
 }
 
 /// Storage for [`Joints::pose_into`].

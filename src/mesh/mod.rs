@@ -20,6 +20,7 @@ mod decimate;
 mod edges;
 mod gltf;
 mod load;
+pub mod measure;
 mod normals;
 mod obj;
 mod parts;

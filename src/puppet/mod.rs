@@ -2,6 +2,7 @@
 //! [`RigFile`] describes it.
 
 pub mod bake;
+pub mod bend;
 pub mod paint;
 mod rig_file;
 
@@ -73,7 +74,7 @@ impl Puppet {
         };
         let mut uncut =
             Joints::with_mesh(&skeleton.points, &mesh.triangles, &hosts, &rig_file.root);
-        uncut.set_radii(&skeleton.distance);
+        uncut.set_surface(&mesh.positions, &skeleton.distance);
         let joints = rig_file.joints(uncut)?;
         let rig = Rig::new(
             &mesh,

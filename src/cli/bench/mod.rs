@@ -16,6 +16,7 @@
 
 mod accuracy;
 mod export;
+mod joints;
 mod machine;
 mod sag;
 mod skeleton;
@@ -45,6 +46,8 @@ pub enum Bench {
     Sag(sag::Args),
     /// Time and file size of a take in each export format.
     Export(export::Args),
+    /// A bent joint's surface: faces crossing, volume, dihedral angles, hinge against bands.
+    Joints(joints::Args),
     /// Skeleton accuracy against analytic shapes.
     Skeleton(skeleton::AccuracyArgs),
     /// Time from file to skeleton, per stage, on the mesh Loop-subdivided 0..=N times.
@@ -71,6 +74,7 @@ pub fn run(bench: &Bench, load: &LoadArgs) -> Result<()> {
         Bench::Skip(args) => skip::run(args, load),
         Bench::Sag(args) => sag::run(args, load),
         Bench::Export(args) => export::run(args, load),
+        Bench::Joints(args) => joints::run(args),
         Bench::Skeleton(args) => skeleton::accuracy(args),
         Bench::SkeletonSpeed(args) => skeleton::speed(args, load),
         Bench::SkeletonChange(args) => skeleton::change(args, load),

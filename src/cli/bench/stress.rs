@@ -276,7 +276,7 @@ fn run_scenario(
         .map(|((p, n), d)| *p - *d * *n)
         .collect();
     let mut joints = Joints::new(&points, ROOT);
-    joints.set_radii(&scenario.distance);
+    joints.set_surface(&scenario.mesh.positions, &scenario.distance);
     for c in 0..rng.below(3) {
         let point = lo + (hi - lo) * DVec3::new(rng.unit(), rng.unit(), rng.unit());
         let sections: Vec<String> = joints.sections().iter().map(|s| s.name.clone()).collect();

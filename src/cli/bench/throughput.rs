@@ -56,17 +56,21 @@ pub fn measure(scenario: &Scenario, params: Params, regions: Regions, steps: usi
         ..Options::default()
     };
     let mut sim = Simulation::with_options(scenario.rig(params.bone_distance), params, options);
-    sim.set_sections(scenario.joints.section_of().to_vec());
+    sim.set_sections(scenario.joints.transform_of().to_vec());
     sim.set_regions(regions);
     let springs = sim.rig().spring_count();
     let vertices = sim.rig().len();
     let h = params.time_step as f64;
     let (mut total, mut wake, mut fused, mut sleep) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut scratch = puppet::joints::PoseScratch::default();
     for k in 0..steps + WARM_UP {
-        let pose = scenario.pose(k as f64 * h);
+        // The pose is part of the step's cost (a joint band's levels and contacts).
         let t = std::time::Instant::now();
-        sim.step(&pose);
+        let pose = scenario
+            .joints
+            .pose_into(&scenario.local(k as f64 * h), &mut scratch);
+        sim.step(pose);
         let dt = t.elapsed().as_secs_f64() * 1e3;
         if k >= WARM_UP {
             let st = sim.last_times();
@@ -145,6 +149,10 @@ pub struct Args {
     /// with stiffening exponent 2, and every tenth vertex is pinned with weight 0.5.
     #[arg(long)]
     mixed: bool,
+    /// Give the limb's cut a joint band of this many local medial radii (0: a hinge), with
+    /// its contacts; the pose is then computed inside the timed step.
+    #[arg(long)]
+    band: Option<f64>,
     /// Print JSON instead of a Markdown table.
     #[arg(long)]
     json: bool,
@@ -210,7 +218,16 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         if !rows.is_empty() {
             (mesh, distance) = subdivide_loop_values(&mesh, &distance);
         }
-        let scenario = base.scenario_of(mesh.clone(), distance.clone(), f64::INFINITY)?;
+        let mut scenario = base.scenario_of(mesh.clone(), distance.clone(), f64::INFINITY)?;
+        if let Some(band) = args.band {
+            if !(band.is_finite() && (0.0..=puppet::joints::MAX_BAND).contains(&band)) {
+                anyhow::bail!("--band: {band} is outside 0..{}", puppet::joints::MAX_BAND);
+            }
+            scenario
+                .joints
+                .set_surface(&scenario.mesh.positions, &scenario.distance);
+            scenario.joints.set_band("limb", Some(band));
+        }
         let (lo, hi) = scenario.mesh.bounds();
         let params = Params {
             floor_height: (0.1 * (hi.y - lo.y)) as f32,

@@ -1,0 +1,129 @@
+//! `puppet bench joints`: how a bent joint's surface holds up, a hinge against joint bands
+//! (see `puppet::puppet::bend`): faces crossing, volume change, the largest dihedral angle
+//! in the joint region, for each joint of `puppet::puppet::bend::JOINTS` at each angle.
+
+use anyhow::{anyhow, bail, Result};
+use puppet::puppet::bend::{Bent, JOINTS};
+use std::path::PathBuf;
+
+/// `puppet bench joints`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Folder holding `human.obj` and `hand.obj`.
+    #[arg(long, default_value = "tests/data/meshes")]
+    meshes: PathBuf,
+    /// Bend angles in degrees.
+    #[arg(long, value_delimiter = ',', default_values_t = [45.0, 90.0, 135.0])]
+    angles: Vec<f64>,
+    /// Band factors to compare (0: a hinge).
+    #[arg(long, value_delimiter = ',', default_values_t = [0.0, puppet::joints::DEFAULT_BAND])]
+    bands: Vec<f64>,
+    /// Only the joints whose name contains this.
+    #[arg(long)]
+    only: Option<String>,
+    /// Print JSON instead of a Markdown table.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(serde::Serialize)]
+struct Row {
+    joint: &'static str,
+    band: f64,
+    degrees: f64,
+    /// Faces crossing another face that did not at rest.
+    crossing: usize,
+    region_faces: usize,
+    /// Relative volume change of the mesh and of the joint region.
+    volume: f64,
+    region_volume: f64,
+    /// Largest dihedral angle in the joint region, bent and at rest (degrees).
+    dihedral: f64,
+    rest_dihedral: f64,
+    kinetic: f64,
+}
+
+pub fn run(args: &Args) -> Result<()> {
+    for &a in &args.angles {
+        if !(a.is_finite() && a.abs() <= 180.0) {
+            bail!("--angles: {a} is outside -180..180");
+        }
+    }
+    let mut bands = args.bands.clone();
+    bands.dedup();
+    for &b in &bands {
+        if !(b.is_finite() && (0.0..=puppet::joints::MAX_BAND).contains(&b)) {
+            bail!("--bands: {b} is outside 0..{}", puppet::joints::MAX_BAND);
+        }
+    }
+    let mut rows = Vec::new();
+    for joint in JOINTS.iter().filter(|j| {
+        args.only
+            .as_ref()
+            .is_none_or(|o| j.name.contains(o.as_str()))
+    }) {
+        let path = args.meshes.join(joint.mesh);
+        let mesh = puppet::mesh::load(&path)
+            .map_err(|e| anyhow!("{}: {e}", path.display()))?
+            .0;
+        for &band in &bands {
+            for &degrees in &args.angles {
+                let Bent {
+                    crossing,
+                    region_faces,
+                    volume,
+                    region_volume,
+                    dihedral,
+                    rest_dihedral,
+                    kinetic,
+                    ..
+                } = joint
+                    .bend(&mesh, Some(band), degrees, puppet::sim::Params::default())
+                    .map_err(|e| anyhow!("{}: {e}", path.display()))?;
+                let row = Row {
+                    joint: joint.name,
+                    band,
+                    degrees,
+                    crossing,
+                    region_faces,
+                    volume,
+                    region_volume,
+                    dihedral,
+                    rest_dihedral,
+                    kinetic,
+                };
+                if !args.json {
+                    print_row(&row, rows.is_empty());
+                }
+                rows.push(row);
+            }
+        }
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&rows)?);
+    }
+    Ok(())
+}
+
+fn print_row(r: &Row, header: bool) {
+    if header {
+        println!("| joint | band | bend | faces crossing | volume | region volume | largest dihedral (rest) |");
+        println!("|---|---:|---:|---:|---:|---:|---:|");
+    }
+    println!(
+        "| {} | {} | {}° | {} of {} | {:+.2} % | {:+.2} % | {:.0}° ({:.0}°) |",
+        r.joint,
+        if r.band == 0.0 {
+            "hinge".to_string()
+        } else {
+            format!("{}", r.band)
+        },
+        r.degrees,
+        r.crossing,
+        r.region_faces,
+        100.0 * r.volume,
+        100.0 * r.region_volume,
+        r.dihedral,
+        r.rest_dihedral
+    );
+}

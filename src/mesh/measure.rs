@@ -1,0 +1,87 @@
+//! Measures of a deformed surface over a set of faces: how sharply it folds (the largest
+//! dihedral angle) and how much volume it encloses seen from a point.
+
+use glam::DVec3;
+use std::collections::HashMap;
+
+/// The largest angle, in degrees, between the normals of two faces that share an edge, over
+/// the edges whose two faces are both in `region` (0: flat, 180: folded flat onto itself).
+/// Degenerate faces (no normal) are skipped.
+///
+/// # Panics
+/// If `region` is not one flag per triangle, or a triangle names a vertex beyond
+/// `positions`.
+pub fn largest_dihedral(positions: &[DVec3], triangles: &[[u32; 3]], region: &[bool]) -> f64 {
+    assert_eq!(region.len(), triangles.len(), "one flag per triangle");
+    let normal = |f: usize| {
+        let [a, b, c] = triangles[f].map(|i| positions[i as usize]);
+        (b - a).cross(c - a).normalize_or_zero()
+    };
+    let mut first: HashMap<(u32, u32), usize> = HashMap::new();
+    let mut largest: f64 = 0.0;
+    for (f, t) in triangles.iter().enumerate().filter(|(f, _)| region[*f]) {
+        for e in 0..3 {
+            let (a, b) = (t[e], t[(e + 1) % 3]);
+            let key = (a.min(b), a.max(b));
+            match first.remove(&key) {
+                Some(g) => {
+                    let (n, m) = (normal(f), normal(g));
+                    if n != DVec3::ZERO && m != DVec3::ZERO {
+                        largest = largest.max(n.dot(m).clamp(-1.0, 1.0).acos().to_degrees());
+                    }
+                }
+                None => {
+                    first.insert(key, f);
+                }
+            }
+        }
+    }
+    largest
+}
+
+/// The volume of the cones from `apex` to the faces in `region` (signed, positive for
+/// outward faces): the region's share of the enclosed volume. A rotation about `apex`
+/// leaves it unchanged; only a deformation of the region's surface changes it. Over every
+/// face of a closed mesh it is the enclosed volume, whatever the apex.
+///
+/// # Panics
+/// If `region` is not one flag per triangle, or a triangle names a vertex beyond
+/// `positions`.
+pub fn cone_volume(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    region: &[bool],
+    apex: DVec3,
+) -> f64 {
+    assert_eq!(region.len(), triangles.len(), "one flag per triangle");
+    triangles
+        .iter()
+        .zip(region)
+        .filter(|(_, &r)| r)
+        .map(|(t, _)| {
+            let [a, b, c] = t.map(|i| positions[i as usize] - apex);
+            a.dot(b.cross(c)) / 6.0
+        })
+        .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::shapes;
+
+    #[test]
+    fn a_fine_sphere_is_smooth_and_its_cones_add_up_to_its_volume_from_any_apex() {
+        let m = shapes::uv_sphere(1.0, 64, 48);
+        let all = vec![true; m.triangles.len()];
+        assert!(largest_dihedral(&m.positions, &m.triangles, &all) < 10.0);
+        for apex in [DVec3::ZERO, DVec3::new(0.3, -0.2, 0.5)] {
+            let v = cone_volume(&m.positions, &m.triangles, &all, apex);
+            assert!((v - m.signed_volume()).abs() < 1e-9, "{v}");
+        }
+        // A cube's edges are right angles.
+        let c = shapes::cube_grid(1.0, 2);
+        let all = vec![true; c.triangles.len()];
+        assert!((largest_dihedral(&c.positions, &c.triangles, &all) - 90.0).abs() < 1e-9);
+    }
+}
