@@ -196,10 +196,15 @@ impl ApplicationHandler for App {
                 w.camera.zoom(steps);
                 w.window.request_redraw();
             }
-            // Keys go to a text field being typed in, otherwise to the puppet.
-            WindowEvent::KeyboardInput { event, .. }
-                if event.state == ElementState::Pressed && !response.consumed =>
-            {
+            // Keys go to a text field being typed in, otherwise to the puppet: one action
+            // per press (a held key's repeats, or the presses the system replays when the
+            // window gains focus with a key down, would toggle the brush or the recording
+            // again).
+            WindowEvent::KeyboardInput {
+                event,
+                is_synthetic: false,
+                ..
+            } if event.state == ElementState::Pressed && !event.repeat && !response.consumed => {
                 w.keys += 1;
                 match w.key(&event.logical_key) {
                     actions::KeyOutcome::Quit => {
