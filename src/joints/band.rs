@@ -105,8 +105,8 @@ pub struct Band {
 pub struct Contact {
     /// The vertex.
     pub vertex: u32,
-    /// The share of the child's rotation it moves with (0: the parent, 1: the child).
-    pub weight: f64,
+    /// The weight step it moves with, `0..=LEVELS` (0: the parent, `LEVELS`: the child).
+    pub level: usize,
     /// On the child's side of the cut's plane at rest.
     pub child_side: bool,
 }
@@ -291,28 +291,28 @@ impl Joints {
             let mut contacts = Vec::new();
             for (i, d) in self.near_cut(k, band.radius, reach) {
                 let t = self.transform_of[i];
-                let weight = match t {
+                let level = match t {
                     _ if taken[i] => continue,
-                    t if t == parent => 0.0,
-                    t if t == child => 1.0,
+                    t if t == parent => 0,
+                    t if t == child => LEVELS,
                     t if (first..first + LEVELS - 1).contains(&(t as usize)) => {
-                        (t as usize - first + 1) as f64 / LEVELS as f64
+                        t as usize - first + 1
                     }
                     _ => continue,
                 };
-                contacts.push((i, weight, d > 0.0));
+                contacts.push((i, level, d > 0.0));
             }
             if next + contacts.len() > MAX_TRANSFORMS {
                 continue;
             }
             let band = self.bands[k].as_mut().expect("a band");
             band.first_contact = next;
-            for (j, &(i, weight, child_side)) in contacts.iter().enumerate() {
+            for (j, &(i, level, child_side)) in contacts.iter().enumerate() {
                 taken[i] = true;
                 self.transform_of[i] = (next + j) as u16;
                 band.contacts.push(Contact {
                     vertex: i as u32,
-                    weight,
+                    level,
                     child_side,
                 });
             }

@@ -45,37 +45,48 @@ impl Joints {
         let transforms = &mut scratch.pose.transforms;
         transforms.clear();
         transforms.extend(scratch.world.iter().map(to_f32));
+        // Each band's motion at every weight step, relative to its parent (kept for its
+        // contacts), and its levels' transforms.
+        let motions = &mut scratch.motions;
+        motions.clear();
         for band in self.bands.iter().flatten() {
             let l = local.get(band.child).copied().unwrap_or_default();
             let parent = scratch.world[band.parent];
-            for level in 1..LEVELS {
-                let w = level as f64 / LEVELS as f64;
-                transforms.push(to_f32(&(parent * self.band_motion(band, &l, w))));
+            for level in 0..=LEVELS {
+                let own = self.band_motion(band, &l, level as f64 / LEVELS as f64);
+                if (1..LEVELS).contains(&level) {
+                    transforms.push(to_f32(&(parent * own)));
+                }
+                motions.push(own);
             }
         }
-        for band in self.bands.iter().flatten() {
+        for (b, band) in self.bands.iter().flatten().enumerate() {
             let l = local.get(band.child).copied().unwrap_or_default();
             let parent = scratch.world[band.parent];
             let plane = self.contact_plane(band, &l);
+            let swell = BULGE * bend_angle(band.normal, l.rotation);
+            let pivot = self.sections[band.child].pivot;
             for c in &band.contacts {
-                let level = (c.weight * LEVELS as f64).round() as usize;
-                let base = match level {
+                let base = match c.level {
                     0 => band.parent,
                     l if l >= LEVELS => band.child,
                     l => band.first_level + l - 1,
                 };
+                let w = c.level as f64 / LEVELS as f64;
                 let rest = self.body.rest[c.vertex as usize];
-                let own = self.band_motion(band, &l, c.weight);
-                let swell = self.swelling(band, &l, rest, c.weight);
-                let own = if swell == DVec3::ZERO {
-                    own
-                } else {
-                    DAffine3::from_translation(own.matrix3 * swell) * own
-                };
+                let mut own = motions[b * (LEVELS + 1) + c.level];
+                // The swelling (see `band`): a translation away from the pivot's line, so
+                // the vertex's bone points keep their spacing.
+                let swelling = swell * 4.0 * w * (1.0 - w);
+                if swelling > 0.0 {
+                    let v = rest - pivot;
+                    let away = (v - band.normal * v.dot(band.normal)) * swelling;
+                    own = DAffine3::from_translation(own.matrix3 * away) * own;
+                }
                 let push = plane.and_then(|plane| plane.push(&own, rest, c));
                 transforms.push(match push {
                     Some(v) => to_f32(&(parent * DAffine3::from_translation(v) * own)),
-                    None if swell == DVec3::ZERO => transforms[base],
+                    None if swelling <= 0.0 => transforms[base],
                     None => to_f32(&(parent * own)),
                 });
             }
@@ -86,27 +97,12 @@ impl Joints {
 
 impl Joints {
     /// The motion, relative to the parent, of the bone points a band moves with weight
-    /// `w` of the child's `local` pose: `T(pivot + w t) · slerp(I, R, w) · S · T(−pivot)`,
-    /// `S` the band's swelling across the cut's normal (see [`super::band`]).
+    /// `w` of the child's `local` pose: `T(pivot + w t) · slerp(I, R, w) · T(−pivot)`.
     fn band_motion(&self, band: &super::Band, local: &Local, w: f64) -> DAffine3 {
         let pivot = self.sections[band.child].pivot;
         DAffine3::from_translation(pivot + local.translation * w)
             * DAffine3::from_quat(DQuat::IDENTITY.slerp(local.rotation, w))
             * DAffine3::from_translation(-pivot)
-    }
-
-    /// How far a bent band's swelling moves the vertex at `rest` with weight `w`, before
-    /// the band's motion: `BULGE · φ · 4w(1 − w)` times its offset from the pivot's line
-    /// across the cut's normal. A translation, so its bone points move with it and keep
-    /// their spacing (the constraints stay feasible).
-    fn swelling(&self, band: &super::Band, local: &Local, rest: DVec3, w: f64) -> DVec3 {
-        let n = band.normal;
-        let swell = BULGE * bend_angle(n, local.rotation) * 4.0 * w * (1.0 - w);
-        if swell <= 0.0 {
-            return DVec3::ZERO;
-        }
-        let v = rest - self.sections[band.child].pivot;
-        (v - n * v.dot(n)) * swell
     }
 
     /// The plane the two sides of a bent band meet on, in the parent's frame: through the
@@ -163,6 +159,8 @@ pub fn bend_angle(n: DVec3, rotation: DQuat) -> f64 {
 #[derive(Clone, Debug)]
 pub struct PoseScratch {
     world: Vec<DAffine3>,
+    /// Per band, its motion at each of the `LEVELS + 1` weight steps.
+    motions: Vec<DAffine3>,
     pose: Pose,
 }
 
@@ -170,6 +168,7 @@ impl Default for PoseScratch {
     fn default() -> Self {
         PoseScratch {
             world: Vec::new(),
+            motions: Vec::new(),
             pose: Pose::rest(1),
         }
     }

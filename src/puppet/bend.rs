@@ -79,7 +79,7 @@ pub const JOINTS: [Joint; 4] = [
 pub const CUT: &str = "limb";
 
 /// What a settled bend measured.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Bent {
     /// The angle (degrees).
     pub degrees: f64,

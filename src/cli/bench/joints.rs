@@ -30,17 +30,8 @@ pub struct Args {
 struct Row {
     joint: &'static str,
     band: f64,
-    degrees: f64,
-    /// Faces crossing another face that did not at rest.
-    crossing: usize,
-    region_faces: usize,
-    /// Relative volume change of the mesh and of the joint region.
-    volume: f64,
-    region_volume: f64,
-    /// Largest dihedral angle in the joint region, bent and at rest (degrees).
-    dihedral: f64,
-    rest_dihedral: f64,
-    kinetic: f64,
+    #[serde(flatten)]
+    bent: Bent,
 }
 
 pub fn run(args: &Args) -> Result<()> {
@@ -68,29 +59,13 @@ pub fn run(args: &Args) -> Result<()> {
             .0;
         for &band in &bands {
             for &degrees in &args.angles {
-                let Bent {
-                    crossing,
-                    region_faces,
-                    volume,
-                    region_volume,
-                    dihedral,
-                    rest_dihedral,
-                    kinetic,
-                    ..
-                } = joint
+                let bent = joint
                     .bend(&mesh, Some(band), degrees, puppet::sim::Params::default())
                     .map_err(|e| anyhow!("{}: {e}", path.display()))?;
                 let row = Row {
                     joint: joint.name,
                     band,
-                    degrees,
-                    crossing,
-                    region_faces,
-                    volume,
-                    region_volume,
-                    dihedral,
-                    rest_dihedral,
-                    kinetic,
+                    bent,
                 };
                 if !args.json {
                     print_row(&row, rows.is_empty());
@@ -118,12 +93,12 @@ fn print_row(r: &Row, header: bool) {
         } else {
             format!("{}", r.band)
         },
-        r.degrees,
-        r.crossing,
-        r.region_faces,
-        100.0 * r.volume,
-        100.0 * r.region_volume,
-        r.dihedral,
-        r.rest_dihedral
+        r.bent.degrees,
+        r.bent.crossing,
+        r.bent.region_faces,
+        100.0 * r.bent.volume,
+        100.0 * r.bent.region_volume,
+        r.bent.dihedral,
+        r.bent.rest_dihedral
     );
 }

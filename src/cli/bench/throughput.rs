@@ -187,6 +187,11 @@ fn mixed_regions(scenario: &Scenario) -> Regions {
 }
 
 pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
+    if let Some(band) = args.band {
+        if !(band.is_finite() && (0.0..=puppet::joints::MAX_BAND).contains(&band)) {
+            anyhow::bail!("--band: {band} is outside 0..{}", puppet::joints::MAX_BAND);
+        }
+    }
     let base = Base::load(&args.input, load, args.springs.filter(|_| args.torus))?;
     let params = Params {
         constraint: args.constraint,
@@ -220,9 +225,6 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         }
         let mut scenario = base.scenario_of(mesh.clone(), distance.clone(), f64::INFINITY)?;
         if let Some(band) = args.band {
-            if !(band.is_finite() && (0.0..=puppet::joints::MAX_BAND).contains(&band)) {
-                anyhow::bail!("--band: {band} is outside 0..{}", puppet::joints::MAX_BAND);
-            }
             scenario
                 .joints
                 .set_surface(&scenario.mesh.positions, &scenario.distance);
