@@ -5,7 +5,7 @@ mod common;
 
 use glam::{DVec3, Vec3};
 use puppet::files::Format;
-use puppet::joints::{Cut, Local};
+use puppet::joints::{Cut, Local, Shape};
 use puppet::mesh::{self, shapes};
 use puppet::sim::{Constraint, Params};
 use puppet::{Puppet, RigFile};
@@ -22,6 +22,8 @@ fn cut(name: &str, section: &str, y: f64) -> Cut {
         pivot: None,
         connected: false,
         band: Some(0.0),
+        shape: Shape::Plane,
+        shared_pivot: false,
     }
 }
 
@@ -512,4 +514,60 @@ fn a_banded_joint_held_still_changes_no_transform_and_falls_asleep() {
     assert!(a.transforms.len() > 2 + 63, "levels and contacts");
     hold(&mut p, &local, 2000);
     assert!(p.sim.is_asleep(), "a still bent joint sleeps");
+}
+
+/// Spot's mouth (`assets/examples/spot-mouth.rig.toml`): the jaw is a box cut whose pivot
+/// the head shares, the tail's tip a sphere cut. Opened, both jaws turn about the hinge:
+/// it stays where it was, and the skin there with it.
+#[test]
+fn a_mouth_opens_about_one_hinge_shared_by_both_jaws() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let spec = RigFile::load(&root.join("assets/examples/spot-mouth.rig.toml")).unwrap();
+    let (mesh, _) = mesh::load(spec.mesh.as_deref().unwrap()).unwrap();
+    let mut p = Puppet::build(mesh, spec, puppet::progress::silent()).unwrap();
+    let j = &p.joints;
+    let (head, jaw, tail) = (
+        j.find("head").unwrap(),
+        j.find("jaw").unwrap(),
+        j.find("tail").unwrap(),
+    );
+    let hinge = j.cuts()[jaw - 1].pivot.unwrap();
+    assert!(j.sections()[jaw].vertices > 50, "the jaw has a real size");
+    assert!(j.sections()[tail].vertices > 10, "so has the tail's tip");
+    assert_eq!(
+        j.sections()[head].pivot,
+        hinge,
+        "the head turns about the hinge"
+    );
+    // Every vertex of the tail's tip has its skeletal point inside the sphere.
+    let tip = j.cuts()[tail - 1].clone();
+    for (i, &s) in j.section_of().iter().enumerate() {
+        if s as usize == tail {
+            assert!(p.skeleton.points[i].distance(tip.point) < 0.07);
+        }
+    }
+    let mut local = vec![Local::default(); j.sections().len()];
+    local[head] = Local::axis_angle(DVec3::X, 20.0);
+    local[jaw] = Local::axis_angle(-DVec3::X, 40.0);
+    let world = p.joints.world(&local);
+    for s in [head, jaw] {
+        assert!(world[s].transform_point3(hinge).distance(hinge) < 1e-12);
+    }
+    hold(&mut p, &local, 240);
+    assert!(all_finite(&p));
+    // The mouth is open: the jaw went down, the head's front (ahead of the hinge) up.
+    let x = p.sim.positions();
+    let rest = &p.mesh.positions;
+    let moved = |section: usize| {
+        let members: Vec<usize> = (0..rest.len())
+            .filter(|&i| p.joints.section_of()[i] as usize == section && rest[i].z < -0.45)
+            .collect();
+        members
+            .iter()
+            .map(|&i| x.get(i).as_dvec3().y - rest[i].y)
+            .sum::<f64>()
+            / members.len() as f64
+    };
+    assert!(moved(jaw) < -0.02, "the jaw dropped ({})", moved(jaw));
+    assert!(moved(head) > 0.02, "the head tipped up ({})", moved(head));
 }

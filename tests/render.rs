@@ -196,3 +196,52 @@ fn the_readme_s_pictures_of_the_bent_elbow() {
     // The two pictures show different skin.
     assert!(shots[0].mean_abs_diff(&shots[1]).unwrap() > 1.0);
 }
+
+/// The README's picture of Spot's mouth opened about one hinge (`spot-mouth.rig.toml`: the
+/// jaw a box cut whose pivot the head shares, the tail's tip a sphere cut), with the cuts
+/// and pivots shown: `docs/images/spot-mouth.png`, regenerated with `PUPPET_BLESS=1`.
+#[test]
+fn the_readme_s_picture_of_a_mouth_opened_about_one_hinge() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let rig = RigFile::load(&root.join("assets/examples/spot-mouth.rig.toml")).unwrap();
+    let mut s = spot_session(rig);
+    let j = &s.puppet.joints;
+    let (head, jaw, tail) = (
+        j.find("head").unwrap(),
+        j.find("jaw").unwrap(),
+        j.find("tail").unwrap(),
+    );
+    s.local[head] = puppet::joints::Local::axis_angle(glam::DVec3::X, 20.0);
+    s.local[jaw] = puppet::joints::Local::axis_angle(-glam::DVec3::X, 40.0);
+    s.local[tail] = puppet::joints::Local::axis_angle(glam::DVec3::Y, 30.0);
+    let pose = s.puppet.joints.pose(&s.local);
+    for _ in 0..240 {
+        s.puppet.sim.step(&pose);
+    }
+    let gpu = Gpu::headless().expect("a graphics adapter");
+    let mut renderer = SceneRenderer::new(&gpu, OFFSCREEN_FORMAT);
+    let mut cam = Camera {
+        yaw: 2.3,
+        pitch: 0.1,
+        ..Camera::default()
+    };
+    // The head, from the side and a little ahead.
+    cam.frame(
+        glam::Vec3::new(-0.3, -0.1, -0.9),
+        glam::Vec3::new(0.3, 0.9, 0.1),
+    );
+    let overlays = Overlays {
+        cuts: true,
+        pivots: true,
+        ..Overlays::default()
+    };
+    let image = render_image(&gpu, &mut renderer, &s.view(overlays), &cam, 480, 360)
+        .expect("offscreen render");
+    let reference = root.join("docs/images/spot-mouth.png");
+    if std::env::var_os("PUPPET_BLESS").is_some() {
+        image.save_png(&reference).unwrap();
+    }
+    let expected = Image::load_png(&reference).expect("the README's picture");
+    let d = image.mean_abs_diff(&expected).expect("same size");
+    assert!(d < 2.0, "differs from the README's picture by {d:.2}");
+}

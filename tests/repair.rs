@@ -5,7 +5,7 @@ mod common;
 
 use common::{puppet, scratch, test_mesh};
 use glam::DVec3;
-use puppet::joints::{Cut, Local};
+use puppet::joints::{Cut, Local, Shape};
 use puppet::mesh::{self, shapes, Mesh};
 use puppet::{Puppet, RigFile};
 use std::path::{Path, PathBuf};
@@ -288,6 +288,8 @@ fn small_separate_parts_ride_with_the_section_they_sit_in() {
             pivot: None,
             connected: false,
             band: None,
+            shape: Shape::Plane,
+            shared_pivot: false,
         }],
         ..RigFile::default()
     };

@@ -273,3 +273,47 @@ fn a_take_is_recorded_with_the_mouse_plays_back_and_undo_takes_it_back() {
     );
     assert!(w.quit().success());
 }
+
+/// P turns *move pivots* on: the pivots show, a drag from one moves it (the section it
+/// belongs to does not turn), and Ctrl+Z puts it back.
+#[test]
+fn a_pivot_is_dragged_with_the_mouse_and_undo_puts_it_back() {
+    let dir = common::scratch("window-pivot");
+    let mut w = common::Window::open(&dir, &[]);
+    w.hover([120.0, 400.0]);
+    std::thread::sleep(Duration::from_millis(300));
+    w.key("p");
+    let r = w.wait(
+        |r| r["move_pivots"] == true && r["pivots"].as_object().is_some_and(|p| !p.is_empty()),
+        "move pivots on",
+    );
+    // The pivot farthest right of the panel, so the drag stays in the view.
+    let pivots = r["pivots"].as_object().unwrap();
+    let xy = |v: &serde_json::Value| [v[0].as_f64().unwrap(), v[1].as_f64().unwrap()];
+    let (name, at) = pivots
+        .iter()
+        .map(|(n, v)| (n.clone(), xy(v)))
+        .max_by(|a, b| a.1[0].total_cmp(&b.1[0]))
+        .unwrap();
+    w.drag(at, [-40.0, 0.0]);
+    let r = w.wait(
+        |r| {
+            let now = xy(&r["pivots"][&name]);
+            (now[0] - at[0]).hypot(now[1] - at[1]) > 5.0
+        },
+        "the pivot to move",
+    );
+    assert!(
+        r["turned"].as_array().unwrap().is_empty(),
+        "moving a pivot turns nothing: {r}"
+    );
+    w.key("ctrl+z");
+    w.wait(
+        |r| {
+            let now = xy(&r["pivots"][&name]);
+            (now[0] - at[0]).hypot(now[1] - at[1]) < 0.5
+        },
+        "undo to put the pivot back",
+    );
+    assert!(w.quit().success());
+}

@@ -254,7 +254,7 @@ fn normalize(q: DQuat) -> DQuat {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::joints::{Cut, ROOT};
+    use crate::joints::{Cut, Shape, ROOT};
 
     const JAW: &str = r#"
 duration = 2.0
@@ -278,6 +278,8 @@ key = [
             pivot: None,
             connected: false,
             band: None,
+            shape: Shape::Plane,
+            shared_pivot: false,
         })
         .unwrap();
         j

@@ -61,6 +61,12 @@ impl WindowState {
                 ("o", true) => self.act(Action::Browse(FilePurpose::OpenMesh)),
                 ("f", false) => self.frame_model(),
                 ("w", false) => self.panel.overlays.wireframe ^= true,
+                ("p", false) => {
+                    if let Some(s) = &mut self.session {
+                        s.cut_tool.move_pivots ^= true;
+                        s.revision += 1;
+                    }
+                }
                 ("c", false) => {
                     if let Some(s) = &mut self.session {
                         s.cut_tool.active ^= true;

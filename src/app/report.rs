@@ -55,6 +55,11 @@ pub struct Report {
     pub message: Option<String>,
     /// Per section, a pixel where it is visible (a click there picks it), if any.
     pub targets: BTreeMap<String, [f32; 2]>,
+    /// *Move pivots* is on.
+    pub move_pivots: bool,
+    /// With *move pivots* on, per cut, the pixel its pivot is drawn at (a drag from there
+    /// moves it), if in view right of the panel.
+    pub pivots: BTreeMap<String, [f32; 2]>,
     /// The graphics adapter.
     pub adapter: String,
     /// The process, and the X display and authority it draws on (for scripts that drive
@@ -132,6 +137,23 @@ impl WindowState {
         for (k, section) in sections.iter().enumerate() {
             if let Some(at) = self.target(s, k) {
                 report.targets.insert(section.name.clone(), at.to_array());
+            }
+        }
+        report.move_pivots = s.cut_tool.move_pivots;
+        if s.cut_tool.move_pivots {
+            let size = self.viewport();
+            let world = s.puppet.joints.world(&s.local);
+            for (k, cut) in s.puppet.joints.cuts().iter().enumerate() {
+                let at = cut
+                    .pivot
+                    .and_then(|p| {
+                        let p = world[k + 1].transform_point3(p).as_vec3();
+                        self.camera.project(p, size)
+                    })
+                    .filter(|at| at.x > self.panel.width_px + 4.0 && at.x < size.x - 4.0);
+                if let Some(at) = at.filter(|at| at.y > 4.0 && at.y < size.y - 4.0) {
+                    report.pivots.insert(cut.name.clone(), at.to_array());
+                }
             }
         }
         report

@@ -2,23 +2,27 @@
 //! between the two sections, so a bent joint is a smooth bend instead of a hinge whose skin
 //! folds over a corner.
 //!
-//! Each cut has a band of half-width `W = band × r` about its plane, `r` the local medial
-//! radius (the median skeletal distance of the child's vertices nearest the plane) and
-//! `band` the cut's factor ([`Cut::band`], [`DEFAULT_BAND`] when unset; 0 is a hinge).
+//! Each cut has a band of half-width `W = band × r` about its plane (a sphere's or a box's
+//! surface alike: `d` below is the signed distance from it, [`super::Shape`]), `r` the local
+//! medial radius (the median skeletal distance of the child's vertices nearest the cut) and
+//! `band` the cut's factor ([`Cut::band`], [`DEFAULT_BAND`] when unset; 0 is a hinge),
+//! but never wider than the child reaches beyond the cut (its skeletal points' largest
+//! `d`), so the far end of a short section (a jaw, a head on a short neck) turns whole.
 //! A vertex of the child or the parent whose skeletal point lies at signed distance `d`
 //! from the plane (positive into the child), `|d| < W`, moves with the weight
 //! `w = smoothstep((d + W) / 2W)` of the child's own motion: its transform is
 //!
 //! `W(parent) · T(pivot + w·t) · slerp(I, R, w) · T(−pivot)`
 //!
-//! (`R`, `t` the child's local rotation and translation): a rotation about the cut's pivot
-//! by a fraction of the child's angle. Interpolating the rotation, not the matrices, keeps
+//! (`R`, `t` the child's local rotation and translation, `pivot` the point it turns about):
+//! a rotation about the pivot by a fraction of the child's angle. Interpolating the rotation, not the matrices, keeps
 //! every blended bone point at its distance from the pivot, so the limb does not shrink
 //! through the bend. Nested cuts compose because each band blends a child with its own
 //! parent's world transform.
 //!
 //! A parent vertex joins the band only on the parent's side of the plane and near the
-//! pivot (within the child's cross-section, `2.5 r` from the pivot in the plane), so the
+//! pivot (within the child's cross-section, `2.5 r` from the pivot across the normal of the
+//! cut's surface there), so the
 //! other leg at a hip cut or the body beside a shoulder stays put.
 //!
 //! # Volume
@@ -89,7 +93,10 @@ pub struct Band {
     pub width: f64,
     /// The local medial radius it was measured from.
     pub radius: f64,
-    /// The cut's unit normal.
+    /// The cut's pivot (where the two sides meet; not always the point the child turns
+    /// about, see [`super::Section::pivot`]).
+    pub pivot: DVec3,
+    /// The unit normal of the cut's surface at the pivot, into the child.
     pub normal: DVec3,
     /// Index of its first level's transform in the pose.
     pub first_level: usize,
@@ -168,7 +175,7 @@ impl Joints {
         let mut near: Vec<(f64, f64)> = (0..n)
             .filter(|&i| !self.body.is_rider(i) && self.section_of[i] as usize == child)
             .map(|i| {
-                let d = (self.body.points[i] - cut.point).dot(normal);
+                let d = cut.signed(self.body.points[i], normal);
                 (d.abs(), self.body.radius[i])
             })
             .collect();
@@ -193,22 +200,41 @@ impl Joints {
             return Vec::new();
         };
         let parent = self.sections[child].parent;
+        let (pivot, along) = self.cut_frame(k);
         let normal = cut.normal.normalize_or_zero();
-        let pivot = self.sections[child].pivot;
         let reach = 2.5 * radius;
         (0..self.section_of.len())
             .filter(|&i| !self.body.is_rider(i))
             .filter_map(|i| {
                 let p = self.body.points[i];
-                let d = (p - cut.point).dot(normal);
+                let d = cut.signed(p, normal);
                 let s = self.section_of[i] as usize;
                 let v = p - pivot;
-                let in_plane = (v - normal * v.dot(normal)).length();
+                let in_plane = (v - along * v.dot(along)).length();
                 let member = (s == child && d < width)
                     || (Some(s) == parent && d <= 0.0 && d > -width && in_plane <= reach);
                 member.then_some((i, d))
             })
             .collect()
+    }
+
+    /// How far beyond cut `k` the skeletal points of its child section reach (the largest
+    /// signed distance).
+    fn depth(&self, k: usize, child: usize) -> f64 {
+        let cut = &self.cuts[k];
+        let normal = cut.normal.normalize_or_zero();
+        (0..self.section_of.len())
+            .filter(|&i| !self.body.is_rider(i) && self.section_of[i] as usize == child)
+            .map(|i| cut.signed(self.body.points[i], normal))
+            .fold(0.0, f64::max)
+    }
+
+    /// Cut `k`'s pivot and the unit normal of its surface there (into the child): where a
+    /// band bends and along what.
+    pub(super) fn cut_frame(&self, k: usize) -> (DVec3, DVec3) {
+        let cut = &self.cuts[k];
+        let pivot = cut.pivot.unwrap_or(cut.point);
+        (pivot, cut.normal_near(pivot))
     }
 
     /// The vertices (riders included, with their host) whose skeletal point lies within
@@ -248,7 +274,9 @@ impl Joints {
             let Some((radius, child, parent)) = self.local_radius(k) else {
                 continue;
             };
-            let width = factor * radius;
+            // No wider than the child reaches beyond the cut, so its far end turns whole (a
+            // short section: a jaw, a head on a short neck).
+            let width = (factor * radius).min(self.depth(k, child));
             if !(width.is_finite() && width > 0.0) {
                 continue;
             }
@@ -270,7 +298,8 @@ impl Joints {
                 parent,
                 width,
                 radius,
-                normal: self.cuts[k].normal.normalize_or_zero(),
+                pivot: self.cut_frame(k).0,
+                normal: self.cut_frame(k).1,
                 first_level: first,
                 contacts: Vec::new(),
                 first_contact: 0,

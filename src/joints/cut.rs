@@ -1,9 +1,9 @@
-//! Applying and removing cuts: which vertices a cut takes (the positive side of its plane
-//! in the section it splits, or only the connected piece of it), where its pivot goes, and
-//! which children follow the new section.
+//! Applying and removing cuts: which vertices a cut takes (the positive side of its shape
+//! in the section it splits, or only the connected piece of it), where its pivot goes,
+//! which children follow the new section, and which point each section turns about.
 
 use super::pose::parents_first;
-use super::{Cut, JointError, Joints, Section, MAX_SECTIONS};
+use super::{Cut, JointError, Joints, Section, Shape, MAX_SECTIONS};
 use glam::DVec3;
 
 impl Joints {
@@ -47,7 +47,10 @@ impl Joints {
         if normal == DVec3::ZERO || !normal.is_finite() {
             return Err(JointError::ZeroNormal(name));
         }
-        let taken = self.taken(parent, cut.point, normal, cut.connected);
+        if !cut.shape.is_valid() {
+            return Err(JointError::BadSize(name, cut.shape.name()));
+        }
+        let taken = self.taken(parent, &cut, normal);
         let inside = taken.iter().filter(|&&t| t).count();
         let outside = (0..self.section_of.len())
             .filter(|&i| !self.body.is_rider(i) && self.section_of[i] as usize == parent)
@@ -67,6 +70,7 @@ impl Joints {
         }
         let pivot = match cut.pivot {
             Some(p) => p,
+            None if cut.shape != Shape::Plane => self.seam_pivot(&taken, parent, &cut, normal),
             // A plane's pivot comes from the whole section near it; a connected cut's from
             // the piece it takes (the section near a hip holds the other leg too).
             None if cut.connected => self.default_pivot(&taken, cut.point, normal),
@@ -77,23 +81,31 @@ impl Joints {
                 self.default_pivot(&section, cut.point, normal)
             }
         };
+        // Children of the split section follow it when their own pivot is on the new side
+        // (and, for a connected cut, when they touch the piece taken).
+        let follows: Vec<bool> = (0..self.sections.len())
+            .map(|k| {
+                self.sections[k].parent == Some(parent)
+                    && cut.signed(self.own_pivot(k), normal) > 0.0
+                    && (!cut.connected || self.touches(k, &taken))
+            })
+            .collect();
+        // A section turns about one point: the split section may keep one sharing child.
+        if cut.shared_pivot {
+            if let Some(other) = self.shared_child(parent).filter(|&k| !follows[k]) {
+                return Err(JointError::SharedPivot {
+                    cut: name,
+                    section: cut.section.clone(),
+                    other: self.sections[other].name.clone(),
+                });
+            }
+        }
         let index = self.sections.len();
         for (s, &t) in self.section_of.iter_mut().zip(&taken) {
             if t {
                 *s = index as u16;
             }
         }
-        // Children of the split section follow it when their pivot is on the new side (and,
-        // for a connected cut, when they touch the piece taken).
-        let side = |p: DVec3| (p - cut.point).dot(normal) > 0.0;
-        let follows: Vec<bool> = (0..self.sections.len())
-            .map(|k| {
-                let s = &self.sections[k];
-                s.parent == Some(parent)
-                    && side(s.pivot)
-                    && (!cut.connected || self.touches(k, &taken))
-            })
-            .collect();
         for (s, follow) in self.sections.iter_mut().zip(follows) {
             if follow {
                 s.parent = Some(index);
@@ -111,41 +123,87 @@ impl Joints {
         });
         self.place_riders();
         self.order = parents_first(&self.sections);
+        self.refresh_pivots();
         self.refresh_bands();
         Ok(index)
     }
 
-    /// Which vertices a cut of section `section` through `point` with `normal` (any
-    /// non-zero length) would take, for a preview.
-    pub fn preview(
-        &self,
-        section: usize,
-        point: DVec3,
-        normal: DVec3,
-        connected: bool,
-    ) -> Vec<bool> {
-        let normal = normal.normalize_or_zero();
-        if normal == DVec3::ZERO || !point.is_finite() || section >= self.sections.len() {
-            return vec![false; self.section_of.len()];
+    /// The pivot of the cut that made section `k` (the root's own for the root).
+    fn own_pivot(&self, k: usize) -> DVec3 {
+        match k.checked_sub(1).and_then(|c| self.cuts.get(c)) {
+            Some(cut) => cut.pivot.unwrap_or(self.sections[k].pivot),
+            None => self.root_pivot,
         }
-        self.taken(section, point, normal, connected)
     }
 
-    /// Which vertices of section `parent` a cut through `point` with unit `normal` takes:
-    /// those whose skeletal point lies strictly on the side the normal points to, and with
-    /// `connected` only the piece of them joined by mesh edges to the one nearest `point`.
-    /// Riders are never taken directly (they follow their hosts).
-    fn taken(&self, parent: usize, point: DVec3, normal: DVec3, connected: bool) -> Vec<bool> {
+    /// The child of section `parent` whose cut shares its pivot, if one does.
+    fn shared_child(&self, parent: usize) -> Option<usize> {
+        (1..self.sections.len())
+            .find(|&k| self.sections[k].parent == Some(parent) && self.cuts[k - 1].shared_pivot)
+    }
+
+    /// Sets every section's turning point: its own pivot, or its shared child's (see the
+    /// module docs).
+    fn refresh_pivots(&mut self) {
+        for k in 0..self.sections.len() {
+            self.sections[k].pivot = self.own_pivot(k);
+        }
+        for k in 0..self.sections.len() {
+            if let Some(c) = self.shared_child(k) {
+                self.sections[k].pivot = self.own_pivot(c);
+            }
+        }
+    }
+
+    /// Lets the section that the cut named `name` splits turn about that cut's pivot
+    /// (`shared`), or about its own again; a sibling cut that shared its pivot stops (a
+    /// section turns about one point). Returns false when there is no such cut.
+    pub fn set_shared_pivot(&mut self, name: &str, shared: bool) -> bool {
+        let Some(k) = self.find(name).filter(|&k| k > 0) else {
+            return false;
+        };
+        let parent = self.sections[k].parent;
+        for j in 1..self.sections.len() {
+            if self.sections[j].parent == parent {
+                self.cuts[j - 1].shared_pivot = false;
+            }
+        }
+        self.cuts[k - 1].shared_pivot = shared;
+        self.refresh_pivots();
+        self.refresh_bands();
+        true
+    }
+
+    /// Which vertices a cut of section `section` through `point` with `normal` (any
+    /// non-zero length) would take, for a preview.
+    pub fn preview(&self, section: usize, cut: &Cut) -> Vec<bool> {
+        let normal = cut.normal.normalize_or_zero();
+        if normal == DVec3::ZERO
+            || !cut.point.is_finite()
+            || !cut.shape.is_valid()
+            || section >= self.sections.len()
+        {
+            return vec![false; self.section_of.len()];
+        }
+        self.taken(section, cut, normal)
+    }
+
+    /// Which vertices of section `parent` a cut with unit `normal` takes: those whose
+    /// skeletal point lies strictly on its positive side, and when it is connected only the
+    /// piece of them joined by mesh edges to the one nearest its point. Riders are never
+    /// taken directly (they follow their hosts).
+    fn taken(&self, parent: usize, cut: &Cut, normal: DVec3) -> Vec<bool> {
         let body = &self.body;
         let n = self.section_of.len();
+        let point = cut.point;
         let candidate: Vec<bool> = (0..n)
             .map(|i| {
                 !body.is_rider(i)
                     && self.section_of[i] as usize == parent
-                    && (body.points[i] - point).dot(normal) > 0.0
+                    && cut.signed(body.points[i], normal) > 0.0
             })
             .collect();
-        if !connected || body.neighbours.is_empty() {
+        if !cut.connected || body.neighbours.is_empty() {
             return candidate;
         }
         let seed = (0..n).filter(|&i| candidate[i]).min_by(|&a, &b| {
@@ -217,21 +275,64 @@ impl Joints {
         }
         let mut rebuilt = self.uncut();
         for c in cuts {
-            rebuilt.add_cut(c)?;
+            match rebuilt.add_cut(c.clone()) {
+                // Two shared pivots on the section they now both split: the first keeps it.
+                Err(JointError::SharedPivot { .. }) => rebuilt.add_cut(Cut {
+                    shared_pivot: false,
+                    ..c
+                })?,
+                r => r?,
+            };
         }
         *self = rebuilt;
         Ok(())
     }
 
-    /// Moves the pivot of section `index` (for the root too).
+    /// Moves the pivot of the cut that made section `index` (the root's own pivot for 0);
+    /// a section sharing it turns about the new point too. A non-finite pivot changes
+    /// nothing.
     pub fn set_pivot(&mut self, index: usize, pivot: DVec3) {
         if !pivot.is_finite() || index >= self.sections.len() {
             return;
         }
-        self.sections[index].pivot = pivot;
-        if index > 0 {
-            self.cuts[index - 1].pivot = Some(pivot);
+        match index {
+            0 => self.root_pivot = pivot,
+            k => self.cuts[k - 1].pivot = Some(pivot),
         }
+        self.refresh_pivots();
+        self.refresh_bands();
+    }
+
+    /// The default pivot of a sphere or a box cut: the centroid of the skeletal points of
+    /// the vertices it takes that have a mesh neighbour of section `parent` it leaves (the
+    /// seam); without a mesh, of the `max(4, √m)` taken nearest its surface.
+    fn seam_pivot(&self, taken: &[bool], parent: usize, cut: &Cut, normal: DVec3) -> DVec3 {
+        let body = &self.body;
+        let seam: Vec<DVec3> = (0..taken.len())
+            .filter(|&i| {
+                taken[i]
+                    && body.neighbours(i).iter().any(|&w| {
+                        let w = w as usize;
+                        !taken[w] && !body.is_rider(w) && self.section_of[w] as usize == parent
+                    })
+            })
+            .map(|i| body.points[i])
+            .collect();
+        if !seam.is_empty() {
+            return seam.iter().copied().sum::<DVec3>() / seam.len() as f64;
+        }
+        let mut near: Vec<(f64, DVec3)> = (0..taken.len())
+            .filter(|&i| taken[i])
+            .map(|i| (cut.signed(body.points[i], normal).abs(), body.points[i]))
+            .collect();
+        let k = ((near.len() as f64).sqrt().ceil() as usize)
+            .max(4)
+            .min(near.len());
+        if k == 0 {
+            return cut.point;
+        }
+        near.select_nth_unstable_by(k - 1, |a, b| a.0.total_cmp(&b.0));
+        near[..k].iter().map(|(_, p)| *p).sum::<DVec3>() / k as f64
     }
 
     /// The pivot a cut gets by default: the centroid of the skeletal points of `among`

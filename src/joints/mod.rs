@@ -1,18 +1,20 @@
-//! Joints (paper §3.4): cutting the skeleton with planes into sections, the pivot of each
-//! cut, and how the rotations of a pose compose down the section tree.
+//! Joints (paper §3.4): cutting the skeleton with planes, spheres or boxes into sections, the
+//! pivot of each cut, and how the rotations of a pose compose down the section tree.
 //!
 //! # Sections and cuts
-//! Section 0, the *root*, is the whole object. A [`Cut`] is a plane (point + unit normal)
-//! applied to one existing section: every vertex of that section whose **skeletal point**
-//! `sp_i` lies strictly on the side the normal points to moves to a new section named after
-//! the cut; the rest stay. Cutting by skeletal points rather than surface positions keeps
+//! Section 0, the *root*, is the whole object. A [`Cut`] is a plane (point + unit normal),
+//! a sphere or a box ([`Shape`]) applied to one existing section: every vertex of that
+//! section whose **skeletal point** `sp_i` lies strictly on the side the normal points to
+//! (inside a sphere or a box) moves to a new section named after the cut; the rest stay. Cutting by skeletal points rather than surface positions keeps
 //! thin features whole (the surface of a bent arm can cross the plane where its medial axis
 //! does not). The cuts form a binary tree: each cut splits one section in two.
 //!
 //! # The joint hierarchy and how rotations compose
 //! The new section is the *child* of the section it was cut from, hinged at the cut's
-//! **pivot** (by default the centroid of the skeletal points of the cut section nearest the
-//! plane, projected onto the plane; editable). When a later cut splits a section that
+//! **pivot** (by default, for a plane, the centroid of the skeletal points of the cut
+//! section nearest the plane, projected onto the plane; for a sphere or a box, the centroid
+//! of the skeletal points of the new section's vertices on the seam, those with a mesh
+//! neighbour left behind; editable). When a later cut splits a section that
 //! already has children, a child whose pivot lies on the new side is handed to the new
 //! section: cutting the shoulder after the elbow makes the forearm a child of the upper arm.
 //!
@@ -23,7 +25,15 @@
 //!
 //! so rotating the upper arm carries the forearm and the hand with it, and the forearm's own
 //! rotation is about its elbow *as carried by the upper arm*. Every section can be posed at
-//! once (both jaws of a mouth).
+//! once.
+//!
+//! # Shared pivots
+//! The paper's pivot is "the rotation center for the two generated joint sections". A
+//! section turns about its own cut's pivot (the root about the centroid of its skeletal
+//! points) unless one of its child cuts has a **shared pivot** ([`Cut::shared_pivot`]):
+//! then it turns about that cut's pivot, so both jaws of a mouth open about one hinge. A
+//! section turns about one point: at most one of its child cuts shares its pivot.
+//! [`Section::pivot`] is the point a section turns about, whichever it is.
 //!
 //! # Connected cuts
 //! A plane reaches across the whole section: a cut at one hip would take both legs. A
@@ -40,6 +50,7 @@
 //! # Files
 //! * this file: the types, and the joints of one puppet;
 //! * `cut`: applying and removing cuts, pivots, connected pieces;
+//! * `shape`: planes, spheres and boxes, as signed distances;
 //! * `pose`: composing a pose down the section tree;
 //! * `suggest`: joints suggested from the skeleton.
 //!
@@ -51,10 +62,12 @@
 pub mod band;
 mod cut;
 mod pose;
+mod shape;
 pub mod suggest;
 
 pub use band::{Band, DEFAULT_BAND, MAX_BAND};
 pub use pose::{to_f32, PoseScratch};
+pub use shape::Shape;
 
 use glam::{DQuat, DVec3};
 use std::sync::Arc;
@@ -65,16 +78,19 @@ pub const MAX_SECTIONS: usize = 4096;
 /// Name of the root section unless a rig file says otherwise.
 pub const ROOT: &str = "root";
 
-/// A cut as written by a user or a file: which section it splits, the plane, the pivot.
+/// A cut as written by a user or a file: which section it splits, the shape, the pivot.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Cut {
-    /// Name of the new section (the side the normal points to).
+    /// Name of the new section (the side the normal points to, or inside).
     pub name: String,
     /// Name of the section this cut splits.
     pub section: String,
-    /// A point on the plane.
+    /// Plane, sphere or box (see [`Shape`]).
+    pub shape: Shape,
+    /// A point on the plane; the centre of a sphere or a box.
     pub point: DVec3,
-    /// Plane normal, pointing into the new section (any non-zero length).
+    /// Plane normal, pointing into the new section (any non-zero length); a box's third
+    /// axis; unused by a sphere.
     pub normal: DVec3,
     /// Rotation point; `None` takes the default (see module docs).
     pub pivot: Option<DVec3>,
@@ -83,6 +99,8 @@ pub struct Cut {
     /// Half-width of the joint band in local medial radii (see [`band`]); `None` takes
     /// [`DEFAULT_BAND`], 0 is a hinge.
     pub band: Option<f64>,
+    /// The section this cut splits turns about this cut's pivot too (see module docs).
+    pub shared_pivot: bool,
 }
 
 /// A section: a node of the joint hierarchy.
@@ -92,7 +110,8 @@ pub struct Section {
     pub name: String,
     /// Parent section (`None` for the root).
     pub parent: Option<usize>,
-    /// Rotation point (for the root, the centroid of all skeletal points).
+    /// The point it turns about: its cut's pivot (for the root, the centroid of all
+    /// skeletal points), or a child cut's shared pivot (see module docs).
     pub pivot: DVec3,
     /// Number of vertices in this section.
     pub vertices: usize,
@@ -159,8 +178,21 @@ pub enum JointError {
         what: &'static str,
     },
     /// The plane normal has zero length.
-    #[error("cut '{0}': the plane normal is zero")]
+    #[error("cut '{0}': the normal is zero")]
     ZeroNormal(String),
+    /// A sphere's radius or a box's size that is not a positive finite number.
+    #[error("cut '{0}': a {1}'s size must be positive and finite")]
+    BadSize(String, &'static str),
+    /// Two cuts of one section with a shared pivot.
+    #[error("cut '{cut}': section '{section}' already turns about the pivot of cut '{other}' (a section turns about one point)")]
+    SharedPivot {
+        /// The cut.
+        cut: String,
+        /// The section both split.
+        section: String,
+        /// The cut whose pivot it already shares.
+        other: String,
+    },
     /// The plane leaves one side of the section without a skeletal point.
     #[error("cut '{cut}': leaves {side} of section '{section}' empty (no skeletal point on that side of the plane)")]
     EmptySide {
@@ -207,6 +239,8 @@ pub struct Joints {
     /// Cuts in the order applied, with resolved pivots.
     cuts: Vec<Cut>,
     sections: Vec<Section>,
+    /// The root's own pivot (its section's turns about a shared one when a cut says so).
+    root_pivot: DVec3,
     section_of: Vec<u16>,
     /// Sections parents-first (for composing transforms).
     order: Vec<usize>,
@@ -282,6 +316,7 @@ impl Joints {
                 pivot: centroid,
                 vertices: n,
             }],
+            root_pivot: centroid,
             section_of: vec![0; n],
             order: vec![0],
             bands: Vec::new(),
@@ -312,23 +347,28 @@ impl Joints {
         j
     }
 
-    /// The same body with no cuts (the root keeps its name and pivot).
+    /// The same body with no cuts (the root keeps its name and own pivot).
     fn uncut(&self) -> Joints {
-        let mut j = Joints {
+        Joints {
             body: self.body.clone(),
             cuts: Vec::new(),
             sections: vec![Section {
+                name: self.sections[0].name.clone(),
                 parent: None,
+                pivot: self.root_pivot,
                 vertices: self.section_of.len(),
-                ..self.sections[0].clone()
             }],
+            root_pivot: self.root_pivot,
             section_of: vec![0; self.section_of.len()],
             order: vec![0],
             bands: Vec::new(),
             transform_of: vec![0; self.section_of.len()],
-        };
-        j.sections[0].pivot = self.sections[0].pivot;
-        j
+        }
+    }
+
+    /// The root's own pivot (the point it turns about unless a cut shares its pivot).
+    pub fn root_pivot(&self) -> DVec3 {
+        self.root_pivot
     }
 
     /// The sections; index 0 is the root.

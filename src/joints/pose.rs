@@ -63,9 +63,10 @@ impl Joints {
         for (b, band) in self.bands.iter().flatten().enumerate() {
             let l = local.get(band.child).copied().unwrap_or_default();
             let parent = scratch.world[band.parent];
-            let plane = self.contact_plane(band, &l);
+            let turned = motions[b * (LEVELS + 1) + LEVELS];
+            let plane = contact_plane(band, &l, &turned);
             let swell = BULGE * bend_angle(band.normal, l.rotation);
-            let pivot = self.sections[band.child].pivot;
+            let pivot = band.pivot;
             for c in &band.contacts {
                 let base = match c.level {
                     0 => band.parent,
@@ -97,36 +98,38 @@ impl Joints {
 
 impl Joints {
     /// The motion, relative to the parent, of the bone points a band moves with weight
-    /// `w` of the child's `local` pose: `T(pivot + w t) · slerp(I, R, w) · T(−pivot)`.
+    /// `w` of the child's `local` pose: `T(pivot + w t) · slerp(I, R, w) · T(−pivot)`,
+    /// `pivot` the point the child turns about.
     fn band_motion(&self, band: &super::Band, local: &Local, w: f64) -> DAffine3 {
         let pivot = self.sections[band.child].pivot;
         DAffine3::from_translation(pivot + local.translation * w)
             * DAffine3::from_quat(DQuat::IDENTITY.slerp(local.rotation, w))
             * DAffine3::from_translation(-pivot)
     }
-
-    /// The plane the two sides of a bent band meet on, in the parent's frame: through the
-    /// pivot, halfway between the cut's plane and the child's turned one; `None` when the
-    /// joint does not bend (a twist about the normal, or nothing).
-    fn contact_plane(&self, band: &super::Band, local: &Local) -> Option<ContactPlane> {
-        let n = band.normal;
-        let turned = local.rotation * n;
-        let inner = turned - n * n.dot(turned);
-        let normal = (n + turned).normalize_or_zero();
-        if inner.length() < 1e-9 || normal == DVec3::ZERO {
-            return None;
-        }
-        let pivot = self.sections[band.child].pivot;
-        Some(ContactPlane {
-            point: pivot + local.translation * 0.5,
-            normal,
-            pivot,
-            inner: inner.normalize(),
-        })
-    }
 }
 
-/// See [`Joints::contact_plane`].
+/// The plane the two sides of a bent band meet on, in the parent's frame: through the
+/// cut's pivot, halfway between it and where the child's motion `turned` takes it, and
+/// halfway between the cut's surface and the child's turned one; `None` when the joint
+/// does not bend (a twist about the normal, or nothing).
+fn contact_plane(band: &super::Band, local: &Local, turned: &DAffine3) -> Option<ContactPlane> {
+    let n = band.normal;
+    let bent = local.rotation * n;
+    let inner = bent - n * n.dot(bent);
+    let normal = (n + bent).normalize_or_zero();
+    if inner.length() < 1e-9 || normal == DVec3::ZERO {
+        return None;
+    }
+    let pivot = band.pivot;
+    Some(ContactPlane {
+        point: (pivot + turned.transform_point3(pivot)) * 0.5,
+        normal,
+        pivot,
+        inner: inner.normalize(),
+    })
+}
+
+/// See [`contact_plane`].
 #[derive(Clone, Copy, Debug)]
 struct ContactPlane {
     point: DVec3,

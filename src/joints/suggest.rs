@@ -114,15 +114,13 @@ pub fn suggest(mesh: &Mesh, skeleton: &Skeleton, root: &str) -> Vec<Cut> {
             pivot: Some(limb.pivot),
             connected: true,
             band: None,
+            shape: super::Shape::Plane,
+            shared_pivot: false,
         };
         // Too small a piece, or too little left, is no joint worth a section.
         let smallest = (SMALLEST * skeleton.points.len() as f64).max(12.0) as usize;
         let big_enough = joints.find(&cut.section).is_some_and(|s| {
-            let taken = joints
-                .preview(s, cut.point, cut.normal, true)
-                .iter()
-                .filter(|&&t| t)
-                .count();
+            let taken = joints.preview(s, &cut).iter().filter(|&&t| t).count();
             taken >= smallest
                 && joints.sections()[s].vertices - taken >= smallest
                 && taken <= 2 * limb.expected + smallest

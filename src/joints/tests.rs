@@ -16,6 +16,8 @@ fn cut(name: &str, section: &str, y: f64) -> Cut {
         pivot: None,
         connected: false,
         band: None,
+        shape: Shape::Plane,
+        shared_pivot: false,
     }
 }
 
@@ -151,4 +153,156 @@ fn the_pose_in_single_precision_matches() {
         .transform_point3(p.as_vec3())
         .as_dvec3();
     assert!((a - w[arm].transform_point3(p)).length() < 1e-6);
+}
+
+/// A 9×9×9 grid of skeletal points in [−1, 1]³, with the edges between grid neighbours.
+fn cube() -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let at = |k: usize| -1.0 + k as f64 * 0.25;
+    let index = |x: usize, y: usize, z: usize| (x * 81 + y * 9 + z) as u32;
+    let mut points = Vec::new();
+    for x in 0..9 {
+        for y in 0..9 {
+            for z in 0..9 {
+                points.push(DVec3::new(at(x), at(y), at(z)));
+            }
+        }
+    }
+    // Degenerate triangles carry the grid's edges (connected cuts only need the edges).
+    let mut triangles = Vec::new();
+    for x in 0..9 {
+        for y in 0..9 {
+            for z in 0..9 {
+                let i = index(x, y, z);
+                for (dx, dy, dz) in [(1, 0, 0), (0, 1, 0), (0, 0, 1)] {
+                    if x + dx < 9 && y + dy < 9 && z + dz < 9 {
+                        triangles.push([i, index(x + dx, y + dy, z + dz), i]);
+                    }
+                }
+            }
+        }
+    }
+    (points, triangles)
+}
+
+#[test]
+fn spheres_and_boxes_take_what_is_inside() {
+    let (points, triangles) = cube();
+    let mut j = Joints::with_mesh(&points, &triangles, &[], ROOT);
+    let centre = DVec3::new(0.5, 0.5, 0.5);
+    let ball = j
+        .add_cut(Cut {
+            shape: Shape::Sphere { radius: 0.3 },
+            point: centre,
+            connected: true,
+            ..cut("ball", ROOT, 0.0)
+        })
+        .unwrap();
+    for (i, p) in points.iter().enumerate() {
+        let inside = p.distance(centre) < 0.3;
+        assert_eq!(j.section_of()[i] as usize == ball, inside, "{p}");
+    }
+    // The seam's centroid: the ball is whole inside the cube, so its seam is all of it.
+    assert!(close(j.sections()[ball].pivot, centre));
+    // A box with normal +z is axis-aligned; turned about z by its normal it is not.
+    let b = j
+        .add_cut(Cut {
+            shape: Shape::Box {
+                size: DVec3::new(0.6, 1.1, 0.6),
+            },
+            point: DVec3::new(-0.5, -0.5, -0.5),
+            normal: DVec3::Z,
+            ..cut("box", ROOT, 0.0)
+        })
+        .unwrap();
+    let inside = |p: DVec3| {
+        let v = (p - DVec3::new(-0.5, -0.5, -0.5)).abs();
+        v.x < 0.3 && v.y < 0.55 && v.z < 0.3
+    };
+    for (i, &p) in points.iter().enumerate() {
+        assert_eq!(j.section_of()[i] as usize == b, inside(p), "{p}");
+    }
+    assert_eq!(j.sections()[b].vertices, 3 * 5 * 3);
+    // Bad sizes are refused and change nothing.
+    let before = j.clone();
+    for shape in [
+        Shape::Sphere { radius: 0.0 },
+        Shape::Sphere { radius: f64::NAN },
+        Shape::Box {
+            size: DVec3::new(1.0, -1.0, 1.0),
+        },
+    ] {
+        let refused = j.add_cut(Cut {
+            shape,
+            ..cut("bad", ROOT, 0.0)
+        });
+        assert!(matches!(refused, Err(JointError::BadSize(..))), "{shape:?}");
+    }
+    assert_eq!(j, before);
+}
+
+#[test]
+fn a_shared_pivot_turns_both_sides_about_one_hinge() {
+    // A mouth: the lower jaw below y = 1.5 is cut from the head, hinged at (0, 1.5, 0).
+    let mut j = Joints::new(&line(), ROOT);
+    let mut jaw = cut("jaw", ROOT, 1.5);
+    jaw.normal = -DVec3::Y;
+    let k = j.add_cut(jaw).unwrap();
+    let hinge = j.cuts()[0].pivot.unwrap();
+    let centroid = j.root_pivot();
+    assert!(close(j.sections()[0].pivot, centroid));
+    assert!(j.set_shared_pivot("jaw", true));
+    assert!(close(j.sections()[0].pivot, hinge));
+    // Head up 20°, jaw down 20° relative: the hinge stays where it is for both.
+    let mut local = vec![Local::default(); 2];
+    local[0] = Local::axis_angle(DVec3::Z, 20.0);
+    local[k] = Local::axis_angle(DVec3::Z, -40.0);
+    let world = j.world(&local);
+    assert!(close(world[0].transform_point3(hinge), hinge));
+    assert!(close(world[k].transform_point3(hinge), hinge));
+    // Moving the pivot moves the point both turn about; the root's own pivot stays.
+    let moved = hinge + DVec3::new(0.3, 0.0, 0.0);
+    j.set_pivot(k, moved);
+    assert!(close(j.sections()[0].pivot, moved));
+    assert!(close(j.sections()[k].pivot, moved));
+    assert!(close(j.root_pivot(), centroid));
+    // A section turns about one point: a second sharing cut is refused, and sharing
+    // another cut's pivot stops the first.
+    let mut nose = cut("nose", ROOT, 2.5);
+    nose.shared_pivot = true;
+    assert!(matches!(
+        j.add_cut(nose.clone()),
+        Err(JointError::SharedPivot { .. })
+    ));
+    nose.shared_pivot = false;
+    let n = j.add_cut(nose).unwrap();
+    assert!(j.set_shared_pivot("nose", true));
+    assert!(!j.cuts()[0].shared_pivot);
+    assert!(close(j.sections()[0].pivot, j.sections()[n].pivot));
+    assert!(j.set_shared_pivot("nose", false));
+    assert!(close(j.sections()[0].pivot, centroid));
+    assert!(!j.set_shared_pivot("root", true));
+}
+
+#[test]
+fn removing_a_cut_keeps_one_shared_pivot_per_section() {
+    // root -> arm -> hand (shared with the arm), root -> leg (shared with the root).
+    // Removing the arm makes the hand a cut of the root too: the first keeps its shared
+    // pivot.
+    let mut j = Joints::new(&line(), ROOT);
+    j.add_cut(cut("arm", ROOT, 1.0)).unwrap();
+    j.add_cut(cut("hand", "arm", 2.5)).unwrap();
+    let mut leg = cut("leg", ROOT, 0.5);
+    leg.normal = -DVec3::Y;
+    j.add_cut(leg).unwrap();
+    assert!(j.set_shared_pivot("hand", true));
+    assert!(j.set_shared_pivot("leg", true));
+    j.remove_cut("arm").unwrap();
+    let shared: Vec<&str> = j
+        .cuts()
+        .iter()
+        .filter(|c| c.shared_pivot)
+        .map(|c| c.name.as_str())
+        .collect();
+    assert_eq!(shared, ["hand"]);
+    assert_eq!(j.sections()[0].pivot, j.cuts()[0].pivot.unwrap());
 }

@@ -12,7 +12,7 @@
 
 use super::{BuildError, Puppet, RigFile};
 use crate::geom::intersect::intersecting_faces;
-use crate::joints::{Cut, Local};
+use crate::joints::{Cut, Local, Shape};
 use crate::mesh::measure::{cone_volume, largest_dihedral};
 use crate::mesh::Mesh;
 use crate::sim::Params;
@@ -110,6 +110,8 @@ impl Joint {
             pivot: None,
             connected: true,
             band,
+            shape: Shape::Plane,
+            shared_pivot: false,
         }
     }
 

@@ -17,6 +17,16 @@
 //! point = [0.0, 0.0, 0.45]       # a point on the plane
 //! normal = [0.0, 0.0, 1.0]
 //! pivot = [0.0, 0.1, 0.45]       # optional; default: see `joints`
+//! band = 4.0                     # optional: joint band half-width in local medial radii
+//!
+//! [[cut]]
+//! name = "jaw"
+//! section = "head"
+//! shape = "box"                  # plane (default) | sphere | box: the section is inside
+//! point = [0.0, -0.05, 0.6]      # the centre
+//! size = [0.2, 0.1, 0.15]        # a box's extents along its axes (a sphere: radius = 0.1)
+//! normal = [0.0, 0.0, 1.0]       # a box's third axis (default +z; see `joints::Shape`)
+//! shared_pivot = true            # the head turns about the jaw's pivot too
 //!
 //! [[region]]                     # optional: another material on part of the surface
 //! name = "belly"
@@ -36,11 +46,21 @@
 
 use super::paint::{self, Paint};
 use crate::files::{self, Format};
-use crate::joints::{Cut, JointError, Joints, ROOT};
+use crate::joints::{Cut, JointError, Joints, Shape, ROOT};
 use crate::sim::{self, Constraint, Params};
 use crate::skeleton::Method;
 use glam::DVec3;
 use std::path::{Path, PathBuf};
+
+/// A cut's shape as written.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+enum ShapeName {
+    #[default]
+    Plane,
+    Sphere,
+    Box,
+}
 
 /// A cut as written in a rig file.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -49,8 +69,18 @@ struct CutEntry {
     name: String,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     section: Option<String>,
+    #[serde(default, skip_serializing_if = "is_plane")]
+    shape: ShapeName,
     point: [f64; 3],
-    normal: [f64; 3],
+    /// Required for a plane; a box's third axis (default +z); unused by a sphere.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    normal: Option<[f64; 3]>,
+    /// A sphere's radius.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    radius: Option<f64>,
+    /// A box's full extents.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    size: Option<[f64; 3]>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pivot: Option<[f64; 3]>,
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
@@ -58,6 +88,58 @@ struct CutEntry {
     /// Joint band half-width in local medial radii (0: a hinge; unset: the default).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     band: Option<f64>,
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    shared_pivot: bool,
+}
+
+fn is_plane(shape: &ShapeName) -> bool {
+    *shape == ShapeName::Plane
+}
+
+impl CutEntry {
+    /// The cut this entry writes, in a rig whose root is `root`; `at` names it in errors.
+    fn cut(self, root: &str, at: &str) -> Result<Cut, RigError> {
+        let fail = |problem: &str| Err(RigError(format!("{at}: {problem}")));
+        let shape = match (self.shape, self.radius, self.size) {
+            (ShapeName::Plane, None, None) => Shape::Plane,
+            (ShapeName::Sphere, Some(radius), None) => Shape::Sphere { radius },
+            (ShapeName::Box, None, Some(size)) => Shape::Box { size: size.into() },
+            (ShapeName::Plane, ..) => return fail("a plane has no radius or size"),
+            (ShapeName::Sphere, _, Some(_)) => return fail("a sphere has a radius, not a size"),
+            (ShapeName::Sphere, None, _) => return fail("a sphere needs a radius"),
+            (ShapeName::Box, Some(_), _) => return fail("a box has a size, not a radius"),
+            (ShapeName::Box, None, None) => return fail("a box needs a size"),
+        };
+        let normal = match (self.normal, shape) {
+            (Some(n), _) => DVec3::from(n),
+            (None, Shape::Plane) => return fail("a plane needs a normal"),
+            (None, _) => DVec3::Z,
+        };
+        let cut = Cut {
+            section: self.section.unwrap_or_else(|| root.to_string()),
+            name: self.name,
+            shape,
+            point: self.point.into(),
+            normal,
+            pivot: self.pivot.map(DVec3::from),
+            connected: self.connected,
+            band: self.band,
+            shared_pivot: self.shared_pivot,
+        };
+        if !cut.point.is_finite()
+            || !cut.normal.is_finite()
+            || cut.pivot.is_some_and(|p| !p.is_finite())
+        {
+            return fail("every value must be a finite number");
+        }
+        if cut.normal.length_squared() == 0.0 {
+            return fail("the normal is zero");
+        }
+        if !shape.is_valid() {
+            return fail(&format!("a {}'s size must be positive", shape.name()));
+        }
+        Ok(cut)
+    }
 }
 
 /// A material region as written.
@@ -218,30 +300,12 @@ impl RigFile {
         let cuts = entry
             .cut
             .into_iter()
-            .map(|c| Cut {
-                section: c.section.unwrap_or_else(|| root.clone()),
-                name: c.name,
-                point: c.point.into(),
-                normal: c.normal.into(),
-                pivot: c.pivot.map(DVec3::from),
-                connected: c.connected,
-                band: c.band,
+            .enumerate()
+            .map(|(k, c)| {
+                let at = format!("cut {} ('{}')", k + 1, c.name);
+                c.cut(&root, &at)
             })
-            .collect::<Vec<_>>();
-        for (k, c) in cuts.iter().enumerate() {
-            let at = format!("cut {} ('{}')", k + 1, c.name);
-            if !c.point.is_finite()
-                || !c.normal.is_finite()
-                || c.pivot.is_some_and(|p| !p.is_finite())
-            {
-                return Err(RigError(format!(
-                    "{at}: every value must be a finite number"
-                )));
-            }
-            if c.normal.length_squared() == 0.0 {
-                return Err(RigError(format!("{at}: the plane normal is zero")));
-            }
-        }
+            .collect::<Result<Vec<_>, _>>()?;
         let mut regions = Vec::new();
         for (k, r) in entry.region.into_iter().enumerate() {
             let at = format!("region {} ('{}')", k + 1, r.name);
@@ -321,11 +385,25 @@ impl RigFile {
                 .map(|c| CutEntry {
                     name: c.name.clone(),
                     section: Some(c.section.clone()),
+                    shape: match c.shape {
+                        Shape::Plane => ShapeName::Plane,
+                        Shape::Sphere { .. } => ShapeName::Sphere,
+                        Shape::Box { .. } => ShapeName::Box,
+                    },
                     point: c.point.into(),
-                    normal: c.normal.into(),
+                    normal: Some(c.normal.into()),
+                    radius: match c.shape {
+                        Shape::Sphere { radius } => Some(radius),
+                        _ => None,
+                    },
+                    size: match c.shape {
+                        Shape::Box { size } => Some(size.into()),
+                        _ => None,
+                    },
                     pivot: c.pivot.map(Into::into),
                     connected: c.connected,
                     band: c.band,
+                    shared_pivot: c.shared_pivot,
                 })
                 .collect(),
             region: self
@@ -427,8 +505,18 @@ mod tests {
         assert!(bad("[params]\ndamping = \"x\"\n").starts_with("params:"));
         assert!(
             bad("[[cut]]\nname = \"a\"\npoint = [0, 0, 0]\nnormal = [0, 0, 0]\n")
-                .contains("cut 1 ('a'): the plane normal is zero")
+                .contains("cut 1 ('a'): the normal is zero")
         );
+        let cut = |body: &str| bad(&format!("[[cut]]\nname = \"a\"\npoint = [0, 0, 0]\n{body}"));
+        assert!(cut("").contains("cut 1 ('a'): a plane needs a normal"));
+        assert!(cut("shape = \"sphere\"").contains("a sphere needs a radius"));
+        assert!(cut("shape = \"sphere\"\nradius = -1").contains("a sphere's size must be positive"));
+        assert!(cut("shape = \"sphere\"\nradius = nan").contains("positive"));
+        assert!(cut("shape = \"box\"").contains("a box needs a size"));
+        assert!(cut("shape = \"box\"\nsize = [1, 0, 1]").contains("a box's size must be positive"));
+        assert!(cut("shape = \"box\"\nradius = 1").contains("a box has a size, not a radius"));
+        assert!(cut("shape = \"cone\"").contains("unknown variant `cone`"));
+        assert!(cut("normal = [0, 0, 1]\nradius = 1").contains("a plane has no radius or size"));
         assert!(
             bad("[[cut]]\nname = \"a\"\npoint = [0, nan, 0]\nnormal = [0, 0, 1]\n")
                 .contains("finite")
@@ -456,7 +544,35 @@ mod tests {
                 pivot: Some(DVec3::new(std::f64::consts::PI, 0.0, 1.0)),
                 connected: true,
                 band: None,
-            }],
+                shape: Shape::Plane,
+                shared_pivot: false,
+            }]
+            .into_iter()
+            .chain(
+                [
+                    (Shape::Sphere { radius: 0.3 }, true),
+                    (
+                        Shape::Box {
+                            size: DVec3::new(0.1, 0.2, 1.0 / 3.0),
+                        },
+                        false,
+                    ),
+                ]
+                .into_iter()
+                .enumerate()
+                .map(|(k, (shape, shared_pivot))| Cut {
+                    name: format!("part {k}"),
+                    section: "head".into(),
+                    shape,
+                    point: DVec3::new(0.1, 0.2, 0.3),
+                    normal: DVec3::X,
+                    pivot: Some(DVec3::ZERO),
+                    connected: false,
+                    band: Some(2.5),
+                    shared_pivot,
+                }),
+            )
+            .collect(),
             ..RigFile::default()
         };
         let text = spec.to_toml(None);

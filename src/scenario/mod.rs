@@ -12,7 +12,7 @@
 
 pub mod reference;
 
-use crate::joints::{Cut, JointError, Joints, Local, ROOT};
+use crate::joints::{Cut, JointError, Joints, Local, Shape, ROOT};
 use crate::mesh::{self, Mesh, MeshError};
 use crate::rig::Rig;
 use crate::sim::Pose;
@@ -97,6 +97,8 @@ impl Scenario {
             pivot: None,
             connected: false,
             band: None,
+            shape: Shape::Plane,
+            shared_pivot: false,
         })?;
         Ok(Scenario {
             diagonal: ext.length(),

@@ -1,9 +1,9 @@
-//! The cut tool: a plane placed on the model, moved and turned, then applied as a cut; and
-//! removing cuts again.
+//! The cut tool: a plane, a sphere or a box placed on the model, moved, turned and sized,
+//! then applied as a cut; an applied cut's pivot moved and shared; removing cuts again.
 
-use super::Session;
-use crate::joints::{Cut, JointError, Local};
-use glam::DVec3;
+use super::{Camera, Session};
+use crate::joints::{Cut, JointError, Local, Shape};
+use glam::{DVec3, Vec2};
 
 /// How a new cut plane is oriented.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -32,12 +32,42 @@ impl CutAxis {
 }
 
 /// The cut tool's settings.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct CutTool {
     /// The tool is on: the next press on the model places the plane.
     pub active: bool,
     /// How a new plane is oriented.
     pub axis: CutAxis,
+    /// The shape a new cut takes (a sphere's or a box's size is a tenth of the model's
+    /// diagonal until changed).
+    pub shape: ShapeKind,
+    /// Moving pivots: the cuts' pivots are drawn and a drag from one moves it.
+    pub move_pivots: bool,
+}
+
+/// Which shape the cut tool places.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ShapeKind {
+    /// A plane (a limb).
+    #[default]
+    Plane,
+    /// A sphere (a tail tip, an ear, a nose).
+    Sphere,
+    /// A box.
+    Box,
+}
+
+impl ShapeKind {
+    /// The shape of this kind for a model of diagonal `size`.
+    pub fn shape(self, size: f64) -> Shape {
+        match self {
+            ShapeKind::Plane => Shape::Plane,
+            ShapeKind::Sphere => Shape::Sphere { radius: 0.1 * size },
+            ShapeKind::Box => Shape::Box {
+                size: DVec3::splat(0.2 * size),
+            },
+        }
+    }
 }
 
 /// A cut being placed with the cut tool.
@@ -45,7 +75,9 @@ pub struct CutTool {
 pub struct CutDraft {
     /// Section the cut will split (where the plane was placed).
     pub section: usize,
-    /// Point on the plane (a picked surface point, then moved along the normal).
+    /// Plane, sphere or box.
+    pub shape: Shape,
+    /// Point on the plane, or the centre (a picked surface point, then moved).
     pub point: DVec3,
     /// Plane normal, pointing into the new section.
     pub normal: DVec3,
@@ -58,11 +90,29 @@ pub struct CutDraft {
     pub name: String,
 }
 
+impl CutDraft {
+    /// The cut this draft makes of the section named `section`.
+    pub fn cut(&self, section: String) -> Cut {
+        Cut {
+            name: self.name.clone(),
+            section,
+            shape: self.shape,
+            point: self.point,
+            normal: self.normal,
+            pivot: self.pivot,
+            connected: self.connected,
+            band: None,
+            shared_pivot: false,
+        }
+    }
+}
+
 impl Session {
-    /// Places the cut tool's plane through `point` on `section`, oriented by `normal`.
+    /// Places the cut tool's shape at `point` on `section`, oriented by `normal`.
     pub fn place_draft(&mut self, section: usize, point: DVec3, normal: DVec3) {
         self.draft = Some(CutDraft {
             section,
+            shape: self.cut_tool.shape.shape(self.puppet.mesh.diagonal()),
             point,
             normal,
             pivot: None,
@@ -80,15 +130,7 @@ impl Session {
         let section = self.puppet.joints.sections()[d.section].name.clone();
         self.checkpoint();
         let before = self.puppet.joints.clone();
-        let result = self.puppet.joints.add_cut(Cut {
-            name: d.name.clone(),
-            section,
-            point: d.point,
-            normal: d.normal,
-            pivot: d.pivot,
-            connected: d.connected,
-            band: None,
-        });
+        let result = self.puppet.joints.add_cut(d.cut(section));
         match result {
             Ok(index) => {
                 self.after_cut_change();
@@ -114,6 +156,83 @@ impl Session {
             self.puppet.sync_sections();
             self.layout_revision += 1;
             self.wake();
+        }
+    }
+
+    /// Moves the pivot of the cut that made `section` to where the ray from `origin` along
+    /// `dir` (world space) meets the plane it may move in: the cut's plane through the
+    /// pivot (a sphere's or a box's tangent plane there), or with `free` the plane through
+    /// it facing the ray. Posed, the pivot moves in its parent's frame, where the cut is.
+    /// Call [`Session::checkpoint`] once before a drag; a ray that misses changes nothing.
+    pub fn drag_pivot(&mut self, section: usize, origin: DVec3, dir: DVec3, free: bool) {
+        let joints = &self.puppet.joints;
+        let Some((cut, parent)) = section
+            .checked_sub(1)
+            .and_then(|k| joints.cuts().get(k))
+            .zip(joints.sections().get(section).and_then(|s| s.parent))
+        else {
+            return;
+        };
+        let Some(pivot) = cut.pivot else {
+            return;
+        };
+        let frame = joints.world(&self.local)[parent];
+        let to_rest = frame.inverse();
+        let (o, d) = (
+            to_rest.transform_point3(origin),
+            to_rest.transform_vector3(dir),
+        );
+        let normal = if free {
+            d.normalize_or_zero()
+        } else {
+            cut.normal_near(pivot)
+        };
+        let along = d.dot(normal);
+        if along.abs() < 1e-9 * d.length() || !along.is_finite() {
+            return;
+        }
+        let t = (pivot - o).dot(normal) / along;
+        let moved = o + d * t;
+        if t > 0.0 && moved.is_finite() && moved != pivot {
+            self.puppet.joints.set_pivot(section, moved);
+            self.puppet.sync_sections();
+            self.layout_revision += 1;
+            self.wake();
+        }
+    }
+
+    /// The section whose cut's pivot is drawn within [`super::pointer::PIVOT_REACH`]
+    /// pixels of `cursor` (the nearest), if any.
+    pub fn pivot_near(&self, cursor: Vec2, camera: &Camera, viewport: Vec2) -> Option<usize> {
+        let joints = &self.puppet.joints;
+        let world = joints.world(&self.local);
+        let mut best = None;
+        for (k, cut) in joints.cuts().iter().enumerate() {
+            let (section, Some(pivot)) = (k + 1, cut.pivot) else {
+                continue;
+            };
+            let at = world[section].transform_point3(pivot).as_vec3();
+            let Some(seen) = camera.project(at, viewport) else {
+                continue;
+            };
+            let d = seen.distance(cursor);
+            if d <= super::pointer::PIVOT_REACH && best.is_none_or(|(_, b)| d < b) {
+                best = Some((section, d));
+            }
+        }
+        best.map(|(k, _)| k)
+    }
+
+    /// Lets the section that cut `name` splits turn about that cut's pivot too (`shared`),
+    /// or about its own again (undoable; see [`crate::joints`]).
+    pub fn set_shared_pivot(&mut self, name: &str, shared: bool) {
+        self.checkpoint();
+        if self.puppet.joints.set_shared_pivot(name, shared) {
+            self.puppet.sync_sections();
+            self.layout_revision += 1;
+            self.wake();
+        } else {
+            self.drop_checkpoint();
         }
     }
 

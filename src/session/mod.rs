@@ -28,7 +28,7 @@ pub mod undo;
 pub mod view;
 
 pub use camera::Camera;
-pub use cut_tool::{CutAxis, CutDraft, CutTool};
+pub use cut_tool::{CutAxis, CutDraft, CutTool, ShapeKind};
 pub use export::{ExportJob, ExportSettings};
 pub use paint_tool::PaintTool;
 pub use pick::Hit;
@@ -241,7 +241,7 @@ impl Session {
         self.wake();
     }
 
-    /// World position of a section's pivot in the current pose.
+    /// World position of the point a section turns about, in the current pose.
     pub fn pivot_world(&self, section: usize) -> DVec3 {
         let world = self.puppet.joints.world(&self.local);
         let p = self.puppet.joints.sections()[section].pivot;

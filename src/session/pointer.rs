@@ -1,7 +1,8 @@
 //! The mouse as the puppeteer uses it: a press on a section selects it and starts turning
 //! it, a press on the background orbits, the right or middle button pans, with the cut
-//! tool on a press on the model places the plane, and with the brush on a drag on the
-//! model paints. The window maps its events onto
+//! tool on a press on the model places the plane, with the brush on a drag on the model
+//! paints, and with *move pivots* on a drag from a cut's pivot moves it (on the cut's
+//! plane; anywhere facing the view with Shift or Ctrl). The window maps its events onto
 //! [`Pointer`]; nothing here needs one.
 
 use super::{Camera, Session};
@@ -32,6 +33,8 @@ pub enum Drag {
     Rotate,
     /// Painting with the brush.
     Paint,
+    /// Moving the pivot of this section's cut.
+    Pivot(usize),
 }
 
 /// The mouse: where it is, what a held button is doing, and whether a modifier that
@@ -42,9 +45,13 @@ pub struct Pointer {
     pub cursor: Vec2,
     /// What the held button does.
     pub drag: Drag,
-    /// Shift or Ctrl is held: a click toggles a section in the selection.
+    /// Shift or Ctrl is held: a click toggles a section in the selection, a pivot moves
+    /// off its cut's plane.
     pub toggle: bool,
 }
+
+/// How near (pixels) a press must be to a pivot to grab it.
+pub const PIVOT_REACH: f32 = 12.0;
 
 impl Pointer {
     /// A button went down at the cursor. With no session (still loading) a left press
@@ -61,6 +68,17 @@ impl Pointer {
             (Button::Left, None) => Drag::Orbit,
             (Button::Left, Some(s)) => {
                 let (origin, dir) = camera.ray(self.cursor, viewport);
+                let grabbed = if s.cut_tool.move_pivots {
+                    s.pivot_near(self.cursor, camera, viewport)
+                } else {
+                    None
+                };
+                if let Some(k) = grabbed {
+                    s.select(Some(k), false);
+                    s.checkpoint();
+                    self.drag = Drag::Pivot(k);
+                    return;
+                }
                 match s.pick(origin, dir) {
                     Some(h) if s.paint_tool.active => {
                         s.checkpoint();
@@ -110,6 +128,12 @@ impl Pointer {
             Drag::Rotate => {
                 if let Some(s) = session {
                     s.rotate_selected(trackball(camera, delta, viewport.y));
+                }
+            }
+            Drag::Pivot(k) => {
+                if let Some(s) = session {
+                    let (origin, dir) = camera.ray(at, viewport);
+                    s.drag_pivot(k, origin.as_dvec3(), dir.as_dvec3(), self.toggle);
                 }
             }
             Drag::Paint => {

@@ -1,10 +1,10 @@
 use super::*;
 use crate::anim::Animation;
-use crate::joints::Cut;
+use crate::joints::{Cut, Shape};
 use crate::mesh::shapes;
 use crate::puppet::RigFile;
 use crate::session::recording::BLEND_BACK;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 fn session() -> Session {
     let mesh = shapes::capsule(0.3, 1.0, 4, 12, 12);
@@ -18,6 +18,8 @@ fn session() -> Session {
                 pivot: None,
                 connected: false,
                 band: None,
+                shape: Shape::Plane,
+                shared_pivot: false,
             },
             Cut {
                 name: "hand".into(),
@@ -27,6 +29,8 @@ fn session() -> Session {
                 pivot: None,
                 connected: false,
                 band: None,
+                shape: Shape::Plane,
+                shared_pivot: false,
             },
         ],
         ..RigFile::default()
@@ -91,6 +95,7 @@ fn undo_and_redo_pose_changes_and_cuts() {
     s.rotate_selected(DQuat::from_rotation_z(0.5));
     let turned = s.local.clone();
     s.draft = Some(CutDraft {
+        shape: Shape::Plane,
         section: 0,
         point: DVec3::new(0.0, -0.6, 0.0),
         normal: -DVec3::Y,
@@ -123,6 +128,7 @@ fn undo_and_redo_pose_changes_and_cuts() {
 fn a_refused_cut_changes_nothing() {
     let mut s = session();
     s.draft = Some(CutDraft {
+        shape: Shape::Plane,
         section: 0,
         point: DVec3::new(0.0, -5.0, 0.0),
         normal: -DVec3::Y,
@@ -418,4 +424,104 @@ fn a_loop_range_plays_its_part_over_and_over_as_the_bake_shows_it() {
     assert!(s.is_playing());
     s.set_loop_range(None);
     assert_eq!(s.playback.as_ref().unwrap().loop_range, None);
+}
+
+#[test]
+fn a_pivot_dragged_with_the_mouse_stays_on_its_plane_and_undoes() {
+    use crate::session::pointer::{Button, Drag, Pointer};
+    let mut s = session();
+    let camera = Camera::default();
+    let viewport = Vec2::new(800.0, 600.0);
+    let before = s.puppet.joints.cuts()[1].pivot.unwrap();
+    let at = camera
+        .project(s.pivot_world(2).as_vec3(), viewport)
+        .unwrap();
+    // Without *move pivots* the press turns the section instead.
+    let mut pointer = Pointer {
+        cursor: at,
+        ..Pointer::default()
+    };
+    pointer.press(Button::Left, Some(&mut s), &camera, viewport);
+    assert_ne!(pointer.drag, Drag::Pivot(2));
+    pointer.release();
+    s.cut_tool.move_pivots = true;
+    pointer.press(Button::Left, Some(&mut s), &camera, viewport);
+    assert_eq!(pointer.drag, Drag::Pivot(2));
+    assert_eq!(s.selection, vec![2]);
+    for _ in 0..5 {
+        pointer.moved(
+            pointer.cursor + Vec2::new(6.0, 3.0),
+            Some(&mut s),
+            &mut Camera::default(),
+            viewport,
+        );
+    }
+    pointer.release();
+    let moved = s.puppet.joints.cuts()[1].pivot.unwrap();
+    assert!(moved.distance(before) > 0.01, "{before} -> {moved}");
+    assert!(
+        (moved.y - before.y).abs() < 1e-9,
+        "kept on the plane y = 0.8"
+    );
+    assert_eq!(s.puppet.joints.sections()[2].pivot, moved);
+    // Shift (toggle) frees it from the plane.
+    pointer.cursor = camera
+        .project(s.pivot_world(2).as_vec3(), viewport)
+        .unwrap();
+    pointer.toggle = true;
+    pointer.press(Button::Left, Some(&mut s), &camera, viewport);
+    pointer.moved(
+        pointer.cursor + Vec2::new(0.0, -20.0),
+        Some(&mut s),
+        &mut Camera::default(),
+        viewport,
+    );
+    pointer.release();
+    let free = s.puppet.joints.cuts()[1].pivot.unwrap();
+    assert!((free.y - moved.y).abs() > 0.01, "{moved} -> {free}");
+    s.undo();
+    assert_eq!(s.puppet.joints.cuts()[1].pivot.unwrap(), moved);
+    s.undo();
+    assert_eq!(s.puppet.joints.cuts()[1].pivot.unwrap(), before);
+    assert_eq!(s.puppet.joints.sections()[2].pivot, before);
+    s.redo();
+    assert_eq!(s.puppet.joints.cuts()[1].pivot.unwrap(), moved);
+}
+
+#[test]
+fn a_shared_pivot_is_set_from_the_session_and_undoes() {
+    let mut s = session();
+    let own = s.puppet.joints.sections()[1].pivot;
+    let hand = s.puppet.joints.cuts()[1].pivot.unwrap();
+    s.set_shared_pivot("hand", true);
+    assert_eq!(s.puppet.joints.sections()[1].pivot, hand);
+    s.undo();
+    assert_eq!(s.puppet.joints.sections()[1].pivot, own);
+    assert!(!s.puppet.joints.cuts()[1].shared_pivot);
+}
+
+#[test]
+fn the_cut_tool_places_and_applies_a_sphere() {
+    let mut s = session();
+    s.cut_tool.shape = ShapeKind::Sphere;
+    // The capsule's lower cap, in the root.
+    s.place_draft(0, DVec3::new(0.0, -0.7, 0.0), DVec3::Y);
+    let d = s.draft.clone().unwrap();
+    assert!(matches!(d.shape, Shape::Sphere { radius } if radius > 0.0));
+    if let Some(CutDraft {
+        shape: Shape::Sphere { radius },
+        ..
+    }) = &mut s.draft
+    {
+        *radius = 0.35;
+    }
+    s.apply_draft().unwrap();
+    let k = s.puppet.joints.sections().len() - 1;
+    let points = s.puppet.joints.points();
+    for (i, &sec) in s.puppet.joints.section_of().iter().enumerate() {
+        if sec as usize == k {
+            assert!(points[i].distance(DVec3::new(0.0, -0.7, 0.0)) < 0.35);
+        }
+    }
+    assert!(s.puppet.joints.sections()[k].vertices > 0);
 }

@@ -53,7 +53,7 @@ impl Session {
     fn snapshot(&self) -> Snapshot {
         Snapshot {
             cuts: self.puppet.joints.cuts().to_vec(),
-            root_pivot: self.puppet.joints.sections()[0].pivot,
+            root_pivot: self.puppet.joints.root_pivot(),
             local: self.local.clone(),
             regions: self.regions_state.clone(),
             animation: self.animation_state(),

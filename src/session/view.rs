@@ -4,8 +4,9 @@
 //! only uploads and draws what a [`View`] gives it.
 
 use super::Session;
+use crate::joints::{Cut, Shape};
 use crate::sim::Positions;
-use glam::{DVec3, Vec3};
+use glam::{DAffine3, DVec3, Vec3};
 
 /// Which overlays are drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -21,7 +22,7 @@ pub struct Overlays {
     /// The planes of all applied cuts (without it, only those of the selected sections, or
     /// all while the cut tool is on: eleven suggested planes at once hide the puppet).
     pub cuts: bool,
-    /// The sections' pivots.
+    /// The cuts' pivots (a drag moves one).
     pub pivots: bool,
 }
 
@@ -97,7 +98,17 @@ impl Session {
         if let Some(d) = &self.draft {
             key.add(d.section as u64);
             key.add(d.connected as u64);
-            for v in [d.point, d.normal, d.pivot.unwrap_or(DVec3::NAN)] {
+            let extent = match d.shape {
+                Shape::Plane => DVec3::ZERO,
+                Shape::Sphere { radius } => DVec3::splat(radius),
+                Shape::Box { size } => size,
+            };
+            key.add(match d.shape {
+                Shape::Plane => 0,
+                Shape::Sphere { .. } => 1,
+                Shape::Box { .. } => 2,
+            });
+            for v in [d.point, d.normal, d.pivot.unwrap_or(DVec3::NAN), extent] {
                 for c in v.to_array() {
                     key.add(c.to_bits());
                 }
@@ -147,13 +158,18 @@ impl View<'_> {
             overlays.add(shown as u64);
         }
         overlays.add(s.cut_tool.active as u64);
+        overlays.add(s.cut_tool.move_pivots as u64);
         overlays.add(
             s.puppet
                 .sim
                 .floor_y()
                 .map_or(u64::MAX, |y| y.to_bits() as u64),
         );
-        if self.overlays.any() || s.draft.is_some() || !s.selection.is_empty() {
+        if self.overlays.any()
+            || s.draft.is_some()
+            || !s.selection.is_empty()
+            || s.cut_tool.move_pivots
+        {
             overlays.add(s.revision);
         }
         Revisions {
@@ -185,11 +201,10 @@ impl View<'_> {
     pub fn colours(&self, out: &mut Vec<[f32; 4]>) {
         let s = self.session;
         let sections = s.puppet.joints.section_of();
-        let taken = s.draft.as_ref().map(|d| {
-            s.puppet
-                .joints
-                .preview(d.section, d.point, d.normal, d.connected)
-        });
+        let taken = s
+            .draft
+            .as_ref()
+            .map(|d| s.puppet.joints.preview(d.section, &d.cut(String::new())));
         let regions = s.puppet.sim.regions();
         out.clear();
         out.extend(sections.iter().enumerate().map(|(i, &k)| {
@@ -264,16 +279,18 @@ impl View<'_> {
                     continue;
                 }
                 let parent = sections[k + 1].parent.unwrap_or(0);
-                let w = &world[parent];
-                let centre = w.transform_point3(sections[k + 1].pivot);
-                let normal = w.transform_vector3(cut.normal);
-                push_plane(lines, centre, normal, half, [0.85, 0.85, 0.95, 0.8]);
+                push_cut(lines, &world[parent], cut, half, [0.85, 0.85, 0.95, 0.8]);
             }
         }
         if let Some(d) = &s.draft {
             let w = &world[d.section.min(world.len() - 1)];
-            let (centre, normal) = (w.transform_point3(d.point), w.transform_vector3(d.normal));
-            push_plane(top, centre, normal, half * 1.3, [0.1, 0.8, 1.0, 1.0]);
+            push_cut(
+                top,
+                w,
+                &d.cut(String::new()),
+                half * 1.3,
+                [0.1, 0.8, 1.0, 1.0],
+            );
             if let Some(pivot) = d.pivot {
                 let c = w.transform_point3(pivot).as_vec3();
                 push_cross(top, c, size * 0.025, [0.1, 0.8, 1.0, 1.0]);
@@ -292,9 +309,14 @@ impl View<'_> {
                 push_line(lines, at(-half, t), at(half, t), color);
             }
         }
-        if o.pivots {
-            for (k, section) in p.joints.sections().iter().enumerate().skip(1) {
-                let c = world[k].transform_point3(section.pivot).as_vec3();
+        if o.pivots || s.cut_tool.move_pivots {
+            // Each cut's pivot (what a drag moves), as its section carries it.
+            for (k, cut) in p.joints.cuts().iter().enumerate() {
+                let k = k + 1;
+                let Some(pivot) = cut.pivot else {
+                    continue;
+                };
+                let c = world[k].transform_point3(pivot).as_vec3();
                 let color = if s.selection.contains(&k) {
                     [1.0, 0.5, 0.1, 1.0]
                 } else {
@@ -322,6 +344,45 @@ fn push_line(out: &mut Vec<Line>, a: Vec3, b: Vec3, color: [f32; 4]) {
 fn push_cross(out: &mut Vec<Line>, c: Vec3, r: f32, color: [f32; 4]) {
     for axis in [Vec3::X, Vec3::Y, Vec3::Z] {
         push_line(out, c - axis * r, c + axis * r, color);
+    }
+}
+
+/// A cut as `w` carries it: a plane as a square of half-size `half` about its pivot, a
+/// sphere as three great circles, a box as its edges.
+fn push_cut(out: &mut Vec<Line>, w: &DAffine3, cut: &Cut, half: f64, color: [f32; 4]) {
+    let at = |p: DVec3| w.transform_point3(p).as_vec3();
+    let axes = cut.axes();
+    match cut.shape {
+        Shape::Plane => {
+            let centre = w.transform_point3(cut.pivot.unwrap_or(cut.point));
+            push_plane(out, centre, w.transform_vector3(cut.normal), half, color);
+        }
+        Shape::Sphere { radius } => {
+            const SEGMENTS: usize = 48;
+            for (a, b) in [(0, 1), (1, 2), (2, 0)] {
+                let (u, v) = (axes.col(a) * radius, axes.col(b) * radius);
+                let ring = |k: usize| {
+                    let t = k as f64 / SEGMENTS as f64 * std::f64::consts::TAU;
+                    at(cut.point + u * t.cos() + v * t.sin())
+                };
+                for k in 0..SEGMENTS {
+                    push_line(out, ring(k), ring(k + 1), color);
+                }
+            }
+        }
+        Shape::Box { size } => {
+            let corner = |k: usize| {
+                let sign = |bit: usize| if k >> bit & 1 == 1 { 0.5 } else { -0.5 };
+                at(cut.point + axes * (size * DVec3::new(sign(0), sign(1), sign(2))))
+            };
+            for k in 0..8 {
+                for bit in 0..3 {
+                    if k >> bit & 1 == 0 {
+                        push_line(out, corner(k), corner(k | 1 << bit), color);
+                    }
+                }
+            }
+        }
     }
 }
 

@@ -1,8 +1,9 @@
-//! The Cuts section: the cut tool (axis, the draft's plane and pivot, apply) and the list
-//! of applied cuts.
+//! The Cuts section: the cut tool (shape, axis, the draft's plane or size and pivot,
+//! apply) and the list of applied cuts (band, shared pivot, remove).
 
 use super::{Action, PanelState};
-use crate::session::{CutAxis, CutDraft, Session};
+use crate::joints::Shape;
+use crate::session::{CutAxis, CutDraft, Session, ShapeKind};
 use glam::DVec3;
 
 pub(super) fn cut_section(
@@ -21,6 +22,8 @@ pub(super) fn cut_section(
     }
     ui.horizontal(|ui| {
         ui.toggle_value(&mut session.cut_tool.active, "Cut tool (C)");
+        ui.toggle_value(&mut session.cut_tool.move_pivots, "Move pivots (P)")
+            .on_hover_text("drag a cut's pivot to move it on the cut's plane (with Shift: anywhere, facing the view); Ctrl+Z puts it back");
         for (axis, label) in [
             (CutAxis::X, "X"),
             (CutAxis::Y, "Y"),
@@ -42,8 +45,39 @@ pub(super) fn cut_section(
             }
         }
     });
+    ui.horizontal(|ui| {
+        ui.label("shape");
+        for (kind, label, hint) in [
+            (
+                ShapeKind::Plane,
+                "plane",
+                "the side the normal points to (a limb)",
+            ),
+            (
+                ShapeKind::Sphere,
+                "sphere",
+                "what is inside (a tail tip, an ear, a nose)",
+            ),
+            (
+                ShapeKind::Box,
+                "box",
+                "what is inside; the axis button sets its third axis",
+            ),
+        ] {
+            if ui
+                .selectable_value(&mut session.cut_tool.shape, kind, label)
+                .on_hover_text(hint)
+                .clicked()
+            {
+                let size = session.puppet.mesh.diagonal();
+                if let Some(d) = &mut session.draft {
+                    d.shape = kind.shape(size);
+                }
+            }
+        }
+    });
     if session.cut_tool.active && session.draft.is_none() {
-        ui.label("click the model where the plane should go");
+        ui.label("click the model where the cut should go");
     }
     let mut apply = false;
     let mut cancel = false;
@@ -87,6 +121,20 @@ pub(super) fn cut_section(
                 }
             }
             let cut = session.puppet.joints.cuts().iter().find(|c| c.name == name);
+            if let Some(mut shared) = cut.map(|c| c.shared_pivot) {
+                let parent = cut.map(|c| c.section.clone()).unwrap_or_default();
+                if ui
+                    .checkbox(&mut shared, "shared pivot")
+                    .on_hover_text(format!(
+                        "'{parent}' turns about this cut's pivot too (both jaws of a mouth \
+                         about one hinge); show the pivots (P) to drag it"
+                    ))
+                    .changed()
+                {
+                    session.set_shared_pivot(&name, shared);
+                }
+            }
+            let cut = session.puppet.joints.cuts().iter().find(|c| c.name == name);
             if let Some(mut band) = cut.map(|c| c.band_factor()) {
                 let r = ui
                     .add(
@@ -113,6 +161,29 @@ fn draft_editor(ui: &mut egui::Ui, d: &mut CutDraft, size: f64) {
         ui.label("name");
         ui.text_edit_singleline(&mut d.name);
     });
+    match &mut d.shape {
+        Shape::Plane => {}
+        Shape::Sphere { radius } => {
+            ui.add(
+                egui::DragValue::new(radius)
+                    .range(size * 1e-4..=size)
+                    .speed(size * 0.002)
+                    .prefix("radius "),
+            );
+        }
+        Shape::Box { size: extent } => {
+            ui.horizontal(|ui| {
+                ui.label("size");
+                for v in [&mut extent.x, &mut extent.y, &mut extent.z] {
+                    ui.add(
+                        egui::DragValue::new(v)
+                            .range(size * 1e-4..=size * 2.0)
+                            .speed(size * 0.002),
+                    );
+                }
+            });
+        }
+    }
     // Offset along the normal and tilt of the normal, applied incrementally.
     let mut offset = 0.0;
     ui.add(

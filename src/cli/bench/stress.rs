@@ -22,7 +22,7 @@
 use anyhow::{bail, Result};
 use glam::{DQuat, DVec3, Vec3};
 use puppet::geom::hilbert::SplitMix;
-use puppet::joints::{Cut, Joints, Local, ROOT};
+use puppet::joints::{Cut, Joints, Local, Shape, ROOT};
 use puppet::mesh::{self, shapes, subdivide_loop, Mesh};
 use puppet::scenario::Scenario;
 use puppet::sim::{
@@ -266,7 +266,8 @@ fn run_scenario(
     let params = random_params(rng);
     let (lo, hi) = scenario.mesh.bounds();
     let size = scenario.diagonal;
-    // Up to two random cuts (a refused cut, e.g. one that misses the skeleton, is skipped).
+    // Up to two random cuts, planes, spheres or boxes, some sharing their pivot with the
+    // section they cut (a refused cut, e.g. one that misses the skeleton, is skipped).
     let points: Vec<DVec3> = scenario
         .mesh
         .positions
@@ -289,6 +290,16 @@ fn run_scenario(
             connected: false,
             // Half the cuts with a joint band of any width.
             band: (rng.below(2) == 1).then(|| rng.range(0.0, puppet::joints::MAX_BAND)),
+            shape: match rng.below(3) {
+                0 => Shape::Plane,
+                1 => Shape::Sphere {
+                    radius: rng.range(0.02, 0.6) * size,
+                },
+                _ => Shape::Box {
+                    size: DVec3::new(rng.unit(), rng.unit(), rng.unit()) * size + 1e-3 * size,
+                },
+            },
+            shared_pivot: rng.below(3) == 0,
         });
     }
     let mut sim = Simulation::new(scenario.rig(params.bone_distance), params);
@@ -315,6 +326,14 @@ fn run_scenario(
     let mut debt = 0.0;
     while done < steps {
         // A frame: maybe a pose jump, then as many fixed steps as the frame holds (≤ 8).
+        // Now and then a cut's pivot moves anywhere near the puppet (its bands follow).
+        if joints.sections().len() > 1 && rng.below(20) == 0 {
+            let k = 1 + rng.below(joints.sections().len() - 1);
+            let to = lo + (hi - lo) * DVec3::new(rng.unit(), rng.unit(), rng.unit()) * 1.4;
+            joints.set_pivot(k, to - (hi - lo) * 0.2);
+            sim.set_sections(joints.transform_of().to_vec());
+            pose = joints.pose(&local);
+        }
         if rng.below(3) == 0 {
             let s = rng.below(local.len());
             local[s] = Local {
