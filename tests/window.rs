@@ -295,25 +295,18 @@ fn a_pivot_is_dragged_with_the_mouse_and_undo_puts_it_back() {
         .map(|(n, v)| (n.clone(), xy(v)))
         .max_by(|a, b| a.1[0].total_cmp(&b.1[0]))
         .unwrap();
+    // How far (pixels) the pivot is drawn from where the drag started.
+    let off = |r: &serde_json::Value| {
+        let now = xy(&r["pivots"][&name]);
+        (now[0] - at[0]).hypot(now[1] - at[1])
+    };
     w.drag(at, [-40.0, 0.0]);
-    let r = w.wait(
-        |r| {
-            let now = xy(&r["pivots"][&name]);
-            (now[0] - at[0]).hypot(now[1] - at[1]) > 5.0
-        },
-        "the pivot to move",
-    );
+    let r = w.wait(|r| off(r) > 5.0, "the pivot to move");
     assert!(
         r["turned"].as_array().unwrap().is_empty(),
         "moving a pivot turns nothing: {r}"
     );
     w.key("ctrl+z");
-    w.wait(
-        |r| {
-            let now = xy(&r["pivots"][&name]);
-            (now[0] - at[0]).hypot(now[1] - at[1]) < 0.5
-        },
-        "undo to put the pivot back",
-    );
+    w.wait(|r| off(r) < 0.5, "undo to put the pivot back");
     assert!(w.quit().success());
 }

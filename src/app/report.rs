@@ -142,17 +142,12 @@ impl WindowState {
         report.move_pivots = s.cut_tool.move_pivots;
         if s.cut_tool.move_pivots {
             let size = self.viewport();
-            let world = s.puppet.joints.world(&s.local);
-            for (k, cut) in s.puppet.joints.cuts().iter().enumerate() {
-                let at = cut
-                    .pivot
-                    .and_then(|p| {
-                        let p = world[k + 1].transform_point3(p).as_vec3();
-                        self.camera.project(p, size)
-                    })
-                    .filter(|at| at.x > self.panel.width_px + 4.0 && at.x < size.x - 4.0);
-                if let Some(at) = at.filter(|at| at.y > 4.0 && at.y < size.y - 4.0) {
-                    report.pivots.insert(cut.name.clone(), at.to_array());
+            let left = self.panel.width_px;
+            for (k, at) in s.pivots_on_screen(&self.camera, size) {
+                if at.x > left + 4.0 && at.x < size.x - 4.0 && at.y > 4.0 && at.y < size.y - 4.0 {
+                    report
+                        .pivots
+                        .insert(sections[k].name.clone(), at.to_array());
                 }
             }
         }

@@ -14,16 +14,16 @@
 //!
 //! `W(parent) · T(pivot + w·t) · slerp(I, R, w) · T(−pivot)`
 //!
-//! (`R`, `t` the child's local rotation and translation, `pivot` the point it turns about):
-//! a rotation about the pivot by a fraction of the child's angle. Interpolating the rotation, not the matrices, keeps
-//! every blended bone point at its distance from the pivot, so the limb does not shrink
-//! through the bend. Nested cuts compose because each band blends a child with its own
+//! (`R`, `t` the child's local rotation and translation, `pivot` the point it turns
+//! about): a rotation about the pivot by a fraction of the child's angle. Interpolating the
+//! rotation, not the matrices, keeps every blended bone point at its distance from the
+//! pivot, so the limb does not shrink through the bend. Nested cuts compose because each band blends a child with its own
 //! parent's world transform.
 //!
 //! A parent vertex joins the band only on the parent's side of the plane and near the
 //! pivot (within the child's cross-section, `2.5 r` from the pivot across the normal of the
-//! cut's surface there), so the
-//! other leg at a hip cut or the body beside a shoulder stays put.
+//! cut's surface there), so the other leg at a hip cut or the body beside a shoulder stays
+//! put.
 //!
 //! # Volume
 //! Turning part of the bone points by part of the angle keeps a symmetric cross-section's
@@ -293,13 +293,14 @@ impl Joints {
                     l => (first + l - 1) as u16,
                 };
             }
+            let (pivot, normal) = self.cut_frame(k);
             self.bands[k] = Some(Band {
                 child,
                 parent,
                 width,
                 radius,
-                pivot: self.cut_frame(k).0,
-                normal: self.cut_frame(k).1,
+                pivot,
+                normal,
                 first_level: first,
                 contacts: Vec::new(),
                 first_contact: 0,

@@ -73,12 +73,12 @@ impl Joints {
             None if cut.shape != Shape::Plane => self.seam_pivot(&taken, parent, &cut, normal),
             // A plane's pivot comes from the whole section near it; a connected cut's from
             // the piece it takes (the section near a hip holds the other leg too).
-            None if cut.connected => self.default_pivot(&taken, cut.point, normal),
+            None if cut.connected => self.default_pivot(&taken, &cut, normal),
             None => {
                 let section: Vec<bool> = (0..self.section_of.len())
                     .map(|i| !self.body.is_rider(i) && self.section_of[i] as usize == parent)
                     .collect();
-                self.default_pivot(&section, cut.point, normal)
+                self.default_pivot(&section, &cut, normal)
             }
         };
         // Children of the split section follow it when their own pivot is on the new side
@@ -142,15 +142,21 @@ impl Joints {
             .find(|&k| self.sections[k].parent == Some(parent) && self.cuts[k - 1].shared_pivot)
     }
 
-    /// Sets every section's turning point: its own pivot, or its shared child's (see the
-    /// module docs).
+    /// Sets every section's turning point: its own pivot, or that of its first child cut
+    /// (in cut order) with a shared pivot (see the module docs).
     fn refresh_pivots(&mut self) {
-        for k in 0..self.sections.len() {
+        let n = self.sections.len();
+        let mut shared = vec![false; n];
+        for k in 0..n {
             self.sections[k].pivot = self.own_pivot(k);
         }
-        for k in 0..self.sections.len() {
-            if let Some(c) = self.shared_child(k) {
-                self.sections[k].pivot = self.own_pivot(c);
+        for c in 1..n {
+            match self.sections[c].parent {
+                Some(p) if self.cuts[c - 1].shared_pivot && !shared[p] => {
+                    shared[p] = true;
+                    self.sections[p].pivot = self.own_pivot(c);
+                }
+                _ => {}
             }
         }
     }
@@ -169,13 +175,13 @@ impl Joints {
             }
         }
         self.cuts[k - 1].shared_pivot = shared;
+        // Bands bend about the cuts' own pivots: only the turning points change.
         self.refresh_pivots();
-        self.refresh_bands();
         true
     }
 
-    /// Which vertices a cut of section `section` through `point` with `normal` (any
-    /// non-zero length) would take, for a preview.
+    /// Which vertices `cut` would take of section `section` (its `section` name is not
+    /// read), for a preview; none for a cut [`Joints::add_cut`] would refuse for its shape.
     pub fn preview(&self, section: usize, cut: &Cut) -> Vec<bool> {
         let normal = cut.normal.normalize_or_zero();
         if normal == DVec3::ZERO
@@ -318,12 +324,21 @@ impl Joints {
             })
             .map(|i| body.points[i])
             .collect();
-        if !seam.is_empty() {
-            return seam.iter().copied().sum::<DVec3>() / seam.len() as f64;
+        if seam.is_empty() {
+            return self.default_pivot(taken, cut, normal);
         }
-        let mut near: Vec<(f64, DVec3)> = (0..taken.len())
-            .filter(|&i| taken[i])
-            .map(|i| (cut.signed(body.points[i], normal).abs(), body.points[i]))
+        seam.iter().copied().sum::<DVec3>() / seam.len() as f64
+    }
+
+    /// The pivot a cut gets by default: the centroid of the skeletal points of `among`
+    /// that lie nearest its surface (the `max(4, √m)` nearest of its `m` points), for a
+    /// plane projected onto it. `normal` is the cut's unit normal.
+    fn default_pivot(&self, among: &[bool], cut: &Cut, normal: DVec3) -> DVec3 {
+        let mut near: Vec<(f64, DVec3)> = among
+            .iter()
+            .zip(&self.body.points)
+            .filter(|(t, _)| **t)
+            .map(|(_, p)| (cut.signed(*p, normal).abs(), *p))
             .collect();
         let k = ((near.len() as f64).sqrt().ceil() as usize)
             .max(4)
@@ -332,27 +347,10 @@ impl Joints {
             return cut.point;
         }
         near.select_nth_unstable_by(k - 1, |a, b| a.0.total_cmp(&b.0));
-        near[..k].iter().map(|(_, p)| *p).sum::<DVec3>() / k as f64
-    }
-
-    /// The pivot a cut gets by default: the centroid of the skeletal points of `among`
-    /// that lie nearest the plane (the `max(4, √m)` nearest of its `m` points), projected
-    /// onto the plane.
-    fn default_pivot(&self, among: &[bool], point: DVec3, normal: DVec3) -> DVec3 {
-        let mut near: Vec<(f64, DVec3)> = among
-            .iter()
-            .zip(&self.body.points)
-            .filter(|(t, _)| **t)
-            .map(|(_, p)| ((*p - point).dot(normal).abs(), *p))
-            .collect();
-        let k = ((near.len() as f64).sqrt().ceil() as usize)
-            .max(4)
-            .min(near.len());
-        if k == 0 {
-            return point;
-        }
-        near.select_nth_unstable_by(k - 1, |a, b| a.0.total_cmp(&b.0));
         let centroid = near[..k].iter().map(|(_, p)| *p).sum::<DVec3>() / k as f64;
-        centroid - normal * (centroid - point).dot(normal)
+        match cut.shape {
+            Shape::Plane => centroid - normal * cut.signed(centroid, normal),
+            _ => centroid,
+        }
     }
 }

@@ -201,26 +201,29 @@ impl Session {
         }
     }
 
+    /// Each cut's section and the pixel its pivot is drawn at, as posed (cuts whose pivot
+    /// is behind the camera left out).
+    pub fn pivots_on_screen(&self, camera: &Camera, viewport: Vec2) -> Vec<(usize, Vec2)> {
+        let joints = &self.puppet.joints;
+        let world = joints.world(&self.local);
+        (1..joints.sections().len())
+            .filter_map(|section| {
+                let pivot = joints.cuts()[section - 1].pivot?;
+                let at = world[section].transform_point3(pivot).as_vec3();
+                Some((section, camera.project(at, viewport)?))
+            })
+            .collect()
+    }
+
     /// The section whose cut's pivot is drawn within [`super::pointer::PIVOT_REACH`]
     /// pixels of `cursor` (the nearest), if any.
     pub fn pivot_near(&self, cursor: Vec2, camera: &Camera, viewport: Vec2) -> Option<usize> {
-        let joints = &self.puppet.joints;
-        let world = joints.world(&self.local);
-        let mut best = None;
-        for (k, cut) in joints.cuts().iter().enumerate() {
-            let (section, Some(pivot)) = (k + 1, cut.pivot) else {
-                continue;
-            };
-            let at = world[section].transform_point3(pivot).as_vec3();
-            let Some(seen) = camera.project(at, viewport) else {
-                continue;
-            };
-            let d = seen.distance(cursor);
-            if d <= super::pointer::PIVOT_REACH && best.is_none_or(|(_, b)| d < b) {
-                best = Some((section, d));
-            }
-        }
-        best.map(|(k, _)| k)
+        self.pivots_on_screen(camera, viewport)
+            .into_iter()
+            .map(|(k, at)| (k, at.distance(cursor)))
+            .filter(|&(_, d)| d <= super::pointer::PIVOT_REACH)
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(k, _)| k)
     }
 
     /// Lets the section that cut `name` splits turn about that cut's pivot too (`shared`),
@@ -228,7 +231,6 @@ impl Session {
     pub fn set_shared_pivot(&mut self, name: &str, shared: bool) {
         self.checkpoint();
         if self.puppet.joints.set_shared_pivot(name, shared) {
-            self.puppet.sync_sections();
             self.layout_revision += 1;
             self.wake();
         } else {

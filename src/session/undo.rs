@@ -6,7 +6,6 @@ use super::paint_tool::RegionsState;
 use super::Session;
 use crate::anim::Animation;
 use crate::joints::{Cut, Local};
-use glam::DVec3;
 use std::sync::Arc;
 
 /// The animation loaded, shared (a snapshot costs a pointer; two are the same animation
@@ -32,7 +31,6 @@ pub const UNDO_DEPTH: usize = 200;
 #[derive(Clone, Debug, PartialEq)]
 pub(super) struct Snapshot {
     cuts: Vec<Cut>,
-    root_pivot: DVec3,
     local: Vec<Local>,
     regions: RegionsState,
     animation: AnimationState,
@@ -53,7 +51,6 @@ impl Session {
     fn snapshot(&self) -> Snapshot {
         Snapshot {
             cuts: self.puppet.joints.cuts().to_vec(),
-            root_pivot: self.puppet.joints.root_pivot(),
             local: self.local.clone(),
             regions: self.regions_state.clone(),
             animation: self.animation_state(),
@@ -116,8 +113,7 @@ impl Session {
             rig_file.cuts = s.cuts.clone();
             // Replaying cuts that were valid before cannot fail; keep the current state if
             // it somehow does.
-            if let Ok(mut joints) = rig_file.joints(self.puppet.joints.clone()) {
-                joints.set_pivot(0, s.root_pivot);
+            if let Ok(joints) = rig_file.joints(self.puppet.joints.clone()) {
                 self.puppet.joints = joints;
                 self.puppet.sync_sections();
             }

@@ -122,12 +122,17 @@ pub(super) fn cut_section(
             }
             let cut = session.puppet.joints.cuts().iter().find(|c| c.name == name);
             if let Some(mut shared) = cut.map(|c| c.shared_pivot) {
-                let parent = cut.map(|c| c.section.clone()).unwrap_or_default();
+                // The section it splits now (a later cut may have adopted it).
+                let sections = session.puppet.joints.sections();
+                let parent = index
+                    .and_then(|k| sections[k].parent)
+                    .map_or("", |p| sections[p].name.as_str())
+                    .to_string();
                 if ui
                     .checkbox(&mut shared, "shared pivot")
                     .on_hover_text(format!(
                         "'{parent}' turns about this cut's pivot too (both jaws of a mouth \
-                         about one hinge); show the pivots (P) to drag it"
+                         about one hinge); Move pivots (P) to drag it"
                     ))
                     .changed()
                 {
