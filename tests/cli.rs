@@ -55,6 +55,37 @@ fn subdivisions_are_capped() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("--subdivisions"));
 }
 
+/// `--max-band-cost` compares the band with a hinge and fails (exit 2) above the bound.
+#[test]
+fn band_cost_check_passes_and_fails_on_its_bound() {
+    let run = |bound: &str| {
+        puppet(&[
+            "bench",
+            "throughput",
+            "--torus",
+            "--springs",
+            "20000",
+            "--frames",
+            "3",
+            "--rounds",
+            "1",
+            "--band",
+            "4",
+            &format!("--max-band-cost={bound}"),
+        ])
+    };
+    let out = run("1000");
+    assert_eq!(out.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("hinge"));
+    let out = run("-1000");
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.starts_with("error: ") && err.contains("more than -1000 %"),
+        "{err}"
+    );
+}
+
 #[test]
 fn throughput_json_has_the_documented_fields() {
     let report = ok_json(&[

@@ -388,6 +388,44 @@ fn simd_and_portable_kernels_agree_bit_for_bit() {
     }
 }
 
+/// Tiles whose slots move with different sections gather each slot's transform; tiles of
+/// one slot take their only section's. Both, and both kernels, give the same positions.
+#[test]
+fn tiles_mixing_sections_take_each_slots_own_transform() {
+    let run = |tile: usize, simd: bool| {
+        let options = Options {
+            sleeping: false,
+            tile,
+            simd,
+            ..Options::default()
+        };
+        let rig = rig();
+        let sections = (0..rig.len()).map(|i| (i % 3) as u16).collect();
+        let mut sim = Simulation::with_options(rig, preset("skin"), options);
+        sim.set_sections(sections);
+        for step in 0..60 {
+            let a = step as f32;
+            let pose = Pose {
+                transforms: vec![
+                    Affine3A::IDENTITY,
+                    Affine3A::from_rotation_translation(
+                        Quat::from_rotation_x(0.01 * a),
+                        Vec3::new(0.0, 0.001 * a, 0.0),
+                    ),
+                    Affine3A::from_rotation_translation(
+                        Quat::from_rotation_z(-0.02 * a),
+                        Vec3::new(0.002 * a, 0.0, 0.0),
+                    ),
+                ],
+            };
+            sim.step(&pose);
+        }
+        sim.positions().to_vec()
+    };
+    let one_slot_tiles = run(1, false);
+    assert!(one_slot_tiles == run(256, false) && one_slot_tiles == run(256, true));
+}
+
 #[test]
 fn tile_size_does_not_change_the_result_without_sleeping() {
     let run = |tile: usize| {

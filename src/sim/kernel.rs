@@ -41,6 +41,8 @@ pub(super) struct Ctx<'a> {
     pub layout: &'a Layout,
     pub cur: &'a Packed,
     pub transforms: &'a [Affine3A],
+    /// `transforms` as rows of four floats, four per transform ([`columns_of`]).
+    pub columns: &'a [[f32; 4]],
     pub params: Params,
     /// `D (h/h₀)²` and `C_vd^(h/h₀)`.
     pub stiffness: f32,
@@ -149,10 +151,7 @@ fn tile_body<V: Lanes, const EXTRAS: bool>(
     let l = ctx.layout;
     let cur = &ctx.cur.0[..];
     let g0 = range.start / l.tile * l.groups_per_tile();
-    let single = match l.sections_of_tile(range.start / l.tile) {
-        [section] => Some(columns::<V>(ctx, &[*section; LANES])),
-        _ => None,
-    };
+    let tile_transforms = TileTransforms::<V>::of(ctx, range.start / l.tile);
     // The layout keeps every neighbour offset + 4 ≤ 4 × `l.len()` (its invariant), so with
     // this the gathers need no bounds checks (and no scan of the offsets every step).
     assert_eq!(cur.len(), l.len(), "positions and layout disagree");
@@ -168,7 +167,7 @@ fn tile_body<V: Lanes, const EXTRAS: bool>(
         let g = Group {
             x: v3(V::load3(cur, k0)),
             before: v3(V::load3(points, j0)),
-            t: transform(ctx, &single, k0, LANES),
+            t: transform(ctx, &tile_transforms, k0, LANES),
             rows: rows(gi),
         };
         // SAFETY: `cur.len() == l.len()` (asserted above) and the layout's invariant.
@@ -192,7 +191,7 @@ fn tile_body<V: Lanes, const EXTRAS: bool>(
         let g = Group {
             x: v3(V::gather3(cur, &own)),
             before: v3(V::gather3(points, &local)),
-            t: transform(ctx, &single, k0, n),
+            t: transform(ctx, &tile_transforms, k0, n),
             rows: rows(full),
         };
         // SAFETY: `cur.len() == l.len()` (asserted above) and the layout's invariant.
@@ -422,18 +421,75 @@ unsafe fn group<V: Lanes, const EXTRAS: bool>(
 /// The transforms of the slots `k0 + lane` (lanes clamped to `n` slots): `single` when the
 /// tile has one section.
 #[inline(always)]
-fn transform<V: Lanes>(ctx: &Ctx, single: &Option<[V; 12]>, k0: usize, n: usize) -> [V; 12] {
-    match single {
-        Some(t) => *t,
-        None => {
-            let section = &ctx.layout.slots.section;
-            let mut sections = [0u16; LANES];
-            for (lane, s) in sections.iter_mut().enumerate() {
-                *s = section[k0 + lane.min(n - 1)];
+fn transform<V: Lanes>(ctx: &Ctx, tile: &TileTransforms<V>, k0: usize, n: usize) -> [V; 12] {
+    let section = &ctx.layout.slots.section;
+    match tile {
+        TileTransforms::Single(t) => *t,
+        TileTransforms::Gathered => {
+            let mut offsets = [[0u32; LANES]; 4];
+            for lane in 0..LANES {
+                let row = 4 * section[k0 + lane.min(n - 1)] as u32;
+                for (c, o) in offsets.iter_mut().enumerate() {
+                    o[lane] = 4 * (row + c as u32);
+                }
             }
-            columns(ctx, &sections)
+            let mut out = [V::splat(0.0); 12];
+            for (c, o) in offsets.iter().enumerate() {
+                // SAFETY: `TileTransforms::of` checked that every section of the tile has
+                // its four rows in `ctx.columns`, so each offset + 4 is at most
+                // 4 × `ctx.columns.len()`.
+                let [x, y, z] = unsafe { V::gather3_unchecked(ctx.columns, o) };
+                out[3 * c] = x;
+                out[3 * c + 1] = y;
+                out[3 * c + 2] = z;
+            }
+            out
         }
     }
+}
+
+/// How a tile's groups get their lanes' transforms.
+enum TileTransforms<V> {
+    /// One section in the whole tile: its coefficients, splatted once.
+    Single([V; 12]),
+    /// Several: gathered from `Ctx::columns` lane by lane.
+    Gathered,
+}
+
+impl<V: Lanes> TileTransforms<V> {
+    /// # Panics
+    /// If a section of tile `t` has no transform (the simulation keeps one per section).
+    #[inline(always)]
+    fn of(ctx: &Ctx, t: usize) -> TileTransforms<V> {
+        match ctx.layout.sections_of_tile(t) {
+            [section] => TileTransforms::Single(columns::<V>(ctx, &[*section; LANES])),
+            sections => {
+                let rows = ctx.columns.len() / 4;
+                assert!(
+                    sections.iter().all(|&s| (s as usize) < rows),
+                    "a section without a transform"
+                );
+                TileTransforms::Gathered
+            }
+        }
+    }
+}
+
+/// A transform as the kernel gathers it: its matrix columns, then its translation, each
+/// as four floats (the fourth 0).
+pub(super) fn columns_of(t: &Affine3A) -> [[f32; 4]; 4] {
+    let (a, b, c, d) = (
+        t.matrix3.x_axis,
+        t.matrix3.y_axis,
+        t.matrix3.z_axis,
+        t.translation,
+    );
+    [
+        [a.x, a.y, a.z, 0.0],
+        [b.x, b.y, b.z, 0.0],
+        [c.x, c.y, c.z, 0.0],
+        [d.x, d.y, d.z, 0.0],
+    ]
 }
 
 /// The twelve coefficients of each lane's transform (its section's): the matrix columns,

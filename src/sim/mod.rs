@@ -95,6 +95,10 @@ struct State {
     section_of: Vec<u16>,
     /// Transform of each section in the last step.
     transforms: Vec<Affine3A>,
+    /// The same transforms as four rows of four floats each (the matrix columns, then the
+    /// translation; the fourth float 0), which the kernel gathers lane by lane in tiles that
+    /// mix sections. Kept in step with `transforms` by the step's wake stage.
+    columns: Vec<[f32; 4]>,
     /// Per tile: integrated by the next step, and how many steps in a row it stayed under
     /// the sleep threshold.
     awake: Vec<bool>,
@@ -170,6 +174,7 @@ impl Simulation {
             state: State {
                 section_of: vec![0; n],
                 transforms: vec![Affine3A::IDENTITY],
+                columns: kernel::columns_of(&Affine3A::IDENTITY).to_vec(),
                 prev: cur.clone(),
                 cur,
                 awake: vec![true; tiles],

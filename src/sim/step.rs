@@ -120,6 +120,19 @@ impl Simulation {
                 any = true;
             }
         }
+        if state.wake_all || state.columns.len() != 4 * state.transforms.len() {
+            state.columns = state
+                .transforms
+                .iter()
+                .flat_map(kernel::columns_of)
+                .collect();
+        } else if any {
+            for (s, t) in state.transforms.iter().enumerate() {
+                if scratch.changed[s] {
+                    state.columns[4 * s..4 * s + 4].copy_from_slice(&kernel::columns_of(t));
+                }
+            }
+        }
         let all = state.wake_all || !self.options.sleeping;
         state.wake_all = false;
         for t in 0..state.awake.len() {
@@ -172,6 +185,7 @@ impl Simulation {
             layout: &self.layout,
             cur: &state.cur,
             transforms: &state.transforms,
+            columns: &state.columns,
             params: p,
             stiffness: p.stiffness * ratio * ratio,
             damping: p.damping.powf(ratio),

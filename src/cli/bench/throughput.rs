@@ -153,6 +153,14 @@ pub struct Args {
     /// its contacts; the pose is then computed inside the timed step.
     #[arg(long)]
     band: Option<f64>,
+    /// With --band: measure the first size with that band and as a hinge (band 0),
+    /// alternating, ROUNDS times each, and fail when the band's median step costs more than
+    /// PERCENT % above the hinge's.
+    #[arg(long, requires = "band", value_name = "PERCENT")]
+    max_band_cost: Option<f64>,
+    /// Rounds of --max-band-cost.
+    #[arg(long, default_value_t = 3, value_name = "ROUNDS")]
+    rounds: usize,
     /// Print JSON instead of a Markdown table.
     #[arg(long)]
     json: bool,
@@ -223,13 +231,10 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         if !rows.is_empty() {
             (mesh, distance) = subdivide_loop_values(&mesh, &distance);
         }
-        let mut scenario = base.scenario_of(mesh.clone(), distance.clone(), f64::INFINITY)?;
-        if let Some(band) = args.band {
-            scenario
-                .joints
-                .set_surface(&scenario.mesh.positions, &scenario.distance);
-            scenario.joints.set_band("limb", Some(band));
-        }
+        let scenario = banded(
+            base.scenario_of(mesh.clone(), distance.clone(), f64::INFINITY)?,
+            args.band,
+        );
         let (lo, hi) = scenario.mesh.bounds();
         let params = Params {
             floor_height: (0.1 * (hi.y - lo.y)) as f32,
@@ -240,6 +245,10 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         } else {
             Regions::default()
         };
+        if let (Some(max), Some(band)) = (args.max_band_cost, args.band) {
+            let hinge = banded(scenario.clone(), Some(0.0));
+            return band_cost(&scenario, &hinge, params, &regions, args, band, max);
+        }
         let row = measure(&scenario, params, regions, args.frames.max(1));
         let held = row.ms_per_step_median <= BUDGET_MS;
         log::info!(
@@ -305,6 +314,61 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             r.vertices, r.springs, r.ms_per_step_median
         ),
         None => println!("no measured size holds 60 steps/s"),
+    }
+    Ok(())
+}
+
+/// `scenario` with the limb's cut given a joint band of `band` local radii (`None`: as it is).
+fn banded(mut scenario: Scenario, band: Option<f64>) -> Scenario {
+    if let Some(band) = band {
+        scenario
+            .joints
+            .set_surface(&scenario.mesh.positions, &scenario.distance);
+        scenario.joints.set_band("limb", Some(band));
+    }
+    scenario
+}
+
+/// `--max-band-cost`: the step with the band against the same scene as a hinge, alternating.
+fn band_cost(
+    scenario: &Scenario,
+    hinge: &Scenario,
+    params: Params,
+    regions: &Regions,
+    args: &Args,
+    band: f64,
+    max_percent: f64,
+) -> Result<()> {
+    let (mut with_band, mut without) = (Vec::new(), Vec::new());
+    let mut springs = 0;
+    for _ in 0..args.rounds.max(1) {
+        let frames = args.frames.max(1);
+        without.push(measure(hinge, params, regions.clone(), frames).ms_per_step_median);
+        let row = measure(scenario, params, regions.clone(), frames);
+        with_band.push(row.ms_per_step_median);
+        springs = row.springs;
+    }
+    let (hinge_ms, band_ms) = (
+        median_p95(without.clone()).0,
+        median_p95(with_band.clone()).0,
+    );
+    let percent = 100.0 * (band_ms / hinge_ms - 1.0);
+    let list = |v: &[f64]| {
+        v.iter()
+            .map(|m| format!("{m:.2}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    println!(
+        "{springs} springs, median ms per step over {} alternating rounds: hinge {hinge_ms:.2} ({}), band {band} {band_ms:.2} ({}): {percent:+.1} %",
+        args.rounds.max(1),
+        list(&without),
+        list(&with_band)
+    );
+    if percent.is_nan() || percent > max_percent {
+        anyhow::bail!(
+            "the band's step costs {percent:+.1} % against a hinge's, more than {max_percent} %"
+        );
     }
     Ok(())
 }
