@@ -482,6 +482,25 @@ fn the_elbow_bent_90_degrees_keeps_its_skin_whole_its_volume_and_a_smooth_bend()
     assert!(h.dihedral >= h.rest_dihedral + 90.0, "{h:?}");
 }
 
+/// The knee and the two finger joints of `bench joints` hold the elbow's targets at 90°
+/// too: no face crossing, volumes within 3 %, the sharpest crease within 30° of rest.
+#[test]
+fn the_knee_and_two_finger_joints_bent_90_degrees_hold_the_same_targets() {
+    use puppet::puppet::bend::JOINTS;
+    for joint in &JOINTS[1..] {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/meshes")
+            .join(joint.mesh);
+        let m = mesh::load(&path).expect("a test mesh").0;
+        let b = joint.bend(&m, None, 90.0, Params::default()).unwrap();
+        let name = joint.name;
+        assert_eq!(b.crossing, 0, "{name}: {b:?}");
+        assert!(b.volume.abs() <= 0.03, "{name}: {b:?}");
+        assert!(b.region_volume.abs() <= 0.03, "{name}: {b:?}");
+        assert!(b.dihedral <= b.rest_dihedral + 30.0, "{name}: {b:?}");
+    }
+}
+
 #[test]
 fn at_135_degrees_the_elbow_s_two_sides_meet_without_passing_through() {
     use puppet::puppet::bend::JOINTS;

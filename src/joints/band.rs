@@ -10,7 +10,7 @@
 //! `d`), so the far end of a short section (a jaw, a head on a short neck) turns whole.
 //! A vertex of the child or the parent whose skeletal point lies at signed distance `d`
 //! from the plane (positive into the child), `|d| < W`, moves with the weight
-//! `w = smoothstep((d + W) / 2W)` of the child's own motion: its transform is
+//! `w = weight((d + W) / 2W)` of the child's own motion (see [`weight`]): its transform is
 //!
 //! `W(parent) · T(pivot + w·t) · slerp(I, R, w) · T(−pivot)`
 //!
@@ -77,7 +77,7 @@ pub const CONTACT_REACH: f64 = 3.0;
 
 /// How much a bent band swells across the limb, per radian of bend, at its middle (see the
 /// module docs).
-pub const BULGE: f64 = 0.015;
+pub const BULGE: f64 = 0.0125;
 
 /// Most transforms the simulation can index (it stores a `u16` per vertex).
 const MAX_TRANSFORMS: usize = u16::MAX as usize + 1;
@@ -131,9 +131,17 @@ impl Cut {
     }
 }
 
-fn smoothstep(x: f64) -> f64 {
+/// The share of the child's motion at `x` across the band (0 at the parent's end, 1 at
+/// the child's): half smoothstep, half linear. The bend per unit length follows its slope,
+/// and the inner side of the bend is compressed in proportion: smoothstep alone bends
+/// 1.5 times the mean rate at the middle, linear alone starts at full rate with a corner
+/// at each end; the mean of the two bends at most 1.25 times the mean rate and starts at
+/// half of it. Chosen by `puppet bench joints`: at 90° it sharpens the ring finger's
+/// largest crease by 28° instead of 31°, and at 135° the knee's by 33° instead of 49°
+/// and the middle finger's by 37° instead of 68°.
+fn weight(x: f64) -> f64 {
     let x = x.clamp(0.0, 1.0);
-    x * x * (3.0 - 2.0 * x)
+    0.5 * (x * x * (3.0 - 2.0 * x) + x)
 }
 
 impl Joints {
@@ -284,7 +292,7 @@ impl Joints {
                 if d.abs() / width >= depth[i] {
                     continue;
                 }
-                let w = smoothstep((d + width) / (2.0 * width));
+                let w = weight((d + width) / (2.0 * width));
                 let level = (w * LEVELS as f64).round() as usize;
                 depth[i] = d.abs() / width;
                 self.transform_of[i] = match level {
