@@ -40,8 +40,7 @@ use std::ops::Range;
 pub(super) struct Ctx<'a> {
     pub layout: &'a Layout,
     pub cur: &'a Packed,
-    pub transforms: &'a [Affine3A],
-    /// `transforms` as rows of four floats, four per transform ([`columns_of`]).
+    /// Each section's transform as four rows of four floats ([`columns_of`]).
     pub columns: &'a [[f32; 4]],
     pub params: Params,
     /// `D (h/h₀)²` and `C_vd^(h/h₀)`.
@@ -70,14 +69,6 @@ impl Ctx<'_> {
             || self.mixed.is_some()
             || self.pin.is_some()
             || self.params.stiffening > 0
-    }
-
-    #[inline(always)]
-    pub fn transform(&self, section: u16) -> Affine3A {
-        self.transforms
-            .get(section as usize)
-            .copied()
-            .unwrap_or(Affine3A::IDENTITY)
     }
 }
 
@@ -231,7 +222,7 @@ impl Lanes8 {
 const CHUNK: usize = 8;
 
 /// What [`group`] starts from: the current and previous positions of its slots, their
-/// transforms ([`columns`]) and the span of its spring rows.
+/// transforms ([`TileTransforms`]) and the span of its spring rows.
 struct Group<V> {
     x: V3<V>,
     before: V3<V>,
@@ -418,8 +409,8 @@ unsafe fn group<V: Lanes, const EXTRAS: bool>(
     (new, mx * mx + my * my + mz * mz)
 }
 
-/// The transforms of the slots `k0 + lane` (lanes clamped to `n` slots): `single` when the
-/// tile has one section.
+/// The transforms of the slots `k0 + lane` (lanes clamped to `n` slots), each as its
+/// matrix columns, then its translation.
 #[inline(always)]
 fn transform<V: Lanes>(ctx: &Ctx, tile: &TileTransforms<V>, k0: usize, n: usize) -> [V; 12] {
     let section = &ctx.layout.slots.section;
@@ -461,16 +452,24 @@ impl<V: Lanes> TileTransforms<V> {
     /// If a section of tile `t` has no transform (the simulation keeps one per section).
     #[inline(always)]
     fn of(ctx: &Ctx, t: usize) -> TileTransforms<V> {
-        match ctx.layout.sections_of_tile(t) {
-            [section] => TileTransforms::Single(columns::<V>(ctx, &[*section; LANES])),
-            sections => {
-                let rows = ctx.columns.len() / 4;
-                assert!(
-                    sections.iter().all(|&s| (s as usize) < rows),
-                    "a section without a transform"
-                );
-                TileTransforms::Gathered
+        let sections = ctx.layout.sections_of_tile(t);
+        let rows = ctx.columns.len() / 4;
+        assert!(
+            sections.iter().all(|&s| (s as usize) < rows),
+            "a section without a transform"
+        );
+        match sections {
+            &[section] => {
+                let rows = &ctx.columns[4 * section as usize..][..4];
+                let mut out = [V::splat(0.0); 12];
+                for (c, row) in rows.iter().enumerate() {
+                    for i in 0..3 {
+                        out[3 * c + i] = V::splat(row[i]);
+                    }
+                }
+                TileTransforms::Single(out)
             }
+            _ => TileTransforms::Gathered,
         }
     }
 }
@@ -490,34 +489,6 @@ pub(super) fn columns_of(t: &Affine3A) -> [[f32; 4]; 4] {
         [c.x, c.y, c.z, 0.0],
         [d.x, d.y, d.z, 0.0],
     ]
-}
-
-/// The twelve coefficients of each lane's transform (its section's): the matrix columns,
-/// then the translation.
-#[inline(always)]
-fn columns<V: Lanes>(ctx: &Ctx, sections: &[u16; LANES]) -> [V; 12] {
-    // Plain loops and no closures: closures (`array::from_fn`'s too) were not inlined into
-    // the AVX2 build, and neither were the intrinsics inside them (perf showed calls to
-    // `_mm256_loadu_ps`).
-    let mut t = [[0.0f32; LANES]; 12];
-    for (lane, &section) in sections.iter().enumerate() {
-        let m = ctx.transform(section);
-        let (a, b, c, d) = (
-            m.matrix3.x_axis,
-            m.matrix3.y_axis,
-            m.matrix3.z_axis,
-            m.translation,
-        );
-        let coefficients = [a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z, d.x, d.y, d.z];
-        for (row, v) in t.iter_mut().zip(coefficients) {
-            row[lane] = v;
-        }
-    }
-    let mut out = [V::splat(0.0); 12];
-    for (o, row) in out.iter_mut().zip(t) {
-        *o = V::from_array(row);
-    }
-    out
 }
 
 #[inline(always)]

@@ -15,6 +15,7 @@ pub(super) trait Lanes:
     Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
 {
     fn splat(x: f32) -> Self;
+    #[cfg(test)]
     fn from_array(a: [f32; LANES]) -> Self;
     fn to_array(self) -> [f32; LANES];
     /// `s[at..at + 8]`.
@@ -88,6 +89,7 @@ impl Lanes for Portable {
     fn splat(x: f32) -> Self {
         Portable([x; LANES])
     }
+    #[cfg(test)]
     #[inline(always)]
     fn from_array(a: [f32; LANES]) -> Self {
         Portable(a)
@@ -283,6 +285,7 @@ mod avx {
             // SAFETY: see the module docs.
             Avx(unsafe { _mm256_set1_ps(x) })
         }
+        #[cfg(test)]
         #[inline(always)]
         fn from_array(a: [f32; LANES]) -> Self {
             // SAFETY: see the module docs; `a` is 8 readable floats.

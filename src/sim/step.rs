@@ -184,7 +184,6 @@ impl Simulation {
         let ctx = kernel::Ctx {
             layout: &self.layout,
             cur: &state.cur,
-            transforms: &state.transforms,
             columns: &state.columns,
             params: p,
             stiffness: p.stiffness * ratio * ratio,
