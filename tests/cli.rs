@@ -84,6 +84,9 @@ fn band_cost_check_passes_and_fails_on_its_bound() {
         err.starts_with("error: ") && err.contains("more than -1000 %"),
         "{err}"
     );
+    let out = run("NaN");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--max-band-cost"));
 }
 
 #[test]

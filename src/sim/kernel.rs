@@ -40,8 +40,8 @@ use std::ops::Range;
 pub(super) struct Ctx<'a> {
     pub layout: &'a Layout,
     pub cur: &'a Packed,
-    /// Each section's transform as four rows of four floats ([`columns_of`]).
-    pub columns: &'a [[f32; 4]],
+    /// Each section's transform as four rows of four floats ([`Rows`]), one after another.
+    pub transforms: &'a [[f32; 4]],
     pub params: Params,
     /// `D (h/h₀)²` and `C_vd^(h/h₀)`.
     pub stiffness: f32,
@@ -427,9 +427,9 @@ fn transform<V: Lanes>(ctx: &Ctx, tile: &TileTransforms<V>, k0: usize, n: usize)
             let mut out = [V::splat(0.0); 12];
             for (c, o) in offsets.iter().enumerate() {
                 // SAFETY: `TileTransforms::of` checked that every section of the tile has
-                // its four rows in `ctx.columns`, so each offset + 4 is at most
-                // 4 × `ctx.columns.len()`.
-                let [x, y, z] = unsafe { V::gather3_unchecked(ctx.columns, o) };
+                // its four rows in `ctx.transforms`, so each offset + 4 is at most
+                // 4 × `ctx.transforms.len()`.
+                let [x, y, z] = unsafe { V::gather3_unchecked(ctx.transforms, o) };
                 out[3 * c] = x;
                 out[3 * c + 1] = y;
                 out[3 * c + 2] = z;
@@ -443,7 +443,7 @@ fn transform<V: Lanes>(ctx: &Ctx, tile: &TileTransforms<V>, k0: usize, n: usize)
 enum TileTransforms<V> {
     /// One section in the whole tile: its coefficients, splatted once.
     Single([V; 12]),
-    /// Several: gathered from `Ctx::columns` lane by lane.
+    /// Several: gathered from `Ctx::transforms` lane by lane.
     Gathered,
 }
 
@@ -453,14 +453,14 @@ impl<V: Lanes> TileTransforms<V> {
     #[inline(always)]
     fn of(ctx: &Ctx, t: usize) -> TileTransforms<V> {
         let sections = ctx.layout.sections_of_tile(t);
-        let rows = ctx.columns.len() / 4;
+        let rows = ctx.transforms.len() / 4;
         assert!(
             sections.iter().all(|&s| (s as usize) < rows),
             "a section without a transform"
         );
         match sections {
             &[section] => {
-                let rows = &ctx.columns[4 * section as usize..][..4];
+                let rows = &ctx.transforms[4 * section as usize..][..4];
                 let mut out = [V::splat(0.0); 12];
                 for (c, row) in rows.iter().enumerate() {
                     for i in 0..3 {
@@ -476,7 +476,10 @@ impl<V: Lanes> TileTransforms<V> {
 
 /// A transform as the kernel gathers it: its matrix columns, then its translation, each
 /// as four floats (the fourth 0).
-pub(super) fn columns_of(t: &Affine3A) -> [[f32; 4]; 4] {
+pub(super) type Rows = [[f32; 4]; 4];
+
+/// `t` as [`Rows`].
+pub(super) fn rows_of(t: &Affine3A) -> Rows {
     let (a, b, c, d) = (
         t.matrix3.x_axis,
         t.matrix3.y_axis,
@@ -489,6 +492,12 @@ pub(super) fn columns_of(t: &Affine3A) -> [[f32; 4]; 4] {
         [c.x, c.y, c.z, 0.0],
         [d.x, d.y, d.z, 0.0],
     ]
+}
+
+/// The transform of [`Rows`].
+pub(super) fn affine_of(r: &Rows) -> Affine3A {
+    let v = |i: usize| glam::Vec3::new(r[i][0], r[i][1], r[i][2]);
+    Affine3A::from_cols(v(0).into(), v(1).into(), v(2).into(), v(3).into())
 }
 
 #[inline(always)]

@@ -93,12 +93,9 @@ struct State {
     prev: Packed,
     /// Section of each rig vertex (all 0 until joints cut the skeleton).
     section_of: Vec<u16>,
-    /// Transform of each section in the last step.
-    transforms: Vec<Affine3A>,
-    /// The same transforms as four rows of four floats each (the matrix columns, then the
-    /// translation; the fourth float 0), which the kernel gathers lane by lane in tiles that
-    /// mix sections. Kept in step with `transforms` by the step's wake stage.
-    columns: Vec<[f32; 4]>,
+    /// Transform of each section in the last step, as the kernel reads (and, in tiles
+    /// that mix sections, gathers) it.
+    transforms: Vec<kernel::Rows>,
     /// Per tile: integrated by the next step, and how many steps in a row it stayed under
     /// the sleep threshold.
     awake: Vec<bool>,
@@ -173,8 +170,7 @@ impl Simulation {
         let mut sim = Simulation {
             state: State {
                 section_of: vec![0; n],
-                transforms: vec![Affine3A::IDENTITY],
-                columns: kernel::columns_of(&Affine3A::IDENTITY).to_vec(),
+                transforms: vec![kernel::rows_of(&Affine3A::IDENTITY)],
                 prev: cur.clone(),
                 cur,
                 awake: vec![true; tiles],
@@ -335,7 +331,9 @@ impl Simulation {
             .max()
             .unwrap_or(1);
         self.state.section_of = section_of;
-        self.state.transforms.resize(sections, Affine3A::IDENTITY);
+        self.state
+            .transforms
+            .resize(sections, kernel::rows_of(&Affine3A::IDENTITY));
         self.scratch.changed.resize(sections, false);
         self.state.wake_all = true;
     }
@@ -376,8 +374,7 @@ impl Simulation {
         self.state
             .transforms
             .get(self.state.section_of[i] as usize)
-            .copied()
-            .unwrap_or(Affine3A::IDENTITY)
+            .map_or(Affine3A::IDENTITY, kernel::affine_of)
     }
 
     /// Steps taken so far.

@@ -43,7 +43,7 @@ impl Simulation {
         let s = &mut self.state;
         s.cur = self.layout.rest_positions();
         s.prev = s.cur.clone();
-        s.transforms.fill(glam::Affine3A::IDENTITY);
+        s.transforms.fill(kernel::rows_of(&Affine3A::IDENTITY));
         s.awake.fill(true);
         s.steps_under_threshold.fill(0);
         s.wake_all = true;
@@ -109,28 +109,11 @@ impl Simulation {
             .zip(scratch.changed.iter_mut())
             .enumerate()
         {
-            let new = pose
-                .transforms
-                .get(s)
-                .copied()
-                .unwrap_or(Affine3A::IDENTITY);
+            let new = kernel::rows_of(pose.transforms.get(s).unwrap_or(&Affine3A::IDENTITY));
             *changed = new != *old;
             if *changed {
                 *old = new;
                 any = true;
-            }
-        }
-        if state.wake_all || state.columns.len() != 4 * state.transforms.len() {
-            state.columns = state
-                .transforms
-                .iter()
-                .flat_map(kernel::columns_of)
-                .collect();
-        } else if any {
-            for (s, t) in state.transforms.iter().enumerate() {
-                if scratch.changed[s] {
-                    state.columns[4 * s..4 * s + 4].copy_from_slice(&kernel::columns_of(t));
-                }
             }
         }
         let all = state.wake_all || !self.options.sleeping;
@@ -162,7 +145,8 @@ impl Simulation {
             }
             for k in layout.tile_range(t) {
                 let s = &layout.slots;
-                let mut r = state.transforms[s.section[k] as usize].transform_point3(s.rest.get(k));
+                let mut r = kernel::affine_of(&state.transforms[s.section[k] as usize])
+                    .transform_point3(s.rest.get(k));
                 if let Some(height) = floor {
                     r.y = r.y.max(height);
                 }
@@ -184,7 +168,7 @@ impl Simulation {
         let ctx = kernel::Ctx {
             layout: &self.layout,
             cur: &state.cur,
-            columns: &state.columns,
+            transforms: state.transforms.as_flattened(),
             params: p,
             stiffness: p.stiffness * ratio * ratio,
             damping: p.damping.powf(ratio),

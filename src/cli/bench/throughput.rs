@@ -200,6 +200,9 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             anyhow::bail!("--band: {band} is outside 0..{}", puppet::joints::MAX_BAND);
         }
     }
+    if let Some(max) = args.max_band_cost.filter(|m| !m.is_finite()) {
+        anyhow::bail!("--max-band-cost: {max} is not a number of percent");
+    }
     let base = Base::load(&args.input, load, args.springs.filter(|_| args.torus))?;
     let params = Params {
         constraint: args.constraint,
