@@ -478,6 +478,14 @@ impl<V: Lanes> TileTransforms<V> {
 /// as four floats (the fourth 0).
 pub(super) type Rows = [[f32; 4]; 4];
 
+/// The identity as [`Rows`]: a section that has not moved.
+pub(super) const IDENTITY_ROWS: Rows = [
+    [1.0, 0.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0, 0.0],
+    [0.0, 0.0, 1.0, 0.0],
+    [0.0, 0.0, 0.0, 0.0],
+];
+
 /// `t` as [`Rows`].
 pub(super) fn rows_of(t: &Affine3A) -> Rows {
     let (a, b, c, d) = (
@@ -836,5 +844,17 @@ mod tests {
             // SAFETY: the CPU has AVX2 (checked just above).
             unsafe { avx() };
         }
+    }
+
+    /// The identity's rows are the identity's, and rows convert back to the transform.
+    #[test]
+    fn rows_round_trip() {
+        assert_eq!(IDENTITY_ROWS, rows_of(&Affine3A::IDENTITY));
+        let t = Affine3A::from_scale_rotation_translation(
+            glam::Vec3::new(1.0, 2.0, 0.5),
+            glam::Quat::from_rotation_y(0.7),
+            glam::Vec3::new(3.0, -1.0, 2.0),
+        );
+        assert_eq!(affine_of(&rows_of(&t)), t);
     }
 }

@@ -170,7 +170,7 @@ impl Simulation {
         let mut sim = Simulation {
             state: State {
                 section_of: vec![0; n],
-                transforms: vec![kernel::rows_of(&Affine3A::IDENTITY)],
+                transforms: vec![kernel::IDENTITY_ROWS],
                 prev: cur.clone(),
                 cur,
                 awake: vec![true; tiles],
@@ -333,7 +333,7 @@ impl Simulation {
         self.state.section_of = section_of;
         self.state
             .transforms
-            .resize(sections, kernel::rows_of(&Affine3A::IDENTITY));
+            .resize(sections, kernel::IDENTITY_ROWS);
         self.scratch.changed.resize(sections, false);
         self.state.wake_all = true;
     }

@@ -43,7 +43,7 @@ impl Simulation {
         let s = &mut self.state;
         s.cur = self.layout.rest_positions();
         s.prev = s.cur.clone();
-        s.transforms.fill(kernel::rows_of(&Affine3A::IDENTITY));
+        s.transforms.fill(kernel::IDENTITY_ROWS);
         s.awake.fill(true);
         s.steps_under_threshold.fill(0);
         s.wake_all = true;
