@@ -74,7 +74,9 @@ fn band_cost_check_passes_and_fails_on_its_bound() {
             &format!("--max-band-cost={bound}"),
         ])
     };
-    let out = run("1000");
+    // A bound no timing can pass: three frames of a small torus take microseconds, and
+    // with the other tests running beside it one measurement can be many times the other.
+    let out = run("1e12");
     assert_eq!(out.status.code(), Some(0));
     assert!(String::from_utf8_lossy(&out.stdout).contains("hinge"));
     let out = run("-1000");
