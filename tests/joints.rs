@@ -590,3 +590,39 @@ fn a_mouth_opens_about_one_hinge_shared_by_both_jaws() {
     assert!(moved(jaw) < -0.02, "the jaw dropped ({})", moved(jaw));
     assert!(moved(head) > 0.02, "the head tipped up ({})", moved(head));
 }
+
+/// Cuts applied together (`add_cuts`, what `suggest_joints`, rig files and `remove_cut`
+/// use, with the bands worked out once) give the joints that applying them one by one
+/// gives, bands and transforms included: on the hand's suggested joints, and after
+/// removing one of them.
+#[test]
+fn cuts_applied_together_give_the_joints_applied_one_by_one() {
+    let mesh = mesh::load(Path::new("tests/data/meshes/hand.obj"))
+        .unwrap()
+        .0;
+    let mut p = Puppet::build(mesh, RigFile::default(), puppet::progress::silent()).unwrap();
+    let uncut = p.joints.clone();
+    assert!(p.suggest_joints().unwrap() >= 10);
+    let cuts = p.joints.cuts().to_vec();
+    let one_by_one = |cuts: &[Cut]| {
+        let mut j = uncut.without_cuts("root");
+        for c in cuts {
+            j.add_cut(c.clone()).unwrap();
+        }
+        j
+    };
+    let mut together = uncut.without_cuts("root");
+    together.add_cuts(cuts.iter().cloned()).unwrap();
+    assert_eq!(together, one_by_one(&cuts));
+    assert_eq!(p.joints, together);
+    assert!(together.bands().iter().filter(|b| b.is_some()).count() >= 10);
+    // A leaf's removal replays the others.
+    let leaf = cuts
+        .iter()
+        .rposition(|c| !cuts.iter().any(|d| d.section == c.name))
+        .unwrap();
+    together.remove_cut(&cuts[leaf].name).unwrap();
+    let mut rest = cuts.clone();
+    rest.remove(leaf);
+    assert_eq!(together, one_by_one(&rest));
+}

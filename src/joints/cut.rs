@@ -9,6 +9,25 @@ use glam::DVec3;
 impl Joints {
     /// Applies a cut; returns the new section's index. On error nothing changes.
     pub fn add_cut(&mut self, cut: Cut) -> Result<usize, JointError> {
+        let index = self.insert_cut(cut)?;
+        self.refresh_bands();
+        Ok(index)
+    }
+
+    /// Applies cuts in order, as [`Joints::add_cut`] each, with the bands worked out once
+    /// at the end instead of after every cut (each refresh visits every band: dozens of
+    /// suggested joints would cost dozens of refreshes). Stops at the first that fails,
+    /// with the ones before it applied.
+    pub fn add_cuts(&mut self, cuts: impl IntoIterator<Item = Cut>) -> Result<(), JointError> {
+        let added = cuts
+            .into_iter()
+            .try_for_each(|cut| self.insert_cut(cut).map(|_| ()));
+        self.refresh_bands();
+        added
+    }
+
+    /// [`Joints::add_cut`] but the bands, which the caller refreshes.
+    fn insert_cut(&mut self, cut: Cut) -> Result<usize, JointError> {
         let name = cut.name.clone();
         if name.trim().is_empty() {
             return Err(JointError::EmptyName(name));
@@ -124,7 +143,6 @@ impl Joints {
         self.place_riders();
         self.order = parents_first(&self.sections);
         self.refresh_pivots();
-        self.refresh_bands();
         Ok(index)
     }
 
@@ -281,15 +299,16 @@ impl Joints {
         }
         let mut rebuilt = self.uncut();
         for c in cuts {
-            match rebuilt.add_cut(c.clone()) {
+            match rebuilt.insert_cut(c.clone()) {
                 // Two shared pivots on the section they now both split: the first keeps it.
-                Err(JointError::SharedPivot { .. }) => rebuilt.add_cut(Cut {
+                Err(JointError::SharedPivot { .. }) => rebuilt.insert_cut(Cut {
                     shared_pivot: false,
                     ..c
                 })?,
                 r => r?,
             };
         }
+        rebuilt.refresh_bands();
         *self = rebuilt;
         Ok(())
     }

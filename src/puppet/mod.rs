@@ -149,9 +149,7 @@ impl Puppet {
         let root = self.joints.sections()[0].name.clone();
         let cuts = crate::joints::suggest::suggest(&self.mesh, &self.skeleton, &root);
         let mut joints = self.joints.without_cuts(&root);
-        for c in &cuts {
-            joints.add_cut(c.clone())?;
-        }
+        joints.add_cuts(cuts.iter().cloned())?;
         self.joints = joints;
         self.sync_sections();
         Ok(cuts.len())

@@ -428,9 +428,7 @@ impl RigFile {
     /// name). The error names the cut.
     pub fn joints(&self, uncut: Joints) -> Result<Joints, JointError> {
         let mut joints = uncut.without_cuts(&self.root);
-        for c in &self.cuts {
-            joints.add_cut(c.clone())?;
-        }
+        joints.add_cuts(self.cuts.iter().cloned())?;
         Ok(joints)
     }
 }
