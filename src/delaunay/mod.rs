@@ -7,6 +7,7 @@
 //! * `build`: insertion order and the serial insertions;
 //! * `parallel`: the two-worker phases;
 //! * [`hook`]: [`EdgeHook`], how a caller learns of every edge as it is made;
+//! * `star`: [`Stars`], the Delaunay neighbours of a vertex after the build;
 //! * `check`: [`Delaunay::check`] against the definition.
 //!
 //! The design in brief:
@@ -41,10 +42,12 @@ mod cell;
 mod check;
 pub mod hook;
 mod parallel;
+mod star;
 mod walk;
 
 pub use check::Inconsistent;
 pub use hook::EdgeHook;
+pub use star::{StarScratch, Stars};
 
 use cell::{Cell, NONE};
 use glam::DVec3;

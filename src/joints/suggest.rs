@@ -666,11 +666,26 @@ impl<'a> Tree<'a> {
         // The trunk it grows from, one to three of its radii below the fork (through short
         // forks where other limbs join close by, like the webs between fingers).
         let below = self.trunk_ring(parent, low - 3.0, low - 1.0);
-        let parent_size = self.size(if below.is_empty() {
-            &self.segments[parent].vertices
+        // A limb growing right from the core (a finger from the palm) has no trunk below
+        // it: the core's own vertices are only the root's ball, so the body is measured
+        // beside the limb instead, by everything else as far from the core.
+        let beside = || {
+            let mut mine = vec![false; self.g.len()];
+            for &v in &whole {
+                mine[v as usize] = true;
+            }
+            (0..self.g.len() as u32)
+                .filter(|&v| {
+                    !mine[v as usize] && (low + 1.0..low + 3.0).contains(&self.g[v as usize])
+                })
+                .collect::<Vec<u32>>()
+        };
+        let parent_size = if below.is_empty() {
+            self.size(&self.segments[parent].vertices)
+                .max(self.size(&beside()))
         } else {
-            &below
-        });
+            self.size(&below)
+        };
         // Thinner than its trunk, and longer than it is wide (a nose is neither).
         if own <= 0.0 || own > THINNER * parent_size || high - low < ELONGATED * own / r {
             return None;

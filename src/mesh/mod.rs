@@ -38,7 +38,7 @@ pub use load::{
     file_mesh, load, load_with, parse, parse_obj, Format, LoadOptions, LoadReport, FILL_HOLES,
     WELD_TOLERANCE,
 };
-pub use normals::{fitted_normals, vertex_normals};
+pub use normals::{fit_surface, vertex_normals, SurfaceFit};
 pub use obj::write as write_obj;
 pub use parts::{Parts, RIDER_AREA};
 pub use subdivide::{subdivide_loop, subdivide_loop_values, subdivide_midpoint};

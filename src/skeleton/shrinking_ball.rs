@@ -6,9 +6,17 @@
 //! [`EdgeHook`], takes the minimum over each new edge once, with no pass over the finished
 //! tetrahedra (an edge destroyed later only offers a candidate no smaller than the
 //! minimum).
+//!
+//! The fitted ball ([`Tangent`]) starts at the fitted curvature radius and is not shrunk
+//! by its patch (the 1-ring neighbours within 45° of the tangent plane). Its limiting
+//! vertex's sphere may then hold a patch vertex, so `pq` need not be a Delaunay edge: the
+//! minimum over the Delaunay neighbours is an upper bound, exact wherever the limiting
+//! sphere is empty (see `ARCHITECTURE.md`), and the thickness clamp bounds it anyway.
 
-use crate::delaunay::{Delaunay, EdgeHook};
+use crate::delaunay::{Delaunay, EdgeHook, StarScratch};
+use crate::mesh::SurfaceFit;
 use glam::DVec3;
+use rayon::prelude::*;
 use std::cell::UnsafeCell;
 use std::time::Instant;
 
@@ -34,11 +42,78 @@ pub fn tangent_radius(p: DVec3, n: DVec3, q: DVec3) -> f64 {
 /// quotient is at least `x`.
 #[inline(always)]
 pub fn lower_tangent_radius(x: &mut f64, p: DVec3, n: DVec3, q: DVec3) {
+    Tangent::plain(n).lower(x, p, q, || false);
+}
+
+/// The most vertices one search of [`ShrinkingBalls::settle`] visits.
+pub const SEARCH_MAX: usize = 4096;
+
+/// [`ShrinkingBalls::settle`] leaves a ball that may be this much (relative) too large:
+/// a patch vertex on the ball's sphere up to rounding (every vertex of a sphere is) does
+/// not make it search the whole sphere.
+pub const SETTLE_SLACK: f64 = 1e-6;
+
+/// A point's tangent ball before any vertex shrinks it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tangent {
+    /// Unit normal: the ball's centre is on `−normal`.
+    pub normal: DVec3,
+    /// The radius it starts from: infinite (the shrinking ball), or the surface's fitted
+    /// curvature radius (the fitted ball), which stands for the vertices of the fitted
+    /// patch.
+    pub start: f64,
+    /// Whether the 1-ring is a fitted patch: a neighbour within 45° of the tangent plane is
+    /// then described by the normal and `start`, and does not shrink the ball.
+    pub patch: bool,
+}
+
+impl Tangent {
+    /// The shrinking ball's: no start, no patch, every vertex limits it.
+    pub fn plain(normal: DVec3) -> Self {
+        Tangent {
+            normal,
+            start: f64::INFINITY,
+            patch: false,
+        }
+    }
+
+    /// The fitted balls' ([`crate::mesh::fit_surface`]).
+    pub fn fitted(fit: &SurfaceFit) -> Vec<Tangent> {
+        fit.normals
+            .iter()
+            .zip(&fit.curvature_radius)
+            .zip(&fit.fitted)
+            .map(|((&normal, &start), &patch)| Tangent {
+                normal,
+                start,
+                patch,
+            })
+            .collect()
+    }
+
+    /// `*x = x.min(tangent_radius(p, normal, q))`, exactly ([`lower_tangent_radius`]),
+    /// unless `q` is on the patch: `neighbour()` (asked only then) says whether it is on
+    /// the 1-ring.
+    #[inline(always)]
+    pub fn lower(&self, x: &mut f64, p: DVec3, q: DVec3, neighbour: impl FnOnce() -> bool) {
+        lower_ball(self.normal, x, p, q, || self.patch && neighbour());
+    }
+}
+
+/// [`Tangent::lower`] with the patch asked only when needed: `*x` lowered to
+/// `tangent_radius(p, normal, q)` unless `q` is within 45° of the tangent plane and
+/// `on_patch()`.
+#[inline(always)]
+fn lower_ball(normal: DVec3, x: &mut f64, p: DVec3, q: DVec3, on_patch: impl FnOnce() -> bool) {
     let d = q - p;
-    let s = -2.0 * n.dot(d);
+    let s = -2.0 * normal.dot(d);
     if s > 0.0 {
         let l = d.length_squared();
         if l < *x * s * (1.0 + 4.0 * f64::EPSILON) {
+            // Within 45° of the tangent plane: `−n·d < |d| / √2`.
+            if s * s < 2.0 * l && on_patch() {
+                return;
+            }
             let r = l / s;
             if r < *x {
                 *x = r;
@@ -49,61 +124,201 @@ pub fn lower_tangent_radius(x: &mut f64, p: DVec3, n: DVec3, q: DVec3) {
 
 /// The shrinking-ball radius of every point, being taken over the Delaunay edges as they
 /// are made: the normals and radii in insertion order (internal ids).
-pub(super) struct ShrinkingBalls {
-    normals: Vec<DVec3>,
-    radius: Radii,
+pub(super) struct ShrinkingBalls<'a> {
+    balls: Balls,
+    /// Whether each point's 1-ring is a fitted patch ([`Tangent::patch`]); empty without
+    /// a fit.
+    patch: Vec<bool>,
+    /// The input index of each point, and the fit that knows the 1-rings (the fitted
+    /// ball's patches).
+    input: Vec<u32>,
+    fit: Option<&'a SurfaceFit>,
 }
 
-/// Radii the two workers of a parallel phase lower concurrently, each only its own side's
+/// A ball being shrunk: its normal and radius side by side, so that offering an edge reads
+/// one cache line per end.
+#[derive(Clone, Copy)]
+#[repr(C, align(32))]
+struct Ball {
+    normal: DVec3,
+    radius: f64,
+}
+
+/// Balls the two workers of a parallel phase lower concurrently, each only its own side's
 /// (the [`EdgeHook`] contract).
-struct Radii(Box<[UnsafeCell<f64>]>);
+struct Balls(Box<[UnsafeCell<Ball>]>);
 
 // SAFETY: concurrent calls of `ShrinkingBalls::edge` never touch the same entry (the
 // `EdgeHook` contract: the two workers never offer edges with a vertex in common), and
 // nothing reads the radii until the tetrahedralization is done.
-unsafe impl Sync for Radii {}
+unsafe impl Sync for Balls {}
 
-impl ShrinkingBalls {
-    /// No ball yet for the points whose input indices are `order`, with unit `normals` in
-    /// input order.
-    pub fn new(normals: &[DVec3], order: &[u32]) -> Self {
+impl<'a> ShrinkingBalls<'a> {
+    /// The balls of the points whose input indices are `order` at their start, with their
+    /// `tangents` in input order.
+    /// `fit` knows the 1-rings where some tangent has a patch.
+    pub fn new(tangents: &[Tangent], order: &[u32], fit: Option<&'a SurfaceFit>) -> Self {
+        let tangent = |i: &u32| tangents[*i as usize];
         ShrinkingBalls {
-            normals: order.iter().map(|&i| normals[i as usize]).collect(),
-            radius: Radii(
+            balls: Balls(
                 order
                     .iter()
-                    .map(|_| UnsafeCell::new(f64::INFINITY))
+                    .map(|i| {
+                        let t = tangent(i);
+                        UnsafeCell::new(Ball {
+                            normal: t.normal,
+                            radius: t.start,
+                        })
+                    })
                     .collect(),
             ),
+            patch: if fit.is_some() {
+                order.iter().map(|i| tangent(i).patch).collect()
+            } else {
+                Vec::new()
+            },
+            input: if fit.is_some() {
+                order.to_vec()
+            } else {
+                Vec::new()
+            },
+            fit,
         }
     }
 
-    /// The radii in insertion order: infinite for a point with no other on the inner side
-    /// of its tangent plane, and for a duplicate (never inserted).
+    /// Makes every fitted ball the largest one tangent at its point, no larger than its
+    /// start and empty of the vertices off its patch, whatever the Delaunay edges offered
+    /// (`positions` in input order). Returns how many balls were searched and how many of
+    /// those searches gave up after [`SEARCH_MAX`] vertices (their radius stays an upper
+    /// bound, which the thickness clamp bounds).
+    ///
+    /// Why only some: the minimum over the Delaunay neighbours off the patch gives a ball
+    /// `B`. If no patch vertex is strictly inside `B`, `B` is exact: a vertex `q` off the
+    /// patch with a smaller ball `B' ⊂ B` would leave `B'` free of patch vertices, so the
+    /// shrinking ball inside `B'` (empty of every vertex) would be limited by a vertex off
+    /// the patch on an empty sphere through `p`, a Delaunay neighbour smaller than the
+    /// minimum. Otherwise the ball is searched: the vertices in a closed ball, with `p` on
+    /// its sphere, are connected by Delaunay edges among themselves (lifted to the
+    /// paraboloid, the ball is a half-space, and the part of the lower hull below a plane is
+    /// connected), so a walk from `p` through them meets every vertex that can shrink it.
+    pub fn settle(&mut self, delaunay: &Delaunay, positions: &[DVec3]) -> (usize, usize) {
+        let Some(fit) = self.fit else {
+            return (0, 0);
+        };
+        let (pts, input) = delaunay.insertion_order();
+        let patch = &self.patch;
+        let mut balls: Vec<&mut Ball> = self.balls.0.iter_mut().map(UnsafeCell::get_mut).collect();
+        // The patch vertices of `k` strictly inside its ball (shrunk by the slack).
+        let inside = |k: usize| {
+            let (Ball { normal, radius: r }, p) = (*balls[k], pts[k]);
+            fit.ring(input[k]).filter(move |&w| {
+                let d = positions[w as usize] - p;
+                let s = -2.0 * normal.dot(d);
+                let l = d.length_squared();
+                s > 0.0 && s * s < 2.0 * l && l < r * s * (1.0 - SETTLE_SLACK)
+            })
+        };
+        let hides = |k: usize| {
+            patch[k]
+                && delaunay.duplicate_of(input[k] as usize).is_none()
+                && inside(k).next().is_some()
+        };
+        let hidden: Vec<usize> = (0..patch.len())
+            .into_par_iter()
+            .with_min_len(1024)
+            .filter(|&k| hides(k))
+            .collect();
+        if hidden.is_empty() {
+            return (0, 0);
+        }
+        let stars = delaunay.stars();
+        let mut internal = vec![0; input.len()];
+        for (k, &i) in input.iter().enumerate() {
+            internal[i as usize] = k as u32;
+        }
+        let searched: Vec<(f64, bool)> = hidden
+            .par_iter()
+            .with_min_len(64)
+            .map_init(
+                || (StarScratch::default(), Vec::new(), Vec::new()),
+                |(cells, near, seen), &k| {
+                    let (
+                        Ball {
+                            normal,
+                            radius: mut r,
+                        },
+                        p,
+                    ) = (*balls[k], pts[k]);
+                    // The walk starts from the patch vertices inside: every vertex inside
+                    // that is a Delaunay neighbour of `p` is one (one off the patch would
+                    // have shrunk the ball), so no path through `p` is lost.
+                    seen.clear();
+                    seen.extend(inside(k).map(|w| internal[w as usize]));
+                    let mut next = 0;
+                    while let Some(&x) = seen.get(next) {
+                        next += 1;
+                        stars.neighbours(x, cells, near);
+                        for &y in near.iter() {
+                            let d = pts[y as usize] - p;
+                            let s = -2.0 * normal.dot(d);
+                            // Outside the closed ball shrunk by the slack, or seen.
+                            if !(s > 0.0 && d.length_squared() <= r * s * (1.0 - SETTLE_SLACK))
+                                || seen.contains(&y)
+                            {
+                                continue;
+                            }
+                            // A searched ball has a patch (`hides`).
+                            lower_ball(normal, &mut r, p, pts[y as usize], || {
+                                fit.adjacent(input[k], input[y as usize])
+                            });
+                            seen.push(y);
+                            if seen.len() > SEARCH_MAX {
+                                return (r, true);
+                            }
+                        }
+                    }
+                    (r, false)
+                },
+            )
+            .collect();
+        let mut gave_up = 0;
+        for (&k, (r, capped)) in hidden.iter().zip(searched) {
+            balls[k].radius = r;
+            gave_up += usize::from(capped);
+        }
+        (hidden.len(), gave_up)
+    }
+
+    /// The radii in insertion order: infinite for a point with no start and no other point
+    /// on the inner side of its tangent plane off its patch, and for a duplicate (never
+    /// inserted).
     pub fn into_radii(self) -> Vec<f64> {
-        self.radius
+        self.balls
             .0
             .into_vec()
             .into_iter()
-            .map(UnsafeCell::into_inner)
+            .map(|b| b.into_inner().radius)
             .collect()
     }
 }
 
-impl EdgeHook for ShrinkingBalls {
-    /// Offers the Delaunay edge `ab` to the balls of `a` and `b` ([`tangent_radius`], which
+impl EdgeHook for ShrinkingBalls<'_> {
+    /// Offers the Delaunay edge `ab` to the balls of `a` and `b` ([`Tangent::lower`], which
     /// rounds alike whichever end comes first).
     #[inline(always)]
     unsafe fn edge(&self, pts: &[DVec3], a: u32, b: u32) {
         for (v, w) in [(a as usize, b as usize), (b as usize, a as usize)] {
             // SAFETY: no other thread touches the radius of `v` meanwhile (the contract).
-            let r = unsafe { &mut *self.radius.0[v].get() };
-            lower_tangent_radius(r, pts[v], self.normals[v], pts[w]);
+            let ball = unsafe { &mut *self.balls.0[v].get() };
+            lower_ball(ball.normal, &mut ball.radius, pts[v], pts[w], || {
+                self.fit
+                    .is_some_and(|f| self.patch[v] && f.adjacent(self.input[v], self.input[w]))
+            });
         }
     }
 }
 
-/// Stage 3 for [`Method::ShrinkingBall`] (no stage 2): the tetrahedralization took the
+/// Stage 3 for the shrinking balls (no stage 2): the tetrahedralization took the
 /// minimum over the Delaunay edges as it made them ([`ShrinkingBalls`]),
 /// `ball` in insertion order; mapped back to input order here. Returns the distances, the
 /// fallback count, 0 circumcentres used and the number of tetrahedra.
@@ -179,6 +394,7 @@ mod tests {
                 .map(|p| (*p + DVec3::new(0.1, -0.2, 0.05)).normalize())
                 .collect();
             let brute = brute_balls(&pts, &normals);
+            let tangents: Vec<Tangent> = normals.iter().map(|&n| Tangent::plain(n)).collect();
             let build = |first: usize, threads: usize| {
                 rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)
@@ -186,7 +402,7 @@ mod tests {
                     .unwrap()
                     .install(|| {
                         Delaunay::with_phases_from(&pts, &|| false, first, |order| {
-                            ShrinkingBalls::new(&normals, order)
+                            ShrinkingBalls::new(&tangents, order, None)
                         })
                     })
                     .map(|(delaunay, balls)| (delaunay, balls.into_radii()))
@@ -204,8 +420,9 @@ mod tests {
         let pts = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
         // The first with no point on its inner side.
         let normals = [DVec3::ONE.normalize(), DVec3::X, DVec3::Y, DVec3::Z];
+        let tangents = normals.map(Tangent::plain);
         let built = Delaunay::with_edge_hook(&pts, &|_| {}, &|| false, |order| {
-            ShrinkingBalls::new(&normals, order)
+            ShrinkingBalls::new(&tangents, order, None)
         })
         .map(|(delaunay, balls)| (delaunay, balls.into_radii()))
         .unwrap();

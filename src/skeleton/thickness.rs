@@ -2,7 +2,7 @@
 //! eight neighbours against a BVH, partly while the tetrahedralization runs; and the clamp
 //! `d_i ≤ t_i / 2`.
 
-use super::lower_tangent_radius;
+use super::Tangent;
 use crate::geom::bvh::{Bvh, Ray, PACKET};
 use glam::DVec3;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
@@ -132,18 +132,18 @@ impl<'a> Rays<'a> {
 /// there instead of crossing the model. Calls `poll()` every few thousand triangles.
 pub(super) fn ring_bounds(
     pts: &[DVec3],
-    normals: &[DVec3],
+    tangents: &[Tangent],
     triangles: &[[u32; 3]],
     poll: &dyn Fn(),
 ) -> Vec<f64> {
-    let mut bound = vec![f64::INFINITY; pts.len()];
+    let mut bound: Vec<f64> = tangents.iter().map(|t| t.start).collect();
     for chunk in triangles.chunks(4096) {
         poll();
         for tri in chunk {
             for k in 0..3 {
                 let a = tri[k] as usize;
                 for q in [tri[(k + 1) % 3], tri[(k + 2) % 3]] {
-                    lower_tangent_radius(&mut bound[a], pts[a], normals[a], pts[q as usize]);
+                    tangents[a].lower(&mut bound[a], pts[a], pts[q as usize], || true);
                 }
             }
         }
