@@ -131,10 +131,10 @@ impl SurfaceFit {
 
 /// Normals and curvature from a local height fit. In the frame of the `rough` normal at
 /// `p`, the height `z = d x + e y + (a x² + b xy + c y²) σ` (`σ = |q − p|² / (x² + y²)`) is
-/// fitted to the 1-ring by least squares; where it bends by more than [`FIT_BEND`] across
+/// fitted to the 1-ring by least squares; where it bends by more than `FIT_BEND` across
 /// the 1-ring, or the 1-ring is too small, the fit takes the 1- and 2-ring with the four
 /// cubic terms (times `σ` too), weighted by `exp(−(ρ/w)²)` (`ρ` the distance across the
-/// normal, `w` [`FIT_REACH`] times the mean distance of the points). Points more than 45°
+/// normal, `w` `FIT_REACH` times the mean distance of the points). Points more than 45°
 /// off the tangent plane are not on the patch and take no part.
 ///
 /// The factor `σ` makes the model exact on any sphere in any frame: a point `q` of a sphere
@@ -143,7 +143,7 @@ impl SurfaceFit {
 /// 30° between vertices. The normal's error falls with the cube of the edge length (the
 /// 2-ring fit) whatever the triangles around `p` look like, where the angle-weighted normal
 /// tilts by a few degrees on an uneven fan (see `ARCHITECTURE.md`, skeleton). A vertex
-/// whose fit is ill-conditioned, or turns its normal by more than [`FIT_MAX_TURN`] (a
+/// whose fit is ill-conditioned, or turns its normal by more than `FIT_MAX_TURN` (a
 /// crease, a corner: no smooth surface to fit), keeps its rough normal, no curvature and
 /// no patch.
 pub fn fit_surface(mesh: &Mesh, rough: &[DVec3]) -> SurfaceFit {

@@ -42,7 +42,7 @@ pub mod truth;
 mod voronoi;
 
 use shrinking_ball::{ball_distances, ShrinkingBalls};
-pub use shrinking_ball::{lower_tangent_radius, tangent_radius, Tangent, SEARCH_MAX, SETTLE_SLACK};
+pub use shrinking_ball::{tangent_radius, Tangent, SEARCH_MAX, SETTLE_SLACK};
 use thickness::{clamp, ring_bounds, Rays};
 use voronoi::voronoi_distances;
 
@@ -480,23 +480,18 @@ mod tests {
         let none = |_: &str, _: f64| {};
         let sk = build(&mesh, &normals, &SkeletonParams::default(), &none).unwrap();
         assert_eq!(sk.fallback, 0);
-        let fit = crate::mesh::fit_surface(&mesh, &normals);
-        let tangents = Tangent::fitted(&fit);
+        let start = crate::mesh::fit_surface(&mesh, &normals).curvature_radius;
+        let brute = truth::fitted_balls_by_brute_force(&mesh, &normals);
         let pts = &mesh.positions;
         let (mut largest, mut started) = (0, 0);
-        for (i, &d) in sk.distance.iter().enumerate() {
-            let t = tangents[i];
-            let mut brute = t.start;
-            for (j, &q) in pts.iter().enumerate() {
-                t.lower(&mut brute, pts[i], q, || fit.adjacent(i as u32, j as u32));
-            }
+        for (i, (&d, &brute)) in sk.distance.iter().zip(&brute).enumerate() {
             assert!(
                 d > 0.0 && d <= brute * (1.0 + 1e-12),
                 "vertex {i}: {d} > {brute}"
             );
             // A clamp of less than 1 % is not counted as one.
             largest += usize::from(d >= brute * 0.99);
-            started += usize::from(brute == t.start);
+            started += usize::from(brute == start[i]);
         }
         // Only clamped balls may be smaller than the largest one.
         assert!(

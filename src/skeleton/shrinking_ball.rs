@@ -23,7 +23,7 @@ use std::time::Instant;
 /// Radius of the ball tangent at `p` with its centre on `−n` (unit) and `q` on its sphere,
 /// `|q − p|² / (−2 n·(q − p))`; infinite when `q` is not on the inner side of the tangent
 /// plane. The shrinking ball of `p` is the minimum over the other points. The definition:
-/// running minima use [`lower_tangent_radius`], which gives the same bits without the
+/// running minima use [`Tangent::lower`], which gives the same bits without the
 /// division.
 #[inline(always)]
 pub fn tangent_radius(p: DVec3, n: DVec3, q: DVec3) -> f64 {
@@ -36,19 +36,10 @@ pub fn tangent_radius(p: DVec3, n: DVec3, q: DVec3) -> f64 {
     }
 }
 
-/// `*x = x.min(tangent_radius(p, n, q))`, exactly, without the division (or the write)
-/// when it cannot lower `x`, which is most of the time for a running minimum:
-/// `|d|² ≥ x·s·(1 + 4ε)` (the product rounded) implies `|d|² > x·s`, so the rounded
-/// quotient is at least `x`.
-#[inline(always)]
-pub fn lower_tangent_radius(x: &mut f64, p: DVec3, n: DVec3, q: DVec3) {
-    Tangent::plain(n).lower(x, p, q, || false);
-}
-
-/// The most vertices one search of [`ShrinkingBalls::settle`] visits.
+/// The most vertices one search of `ShrinkingBalls::settle` visits.
 pub const SEARCH_MAX: usize = 4096;
 
-/// [`ShrinkingBalls::settle`] leaves a ball that may be this much (relative) too large:
+/// `ShrinkingBalls::settle` leaves a ball that may be this much (relative) too large:
 /// a patch vertex on the ball's sphere up to rounding (every vertex of a sphere is) does
 /// not make it search the whole sphere.
 pub const SETTLE_SLACK: f64 = 1e-6;
@@ -91,7 +82,7 @@ impl Tangent {
             .collect()
     }
 
-    /// `*x = x.min(tangent_radius(p, normal, q))`, exactly ([`lower_tangent_radius`]),
+    /// `*x = x.min(tangent_radius(p, normal, q))`, exactly (see `lower_ball`),
     /// unless `q` is on the patch: `neighbour()` (asked only then) says whether it is on
     /// the 1-ring.
     #[inline(always)]
@@ -102,7 +93,9 @@ impl Tangent {
 
 /// [`Tangent::lower`] with the patch asked only when needed: `*x` lowered to
 /// `tangent_radius(p, normal, q)` unless `q` is within 45° of the tangent plane and
-/// `on_patch()`.
+/// `on_patch()`. Exactly, without the division (or the write) when it cannot lower `x`,
+/// which is most of the time for a running minimum: `|d|² ≥ x·s·(1 + 4ε)` (the product
+/// rounded) implies `|d|² > x·s`, so the rounded quotient is at least `x`.
 #[inline(always)]
 fn lower_ball(normal: DVec3, x: &mut f64, p: DVec3, q: DVec3, on_patch: impl FnOnce() -> bool) {
     let d = q - p;
@@ -481,7 +474,7 @@ mod tests {
             let far = [0.0, f64::INFINITY, scale * u().abs(), near[i as usize % 5]];
             for x in far {
                 let mut lowered = x;
-                lower_tangent_radius(&mut lowered, p, n, q);
+                Tangent::plain(n).lower(&mut lowered, p, q, || false);
                 assert_eq!(lowered.to_bits(), x.min(r).to_bits(), "{p} {n} {q} x = {x}");
                 checked += usize::from(r.is_finite());
             }

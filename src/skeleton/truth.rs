@@ -314,6 +314,26 @@ pub fn accuracy(cases: &[Case], methods: &[Method], sliver_ratio: f64) -> Vec<Ac
     rows
 }
 
+/// The fitted ball of every vertex by its definition, brute force over all vertices (no
+/// Delaunay edges; O(n²), for tests): from the fitted curvature radius, lowered by every
+/// vertex off the patch ([`super::Tangent::lower`]). What the default method computes
+/// before the thickness clamp, up to [`super::SETTLE_SLACK`].
+pub fn fitted_balls_by_brute_force(mesh: &Mesh, normals: &[DVec3]) -> Vec<f64> {
+    let fit = crate::mesh::fit_surface(mesh, normals);
+    let pts = &mesh.positions;
+    super::Tangent::fitted(&fit)
+        .par_iter()
+        .enumerate()
+        .map(|(i, t)| {
+            let mut r = t.start;
+            for (j, &q) in pts.iter().enumerate() {
+                t.lower(&mut r, pts[i], q, || fit.adjacent(i as u32, j as u32));
+            }
+            r
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
