@@ -14,10 +14,13 @@
 //! * `parts`: the connected pieces, body and riders;
 //! * `validate`: the checks, and turning inside-out parts;
 //! * `load`: the pipeline, its options and its report;
-//! * `normals`, `shapes`, `subdivide`: vertex normals, test shapes, refinement.
+//! * `normals`, `fit`: angle-weighted vertex normals, and the local surface fit that
+//!   sharpens them for the skeleton;
+//! * `shapes`, `subdivide`: test shapes, refinement.
 
 mod decimate;
 mod edges;
+mod fit;
 mod gltf;
 mod load;
 pub mod measure;
@@ -34,11 +37,12 @@ mod validate;
 mod weld;
 
 pub use decimate::decimate;
+pub use fit::{fit_surface, SurfaceFit};
 pub use load::{
     file_mesh, load, load_with, parse, parse_obj, Format, LoadOptions, LoadReport, FILL_HOLES,
     WELD_TOLERANCE,
 };
-pub use normals::{fit_surface, vertex_normals, SurfaceFit};
+pub use normals::vertex_normals;
 pub use obj::write as write_obj;
 pub use parts::{Parts, RIDER_AREA};
 pub use subdivide::{subdivide_loop, subdivide_loop_values, subdivide_midpoint};

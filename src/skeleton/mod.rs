@@ -85,7 +85,7 @@ pub enum Method {
     /// normals, which tilt on an uneven fan: see [`Method::FittedBall`].
     ShrinkingBall,
     /// The shrinking ball on a fitted surface ([`crate::mesh::fit_surface`]): along the
-    /// fitted normal, starting at the fitted curvature radius, shrunk by every vertex but
+    /// fitted normal, starting at the fitted radius, shrunk by every vertex but
     /// the 1-ring neighbours the fit stands for ([`Tangent`]). Within 1 % median and 3 %
     /// p95 on tidy and uneven meshes (alternating gaps, jittered, decimated) where the
     /// shrinking ball is off by up to 43 % (`BENCHMARKS.md`); exact to its definition
@@ -480,7 +480,7 @@ mod tests {
         let none = |_: &str, _: f64| {};
         let sk = build(&mesh, &normals, &SkeletonParams::default(), &none).unwrap();
         assert_eq!(sk.fallback, 0);
-        let start = crate::mesh::fit_surface(&mesh, &normals).curvature_radius;
+        let start = crate::mesh::fit_surface(&mesh, &normals).fitted_radius;
         let brute = truth::fitted_balls_by_brute_force(&mesh, &normals);
         let pts = &mesh.positions;
         let (mut largest, mut started) = (0, 0);

@@ -7,7 +7,7 @@
 //! tetrahedra (an edge destroyed later only offers a candidate no smaller than the
 //! minimum).
 //!
-//! The fitted ball ([`Tangent`]) starts at the fitted curvature radius and is not shrunk
+//! The fitted ball ([`Tangent`]) starts at the fitted radius and is not shrunk
 //! by its patch (the 1-ring neighbours within 45° of the tangent plane). Its limiting
 //! vertex's sphere may then hold a patch vertex, so `pq` need not be a Delaunay edge: the
 //! minimum over the Delaunay neighbours is an upper bound, exact wherever the limiting
@@ -49,9 +49,8 @@ pub const SETTLE_SLACK: f64 = 1e-6;
 pub struct Tangent {
     /// Unit normal: the ball's centre is on `−normal`.
     pub normal: DVec3,
-    /// The radius it starts from: infinite (the shrinking ball), or the surface's fitted
-    /// curvature radius (the fitted ball), which stands for the vertices of the fitted
-    /// patch.
+    /// The radius it starts from: infinite (the shrinking ball), or the fitted radius
+    /// (the fitted ball), which stands for the vertices of the fitted patch.
     pub start: f64,
     /// Whether the 1-ring is a fitted patch: a neighbour within 45° of the tangent plane is
     /// then described by the normal and `start`, and does not shrink the ball.
@@ -72,7 +71,7 @@ impl Tangent {
     pub fn fitted(fit: &SurfaceFit) -> Vec<Tangent> {
         fit.normals
             .iter()
-            .zip(&fit.curvature_radius)
+            .zip(&fit.fitted_radius)
             .zip(&fit.fitted)
             .map(|((&normal, &start), &patch)| Tangent {
                 normal,

@@ -315,7 +315,7 @@ pub fn accuracy(cases: &[Case], methods: &[Method], sliver_ratio: f64) -> Vec<Ac
 }
 
 /// The fitted ball of every vertex by its definition, brute force over all vertices (no
-/// Delaunay edges; O(n²), for tests): from the fitted curvature radius, lowered by every
+/// Delaunay edges; O(n²), for tests): from the fitted radius, lowered by every
 /// vertex off the patch ([`super::Tangent::lower`]). What the default method computes
 /// before the thickness clamp, up to [`super::SETTLE_SLACK`].
 pub fn fitted_balls_by_brute_force(mesh: &Mesh, normals: &[DVec3]) -> Vec<f64> {
