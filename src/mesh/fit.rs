@@ -314,7 +314,7 @@ fn eigenvalues(m11: f64, m12: f64, m22: f64) -> (f64, f64) {
 /// The height's local unit normal and its principal curvatures towards the inside, the
 /// quadratic terms taken as the second derivatives (exact to first order in the rough
 /// normal's tilt).
-fn height_shape(c: &[f64]) -> (DVec3, f64, f64) {
+fn height_shape(c: &[f64; 9]) -> (DVec3, f64, f64) {
     // The eigenvalues of `I⁻¹ II` of the graph `z(x, y)`.
     let (fx, fy) = (c[0], c[1]);
     let (fxx, fxy, fyy) = (2.0 * c[2], c[3], 2.0 * c[4]);
@@ -352,26 +352,35 @@ fn quadric_shape(c: &[f64; 8]) -> (DVec3, f64, f64) {
     (normal, low, high)
 }
 
-/// The 1-ring's fit: the height, unweighted, a cubic when there are enough points for one.
+/// The height fitted to `points`: a cubic when there are enough points for one, else a
+/// quadric (its cubic coefficients 0); and its residual ([`solve`]).
+fn solve_height(frame: &Frame, points: &[DVec3]) -> Option<([f64; 9], f64)> {
+    if points.len() >= CUBIC_MIN {
+        solve(frame, points, height_terms::<9>)
+    } else {
+        let (c, residual) = solve(frame, points, height_terms::<5>)?;
+        Some((
+            std::array::from_fn(|k| c.get(k).copied().unwrap_or(0.0)),
+            residual,
+        ))
+    }
+}
+
+/// The 1-ring's fit: the height, unweighted.
 fn fit_ring(p: DVec3, n: DVec3, points: &[DVec3]) -> Option<Fit> {
     let frame = Frame::new(p, n, points, 0.0)?;
-    let shape = if points.len() >= CUBIC_MIN {
-        height_shape(&solve(&frame, points, height_terms::<9>)?.0)
-    } else {
-        height_shape(&solve(&frame, points, height_terms::<5>)?.0)
-    };
-    finish(&frame, shape, f64::INFINITY)
+    finish(
+        &frame,
+        height_shape(&solve_height(&frame, points)?.0),
+        f64::INFINITY,
+    )
 }
 
 /// The 1- and 2-ring's fit, weighted: the height, or the quadric where it fits far better;
 /// the radius no larger than the smallest ball through the fitted surface.
 fn fit_wide(p: DVec3, n: DVec3, points: &[DVec3]) -> Option<Fit> {
     let frame = Frame::new(p, n, points, FIT_REACH)?;
-    let height = if points.len() >= CUBIC_MIN {
-        solve(&frame, points, height_terms::<9>).map(|(c, r)| (c.to_vec(), r))
-    } else {
-        solve(&frame, points, height_terms::<5>).map(|(c, r)| (c.to_vec(), r))
-    };
+    let height = solve_height(&frame, points);
     // Fewer points and the quadric's 8 terms fit them all, noise included.
     let quadric = (points.len() >= QUADRIC_MIN)
         .then(|| solve(&frame, points, quadric_terms))
@@ -452,6 +461,9 @@ fn smallest_ball(
     }
     let mut best = f64::INFINITY;
     for (&r, (cos, sin)) in reach.iter().zip(directions) {
+        if r == 0.0 {
+            continue;
+        }
         for fraction in [0.5, 1.0] {
             let (x, y) = (cos * r * fraction, sin * r * fraction);
             let (a, b, c) = quadratic(x, y);
@@ -460,7 +472,7 @@ fn smallest_ball(
             let z = 2.0 * c / (root - b);
             let l = DVec3::new(x, y, z);
             let s = -2.0 * normal.dot(l);
-            if r > 0.0 && root - b > 0.0 && z * z < x * x + y * y && s > 0.0 {
+            if root - b > 0.0 && z * z < x * x + y * y && s > 0.0 {
                 best = best.min(l.length_squared() / s);
             }
         }
