@@ -45,16 +45,17 @@ fn stages(c: &mut Criterion) {
             })
         });
         for constraint in [Constraint::Circumsphere, Constraint::SpringReduction] {
-            let params = Params {
-                constraint,
-                ..Params::default()
-            };
+            let mut params = Params::default();
+            params.solver.constraint = constraint;
             let options = Options {
                 sleeping: false,
                 ..Options::default()
             };
-            let mut sim =
-                Simulation::with_options(scenario.rig(params.bone_distance), params, options);
+            let mut sim = Simulation::with_options(
+                scenario.rig(params.material.bone_distance),
+                params,
+                options,
+            );
             sim.set_sections(scenario.joints.section_of().to_vec());
             let poses: Vec<Pose> = (0..60).map(|k| scenario.pose(k as f64 / 60.0)).collect();
             let mut k = 0;
@@ -70,7 +71,7 @@ fn stages(c: &mut Criterion) {
             });
         }
         let params = Params::default();
-        let mut sim = Simulation::new(scenario.rig(params.bone_distance), params);
+        let mut sim = Simulation::new(scenario.rig(params.material.bone_distance), params);
         sim.set_sections(scenario.joints.section_of().to_vec());
         let rest = scenario.pose(0.0);
         while !sim.is_asleep() {

@@ -25,7 +25,7 @@ impl Format {
 
 /// Why a text file could not be read; the message is one line.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-pub enum FileError {
+pub enum TextError {
     /// The file cannot be read (why, in words).
     #[error("cannot read file: {0}")]
     Read(String),
@@ -38,10 +38,10 @@ pub enum FileError {
 }
 
 /// Parses `text`; the error is one line naming the line and column.
-pub fn parse<T: DeserializeOwned>(text: &str, format: Format) -> Result<T, FileError> {
+pub fn parse<T: DeserializeOwned>(text: &str, format: Format) -> Result<T, TextError> {
     match format {
-        Format::Toml => toml::from_str(text).map_err(|e| FileError::Syntax(one_line_toml(&e))),
-        Format::Json => serde_json::from_str(text).map_err(|e| FileError::Syntax(e.to_string())),
+        Format::Toml => toml::from_str(text).map_err(|e| TextError::Syntax(one_line_toml(&e))),
+        Format::Json => serde_json::from_str(text).map_err(|e| TextError::Syntax(e.to_string())),
     }
 }
 
@@ -74,12 +74,12 @@ pub fn io_message(e: &std::io::Error) -> String {
 }
 
 /// Reads a whole text file; the error says why in words.
-pub fn read_text(path: &Path) -> Result<String, FileError> {
+pub fn read_text(path: &Path) -> Result<String, TextError> {
     if path.is_dir() {
-        return Err(FileError::Read("is a directory".into()));
+        return Err(TextError::Read("is a directory".into()));
     }
-    let bytes = std::fs::read(path).map_err(|e| FileError::Read(io_message(&e)))?;
-    String::from_utf8(bytes).map_err(|_| FileError::NotText)
+    let bytes = std::fs::read(path).map_err(|e| TextError::Read(io_message(&e)))?;
+    String::from_utf8(bytes).map_err(|_| TextError::NotText)
 }
 
 #[cfg(test)]

@@ -24,6 +24,7 @@ pub mod joints;
 pub mod mesh;
 pub mod progress;
 pub mod puppet;
+pub mod random;
 pub mod rig;
 pub mod scenario;
 pub mod session;

@@ -7,7 +7,7 @@ use glam::{DVec3, Vec3};
 use puppet::files::Format;
 use puppet::joints::{Cut, Local, Shape};
 use puppet::mesh::{self, shapes};
-use puppet::sim::{Constraint, Params};
+use puppet::sim::{Constraint, Material, Params};
 use puppet::{Puppet, RigFile};
 use std::path::Path;
 
@@ -59,7 +59,7 @@ fn plane_distance(p: &Puppet, i: usize, name: &str) -> f64 {
 /// vertex's circumsphere radius `ρ_i = (f_max − 1) L_i` (the most the constraint allows);
 /// and the number of such vertices.
 fn far_error(p: &Puppet, local: &[Local], margin: f64) -> (f64, usize) {
-    let f = (p.sim.params().max_length - 1.0) as f64;
+    let f = (p.sim.params().material.max_length - 1.0) as f64;
     let world = p.joints.world(local);
     let mut worst: f64 = 0.0;
     let mut count = 0;
@@ -111,11 +111,12 @@ fn a_section_held_at_90_degrees_settles_to_its_rigidly_rotated_rest_shape() {
         .unwrap();
     let pivot = p.joints.sections()[top].pivot;
     let expected = pivot + DVec3::new(-(p.mesh.positions[tip].y - pivot.y), 0.0, 0.0);
-    let rho_tip = (p.sim.params().max_length - 1.0) as f64 * p.sim.rig().bone_length[tip] as f64;
+    let rho_tip =
+        (p.sim.params().material.max_length - 1.0) as f64 * p.sim.rig().bone_length[tip] as f64;
     assert!((p.sim.positions().get(tip).as_dvec3() - expected).length() < 0.25 * rho_tip);
     // Near the cut the surface is stretched and bent, but every point still satisfies the
     // constraint around its posed rest position.
-    let rho = p.sim.params().max_length - 1.0;
+    let rho = p.sim.params().material.max_length - 1.0;
     for i in 0..p.mesh.positions.len() {
         let d = (p.sim.positions().get(i) - p.sim.target(i)).length();
         assert!(d <= rho * p.sim.rig().bone_length[i] * (1.0 + 1e-5) + 1e-6);
@@ -199,7 +200,8 @@ fn a_three_level_hierarchy_composes_as_documented() {
     let rest = p.mesh.positions[tip];
     let expected = rot(rot(rot(rest, pivots[2]), pivots[1]), pivots[0]);
     assert!((world[ids[2]].transform_point3(rest) - expected).length() < 1e-12);
-    let rho_tip = (p.sim.params().max_length - 1.0) as f64 * p.sim.rig().bone_length[tip] as f64;
+    let rho_tip =
+        (p.sim.params().material.max_length - 1.0) as f64 * p.sim.rig().bone_length[tip] as f64;
     assert!((p.sim.positions().get(tip).as_dvec3() - expected).length() < 0.25 * rho_tip);
 }
 
@@ -210,7 +212,7 @@ fn the_frog_jaw_folds_without_nan_or_escape() {
     let (mesh, _) = mesh::load(spec.mesh.as_deref().unwrap()).unwrap();
     for constraint in [Constraint::Circumsphere, Constraint::SpringReduction] {
         let mut spec = spec.clone();
-        spec.params.constraint = constraint;
+        spec.params.solver.constraint = constraint;
         let mut p = Puppet::build(mesh.clone(), spec, puppet::progress::silent()).unwrap();
         let jaw = p.joints.find("jaw").unwrap();
         let head = p.joints.find("head").unwrap();
@@ -258,15 +260,15 @@ fn the_frog_jaw_folds_without_nan_or_escape() {
                 Constraint::Circumsphere => {
                     assert!(
                         (y - p.sim.target(i)).length()
-                            <= (prm.max_length - 1.0) * l * 1.00001 + 1e-6
+                            <= (prm.material.max_length - 1.0) * l * 1.00001 + 1e-6
                     )
                 }
                 Constraint::SpringReduction => {
                     let (bi, bo) = p.sim.bone_points(i);
                     for b in [bi, bo] {
                         let len = (y - b).length();
-                        assert!(len <= prm.max_length * l * 1.00001 + 1e-6);
-                        assert!(len >= prm.min_length * l * 0.99999 - 1e-6);
+                        assert!(len <= prm.material.max_length * l * 1.00001 + 1e-6);
+                        assert!(len >= prm.material.min_length * l * 0.99999 - 1e-6);
                     }
                 }
             }
@@ -276,11 +278,11 @@ fn the_frog_jaw_folds_without_nan_or_escape() {
 
 #[test]
 fn a_rig_written_and_read_back_gives_the_same_simulation_bit_for_bit() {
-    let params = Params {
+    let params = Params::from(Material {
         damping: 0.93,
         stiffness: 0.7,
-        ..Params::default()
-    };
+        ..Material::default()
+    });
     let mut a = arm(
         vec![cut("top", "root", 0.3), cut("tip", "top", 1.1)],
         params,
@@ -340,23 +342,24 @@ fn random_extreme_poses_and_sliders_never_break_the_jaw() {
                     lo + (hi - lo) * r as f32
                 }
             };
-            p.sim.set_params(Params {
-                damping: pick(rnd(), 0.0, 1.0),
-                stiffness: pick(rnd(), 0.0, 1.0),
-                bone_distance: pick(rnd(), 0.0, 1.0),
-                max_length: pick(rnd(), 1.0, 3.0),
-                min_length: pick(rnd(), 0.0, 1.0),
-                constraint: if rnd() < 0.5 {
-                    Constraint::Circumsphere
-                } else {
-                    Constraint::SpringReduction
-                },
-                reduction_iterations: 1 + (rnd() * 8.0) as u32,
-                time_step: pick(rnd(), 1.0 / 2000.0, 1.0 / 60.0),
-                gravity: [0.0, pick(rnd(), -10.0, 10.0), 0.0],
-                stiffening: (rnd() * 5.0) as u32,
-                ..Params::default()
-            });
+            // Drawn in the order the test has always drawn them.
+            let mut params = Params::default();
+            let m = &mut params.material;
+            m.damping = pick(rnd(), 0.0, 1.0);
+            m.stiffness = pick(rnd(), 0.0, 1.0);
+            m.bone_distance = pick(rnd(), 0.0, 1.0);
+            m.max_length = pick(rnd(), 1.0, 3.0);
+            m.min_length = pick(rnd(), 0.0, 1.0);
+            params.solver.constraint = if rnd() < 0.5 {
+                Constraint::Circumsphere
+            } else {
+                Constraint::SpringReduction
+            };
+            params.solver.reduction_iterations = 1 + (rnd() * 8.0) as u32;
+            params.solver.time_step = pick(rnd(), 1.0 / 2000.0, 1.0 / 60.0);
+            params.world.gravity = [0.0, pick(rnd(), -10.0, 10.0), 0.0];
+            params.material.stiffening = (rnd() * 5.0) as u32;
+            p.sim.set_params(params);
         }
         for l in local.iter_mut() {
             let axis = DVec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5);
@@ -366,9 +369,9 @@ fn random_extreme_poses_and_sliders_never_break_the_jaw() {
         p.sim.step(&pose);
         assert!(all_finite(&p), "step {step}");
         let prm = *p.sim.params();
-        if prm.constraint == Constraint::Circumsphere && !prm.is_static() {
+        if prm.solver.constraint == Constraint::Circumsphere && !prm.is_static() {
             for i in 0..p.mesh.positions.len() {
-                let rho = (prm.max_length - 1.0) * p.sim.rig().bone_length[i];
+                let rho = (prm.material.max_length - 1.0) * p.sim.rig().bone_length[i];
                 let d = (p.sim.positions().get(i) - p.sim.target(i)).length();
                 assert!(
                     d <= rho * 1.0001 + 1e-6,

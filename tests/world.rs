@@ -5,7 +5,7 @@
 mod common;
 use common::{example, ok, puppet, scratch};
 use glam::{Affine3A, Quat, Vec3};
-use puppet::sim::{Params, Pose, Regions, Simulation};
+use puppet::sim::{Material, Pose, Regions, Simulation};
 use puppet::{Puppet, RigFile};
 use std::path::Path;
 
@@ -104,7 +104,7 @@ fn gravity_sags_within_the_constraint_and_not_a_static_material() {
     let pose = Pose::rest(2);
     let sag = settle(&mut p.sim, &pose, 3000);
     assert!(p.sim.is_asleep(), "settles");
-    let rho = (p.sim.params().max_length - 1.0)
+    let rho = (p.sim.params().material.max_length - 1.0)
         * p.sim.rig().bone_length.iter().copied().fold(0.0, f32::max);
     assert!(sag > 0.2 * rho && sag <= rho * 1.0001, "sag {sag}, ρ {rho}");
     // Every vertex moved down, none up.
@@ -162,7 +162,7 @@ fn a_section_posed_into_the_floor_squashes_against_it() {
     assert!(squashed > 10, "{squashed} vertices on the floor");
     // A turned pose too, and gravity in any direction: still nothing below it.
     let mut q = *p.sim.params();
-    q.gravity = [3.0, -5.0, 2.0];
+    q.world.gravity = [3.0, -5.0, 2.0];
     p.sim.set_params(q);
     let pose = Pose {
         transforms: vec![
@@ -200,7 +200,10 @@ fn regions_and_pinning_by_section_and_painted() {
     assert!(moved(0) < 1e-5, "pinned root moved {}", moved(0));
     assert!(moved(1) > 1e-3, "water arm sagged {}", moved(1));
     let arm_vertex = sections.iter().position(|&s| s == 1).unwrap();
-    let water = p.sim.regions().params_of(arm_vertex, p.sim.params());
+    let water = p
+        .sim
+        .regions()
+        .material_of(arm_vertex, &p.sim.params().material);
     assert_eq!((water.damping, water.stiffening), (0.99, 2));
 
     // The rig written and read back gives the same regions (painted weights included).
@@ -310,7 +313,7 @@ fn uniform_regions_change_nothing() {
     let n = arm("").unwrap().mesh.positions.len();
     let zero = Regions {
         layers: vec![puppet::sim::Layer {
-            params: Params::default(),
+            material: Material::default(),
             weight: vec![0.0; n],
         }],
         pin: vec![0.0; n],

@@ -72,7 +72,7 @@ pub struct Options {
 /// it shows.
 pub fn run(options: Options) -> Result<Option<Report>> {
     let event_loop = EventLoop::new().context(
-        "cannot open a window (no display?); the headless commands are `puppet skeleton`, `puppet simulate` and `puppet bench`",
+        "cannot open a window (no display?); the headless commands are `puppet skeleton`, `puppet suggest`, `puppet simulate` and `puppet bench`",
     )?;
     let mut app = App {
         options: Some(options),

@@ -1,12 +1,15 @@
 //! The command line: argument parsing, the `error: <file>: <problem>` convention (exit
-//! status 2), progress bars and the `skeleton` and `bench` commands. Only this module and
-//! `main.rs` print.
+//! status 2), progress bars and the commands (`skeleton`, `suggest`, `simulate`, `bench`).
+//! Only this module and `main.rs` print.
 
 pub mod bench;
 pub mod progress_bar;
 pub mod simulate;
 pub mod skeleton;
 pub mod suggest;
+
+#[cfg(test)]
+mod docs;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -66,8 +69,8 @@ pub enum Command {
     Suggest(suggest::Args),
     /// Play an animation file through the simulation and write OBJ frames (headless).
     Simulate(simulate::Args),
-    /// Measure (every figure in BENCHMARKS.md): throughput, accuracy, stress, skip,
-    /// skeleton, skeleton-speed, machine.
+    /// Measure (every figure in BENCHMARKS.md): throughput, accuracy, stress, skip, sag,
+    /// export, joints, skeleton, skeleton-speed, skeleton-change, machine.
     #[command(arg_required_else_help = false)]
     Bench {
         /// What to measure.
@@ -204,6 +207,6 @@ fn open(cli: &Cli) -> Result<()> {
 #[cfg(not(feature = "gui"))]
 fn open(_cli: &Cli) -> Result<()> {
     anyhow::bail!(
-        "this build of puppet has no window (built without the `gui` feature); the headless commands are `puppet skeleton`, `puppet simulate` and `puppet bench`"
+        "this build of puppet has no window (built without the `gui` feature); the headless commands are `puppet skeleton`, `puppet suggest`, `puppet simulate` and `puppet bench`"
     )
 }

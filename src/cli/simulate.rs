@@ -59,7 +59,7 @@ pub struct Args {
     /// for their names).
     #[arg(long)]
     pub suggest_joints: bool,
-    /// Gravity in g pulling down (−y), over the rig's `gravity` (see `Params::gravity`:
+    /// Gravity in g pulling down (−y), over the rig's `gravity` (see `World::gravity`:
     /// 1 is 9.81 m/s² on a puppet one metre across).
     #[arg(long, allow_negative_numbers = true)]
     pub gravity: Option<f32>,
@@ -194,14 +194,14 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     bar.finish();
     let mut params = *puppet.sim.params();
     if let Some(g) = args.gravity {
-        params.gravity = [0.0, -g, 0.0];
+        params.world.gravity = [0.0, -g, 0.0];
     }
     if let Some(h) = args.floor {
-        params.floor = true;
-        params.floor_height = h;
+        params.world.floor = true;
+        params.world.floor_height = h;
     }
     if let Some(f) = args.friction {
-        params.floor_friction = f;
+        params.world.floor_friction = f;
     }
     params
         .check()
@@ -221,7 +221,7 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         _ => None,
     };
 
-    let h = puppet.sim.params().time_step as f64;
+    let h = puppet.sim.params().solver.time_step as f64;
     let mut player = Player::new(bound, args.fps);
     let mut step_ms = Vec::with_capacity(player.steps_by(h, frames).min(1 << 20) as usize);
     for frame in 1..=frames {
@@ -275,14 +275,14 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         vertices: puppet.mesh.positions.len(),
         springs: puppet.sim.rig().spring_count(),
         sections: puppet.joints.sections().len(),
-        method: match puppet.sim.params().constraint {
+        method: match puppet.sim.params().solver.constraint {
             puppet::sim::Constraint::Circumsphere => "circumsphere",
             puppet::sim::Constraint::SpringReduction => "spring-reduction",
         },
         frames,
         fps: args.fps,
         steps,
-        time_step: puppet.sim.params().time_step,
+        time_step: puppet.sim.params().solver.time_step,
         ms_per_step_median: ms_median,
         ms_per_step_p95: ms_p95,
         seconds_skeleton,

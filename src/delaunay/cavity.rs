@@ -14,8 +14,8 @@ use super::hook::EdgeHook;
 use super::parallel::MIXED;
 use super::walk::Located;
 use super::{FACE, INFINITE};
-use crate::geom::hilbert::SplitMix;
 use crate::geom::predicates::{insphere, orient3d};
+use crate::random::SplitMix;
 use glam::DVec3;
 
 /// Cavities whose boundary has fewer vertices than this (all but a few) link their new

@@ -1,7 +1,7 @@
 use super::*;
-use crate::geom::hilbert::SplitMix;
 use crate::geom::predicates::insphere;
 use crate::mesh::shapes;
+use crate::random::SplitMix;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Brute force: no input point strictly inside any finite tetrahedron's circumsphere.

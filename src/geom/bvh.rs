@@ -621,7 +621,7 @@ mod tests {
     /// A cube grid (axis-aligned faces) and an icosphere with randomly scaled radii.
     fn test_meshes(seed: u64) -> [crate::mesh::Mesh; 2] {
         let mut bumpy = shapes::icosphere(1.0, 3);
-        let mut rng = crate::geom::hilbert::SplitMix(seed);
+        let mut rng = crate::random::SplitMix(seed);
         let mut unit = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
         for p in &mut bumpy.positions {
             *p *= 1.0 + 0.2 * unit();

@@ -469,7 +469,7 @@ fn insphere_integer(pts: [[f64; 3]; 4], e: [f64; 3]) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::hilbert::SplitMix;
+    use crate::random::SplitMix;
     use robust::Coord3D;
 
     fn c3(p: [f64; 3]) -> Coord3D<f64> {

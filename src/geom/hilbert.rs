@@ -4,6 +4,7 @@
 //! randomized incremental construction. The random source is seeded, so the order (and the
 //! tetrahedralization) is deterministic.
 
+use crate::random::SplitMix;
 use glam::DVec3;
 
 /// Hilbert index of a point with `bits`-bit integer coordinates (Skilling's transpose
@@ -96,22 +97,6 @@ fn hilbert_keys(
             }
         });
     keys
-}
-
-/// A small deterministic PRNG (SplitMix64).
-#[derive(Clone, Debug)]
-pub struct SplitMix(pub u64);
-
-impl SplitMix {
-    /// The next pseudo-random 64 bits.
-    #[inline]
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
 }
 
 /// Maps points to `bits`-bit integer coordinates over their bounding box.

@@ -146,7 +146,7 @@ mod tests {
     #[test]
     fn filters_agree_with_exact_predicates_near_degeneracy() {
         // Nearly coplanar / cospherical configurations straddle the filter bound.
-        let mut rng = crate::geom::hilbert::SplitMix(3);
+        let mut rng = crate::random::SplitMix(3);
         let mut u = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
         for i in 0..20_000 {
             let scale = 10f64.powi(i % 7 - 3);

@@ -152,7 +152,7 @@ pub fn jittered_ellipsoid(axes: DVec3, levels: usize, jitter: f64, seed: u64) ->
         .map(|&(a, b)| m.positions[a as usize].distance(m.positions[b as usize]))
         .sum::<f64>()
         / edges.len().max(1) as f64;
-    let mut rng = crate::geom::hilbert::SplitMix(seed);
+    let mut rng = crate::random::SplitMix(seed);
     let mut unit = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
     for p in &mut m.positions {
         let n = p.normalize();

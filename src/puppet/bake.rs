@@ -56,7 +56,7 @@ impl Player {
 
     /// Steps until frame `frame` is done.
     pub fn play_to(&mut self, puppet: &mut Puppet, frame: u64) {
-        let target = self.steps_by(puppet.sim.params().time_step as f64, frame);
+        let target = self.steps_by(puppet.sim.params().solver.time_step as f64, frame);
         while self.steps < target {
             self.step(puppet);
         }

@@ -149,7 +149,7 @@ impl Joint {
         };
         let mut p = Puppet::build(mesh.clone(), spec, crate::progress::silent())?;
         let child = p.joints.find(CUT).unwrap_or(0);
-        let dt = f64::from(p.sim.params().time_step);
+        let dt = f64::from(p.sim.params().solver.time_step);
         let steps = ((RAMP + HOLD) / dt).ceil() as usize;
         let mut local = vec![Local::default(); p.joints.sections().len()];
         let mut scratch = crate::joints::PoseScratch::default();

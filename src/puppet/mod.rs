@@ -53,7 +53,7 @@ pub struct Puppet {
     pub joints: Joints,
     /// The mass points and their state.
     pub sim: Simulation,
-    /// The rig file it was built from (material name, skeleton method, mesh path).
+    /// The rig file it was built from (preset name, skeleton method, mesh path).
     pub rig_file: RigFile,
 }
 
@@ -80,7 +80,7 @@ impl Puppet {
             &mesh,
             &normals,
             &skeleton.distance,
-            rig_file.params.bone_distance,
+            rig_file.params.material.bone_distance,
         );
         let mut sim = Simulation::new(rig, rig_file.params);
         sim.set_sections(joints.transform_of().to_vec());
@@ -103,7 +103,7 @@ impl Puppet {
         let mut out = Regions::default();
         for r in &self.rig_file.regions {
             out.layers.push(Layer {
-                params: r.params,
+                material: r.material,
                 weight: r
                     .paint
                     .resolve(&self.joints, strict)
@@ -166,7 +166,7 @@ impl Puppet {
         local: &mut Vec<Local>,
         scratch: &mut PoseScratch,
     ) {
-        let h = self.sim.params().time_step as f64;
+        let h = self.sim.params().solver.time_step as f64;
         animation.sample(step as f64 * h, local);
         let pose = self.joints.pose_into(local, scratch);
         self.sim.step(pose);

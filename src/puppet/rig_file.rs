@@ -47,7 +47,7 @@
 use super::paint::{self, Paint};
 use crate::files::{self, Format};
 use crate::joints::{Cut, JointError, Joints, Shape, ROOT};
-use crate::sim::{self, Constraint, Params};
+use crate::sim::{Constraint, Material, Params};
 use crate::skeleton::Method;
 use glam::DVec3;
 use std::path::{Path, PathBuf};
@@ -196,11 +196,10 @@ struct RigEntry {
 pub struct Region {
     /// The name panels show.
     pub name: String,
-    /// Material name (a preset, or "custom").
-    pub material: String,
-    /// Its parameters (preset, then the file's overrides); only the material fields count
-    /// (see [`crate::sim::regions`]).
-    pub params: Params,
+    /// The preset its material started from, or "custom" (the file's `material`).
+    pub preset: String,
+    /// Its material (the preset, then the file's overrides).
+    pub material: Material,
     /// Where it applies.
     pub paint: Paint,
 }
@@ -212,9 +211,9 @@ pub struct RigFile {
     pub mesh: Option<PathBuf>,
     /// Skeleton method.
     pub method: Method,
-    /// Material name (a preset, or "custom").
-    pub material: String,
-    /// Simulation parameters (preset, then the file's overrides).
+    /// The preset the base material started from, or "custom" (the file's `material`).
+    pub preset: String,
+    /// Simulation parameters (the preset's material, then the file's overrides).
     pub params: Params,
     /// Name of the root section.
     pub root: String,
@@ -231,7 +230,7 @@ impl Default for RigFile {
         RigFile {
             mesh: None,
             method: Method::default(),
-            material: "skin".into(),
+            preset: "skin".into(),
             params: Params::default(),
             root: ROOT.into(),
             cuts: Vec::new(),
@@ -241,22 +240,18 @@ impl Default for RigFile {
     }
 }
 
-/// A preset's parameters by name, or the defaults for "custom".
-fn preset(material: &str) -> Result<Params, RigError> {
-    if material == "custom" {
-        return Ok(Params::default());
+/// A preset's material by name, or the default material for "custom".
+fn preset(name: &str) -> Result<Material, RigError> {
+    if name == "custom" {
+        return Ok(Material::default());
     }
-    sim::presets()
-        .into_iter()
-        .find(|m| m.name == material)
-        .map(|m| m.params)
-        .ok_or_else(|| {
-            let names: Vec<String> = sim::presets().into_iter().map(|m| m.name).collect();
-            RigError(format!(
-                "material '{material}' is not a preset (presets: {}; or \"custom\")",
-                names.join(", ")
-            ))
-        })
+    Material::preset(name).ok_or_else(|| {
+        let names: Vec<String> = crate::sim::presets().into_iter().map(|m| m.name).collect();
+        RigError(format!(
+            "material '{name}' is not a preset (presets: {}; or \"custom\")",
+            names.join(", ")
+        ))
+    })
 }
 
 /// Painted weights from a file, the error saying where.
@@ -282,10 +277,10 @@ impl RigFile {
     /// Parses a rig; a relative mesh path is taken relative to `base`.
     pub fn parse(text: &str, format: Format, base: &Path) -> Result<RigFile, RigError> {
         let entry: RigEntry = files::parse(text, format).map_err(|e| RigError(e.to_string()))?;
-        let material = entry.material.unwrap_or_else(|| "skin".into());
-        let mut params = preset(&material)?;
+        let base_preset = entry.material.unwrap_or_else(|| "skin".into());
+        let mut params = Params::from(preset(&base_preset)?);
         if let Some(c) = entry.constraint {
-            params.constraint = c;
+            params.solver.constraint = c;
         }
         if let Some(overrides) = entry.params {
             params = overlay(params, overrides)?;
@@ -312,8 +307,11 @@ impl RigFile {
             if r.name.trim().is_empty() {
                 return Err(RigError(format!("region {}: the name is empty", k + 1)));
             }
-            let material = r.material.unwrap_or_else(|| "custom".into());
-            let mut params = preset(&material).map_err(|e| RigError(format!("{at}: {e}")))?;
+            let name = r.material.unwrap_or_else(|| "custom".into());
+            let material = preset(&name).map_err(|e| RigError(format!("{at}: {e}")))?;
+            // Over a whole set of parameters, as files have always been read: only the
+            // material's fields count (the solver and the world are the rig's).
+            let mut params = Params::from(material);
             if let Some(overrides) = r.params {
                 params = overlay(params, overrides).map_err(|e| RigError(format!("{at}: {e}")))?;
             }
@@ -326,8 +324,8 @@ impl RigFile {
                     weights: painted(r.painted.as_deref(), &at)?,
                 },
                 name: r.name,
-                material,
-                params,
+                preset: name,
+                material: params.material,
             });
         }
         let pin = entry.pin.unwrap_or_default();
@@ -349,7 +347,7 @@ impl RigFile {
         Ok(RigFile {
             mesh: entry.mesh.map(|m| base.join(m)),
             method: entry.skeleton.unwrap_or_default(),
-            material,
+            preset: base_preset,
             params,
             root,
             cuts,
@@ -375,8 +373,8 @@ impl RigFile {
         RigEntry {
             mesh: mesh.map(str::to_string),
             skeleton: Some(self.method),
-            material: Some(self.material.clone()),
-            constraint: Some(self.params.constraint),
+            material: Some(self.preset.clone()),
+            constraint: Some(self.params.solver.constraint),
             root: Some(self.root.clone()),
             params: Some(params),
             cut: self
@@ -411,10 +409,10 @@ impl RigFile {
                 .iter()
                 .map(|r| RegionEntry {
                     name: r.name.clone(),
-                    material: Some(r.material.clone()),
+                    material: Some(r.preset.clone()),
                     sections: r.paint.sections.clone(),
                     painted: written(&r.paint.weights),
-                    params: Some(material_table(&r.params)),
+                    params: Some(toml::Table::try_from(r.material).unwrap_or_default()),
                 })
                 .collect(),
             pin: (!self.pin.is_empty()).then(|| PinEntry {
@@ -439,23 +437,6 @@ fn written(weights: &[f32]) -> Option<String> {
         .iter()
         .any(|&w| w > 0.0)
         .then(|| paint::encode(weights))
-}
-
-/// The fields of a region's material that count (see [`crate::sim::regions`]).
-fn material_table(p: &Params) -> toml::Table {
-    const FIELDS: [&str; 6] = [
-        "damping",
-        "stiffness",
-        "bone_distance",
-        "max_length",
-        "min_length",
-        "stiffening",
-    ];
-    toml::Table::try_from(p)
-        .unwrap_or_default()
-        .into_iter()
-        .filter(|(k, _)| FIELDS.contains(&&**k))
-        .collect()
 }
 
 /// `base` with the fields of `overrides` replaced; unknown fields are errors.
@@ -488,9 +469,9 @@ mod tests {
     fn presets_overrides_and_defaults() {
         let r = parse("mesh = \"cow.obj\"\nmaterial = \"water\"\nconstraint = \"spring-reduction\"\n[params]\ndamping = 0.5\n").unwrap();
         assert_eq!(r.mesh, Some(PathBuf::from("/rigs/cow.obj")));
-        assert_eq!(r.params.damping, 0.5);
-        assert_eq!(r.params.max_length, 1.4, "from the water preset");
-        assert_eq!(r.params.constraint, Constraint::SpringReduction);
+        assert_eq!(r.params.material.damping, 0.5);
+        assert_eq!(r.params.material.max_length, 1.4, "from the water preset");
+        assert_eq!(r.params.solver.constraint, Constraint::SpringReduction);
         assert_eq!(parse("").unwrap(), RigFile::default());
     }
 
@@ -529,10 +510,10 @@ mod tests {
     #[test]
     fn toml_round_trip_is_exact() {
         let spec = RigFile {
-            params: Params {
+            params: Params::from(Material {
                 damping: 0.123_456_79,
-                ..Params::default()
-            },
+                ..Material::default()
+            }),
             root: "body".into(),
             cuts: vec![Cut {
                 name: "head".into(),

@@ -46,7 +46,7 @@ impl Reference {
             }
             start.push(neighbour.len());
         }
-        let f_bd = params.bone_distance as f64;
+        let f_bd = params.material.bone_distance as f64;
         Reference {
             rest: mesh.positions.clone(),
             normal: scenario.normals.clone(),
@@ -72,8 +72,8 @@ impl Reference {
     pub fn step(&mut self, world: &[DAffine3]) {
         let p = self.params;
         let ratio = self.h / REFERENCE_STEP as f64;
-        let k = p.stiffness as f64 * ratio * ratio;
-        let c = (p.damping as f64).powf(ratio);
+        let k = p.material.stiffness as f64 * ratio * ratio;
+        let c = (p.material.damping as f64).powf(ratio);
         let mut next = std::mem::take(&mut self.next);
         let this = &*self;
         let update = |i: usize| -> DVec3 {
@@ -94,9 +94,9 @@ impl Reference {
             f += stretch(bo - x, l);
             let deg = (this.start[i + 1] - this.start[i]) as f64;
             let y = x + c * (x - this.prev[i]) + (k / (deg + 2.0)) * f;
-            match p.constraint {
+            match p.solver.constraint {
                 Constraint::Circumsphere => {
-                    let rho = (p.max_length as f64 - 1.0) * l;
+                    let rho = (p.material.max_length as f64 - 1.0) * l;
                     let v = y - r;
                     if v.length() <= rho {
                         y
@@ -128,7 +128,10 @@ fn stretch(d: DVec3, rest: f64) -> DVec3 {
 /// Provot's spring reduction on both bone springs, as in the solver, in `f64`.
 fn reduce(mut y: DVec3, r: DVec3, n: DVec3, l: f64, p: &Params) -> DVec3 {
     let (inner, outer) = (r - l * n, r + l * n);
-    let (lo, hi) = (p.min_length as f64 * l, p.max_length as f64 * l);
+    let (lo, hi) = (
+        p.material.min_length as f64 * l,
+        p.material.max_length as f64 * l,
+    );
     let ok = |y: DVec3| {
         let slack = 1e-12 * hi.max(1e-300);
         [inner, outer].iter().all(|b| {
@@ -136,7 +139,7 @@ fn reduce(mut y: DVec3, r: DVec3, n: DVec3, l: f64, p: &Params) -> DVec3 {
             len >= lo - slack && len <= hi + slack
         })
     };
-    for _ in 0..p.reduction_iterations {
+    for _ in 0..p.solver.reduction_iterations {
         let mut violated = false;
         for (b, away) in [(inner, n), (outer, -n)] {
             let v = y - b;

@@ -38,7 +38,7 @@ pub use view::{Line, Overlays, View};
 
 use crate::joints::{Local, PoseScratch};
 use crate::puppet::Puppet;
-use crate::sim::{self, Params};
+use crate::sim::{Material, Params};
 use glam::{DQuat, DVec3};
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -256,27 +256,56 @@ impl Session {
         }
     }
 
-    /// Applies a Table 1 preset by name; returns false for an unknown name.
-    pub fn set_preset(&mut self, name: &str) -> bool {
-        match sim::presets().into_iter().find(|m| m.name == name) {
-            Some(m) => {
-                // A preset is a material: the constraint, the step and the world stay.
-                let now = *self.puppet.sim.params();
-                self.puppet.rig_file.material = m.name;
-                self.set_params(Params {
-                    constraint: now.constraint,
-                    reduction_iterations: now.reduction_iterations,
-                    time_step: now.time_step,
-                    gravity: now.gravity,
-                    floor: now.floor,
-                    floor_height: now.floor_height,
-                    floor_friction: now.floor_friction,
-                    ..m.params
-                });
-                true
-            }
-            None => false,
+    /// Sets the base material from the panel (sanitized); the rig's preset name becomes
+    /// "custom" where the material is no longer its preset's.
+    pub fn set_material(&mut self, material: Material) {
+        let params = Params {
+            material,
+            ..*self.puppet.sim.params()
+        };
+        self.set_params(params);
+        let now = self.puppet.sim.params().material;
+        if Material::preset(&self.puppet.rig_file.preset) != Some(now) {
+            self.puppet.rig_file.preset = "custom".into();
         }
+    }
+
+    /// Gives the base material a preset by name (see [`crate::sim::material`] for what a
+    /// preset changes: the whole material, nothing else); returns false for an unknown
+    /// name, and "custom" keeps the material as it is.
+    pub fn set_preset(&mut self, name: &str) -> bool {
+        if name == "custom" {
+            self.puppet.rig_file.preset = name.into();
+            return true;
+        }
+        let Some(material) = Material::preset(name) else {
+            return false;
+        };
+        self.puppet.rig_file.preset = name.into();
+        self.set_params(Params {
+            material,
+            ..*self.puppet.sim.params()
+        });
+        true
+    }
+
+    /// Gives region `k` a preset by name, by the same rule as [`Session::set_preset`];
+    /// returns false for an unknown name or region.
+    pub fn set_region_preset(&mut self, k: usize, name: &str) -> bool {
+        let mut regions = self.puppet.rig_file.regions.clone();
+        let Some(region) = regions.get_mut(k) else {
+            return false;
+        };
+        if name != "custom" {
+            let Some(material) = Material::preset(name) else {
+                return false;
+            };
+            region.material = material;
+        }
+        region.preset = name.into();
+        let pin = self.puppet.rig_file.pin.clone();
+        self.set_regions(regions, pin);
+        true
     }
 }
 

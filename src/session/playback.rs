@@ -75,14 +75,14 @@ impl Session {
     /// Seconds into the animation, and its duration.
     pub fn playback_time(&self) -> Option<(f64, f64)> {
         let p = self.playback.as_ref()?;
-        let h = self.puppet.sim.params().time_step as f64;
+        let h = self.puppet.sim.params().solver.time_step as f64;
         Some((p.steps as f64 * h, p.animation.duration))
     }
 
     /// Jumps to `seconds`: the simulation runs from rest to there (a physical simulation
     /// has no shortcut), then holds, paused.
     pub fn scrub(&mut self, seconds: f64) {
-        let h = self.puppet.sim.params().time_step as f64;
+        let h = self.puppet.sim.params().solver.time_step as f64;
         if self.playback.is_none() || !seconds.is_finite() {
             return;
         }
@@ -116,7 +116,7 @@ impl Session {
     pub fn animated_pose(&self) -> Option<Vec<Local>> {
         let p = self.playback.as_ref()?;
         let mut local = Vec::new();
-        let h = self.puppet.sim.params().time_step as f64;
+        let h = self.puppet.sim.params().solver.time_step as f64;
         p.bound.sample(p.steps as f64 * h, &mut local);
         Some(local)
     }

@@ -63,7 +63,7 @@ impl Session {
     /// Starts recording from the current pose. With an animation loaded the take is
     /// recorded over it from the current playback time (see the module docs).
     pub fn start_recording(&mut self) {
-        let h = self.puppet.sim.params().time_step as f64;
+        let h = self.puppet.sim.params().solver.time_step as f64;
         self.recorder.over = self.playback.as_mut().map(|p| {
             p.playing = false;
             Over {
@@ -167,7 +167,7 @@ impl Session {
             1.0
         };
         let due = self.puppet.sim.steps_due(seconds * speed, max_steps);
-        let h = self.puppet.sim.params().time_step as f64;
+        let h = self.puppet.sim.params().solver.time_step as f64;
         let mut played = Vec::new();
         for _ in 0..due {
             let t = self.recorder.take.as_ref().map_or(0, |t| t.times.len()) as f64 * h;

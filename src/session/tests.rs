@@ -4,6 +4,7 @@ use crate::joints::{Cut, Shape};
 use crate::mesh::shapes;
 use crate::puppet::RigFile;
 use crate::session::recording::BLEND_BACK;
+use crate::sim;
 use glam::{Vec2, Vec3};
 
 fn session() -> Session {
@@ -144,16 +145,71 @@ fn a_refused_cut_changes_nothing() {
 #[test]
 fn sliders_are_sanitized_and_presets_apply() {
     let mut s = session();
-    s.set_params(Params {
+    s.set_material(Material {
         damping: 5.0,
         stiffness: f32::NAN,
-        ..Params::default()
+        ..Material::default()
     });
-    assert_eq!(s.puppet.sim.params().damping, 1.0);
-    assert_eq!(s.puppet.sim.params().stiffness, Params::default().stiffness);
+    let m = s.puppet.sim.params().material;
+    assert_eq!(
+        (m.damping, m.stiffness),
+        (1.0, Material::default().stiffness)
+    );
+    assert_eq!(s.puppet.rig_file.preset, "custom", "no longer skin");
     assert!(s.set_preset("water"));
-    assert_eq!(s.puppet.sim.params().max_length, 1.4);
+    assert_eq!(s.puppet.sim.params().material.max_length, 1.4);
+    assert_eq!(s.puppet.rig_file.preset, "water");
     assert!(!s.set_preset("rubber"));
+    assert_eq!(
+        s.puppet.rig_file.preset, "water",
+        "an unknown name changes nothing"
+    );
+}
+
+/// One rule for what a preset changes, for the base material and a region alike: the whole
+/// material (stiffening included), and neither the solver nor the world.
+#[test]
+fn a_preset_replaces_the_material_and_nothing_else() {
+    let mut s = session();
+    let custom = Material {
+        damping: 0.5,
+        stiffening: 3,
+        ..Material::default()
+    };
+    let mut params = *s.puppet.sim.params();
+    params.material = custom;
+    params.solver.constraint = sim::Constraint::SpringReduction;
+    params.solver.time_step = 1.0 / 120.0;
+    params.world.gravity = [0.0, -2.0, 0.0];
+    params.world.floor = true;
+    s.set_params(params);
+    s.set_regions(
+        vec![crate::puppet::Region {
+            name: "belly".into(),
+            preset: "custom".into(),
+            material: custom,
+            paint: crate::puppet::Paint::default(),
+        }],
+        crate::puppet::Paint::default(),
+    );
+    let water = Material::preset("water").unwrap();
+    assert!(s.set_preset("water"));
+    assert!(s.set_region_preset(0, "water"));
+    let after = *s.puppet.sim.params();
+    let region = &s.puppet.rig_file.regions[0];
+    assert_eq!(
+        after.material, water,
+        "base: the whole material, stiffening too"
+    );
+    assert_eq!(region.material, water, "region: the same");
+    assert_eq!((after.solver, after.world), (params.solver, params.world));
+    assert_eq!(region.preset, "water");
+    assert!(!s.set_region_preset(0, "rubber") && !s.set_region_preset(5, "water"));
+    assert!(s.set_region_preset(0, "custom"));
+    assert_eq!(
+        s.puppet.rig_file.regions[0].material, water,
+        "custom keeps it"
+    );
 }
 
 #[test]
@@ -192,12 +248,8 @@ fn the_brush_paints_blends_erases_and_undoes() {
     s.set_regions(
         vec![crate::puppet::Region {
             name: "jelly".into(),
-            material: "water".into(),
-            params: sim::presets()
-                .into_iter()
-                .find(|m| m.name == "water")
-                .unwrap()
-                .params,
+            preset: "water".into(),
+            material: Material::preset("water").unwrap(),
             paint: crate::puppet::Paint::default(),
         }],
         crate::puppet::Paint::default(),

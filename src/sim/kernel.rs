@@ -68,7 +68,7 @@ impl Ctx<'_> {
             || self.floor.is_some()
             || self.mixed.is_some()
             || self.pin.is_some()
-            || self.params.stiffening > 0
+            || self.params.material.stiffening > 0
     }
 }
 
@@ -371,7 +371,7 @@ unsafe fn group<V: Lanes, const EXTRAS: bool>(
     }
 
     // Stage 4: the constraint.
-    let new = match p.constraint {
+    let new = match p.solver.constraint {
         Constraint::Circumsphere => {
             let v = V3 {
                 x: y.x - r.x,
@@ -390,7 +390,15 @@ unsafe fn group<V: Lanes, const EXTRAS: bool>(
         }
         Constraint::SpringReduction => {
             let bounds = (m.min_length * lb, m.max_length * lb);
-            spring_reduction_lanes(y, r, nrm, inner, outer, bounds, p.reduction_iterations)
+            spring_reduction_lanes(
+                y,
+                r,
+                nrm,
+                inner,
+                outer,
+                bounds,
+                p.solver.reduction_iterations,
+            )
         }
     };
     // Stage 4b: the floor, which no point passes: it wins over the constraint, so a section
@@ -613,11 +621,11 @@ fn material<V: Lanes, const EXTRAS: bool>(ctx: &Ctx, slots: Lanes8) -> Material<
         (false, _) | (true, None) => Material {
             damping: V::splat(ctx.damping),
             stiffness: V::splat(ctx.stiffness),
-            reach: V::splat(p.max_length - 1.0),
-            min_length: V::splat(p.min_length),
-            max_length: V::splat(p.max_length),
-            exponent: V::splat(p.stiffening as f32),
-            max_exponent: p.stiffening,
+            reach: V::splat(p.material.max_length - 1.0),
+            min_length: V::splat(p.material.min_length),
+            max_length: V::splat(p.material.max_length),
+            exponent: V::splat(p.material.stiffening as f32),
+            max_exponent: p.material.stiffening,
         },
         (true, Some(m)) => Material {
             damping: slots.load(&m.damping),
@@ -710,8 +718,8 @@ fn reduction_ok(y: Vec3, inner: Vec3, outer: Vec3, lo: f32, hi: f32) -> bool {
 #[cfg(test)]
 fn spring_reduction(mut y: Vec3, r: Vec3, n: Vec3, lb: f32, p: &Params) -> Vec3 {
     let (inner, outer) = bones(r, n, lb);
-    let (lo, hi) = (p.min_length * lb, p.max_length * lb);
-    for _ in 0..p.reduction_iterations {
+    let (lo, hi) = (p.material.min_length * lb, p.material.max_length * lb);
+    for _ in 0..p.solver.reduction_iterations {
         let mut violated = false;
         for (b, away) in [(inner, n), (outer, -n)] {
             let v = y - b;
@@ -792,12 +800,9 @@ mod tests {
     fn check<V: Lanes>() {
         for iterations in 0..=4 {
             for (min, max) in [(0.8, 1.2), (0.5, 1.5), (1.0, 1.0), (0.99, 1.01)] {
-                let p = Params {
-                    min_length: min,
-                    max_length: max,
-                    reduction_iterations: iterations,
-                    ..Params::default()
-                };
+                let mut p = Params::default();
+                (p.material.min_length, p.material.max_length) = (min, max);
+                p.solver.reduction_iterations = iterations;
                 for group in cases().chunks_exact(LANES) {
                     let lane = |f: &dyn Fn(usize) -> f32| V::from_array(std::array::from_fn(f));
                     let v3 = |f: &dyn Fn(usize) -> Vec3| V3 {
@@ -813,8 +818,11 @@ mod tests {
                         v3(&|l| group[l].2),
                         v3(&|l| bone(l).0),
                         v3(&|l| bone(l).1),
-                        (V::splat(p.min_length) * lb, V::splat(p.max_length) * lb),
-                        p.reduction_iterations,
+                        (
+                            V::splat(p.material.min_length) * lb,
+                            V::splat(p.material.max_length) * lb,
+                        ),
+                        p.solver.reduction_iterations,
                     );
                     let got = arrays(got);
                     for (l, &(y, r, n, lb)) in group.iter().enumerate() {

@@ -27,8 +27,10 @@
 //!   so the constraint holds after every step.
 
 //! # Where things are
-//! * [`params`]: [`Params`] (one struct, the paper's names) and [`Constraint`];
-//! * [`material`]: Table 1's presets and materials files;
+//! * [`params`]: [`Params`] (the base [`Material`], the [`Solver`] and the [`World`]) and
+//!   [`Constraint`];
+//! * [`material`]: [`Material`] (what a region may change), Table 1's presets and materials
+//!   files;
 //! * [`regions`]: several materials on one puppet (layers with a weight per vertex) and
 //!   pinning;
 //! * [`pose`]: the [`Pose`] a step takes and the [`Positions`] it leaves;
@@ -47,9 +49,11 @@ pub mod pose;
 pub mod regions;
 mod step;
 
-pub use material::{parse_materials, presets, write_materials, Material, MaterialError};
+pub use material::{
+    parse_materials, presets, write_materials, Material, MaterialError, Preset, MAX_STIFFENING,
+};
 pub use options::{Options, SLEEP_AFTER};
-pub use params::{Constraint, ParamError, Params, MAX_GRAVITY, MAX_STIFFENING, STANDARD_GRAVITY};
+pub use params::{Constraint, ParamError, Params, Solver, World, MAX_GRAVITY, STANDARD_GRAVITY};
 pub use pose::{Pose, Positions};
 pub use regions::{Layer, Regions};
 
@@ -155,8 +159,8 @@ impl Simulation {
     /// A simulation at rest.
     pub fn with_options(mut rig: Rig, params: Params, options: Options) -> Simulation {
         let params = params.sanitized();
-        if rig.bone_distance != params.bone_distance {
-            rig.set_bone_distance(params.bone_distance);
+        if rig.bone_distance != params.material.bone_distance {
+            rig.set_bone_distance(params.material.bone_distance);
         }
         let n = rig.len();
         let layout = Layout::new(&rig, options.tile);
@@ -257,8 +261,9 @@ impl Simulation {
         if self.regions.is_mixed() {
             self.refresh_regions();
         } else {
-            if self.params.bone_distance != self.rig.bone_distance {
-                self.rig.set_bone_distance(self.params.bone_distance);
+            if self.params.material.bone_distance != self.rig.bone_distance {
+                self.rig
+                    .set_bone_distance(self.params.material.bone_distance);
                 self.layout.set_bone_length(&self.rig);
             }
             self.all_static = self.params.is_static();
@@ -291,15 +296,19 @@ impl Simulation {
     fn refresh_regions(&mut self) {
         let (regions, base) = (&self.regions, self.params);
         if regions.is_mixed() {
-            let of_vertex: Vec<Params> = (0..self.rig.len())
-                .map(|i| regions.params_of(i, &base))
+            let of_vertex: Vec<Material> = (0..self.rig.len())
+                .map(|i| regions.material_of(i, &base.material))
                 .collect();
             self.rig
-                .set_bone_distances(base.bone_distance, |i| of_vertex[i].bone_distance);
-            self.per_slot = Some(PerSlot::new(&of_vertex, &base, &self.layout.order));
-            self.all_static = of_vertex.iter().all(Params::is_static);
+                .set_bone_distances(base.material.bone_distance, |i| of_vertex[i].bone_distance);
+            self.per_slot = Some(PerSlot::new(
+                &of_vertex,
+                base.solver.time_step,
+                &self.layout.order,
+            ));
+            self.all_static = of_vertex.iter().all(Material::is_static);
         } else {
-            self.rig.set_bone_distance(base.bone_distance);
+            self.rig.set_bone_distance(base.material.bone_distance);
             self.per_slot = None;
             self.all_static = base.is_static();
         }

@@ -1,7 +1,13 @@
-//! Every simulation parameter in one struct, with the paper's names, and the rules for the
-//! values a slider or a file may give.
+//! Every simulation parameter, with the paper's names, in three parts: the [`Material`] (what
+//! the surface is made of: a region may have its own), the [`Solver`] (how the equations are
+//! integrated) and the [`World`] (gravity and the floor). [`Params`] holds the three; files
+//! write their fields side by side (`serde(flatten)`), as one table.
+//!
+//! Each part has the rules for the values a slider or a file may give: `sanitized` clamps
+//! (sliders), `check` refuses (files).
 
-use super::{MAX_STIFFNESS, MIN_STEP, REFERENCE_STEP};
+use super::material::Material;
+use super::{MIN_STEP, REFERENCE_STEP};
 
 /// Which constraint keeps the mass points near their bones.
 #[derive(
@@ -44,26 +50,33 @@ impl std::fmt::Display for Constraint {
     }
 }
 
-/// Every simulation parameter, with the paper's names.
+/// How the equations are integrated: the same for every vertex, whatever its material.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default)]
-pub struct Params {
-    /// `C_vd`: share of velocity kept per reference step, 0..1 (0.99 jelly, 0.7 dull).
-    pub damping: f32,
-    /// `D`: dimensionless spring constant, 0..[`MAX_STIFFNESS`] (see the `sim` docs).
-    pub stiffness: f32,
-    /// `d_B` = `f_bd`: bone distance factor, 0..1 (0 puts the bones on the surface).
-    pub bone_distance: f32,
-    /// `sl_max` = `f_max`: maximum bone-spring length factor, 1..3.
-    pub max_length: f32,
-    /// `f_min`: minimum bone-spring length factor, 0..1 (spring reduction only).
-    pub min_length: f32,
+pub struct Solver {
     /// Which constraint.
     pub constraint: Constraint,
     /// Spring-reduction passes per step, 1..64.
     pub reduction_iterations: u32,
     /// Fixed simulation step `h` in seconds, [`MIN_STEP`]..[`REFERENCE_STEP`].
     pub time_step: f32,
+}
+
+impl Default for Solver {
+    /// The circumsphere constraint at 60 steps/s.
+    fn default() -> Self {
+        Solver {
+            constraint: Constraint::Circumsphere,
+            reduction_iterations: 4,
+            time_step: REFERENCE_STEP,
+        }
+    }
+}
+
+/// What acts on the whole puppet from outside: gravity and the floor.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct World {
     /// Gravity, in g (each component −[`MAX_GRAVITY`]..[`MAX_GRAVITY`]): `[0, −1, 0]` pulls
     /// down with 9.81 m/s² on a puppet whose bounding-box diagonal is one metre, whatever
     /// the mesh's units (so a setting looks the same on every mesh). Off (`[0, 0, 0]`) by
@@ -78,40 +91,42 @@ pub struct Params {
     /// Share of a touching mass point's sliding motion the floor takes away per reference
     /// step, 0..1 (0 ice, 1 glue).
     pub floor_friction: f32,
-    /// Stiffening exponent `e` of the bone springs, 0..[`MAX_STIFFENING`] (0: Hooke). A bone
-    /// spring stretched by `s` pulls with `s (|s| / ρ)^e` instead of `s`, `ρ = (sl_max − 1) L`
-    /// being the circumsphere radius: soft near rest, as stiff as Hooke's at the constraint
-    /// and `1 + e` times as stiff in its slope there (d'Aulignac's non-linear springs).
-    pub stiffening: u32,
 }
 
-/// Largest gravity component, in g.
-pub const MAX_GRAVITY: f32 = 10.0;
-/// Largest bone-spring stiffening exponent.
-pub const MAX_STIFFENING: u32 = 4;
-/// Standard gravity (m/s²), the unit of [`Params::gravity`].
-pub const STANDARD_GRAVITY: f32 = 9.81;
-
-impl Default for Params {
-    /// The "skin" preset of Table 1 with the circumsphere constraint at 60 steps/s.
+impl Default for World {
+    /// No gravity, no floor.
     fn default() -> Self {
-        Params {
-            damping: 0.85,
-            stiffness: 1.0,
-            bone_distance: 0.2,
-            max_length: 1.25,
-            min_length: 0.8,
-            constraint: Constraint::Circumsphere,
-            reduction_iterations: 4,
-            time_step: REFERENCE_STEP,
+        World {
             gravity: [0.0; 3],
             floor: false,
             floor_height: 0.0,
             floor_friction: 0.5,
-            stiffening: 0,
         }
     }
 }
+
+/// Every simulation parameter: the base material, the solver and the world. Files write the
+/// three parts' fields side by side in one table.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct Params {
+    /// The base material: every vertex's, where no region gives it another.
+    #[serde(flatten)]
+    pub material: Material,
+    /// How the equations are integrated.
+    #[serde(flatten)]
+    pub solver: Solver,
+    /// Gravity and the floor.
+    #[serde(flatten)]
+    pub world: World,
+}
+
+/// Largest gravity component, in g.
+pub const MAX_GRAVITY: f32 = 10.0;
+/// Standard gravity (m/s²), the unit of [`World::gravity`].
+pub const STANDARD_GRAVITY: f32 = 9.81;
+/// Largest floor height accepted (mesh units).
+const MAX_HEIGHT: f32 = 1e9;
 
 /// A parameter outside its documented range.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -125,94 +140,53 @@ pub struct ParamError {
     pub range: &'static str,
 }
 
-impl Params {
-    /// The same parameters clamped into their valid ranges (NaN takes the default), so no
-    /// slider position or file value can make the step unstable.
-    pub fn sanitized(&self) -> Params {
-        let d = Params::default();
-        let clamp =
-            |v: f32, lo: f32, hi: f32, def: f32| if v.is_nan() { def } else { v.clamp(lo, hi) };
-        Params {
-            damping: clamp(self.damping, 0.0, 1.0, d.damping),
-            stiffness: clamp(self.stiffness, 0.0, MAX_STIFFNESS, d.stiffness),
-            bone_distance: clamp(self.bone_distance, 0.0, 1.0, d.bone_distance),
-            max_length: clamp(self.max_length, 1.0, 3.0, d.max_length),
-            min_length: clamp(self.min_length, 0.0, 1.0, d.min_length),
+/// `v` clamped into `lo..=hi`, or `default` where it is NaN.
+pub(super) fn clamp(v: f32, lo: f32, hi: f32, default: f32) -> f32 {
+    if v.is_nan() {
+        default
+    } else {
+        v.clamp(lo, hi)
+    }
+}
+
+/// One range check: the field as files name it, its value, its bounds and the range as
+/// text.
+pub(super) type Check = (&'static str, f32, f32, f32, &'static str);
+
+/// The first check whose value is outside its bounds (NaN is outside every range).
+pub(super) fn first_failure(checks: &[Check]) -> Result<(), ParamError> {
+    for &(field, value, lo, hi, range) in checks {
+        if !(lo..=hi).contains(&value) {
+            return Err(ParamError {
+                field,
+                value: value as f64,
+                range,
+            });
+        }
+    }
+    Ok(())
+}
+
+impl Solver {
+    /// The same settings clamped into their valid ranges (NaN takes the default).
+    pub fn sanitized(&self) -> Solver {
+        let d = Solver::default();
+        Solver {
             constraint: self.constraint,
             reduction_iterations: self.reduction_iterations.clamp(1, 64),
             time_step: clamp(self.time_step, MIN_STEP, REFERENCE_STEP, d.time_step),
-            gravity: self
-                .gravity
-                .map(|g| clamp(g, -MAX_GRAVITY, MAX_GRAVITY, 0.0)),
-            floor: self.floor,
-            floor_height: clamp(self.floor_height, -MAX_HEIGHT, MAX_HEIGHT, 0.0),
-            floor_friction: clamp(self.floor_friction, 0.0, 1.0, d.floor_friction),
-            stiffening: self.stiffening.min(MAX_STIFFENING),
         }
     }
 
-    /// Checks every field against its documented range. Files use this (a file is not a
-    /// slider: silently clamping it would hide a typo); sliders use [`Params::sanitized`].
+    /// Checks every field against its documented range.
     pub fn check(&self) -> Result<(), ParamError> {
-        let checks: [(&'static str, f32, f32, f32, &'static str); 11] = [
-            ("damping", self.damping, 0.0, 1.0, "0..1"),
-            ("stiffness", self.stiffness, 0.0, MAX_STIFFNESS, "0..1"),
-            ("bone_distance", self.bone_distance, 0.0, 1.0, "0..1"),
-            ("max_length", self.max_length, 1.0, 3.0, "1..3"),
-            ("min_length", self.min_length, 0.0, 1.0, "0..1"),
-            (
-                "time_step",
-                self.time_step,
-                MIN_STEP,
-                REFERENCE_STEP,
-                "1/2000..1/60 s",
-            ),
-            (
-                "gravity[0]",
-                self.gravity[0],
-                -MAX_GRAVITY,
-                MAX_GRAVITY,
-                "-10..10",
-            ),
-            (
-                "gravity[1]",
-                self.gravity[1],
-                -MAX_GRAVITY,
-                MAX_GRAVITY,
-                "-10..10",
-            ),
-            (
-                "gravity[2]",
-                self.gravity[2],
-                -MAX_GRAVITY,
-                MAX_GRAVITY,
-                "-10..10",
-            ),
-            (
-                "floor_height",
-                self.floor_height,
-                -MAX_HEIGHT,
-                MAX_HEIGHT,
-                "-1e9..1e9",
-            ),
-            ("floor_friction", self.floor_friction, 0.0, 1.0, "0..1"),
-        ];
-        for (field, value, lo, hi, range) in checks {
-            if !(lo..=hi).contains(&value) {
-                return Err(ParamError {
-                    field,
-                    value: value as f64,
-                    range,
-                });
-            }
-        }
-        if self.stiffening > MAX_STIFFENING {
-            return Err(ParamError {
-                field: "stiffening",
-                value: self.stiffening as f64,
-                range: "0..4",
-            });
-        }
+        first_failure(&[(
+            "time_step",
+            self.time_step,
+            MIN_STEP,
+            REFERENCE_STEP,
+            "1/2000..1/60 s",
+        )])?;
         if self.reduction_iterations == 0 || self.reduction_iterations > 64 {
             return Err(ParamError {
                 field: "reduction_iterations",
@@ -222,11 +196,39 @@ impl Params {
         }
         Ok(())
     }
+}
 
-    /// True when the parameters leave no room for elastic movement (Table 1's "plastic"):
-    /// bones on the surface or `sl_max = 1`. Such a rig is not integrated at all.
-    pub fn is_static(&self) -> bool {
-        self.bone_distance <= 0.0 || self.max_length <= 1.0
+impl World {
+    /// The same settings clamped into their valid ranges (NaN takes the default).
+    pub fn sanitized(&self) -> World {
+        let d = World::default();
+        World {
+            gravity: self
+                .gravity
+                .map(|g| clamp(g, -MAX_GRAVITY, MAX_GRAVITY, 0.0)),
+            floor: self.floor,
+            floor_height: clamp(self.floor_height, -MAX_HEIGHT, MAX_HEIGHT, 0.0),
+            floor_friction: clamp(self.floor_friction, 0.0, 1.0, d.floor_friction),
+        }
+    }
+
+    /// Checks every field against its documented range.
+    pub fn check(&self) -> Result<(), ParamError> {
+        let [gx, gy, gz] = self.gravity;
+        let (lo, hi) = (-MAX_GRAVITY, MAX_GRAVITY);
+        first_failure(&[
+            ("gravity[0]", gx, lo, hi, "-10..10"),
+            ("gravity[1]", gy, lo, hi, "-10..10"),
+            ("gravity[2]", gz, lo, hi, "-10..10"),
+            (
+                "floor_height",
+                self.floor_height,
+                -MAX_HEIGHT,
+                MAX_HEIGHT,
+                "-1e9..1e9",
+            ),
+            ("floor_friction", self.floor_friction, 0.0, 1.0, "0..1"),
+        ])
     }
 
     /// True when gravity pulls (some component is not zero).
@@ -235,12 +237,47 @@ impl Params {
     }
 }
 
-/// Largest floor height accepted (mesh units).
-const MAX_HEIGHT: f32 = 1e9;
+impl From<Material> for Params {
+    /// A material with the default solver and world.
+    fn from(material: Material) -> Params {
+        Params {
+            material,
+            ..Params::default()
+        }
+    }
+}
+
+impl Params {
+    /// The same parameters clamped into their valid ranges (NaN takes the default), so no
+    /// slider position or file value can make the step unstable.
+    pub fn sanitized(&self) -> Params {
+        Params {
+            material: self.material.sanitized(),
+            solver: self.solver.sanitized(),
+            world: self.world.sanitized(),
+        }
+    }
+
+    /// Checks every field against its documented range: the material's, the solver's, then
+    /// the world's. Files use this (a file is not a slider: silently clamping it would hide
+    /// a typo); sliders use [`Params::sanitized`].
+    pub fn check(&self) -> Result<(), ParamError> {
+        self.material.check()?;
+        self.solver.check()?;
+        self.world.check()
+    }
+
+    /// True when the base material leaves no room for elastic movement (see
+    /// [`Material::is_static`]).
+    pub fn is_static(&self) -> bool {
+        self.material.is_static()
+    }
+}
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sim::MAX_STIFFENING;
 
     #[test]
     fn new_fields_are_checked_and_sanitized() {
@@ -248,45 +285,108 @@ mod tests {
         let d = Params::default();
         assert!(d.check().is_ok());
         assert!(
-            !d.has_gravity() && !d.floor && d.stiffening == 0,
+            !d.world.has_gravity() && !d.world.floor && d.material.stiffening == 0,
             "all off by default"
         );
+        let world = |w: World| Params { world: w, ..d };
         assert_eq!(
-            bad(Params {
+            bad(world(World {
                 gravity: [0.0, -11.0, 0.0],
-                ..d
-            }),
+                ..d.world
+            })),
             "gravity[1] = -11 is outside -10..10"
         );
-        assert!(bad(Params {
+        assert!(bad(world(World {
             gravity: [f32::NAN, 0.0, 0.0],
-            ..d
-        })
+            ..d.world
+        }))
         .starts_with("gravity[0]"));
-        assert!(bad(Params {
+        assert!(bad(world(World {
             floor_friction: 1.5,
-            ..d
-        })
+            ..d.world
+        }))
         .starts_with("floor_friction"));
-        assert!(bad(Params {
+        assert!(bad(world(World {
             floor_height: f32::INFINITY,
+            ..d.world
+        }))
+        .starts_with("floor_height"));
+        assert!(bad(Params {
+            material: Material {
+                stiffening: 5,
+                ..d.material
+            },
             ..d
         })
-        .starts_with("floor_height"));
-        assert!(bad(Params { stiffening: 5, ..d }).starts_with("stiffening"));
+        .starts_with("stiffening"));
+        assert!(bad(Params {
+            solver: Solver {
+                reduction_iterations: 0,
+                ..d.solver
+            },
+            ..d
+        })
+        .starts_with("reduction_iterations"));
         let s = Params {
-            gravity: [f32::NAN, 1e9, -1e9],
-            floor_height: f32::NAN,
-            floor_friction: -1.0,
-            stiffening: 99,
+            world: World {
+                gravity: [f32::NAN, 1e9, -1e9],
+                floor_height: f32::NAN,
+                floor_friction: -1.0,
+                ..d.world
+            },
+            material: Material {
+                stiffening: 99,
+                ..d.material
+            },
             ..d
         }
         .sanitized();
-        assert_eq!(s.gravity, [0.0, MAX_GRAVITY, -MAX_GRAVITY]);
+        assert_eq!(s.world.gravity, [0.0, MAX_GRAVITY, -MAX_GRAVITY]);
         assert_eq!(
-            (s.floor_height, s.floor_friction, s.stiffening),
-            (0.0, 0.0, 4)
+            (
+                s.world.floor_height,
+                s.world.floor_friction,
+                s.material.stiffening
+            ),
+            (0.0, 0.0, MAX_STIFFENING)
         );
         assert!(s.check().is_ok());
+    }
+
+    #[test]
+    fn files_write_the_three_parts_as_one_table() {
+        let p = Params::default();
+        let table = toml::Table::try_from(p).unwrap();
+        for field in [
+            "damping",
+            "stiffness",
+            "bone_distance",
+            "max_length",
+            "min_length",
+            "stiffening",
+            "constraint",
+            "reduction_iterations",
+            "time_step",
+            "gravity",
+            "floor",
+            "floor_height",
+            "floor_friction",
+        ] {
+            assert!(table.contains_key(field), "{field}");
+        }
+        assert_eq!(table.len(), 13);
+        let back: Params = toml::Value::Table(table).try_into().unwrap();
+        assert_eq!(back, p);
+        let partial: Params =
+            toml::from_str("damping = 0.5\nfloor = true\ntime_step = 0.01\n").unwrap();
+        assert_eq!(
+            (
+                partial.material.damping,
+                partial.world.floor,
+                partial.solver.time_step
+            ),
+            (0.5, true, 0.01)
+        );
+        assert_eq!(partial.material.stiffness, p.material.stiffness);
     }
 }

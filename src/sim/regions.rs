@@ -1,24 +1,22 @@
 //! Several materials on one puppet (paper §5) and pinning, per vertex.
 //!
 //! [`Regions`] holds material [`Layer`]s, each a material with a weight 0..1 per rig vertex,
-//! and a pin weight per vertex (0: simulated, 1: glued to its bones). A vertex's parameters
-//! are the simulation's own [`Params`] blended towards each layer's in turn by the layer's
-//! weight there, so a painted brush with a soft edge gives a soft change of material. Of a
-//! layer's material the step takes the per-vertex fields, `C_vd`, `D`, `d_B`, `sl_max`,
-//! `f_min` and the stiffening exponent (the layer's where its weight is at least ½); the
-//! constraint, time step, gravity and floor are the simulation's.
+//! and a pin weight per vertex (0: simulated, 1: glued to its bones). A vertex's
+//! [`Material`] is the simulation's base material blended towards each layer's in turn by
+//! the layer's weight there ([`Material::blend`]), so a painted brush with a soft edge gives
+//! a soft change of material. The solver and the world are the simulation's.
 //!
 //! The step keeps one pass: when no layer has weight anywhere and nothing is pinned,
 //! nothing of this exists ([`Regions::is_uniform`]) and the kernel reads its constants from
 //! the parameters as before; otherwise it reads them per slot from [`PerSlot`].
 
-use super::{Params, REFERENCE_STEP};
+use super::{Material, REFERENCE_STEP};
 
 /// A material and where it applies.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Layer {
     /// The material.
-    pub params: Params,
+    pub material: Material,
     /// Per rig vertex: how much of the material applies, 0..1 (missing entries: 0).
     pub weight: Vec<f32>,
 }
@@ -42,10 +40,6 @@ fn weight(w: &[f32], i: usize) -> f32 {
     }
 }
 
-fn lerp(a: f32, b: f32, w: f32) -> f32 {
-    a + (b - a) * w
-}
-
 impl Regions {
     /// True when every vertex has the base material and nothing is pinned.
     pub fn is_uniform(&self) -> bool {
@@ -65,25 +59,16 @@ impl Regions {
         self.pin.iter().any(|&w| w > 0.0)
     }
 
-    /// The parameters of vertex `i`: `base` blended towards each layer's material.
-    pub fn params_of(&self, i: usize, base: &Params) -> Params {
-        let mut p = *base;
+    /// The material of vertex `i`: `base` blended towards each layer's material.
+    pub fn material_of(&self, i: usize, base: &Material) -> Material {
+        let mut m = *base;
         for layer in &self.layers {
             let w = weight(&layer.weight, i);
-            if w <= 0.0 {
-                continue;
-            }
-            let m = layer.params.sanitized();
-            p.damping = lerp(p.damping, m.damping, w);
-            p.stiffness = lerp(p.stiffness, m.stiffness, w);
-            p.bone_distance = lerp(p.bone_distance, m.bone_distance, w);
-            p.max_length = lerp(p.max_length, m.max_length, w);
-            p.min_length = lerp(p.min_length, m.min_length, w);
-            if w >= 0.5 {
-                p.stiffening = m.stiffening;
+            if w > 0.0 {
+                m = m.blend(&layer.material.sanitized(), w);
             }
         }
-        p.sanitized()
+        m.sanitized()
     }
 
     /// Pin weight of vertex `i`, 0..1.
@@ -111,10 +96,10 @@ pub(super) struct PerSlot {
 }
 
 impl PerSlot {
-    /// The constants of every slot from each rig vertex's parameters (`order`: slot →
-    /// rig vertex; `base` gives the step).
-    pub fn new(of_vertex: &[Params], base: &Params, order: &[u32]) -> PerSlot {
-        let ratio = base.time_step / REFERENCE_STEP;
+    /// The constants of every slot from each rig vertex's material (`order`: slot → rig
+    /// vertex) at the step `time_step`.
+    pub fn new(of_vertex: &[Material], time_step: f32, order: &[u32]) -> PerSlot {
+        let ratio = time_step / REFERENCE_STEP;
         let mut out = PerSlot::default();
         for &v in order {
             let p = &of_vertex[v as usize];
@@ -135,36 +120,29 @@ mod tests {
     use super::*;
 
     #[test]
-    fn params_of_blends_only_the_material_fields() {
-        let base = Params {
-            gravity: [0.0, -1.0, 0.0],
-            time_step: 1.0 / 120.0,
-            ..Params::default()
-        };
-        let water = Params {
+    fn material_of_blends_the_layers() {
+        let base = Material::default();
+        let water = Material {
             damping: 0.99,
             bone_distance: 1.0,
             max_length: 1.4,
-            time_step: 1.0 / 60.0,
             stiffening: 3,
-            ..Params::default()
+            ..Material::default()
         };
         let r = Regions {
             layers: vec![Layer {
-                params: water,
+                material: water,
                 weight: vec![0.0, 1.0, 0.5, f32::NAN],
             }],
             pin: vec![0.0, f32::NAN, 2.0],
         };
         assert!(r.is_mixed() && r.is_pinned() && !r.is_uniform());
-        assert_eq!(r.params_of(0, &base), base);
-        let p = r.params_of(1, &base);
-        assert_eq!((p.damping, p.max_length, p.stiffening), (0.99, 1.4, 3));
-        assert_eq!((p.gravity, p.time_step), (base.gravity, base.time_step));
-        let half = r.params_of(2, &base);
-        assert_eq!(half.bone_distance, 0.6);
-        assert_eq!(r.params_of(3, &base), base, "NaN weight: the base");
-        assert_eq!(r.params_of(9, &base), base, "past the end: the base");
+        assert_eq!(r.material_of(0, &base), base);
+        assert_eq!(r.material_of(1, &base), water);
+        let half = r.material_of(2, &base);
+        assert_eq!((half.bone_distance, half.stiffening), (0.6, 3));
+        assert_eq!(r.material_of(3, &base), base, "NaN weight: the base");
+        assert_eq!(r.material_of(9, &base), base, "past the end: the base");
         assert_eq!((r.pin_of(0), r.pin_of(1), r.pin_of(2)), (0.0, 0.0, 1.0));
         assert!(Regions::default().is_uniform());
     }

@@ -25,7 +25,7 @@ impl Simulation {
         if seconds.is_finite() && seconds > 0.0 {
             self.state.time_debt += seconds;
         }
-        let h = self.params.time_step;
+        let h = self.params.solver.time_step;
         let mut due = 0;
         while self.state.time_debt >= h && due < max_steps {
             self.state.time_debt -= h;
@@ -52,7 +52,7 @@ impl Simulation {
         self.largest_motion = 0.0;
     }
 
-    /// One simulation step of `h = params.time_step`.
+    /// One simulation step of `h = params.solver.time_step`.
     ///
     /// 0. **Wake**: sections whose transform differs from the last step wake the tiles that
     ///    hold their vertices (a parameter or section change wakes all).
@@ -162,7 +162,7 @@ impl Simulation {
     /// Stages 1–4: the fused kernel over every awake tile.
     fn integrate(&mut self) {
         let p = self.params;
-        let ratio = p.time_step / REFERENCE_STEP;
+        let ratio = p.solver.time_step / REFERENCE_STEP;
         let (gravity, floor) = (self.gravity_per_step(), self.floor());
         let state = &mut self.state;
         let ctx = kernel::Ctx {
@@ -170,8 +170,8 @@ impl Simulation {
             cur: &state.cur,
             transforms: state.transforms.as_flattened(),
             params: p,
-            stiffness: p.stiffness * ratio * ratio,
-            damping: p.damping.powf(ratio),
+            stiffness: p.material.stiffness * ratio * ratio,
+            damping: p.material.damping.powf(ratio),
             avx2: self.options.simd,
             gravity,
             floor,
@@ -201,11 +201,11 @@ impl Simulation {
     /// Gravity's displacement in one step, `g h²` (`None` when off or static).
     fn gravity_per_step(&self) -> Option<[f32; 3]> {
         let p = &self.params;
-        if !p.has_gravity() {
+        if !p.world.has_gravity() {
             return None;
         }
-        let scale = STANDARD_GRAVITY * self.diagonal * p.time_step * p.time_step;
-        Some(p.gravity.map(|g| g * scale))
+        let scale = STANDARD_GRAVITY * self.diagonal * p.solver.time_step * p.solver.time_step;
+        Some(p.world.gravity.map(|g| g * scale))
     }
 
     /// The floor's `y` when there is one.
@@ -216,9 +216,9 @@ impl Simulation {
     /// The floor's height and the share of sliding motion a touching point keeps per step.
     pub(super) fn floor(&self) -> Option<(f32, f32)> {
         let p = &self.params;
-        p.floor.then(|| {
-            let keep = (1.0 - p.floor_friction).powf(p.time_step / REFERENCE_STEP);
-            (self.lowest + p.floor_height, keep)
+        p.world.floor.then(|| {
+            let keep = (1.0 - p.world.floor_friction).powf(p.solver.time_step / REFERENCE_STEP);
+            (self.lowest + p.world.floor_height, keep)
         })
     }
 

@@ -340,8 +340,8 @@ pub(super) fn ball_distances(
 mod tests {
     use super::*;
     use crate::delaunay::Delaunay;
-    use crate::geom::hilbert::SplitMix;
     use crate::mesh::shapes;
+    use crate::random::SplitMix;
 
     /// Points on a unit sphere and eight far corners: cavities with many boundary vertices.
     fn sphere_and_far_corners() -> Vec<DVec3> {

@@ -3,7 +3,7 @@
 
 use crate::puppet::{Paint, Region};
 use crate::session::Session;
-use crate::sim::{self, MAX_STIFFENING};
+use crate::sim::Material;
 
 /// Adds the selected sections' names to `paint` (once each).
 fn add_selected(paint: &mut Paint, session: &Session) {
@@ -33,7 +33,7 @@ pub(super) fn regions_section(ui: &mut egui::Ui, session: &mut Session) {
     let mut pin = session.puppet.rig_file.pin.clone();
     let before = (regions.clone(), pin.clone());
     let mut remove = None;
-    let presets = sim::presets();
+    let mut preset_chosen = None;
     for (k, r) in regions.iter_mut().enumerate() {
         ui.horizontal(|ui| {
             let mut painting = session.paint_tool.active && session.paint_tool.target == Some(k);
@@ -47,23 +47,10 @@ pub(super) fn regions_section(ui: &mut egui::Ui, session: &mut Session) {
                     session.toggle_brush();
                 }
             }
-            egui::ComboBox::from_id_salt(("region material", k))
-                .selected_text(r.material.as_str())
-                .width(90.0)
-                .show_ui(ui, |ui| {
-                    for m in &presets {
-                        if ui
-                            .selectable_label(r.material == m.name, m.name.as_str())
-                            .clicked()
-                        {
-                            r.material = m.name.clone();
-                            r.params = sim::Params {
-                                stiffening: r.params.stiffening,
-                                ..m.params
-                            };
-                        }
-                    }
-                });
+            if let Some(name) = super::material::preset_menu(ui, ("region material", k), &r.preset)
+            {
+                preset_chosen = Some((k, name));
+            }
             if ui
                 .small_button("+ selected")
                 .on_hover_text("add the selected sections to this region")
@@ -80,9 +67,7 @@ pub(super) fn regions_section(ui: &mut egui::Ui, session: &mut Session) {
         });
         ui.horizontal(|ui| {
             ui.small(describe(&r.paint));
-            ui.add(
-                egui::Slider::new(&mut r.params.stiffening, 0..=MAX_STIFFENING).text("stiffening"),
-            );
+            super::material::stiffening_slider(ui, &mut r.material.stiffening);
         });
     }
     if let Some(k) = remove {
@@ -95,11 +80,10 @@ pub(super) fn regions_section(ui: &mut egui::Ui, session: &mut Session) {
         .on_hover_text("another material (water) on the selected sections; paint to add more")
         .clicked()
     {
-        let water = presets.iter().find(|m| m.name == "water");
         let mut region = Region {
             name: format!("region {}", regions.len() + 1),
-            material: water.map_or("custom".into(), |m| m.name.clone()),
-            params: water.map_or_else(sim::Params::default, |m| m.params),
+            preset: "water".into(),
+            material: Material::preset("water").unwrap_or_default(),
             paint: Paint::default(),
         };
         add_selected(&mut region.paint, session);
@@ -139,5 +123,8 @@ pub(super) fn regions_section(ui: &mut egui::Ui, session: &mut Session) {
     }
     if (regions.clone(), pin.clone()) != before {
         session.set_regions(regions, pin);
+    }
+    if let Some((k, name)) = preset_chosen {
+        session.set_region_preset(k, &name);
     }
 }

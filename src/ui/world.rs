@@ -26,9 +26,9 @@ pub(super) fn split(g: [f32; 3]) -> (f32, [f32; 3]) {
 
 pub(super) fn world_section(ui: &mut egui::Ui, session: &mut Session) {
     ui.strong("World");
-    let mut p: Params = *session.puppet.sim.params();
-    let before = p;
-    let (mut strength, mut direction) = split(p.gravity);
+    let mut w = session.puppet.sim.params().world;
+    let before = w;
+    let (mut strength, mut direction) = split(w.gravity);
     ui.add(
         egui::Slider::new(&mut strength, 0.0..=MAX_GRAVITY)
             .text("gravity (g)")
@@ -47,18 +47,22 @@ pub(super) fn world_section(ui: &mut egui::Ui, session: &mut Session) {
                 ui.selectable_value(&mut direction, d, n);
             }
         });
-    p.gravity = direction.map(|c| c * strength);
-    ui.checkbox(&mut p.floor, "floor")
+    w.gravity = direction.map(|c| c * strength);
+    ui.checkbox(&mut w.floor, "floor")
         .on_hover_text("a ground plane the surface cannot pass (up is +y)");
-    if p.floor {
+    if w.floor {
         let size = session.puppet.mesh.diagonal() as f32;
         ui.add(
-            egui::Slider::new(&mut p.floor_height, -0.5 * size..=0.5 * size)
+            egui::Slider::new(&mut w.floor_height, -0.5 * size..=0.5 * size)
                 .text("height above the lowest point"),
         );
-        ui.add(egui::Slider::new(&mut p.floor_friction, 0.0..=1.0).text("friction"));
+        ui.add(egui::Slider::new(&mut w.floor_friction, 0.0..=1.0).text("friction"));
     }
-    if p != before {
-        session.set_params(p);
+    if w != before {
+        let params = Params {
+            world: w,
+            ..*session.puppet.sim.params()
+        };
+        session.set_params(params);
     }
 }

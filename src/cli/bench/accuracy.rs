@@ -105,17 +105,18 @@ fn run_reference(scenario: &Scenario, params: Params, h: f64) -> Run {
 /// Runs a configuration; returns the per-frame positions and the median ms per frame.
 fn run_config(scenario: &Scenario, params: Params, c: &Config) -> (Run, f64) {
     let h = FRAME / c.substeps as f64;
-    let params = Params {
-        time_step: h as f32,
-        reduction_iterations: c.iterations,
-        ..params
-    };
+    let mut params = params;
+    params.solver.time_step = h as f32;
+    params.solver.reduction_iterations = c.iterations;
     let mut out = Vec::with_capacity(FRAMES);
     let mut ms = Vec::with_capacity(FRAMES);
     match c.solver {
         Solver::F32(options) => {
-            let mut sim =
-                Simulation::with_options(scenario.rig(params.bone_distance), params, options);
+            let mut sim = Simulation::with_options(
+                scenario.rig(params.material.bone_distance),
+                params,
+                options,
+            );
             sim.set_sections(scenario.joints.section_of().to_vec());
             for f in 0..FRAMES {
                 let started = std::time::Instant::now();
@@ -167,7 +168,7 @@ fn configs(constraint: Constraint) -> Vec<Config> {
         default: is_default,
         sweep: false,
     };
-    let it = default.reduction_iterations;
+    let it = default.solver.reduction_iterations;
     let mut v = vec![
         c(
             "f32, h = 1/60, sleeping (app default)",
@@ -246,15 +247,11 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     };
     for constraint in [Constraint::Circumsphere, Constraint::SpringReduction] {
         let method = constraint.name();
-        let params = Params {
-            constraint,
-            ..Params::default()
-        };
+        let mut params = Params::default();
+        params.solver.constraint = constraint;
         // 1. The converged reference.
-        let ref_params = Params {
-            reduction_iterations: 64,
-            ..params
-        };
+        let mut ref_params = params;
+        ref_params.solver.reduction_iterations = 64;
         let mut divisions = 8usize;
         let mut reference = run_reference(&scenario, ref_params, FRAME / divisions as f64);
         loop {

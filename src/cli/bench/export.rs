@@ -52,10 +52,10 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     let base = Base::load(&args.input, load, None)?;
     let scenario = base.scenario(args.subdivisions as usize, 1.0)?;
     let params = Params::default();
-    let mut sim = Simulation::new(scenario.rig(params.bone_distance), params);
+    let mut sim = Simulation::new(scenario.rig(params.material.bone_distance), params);
     sim.set_sections(scenario.joints.section_of().to_vec());
     let fps = 30.0;
-    let h = params.time_step as f64;
+    let h = params.solver.time_step as f64;
     let mut frames = Vec::with_capacity(args.frames as usize);
     let mut steps = 0u64;
     for k in 1..=args.frames {

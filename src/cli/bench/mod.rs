@@ -11,8 +11,10 @@
 //! * `sag`: how far each Table 1 preset sags under gravity, and how long it takes to
 //!   settle ([`sag`]);
 //! * `export`: time and size of a take in each export format ([`export`]);
-//! * `machine`: copy bandwidth and a plain scalar spring loop, as yardsticks ([`machine`]);
-//! * `skeleton`, `skeleton-speed`: the skeleton's accuracy and speed ([`skeleton`]).
+//! * `joints`: a bent joint's surface, hinge against bands ([`joints`]);
+//! * `skeleton`, `skeleton-speed`, `skeleton-change`: the skeleton's accuracy, its speed,
+//!   and how far real meshes' points move between methods ([`skeleton`]);
+//! * `machine`: copy bandwidth and a plain scalar spring loop, as yardsticks ([`machine`]).
 
 mod accuracy;
 mod export;

@@ -66,12 +66,10 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     let pose = Pose::rest(1);
     let mut rows = Vec::new();
     for m in presets() {
-        let params = Params {
-            gravity: [0.0, -args.gravity, 0.0],
-            ..m.params
-        };
-        let mut sim = Simulation::new(scenario.rig(params.bone_distance), params);
-        let h = sim.params().time_step as f64;
+        let mut params = Params::from(m.material);
+        params.world.gravity = [0.0, -args.gravity, 0.0];
+        let mut sim = Simulation::new(scenario.rig(params.material.bone_distance), params);
+        let h = sim.params().solver.time_step as f64;
         let limit = (args.limit / h).ceil() as u64;
         let started = std::time::Instant::now();
         while !sim.is_asleep() {

@@ -30,7 +30,7 @@ pub struct SpeedArgs {
     /// Runs per size; the median is reported.
     #[arg(long, default_value_t = 3)]
     runs: usize,
-    /// Fail (exit status 1) when reading a file of 100k vertices or more (read, parse,
+    /// Fail (exit status 2) when reading a file of 100k vertices or more (read, parse,
     /// weld, repair, check) takes longer than this fraction of its skeleton.
     #[arg(long)]
     max_load_ratio: Option<f64>,
@@ -315,7 +315,7 @@ struct ChangeRow {
 }
 
 /// How far each skeletal point moves from one method to another on real meshes, and whether
-/// every one of the new points is still inside. Fails (exit status 1) if one that was
+/// every one of the new points is still inside. Fails (exit status 2) if one that was
 /// inside is not.
 pub fn change(args: &ChangeArgs, load: &LoadArgs) -> Result<()> {
     let to = args.to.unwrap_or_default();

@@ -59,11 +59,9 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     let base = Base::load(&args.input, load, None)?;
     let swing = 1.0;
     let scenario = base.scenario(args.subdivisions as usize, swing)?;
-    let params = Params {
-        constraint: args.constraint,
-        time_step: REFERENCE_STEP,
-        ..Params::default()
-    };
+    let mut params = Params::default();
+    params.solver.constraint = args.constraint;
+    params.solver.time_step = REFERENCE_STEP;
     let tiles = [64usize, 256, 1024, 4096, usize::MAX];
     let mut configs: Vec<(String, Options)> = vec![(
         "full (no sleeping)".into(),
@@ -95,7 +93,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             ..Options::default()
         },
     ));
-    let rig = scenario.rig(params.bone_distance);
+    let rig = scenario.rig(params.material.bone_distance);
     let mut sims: Vec<Simulation> = configs
         .iter()
         .map(|(_, o)| {

@@ -21,13 +21,13 @@
 
 use anyhow::{bail, Result};
 use glam::{DQuat, DVec3, Vec3};
-use puppet::geom::hilbert::SplitMix;
 use puppet::joints::{Cut, Joints, Local, Shape, ROOT};
 use puppet::mesh::{self, shapes, subdivide_loop, Mesh};
+use puppet::random::SplitMix;
 use puppet::scenario::Scenario;
 use puppet::sim::{
-    Constraint, Layer, Params, Regions, Simulation, MAX_GRAVITY, MAX_STIFFENING, MAX_STIFFNESS,
-    REFERENCE_STEP,
+    Constraint, Layer, Material, Params, Regions, Simulation, Solver, World, MAX_GRAVITY,
+    MAX_STIFFENING, MAX_STIFFNESS, REFERENCE_STEP,
 };
 
 struct Rng(SplitMix);
@@ -192,16 +192,17 @@ pub fn run(args: &Args) -> Result<()> {
 }
 
 fn random_params(rng: &mut Rng) -> Params {
-    Params {
-        damping: rng.extreme(0.0, 1.0) as f32,
-        stiffness: if rng.below(4) == 0 {
-            1e-6
-        } else {
-            rng.extreme(0.0, MAX_STIFFNESS as f64) as f32
-        },
-        bone_distance: rng.extreme(0.0, 1.0) as f32,
-        max_length: rng.extreme(1.0, 3.0) as f32,
-        min_length: rng.extreme(0.0, 1.0) as f32,
+    // Drawn in this order (the figures quoted for a seed depend on it).
+    let damping = rng.extreme(0.0, 1.0) as f32;
+    let stiffness = if rng.below(4) == 0 {
+        1e-6
+    } else {
+        rng.extreme(0.0, MAX_STIFFNESS as f64) as f32
+    };
+    let bone_distance = rng.extreme(0.0, 1.0) as f32;
+    let max_length = rng.extreme(1.0, 3.0) as f32;
+    let min_length = rng.extreme(0.0, 1.0) as f32;
+    let solver = Solver {
         constraint: if rng.below(2) == 0 {
             Constraint::Circumsphere
         } else {
@@ -209,6 +210,8 @@ fn random_params(rng: &mut Rng) -> Params {
         },
         reduction_iterations: 1 + rng.below(64) as u32,
         time_step: rng.range(1.0 / 240.0, REFERENCE_STEP as f64) as f32,
+    };
+    let world = World {
         gravity: if rng.below(2) == 0 {
             (rng.direction() * rng.extreme(0.0, MAX_GRAVITY as f64))
                 .to_array()
@@ -219,7 +222,19 @@ fn random_params(rng: &mut Rng) -> Params {
         floor: rng.below(3) == 0,
         floor_height: 0.0,
         floor_friction: rng.extreme(0.0, 1.0) as f32,
+    };
+    let material = Material {
+        damping,
+        stiffness,
+        bone_distance,
+        max_length,
+        min_length,
         stiffening: rng.below(MAX_STIFFENING as usize + 1) as u32,
+    };
+    Params {
+        material,
+        solver,
+        world,
     }
 }
 
@@ -235,7 +250,8 @@ fn random_regions(rng: &mut Rng, section_of: &[u16]) -> Regions {
     };
     if rng.below(3) == 0 {
         for _ in 0..1 + rng.below(3) {
-            let params = random_params(rng);
+            // A whole set of parameters drawn, as ever, though a layer keeps its material.
+            let material = random_params(rng).material;
             let by_section: Vec<f32> = (0..64).map(|_| weight(rng)).collect();
             let painted = rng.below(2) == 0;
             let weight = (0..n)
@@ -247,7 +263,7 @@ fn random_regions(rng: &mut Rng, section_of: &[u16]) -> Regions {
                     }
                 })
                 .collect();
-            regions.layers.push(Layer { params, weight });
+            regions.layers.push(Layer { material, weight });
         }
     }
     if rng.below(3) == 0 {
@@ -302,15 +318,15 @@ fn run_scenario(
             shared_pivot: rng.below(3) == 0,
         });
     }
-    let mut sim = Simulation::new(scenario.rig(params.bone_distance), params);
+    let mut sim = Simulation::new(scenario.rig(params.material.bone_distance), params);
     sim.set_sections(joints.transform_of().to_vec());
     sim.set_regions(random_regions(rng, joints.section_of()));
     let p = *sim.params();
     // The floor somewhere between a little below the puppet and its middle.
-    let floor = p.floor.then(|| {
+    let floor = p.world.floor.then(|| {
         let height = rng.range(-0.1, 0.5) * (hi.y - lo.y);
         let mut q = p;
-        q.floor_height = height as f32;
+        q.world.floor_height = height as f32;
         sim.set_params(q);
         sim.floor_y().map_or(f64::NEG_INFINITY, f64::from)
     });
@@ -321,7 +337,7 @@ fn run_scenario(
     let mut targets: Vec<Vec3> = (0..n).map(|i| sim.target(i)).collect();
     let mut before: Vec<Vec3> = sim.positions().to_vec();
     let tolerance = 1e-5 * size;
-    let h = p.time_step as f64;
+    let h = p.solver.time_step as f64;
     let mut done = 0;
     let mut debt = 0.0;
     while done < steps {
@@ -389,7 +405,10 @@ fn check(
     let rig = sim.rig();
     let step = sim.steps();
     for i in 0..rig.len() {
-        let p = &sim.regions().params_of(i, base);
+        let p = &Params {
+            material: sim.regions().material_of(i, &base.material),
+            ..*base
+        };
         let y = x.get(i);
         if !y.is_finite() {
             bail!("stress scenario {name}, step {step}: vertex {i} is not finite ({y}) with {p:?}");
@@ -400,14 +419,17 @@ fn check(
         let (radius, excess) = if sim.is_static() {
             (0.0, (y - target).length() as f64)
         } else {
-            match p.constraint {
+            match p.solver.constraint {
                 Constraint::Circumsphere => {
-                    let rho = (p.max_length as f64 - 1.0) * l;
+                    let rho = (p.material.max_length as f64 - 1.0) * l;
                     (rho, (y - target).length() as f64 - rho)
                 }
                 Constraint::SpringReduction => {
                     let (bi, bo) = sim.bone_points(i);
-                    let (lo, hi) = (p.min_length as f64 * l, p.max_length as f64 * l);
+                    let (lo, hi) = (
+                        p.material.min_length as f64 * l,
+                        p.material.max_length as f64 * l,
+                    );
                     let excess = [bi, bo]
                         .iter()
                         .map(|b| {
@@ -415,7 +437,7 @@ fn check(
                             (len - hi).max(lo - len)
                         })
                         .fold(f64::MIN, f64::max);
-                    ((p.max_length as f64 + 1.0) * l, excess)
+                    ((p.material.max_length as f64 + 1.0) * l, excess)
                 }
             }
         };

@@ -11,7 +11,7 @@ use anyhow::Result;
 use puppet::mesh::subdivide_loop_values;
 use puppet::scenario::Scenario;
 use puppet::sim::Constraint;
-use puppet::sim::{Layer, Options, Params, Regions, Simulation, REFERENCE_STEP};
+use puppet::sim::{Layer, Material, Options, Params, Regions, Simulation, REFERENCE_STEP};
 
 /// Steps before timing starts.
 const WARM_UP: usize = 20;
@@ -55,12 +55,13 @@ pub fn measure(scenario: &Scenario, params: Params, regions: Regions, steps: usi
         sleeping: false,
         ..Options::default()
     };
-    let mut sim = Simulation::with_options(scenario.rig(params.bone_distance), params, options);
+    let mut sim =
+        Simulation::with_options(scenario.rig(params.material.bone_distance), params, options);
     sim.set_sections(scenario.joints.transform_of().to_vec());
     sim.set_regions(regions);
     let springs = sim.rig().spring_count();
     let vertices = sim.rig().len();
-    let h = params.time_step as f64;
+    let h = params.solver.time_step as f64;
     let (mut total, mut wake, mut fused, mut sleep) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let mut scratch = puppet::joints::PoseScratch::default();
@@ -87,7 +88,7 @@ pub fn measure(scenario: &Scenario, params: Params, regions: Regions, steps: usi
         vertices,
         springs,
         steps,
-        method: params.constraint.name(),
+        method: params.solver.constraint.name(),
         ms_per_step_median: med,
         ms_per_step_p95: p95,
         wake_ms_median: median_p95(wake).0,
@@ -170,14 +171,10 @@ pub struct Args {
 fn mixed_regions(scenario: &Scenario) -> Regions {
     let (lo, hi) = scenario.mesh.bounds();
     let middle = 0.5 * (lo.x + hi.x);
-    let thick = puppet::sim::presets()
-        .into_iter()
-        .find(|m| m.name == "thick skin")
-        .map(|m| m.params)
-        .unwrap_or_default();
+    let thick = Material::preset("thick skin").unwrap_or_default();
     Regions {
         layers: vec![Layer {
-            params: Params {
+            material: Material {
                 stiffening: 2,
                 ..thick
             },
@@ -204,14 +201,12 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         anyhow::bail!("--max-band-cost: {max} is not a number of percent");
     }
     let base = Base::load(&args.input, load, args.springs.filter(|_| args.torus))?;
-    let params = Params {
-        constraint: args.constraint,
-        time_step: REFERENCE_STEP,
-        gravity: [0.0, -args.gravity, 0.0],
-        floor: args.floor,
-        ..Params::default()
-    }
-    .sanitized();
+    let mut params = Params::default();
+    params.solver.constraint = args.constraint;
+    params.solver.time_step = REFERENCE_STEP;
+    params.world.gravity = [0.0, -args.gravity, 0.0];
+    params.world.floor = args.floor;
+    let params = params.sanitized();
     let max_level = if args.scaling {
         args.subdivisions as usize
     } else {
@@ -239,10 +234,8 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             args.band,
         );
         let (lo, hi) = scenario.mesh.bounds();
-        let params = Params {
-            floor_height: (0.1 * (hi.y - lo.y)) as f32,
-            ..params
-        };
+        let mut params = params;
+        params.world.floor_height = (0.1 * (hi.y - lo.y)) as f32;
         let regions = if args.mixed {
             mixed_regions(&scenario)
         } else {

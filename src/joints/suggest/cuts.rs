@@ -1,0 +1,494 @@
+//! The cut rules (step 3 of the module docs): which segments of the join tree are limbs, and
+//! where a limb or a part of the body is cut: at its base, at narrowings, where it widens
+//! into an extremity, along a digit, in the middle of a long stretch.
+
+use super::rules::{BASE, DIGIT, DIP, ELONGATED, HEAD, LONG, SLENDER, THINNER};
+use super::tree::Tree;
+use glam::DVec3;
+
+impl Tree<'_> {
+    /// Every cut's place, parent-first: `parent` indexes this list.
+    pub(super) fn limbs(&self) -> Vec<Limb> {
+        let mut out = Vec::new();
+        if self.segments.is_empty() {
+            return out;
+        }
+        let children = &self.children;
+        // The segment holding the root (the smallest g).
+        let Some(root) = (0..self.segments.len()).find(|&k| {
+            self.segments[k].parent.is_none()
+                && self.segments[k]
+                    .vertices
+                    .iter()
+                    .any(|&v| self.g[v as usize] == 0.0)
+        }) else {
+            return out;
+        };
+        // Each segment's base cut, if it is a limb; and its owner: the nearest limb at or
+        // below it (the root's segment for the body).
+        let n = self.segments.len();
+        let mut base: Vec<Option<Limb>> = (0..n)
+            .map(|k| match self.segments[k].parent {
+                Some(p) if !self.segments[k].vertices.is_empty() => self.base_cut(k, p, children),
+                _ => None,
+            })
+            .collect();
+        // A part no thinner than the body that still reaches out, with two or more limbs of
+        // its own (a head with ears and horns), turns at its base too.
+        for k in 0..n {
+            let seg = &self.segments[k].vertices;
+            if base[k].is_some() || seg.is_empty() || k == root {
+                continue;
+            }
+            let Some(parent) = self.segments[k].parent else {
+                continue;
+            };
+            let hanging = self.limbs_hanging(k, children, &base);
+            let low = seg
+                .iter()
+                .map(|&v| self.g[v as usize])
+                .fold(f64::INFINITY, f64::min);
+            let high = self
+                .subtree(k, children)
+                .iter()
+                .map(|&v| self.g[v as usize])
+                .fold(f64::NEG_INFINITY, f64::max);
+            if hanging.len() < 2 || low <= 0.0 || high - low < HEAD || parent == root {
+                continue;
+            }
+            // Its limbs are thin beside it (ears and horns on a head, fingers on a hand):
+            // where one is about as wide (a wrist below a palm), this is a stretch of the
+            // body where limbs meet, not a part of its own.
+            let Some(cut) = self.cut_at(k, low + BASE) else {
+                continue;
+            };
+            if hanging.iter().all(|&w| w <= SLENDER * cut.width) {
+                base[k] = Some(cut);
+            }
+        }
+        let mut owner = vec![root; n];
+        let mut stack = vec![root];
+        while let Some(k) = stack.pop() {
+            for &c in &children[k] {
+                owner[c] = if base[c].is_some() { c } else { owner[k] };
+                stack.push(c);
+            }
+        }
+        // Limbs hanging from each owner, and those of them no limb grows from (tips).
+        let hanging: Vec<(usize, usize)> = (0..n)
+            .filter(|&k| base[k].is_some())
+            .filter_map(|k| self.segments[k].parent.map(|p| (k, owner[p])))
+            .collect();
+        let mut limbs_from = vec![0usize; n];
+        for &(_, o) in &hanging {
+            limbs_from[o] += 1;
+        }
+        let mut tips_from = vec![0usize; n];
+        for &(k, o) in &hanging {
+            if limbs_from[k] == 0 {
+                tips_from[o] += 1;
+            }
+        }
+        let shape = Shape {
+            children,
+            base: &base,
+            owner: &owner,
+            limbs_from: &limbs_from,
+            tips_from: &tips_from,
+            root,
+        };
+        self.walk(root, None, &shape, &mut out);
+        out
+    }
+
+    /// Visits segment `k` (whose limb, the nearest cut below it, is `limb`), adding the
+    /// cuts at its base and inside it, then its children.
+    pub(super) fn walk(&self, k: usize, limb: Option<usize>, shape: &Shape, out: &mut Vec<Limb>) {
+        let mut current = limb;
+        if let Some(base) = shape.base[k] {
+            out.push(Limb {
+                parent: limb,
+                ..base
+            });
+            current = Some(out.len() - 1);
+        }
+        // An extremity: two or more limbs grow from it (a hand, a foot: cut where it
+        // widens). A digit: a tip among three or more that grow from one extremity (not
+        // from the body).
+        // A part of the body that is no limb (a thick neck and head) may still narrow
+        // (at the neck): only narrowings there.
+        let limb = shape.base[k].is_some();
+        let parent = self.segments[k]
+            .parent
+            .map_or(shape.root, |p| shape.owner[p]);
+        let extremity = limb && shape.limbs_from[k] >= 2;
+        let digit = limb && shape.limbs_from[k] == 0 && shape.tips_from[parent] >= 4;
+        if k != shape.root {
+            for inner in self.inner_cuts(k, limb, extremity, digit) {
+                out.push(Limb {
+                    parent: current,
+                    ..inner
+                });
+                current = Some(out.len() - 1);
+            }
+        }
+        // Children from the thickest down, so a section tree reads naturally.
+        let mut kids = shape.children[k].clone();
+        kids.sort_by(|&a, &b| {
+            let (ra, rb) = (
+                self.radius(&self.segments[a].vertices),
+                self.radius(&self.segments[b].vertices),
+            );
+            rb.total_cmp(&ra)
+        });
+        for c in kids {
+            self.walk(c, current, shape, out);
+        }
+    }
+
+    /// The widths of the limbs that hang from segment `k`, directly or through forks that
+    /// are no limbs.
+    pub(super) fn limbs_hanging(
+        &self,
+        k: usize,
+        children: &[Vec<usize>],
+        base: &[Option<Limb>],
+    ) -> Vec<f64> {
+        let mut out = Vec::new();
+        for &c in &children[k] {
+            match base[c] {
+                Some(limb) => out.push(limb.width),
+                None => out.extend(self.limbs_hanging(c, children, base)),
+            }
+        }
+        out
+    }
+
+    /// The cut at the base of segment `k` where it hangs from `parent`, if `k` (with what
+    /// grows from it) is a limb: thinner than the parent there and long enough.
+    pub(super) fn base_cut(
+        &self,
+        k: usize,
+        parent: usize,
+        children: &[Vec<usize>],
+    ) -> Option<Limb> {
+        let seg = &self.segments[k].vertices;
+        let whole = self.subtree(k, children);
+        let low = seg
+            .iter()
+            .map(|&v| self.g[v as usize])
+            .fold(f64::INFINITY, f64::min);
+        let high = whole
+            .iter()
+            .map(|&v| self.g[v as usize])
+            .fold(f64::NEG_INFINITY, f64::max);
+        let r = self.radius(seg);
+        if r <= 0.0 || high - low < ELONGATED {
+            return None;
+        }
+        // Thinner than the parent just below the fork: by the rings' sizes, not their
+        // medial radii (a finger is as thick as the flat palm it grows from, not as wide).
+        // (Its own ring one to three radii out: at the fork itself it is not round.)
+        let own = self.size(&self.ring(seg, low + 1.0, low + 3.0));
+        // The trunk it grows from, one to three of its radii below the fork (through short
+        // forks where other limbs join close by, like the webs between fingers).
+        let below = self.trunk_ring(parent, low - 3.0, low - 1.0);
+        // A limb growing right from the core (a finger from the palm) has no trunk below
+        // it: the core's own vertices are only the root's ball, so the body is measured
+        // beside the limb instead, by everything else as far from the core.
+        let beside = || {
+            let mut mine = vec![false; self.g.len()];
+            for &v in &whole {
+                mine[v as usize] = true;
+            }
+            (0..self.g.len() as u32)
+                .filter(|&v| {
+                    !mine[v as usize] && (low + 1.0..low + 3.0).contains(&self.g[v as usize])
+                })
+                .collect::<Vec<u32>>()
+        };
+        let parent_size = if below.is_empty() {
+            self.size(&self.segments[parent].vertices)
+                .max(self.size(&beside()))
+        } else {
+            self.size(&below)
+        };
+        if !is_limb(own, parent_size, high - low, r) {
+            return None;
+        }
+        // Through the ring a radius above the fork, across the axis there: far enough out
+        // that the plane does not reach a neighbour at the fork (the other leg at the
+        // crotch).
+        self.cut_at(k, low + BASE)
+    }
+
+    /// The profile of segment `k` from its base up, in bins half its radius long: the
+    /// median skeletal distance and the mean distance of the surface from the ring's centre
+    /// of each ring (empty rings interpolated), smoothed over three bins.
+    pub(super) fn profile(&self, k: usize) -> Option<Profile> {
+        let seg = &self.segments[k].vertices;
+        let r = self.radius(seg);
+        if seg.len() < 16 || r <= 0.0 {
+            return None;
+        }
+        let low = seg
+            .iter()
+            .map(|&v| self.g[v as usize])
+            .fold(f64::INFINITY, f64::min);
+        let high = seg
+            .iter()
+            .map(|&v| self.g[v as usize])
+            .fold(f64::NEG_INFINITY, f64::max);
+        let step = 0.5;
+        let bins = ((high - low) / step).floor() as usize;
+        if bins < 6 {
+            return None;
+        }
+        let mut d = vec![f64::NAN; bins];
+        let mut size = vec![f64::NAN; bins];
+        for b in 0..bins {
+            let lo = low + b as f64 * step;
+            let ring = self.ring(seg, lo, lo + step);
+            if ring.len() >= 3 {
+                d[b] = self.radius(&ring);
+                let (c, _) = self.centre(&ring);
+                size[b] = ring
+                    .iter()
+                    .map(|&v| (self.mesh.positions[v as usize] - c).length())
+                    .sum::<f64>()
+                    / ring.len() as f64;
+            }
+        }
+        let (d, size) = (smooth(&fill(&d)?), smooth(&fill(&size)?));
+        Some(Profile { low, step, d, size })
+    }
+
+    /// Cuts inside segment `k`, from its base up: at clear narrowings; where it widens into
+    /// an extremity that other limbs grow from (a wrist, an ankle: `extremity`); and along
+    /// a long digit (`digit`: a tip among several of an extremity) at its two joints (see
+    /// [`Profile::cut_bins`]).
+    pub(super) fn inner_cuts(
+        &self,
+        k: usize,
+        limb: bool,
+        extremity: bool,
+        digit: bool,
+    ) -> Vec<Limb> {
+        let Some(p) = self.profile(k) else {
+            return Vec::new();
+        };
+        p.cut_bins(limb, extremity, digit)
+            .into_iter()
+            .filter_map(|b| self.cut_at(k, p.low + (b as f64 + 0.5) * p.step))
+            .collect()
+    }
+
+    /// A cut through the ring of `seg` at level `at`, across the axis (from the centre of
+    /// the ring a radius below to the one a radius above), its pivot on the axis.
+    pub(super) fn cut_at(&self, k: usize, at: f64) -> Option<Limb> {
+        let seg = &self.segments[k].vertices;
+        let half = 0.25;
+        let ring = self.ring(seg, at - half, at + half);
+        let below = self.ring(seg, at - 1.0 - half, at - 1.0 + half);
+        let above = self.ring(seg, at + 1.0 - half, at + 1.0 + half);
+        if ring.is_empty() {
+            return None;
+        }
+        let (point, pivot) = self.centre(&ring);
+        let from = if below.is_empty() {
+            point
+        } else {
+            self.centre(&below).0
+        };
+        let to = if above.is_empty() {
+            point
+        } else {
+            self.centre(&above).0
+        };
+        let normal = (to - from).normalize_or_zero();
+        if normal == DVec3::ZERO || !normal.is_finite() {
+            return None;
+        }
+        // The pivot on the plane, at the axis.
+        let pivot = pivot - normal * (pivot - point).dot(normal);
+        let expected = self
+            .subtree(k, &self.children)
+            .iter()
+            .filter(|&&v| self.g[v as usize] >= at)
+            .count();
+        Some(Limb {
+            parent: None,
+            expected,
+            width: self.size(&ring),
+            point,
+            normal,
+            pivot,
+        })
+    }
+}
+
+/// What [`Tree::limbs`] found of the tree's shape, for [`Tree::walk`].
+pub(super) struct Shape<'a> {
+    pub(super) children: &'a [Vec<usize>],
+    /// Each segment's base cut, if it is a limb.
+    pub(super) base: &'a [Option<Limb>],
+    /// The nearest limb at or below each segment (the root's segment for the body).
+    pub(super) owner: &'a [usize],
+    /// Per owner: limbs that hang from it, and those of them no limb grows from.
+    pub(super) limbs_from: &'a [usize],
+    pub(super) tips_from: &'a [usize],
+    /// The root's segment.
+    pub(super) root: usize,
+}
+
+/// A segment's profile (see [`Tree::profile`]).
+pub(super) struct Profile {
+    /// `g` at its base.
+    pub(super) low: f64,
+    /// Bin length.
+    pub(super) step: f64,
+    /// Per bin: median skeletal distance, and mean distance from the ring's centre.
+    pub(super) d: Vec<f64>,
+    pub(super) size: Vec<f64>,
+}
+
+impl Profile {
+    /// The bins of the cuts inside a part with this profile, from its base up, in order: at
+    /// clear narrowings; where a limb widens into an extremity (`extremity`); along a digit
+    /// (`digit`) at 45 % and 72 % of its length; in the middle of a limb's long stretch
+    /// without a joint. `limb`: the part is a limb, cut at its base (a part of the body is
+    /// cut only where it narrows).
+    pub(super) fn cut_bins(&self, limb: bool, extremity: bool, digit: bool) -> Vec<usize> {
+        let bins = self.d.len();
+        // Bins of cuts; a cut keeps three bins (1.5 radii) from another and from the top,
+        // and two radii from the base cut.
+        let mut at: Vec<usize> = Vec::new();
+        let first = if limb {
+            (2.0 * (BASE + 1.5)) as usize
+        } else {
+            3
+        };
+        let free = |at: &[usize], b: usize| {
+            b >= first && b + 3 <= bins && at.iter().all(|&c| c.abs_diff(b) >= 3)
+        };
+        // Narrowings: a minimum of the skeletal distance or of the ring's size clearly below
+        // the thicker parts on either side.
+        for b in 1..bins - 1 {
+            let narrows = |v: &[f64]| {
+                let here = v[b];
+                let before = v[..b].iter().copied().fold(0.0, f64::max);
+                let after = v[b + 1..].iter().copied().fold(0.0, f64::max);
+                here <= v[b - 1] && here <= v[b + 1] && here <= (1.0 - DIP) * before.min(after)
+            };
+            if (narrows(&self.d) || narrows(&self.size)) && free(&at, b) {
+                at.push(b);
+            }
+        }
+        if !limb {
+            at.sort_unstable();
+            return at;
+        }
+        // Where it widens into an extremity: the narrowest ring of its last half, if the
+        // extremity is clearly wider.
+        if extremity {
+            let half = bins / 2;
+            if let Some(b) = (half..bins).min_by(|&a, &b| self.size[a].total_cmp(&self.size[b])) {
+                let wider = self.size[b..].iter().copied().fold(0.0, f64::max);
+                if wider >= (1.0 + DIP) * self.size[b] && free(&at, b) {
+                    at.push(b);
+                }
+            }
+        }
+        // A digit's two joints, at 45 % and 72 % of its length (where a finger's bend),
+        // unless narrowings already cut it.
+        if digit && at.is_empty() && bins as f64 * self.step >= DIGIT {
+            for share in [0.45, 0.72] {
+                let b = (share * bins as f64) as usize;
+                if free(&at, b) {
+                    at.push(b);
+                }
+            }
+        }
+        // A long stretch with no joint (an arm whose elbow does not narrow) bends in the
+        // middle.
+        at.sort_unstable();
+        if !digit {
+            let ends: Vec<usize> = std::iter::once(first / 2)
+                .chain(at.iter().copied())
+                .chain(std::iter::once(bins))
+                .collect();
+            for w in ends.windows(2) {
+                let (a, b) = (w[0], w[1]);
+                if ((b - a) as f64 * self.step) >= LONG {
+                    let mid = (a + b) / 2;
+                    if free(&at, mid) {
+                        at.push(mid);
+                    }
+                }
+            }
+            at.sort_unstable();
+        }
+        at
+    }
+}
+
+/// Is a protrusion a limb? Its ring `own` wide (the size of [`Tree::size`]) must be thinner
+/// than the `trunk` it grows from ([`THINNER`]) and longer than it is wide: `length` (in
+/// local radii, `radius` its medial radius) at least [`ELONGATED`] times its width in
+/// radii. A nose is neither; a finger on a palm is both.
+pub(super) fn is_limb(own: f64, trunk: f64, length: f64, radius: f64) -> bool {
+    own > 0.0 && own <= THINNER * trunk && length >= ELONGATED * own / radius
+}
+
+/// Empty bins (NaN) take the value of the nearest bins on either side; `None` if all are.
+pub(super) fn fill(v: &[f64]) -> Option<Vec<f64>> {
+    let known: Vec<usize> = (0..v.len()).filter(|&i| v[i].is_finite()).collect();
+    let (&first, &last) = (known.first()?, known.last()?);
+    let mut out = v.to_vec();
+    for (i, o) in out.iter_mut().enumerate() {
+        if o.is_finite() {
+            continue;
+        }
+        *o = if i < first {
+            v[first]
+        } else if i > last {
+            v[last]
+        } else {
+            let a = known
+                .iter()
+                .rev()
+                .find(|&&k| k < i)
+                .copied()
+                .unwrap_or(first);
+            let b = known.iter().find(|&&k| k > i).copied().unwrap_or(last);
+            let t = (i - a) as f64 / (b - a).max(1) as f64;
+            v[a] + (v[b] - v[a]) * t
+        };
+    }
+    Some(out)
+}
+
+/// A moving average over three bins.
+pub(super) fn smooth(v: &[f64]) -> Vec<f64> {
+    (0..v.len())
+        .map(|b| {
+            let (a, c) = (b.saturating_sub(1), (b + 1).min(v.len() - 1));
+            (v[a] + v[b] + v[c]) / 3.0
+        })
+        .collect()
+}
+
+/// A suggested cut before it is named.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Limb {
+    /// The cut below it (index in the list), `None` for one on the root.
+    pub(super) parent: Option<usize>,
+    /// How many vertices lie past it in the join tree: a plane that takes far more has
+    /// slipped past the limb into the body.
+    pub(super) expected: usize,
+    /// The size ([`Tree::size`]) of its ring.
+    pub(super) width: f64,
+    pub(super) point: DVec3,
+    pub(super) normal: DVec3,
+    pub(super) pivot: DVec3,
+}

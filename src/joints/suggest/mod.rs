@@ -1,0 +1,51 @@
+//! Joints suggested from the skeleton: cuts where the protrusions of a mesh (limbs, neck,
+//! tail, ears, fingers) leave the body and where they narrow, organised as a section tree
+//! (shoulder → elbow → wrist).
+//!
+//! 1. **The body and a distance from it.** Two sweeps of shortest paths find two far tips;
+//!    the thickest skeletal point on the middle fifth of the path between them is the root.
+//!    The body's core is every vertex whose skeletal point lies in the root's medial ball,
+//!    grown through vertices nearly as thick (`CORE`) within a few radii of it
+//!    (`CORE_REACH`: a long body is all core, fingers as thick as the palm are not). `g(v)` is the shortest path from
+//!    the core to `v` over the surface, each edge counted in units of the local skeletal
+//!    distance: one unit is about one local radius, so a fat body is crossed in a few units
+//!    and limbs stand out, and the level sets of `g` are close to cross-sections of a limb.
+//! 2. **Protrusions.** The vertices are added from the largest `g` down, joined by mesh
+//!    edges (a union-find sweep: the join tree of `g`). Every local maximum (a tip) starts a
+//!    component; where two or more reaching `ELONGATED` radii meet (a fork) a new segment
+//!    starts; shorter ones (bumps) fold into the longest.
+//! 3. **Cuts.** A segment that hangs from a fork, is narrower than the trunk below it
+//!    (`THINNER`, by the rings' sizes) and longer than wide is a *limb*: it is cut at its
+//!    base. A part as wide as the body with two or more limbs of its own, each at most
+//!    `SLENDER` of its width (a head with ears and horns, a hand with fingers, not a palm
+//!    with its wrist), is cut at its base too (`HEAD`). Inside a part, cuts go where the
+//!    medial radius or the ring's size narrows between wider parts (`DIP`: an elbow, a
+//!    knee, a neck); where a limb widens into an extremity that limbs grow from (a wrist);
+//!    along a digit (a tip among four or more of one extremity) at 45 % and 72 % of its
+//!    length; and in the middle of a limb's stretch longer than `LONG` radii without a
+//!    joint.
+//! 4. **Sections.** Each cut is a connected plane through the ring's centre, across the
+//!    limb's axis there, its pivot on the axis; cuts apply parent-first, are named by their
+//!    place in the tree (`joint 2`, `joint 2.1`, …), and one that would leave a section of
+//!    fewer than `SMALLEST` of the vertices, or whose plane takes more than twice what
+//!    lies past it in the join tree (it slipped past the limb into the body), is dropped.
+//!
+//! # Where things are
+//! * `rules`: the thresholds named above (`CORE`, `THINNER`, …), in one place;
+//! * `graph`: the mesh's edges in local radii, shortest paths;
+//! * `union_find`: the sweep's sets;
+//! * `tree`: the root, the core, `g` and the join tree (steps 1–2);
+//! * `cuts`: which segments are limbs and where they are cut (step 3);
+//! * `sections`: naming and applying the cuts (step 4).
+
+mod cuts;
+mod graph;
+mod rules;
+mod sections;
+mod tree;
+mod union_find;
+
+#[cfg(test)]
+mod tests;
+
+pub use sections::suggest;

@@ -1,0 +1,29 @@
+//! The tuning of the suggestion: every threshold in one place, each in units of the local
+//! medial radius (or as a share), so one mesh's scale is another's. `puppet bench suggest`
+//! and `tests/suggest.rs` measure what moving one changes.
+
+/// The body's core reaches as far as its skeletal distance stays this share of the root's,
+/// and no farther than this many of the root's radii from its centre.
+pub(super) const CORE: f64 = 0.85;
+pub(super) const CORE_REACH: f64 = 2.5;
+/// A limb must be at most this share of the width where it hangs from.
+pub(super) const THINNER: f64 = 0.75;
+/// A limb is cut this many of its radii out from the fork.
+pub(super) const BASE: f64 = 0.5;
+/// A limb or a bump must be at least this many of its radii long.
+pub(super) const ELONGATED: f64 = 1.6;
+/// A narrowing is a joint when the radius dips by at least this share below the thinner of
+/// the thicker parts on either side (and an extremity is that much wider than its wrist).
+pub(super) const DIP: f64 = 0.06;
+/// A digit (a tip among several that grow from one extremity) at least this many of its
+/// radii long gets its two joints.
+pub(super) const DIGIT: f64 = 6.0;
+/// A stretch of a limb this many of its radii long with no joint bends in the middle.
+pub(super) const LONG: f64 = 10.0;
+/// A part as thick as the body with limbs of its own turns at its base when it reaches
+/// this many radii out.
+pub(super) const HEAD: f64 = 3.0;
+/// ... and every limb it has is at most this share of its width.
+pub(super) const SLENDER: f64 = 0.5;
+/// Sections smaller than this share of the vertices (or 12 vertices) are not suggested.
+pub(super) const SMALLEST: f64 = 0.002;

@@ -1,0 +1,90 @@
+//! Step 4 of the module docs: the cuts found, named by their place in the tree and applied
+//! parent-first; one that leaves too small a section, or slips past its limb, is dropped.
+
+use super::rules::SMALLEST;
+use super::tree::Tree;
+use crate::joints::{Cut, Joints, Shape};
+use crate::mesh::Mesh;
+use crate::skeleton::Skeleton;
+
+/// Cuts where the protrusions of `mesh` narrow, organised parent-first as a section tree
+/// under the root section `root`. Every cut applies, in order, to joints without cuts.
+pub fn suggest(mesh: &Mesh, skeleton: &Skeleton, root: &str) -> Vec<Cut> {
+    // Riders have no skeleton: the limbs are the body's, and riders go with their hosts.
+    let (limbs, hosts) = if skeleton.riders > 0 {
+        let parts = crate::mesh::Parts::of(mesh);
+        let (body, old) = parts.body(mesh);
+        let body_skeleton = Skeleton {
+            distance: old.iter().map(|&v| skeleton.distance[v as usize]).collect(),
+            points: old.iter().map(|&v| skeleton.points[v as usize]).collect(),
+            riders: 0,
+            ..skeleton.clone()
+        };
+        let limbs = Tree::new(&body, &body_skeleton).limbs();
+        (limbs, parts.hosts(&mesh.positions))
+    } else {
+        (Tree::new(mesh, skeleton).limbs(), Vec::new())
+    };
+    // Apply them in order; one that cannot apply (a side left empty) is dropped and what
+    // hangs from it hangs from its parent instead.
+    let mut joints = Joints::with_mesh(&skeleton.points, &mesh.triangles, &hosts, root);
+    let mut applied: Vec<Option<String>> = Vec::with_capacity(limbs.len());
+    let mut count: std::collections::HashMap<String, usize> = Default::default();
+    let mut cuts = Vec::new();
+    for limb in &limbs {
+        // The nearest ancestor that applied, or the root.
+        let mut parent = limb.parent;
+        let section = loop {
+            match parent {
+                Some(p) => match &applied[p] {
+                    Some(name) => break name.clone(),
+                    None => parent = limbs[p].parent,
+                },
+                None => break root.to_string(),
+            }
+        };
+        let k = count.entry(section.clone()).or_default();
+        *k += 1;
+        let name = if section == root {
+            format!("joint {k}")
+        } else {
+            format!("{section}.{k}")
+        };
+        let cut = Cut {
+            name: name.clone(),
+            section,
+            point: limb.point,
+            normal: limb.normal,
+            pivot: Some(limb.pivot),
+            connected: true,
+            band: None,
+            shape: Shape::Plane,
+            shared_pivot: false,
+        };
+        // Too small a piece, or too little left, is no joint worth a section.
+        let smallest = (SMALLEST * skeleton.points.len() as f64).max(12.0) as usize;
+        let big_enough = joints.find(&cut.section).is_some_and(|s| {
+            let taken = joints.preview(s, &cut).iter().filter(|&&t| t).count();
+            taken >= smallest
+                && joints.sections()[s].vertices - taken >= smallest
+                && taken <= 2 * limb.expected + smallest
+        });
+        if !big_enough {
+            *count.entry(cut.section).or_default() -= 1;
+            applied.push(None);
+            continue;
+        }
+        match joints.add_cut(cut.clone()) {
+            Ok(_) => {
+                applied.push(Some(name));
+                cuts.push(cut);
+            }
+            Err(e) => {
+                log::debug!("suggested joint dropped: {e}");
+                *count.entry(cut.section).or_default() -= 1;
+                applied.push(None);
+            }
+        }
+    }
+    cuts
+}

@@ -1,0 +1,84 @@
+//! The suggestion's rules on numbers made up to test one rule each; `tests/suggest.rs` holds
+//! what they do together on the shipped meshes.
+
+use super::cuts::{fill, is_limb, smooth, Profile};
+use super::rules::{DIP, LONG};
+
+/// A profile of `d` (the skeletal distance per bin) with the ring sizes the same shape.
+fn profile(d: &[f64]) -> Profile {
+    Profile {
+        low: 0.0,
+        step: 0.5,
+        d: d.to_vec(),
+        size: d.to_vec(),
+    }
+}
+
+#[test]
+fn empty_bins_are_filled_from_their_neighbours() {
+    let nan = f64::NAN;
+    assert_eq!(
+        fill(&[nan, 1.0, nan, 3.0, nan]).unwrap(),
+        vec![1.0, 1.0, 2.0, 3.0, 3.0]
+    );
+    assert_eq!(fill(&[nan, nan]), None, "nothing known");
+    assert_eq!(smooth(&[0.0, 3.0, 0.0]), vec![1.0, 1.0, 1.0]);
+    assert_eq!(smooth(&[2.0]), vec![2.0]);
+}
+
+#[test]
+fn a_limb_is_thinner_than_its_trunk_and_longer_than_wide() {
+    assert!(is_limb(1.0, 2.0, 5.0, 1.0), "an arm");
+    assert!(!is_limb(1.9, 2.0, 5.0, 1.0), "as wide as its trunk");
+    assert!(!is_limb(1.0, 2.0, 1.0, 1.0), "a bump: shorter than wide");
+    assert!(!is_limb(0.0, 2.0, 5.0, 1.0), "no ring");
+}
+
+#[test]
+fn a_tube_of_one_width_is_cut_only_where_it_is_long() {
+    // A part of the body: no narrowing, no cut however long.
+    assert!(profile(&[1.0; 60]).cut_bins(false, false, false).is_empty());
+    // A limb without a joint longer than LONG radii bends in the middle of the stretch.
+    let bins = (2.0 * LONG) as usize + 10;
+    let cuts = profile(&vec![1.0; bins]).cut_bins(true, false, false);
+    assert_eq!(cuts.len(), 1, "{cuts:?}");
+    let short = profile(&vec![1.0; (2.0 * LONG) as usize - 4]).cut_bins(true, false, false);
+    assert!(short.is_empty(), "{short:?}");
+}
+
+#[test]
+fn a_clear_narrowing_is_cut_and_a_faint_one_is_not() {
+    let with_dip = |depth: f64| {
+        let d: Vec<f64> = (0..24)
+            .map(|b| if b == 12 { 1.0 - depth } else { 1.0 })
+            .collect();
+        profile(&d).cut_bins(false, false, false)
+    };
+    assert_eq!(with_dip(2.0 * DIP), vec![12], "an elbow");
+    assert!(with_dip(0.5 * DIP).is_empty(), "a crease");
+    // Narrowings keep three bins from each other, from the start and from the top.
+    let d: Vec<f64> = (0..24)
+        .map(|b| {
+            if [1, 12, 13, 22].contains(&b) {
+                0.5
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    assert_eq!(profile(&d).cut_bins(false, false, false), vec![12]);
+}
+
+#[test]
+fn an_extremity_is_cut_where_it_widens_and_a_digit_at_its_two_joints() {
+    // A forearm widening into a hand over its last third (short of a long stretch).
+    let d: Vec<f64> = (0..20).map(|b| if b < 14 { 1.0 } else { 1.5 }).collect();
+    let wrist = profile(&d).cut_bins(true, true, false);
+    assert_eq!(wrist, vec![10], "the narrowest ring of its last half");
+    assert!(
+        profile(&d).cut_bins(true, false, false).is_empty(),
+        "no extremity, no wrist"
+    );
+    // A finger: at 45 % and 72 % of its length.
+    assert_eq!(profile(&[1.0; 20]).cut_bins(true, false, true), vec![9, 14]);
+}

@@ -1,0 +1,259 @@
+//! The join tree of `g` (steps 1 and 2 of the module docs): the root and the body's core,
+//! `g` (the distance from the core in local radii), and the union-find sweep from the
+//! largest `g` down that cuts the mesh into segments, protrusions hanging from forks.
+
+use super::graph::{farthest, Graph};
+use super::rules::{CORE, CORE_REACH, ELONGATED};
+use super::union_find::UnionFind;
+use crate::mesh::Mesh;
+use crate::skeleton::Skeleton;
+use glam::DVec3;
+
+/// A segment of the join tree: the vertices added between two events of the sweep.
+#[derive(Clone, Debug)]
+pub(super) struct Segment {
+    /// The segment the sweep continued into below this one's lowest vertex (`None` for the
+    /// last one, the root's).
+    pub(super) parent: Option<usize>,
+    /// Its vertices, from the largest `g` down.
+    pub(super) vertices: Vec<u32>,
+}
+
+/// The join tree of `g` with what the cuts need.
+pub(super) struct Tree<'a> {
+    pub(super) mesh: &'a Mesh,
+    pub(super) skeleton: &'a Skeleton,
+    pub(super) g: Vec<f64>,
+    pub(super) segments: Vec<Segment>,
+    /// Each segment's children (the segments whose parent it is).
+    pub(super) children: Vec<Vec<usize>>,
+}
+
+impl<'a> Tree<'a> {
+    pub(super) fn new(mesh: &'a Mesh, skeleton: &'a Skeleton) -> Tree<'a> {
+        let points = &skeleton.points;
+        let n = points.len();
+        let graph = Graph::new(mesh, &mesh.positions, &skeleton.distance);
+        let mut tree = Tree {
+            mesh,
+            skeleton,
+            g: Vec::new(),
+            segments: Vec::new(),
+            children: Vec::new(),
+        };
+        if n < 4 {
+            return tree;
+        }
+        // 1. The root: the thickest point on the middle fifth of the path between two far
+        // tips (the middle of the body, not its thickest end).
+        let (d0, _) = graph.distances(0);
+        let a = farthest(&d0);
+        let (da, pred) = graph.distances(a);
+        let b = farthest(&da);
+        // The path from b back to a is a shortest path: along it, the distance from b is
+        // the span less the distance from a.
+        let span = da[b];
+        let mut root = b;
+        let mut best = f64::NEG_INFINITY;
+        let mut v = b;
+        while v != a && pred[v] != u32::MAX {
+            let along = 1.0 - da[v] / span.max(f64::MIN_POSITIVE);
+            if (0.4..=0.6).contains(&along) && skeleton.distance[v] > best {
+                best = skeleton.distance[v];
+                root = v;
+            }
+            v = pred[v] as usize;
+        }
+        // g: over the surface, from the body's core: the vertices whose skeletal point lies
+        // in the root's medial ball, and with them every vertex joined to them through
+        // vertices nearly as thick (a long body is all core; its limbs start where it ends).
+        let centre = points[root];
+        let reach = skeleton.distance[root];
+        let thick = CORE * reach;
+        let mut in_core: Vec<bool> = (0..n)
+            .map(|v| points[v].distance(centre) <= reach)
+            .collect();
+        let mut stack: Vec<usize> = (0..n).filter(|&v| in_core[v]).collect();
+        while let Some(v) = stack.pop() {
+            for (w, _) in graph.neighbours(v) {
+                if !in_core[w]
+                    && skeleton.distance[w] >= thick
+                    && points[w].distance(centre) <= CORE_REACH * reach
+                {
+                    in_core[w] = true;
+                    stack.push(w);
+                }
+            }
+        }
+        let core: Vec<(u32, f64)> = (0..n)
+            .filter(|&v| in_core[v])
+            .map(|v| (v as u32, 0.0))
+            .collect();
+        let (g, _) = graph.distances_from(&core);
+        tree.g = g;
+        tree.segments = tree.sweep(&graph);
+        tree.children = tree.children();
+        tree
+    }
+
+    /// The union-find sweep from the largest `g` down (see the module docs): segments and
+    /// their parents. Where components meet, only those reaching at least [`ELONGATED`]
+    /// radii above the meeting point count: when fewer than two do, the others are bumps and
+    /// the sweep goes on in the longest one's segment.
+    pub(super) fn sweep(&self, graph: &Graph) -> Vec<Segment> {
+        let g = &self.g;
+        let n = g.len();
+        let mut order: Vec<u32> = (0..n as u32)
+            .filter(|&v| g[v as usize].is_finite())
+            .collect();
+        order.sort_by(|&a, &b| g[b as usize].total_cmp(&g[a as usize]).then(a.cmp(&b)));
+        let mut set = UnionFind::new(n);
+        // Per component (by its union-find root): its open segment and its largest `g`.
+        let mut open: Vec<u32> = vec![u32::MAX; n];
+        let mut top = vec![0.0f64; n];
+        let mut added = vec![false; n];
+        let mut segments: Vec<Segment> = Vec::new();
+        for &v in &order {
+            let v = v as usize;
+            added[v] = true;
+            let mut roots: Vec<usize> = graph
+                .neighbours(v)
+                .filter(|&(w, _)| added[w])
+                .map(|(w, _)| set.find(w))
+                .collect();
+            roots.sort_unstable();
+            roots.dedup();
+            let (segment, reach) = match roots.len() {
+                0 => {
+                    segments.push(Segment {
+                        parent: None,
+                        vertices: Vec::new(),
+                    });
+                    (segments.len() - 1, g[v])
+                }
+                _ => {
+                    // The longest component goes on; the others end here.
+                    let elder = roots
+                        .iter()
+                        .copied()
+                        .max_by(|&a, &b| top[a].total_cmp(&top[b]).then(b.cmp(&a)))
+                        .unwrap_or(roots[0]);
+                    let significant = roots
+                        .iter()
+                        .filter(|&&r| top[r] - g[v] >= ELONGATED)
+                        .count();
+                    let segment = if significant >= 2 {
+                        segments.push(Segment {
+                            parent: None,
+                            vertices: Vec::new(),
+                        });
+                        segments.len() - 1
+                    } else {
+                        open[elder] as usize
+                    };
+                    for &r in &roots {
+                        let s = open[r] as usize;
+                        if s != segment {
+                            segments[s].parent = Some(segment);
+                        }
+                    }
+                    (segment, top[elder])
+                }
+            };
+            for &r in &roots {
+                set.union(r, v);
+            }
+            let r = set.find(v);
+            open[r] = segment as u32;
+            top[r] = reach;
+            segments[segment].vertices.push(v as u32);
+        }
+        segments
+    }
+
+    /// A ring of a segment: its vertices with `g` in `[lo, hi)`.
+    pub(super) fn ring(&self, segment: &[u32], lo: f64, hi: f64) -> Vec<u32> {
+        segment
+            .iter()
+            .copied()
+            .filter(|&v| (lo..hi).contains(&self.g[v as usize]))
+            .collect()
+    }
+
+    /// Median skeletal distance of `vertices`.
+    pub(super) fn radius(&self, vertices: &[u32]) -> f64 {
+        let mut d: Vec<f64> = vertices
+            .iter()
+            .map(|&v| self.skeleton.distance[v as usize])
+            .collect();
+        if d.is_empty() {
+            return 0.0;
+        }
+        let mid = d.len() / 2;
+        *d.select_nth_unstable_by(mid, f64::total_cmp).1
+    }
+
+    /// The size of a ring: the mean distance of its surface points from their centre.
+    pub(super) fn size(&self, vertices: &[u32]) -> f64 {
+        let (c, _) = self.centre(vertices);
+        vertices
+            .iter()
+            .map(|&v| (self.mesh.positions[v as usize] - c).length())
+            .sum::<f64>()
+            / vertices.len().max(1) as f64
+    }
+
+    /// Mean surface position and mean skeletal point of `vertices`.
+    pub(super) fn centre(&self, vertices: &[u32]) -> (DVec3, DVec3) {
+        let k = vertices.len().max(1) as f64;
+        let p = vertices
+            .iter()
+            .map(|&v| self.mesh.positions[v as usize])
+            .sum::<DVec3>()
+            / k;
+        let s = vertices
+            .iter()
+            .map(|&v| self.skeleton.points[v as usize])
+            .sum::<DVec3>()
+            / k;
+        (p, s)
+    }
+
+    pub(super) fn children(&self) -> Vec<Vec<usize>> {
+        let mut children = vec![Vec::new(); self.segments.len()];
+        for (k, s) in self.segments.iter().enumerate() {
+            if let Some(p) = s.parent {
+                children[p].push(k);
+            }
+        }
+        children
+    }
+
+    /// All vertices of segment `k` and of the segments above it.
+    pub(super) fn subtree(&self, k: usize, children: &[Vec<usize>]) -> Vec<u32> {
+        let mut out = Vec::new();
+        let mut stack = vec![k];
+        while let Some(s) = stack.pop() {
+            out.extend_from_slice(&self.segments[s].vertices);
+            stack.extend_from_slice(&children[s]);
+        }
+        out
+    }
+
+    /// The vertices with `g` in `[lo, hi)` of segment `k` and the segments below it.
+    pub(super) fn trunk_ring(&self, mut k: usize, lo: f64, hi: f64) -> Vec<u32> {
+        let mut out = Vec::new();
+        loop {
+            let seg = &self.segments[k].vertices;
+            out.extend(self.ring(seg, lo, hi));
+            let bottom = seg
+                .iter()
+                .map(|&v| self.g[v as usize])
+                .fold(f64::INFINITY, f64::min);
+            match self.segments[k].parent {
+                Some(p) if bottom > lo => k = p,
+                _ => return out,
+            }
+        }
+    }
+}
