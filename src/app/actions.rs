@@ -3,9 +3,9 @@
 //! joints.
 
 use super::dialog::{self, Dialog};
-use super::window::WindowState;
+use super::WindowState;
 use crate::puppet::RigFile;
-use crate::session::loader::Loader;
+use crate::session::loader::{AfterLoad, Loader};
 use crate::ui::{Action, FilePurpose};
 use std::path::{Path, PathBuf};
 use winit::keyboard::{Key, NamedKey};
@@ -43,7 +43,14 @@ impl WindowState {
                 if let Some(s) = &self.session {
                     let (mesh, name) = (s.puppet.mesh.clone(), s.name.clone());
                     let source = self.panel.source.clone();
-                    self.loader = Some(Loader::build(mesh, name, source, None, rig_file));
+                    self.loader = Some(Loader::build(
+                        mesh,
+                        name,
+                        source,
+                        None,
+                        rig_file,
+                        AfterLoad::default(),
+                    ));
                 }
             }
         }

@@ -1,14 +1,14 @@
 //! The window test's synthetic drag (`--drive-test`): press on the section under the
 //! window's centre column, move, release, all through the same handlers as the mouse.
 
-use super::window::WindowState;
+use super::WindowState;
 use crate::session::pointer::Button;
 use glam::Vec2;
 
 impl WindowState {
     /// One event of the synthetic drag per frame, once the puppet is built.
     pub fn drive_test(&mut self) {
-        let Some(k) = self.drive else {
+        let Some(k) = self.hooks.drive else {
             return;
         };
         let Some(s) = &self.session else {
@@ -21,7 +21,7 @@ impl WindowState {
             n => s.pivot_world(n - 1).as_vec3(),
         };
         let Some(at) = self.camera.project(target, size) else {
-            self.drive = None;
+            self.hooks.drive = None;
             return;
         };
         match k {
@@ -32,10 +32,10 @@ impl WindowState {
             1..=10 => self.cursor_moved(self.pointer.cursor + Vec2::new(0.0, 9.0)),
             11 => self.mouse_button(Button::Left, false),
             _ => {
-                self.drive = None;
+                self.hooks.drive = None;
                 return;
             }
         }
-        self.drive = Some(k + 1);
+        self.hooks.drive = Some(k + 1);
     }
 }

@@ -1,8 +1,7 @@
 //! One frame: poll the loader, step the simulation for the time that passed, run the
 //! panels, upload what changed and draw the scene and the panels.
 
-use super::window::WindowState;
-use super::Report;
+use super::{Report, WindowState};
 use crate::render;
 use crate::session::loader::Status;
 use crate::session::Session;
@@ -38,14 +37,15 @@ impl WindowState {
         }
         self.meter_frame(steps);
 
-        let raw = self.egui_state.take_egui_input(&self.window);
+        let raw = self.egui.state.take_egui_input(&self.window);
         let panel = &mut self.panel;
         let session = &mut self.session;
         let mut actions = Vec::new();
-        let output = self.egui_ctx.run_ui(raw, |ui| {
+        let output = self.egui.ctx.run_ui(raw, |ui| {
             actions = crate::ui::side_panel(ui, panel, session.as_mut());
         });
-        self.egui_state
+        self.egui
+            .state
             .handle_platform_output(&self.window, output.platform_output);
         for a in actions {
             self.act(a);
@@ -58,7 +58,8 @@ impl WindowState {
             }
         }
         let primitives = self
-            .egui_ctx
+            .egui
+            .ctx
             .tessellate(output.shapes, output.pixels_per_point);
         let screen = egui_wgpu::ScreenDescriptor {
             size_in_pixels: [self.config.width, self.config.height],
@@ -66,7 +67,8 @@ impl WindowState {
         };
         for (id, deltas) in &output.textures_delta.set {
             for delta in deltas {
-                self.egui_renderer
+                self.egui
+                    .renderer
                     .update_texture(&self.gpu.device, &self.gpu.queue, *id, delta);
             }
         }
@@ -86,16 +88,16 @@ impl WindowState {
             let view = s.view(self.panel.overlays);
             self.scene.prepare(&self.gpu, &view, &self.camera, aspect);
         }
-        let take_shot = self.exit_after.is_some_and(|n| self.frames + 1 >= n)
+        let take_shot = self.hooks.exit_after.is_some_and(|n| self.frames + 1 >= n)
             && self.session.is_some()
-            && self.drive.is_none();
+            && self.hooks.drive.is_none();
         if let Some(frame) = frame {
             self.draw(&frame.texture, &primitives, &screen);
             self.gpu.queue.present(frame);
         }
         let mut next = Next::Continue;
         if take_shot {
-            if let Some(path) = self.screenshot.clone() {
+            if let Some(path) = self.hooks.screenshot.clone() {
                 let image = self.capture(&primitives, &screen)?;
                 image
                     .save_png(&path)
@@ -104,7 +106,7 @@ impl WindowState {
             }
         }
         for id in &output.textures_delta.free {
-            self.egui_renderer.free_texture(id);
+            self.egui.renderer.free_texture(id);
         }
         if self.session.is_some() && self.loader.is_none() {
             self.frames += 1;
@@ -164,40 +166,14 @@ impl WindowState {
                 self.panel.loading = None;
                 match result {
                     Ok(opened) => {
-                        let (lo, hi) = opened.puppet.mesh.bounds();
+                        let (lo, hi) = opened.session.puppet.mesh.bounds();
                         self.camera.frame(lo.as_vec3(), hi.as_vec3());
-                        let name = opened.name;
-                        self.window.set_title(&format!("puppet — {name}"));
-                        let warnings = opened
-                            .report
-                            .as_ref()
-                            .map(|r| r.warnings())
-                            .unwrap_or_default();
-                        let said = if warnings.is_empty() {
-                            format!("opened {name} in {:.1} s", opened.seconds)
-                        } else {
-                            format!(
-                                "opened {name} in {:.1} s: {}",
-                                opened.seconds,
-                                warnings.join("; ")
-                            )
-                        };
-                        self.panel.message = Some((said, false));
-                        self.panel.opened = Some((opened.seconds, opened.report.clone()));
+                        self.window
+                            .set_title(&format!("puppet — {}", opened.session.name));
+                        self.panel.message = Some(opened.message());
+                        self.panel.opened = Some((opened.seconds, opened.report));
                         self.panel.source = opened.source;
-                        let mut session = Session::new(*opened.puppet, name);
-                        if std::mem::take(&mut self.suggest) {
-                            if let Err(e) = session.puppet.suggest_joints() {
-                                self.panel.message = Some((e.to_string(), true));
-                            }
-                            session = Session::new(session.puppet, session.name);
-                        }
-                        if let Some(animation) = self.animation.take() {
-                            if let Err(e) = session.set_animation(animation) {
-                                self.panel.message = Some((format!("animation: {e}"), true));
-                            }
-                        }
-                        self.session = Some(session);
+                        self.session = Some(*opened.session);
                     }
                     Err(e) => {
                         let message = e.to_string();
@@ -232,7 +208,7 @@ impl WindowState {
                 self.config.height,
             );
         }
-        let extra = self.egui_renderer.update_buffers(
+        let extra = self.egui.renderer.update_buffers(
             &self.gpu.device,
             &self.gpu.queue,
             &mut encoder,
@@ -261,7 +237,8 @@ impl WindowState {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            self.egui_renderer
+            self.egui
+                .renderer
                 .render(&mut pass.forget_lifetime(), primitives, screen);
         }
         self.gpu

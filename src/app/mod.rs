@@ -9,7 +9,11 @@
 //! * `actions`: keys and panel actions (open, save, export, undo);
 //! * `screenshot`, `report`: `--screenshot`, and what the window shows as data (`--report`);
 //! * `settings`: what the app remembers between runs (recent files, the first-run hint);
-//! * `drive`: the window test's synthetic drag.
+//! * `hooks`, `drive`: what tests ask of the window ([`TestHooks`]), the synthetic drag.
+//!
+//! The window decides nothing about the puppet: what follows a load (suggested joints, an
+//! animation) is the core's [`crate::session::loader`], what a key or a panel does is a
+//! call on the [`Session`].
 //!
 //! The loop waits (`ControlFlow::Wait`, no redraw) whenever the session is not running
 //! (settled or paused), nothing is loading and egui wants no repaint; any input wakes it.
@@ -18,24 +22,33 @@ mod actions;
 mod dialog;
 mod drive;
 mod frame;
+mod hooks;
 mod report;
 mod screenshot;
 mod settings;
 mod window;
 
+pub use hooks::TestHooks;
 pub use report::Report;
 
 use crate::puppet::RigFile;
+use crate::render::{Gpu, SceneRenderer};
+use crate::session::loader::{AfterLoad, Loader};
 use crate::session::pointer::Button;
+use crate::session::pointer::Pointer;
+use crate::session::Camera;
 use crate::session::Session;
+use crate::ui::PanelState;
 use anyhow::{Context as _, Result};
 use glam::Vec2;
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
-use window::WindowState;
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::ModifiersState;
+use winit::window::Window;
 use winit::window::WindowId;
 
 /// What the window starts with.
@@ -52,20 +65,51 @@ pub struct Options {
     pub source: Option<PathBuf>,
     /// The rig to build it with.
     pub rig_file: RigFile,
-    /// Replace the rig's cuts with the suggested joints once it is built.
-    pub suggest: bool,
-    /// An animation to play once the puppet is built.
-    pub animation: Option<crate::anim::Animation>,
-    /// Save a screenshot here after `frames` frames and exit (documentation, tests).
-    pub screenshot: Option<PathBuf>,
-    /// Frames to draw before the screenshot.
-    pub frames: u32,
-    /// Test hook: once the puppet is built, drag the section under the window centre the
-    /// way a mouse would, then take the screenshot.
-    pub drive: bool,
-    /// Write what the window shows to this file (JSON) whenever the puppet settles and
-    /// when the window closes (tests and scripts drive the window and read it).
-    pub report: Option<PathBuf>,
+    /// What to do once it is built: suggest joints, play an animation.
+    pub after: AfterLoad,
+    /// What scripts and tests ask of the window.
+    pub hooks: TestHooks,
+}
+
+/// Everything the open window holds: the window and its GPU surface, egui, and the
+/// session the puppeteer works on, read and changed through the session's own methods.
+struct WindowState {
+    window: Arc<Window>,
+    surface: wgpu::Surface<'static>,
+    config: wgpu::SurfaceConfiguration,
+    gpu: Gpu,
+    scene: SceneRenderer,
+    egui: Egui,
+    /// The panels' own state (messages, recent files, what is shown).
+    panel: PanelState,
+    camera: Camera,
+    pointer: Pointer,
+    modifiers: ModifiersState,
+    /// The puppet being played, once one is built.
+    session: Option<Session>,
+    /// A puppet being built (the session stays until it is ready).
+    loader: Option<Loader>,
+    /// How meshes opened from the window are read.
+    load: crate::mesh::LoadOptions,
+    last_frame: Instant,
+    /// Frames drawn since the puppet was ready.
+    frames: u32,
+    /// Frame statistics over the last second: start, frames, steps, last step time (ms).
+    meter: (Instant, u32, u32, f64),
+    /// When egui asked to be drawn again.
+    repaint_at: Option<Instant>,
+    /// What the app remembers between runs.
+    settings: settings::Settings,
+    /// A file dialog being shown.
+    dialog: Option<dialog::Dialog>,
+    hooks: TestHooks,
+}
+
+/// egui's context, its window state and its renderer.
+struct Egui {
+    ctx: egui::Context,
+    state: egui_winit::State,
+    renderer: egui_wgpu::Renderer,
 }
 
 /// Opens the window and runs until it is closed. With a screenshot requested, returns what
@@ -118,7 +162,7 @@ impl ApplicationHandler for App {
         let Some(w) = self.window.as_mut() else {
             return;
         };
-        let response = w.egui_state.on_window_event(&w.window, &event);
+        let response = w.egui.state.on_window_event(&w.window, &event);
         // egui asks for a repaint after every event, `RedrawRequested` included: honouring
         // that one would redraw forever (a settled window must cost nothing). What egui
         // itself needs after a frame comes back as the frame's repaint delay.
@@ -205,7 +249,7 @@ impl ApplicationHandler for App {
                 is_synthetic: false,
                 ..
             } if event.state == ElementState::Pressed && !event.repeat && !response.consumed => {
-                w.keys += 1;
+                w.hooks.keys += 1;
                 match w.key(&event.logical_key) {
                     actions::KeyOutcome::Quit => {
                         w.write_report();
@@ -225,8 +269,7 @@ impl ApplicationHandler for App {
         };
         let busy = w.loader.is_some()
             || w.session.as_ref().is_some_and(Session::is_running)
-            || w.screenshot.is_some()
-            || w.drive.is_some();
+            || w.hooks.busy();
         let exporting = w.session.as_ref().is_some_and(|s| s.export_job().is_some());
         if (w.dialog.is_some() || exporting) && !busy {
             // Look for the dialog's answer (the export's progress) ten times a second.
@@ -265,13 +308,14 @@ impl WindowState {
     /// something)? Decided from where they were in the last frame, which does not move
     /// with the pointer. (The view itself is egui's background layer: not a panel.)
     fn over_panels(&self) -> bool {
-        let ppp = self.egui_ctx.pixels_per_point().max(1e-3);
+        let ppp = self.egui.ctx.pixels_per_point().max(1e-3);
         let at = egui::pos2(self.pointer.cursor.x / ppp, self.pointer.cursor.y / ppp);
         let popup = self
-            .egui_ctx
+            .egui
+            .ctx
             .layer_id_at(at)
             .is_some_and(|l| l.order != egui::Order::Background);
-        self.egui_ctx.egui_is_using_pointer()
+        self.egui.ctx.egui_is_using_pointer()
             || popup
             || self.panel.rect.is_some_and(|r| r.contains(at))
     }

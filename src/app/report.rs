@@ -2,7 +2,7 @@
 //! the state file of `--report FILE`, which tests and scripts read while driving the real
 //! window (written whenever the puppet settles, and when the window closes).
 
-use super::window::WindowState;
+use super::WindowState;
 use crate::session::Session;
 use glam::Vec2;
 use std::collections::BTreeMap;
@@ -80,7 +80,7 @@ impl WindowState {
             width: self.config.width,
             height: self.config.height,
             frames: self.frames,
-            keys: self.keys,
+            keys: self.hooks.keys,
             hint: self.panel.hint,
             message: self.panel.message.as_ref().map(|(m, _)| m.clone()),
             adapter: self.gpu.adapter.get_info().name,
@@ -185,7 +185,7 @@ impl WindowState {
 
     /// Writes the `--report` file (atomically: a temporary file renamed over it).
     pub fn write_report(&self) {
-        let Some(path) = &self.report_path else {
+        let Some(path) = &self.hooks.report else {
             return;
         };
         let tmp = path.with_extension("tmp");

@@ -1,6 +1,6 @@
 //! `--screenshot`: the frame rendered once more into a texture and read back.
 
-use super::window::WindowState;
+use super::WindowState;
 use crate::render;
 use anyhow::Result;
 

@@ -190,12 +190,13 @@ fn open(cli: &Cli) -> Result<()> {
         name: display_name(mesh_path.as_deref()),
         source: mesh_path.map(|p| p.canonicalize().unwrap_or(p)),
         rig_file,
-        suggest,
-        animation,
-        screenshot: cli.screenshot.clone(),
-        frames: cli.frames,
-        drive: cli.drive_test,
-        report: cli.report.clone(),
+        after: puppet::session::loader::AfterLoad { suggest, animation },
+        hooks: puppet::app::TestHooks::new(
+            cli.screenshot.clone(),
+            cli.frames,
+            cli.drive_test,
+            cli.report.clone(),
+        ),
     })?;
     if let Some(report) = report {
         println!("{}", serde_json::to_string(&report)?);

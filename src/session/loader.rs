@@ -1,6 +1,10 @@
 //! Loading a mesh and building its puppet on a background thread, with progress, so the
-//! window stays responsive and the current puppet stays until the new one is ready.
+//! window stays responsive and the current puppet stays until the new one is ready. What
+//! follows a load (suggested joints, an animation to play) happens here too, on the same
+//! thread: the window only shows the session it gets and the message it says.
 
+use super::Session;
+use crate::anim::Animation;
 use crate::mesh::{self, LoadOptions, LoadReport, Mesh, MeshError};
 use crate::puppet::{BuildError, Puppet, RigFile};
 use std::path::PathBuf;
@@ -30,18 +34,71 @@ pub enum LoadError {
     Stopped,
 }
 
-/// A puppet built by a [`Loader`].
+/// What to do with a puppet once it is built, before anyone sees it.
+#[derive(Debug, Default)]
+pub struct AfterLoad {
+    /// Replace the rig's cuts with the suggested joints ([`Session::suggest_joints`]); the
+    /// session starts from them (nothing to undo).
+    pub suggest: bool,
+    /// Play this animation ([`Session::set_animation`]).
+    pub animation: Option<Animation>,
+}
+
+/// A session on a puppet built by a [`Loader`].
 pub struct Opened {
-    /// The puppet.
-    pub puppet: Box<Puppet>,
-    /// The name to show: the file's name.
-    pub name: String,
+    /// The session, named after the file, with [`AfterLoad`] done.
+    pub session: Box<Session>,
     /// The file's full path, when it came from a file.
     pub source: Option<PathBuf>,
     /// What reading the file did (repairs, riders) and how long each stage took.
     pub report: Option<LoadReport>,
     /// Seconds from the file to the puppet: reading (when the report says) and building.
     pub seconds: f64,
+    /// What went wrong after the load (a suggestion or an animation that did not apply);
+    /// the puppet opened all the same.
+    pub problems: Vec<String>,
+}
+
+impl Opened {
+    /// Does what `after` asks, keeping what fails as a problem.
+    fn then(mut self, after: AfterLoad) -> Opened {
+        if after.suggest {
+            if let Err(e) = self.session.suggest_joints() {
+                self.problems.push(e.to_string());
+            }
+            self.session.clear_history();
+        }
+        if let Some(animation) = after.animation {
+            if let Err(e) = self.session.set_animation(animation) {
+                self.problems.push(format!("animation: {e}"));
+            }
+        }
+        self
+    }
+
+    /// The line to show: how long opening took and what reading the file repaired, or what
+    /// went wrong after it (`true`: an error).
+    pub fn message(&self) -> (String, bool) {
+        if !self.problems.is_empty() {
+            return (self.problems.join("; "), true);
+        }
+        let name = &self.session.name;
+        let warnings = self
+            .report
+            .as_ref()
+            .map(|r| r.warnings())
+            .unwrap_or_default();
+        let said = if warnings.is_empty() {
+            format!("opened {name} in {:.1} s", self.seconds)
+        } else {
+            format!(
+                "opened {name} in {:.1} s: {}",
+                self.seconds,
+                warnings.join("; ")
+            )
+        };
+        (said, false)
+    }
 }
 
 /// A finished load.
@@ -69,7 +126,7 @@ pub enum Status {
 impl Loader {
     /// Reads, repairs, validates and builds `path` (errors name the file as given).
     pub fn open(path: PathBuf, rig_file: RigFile, options: LoadOptions) -> Loader {
-        Loader::spawn(move |progress| {
+        Loader::spawn(AfterLoad::default(), move |progress| {
             let given = path.display().to_string();
             let (mesh, report) =
                 mesh::load_with(&path, &options, progress).map_err(|error| LoadError::Mesh {
@@ -84,7 +141,7 @@ impl Loader {
                 .map_or(given.clone(), |n| n.to_string_lossy().into_owned());
             let source = Some(path.canonicalize().unwrap_or(path));
             let mut opened = build(mesh, given, rig_file, progress)?;
-            opened.name = name;
+            opened.session.name = name;
             opened.source = source;
             opened.seconds += report.seconds.iter().map(|s| s.1).sum::<f64>();
             opened.report = Some(report);
@@ -92,16 +149,17 @@ impl Loader {
         })
     }
 
-    /// Builds the puppet of an already validated mesh named `name`, from `source`; `report`
-    /// says how the mesh was read, when it was.
+    /// Builds the puppet of an already validated mesh named `name`, from `source`, then does
+    /// what `after` asks; `report` says how the mesh was read, when it was.
     pub fn build(
         mesh: Mesh,
         name: String,
         source: Option<PathBuf>,
         report: Option<LoadReport>,
         rig_file: RigFile,
+        after: AfterLoad,
     ) -> Loader {
-        Loader::spawn(move |progress| {
+        Loader::spawn(after, move |progress| {
             let mut opened = build(mesh, name, rig_file, progress)?;
             opened.source = source;
             if let Some(r) = &report {
@@ -112,14 +170,17 @@ impl Loader {
         })
     }
 
-    fn spawn(work: impl FnOnce(&(dyn Fn(&str, f64) + Sync)) -> Loaded + Send + 'static) -> Loader {
+    fn spawn(
+        after: AfterLoad,
+        work: impl FnOnce(&(dyn Fn(&str, f64) + Sync)) -> Loaded + Send + 'static,
+    ) -> Loader {
         let (tx, rx) = channel();
         std::thread::spawn(move || {
             let progress_tx = tx.clone();
             let progress = move |stage: &str, f: f64| {
                 let _ = progress_tx.send(Message::Progress(stage.to_string(), f as f32));
             };
-            let result = work(&progress);
+            let result = work(&progress).map(|opened| opened.then(after));
             let _ = tx.send(Message::Done(result));
         });
         Loader {
@@ -152,11 +213,11 @@ fn build(
     let start = std::time::Instant::now();
     match Puppet::build(mesh, rig_file, progress) {
         Ok(puppet) => Ok(Opened {
-            puppet: Box::new(puppet),
-            name,
+            seconds: start.elapsed().as_secs_f64(),
+            session: Box::new(Session::new(puppet, name)),
             source: None,
             report: None,
-            seconds: start.elapsed().as_secs_f64(),
+            problems: Vec::new(),
         }),
         Err(error) => Err(LoadError::Build { name, error }),
     }
@@ -195,10 +256,52 @@ mod tests {
             None,
             None,
             RigFile::default(),
+            AfterLoad::default(),
         ))
         .unwrap();
-        assert_eq!(opened.name, "ball");
-        assert_eq!(opened.puppet.joints.sections().len(), 1);
+        assert_eq!(opened.session.name, "ball");
+        assert_eq!(opened.session.puppet.joints.sections().len(), 1);
+        let (said, error) = opened.message();
+        assert!(said.starts_with("opened ball in ") && !error, "{said}");
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn after_a_load_the_joints_are_suggested_and_an_animation_that_fails_is_said() {
+        let spot = include_bytes!("../../assets/spot.obj");
+        let options = LoadOptions::default();
+        let (mesh, _) =
+            crate::mesh::parse(spot, mesh::Format::Obj, &options, crate::progress::silent())
+                .unwrap();
+        let mut expected = Puppet::build(mesh.clone(), RigFile::default(), &|_, _| {}).unwrap();
+        let joints = expected.suggest_joints().unwrap();
+        let animation = Animation::parse(
+            "duration = 1.0\n[[track]]\nsection = \"no such section\"\nkey = [{ time = 0.0, axis = [1, 0, 0], angle = 0 }]\n",
+            crate::files::Format::Toml,
+        )
+        .unwrap();
+        let after = AfterLoad {
+            suggest: true,
+            animation: Some(animation),
+        };
+        let opened = wait(Loader::build(
+            mesh,
+            "spot".into(),
+            None,
+            None,
+            RigFile::default(),
+            after,
+        ))
+        .unwrap();
+        let s = &opened.session;
+        assert_eq!(s.puppet.joints.cuts().len(), joints);
+        assert_eq!(s.puppet.joints.cuts(), expected.joints.cuts());
+        assert!(
+            !s.can_undo(),
+            "the suggestion is where the puppeteer starts"
+        );
+        assert!(s.playback.is_none(), "the animation did not bind");
+        let (said, error) = opened.message();
+        assert!(error && said.starts_with("animation: "), "{said}");
     }
 }

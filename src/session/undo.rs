@@ -75,6 +75,12 @@ impl Session {
         self.undo.undo.pop();
     }
 
+    /// Forgets every undo and redo step: what is there now is where the puppeteer starts
+    /// (a puppet just opened, its suggested joints included).
+    pub fn clear_history(&mut self) {
+        self.undo = History::default();
+    }
+
     /// True when undo would change something.
     pub fn can_undo(&self) -> bool {
         let now = self.snapshot();
