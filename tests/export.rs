@@ -64,12 +64,13 @@ fn glb_reads_back_with_one_target_per_frame_and_the_frames_positions() {
         .read_morph_targets()
         .map(|(p, _, _)| p.unwrap().collect())
         .collect();
-    // Frames 1, 5, ..., 45: 12 targets, and an animation of their weights.
+    // Frames 1, 5, ..., 45: 12 targets, and an animation of their weights (the rest
+    // surface at 0, then one key per frame).
     assert_eq!(targets.len(), 12);
     assert_eq!(gltf.animations().count(), 1);
     let sampler = gltf.animations().next().unwrap().samplers().next().unwrap();
-    assert_eq!(sampler.input().count(), 12);
-    assert_eq!(sampler.output().count(), 12 * 12);
+    assert_eq!(sampler.input().count(), 13);
+    assert_eq!(sampler.output().count(), 13 * 12);
     // Frame 45 (the last target) is the OBJ frame 45 of the same take.
     let frames = frames_dir("export_glb_frames");
     let obj = obj_vertices(&frames.join("frame_00045.obj"));
@@ -111,6 +112,70 @@ fn validate(glb: &Path) {
     );
     let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(report["errors"], 0, "{report}");
+}
+
+/// The key times of a `.glb`'s animation and each key's weights, read back with the `gltf`
+/// crate.
+fn glb_keys(glb: &Path) -> (Vec<f32>, Vec<Vec<f32>>) {
+    let bytes = std::fs::read(glb).unwrap();
+    let gltf = gltf::Gltf::from_slice(&bytes).expect("a valid glTF binary");
+    let blob = gltf.blob.clone().expect("a BIN chunk");
+    let animation = gltf.animations().next().expect("an animation");
+    let channel = animation.channels().next().expect("a channel");
+    let reader = channel.reader(|_| Some(&blob));
+    let times: Vec<f32> = reader.read_inputs().expect("key times").collect();
+    let weights: Vec<f32> = match reader.read_outputs().expect("weights") {
+        gltf::animation::util::ReadOutputs::MorphTargetWeights(w) => w.into_f32().collect(),
+        _ => panic!("the channel animates morph target weights"),
+    };
+    let targets = weights.len() / times.len();
+    (times, weights.chunks(targets).map(<[f32]>::to_vec).collect())
+}
+
+/// The time an OBJ frame's header gives (`puppet: frame K, t = T s`).
+fn header_time(obj: &Path) -> f64 {
+    let text = std::fs::read_to_string(obj).unwrap();
+    let line = text.lines().next().unwrap();
+    let t = line.split("t = ").nth(1).unwrap().trim_end_matches(" s");
+    t.parse().unwrap()
+}
+
+/// glTF time t shows the state at animation time t: the rest surface at 0, frame k at
+/// k / fps (its OBJ's header time), and `--first-frame N` starts the clip at N / fps; the
+/// PC2's start frame and sample rate count the same frames.
+#[test]
+fn a_take_keeps_the_animation_s_clock() {
+    let dir = scratch("export_clock");
+    let frames = frames_dir("export_clock_frames");
+    let glb = dir.join("take.glb");
+    simulate(&glb, &["--frame-step", "4"]);
+    let (times, weights) = glb_keys(&glb);
+    assert_eq!(times.len(), 13);
+    assert_eq!(times[0], 0.0);
+    assert!(weights[0].iter().all(|&w| w == 0.0), "the rest surface at 0");
+    for (j, k) in (1..=45).step_by(4).enumerate() {
+        let header = header_time(&frames.join(format!("frame_{k:05}.obj")));
+        assert_eq!(times[j + 1], header as f32, "frame {k}");
+        assert_eq!(times[j + 1], (k as f64 / 30.0) as f32, "frame {k} at k / fps");
+        assert_eq!(weights[j + 1][j], 1.0);
+        assert_eq!(weights[j + 1].iter().sum::<f32>(), 1.0);
+    }
+    let late = dir.join("late.glb");
+    simulate(&late, &["--first-frame", "10", "--frame-step", "5"]);
+    let (times, _) = glb_keys(&late);
+    let numbers: Vec<u64> = (10..=45).step_by(5).collect();
+    assert_eq!(times.len(), numbers.len(), "no rest key: the clip starts at frame 10");
+    for (t, k) in times.iter().zip(&numbers) {
+        let header = header_time(&frames.join(format!("frame_{k:05}.obj")));
+        assert_eq!(*t, header as f32, "frame {k}");
+    }
+    validate(&late);
+    let pc2 = dir.join("late.pc2");
+    simulate(&pc2, &["--first-frame", "10", "--frame-step", "5"]);
+    let b = std::fs::read(&pc2).unwrap();
+    let f = |at: usize| f32::from_le_bytes(b[at..at + 4].try_into().unwrap());
+    let i = |at: usize| i32::from_le_bytes(b[at..at + 4].try_into().unwrap());
+    assert_eq!((f(20), f(24), i(28)), (10.0, 5.0, numbers.len() as i32));
 }
 
 #[test]

@@ -317,37 +317,48 @@ pub fn write_with(take: &Frames, quantize: bool) -> Result<Vec<u8>, ExportError>
     });
     root.scene = Some(scene);
 
-    // The weights over time: frame k at k / fps, target k at 1, the others at 0.
-    let fps = if take.fps.is_finite() && take.fps > 0.0 {
-        take.fps
-    } else {
-        30.0
-    };
-    let mut times = Vec::with_capacity(frames * 4);
-    for k in 0..frames {
-        f32s(&mut times, (k as f64 / fps) as f32);
+    // The weights over the animation's clock: glTF time t shows the state at time t. Target
+    // j (frame `first + j × step`) is 1 at that frame's time `number / fps`, the others 0;
+    // a take from frame 1 starts with the rest surface at 0 (every weight 0), where the
+    // simulation starts, and one from a later first frame starts at that frame's time.
+    let rest_key = take.first <= 1;
+    let keys = frames + usize::from(rest_key);
+    let mut times = Vec::with_capacity(keys * 4);
+    if rest_key {
+        f32s(&mut times, 0.0);
     }
-    let last = ((frames - 1) as f64 / fps) as f32;
+    for j in 0..frames {
+        f32s(&mut times, take.time(j) as f32);
+    }
+    let (first_time, last_time) = (
+        if rest_key { 0.0 } else { take.time(0) as f32 },
+        take.time(frames - 1) as f32,
+    );
     let v = view(&mut root, &mut bin, times, None, None);
     let input = root.push(accessor(
         v,
         0,
-        frames,
+        keys,
         C::F32,
         T::Scalar,
         Some((
-            json::Value::from(vec![0.0f32]),
-            json::Value::from(vec![last]),
+            json::Value::from(vec![first_time]),
+            json::Value::from(vec![last_time]),
         )),
     ));
-    let mut weights = Vec::with_capacity(frames * frames * 4);
+    let mut weights = Vec::with_capacity(keys * frames * 4);
+    if rest_key {
+        for _ in 0..frames {
+            f32s(&mut weights, 0.0);
+        }
+    }
     for k in 0..frames {
         for j in 0..frames {
             f32s(&mut weights, if j == k { 1.0 } else { 0.0 });
         }
     }
     let v = view(&mut root, &mut bin, weights, None, None);
-    let output = root.push(accessor(v, 0, frames * frames, C::F32, T::Scalar, None));
+    let output = root.push(accessor(v, 0, keys * frames, C::F32, T::Scalar, None));
     root.push(json::Animation {
         extensions: None,
         extras: Default::default(),

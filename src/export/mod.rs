@@ -29,10 +29,12 @@ pub struct Frames {
     pub normals: Vec<Vec3>,
     /// Per exported frame, every vertex's position.
     pub frames: Vec<Vec<Vec3>>,
-    /// Exported frames per second.
+    /// The take's frames per second: frame `k` is the state at `k / fps` s.
     pub fps: f64,
     /// The number of the first exported frame (1-based, as `simulate` counts).
     pub first: u64,
+    /// Frames between two exported ones (1: every frame).
+    pub step: u64,
 }
 
 /// Why a take could not be exported.
@@ -53,6 +55,23 @@ pub enum ExportError {
 }
 
 impl Frames {
+    /// The frame number of exported frame `j` (0-based): `first + j × step`.
+    pub fn number(&self, j: usize) -> u64 {
+        self.first + j as u64 * self.step.max(1)
+    }
+
+    /// The animation time of exported frame `j`, in seconds: its number over the frame
+    /// rate (the state it holds; 30 frames per second where the rate is not a positive
+    /// number).
+    pub fn time(&self, j: usize) -> f64 {
+        let fps = if self.fps.is_finite() && self.fps > 0.0 {
+            self.fps
+        } else {
+            30.0
+        };
+        self.number(j) as f64 / fps
+    }
+
     /// Checks that every frame fits the mesh.
     pub fn check(&self) -> Result<(), ExportError> {
         if self.frames.is_empty() || self.rest.is_empty() {

@@ -18,9 +18,11 @@ pub fn write(take: &Frames) -> Result<Vec<u8>, ExportError> {
     out.extend_from_slice(b"POINTCACHE2\0");
     out.extend_from_slice(&1i32.to_le_bytes());
     out.extend_from_slice(&points.to_le_bytes());
-    // Start frame and sample rate (frames between samples) in the file's frame numbers.
+    // Start frame and sample rate (frames between samples) in the take's frame numbers:
+    // sample j is frame `first + j × step`, the state at that frame over the frame rate,
+    // as the OBJ frames' headers say.
     out.extend_from_slice(&(take.first as f32).to_le_bytes());
-    out.extend_from_slice(&1.0f32.to_le_bytes());
+    out.extend_from_slice(&(take.step.max(1) as f32).to_le_bytes());
     out.extend_from_slice(&samples.to_le_bytes());
     for frame in &take.frames {
         for p in frame {
@@ -46,6 +48,7 @@ mod tests {
             frames: vec![vec![Vec3::ZERO, Vec3::X, Vec3::Y], vec![Vec3::ONE; 3]],
             fps: 30.0,
             first: 1,
+            step: 1,
         };
         let b = write(&take).unwrap();
         assert_eq!(&b[..12], b"POINTCACHE2\0");

@@ -79,6 +79,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         frames,
         fps,
         first: 1,
+        step: 1,
     };
     let dir = std::env::temp_dir().join(format!("puppet-bench-export-{}", std::process::id()));
     std::fs::create_dir_all(&dir).with_context(|| dir.display().to_string())?;
