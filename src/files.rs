@@ -1,6 +1,7 @@
 //! Reading the project's text files (rigs, animations): TOML or JSON chosen by extension,
 //! with syntax errors shortened to one line that says where.
 
+use glam::DVec3;
 use serde::de::DeserializeOwned;
 use std::path::Path;
 
@@ -35,6 +36,27 @@ pub enum TextError {
     /// Not valid TOML or JSON for what it should hold, with the line and column.
     #[error("{0}")]
     Syntax(String),
+}
+
+/// `v` at the precision files write: the `f64` of the shortest decimal that reads back to
+/// `v`'s `f32` (`0.20000000298023224` → `0.2`). Exact for every `f32` (it reads back to
+/// the same one), idempotent, and a file holding it reads back to the same `f64`; the
+/// simulation runs on `f32`, so nothing it shows is lost. Non-finite values stay as they
+/// are.
+pub fn shortest(v: f64) -> f64 {
+    if !v.is_finite() {
+        return v;
+    }
+    let single = v as f32;
+    if !single.is_finite() {
+        return v;
+    }
+    single.to_string().parse().unwrap_or(v)
+}
+
+/// [`shortest`] of each coordinate.
+pub fn shortest3(v: DVec3) -> DVec3 {
+    DVec3::new(shortest(v.x), shortest(v.y), shortest(v.z))
 }
 
 /// Parses `text`; the error is one line naming the line and column.
@@ -102,5 +124,26 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("line 1"), "{e}");
+    }
+
+    #[test]
+    fn shortest_reads_back_to_the_same_single_and_is_short() {
+        assert_eq!(shortest(0.2f32 as f64), 0.2);
+        assert_eq!(shortest(0.8500000238418579), 0.85);
+        assert_eq!(shortest(1.0 / 3.0).to_string(), "0.33333334");
+        for v in [
+            0.1f32,
+            1e-30,
+            3.4e38,
+            -7.25,
+            16_777_217.0,
+            f32::MIN_POSITIVE,
+        ] {
+            let s = shortest(v as f64);
+            assert_eq!(s as f32, v, "{v}");
+            assert_eq!(shortest(s), s, "idempotent: {v}");
+        }
+        assert!(shortest(f64::NAN).is_nan());
+        assert_eq!(shortest(1e300), 1e300, "beyond f32: as it is");
     }
 }

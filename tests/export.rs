@@ -129,7 +129,10 @@ fn glb_keys(glb: &Path) -> (Vec<f32>, Vec<Vec<f32>>) {
         _ => panic!("the channel animates morph target weights"),
     };
     let targets = weights.len() / times.len();
-    (times, weights.chunks(targets).map(<[f32]>::to_vec).collect())
+    (
+        times,
+        weights.chunks(targets).map(<[f32]>::to_vec).collect(),
+    )
 }
 
 /// The time an OBJ frame's header gives (`puppet: frame K, t = T s`).
@@ -152,11 +155,18 @@ fn a_take_keeps_the_animation_s_clock() {
     let (times, weights) = glb_keys(&glb);
     assert_eq!(times.len(), 13);
     assert_eq!(times[0], 0.0);
-    assert!(weights[0].iter().all(|&w| w == 0.0), "the rest surface at 0");
+    assert!(
+        weights[0].iter().all(|&w| w == 0.0),
+        "the rest surface at 0"
+    );
     for (j, k) in (1..=45).step_by(4).enumerate() {
         let header = header_time(&frames.join(format!("frame_{k:05}.obj")));
         assert_eq!(times[j + 1], header as f32, "frame {k}");
-        assert_eq!(times[j + 1], (k as f64 / 30.0) as f32, "frame {k} at k / fps");
+        assert_eq!(
+            times[j + 1],
+            (k as f64 / 30.0) as f32,
+            "frame {k} at k / fps"
+        );
         assert_eq!(weights[j + 1][j], 1.0);
         assert_eq!(weights[j + 1].iter().sum::<f32>(), 1.0);
     }
@@ -164,7 +174,11 @@ fn a_take_keeps_the_animation_s_clock() {
     simulate(&late, &["--first-frame", "10", "--frame-step", "5"]);
     let (times, _) = glb_keys(&late);
     let numbers: Vec<u64> = (10..=45).step_by(5).collect();
-    assert_eq!(times.len(), numbers.len(), "no rest key: the clip starts at frame 10");
+    assert_eq!(
+        times.len(),
+        numbers.len(),
+        "no rest key: the clip starts at frame 10"
+    );
     for (t, k) in times.iter().zip(&numbers) {
         let header = header_time(&frames.join(format!("frame_{k:05}.obj")));
         assert_eq!(*t, header as f32, "frame {k}");

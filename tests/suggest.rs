@@ -133,9 +133,22 @@ fn suggest_prints_the_tree_and_writes_a_rig_that_loads() {
     assert_eq!(spec.cuts.len(), cuts.len());
     assert!(spec.cuts.iter().all(|c| c.connected));
     let (m, _) = mesh::load(&hand).unwrap();
-    let rebuilt = Puppet::build(m, spec, puppet::progress::silent()).unwrap();
+    let rebuilt = Puppet::build(m, spec.clone(), puppet::progress::silent()).unwrap();
     let again = suggested("hand.obj");
     assert_eq!(rebuilt.joints.section_of(), again.joints.section_of());
+    // A file a person reads: the mesh relative to the rig file (the two can move together),
+    // short numbers, vectors on one line; saved again, the same bytes.
+    let text = std::fs::read_to_string(&rig).unwrap();
+    let mesh_line = text.lines().next().unwrap();
+    assert!(mesh_line.starts_with("mesh = \"../"), "{mesh_line}");
+    assert_eq!(
+        spec.mesh.as_ref().unwrap().canonicalize().unwrap(),
+        hand.canonicalize().unwrap()
+    );
+    assert!(text.contains("damping = 0.85\n"), "{text}");
+    let point = text.lines().find(|l| l.starts_with("point = [")).unwrap();
+    assert!(point.ends_with(']') && point.len() < 60, "{point}");
+    assert_eq!(rebuilt.current_rig_file().text_for(&rig), text);
     // The text form is a tree under the root.
     let text = puppet(&["suggest", hand.to_str().unwrap()]);
     let text = String::from_utf8_lossy(&text.stdout);

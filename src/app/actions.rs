@@ -230,12 +230,15 @@ impl WindowState {
                 }
                 Err(e) => Err(format!("{shown}: {e}")),
             },
+            // The mesh it was opened from, written relative to the rig file.
             FilePurpose::SaveRig => match self.session() {
-                Some(s) => std::fs::write(&path, s.puppet.current_rig_file().to_toml(None))
-                    .map(|_| format!("saved {shown}"))
-                    .map_err(|e| {
-                        format!("{shown}: cannot write: {}", crate::files::io_message(&e))
-                    }),
+                Some(s) => std::fs::write(&path, {
+                    let mut rig = s.puppet.current_rig_file();
+                    rig.mesh = self.panel.source.clone();
+                    rig.text_for(&path)
+                })
+                .map(|_| format!("saved {shown}"))
+                .map_err(|e| format!("{shown}: cannot write: {}", crate::files::io_message(&e))),
                 None => return,
             },
             FilePurpose::OpenAnimation => match &mut self.session {

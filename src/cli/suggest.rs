@@ -81,19 +81,10 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         })
         .collect();
     if let Some(out) = &args.output {
+        // The mesh relative to the rig file, so the two can move together.
         let mut rig = puppet.current_rig_file();
         rig.mesh = args.mesh.clone();
-        let mesh_entry = args.mesh.as_ref().map(|m| {
-            m.canonicalize()
-                .unwrap_or_else(|_| m.clone())
-                .display()
-                .to_string()
-        });
-        let text = match puppet::files::Format::of(out) {
-            puppet::files::Format::Json => rig.to_json(mesh_entry.as_deref()),
-            puppet::files::Format::Toml => rig.to_toml(mesh_entry.as_deref()),
-        };
-        std::fs::write(out, text).map_err(|e| {
+        std::fs::write(out, rig.text_for(out)).map_err(|e| {
             FileError::new(
                 out.display().to_string(),
                 format!("cannot write: {}", puppet::files::io_message(&e)),

@@ -103,6 +103,31 @@ pub struct Cut {
     pub shared_pivot: bool,
 }
 
+impl Cut {
+    /// The cut with its numbers at the precision files write them ([`crate::files::shortest`]):
+    /// a cut made by the suggestion or the cut tool is then the cut its rig file holds,
+    /// written in short numbers (`0.45`, not `0.45000000298023224`) and read back the same.
+    pub fn rounded(self) -> Cut {
+        use crate::files::{shortest, shortest3};
+        Cut {
+            shape: match self.shape {
+                Shape::Plane => Shape::Plane,
+                Shape::Sphere { radius } => Shape::Sphere {
+                    radius: shortest(radius),
+                },
+                Shape::Box { size } => Shape::Box {
+                    size: shortest3(size),
+                },
+            },
+            point: shortest3(self.point),
+            normal: shortest3(self.normal),
+            pivot: self.pivot.map(shortest3),
+            band: self.band.map(shortest),
+            ..self
+        }
+    }
+}
+
 /// A section: a node of the joint hierarchy.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Section {

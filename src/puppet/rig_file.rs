@@ -357,8 +357,25 @@ impl RigFile {
     }
 
     /// The rig as TOML with every parameter written out; `mesh` is written as given.
+    /// Numbers are as short as reads back the same (the parameters' `f32`s as their
+    /// shortest decimals) and small vectors stay on one line, so a person can read and
+    /// edit it; written, read and written again, it gives the same bytes.
     pub fn to_toml(&self, mesh: Option<&str>) -> String {
-        toml::to_string_pretty(&self.entry(mesh)).unwrap_or_default()
+        toml::to_string(&self.entry(mesh)).unwrap_or_default()
+    }
+
+    /// The text of this rig as the file `path` (TOML, or JSON by its extension), its mesh
+    /// written relative to the file's folder (so the folder can move with its mesh), or
+    /// as it is where no relative path leads there (another drive).
+    pub fn text_for(&self, path: &Path) -> String {
+        let mesh = self.mesh.as_ref().map(|m| {
+            let folder = path.parent().unwrap_or(Path::new(""));
+            relative(folder, m).display().to_string()
+        });
+        match Format::of(path) {
+            Format::Json => self.to_json(mesh.as_deref()),
+            Format::Toml => self.to_toml(mesh.as_deref()),
+        }
     }
 
     /// The rig as JSON, like [`RigFile::to_toml`].
@@ -368,7 +385,7 @@ impl RigFile {
 
     /// The rig as written.
     fn entry(&self, mesh: Option<&str>) -> RigEntry {
-        let mut params = toml::Table::try_from(self.params).unwrap_or_default();
+        let mut params = shortest_floats(toml::Table::try_from(self.params).unwrap_or_default());
         params.remove("constraint");
         RigEntry {
             mesh: mesh.map(str::to_string),
@@ -412,7 +429,9 @@ impl RigFile {
                     material: Some(r.preset.clone()),
                     sections: r.paint.sections.clone(),
                     painted: written(&r.paint.weights),
-                    params: Some(toml::Table::try_from(r.material).unwrap_or_default()),
+                    params: Some(shortest_floats(
+                        toml::Table::try_from(r.material).unwrap_or_default(),
+                    )),
                 })
                 .collect(),
             pin: (!self.pin.is_empty()).then(|| PinEntry {
@@ -429,6 +448,47 @@ impl RigFile {
         joints.add_cuts(self.cuts.iter().cloned())?;
         Ok(joints)
     }
+}
+
+/// A table of `f32` parameters with each number as its shortest decimal
+/// ([`crate::files::shortest`]): `0.2`, not `0.20000000298023224`.
+fn shortest_floats(table: toml::Table) -> toml::Table {
+    fn short(v: toml::Value) -> toml::Value {
+        match v {
+            toml::Value::Float(f) => toml::Value::Float(crate::files::shortest(f)),
+            toml::Value::Array(a) => toml::Value::Array(a.into_iter().map(short).collect()),
+            v => v,
+        }
+    }
+    table.into_iter().map(|(k, v)| (k, short(v))).collect()
+}
+
+/// `to` as a path from the folder `from` (both made absolute against the working folder
+/// first, and resolved where they exist): `../meshes/cow.obj`. Where they share no root
+/// (another drive), `to` made absolute.
+pub fn relative(from: &Path, to: &Path) -> PathBuf {
+    let absolute = |p: &Path| {
+        let p = if p.is_absolute() {
+            p.to_path_buf()
+        } else {
+            std::env::current_dir().unwrap_or_default().join(p)
+        };
+        p.canonicalize().unwrap_or(p)
+    };
+    let (from, to) = (absolute(from), absolute(to));
+    let (a, b): (Vec<_>, Vec<_>) = (from.components().collect(), to.components().collect());
+    if a.first() != b.first() {
+        return to;
+    }
+    let common = a.iter().zip(&b).take_while(|(x, y)| x == y).count();
+    let mut out = PathBuf::new();
+    for _ in common..a.len() {
+        out.push("..");
+    }
+    for c in &b[common..] {
+        out.push(c);
+    }
+    out
 }
 
 /// Painted weights as written: `None` when nothing is painted.
@@ -561,5 +621,75 @@ mod tests {
             RigFile::parse(&json, Format::Json, Path::new("/rigs")).unwrap(),
             spec
         );
+    }
+
+    #[test]
+    fn written_read_and_written_again_gives_the_same_bytes() {
+        let mut spec = RigFile {
+            root: "body".into(),
+            cuts: vec![Cut {
+                name: "head".into(),
+                section: "body".into(),
+                point: DVec3::new(0.1, 1.0 / 3.0, -2.0),
+                normal: DVec3::new(0.0, 0.7, 0.7),
+                pivot: Some(DVec3::new(std::f64::consts::PI, 0.0, 1.0)),
+                connected: true,
+                band: Some(2.5),
+                shape: Shape::Sphere { radius: 0.3 },
+                shared_pivot: false,
+            }
+            .rounded()],
+            regions: vec![Region {
+                name: "belly".into(),
+                preset: "water".into(),
+                material: Material::preset("water").unwrap(),
+                paint: Paint {
+                    sections: vec!["head".into()],
+                    weights: vec![0.0, 0.5, 1.0],
+                },
+            }],
+            ..RigFile::default()
+        };
+        spec.params.world.gravity = [0.0, -0.3, 0.0];
+        let text = spec.to_toml(Some("../cow.obj"));
+        assert!(text.contains("damping = 0.85\n"), "{text}");
+        assert!(text.contains("gravity = [0.0, -0.3, 0.0]\n"), "{text}");
+        assert!(text.contains("point = [0.1, 0.33333334, -2.0]\n"), "{text}");
+        assert!(text.contains("pivot = [3.1415927, 0.0, 1.0]\n"), "{text}");
+        let back = parse(&text).unwrap();
+        assert_eq!(
+            back.params, spec.params,
+            "every f32 parameter reads back the same"
+        );
+        assert_eq!(back.to_toml(Some("../cow.obj")), text);
+        let json = spec.to_json(Some("../cow.obj"));
+        let back = RigFile::parse(&json, Format::Json, Path::new("/rigs")).unwrap();
+        assert_eq!(back.to_json(Some("../cow.obj")), json);
+    }
+
+    #[test]
+    fn a_mesh_is_written_relative_to_its_rig_file() {
+        assert_eq!(
+            relative(Path::new("/a/rigs"), Path::new("/a/meshes/cow.obj")),
+            PathBuf::from("../meshes/cow.obj")
+        );
+        assert_eq!(
+            relative(Path::new("/a"), Path::new("/a/cow.obj")),
+            PathBuf::from("cow.obj")
+        );
+        let spec = RigFile {
+            mesh: Some(PathBuf::from("/models/spot/spot.obj")),
+            ..RigFile::default()
+        };
+        let text = spec.text_for(Path::new("/models/rigs/spot.rig.toml"));
+        assert!(text.starts_with("mesh = \"../spot/spot.obj\"\n"), "{text}");
+        let back = RigFile::parse(&text, Format::Toml, Path::new("/models/rigs")).unwrap();
+        assert_eq!(
+            back.mesh.map(|m| m.components().collect::<PathBuf>()),
+            Some(PathBuf::from("/models/rigs/../spot/spot.obj"))
+        );
+        assert!(spec
+            .text_for(Path::new("/models/rigs/spot.rig.json"))
+            .starts_with("{"));
     }
 }

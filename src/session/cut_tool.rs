@@ -104,6 +104,7 @@ impl CutDraft {
             band: None,
             shared_pivot: false,
         }
+        .rounded()
     }
 }
 
@@ -192,7 +193,7 @@ impl Session {
             return;
         }
         let t = (pivot - o).dot(normal) / along;
-        let moved = o + d * t;
+        let moved = crate::files::shortest3(o + d * t);
         if t > 0.0 && moved.is_finite() && moved != pivot {
             self.puppet.joints.set_pivot(section, moved);
             self.puppet.sync_sections();

@@ -60,7 +60,8 @@ pub fn suggest(mesh: &Mesh, skeleton: &Skeleton, root: &str) -> Vec<Cut> {
             band: None,
             shape: Shape::Plane,
             shared_pivot: false,
-        };
+        }
+        .rounded();
         // Too small a piece, or too little left, is no joint worth a section.
         let smallest = (SMALLEST * skeleton.points.len() as f64).max(12.0) as usize;
         let big_enough = joints.find(&cut.section).is_some_and(|s| {
