@@ -11,13 +11,72 @@ fn bad(what: impl std::fmt::Display) -> MeshError {
     MeshError::Parse(format!("glTF: {}", super::one_line(&what.to_string())))
 }
 
+/// Every primitive's `POSITION` names an accessor the file has, and its indices, if any,
+/// are unsigned integers: two bugs of the crates, checked here before they run.
+///
+/// 1. gltf-json 1.4.1 (`mesh.rs:151`, `primitive_validate_hook`) indexes `root.accessors`
+///    with a primitive's `POSITION` before that index is validated, so `Gltf::from_slice`
+///    panics ("index out of bounds: the len is 13 but the index is 91") on a file whose
+///    `POSITION` names a missing accessor, instead of returning its validation error.
+///    Reproducer: any valid `.glb` with the digit `9` put before its `POSITION` index (and
+///    one character of a name dropped to keep the length): `tests/readers.rs`,
+///    `a_glb_naming_a_missing_position_accessor_is_an_error`.
+/// 2. gltf 1.4.1 (`mesh/mod.rs:396`, `Reader::read_indices`) reaches `unreachable!()` when
+///    the indices' accessor holds floats or signed integers, which its validation lets
+///    through. Reproducer: a valid `.glb` whose indices accessor's `componentType` 5125 is
+///    changed to 5126: `tests/readers.rs`, `a_glb_with_float_indices_is_an_error`.
+///
+/// `guard` catches what else such a bug could do (the mutation test in `tests/readers.rs`
+/// counts on it).
+fn check_accessors(root: &gltf::json::Root) -> Result<(), MeshError> {
+    use gltf::json::accessor::ComponentType;
+    use gltf::json::validation::Checked;
+    let accessors = root.accessors.len();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            let position = prim
+                .attributes
+                .get(&Checked::Valid(gltf::json::mesh::Semantic::Positions));
+            if let Some(index) = position {
+                if index.value() >= accessors {
+                    return Err(bad(format!(
+                        "mesh {m} primitive {p}: POSITION is accessor {}, but the file has {accessors}",
+                        index.value()
+                    )));
+                }
+            }
+            let kind = prim
+                .indices
+                .and_then(|i| root.accessors.get(i.value()))
+                .map(|a| &a.component_type);
+            if let Some(Checked::Valid(kind)) = kind {
+                let unsigned = matches!(
+                    kind.0,
+                    ComponentType::U8 | ComponentType::U16 | ComponentType::U32
+                );
+                if !unsigned {
+                    return Err(bad(format!(
+                        "mesh {m} primitive {p}: the indices are not unsigned integers"
+                    )));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Parses a glTF file held in memory.
 ///
 /// # Errors
 /// [`MeshError::Parse`] saying what is wrong (an external buffer file included: this
 /// reader takes `.glb` and `.gltf` with embedded buffers).
 pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
-    let gltf = gltf::Gltf::from_slice(bytes).map_err(bad)?;
+    let raw = gltf::Gltf::from_slice_without_validation(bytes).map_err(bad)?;
+    check_accessors(raw.document.as_json())?;
+    let gltf = gltf::Gltf {
+        document: gltf::Document::from_json(raw.document.into_json()).map_err(bad)?,
+        blob: raw.blob,
+    };
     let mut buffers: Vec<Vec<u8>> = Vec::new();
     for b in gltf.buffers() {
         let data = match b.source() {

@@ -7,7 +7,7 @@ use super::parts::Parts;
 use super::repair::{fill_holes, orient, weld_seams, Holes};
 use super::soup::Soup;
 use super::validate::validate_with;
-use super::{gltf, obj, ply, stl, weld, Mesh, MeshError};
+use super::{gltf, guard, obj, ply, stl, weld, Mesh, MeshError};
 use crate::progress::{silent, Progress};
 use std::path::Path;
 use std::time::Instant;
@@ -299,9 +299,10 @@ pub fn parse(
     progress("parsing", 0.0);
     let soup: Soup = match format {
         Format::Obj => obj::parse(bytes)?,
-        Format::Ply => ply::parse(bytes)?,
-        Format::Stl => stl::parse(bytes)?,
-        Format::Gltf => gltf::parse(bytes)?,
+        // The crates' readers, held to one error line whatever the bytes (`guard`).
+        Format::Ply => guard::contained("PLY", || ply::parse(bytes))?,
+        Format::Stl => guard::contained("STL", || stl::parse(bytes))?,
+        Format::Gltf => guard::contained("glTF", || gltf::parse(bytes))?,
     };
     report.objects = soup.objects;
     report.file_vertices = soup.positions.len();

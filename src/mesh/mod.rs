@@ -22,6 +22,7 @@ mod decimate;
 mod edges;
 mod fit;
 mod gltf;
+mod guard;
 mod load;
 pub mod measure;
 mod normals;
