@@ -1,6 +1,7 @@
 //! PLY (ASCII and binary) through the `ply-rs-bw` crate: the `vertex` element's `x`, `y`,
-//! `z` and the `face` element's `vertex_indices` (or `vertex_index`) list; other elements
-//! and properties are skipped. Polygons are split into a fan, as in OBJ.
+//! `z` and the `face` element's `vertex_indices` (or `vertex_index`) list, or a `tristrips`
+//! element's (triangle strips, `-1` restarting a strip, as scanners wrote them); other
+//! elements and properties are skipped. Polygons are split into a fan, as in OBJ.
 
 use super::soup::Soup;
 use super::MeshError;
@@ -66,11 +67,27 @@ impl PropertyAccess for Element {
     }
 }
 
+/// The triangles of triangle strips: `-1` ends a strip; in each, triangle `k` is corners
+/// `k, k + 1, k + 2`, every other one turned so that all face the same way; triangles with
+/// a repeated corner (strips joined by repeating a vertex) are skipped.
+fn strip_triangles(strip: &[i64], out: &mut Vec<[u32; 3]>) {
+    for run in strip.split(|&c| c < 0) {
+        for (k, w) in run.windows(3).enumerate() {
+            let (a, b, c) = (w[0] as u32, w[1] as u32, w[2] as u32);
+            if a == b || b == c || a == c {
+                continue;
+            }
+            out.push(if k % 2 == 0 { [a, b, c] } else { [b, a, c] });
+        }
+    }
+}
+
 /// Parses a PLY file held in memory.
 ///
 /// # Errors
-/// [`MeshError::Parse`] with the parser's message, a missing `vertex` or `face` element, or
-/// a face naming a vertex that does not exist.
+/// [`MeshError::Parse`] with the parser's message, a missing `vertex` element, neither a
+/// `face` nor a `tristrips` element, or a face or strip naming a vertex that does not
+/// exist.
 pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
     let parser = Parser::<Element>::new();
     let mut reader = std::io::Cursor::new(bytes);
@@ -81,16 +98,25 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
         .payload
         .get("vertex")
         .ok_or_else(|| MeshError::Parse("PLY: no vertex element".into()))?;
-    let faces = ply
-        .payload
-        .get("face")
-        .ok_or_else(|| MeshError::Parse("PLY: no face element".into()))?;
+    let no_faces = Vec::new();
+    let (faces, strips) = match (ply.payload.get("face"), ply.payload.get("tristrips")) {
+        (None, None) => return Err(MeshError::Parse("PLY: no face or tristrips element".into())),
+        (faces, strips) => (faces.unwrap_or(&no_faces), strips.unwrap_or(&no_faces)),
+    };
     let n = vertices.len() as i64;
     let mut soup = Soup {
         positions: vertices.iter().map(|e| DVec3::from_array(e.xyz)).collect(),
         triangles: Vec::with_capacity(faces.len()),
         objects: 1,
     };
+    for (s, strip) in strips.iter().enumerate() {
+        if let Some(&bad) = strip.corners.iter().find(|&&c| c < -1 || c >= n) {
+            return Err(MeshError::Parse(format!(
+                "PLY: triangle strip {s} names vertex {bad}, but the file has {n} vertices"
+            )));
+        }
+        strip_triangles(&strip.corners, &mut soup.triangles);
+    }
     for (f, face) in faces.iter().enumerate() {
         if face.corners.len() < 3 {
             return Err(MeshError::Parse(format!(
@@ -110,4 +136,42 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
         }
     }
     Ok(soup)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strips_alternate_their_turn_and_restart_at_minus_one() {
+        let mut t = Vec::new();
+        strip_triangles(&[0, 1, 2, 3, -1, 4, 5, 6, 6, 7], &mut t);
+        assert_eq!(t, vec![[0, 1, 2], [2, 1, 3], [4, 5, 6]]);
+    }
+
+    #[test]
+    fn a_tetrahedron_as_one_strip_reads_closed() {
+        // The tetrahedron 0 1 2 3 as the strip 0 1 2 3 0 1: four triangles, one way round.
+        let text = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement tristrips 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n6 0 1 2 3 0 1\n";
+        let soup = parse(text.as_bytes()).unwrap();
+        assert_eq!(soup.triangles.len(), 4);
+        let (mesh, _) = crate::mesh::parse(
+            text.as_bytes(),
+            crate::mesh::Format::Ply,
+            &crate::mesh::LoadOptions::default(),
+            crate::progress::silent(),
+        )
+        .unwrap();
+        assert_eq!(mesh.triangles.len(), 4, "a closed oriented tetrahedron");
+        let bad = text.replace("6 0 1 2 3 0 1", "6 0 1 2 9 0 1");
+        assert!(parse(bad.as_bytes())
+            .unwrap_err()
+            .to_string()
+            .contains("strip 0 names vertex 9"));
+        let none = text.replace("tristrips", "edges");
+        assert!(parse(none.as_bytes())
+            .unwrap_err()
+            .to_string()
+            .contains("no face or tristrips element"));
+    }
 }
