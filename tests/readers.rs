@@ -366,3 +366,108 @@ fn a_glb_with_float_indices_is_an_error() {
         "refused before the crate reads: {e}"
     );
 }
+
+/// The triangles of an OBJ as corner coordinates, by tobj (the design card's reader).
+fn tobj_triangles(bytes: &[u8]) -> Result<Vec<[[f32; 3]; 3]>, String> {
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: false,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    let (models, _) = tobj::load_obj_buf(&mut std::io::Cursor::new(bytes), &options, |_| {
+        Err(tobj::LoadError::OpenFileFailed)
+    })
+    .map_err(|e| e.to_string())?;
+    let mut out = Vec::new();
+    for m in models {
+        let p = &m.mesh.positions;
+        let corner = |i: u32| -> Result<[f32; 3], String> {
+            let i = i as usize * 3;
+            p.get(i..i + 3)
+                .map(|c| [c[0], c[1], c[2]])
+                .ok_or_else(|| "index out of range".to_string())
+        };
+        for t in m.mesh.indices.chunks(3) {
+            out.push([corner(t[0])?, corner(t[1])?, corner(t[2])?]);
+        }
+    }
+    Ok(out)
+}
+
+/// The triangles of an OBJ as corner coordinates, by our reader (the file's mesh, before
+/// welding).
+fn our_triangles(bytes: &[u8]) -> Result<Vec<[[f32; 3]; 3]>, String> {
+    let m = mesh::parse_file_mesh(bytes, Format::Obj).map_err(|e| e.to_string())?;
+    let p = |v: u32| m.positions[v as usize].as_vec3().to_array();
+    Ok(m.triangles
+        .iter()
+        .map(|t| [p(t[0]), p(t[1]), p(t[2])])
+        .collect())
+}
+
+/// Our OBJ reader and tobj read every test mesh to the same triangles, in the same order;
+/// on malformed files ours refuses with one line where tobj guesses or refuses.
+#[test]
+fn our_obj_reader_and_tobj_agree_on_every_test_mesh() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = vec![dir.join("assets/spot.obj")];
+    for e in std::fs::read_dir(dir.join("tests/data/meshes"))
+        .unwrap()
+        .flatten()
+    {
+        if e.path().extension().is_some_and(|x| x == "obj") {
+            files.push(e.path());
+        }
+    }
+    assert!(files.len() >= 6);
+    for f in &files {
+        let bytes = std::fs::read(f).unwrap();
+        let (ours, theirs) = (
+            our_triangles(&bytes).unwrap(),
+            tobj_triangles(&bytes).unwrap(),
+        );
+        assert_eq!(ours.len(), theirs.len(), "{}", f.display());
+        for (k, (a, b)) in ours.iter().zip(&theirs).enumerate() {
+            for c in 0..3 {
+                for x in 0..3 {
+                    let (p, q) = (a[c][x], b[c][x]);
+                    assert!(
+                        (p - q).abs() <= 1e-6 * p.abs().max(1.0),
+                        "{}: triangle {k}: {a:?} vs {b:?}",
+                        f.display()
+                    );
+                }
+            }
+        }
+    }
+    // Polygons, negative indices, v/vt/vn forms, groups: the same triangles.
+    let forms = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\ng a\nf 1/1/1 2/1/1 3/1/1 4/1/1\ng b\nf -4//1 -2//1 -1//1\n";
+    assert_eq!(
+        our_triangles(forms.as_bytes()),
+        tobj_triangles(forms.as_bytes())
+    );
+    // Malformed files: ours refuses each with one line; tobj's answer is recorded beside it.
+    for (bad, tobj_refuses) in [
+        ("v 0 0 0\nv 1 0 0\nf 1 2 3\n", true), // an index past the vertices
+        ("v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", true), // a vertex with two coordinates
+        ("v 0 0 x\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", true), // not a number
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n", true), // index 0
+        ("v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", false), // tobj reads NaN
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", false), // tobj drops a two-corner face
+    ] {
+        let ours = mesh::parse(
+            bad.as_bytes(),
+            Format::Obj,
+            &LoadOptions::default(),
+            puppet::progress::silent(),
+        );
+        let e = ours.err().map(|e| e.to_string()).unwrap_or_default();
+        assert!(
+            !e.is_empty() && !e.contains('\n'),
+            "ours must refuse {bad:?} in one line: {e:?}"
+        );
+        let theirs = tobj_triangles(bad.as_bytes());
+        assert_eq!(theirs.is_err(), tobj_refuses, "tobj on {bad:?}: {theirs:?}");
+    }
+}

@@ -262,14 +262,26 @@ pub fn load_with(
 /// [`MeshError`] when the file cannot be read or parsed.
 pub fn file_mesh(path: &Path) -> Result<Mesh, MeshError> {
     let bytes = std::fs::read(path).map_err(|e| MeshError::Io(crate::files::io_message(&e)))?;
-    let format = Format::of(Some(path), &bytes);
-    let soup: Soup = match format {
-        Format::Obj => obj::parse(&bytes)?,
-        Format::Ply => ply::parse(&bytes)?,
-        Format::Stl => stl::parse(&bytes)?,
-        Format::Gltf => gltf::parse(&bytes)?,
-    };
-    Ok(soup.into_mesh()?.0)
+    parse_file_mesh(&bytes, Format::of(Some(path), &bytes))
+}
+
+/// [`file_mesh`] of a file held in memory.
+///
+/// # Errors
+/// [`MeshError`] when the bytes cannot be parsed.
+pub fn parse_file_mesh(bytes: &[u8], format: Format) -> Result<Mesh, MeshError> {
+    Ok(read_soup(bytes, format)?.into_mesh()?.0)
+}
+
+/// The positions and triangles as the file holds them, by the format's reader; the crates'
+/// readers held to one error line whatever the bytes (`guard`).
+fn read_soup(bytes: &[u8], format: Format) -> Result<Soup, MeshError> {
+    match format {
+        Format::Obj => obj::parse(bytes),
+        Format::Ply => guard::contained("PLY", || ply::parse(bytes)),
+        Format::Stl => guard::contained("STL", || stl::parse(bytes)),
+        Format::Gltf => guard::contained("glTF", || gltf::parse(bytes)),
+    }
 }
 
 /// Parses, welds and validates OBJ text held in memory (default repairs).
@@ -297,13 +309,7 @@ pub fn parse(
         progress(next, 0.0);
     };
     progress("parsing", 0.0);
-    let soup: Soup = match format {
-        Format::Obj => obj::parse(bytes)?,
-        // The crates' readers, held to one error line whatever the bytes (`guard`).
-        Format::Ply => guard::contained("PLY", || ply::parse(bytes))?,
-        Format::Stl => guard::contained("STL", || stl::parse(bytes))?,
-        Format::Gltf => guard::contained("glTF", || gltf::parse(bytes))?,
-    };
+    let soup = read_soup(bytes, format)?;
     report.objects = soup.objects;
     report.file_vertices = soup.positions.len();
     report.file_triangles = soup.triangles.len();

@@ -40,8 +40,8 @@ mod weld;
 pub use decimate::decimate;
 pub use fit::{fit_surface, SurfaceFit};
 pub use load::{
-    file_mesh, load, load_with, parse, parse_obj, Format, LoadOptions, LoadReport, FILL_HOLES,
-    WELD_TOLERANCE,
+    file_mesh, load, load_with, parse, parse_file_mesh, parse_obj, Format, LoadOptions, LoadReport,
+    FILL_HOLES, WELD_TOLERANCE,
 };
 pub use normals::vertex_normals;
 pub use obj::write as write_obj;
