@@ -60,22 +60,34 @@ fn holes_flipped_faces_and_seams_are_repaired_with_a_warning() {
     );
     assert_eq!(v["vertices"], 4);
 
-    // A sphere without its north cap: a 40-edge hole, more than the default fills.
+    // A sphere without its north cap: a 40-edge hole, closed by default with well-shaped
+    // triangles faired to continue the sphere; `--fill-holes` below its size refuses it.
     let mut sphere = shapes::uv_sphere(1.0, 12, 40);
     sphere.triangles.retain(|t| !t.contains(&0));
     let capless = write(&dir, "capless.obj", &obj(&sphere));
-    let (code, _, err) = skeleton(&capless, &[]);
+    let (code, _, err) = skeleton(&capless, &["--fill-holes", "32"]);
     assert_eq!(code, Some(2), "{err}");
     assert!(
         err.contains("1 hole larger than the 32 edges filled (the largest has 40: --fill-holes 40 closes it)"),
         "{err}"
     );
-    let (code, v, err) = skeleton(&capless, &["--fill-holes", "40"]);
+    let (code, v, err) = skeleton(&capless, &[]);
     assert_eq!(code, Some(0), "{err}");
-    assert!(err.contains("filled 1 hole with 40 new faces"), "{err}");
-    // The cap closes over a new vertex at the hole's centre, inside the sphere.
-    assert_eq!(v["vertices"], sphere.positions.len());
-    assert!(v["d_max"].as_f64().unwrap() <= 1.0 + 1e-9, "{v}");
+    assert!(err.contains("filled 1 hole with "), "{err}");
+    let added = v["vertices"].as_u64().unwrap() as usize + 1 - sphere.positions.len();
+    assert!(
+        added > 1,
+        "new vertices inside the hole, not one fan centre: {err}"
+    );
+    assert!(
+        err.contains(&format!(
+            "{} new faces and {added} new vertices",
+            2 * added + 38
+        )),
+        "a disc of {added} vertices in a 40-edge loop: {err}"
+    );
+    // The skeleton of the closed sphere: every skeletal point inside it.
+    assert!(v["d_max"].as_f64().unwrap() <= 1.1, "{v}");
 
     // An open seam: one ring of the sphere duplicated a hair apart for half the faces.
     let mut seam = shapes::uv_sphere(1.0, 12, 24);

@@ -82,16 +82,17 @@ pub enum Command {
 /// Options for reading a mesh, accepted by the window and every command.
 #[derive(clap::Args, Debug, Clone, Copy)]
 pub struct LoadArgs {
-    /// Close holes of up to this many boundary edges (0: close none).
-    #[arg(long, global = true, value_name = "EDGES", default_value_t = mesh::FILL_HOLES)]
-    pub fill_holes: usize,
+    /// Close holes of up to this many boundary edges (0: close none; by default every hole
+    /// is closed).
+    #[arg(long, global = true, value_name = "EDGES")]
+    pub fill_holes: Option<usize>,
 }
 
 impl LoadArgs {
     /// The library's options.
     pub fn options(&self) -> mesh::LoadOptions {
         mesh::LoadOptions {
-            fill_holes: self.fill_holes,
+            fill_holes: self.fill_holes.unwrap_or(mesh::FILL_HOLES),
         }
     }
 }

@@ -12,8 +12,9 @@ use crate::progress::{silent, Progress};
 use std::path::Path;
 use std::time::Instant;
 
-/// Largest hole (a boundary loop, in edges) filled unless the user says otherwise.
-pub const FILL_HOLES: usize = 32;
+/// Largest hole (a boundary loop, in edges) filled unless the user says otherwise: every
+/// hole (a scan's open base, a character's open neck); `--fill-holes` lowers it.
+pub const FILL_HOLES: usize = usize::MAX;
 
 /// Relative weld tolerance: vertices closer than this times the bounding-box diagonal are
 /// one vertex.
@@ -118,6 +119,10 @@ pub struct LoadReport {
     pub holes_filled: usize,
     /// Faces added to close them.
     pub hole_faces: usize,
+    /// Vertices added inside them.
+    pub hole_vertices: usize,
+    /// Holes whose outline folded over itself, closed with a fan about the centre.
+    pub hole_fans: usize,
     /// Small separate parts that ride along with the body.
     pub riders: usize,
     /// Faces with zero area kept (they are needed to close the surface).
@@ -142,6 +147,8 @@ impl LoadReport {
             reoriented: 0,
             holes_filled: 0,
             hole_faces: 0,
+            hole_vertices: 0,
+            hole_fans: 0,
             riders: 0,
             zero_area: 0,
             flipped_parts: 0,
@@ -183,10 +190,18 @@ impl LoadReport {
             ));
         }
         if self.holes_filled > 0 {
+            let fans = match self.hole_fans {
+                0 => String::new(),
+                n => format!(" ({n} folded: a fan)"),
+            };
             w.push(format!(
-                "filled {} with {}",
+                "filled {} with {} and {}{fans}",
                 plural(self.holes_filled, "hole"),
-                plural(self.hole_faces, "new face")
+                plural(self.hole_faces, "new face"),
+                match self.hole_vertices {
+                    1 => "1 new vertex".to_string(),
+                    n => format!("{n} new vertices"),
+                }
             ));
         }
         if self.riders > 0 {
@@ -352,6 +367,8 @@ pub fn parse(
                 holes = fill_holes(&mut mesh, &half, options.fill_holes);
                 report.holes_filled = holes.filled;
                 report.hole_faces = holes.faces;
+                report.hole_vertices = holes.vertices;
+                report.hole_fans = holes.fans;
                 if holes.filled > 0 {
                     half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
                 }

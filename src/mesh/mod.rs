@@ -20,6 +20,7 @@
 
 mod decimate;
 mod edges;
+mod fill;
 mod fit;
 mod gltf;
 mod guard;

@@ -6,14 +6,14 @@
 //! * **inconsistent orientation**: faces are turned to agree with their neighbours, part by
 //!   part, from each part's first face (the part's outward side is settled later by the sign
 //!   of its volume); a part that cannot be oriented (a Möbius strip) is left as it is;
-//! * **small holes**: a boundary loop of at most the given number of edges is closed, a
-//!   triangle for three edges and otherwise a fan around a new vertex at the loop's centre.
-//!   Loops through a vertex with more than one boundary (two holes touching) are left.
+//! * **holes**: a boundary loop of at most the given number of edges (by default every
+//!   one) is closed with well-shaped triangles faired to continue the surface
+//!   ([`super::fill`]; a fan around the loop's centre where its projection folds). Loops
+//!   through a vertex with more than one boundary (two holes touching) are left.
 
 use super::edges::{target, HalfEdges};
 use super::weld::remap;
 use super::Mesh;
-use glam::DVec3;
 
 /// Welds boundary vertices closer than a tenth of the shortest edge at either. Returns how
 /// many vertices were merged (0 leaves the mesh untouched).
@@ -159,6 +159,10 @@ pub(super) struct Holes {
     pub filled: usize,
     /// Faces added to close them.
     pub faces: usize,
+    /// Vertices added inside them.
+    pub vertices: usize,
+    /// Loops whose projection folded, closed with a fan.
+    pub fans: usize,
     /// Loops left open because they are longer than the limit.
     pub too_large: usize,
     /// Edges of the longest loop left open.
@@ -217,23 +221,14 @@ pub(super) fn fill_holes(mesh: &mut Mesh, half: &HalfEdges, max_edges: usize) ->
             continue;
         }
         // The loop runs along the faces' boundary edges a → b; new faces use b → a.
-        if lp.len() == 3 {
-            mesh.triangles.push([lp[0], lp[2], lp[1]]);
-            holes.faces += 1;
-        } else {
-            let centre = lp
-                .iter()
-                .map(|&v| mesh.positions[v as usize])
-                .sum::<DVec3>()
-                / lp.len() as f64;
-            let c = mesh.positions.len() as u32;
-            mesh.positions.push(centre);
-            for k in 0..lp.len() {
-                let (a, b) = (lp[k], lp[(k + 1) % lp.len()]);
-                mesh.triangles.push([b, a, c]);
-            }
-            holes.faces += lp.len();
-        }
+        let neighbours = |v: u32| half.row(v).iter().map(|&e| target(e)).collect();
+        let base = mesh.positions.len() as u32;
+        let patch = super::fill::close(&lp, &mesh.positions, &neighbours, base);
+        holes.faces += patch.triangles.len();
+        holes.vertices += patch.positions.len();
+        holes.fans += usize::from(patch.fan);
+        mesh.positions.extend(patch.positions);
+        mesh.triangles.extend(patch.triangles);
         holes.filled += 1;
     }
     holes
@@ -243,6 +238,7 @@ pub(super) fn fill_holes(mesh: &mut Mesh, half: &HalfEdges, max_edges: usize) ->
 mod tests {
     use super::*;
     use crate::mesh::shapes;
+    use glam::DVec3;
 
     fn census(m: &Mesh) -> super::super::edges::EdgeCensus {
         HalfEdges::new(m.positions.len(), &m.triangles).census(&|_| true)
@@ -260,9 +256,28 @@ mod tests {
             (small.filled, small.too_large, small.largest_left),
             (0, 1, 12)
         );
+        let before = m.positions.len();
         let holes = fill_holes(&mut m, &half, 16);
-        assert_eq!((holes.filled, holes.faces), (1, 12));
+        assert_eq!(holes.filled, 1);
+        // A disc's triangles: twice the new vertices plus the loop's edges less two.
+        assert_eq!(holes.faces, 2 * holes.vertices + 12 - 2);
+        assert!(holes.vertices > 0 && holes.fans == 0, "{holes:?}");
         assert!(census(&m).is_clean());
+        // The patch continues the sphere: it bulges past the loop's plane towards the pole
+        // it replaces, and stays about on the sphere.
+        let axis = m.positions[0];
+        let rim = m.positions[1].dot(axis);
+        let new = &m.positions[before..];
+        let top = new.iter().map(|p| p.dot(axis)).fold(f64::MIN, f64::max);
+        assert!(
+            top > rim + 0.5 * (1.0 - rim),
+            "a flat cap: {top} over a rim at {rim}"
+        );
+        assert!(
+            new.iter()
+                .all(|p| p.length() < 1.1 && p.dot(axis) > rim - 1e-9),
+            "{new:?}"
+        );
     }
 
     #[test]

@@ -1,0 +1,362 @@
+//! Closing a hole with well-shaped triangles: the boundary loop is projected on its best
+//! plane, triangulated there by a constrained Delaunay triangulation refined until the new
+//! edges are about as long as the loop's (`spade`, Ruppert–Chew refinement that leaves the
+//! loop's edges whole, so the patch meets the mesh edge for edge), and the new vertices are
+//! then faired in 3D (a bi-Laplacian relaxation with the loop and the surface around it
+//! held, so the patch continues the surface instead of lying flat). Where the loop's
+//! projection folds (it crosses itself, or two of its vertices project onto one point),
+//! the hole gets a fan around its centre instead.
+
+use glam::{DVec2, DVec3};
+use spade::{ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation};
+
+/// A patch closing one hole: new vertices (appended after `base`, the mesh's vertex count)
+/// and the triangles that close it.
+pub(super) struct Patch {
+    /// Positions of the new vertices, numbered from the `base` given.
+    pub positions: Vec<DVec3>,
+    /// The new triangles (loop vertices by their mesh index, new ones from `base`).
+    pub triangles: Vec<[u32; 3]>,
+    /// True when the loop's projection folded and the patch is a fan.
+    pub fan: bool,
+}
+
+/// The unit normal of a closed polygon by Newell's method (its area vector), or zero.
+fn newell(points: &[DVec3]) -> DVec3 {
+    let mut n = DVec3::ZERO;
+    for k in 0..points.len() {
+        let (a, b) = (points[k], points[(k + 1) % points.len()]);
+        n += a.cross(b);
+    }
+    n.normalize_or_zero()
+}
+
+/// Do two segments `a–b` and `c–d` of the plane cross (touching at an end excluded)?
+fn cross(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> bool {
+    let side = |p: DVec2, q: DVec2, r: DVec2| (q - p).perp_dot(r - p);
+    let (d1, d2) = (side(a, b, c), side(a, b, d));
+    let (d3, d4) = (side(c, d, a), side(c, d, b));
+    d1 * d2 < 0.0 && d3 * d4 < 0.0
+}
+
+/// Is the polygon simple: no two non-adjacent edges cross, no two vertices at one point?
+fn simple(poly: &[DVec2], tolerance: f64) -> bool {
+    let n = poly.len();
+    for i in 0..n {
+        for j in i + 1..n {
+            if poly[i].distance(poly[j]) <= tolerance {
+                return false;
+            }
+            let adjacent = j == i + 1 || (i == 0 && j == n - 1);
+            if !adjacent && cross(poly[i], poly[(i + 1) % n], poly[j], poly[(j + 1) % n]) {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// A fan of the loop around a new vertex at its centre (the new faces run against the
+/// loop, `b → a`).
+fn fan(lp: &[u32], positions: &[DVec3], base: u32) -> Patch {
+    let centre = lp.iter().map(|&v| positions[v as usize]).sum::<DVec3>() / lp.len() as f64;
+    let triangles = (0..lp.len())
+        .map(|k| [lp[(k + 1) % lp.len()], lp[k], base])
+        .collect();
+    Patch {
+        positions: vec![centre],
+        triangles,
+        fan: true,
+    }
+}
+
+/// The patch closing the boundary loop `lp` (in the direction of its faces' boundary edges,
+/// `a → b`) of a mesh with `positions`; `neighbours(v)` lists a mesh vertex's neighbours
+/// (the surface the fairing continues). New vertices are numbered from `base`.
+pub(super) fn close(
+    lp: &[u32],
+    positions: &[DVec3],
+    neighbours: &dyn Fn(u32) -> Vec<u32>,
+    base: u32,
+) -> Patch {
+    let points: Vec<DVec3> = lp.iter().map(|&v| positions[v as usize]).collect();
+    if lp.len() == 3 {
+        return Patch {
+            positions: Vec::new(),
+            triangles: vec![[lp[0], lp[2], lp[1]]],
+            fan: false,
+        };
+    }
+    // The new faces run against the loop: seen from the side they face, the reversed loop
+    // turns counter-clockwise, so the plane's axes are taken with u × v along its normal.
+    let normal = -newell(&points);
+    let mean_edge = (0..lp.len())
+        .map(|k| points[k].distance(points[(k + 1) % lp.len()]))
+        .sum::<f64>()
+        / lp.len() as f64;
+    if normal == DVec3::ZERO || mean_edge.is_nan() || mean_edge <= 0.0 {
+        return fan(lp, positions, base);
+    }
+    let u = normal.any_orthonormal_vector();
+    let v = normal.cross(u);
+    let origin = points.iter().sum::<DVec3>() / points.len() as f64;
+    let flat: Vec<DVec2> = points
+        .iter()
+        .map(|p| DVec2::new((*p - origin).dot(u), (*p - origin).dot(v)))
+        .collect();
+    if !simple(&flat, 1e-9 * mean_edge) {
+        return fan(lp, positions, base);
+    }
+    let Some(patch) = triangulate(lp, &flat, mean_edge, base) else {
+        return fan(lp, positions, base);
+    };
+    let (mut new_positions, triangles) = patch;
+    // Lift the new vertices onto the plane, then fair them.
+    for p in &mut new_positions {
+        *p = origin + u * p.x + v * p.y;
+    }
+    fair(&mut new_positions, &triangles, positions, neighbours, base);
+    Patch {
+        positions: new_positions,
+        triangles,
+        fan: false,
+    }
+}
+
+/// The refined constrained Delaunay triangulation of the simple polygon `flat` (the loop
+/// `lp`'s projection): new vertices as `(x, y, 0)` in the plane, and the triangles inside,
+/// counter-clockwise. `None` where spade refuses the loop.
+fn triangulate(
+    lp: &[u32],
+    flat: &[DVec2],
+    mean_edge: f64,
+    base: u32,
+) -> Option<(Vec<DVec3>, Vec<[u32; 3]>)> {
+    let mut cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::new();
+    let mut handles = Vec::with_capacity(flat.len());
+    for p in flat {
+        handles.push(cdt.insert(Point2::new(p.x, p.y)).ok()?);
+    }
+    if cdt.num_vertices() != flat.len() {
+        return None;
+    }
+    for k in 0..handles.len() {
+        let (a, b) = (handles[k], handles[(k + 1) % handles.len()]);
+        if !cdt.can_add_constraint(a, b) {
+            return None;
+        }
+        cdt.add_constraint(a, b);
+    }
+    // Triangles about as large as an equilateral one on the loop's mean edge.
+    let area = 3f64.sqrt() / 4.0 * mean_edge * mean_edge;
+    let result = cdt.refine(
+        RefinementParameters::<f64>::new()
+            .exclude_outer_faces(true)
+            .keep_constraint_edges()
+            .with_max_allowed_area(area)
+            .with_max_additional_vertices(20 * flat.len() + 1000),
+    );
+    let outer: std::collections::HashSet<_> = result.excluded_faces.into_iter().collect();
+    // Mesh indices: the loop's own vertices, then new ones in the order met.
+    let mut index: std::collections::HashMap<usize, u32> = handles
+        .iter()
+        .zip(lp)
+        .map(|(h, &v)| (h.index(), v))
+        .collect();
+    let mut new_positions = Vec::new();
+    let mut triangles = Vec::new();
+    for face in cdt.inner_faces() {
+        if outer.contains(&face.fix()) {
+            continue;
+        }
+        let corners = face.vertices().map(|vh| {
+            *index.entry(vh.fix().index()).or_insert_with(|| {
+                let p = vh.position();
+                new_positions.push(DVec3::new(p.x, p.y, 0.0));
+                base + new_positions.len() as u32 - 1
+            })
+        });
+        triangles.push(corners);
+    }
+    (!triangles.is_empty()).then_some((new_positions, triangles))
+}
+
+/// Fairs the new vertices: relaxes them towards the bi-Laplacian's zero over the patch and
+/// the surface around it, the loop and the surface held, starting from the membrane (the
+/// Laplacian's zero). The Laplacian weighs each neighbour by the inverse of its distance
+/// (measured once, on the membrane), so a patch finer than the surface around it does not
+/// overshoot it.
+fn fair(
+    new_positions: &mut [DVec3],
+    triangles: &[[u32; 3]],
+    positions: &[DVec3],
+    neighbours: &dyn Fn(u32) -> Vec<u32>,
+    base: u32,
+) {
+    if new_positions.is_empty() {
+        return;
+    }
+    // Neighbourhoods: each vertex the patch touches, its mesh neighbours plus its patch ones.
+    let mut ring: std::collections::BTreeMap<u32, Vec<(u32, f64)>> = Default::default();
+    for t in triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            ring.entry(a).or_default().push((b, 1.0));
+            ring.entry(b).or_default().push((a, 1.0));
+        }
+    }
+    for (&v, r) in ring.iter_mut() {
+        if v < base {
+            r.extend(neighbours(v).into_iter().map(|w| (w, 1.0)));
+        }
+        r.sort_unstable_by_key(|&(w, _)| w);
+        r.dedup_by_key(|&mut (w, _)| w);
+    }
+    let at = |v: u32, x: &[DVec3]| {
+        if v >= base {
+            x[(v - base) as usize]
+        } else {
+            positions[v as usize]
+        }
+    };
+    let scale = new_positions
+        .iter()
+        .map(|p| p.length())
+        .fold(1e-12, f64::max);
+    // The membrane first (uniform weights: every weight is 1 until measured).
+    relax(new_positions, &ring, base, &at, scale, false);
+    // Weights from the membrane, each row summing to 1.
+    let snapshot = new_positions.to_vec();
+    for (&v, r) in ring.iter_mut() {
+        let p = at(v, &snapshot);
+        for (w, weight) in r.iter_mut() {
+            *weight = 1.0 / p.distance(at(*w, &snapshot)).max(1e-12 * scale);
+        }
+        let total: f64 = r.iter().map(|&(_, w)| w).sum();
+        r.iter_mut().for_each(|(_, w)| *w /= total);
+    }
+    relax(new_positions, &ring, base, &at, scale, true);
+}
+
+/// Gauss–Seidel passes over the new vertices until they move less than `1e-10 × scale`:
+/// towards the Laplacian's zero, or (`bi`) the bi-Laplacian's, `x_i` moving by
+/// `−Δ²x_i / c_i`, `c_i` the coefficient of `x_i` in `Δ²x_i`.
+fn relax(
+    x: &mut [DVec3],
+    ring: &std::collections::BTreeMap<u32, Vec<(u32, f64)>>,
+    base: u32,
+    at: &dyn Fn(u32, &[DVec3]) -> DVec3,
+    scale: f64,
+    bi: bool,
+) {
+    let laplacian = |v: u32, x: &[DVec3]| -> Option<DVec3> {
+        let r = ring.get(&v)?;
+        let total: f64 = r.iter().map(|&(_, w)| w).sum();
+        let mean = r.iter().map(|&(u, w)| at(u, x) * w).sum::<DVec3>() / total;
+        Some(mean - at(v, x))
+    };
+    let weight_of = |v: u32, of: u32| -> f64 {
+        ring.get(&v).map_or(0.0, |r| {
+            let total: f64 = r.iter().map(|&(_, w)| w).sum();
+            r.iter()
+                .find(|&&(u, _)| u == of)
+                .map_or(0.0, |&(_, w)| w / total)
+        })
+    };
+    for _ in 0..if bi { 400 } else { 200 } {
+        let mut moved = 0.0f64;
+        for i in 0..x.len() {
+            let v = base + i as u32;
+            let (Some(r), Some(dv)) = (ring.get(&v), laplacian(v, x)) else {
+                continue;
+            };
+            let step = if bi {
+                let total: f64 = r.iter().map(|&(_, w)| w).sum();
+                let mut mean = DVec3::ZERO;
+                let mut coefficient = 1.0;
+                for &(u, w) in r {
+                    if let Some(du) = laplacian(u, x) {
+                        mean += du * (w / total);
+                        coefficient += (w / total) * weight_of(u, v);
+                    }
+                }
+                -(mean - dv) / coefficient
+            } else {
+                dv
+            };
+            if step.is_finite() {
+                x[i] += step;
+                moved = moved.max(step.length());
+            }
+        }
+        if moved <= 1e-10 * scale {
+            break;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A regular `n`-gon of radius 1 in the plane z = 0, numbered 0..n counter-clockwise
+    /// (seen from +z).
+    fn ngon(n: usize) -> Vec<DVec3> {
+        (0..n)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / n as f64;
+                DVec3::new(a.cos(), a.sin(), 0.0)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_large_planar_hole_gets_well_shaped_triangles_facing_against_the_loop() {
+        let points = ngon(80);
+        let lp: Vec<u32> = (0..80).collect();
+        let none = |_: u32| Vec::new();
+        let patch = close(&lp, &points, &none, 80);
+        assert!(!patch.fan);
+        assert!(!patch.positions.is_empty(), "interior vertices added");
+        let all: Vec<DVec3> = points.iter().chain(&patch.positions).copied().collect();
+        let edge = points[0].distance(points[1]);
+        let mut area = 0.0;
+        for t in &patch.triangles {
+            let [a, b, c] = t.map(|v| all[v as usize]);
+            let n = (b - a).cross(c - a);
+            // The loop runs counter-clockwise about +z: faces closing it face −z.
+            assert!(n.z < 0.0, "{t:?}");
+            area += n.length() / 2.0;
+            for (p, q) in [(a, b), (b, c), (c, a)] {
+                assert!(
+                    p.distance(q) < 3.0 * edge,
+                    "an edge of {} against {edge}",
+                    p.distance(q)
+                );
+            }
+        }
+        let polygon = 0.5 * 80.0 * (std::f64::consts::TAU / 80.0).sin();
+        assert!(
+            (area - polygon).abs() < 1e-9 * polygon,
+            "{area} vs {polygon}"
+        );
+        for p in &patch.positions {
+            assert!(p.z.abs() < 1e-9, "a planar hole stays planar: {p}");
+        }
+    }
+
+    #[test]
+    fn a_folded_loop_gets_a_fan() {
+        // A bow tie: its projection crosses itself.
+        let points = vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+        ];
+        let none = |_: u32| Vec::new();
+        let patch = close(&[0, 1, 2, 3], &points, &none, 4);
+        assert!(patch.fan);
+        assert_eq!(patch.triangles.len(), 4);
+    }
+}
