@@ -155,10 +155,6 @@ fn what_cannot_be_repaired_is_refused() {
     // A third face on edge 1-2.
     let fin = format!("{TETRA}v 0.5 -1 0.3\nf 1 2 5\n");
     assert_refused("fin.obj", fin.as_bytes(), "non-manifold edges");
-    // Two tetrahedra sharing only vertex 1.
-    let bowtie =
-        format!("{TETRA}v -1 0 0\nv 0 -1 0\nv 0 0 -1\nf 1 5 6\nf 1 7 5\nf 1 6 7\nf 5 7 6\n");
-    assert_refused("bowtie.obj", bowtie.as_bytes(), "1 non-manifold vertices");
     // A Möbius-like twist cannot be oriented: a strip of quads closed with a half turn.
     let mut mobius = String::new();
     let n = 12;
@@ -286,4 +282,38 @@ fn unknown_method_is_a_usage_error() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.starts_with("error: invalid value 'magic'"), "{err}");
     assert!(err.contains("mean, pole, shrinking-ball"), "{err}");
+}
+
+/// Sheets that touch (two solids sharing one vertex, or one edge) are given their own
+/// copies of what they share, with a warning, and the puppet builds.
+#[test]
+fn touching_sheets_are_separated() {
+    let dir = scratch("touching-sheets");
+    // Two tetrahedra sharing only vertex 1 (a pinched vertex: a bowtie).
+    let bowtie =
+        format!("{TETRA}v -1 0 0\nv 0 -1 0\nv 0 0 -1\nf 1 5 6\nf 1 7 5\nf 1 6 7\nf 5 7 6\n");
+    // Two tetrahedra sharing the edge 1-4: the second is the first turned half a turn
+    // about the z axis through vertex 1.
+    let edge = format!("{TETRA}v -1 0 0\nv 0 -1 0\nf 1 6 5\nf 1 5 4\nf 1 4 6\nf 5 6 4\n");
+    for (name, text, says) in [
+        (
+            "bowtie.obj",
+            bowtie,
+            "its own copy of 1 vertex where sheets touched",
+        ),
+        (
+            "edge.obj",
+            edge,
+            "its own copy of 2 vertices where sheets touched, opening 1 edge",
+        ),
+    ] {
+        let path = dir.join(name);
+        std::fs::write(&path, &text).unwrap();
+        let out = puppet(&["skeleton", path.to_str().unwrap(), "--json"]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(0), "{name}: {err}");
+        assert!(err.contains(says), "{name}: {err}");
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(v["faces"], 8, "{name}");
+    }
 }

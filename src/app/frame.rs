@@ -162,6 +162,7 @@ impl WindowState {
                 self.panel.loading = Some((stage, fraction));
             }
             Status::Done(result) => {
+                let result = *result;
                 self.loader = None;
                 self.panel.loading = None;
                 match result {

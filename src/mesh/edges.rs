@@ -48,6 +48,7 @@ pub(super) struct EdgeCensus {
 
 impl EdgeCensus {
     /// Every edge is shared by two faces running opposite ways.
+    #[cfg(test)]
     pub fn is_clean(&self) -> bool {
         self.boundary == 0 && self.nonmanifold == 0 && self.inconsistent == 0
     }

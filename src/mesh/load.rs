@@ -6,6 +6,7 @@ use super::edges::HalfEdges;
 use super::parts::Parts;
 use super::repair::{fill_holes, orient, weld_seams, Holes};
 use super::soup::Soup;
+use super::split::split_sheets;
 use super::validate::validate_with;
 use super::{gltf, guard, obj, ply, stl, weld, Mesh, MeshError};
 use crate::progress::{silent, Progress};
@@ -123,6 +124,10 @@ pub struct LoadReport {
     pub hole_vertices: usize,
     /// Holes whose outline folded over itself, closed with a fan about the centre.
     pub hole_fans: usize,
+    /// Vertices where separate sheets of the surface touched, given one copy per sheet.
+    pub split_vertices: usize,
+    /// Edges of more than two faces (sheets along one edge), opened into one per pair.
+    pub opened_edges: usize,
     /// Small separate parts that ride along with the body.
     pub riders: usize,
     /// Faces with zero area kept (they are needed to close the surface).
@@ -149,6 +154,8 @@ impl LoadReport {
             hole_faces: 0,
             hole_vertices: 0,
             hole_fans: 0,
+            split_vertices: 0,
+            opened_edges: 0,
             riders: 0,
             zero_area: 0,
             flipped_parts: 0,
@@ -187,6 +194,22 @@ impl LoadReport {
                 "turned {} oriented against {} neighbours",
                 plural(self.reoriented, "face"),
                 if self.reoriented == 1 { "its" } else { "their" }
+            ));
+        }
+        if self.split_vertices > 0 {
+            let edges = match self.opened_edges {
+                0 => String::new(),
+                n => format!(
+                    ", opening {} shared by more than two faces",
+                    plural(n, "edge")
+                ),
+            };
+            w.push(format!(
+                "gave each sheet of the surface its own copy of {} where sheets touched{edges}",
+                match self.split_vertices {
+                    1 => "1 vertex".to_string(),
+                    n => format!("{n} vertices"),
+                }
             ));
         }
         if self.holes_filled > 0 {
@@ -349,34 +372,40 @@ pub fn parse(
     let mut holes = Holes::default();
     if closed == Some(false) {
         let c = half.census(&|_| true);
-        if !c.is_clean() {
-            (closed, measured) = (None, None);
-            if c.boundary > 0 {
-                report.seams_welded = weld_seams(&mut mesh, &half);
-                if report.seams_welded > 0 {
-                    half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
-                }
+        (closed, measured) = (None, None);
+        if c.boundary > 0 {
+            report.seams_welded = weld_seams(&mut mesh, &half);
+            if report.seams_welded > 0 {
+                half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
             }
-            if c.inconsistent > 0 {
-                if let Some(turned) = orient(&mut mesh, &half) {
-                    report.reoriented = turned;
-                    half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
-                }
-            }
-            if c.boundary > 0 && options.fill_holes > 0 {
-                holes = fill_holes(&mut mesh, &half, options.fill_holes);
-                report.holes_filled = holes.filled;
-                report.hole_faces = holes.faces;
-                report.hole_vertices = holes.vertices;
-                report.hole_fans = holes.fans;
-                if holes.filled > 0 {
-                    half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
-                }
-            } else if c.boundary > 0 {
-                holes = fill_holes(&mut mesh.clone(), &half, 0);
-            }
-            lap(&mut report, "repair", "checking");
         }
+        if c.inconsistent > 0 {
+            if let Some(turned) = orient(&mut mesh, &half) {
+                report.reoriented = turned;
+                half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
+            }
+        }
+        // Sheets touching at a vertex or along an edge: each its own copy of what they
+        // share (before the holes, whose loops may run through such a vertex).
+        let split = split_sheets(&mut mesh);
+        report.split_vertices = split.vertices;
+        report.opened_edges = split.edges;
+        if split.vertices > 0 {
+            half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
+        }
+        if c.boundary > 0 && options.fill_holes > 0 {
+            holes = fill_holes(&mut mesh, &half, options.fill_holes);
+            report.holes_filled = holes.filled;
+            report.hole_faces = holes.faces;
+            report.hole_vertices = holes.vertices;
+            report.hole_fans = holes.fans;
+            if holes.filled > 0 {
+                half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
+            }
+        } else if c.boundary > 0 {
+            holes = fill_holes(&mut mesh.clone(), &half, 0);
+        }
+        lap(&mut report, "repair", "checking");
     }
 
     let topo = validate_with(&mut mesh, &half, closed, measured).map_err(|e| match e {

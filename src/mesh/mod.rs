@@ -33,6 +33,7 @@ mod ply;
 mod repair;
 pub mod shapes;
 mod soup;
+mod split;
 mod stl;
 mod subdivide;
 mod validate;

@@ -212,7 +212,12 @@ pub(super) fn fill_holes(mesh: &mut Mesh, half: &HalfEdges, max_edges: usize) ->
             }
             v = w;
         };
-        if !closed {
+        // A loop along an edge of more than two faces (a fin) is no hole to close.
+        let fin = (0..lp.len()).any(|k| {
+            let (a, b) = (lp[k], lp[(k + 1) % lp.len()]);
+            half.count(a, b) + half.count(b, a) > 2
+        });
+        if !closed || fin {
             continue;
         }
         if lp.len() > max_edges {

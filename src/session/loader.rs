@@ -106,7 +106,7 @@ pub type Loaded = Result<Opened, LoadError>;
 
 enum Message {
     Progress(String, f32),
-    Done(Loaded),
+    Done(Box<Loaded>),
 }
 
 /// A build in progress.
@@ -120,7 +120,7 @@ pub enum Status {
     /// Still working: the stage and the fraction of it done.
     Working(String, f32),
     /// Finished.
-    Done(Loaded),
+    Done(Box<Loaded>),
 }
 
 impl Loader {
@@ -181,7 +181,7 @@ impl Loader {
                 let _ = progress_tx.send(Message::Progress(stage.to_string(), f as f32));
             };
             let result = work(&progress).map(|opened| opened.then(after));
-            let _ = tx.send(Message::Done(result));
+            let _ = tx.send(Message::Done(Box::new(result)));
         });
         Loader {
             rx,
@@ -198,7 +198,9 @@ impl Loader {
                 Err(TryRecvError::Empty) => {
                     return Status::Working(self.stage.0.clone(), self.stage.1)
                 }
-                Err(TryRecvError::Disconnected) => return Status::Done(Err(LoadError::Stopped)),
+                Err(TryRecvError::Disconnected) => {
+                    return Status::Done(Box::new(Err(LoadError::Stopped)))
+                }
             }
         }
     }
@@ -230,7 +232,7 @@ mod tests {
     fn wait(mut l: Loader) -> Loaded {
         loop {
             if let Status::Done(r) = l.poll() {
-                return r;
+                return *r;
             }
             std::thread::sleep(std::time::Duration::from_millis(5));
         }
