@@ -7,10 +7,13 @@
 //! of the input file (vertices added to close holes come last).
 //!
 //! Files, in the order a load runs them:
-//! * `obj`, `ply`, `stl`: parsing into a `soup` (positions and triangles as the file has them);
+//! * `obj`, `ply`, `stl`, `gltf`: parsing into a `soup` (positions and triangles as the file
+//!   has them); `guard`: the crates' readers held to one error line;
 //! * `weld`: one vertex where the file has several at the same place;
 //! * `edges`: the half-edges by vertex and the edge census that repairs and checks read;
-//! * `repair`: open seams, faces turned against their neighbours, small holes;
+//! * `repair`: open seams, faces turned against their neighbours, holes (closed by `fill`:
+//!   a refined constrained Delaunay patch, faired);
+//! * `split`: sheets that touch at a vertex or along an edge, each given its own copies;
 //! * `parts`: the connected pieces, body and riders;
 //! * `validate`: the checks, and turning inside-out parts;
 //! * `load`: the pipeline, its options and its report;
