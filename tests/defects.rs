@@ -5,18 +5,12 @@
 
 mod common;
 
-use common::test_mesh;
+use common::{obj, test_mesh};
 use glam::DVec3;
 use puppet::geom::inside::InsideTest;
 use puppet::joints::Local;
 use puppet::mesh::{self, Format, LoadOptions, Mesh};
 use puppet::{Puppet, RigFile};
-
-fn obj(m: &Mesh) -> Vec<u8> {
-    let mut out = Vec::new();
-    mesh::write_obj(&mut out, &m.positions, &m.triangles, "defect").unwrap();
-    out
-}
 
 fn load(name: &str) -> Mesh {
     mesh::load(&test_mesh(name)).unwrap().0

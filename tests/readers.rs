@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{example, test_mesh};
+use common::{example, ply_ascii, ply_binary, stl_ascii, stl_binary, test_mesh};
 use puppet::anim::Animation;
 use puppet::files::Format as TextFormat;
 use puppet::mesh::{self, Format, LoadOptions, Mesh};
@@ -20,72 +20,6 @@ const MUTATIONS: usize = 1500;
 /// The small Spot, the valid starting point of every mesh format.
 fn spot() -> Mesh {
     mesh::load(&test_mesh("spot-small.obj")).unwrap().0
-}
-
-fn ply_ascii(m: &Mesh) -> Vec<u8> {
-    let mut s = format!(
-        "ply\nformat ascii 1.0\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\nelement face {}\nproperty list uchar int vertex_indices\nend_header\n",
-        m.positions.len(),
-        m.triangles.len()
-    );
-    for p in &m.positions {
-        s += &format!("{} {} {}\n", p.x as f32, p.y as f32, p.z as f32);
-    }
-    for t in &m.triangles {
-        s += &format!("3 {} {} {}\n", t[0], t[1], t[2]);
-    }
-    s.into_bytes()
-}
-
-fn ply_binary(m: &Mesh) -> Vec<u8> {
-    let mut b = format!(
-        "ply\nformat binary_little_endian 1.0\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\nelement face {}\nproperty list uchar int vertex_indices\nend_header\n",
-        m.positions.len(),
-        m.triangles.len()
-    )
-    .into_bytes();
-    for p in &m.positions {
-        for c in [p.x, p.y, p.z] {
-            b.extend_from_slice(&(c as f32).to_le_bytes());
-        }
-    }
-    for t in &m.triangles {
-        b.push(3);
-        for &v in t {
-            b.extend_from_slice(&(v as i32).to_le_bytes());
-        }
-    }
-    b
-}
-
-fn stl_ascii(m: &Mesh) -> Vec<u8> {
-    let mut s = String::from("solid spot\n");
-    for t in &m.triangles {
-        s += "facet normal 0 0 0\nouter loop\n";
-        for &v in t {
-            let p = m.positions[v as usize];
-            s += &format!("vertex {} {} {}\n", p.x as f32, p.y as f32, p.z as f32);
-        }
-        s += "endloop\nendfacet\n";
-    }
-    s += "endsolid spot\n";
-    s.into_bytes()
-}
-
-fn stl_binary(m: &Mesh) -> Vec<u8> {
-    let mut b = vec![0u8; 80];
-    b.extend_from_slice(&(m.triangles.len() as u32).to_le_bytes());
-    for t in &m.triangles {
-        b.extend_from_slice(&[0u8; 12]);
-        for &v in t {
-            let p = m.positions[v as usize];
-            for c in [p.x, p.y, p.z] {
-                b.extend_from_slice(&(c as f32).to_le_bytes());
-            }
-        }
-        b.extend_from_slice(&[0u8; 2]);
-    }
-    b
 }
 
 fn glb(m: &Mesh) -> Vec<u8> {

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{puppet, scratch, test_mesh};
+use common::{obj, ply_ascii, ply_binary, puppet, scratch, stl_ascii, stl_binary, test_mesh};
 use glam::DVec3;
 use puppet::joints::{Cut, Local, Shape};
 use puppet::mesh::{self, shapes, Mesh};
@@ -29,12 +29,6 @@ fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
     let path = dir.join(name);
     std::fs::write(&path, bytes).unwrap();
     path
-}
-
-fn obj(mesh: &Mesh) -> Vec<u8> {
-    let mut out = Vec::new();
-    mesh::write_obj(&mut out, &mesh.positions, &mesh.triangles, "test").unwrap();
-    out
 }
 
 #[test]
@@ -110,79 +104,6 @@ fn holes_flipped_faces_and_seams_are_repaired_with_a_warning() {
         "{err}"
     );
     assert_eq!(v["vertices"], n as usize);
-}
-
-/// ASCII and little-endian binary PLY of a mesh (with a normal property and a quad-free
-/// face list), and ASCII and binary STL.
-fn ply_ascii(m: &Mesh) -> Vec<u8> {
-    let mut s = format!(
-        "ply\nformat ascii 1.0\ncomment test\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nelement face {}\nproperty list uchar int vertex_indices\nend_header\n",
-        m.positions.len(),
-        m.triangles.len()
-    );
-    for p in &m.positions {
-        s.push_str(&format!(
-            "{} {} {} 0 0 1\n",
-            p.x as f32, p.y as f32, p.z as f32
-        ));
-    }
-    for t in &m.triangles {
-        s.push_str(&format!("3 {} {} {}\n", t[0], t[1], t[2]));
-    }
-    s.into_bytes()
-}
-
-fn ply_binary(m: &Mesh) -> Vec<u8> {
-    let mut b = format!(
-        "ply\nformat binary_little_endian 1.0\nelement vertex {}\nproperty double x\nproperty double y\nproperty double z\nelement face {}\nproperty list uchar uint vertex_indices\nend_header\n",
-        m.positions.len(),
-        m.triangles.len()
-    )
-    .into_bytes();
-    for p in &m.positions {
-        for x in p.to_array() {
-            b.extend_from_slice(&x.to_le_bytes());
-        }
-    }
-    for t in &m.triangles {
-        b.push(3);
-        for v in t {
-            b.extend_from_slice(&v.to_le_bytes());
-        }
-    }
-    b
-}
-
-fn stl_ascii(m: &Mesh) -> Vec<u8> {
-    let mut s = String::from("solid test\n");
-    for t in &m.triangles {
-        s.push_str(" facet normal 0 0 0\n  outer loop\n");
-        for &v in t {
-            let p = m.positions[v as usize];
-            s.push_str(&format!(
-                "   vertex {} {} {}\n",
-                p.x as f32, p.y as f32, p.z as f32
-            ));
-        }
-        s.push_str("  endloop\n endfacet\n");
-    }
-    s.push_str("endsolid test\n");
-    s.into_bytes()
-}
-
-fn stl_binary(m: &Mesh) -> Vec<u8> {
-    let mut b = vec![0u8; 80];
-    b.extend_from_slice(&(m.triangles.len() as u32).to_le_bytes());
-    for t in &m.triangles {
-        b.extend_from_slice(&[0u8; 12]);
-        for &v in t {
-            for x in m.positions[v as usize].to_array() {
-                b.extend_from_slice(&(x as f32).to_le_bytes());
-            }
-        }
-        b.extend_from_slice(&[0, 0]);
-    }
-    b
 }
 
 #[test]

@@ -44,15 +44,8 @@ impl Tree<'_> {
                 continue;
             };
             let hanging = self.limbs_hanging(k, children, &base);
-            let low = seg
-                .iter()
-                .map(|&v| self.g[v as usize])
-                .fold(f64::INFINITY, f64::min);
-            let high = self
-                .subtree(k, children)
-                .iter()
-                .map(|&v| self.g[v as usize])
-                .fold(f64::NEG_INFINITY, f64::max);
+            let low = self.lowest(seg);
+            let high = self.highest(&self.subtree(k, children));
             if hanging.len() < 2 || low <= 0.0 || high - low < HEAD || parent == root {
                 continue;
             }
@@ -174,14 +167,8 @@ impl Tree<'_> {
     ) -> Option<Limb> {
         let seg = &self.segments[k].vertices;
         let whole = self.subtree(k, children);
-        let low = seg
-            .iter()
-            .map(|&v| self.g[v as usize])
-            .fold(f64::INFINITY, f64::min);
-        let high = whole
-            .iter()
-            .map(|&v| self.g[v as usize])
-            .fold(f64::NEG_INFINITY, f64::max);
+        let low = self.lowest(seg);
+        let high = self.highest(&whole);
         let r = self.radius(seg);
         if r <= 0.0 || high - low < ELONGATED {
             return None;
@@ -231,14 +218,8 @@ impl Tree<'_> {
         if seg.len() < 16 || r <= 0.0 {
             return None;
         }
-        let low = seg
-            .iter()
-            .map(|&v| self.g[v as usize])
-            .fold(f64::INFINITY, f64::min);
-        let high = seg
-            .iter()
-            .map(|&v| self.g[v as usize])
-            .fold(f64::NEG_INFINITY, f64::max);
+        let low = self.lowest(seg);
+        let high = self.highest(seg);
         let step = 0.5;
         let bins = ((high - low) / step).floor() as usize;
         if bins < 6 {

@@ -171,6 +171,22 @@ impl<'a> Tree<'a> {
         segments
     }
 
+    /// The smallest `g` of `vertices` (infinite for none).
+    pub(super) fn lowest(&self, vertices: &[u32]) -> f64 {
+        vertices
+            .iter()
+            .map(|&v| self.g[v as usize])
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The largest `g` of `vertices` (minus infinity for none).
+    pub(super) fn highest(&self, vertices: &[u32]) -> f64 {
+        vertices
+            .iter()
+            .map(|&v| self.g[v as usize])
+            .fold(f64::NEG_INFINITY, f64::max)
+    }
+
     /// A ring of a segment: its vertices with `g` in `[lo, hi)`.
     pub(super) fn ring(&self, segment: &[u32], lo: f64, hi: f64) -> Vec<u32> {
         segment
@@ -246,10 +262,7 @@ impl<'a> Tree<'a> {
         loop {
             let seg = &self.segments[k].vertices;
             out.extend(self.ring(seg, lo, hi));
-            let bottom = seg
-                .iter()
-                .map(|&v| self.g[v as usize])
-                .fold(f64::INFINITY, f64::min);
+            let bottom = self.lowest(seg);
             match self.segments[k].parent {
                 Some(p) if bottom > lo => k = p,
                 _ => return out,
