@@ -89,7 +89,7 @@ pub(super) fn validate_with(
         let flat = volume[k].is_nan() || volume[k].abs() <= 1e-12 * scale * scale * scale;
         if !parts.rider[k] && flat {
             return Err(MeshError::Degenerate(format!(
-                "it encloses no volume (signed volume {:e})",
+                "it encloses no volume (signed volume {:e}): a flat sheet, or an open surface around nothing, has no inside to simulate",
                 volume[k]
             )));
         }
