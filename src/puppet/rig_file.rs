@@ -466,7 +466,7 @@ fn shortest_floats(table: toml::Table) -> toml::Table {
 /// `to` as a path from the folder `from` (both made absolute against the working folder
 /// first, and resolved where they exist): `../meshes/cow.obj`. Where they share no root
 /// (another drive), `to` made absolute.
-pub fn relative(from: &Path, to: &Path) -> PathBuf {
+fn relative(from: &Path, to: &Path) -> PathBuf {
     let absolute = |p: &Path| {
         let p = if p.is_absolute() {
             p.to_path_buf()
