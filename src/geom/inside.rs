@@ -1,4 +1,5 @@
-//! Exact inside/outside classification of points against a closed mesh by ray parity.
+//! Exact inside/outside classification of points against a closed mesh: the winding number
+//! by signed ray crossings.
 //!
 //! The ray goes from the query point in `+z`. Triangles are bucketed by their projection on
 //! a uniform xy grid, so a query only looks at the triangles of one column, sorted by their
@@ -7,8 +8,17 @@
 //! Simulation of Simplicity: the query is perturbed to `(x + ε, y + ε², z − ε³)`, and every
 //! sign is taken from exact predicates. Because shared edges are evaluated by the same exact
 //! predicate from both sides, every perturbed ray crosses the surface a well-defined number
-//! of times and the parity is exact for any closed mesh, including coplanar and cospherical
-//! input.
+//! of times, including on coplanar and cospherical input.
+//!
+//! Each crossing counts +1 where the ray leaves through the face (the face's normal points
+//! up the ray) and −1 where it enters, so the sum is the **winding number** of the closed
+//! surface around the point, exactly (Jacobson et al. 2013 show the same number as a sum of
+//! solid angles; on a closed surface both are this integer). A point is inside when it is
+//! not zero. On a surface that does not cross itself this is the ray's parity; where the
+//! surface passes through itself (an arm through the body, fingers through each other, a
+//! loose eye in its socket) the overlap counts 2 and stays inside, where the parity would
+//! call it outside. Surfaces with a boundary need the generalized winding number
+//! ([`super::winding`]).
 
 use super::predicates::{orient2d, orient3d};
 use crate::mesh::Mesh;
@@ -131,9 +141,16 @@ impl InsideTest {
         (((y - self.lo[1]) * self.inv_cell).max(0.0) as usize).min(self.ny - 1)
     }
 
-    /// True when `q` is inside the mesh. A point exactly on the surface is classified as if
-    /// it were moved by `(ε, ε², −ε³)`: deterministically, on whichever side that lands.
+    /// True when `q` is inside the mesh: its winding number is not zero. A point exactly on
+    /// the surface is classified as if it were moved by `(ε, ε², −ε³)`: deterministically,
+    /// on whichever side that lands.
     pub fn contains(&self, q: DVec3) -> bool {
+        self.winding(q) != 0
+    }
+
+    /// The winding number of the (closed, oriented) mesh around `q`: +1 inside a part whose
+    /// normals point out, 2 where two such parts overlap, 0 outside.
+    pub fn winding(&self, q: DVec3) -> i32 {
         if !q.is_finite()
             || q.x < self.lo[0]
             || q.y < self.lo[1]
@@ -141,11 +158,11 @@ impl InsideTest {
             || q.y > self.hi.y
             || q.z > self.hi.z
         {
-            return false;
+            return 0;
         }
         let c = self.cy(q.y) * self.nx + self.cx(q.x);
         let list = &self.cell_tris[self.cell_start[c] as usize..self.cell_start[c + 1] as usize];
-        let mut crossings = 0u32;
+        let mut winding = 0i32;
         for &(top, ti) in list {
             if top < q.z {
                 break; // this and every later triangle lie entirely below the point
@@ -156,39 +173,39 @@ impl InsideTest {
             if q.x < b.x[0] || q.x > b.x[1] || q.y < b.y[0] || q.y > b.y[1] {
                 continue;
             }
-            if crosses(&self.tris[ti as usize], q, b.z_low > q.z) {
-                crossings += 1;
-            }
+            winding += crossing(&self.tris[ti as usize], q, b.z_low > q.z);
         }
-        crossings % 2 == 1
+        winding
     }
 }
 
-/// Does the perturbed upward ray from `q` cross triangle `t` (whose projected bounding box
-/// contains `q`)?
+/// How the perturbed upward ray from `q` crosses triangle `t` (whose projected bounding box
+/// contains `q`): +1 leaving through it (its normal points up), −1 entering, 0 missing it.
 #[inline]
-fn crosses(t: &[DVec3; 3], q: DVec3, surely_above: bool) -> bool {
+fn crossing(t: &[DVec3; 3], q: DVec3, surely_above: bool) -> i32 {
     let (a, b, c) = ([t[0].x, t[0].y], [t[1].x, t[1].y], [t[2].x, t[2].y]);
     let area = orient2d(a, b, c);
     if area == 0.0 {
-        return false; // vertical triangle: a perturbed ray never crosses it
+        return 0; // vertical triangle: a perturbed ray never crosses it
     }
     let s = area > 0.0;
+    let sign = if s { 1 } else { -1 };
     let p = [q.x, q.y];
     if perturbed_side(a, b, p) != s || perturbed_side(b, c, p) != s || perturbed_side(c, a, p) != s
     {
-        return false;
+        return 0;
     }
     if surely_above {
-        return true;
+        return sign;
     }
     // Above when q is on the side away from the normal's z-direction; on the plane counts
     // as below the face (q is perturbed by -ε³ in z).
     let o = orient3d(t[0], t[1], t[2], q);
-    if s {
-        o <= 0.0
+    let above = if s { o <= 0.0 } else { o >= 0.0 };
+    if above {
+        sign
     } else {
-        o >= 0.0
+        0
     }
 }
 
@@ -240,5 +257,32 @@ mod tests {
                 assert!(!t.contains(DVec3::new(x, y, -0.75)));
             }
         }
+    }
+
+    /// Two spheres whose volumes overlap, as one mesh: the overlap is inside (winding 2),
+    /// where the parity of the crossings would call it outside.
+    #[test]
+    fn overlapping_parts_count_twice_and_stay_inside() {
+        let mut m = shapes::uv_sphere(1.0, 12, 24);
+        let other = shapes::uv_sphere(1.0, 12, 24);
+        let n = m.positions.len() as u32;
+        m.positions
+            .extend(other.positions.iter().map(|p| *p + DVec3::new(1.0, 0.1, 0.05)));
+        m.triangles
+            .extend(other.triangles.iter().map(|t| t.map(|i| i + n)));
+        let t = InsideTest::new(&m);
+        assert_eq!(t.winding(DVec3::new(0.5, 0.05, 0.0)), 2);
+        assert!(t.contains(DVec3::new(0.5, 0.05, 0.0)));
+        assert_eq!(t.winding(DVec3::new(-0.5, 0.0, 0.0)), 1);
+        assert_eq!(t.winding(DVec3::new(1.6, 0.1, 0.0)), 1);
+        assert_eq!(t.winding(DVec3::new(3.0, 0.0, 0.0)), 0);
+        // Turned inside out, the same part counts −1: still not outside.
+        let mut flipped = shapes::uv_sphere(1.0, 12, 24);
+        for tri in &mut flipped.triangles {
+            tri.swap(1, 2);
+        }
+        let t = InsideTest::new(&flipped);
+        assert_eq!(t.winding(DVec3::ZERO), -1);
+        assert!(t.contains(DVec3::ZERO));
     }
 }

@@ -1,5 +1,6 @@
 //! Geometry kernel shared by the skeleton: exact predicates, spatial orders, ray casting and
-//! inside/outside classification. Everything here is `f64` and deterministic.
+//! inside/outside classification (exact on closed surfaces, the generalized winding number on
+//! open ones). Everything here is `f64` and deterministic.
 
 pub mod bvh;
 pub mod exact;
@@ -7,6 +8,7 @@ pub mod hilbert;
 pub mod inside;
 pub mod intersect;
 pub mod predicates;
+pub mod winding;
 
 /// The smaller of two values neither of which is NaN: one comparison (`f64::min` and
 /// `f32::min` add NaN handling, measurably slower in the hot loops of this module).

@@ -146,11 +146,27 @@ impl Parts {
     /// The body: its vertices in order (`old`), and for every vertex its index in the body
     /// mesh (`None` on riders), with the body's triangles.
     pub fn body(&self, mesh: &Mesh) -> (Mesh, Vec<u32>) {
+        self.select(mesh, |k| !self.rider[k])
+    }
+
+    /// The body parts, by number.
+    pub fn body_parts(&self) -> Vec<usize> {
+        (0..self.len()).filter(|&k| !self.rider[k]).collect()
+    }
+
+    /// One part as a mesh of its own, with the index in `mesh` of each of its vertices.
+    pub fn part(&self, mesh: &Mesh, k: usize) -> (Mesh, Vec<u32>) {
+        self.select(mesh, |j| j == k)
+    }
+
+    /// The parts `keep` says yes to, as one mesh, and the index in `mesh` of each vertex.
+    fn select(&self, mesh: &Mesh, keep: impl Fn(usize) -> bool) -> (Mesh, Vec<u32>) {
+        let kept = |v: usize| keep(self.part_of[v] as usize);
         let mut index = vec![u32::MAX; mesh.positions.len()];
         let mut old = Vec::new();
         let mut positions = Vec::new();
         for (v, p) in mesh.positions.iter().enumerate() {
-            if !self.is_rider_vertex(v) {
+            if kept(v) {
                 index[v] = old.len() as u32;
                 old.push(v as u32);
                 positions.push(*p);
@@ -159,7 +175,7 @@ impl Parts {
         let triangles = mesh
             .triangles
             .iter()
-            .filter(|t| !self.is_rider_vertex(t[0] as usize))
+            .filter(|t| kept(t[0] as usize))
             .map(|t| t.map(|v| index[v as usize]))
             .collect();
         (

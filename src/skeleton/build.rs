@@ -18,8 +18,12 @@ use std::sync::OnceLock;
 use std::time::Instant;
 
 /// Builds the skeleton of a validated mesh with unit outward `normals`. Riders (small
-/// separate parts, [`crate::mesh::Parts`]) are left out of it: the body's skeleton is built
-/// alone, and each rider vertex gets `d = 0`, `sp = p`.
+/// separate parts, [`crate::mesh::Parts`]) are left out of it: each rider vertex gets
+/// `d = 0`, `sp = p`. Where the body is in several parts, each part's skeleton is built on
+/// that part alone: parts that overlap (an arm modelled apart and pushed into the torso, a
+/// jacket over a body) would otherwise stop each other's balls with their buried vertices,
+/// while the inside is the union of the parts' insides (the winding number counts an
+/// overlap twice, [`crate::geom::inside`]).
 pub fn build(
     mesh: &Mesh,
     normals: &[DVec3],
@@ -31,7 +35,8 @@ pub fn build(
         return Err(SkeletonError::Normals(normals.len(), n));
     }
     let parts = crate::mesh::Parts::of(mesh);
-    if parts.riders() == 0 {
+    let body = parts.body_parts();
+    if parts.riders() == 0 && body.len() <= 1 {
         return build_with(
             mesh,
             normals,
@@ -40,27 +45,43 @@ pub fn build(
             Overlap::UntilTetrahedralized,
         );
     }
-    let (body, old) = parts.body(mesh);
-    let body_normals: Vec<DVec3> = old.iter().map(|&v| normals[v as usize]).collect();
-    let sk = build_with(
-        &body,
-        &body_normals,
-        params,
-        progress,
-        Overlap::UntilTetrahedralized,
-    )?;
-    let mut distance = vec![0.0; n];
-    let mut points = mesh.positions.clone();
-    for (k, &v) in old.iter().enumerate() {
-        distance[v as usize] = sk.distance[k];
-        points[v as usize] = sk.points[k];
+    let mut whole = Skeleton {
+        distance: vec![0.0; n],
+        points: mesh.positions.clone(),
+        fallback: 0,
+        clamped: 0,
+        riders: n,
+        tetrahedra: 0,
+        inside_voronoi_vertices: 0,
+        seconds: Vec::new(),
+    };
+    for k in body {
+        let (part, old) = parts.part(mesh, k);
+        let part_normals: Vec<DVec3> = old.iter().map(|&v| normals[v as usize]).collect();
+        let sk = build_with(
+            &part,
+            &part_normals,
+            params,
+            progress,
+            Overlap::UntilTetrahedralized,
+        )?;
+        for (j, &v) in old.iter().enumerate() {
+            whole.distance[v as usize] = sk.distance[j];
+            whole.points[v as usize] = sk.points[j];
+        }
+        whole.riders -= old.len();
+        whole.fallback += sk.fallback;
+        whole.clamped += sk.clamped;
+        whole.tetrahedra += sk.tetrahedra;
+        whole.inside_voronoi_vertices += sk.inside_voronoi_vertices;
+        for (stage, s) in sk.seconds {
+            match whole.seconds.iter_mut().find(|(name, _)| *name == stage) {
+                Some((_, total)) => *total += s,
+                None => whole.seconds.push((stage, s)),
+            }
+        }
     }
-    Ok(Skeleton {
-        distance,
-        points,
-        riders: n - old.len(),
-        ..sk
-    })
+    Ok(whole)
 }
 
 /// How much of the thickness stage runs alongside the tetrahedralization.

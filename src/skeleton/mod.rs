@@ -8,8 +8,9 @@
 //!    at distance `R` (the circumradius) from each of them.
 //! 2. **Classify** every circumcentre: slivers (volume tiny against the longest edge cubed;
 //!    their circumcentres are ill-conditioned garbage) are ignored, the rest are tested
-//!    against the mesh with the exact ray-parity oracle ([`crate::geom::inside`]), not the
-//!    paper's local face-normal check, which misclassifies in concave regions. The shrinking
+//!    against the mesh with its exact winding number ([`crate::geom::inside`]), not the
+//!    paper's local face-normal check, which misclassifies in concave regions (nor the
+//!    ray's parity, which calls a self-overlap outside). The shrinking
 //!    balls ([`Method::ShrinkingBall`], the default [`Method::FittedBall`]) read only the
 //!    Delaunay edges and skip this stage.
 //! 3. **Distance** per vertex from the inside Voronoi vertices of its cell: [`Method::Mean`]
