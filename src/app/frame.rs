@@ -172,6 +172,8 @@ impl WindowState {
                         self.window
                             .set_title(&format!("puppet — {}", opened.session.name));
                         self.panel.message = Some(opened.message());
+                        // A repaired file shows where, until the user turns it off.
+                        self.panel.overlays.repairs = !opened.session.repairs.is_empty();
                         self.panel.opened = Some((opened.seconds, opened.report));
                         self.panel.source = opened.source;
                         self.session = Some(*opened.session);

@@ -142,7 +142,7 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         .check()
         .map_err(|e| anyhow::anyhow!("--first-frame/--frames: {e}"))?;
     let mesh_path = args.mesh.clone().or_else(|| spec.mesh.clone());
-    let (mesh, _report, mesh_name) = load_mesh(mesh_path.as_deref(), load)?;
+    let (mesh, report, mesh_name) = load_mesh(mesh_path.as_deref(), load)?;
     // Bad output paths fail now, not after the skeleton and the simulation.
     let mut take = match &out {
         Out::Take(path, kind) => {
@@ -186,7 +186,9 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         .as_ref()
         .map(|p| p.display().to_string())
         .unwrap_or_else(|| mesh_name.clone());
-    let mut puppet = Puppet::build(mesh, spec, &|s, f| bar.update(s, f)).map_err(|e| match e {
+    let groups = report.groups;
+    let built = Puppet::build_grouped(mesh, groups, spec, &|s, f| bar.update(s, f));
+    let mut puppet = built.map_err(|e| match e {
         puppet::puppet::BuildError::Joints(e) => FileError::new(&rig_name, e),
         e @ puppet::puppet::BuildError::Regions(_) => FileError::new(&rig_name, e),
         e => FileError::new(&mesh_name, e),

@@ -266,8 +266,12 @@ mod tests {
         let mut m = shapes::uv_sphere(1.0, 12, 24);
         let other = shapes::uv_sphere(1.0, 12, 24);
         let n = m.positions.len() as u32;
-        m.positions
-            .extend(other.positions.iter().map(|p| *p + DVec3::new(1.0, 0.1, 0.05)));
+        m.positions.extend(
+            other
+                .positions
+                .iter()
+                .map(|p| *p + DVec3::new(1.0, 0.1, 0.05)),
+        );
         m.triangles
             .extend(other.triangles.iter().map(|t| t.map(|i| i + n)));
         let t = InsideTest::new(&m);

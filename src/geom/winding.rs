@@ -227,7 +227,11 @@ mod tests {
             let int = inside.winding(q) as f64;
             // Away from the surface the hierarchical sum is within 0.1 of the integer.
             if (q.length() - 1.0).abs() > 0.05 {
-                assert!((at - int).abs() < 0.1, "{q}: {at} against {int}, exact {}", exact(&m, q));
+                assert!(
+                    (at - int).abs() < 0.1,
+                    "{q}: {at} against {int}, exact {}",
+                    exact(&m, q)
+                );
             }
             assert!((at - exact(&m, q)).abs() < 0.1, "{q}");
         }

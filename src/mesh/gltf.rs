@@ -2,7 +2,9 @@
 //! `gltf` crate: every triangle primitive of every mesh in the default scene (or the first),
 //! placed by its node's transform, becomes part of one soup (then welded and validated like
 //! any other file). The vertex order is the order primitives and their vertices appear.
+//! Primitives with different materials are the mesh's groups ([`super::groups`]).
 
+use super::groups::FaceGroups;
 use super::soup::Soup;
 use super::MeshError;
 use glam::{DMat4, Mat4};
@@ -115,6 +117,8 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
     let mut stack: Vec<(gltf::Node, DMat4)> =
         roots.into_iter().map(|n| (n, DMat4::IDENTITY)).collect();
     let mut depth = 0usize;
+    // Each primitive's material, by name (or number), and its face count.
+    let mut materials: Vec<(String, usize)> = Vec::new();
     while let Some((node, parent)) = stack.pop() {
         depth += 1;
         if depth > 1_000_000 {
@@ -143,17 +147,30 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
                 if indices.iter().any(|&i| i as usize >= count) {
                     return Err(bad("a triangle names a missing vertex"));
                 }
+                let before = soup.triangles.len();
                 soup.triangles.extend(
                     indices
                         .chunks_exact(3)
                         .map(|t| [base + t[0], base + t[1], base + t[2]]),
                 );
                 soup.objects += 1;
+                let material = prim.material();
+                let name = match (material.name(), material.index()) {
+                    (Some(name), _) if !name.trim().is_empty() => name.to_string(),
+                    (_, Some(k)) => format!("material {k}"),
+                    (_, None) => "default material".to_string(),
+                };
+                materials.push((name, soup.triangles.len() - before));
             }
         }
         stack.extend(node.children().map(|c| (c, world)));
     }
     soup.objects = soup.objects.max(1);
+    soup.groups = FaceGroups::from_names(
+        materials
+            .iter()
+            .flat_map(|(name, faces)| std::iter::repeat_n(Some(name.as_str()), *faces)),
+    );
     Ok(soup)
 }
 

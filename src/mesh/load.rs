@@ -3,6 +3,7 @@
 //! file's contents, for the warnings.
 
 use super::edges::HalfEdges;
+use super::groups::Groups;
 use super::parts::Parts;
 use super::repair::{fill_holes, orient, weld_seams, Holes};
 use super::soup::Soup;
@@ -136,6 +137,28 @@ pub struct LoadReport {
     pub flipped_parts: usize,
     /// Seconds per stage (read, parse, weld, repair, check), in order.
     pub seconds: Vec<(&'static str, f64)>,
+    /// The file's named groups (OBJ materials or groups, glTF materials), carried to the
+    /// loaded mesh's vertices.
+    pub groups: Groups,
+    /// Where the repairs are on the loaded mesh (the window's overlay shows them).
+    #[serde(skip)]
+    pub marks: RepairMarks,
+}
+
+/// Where repairs changed the loaded mesh, by vertex and face number.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RepairMarks {
+    /// Vertices split where separate sheets met: each original and its copies.
+    pub split_vertices: Vec<u32>,
+    /// Faces added to close holes.
+    pub hole_faces: Vec<u32>,
+}
+
+impl RepairMarks {
+    /// Nothing was repaired where it shows.
+    pub fn is_empty(&self) -> bool {
+        self.split_vertices.is_empty() && self.hole_faces.is_empty()
+    }
 }
 
 impl LoadReport {
@@ -160,6 +183,8 @@ impl LoadReport {
             zero_area: 0,
             flipped_parts: 0,
             seconds: Vec::new(),
+            groups: Groups::default(),
+            marks: RepairMarks::default(),
         }
     }
 
@@ -347,10 +372,16 @@ pub fn parse(
         progress(next, 0.0);
     };
     progress("parsing", 0.0);
-    let soup = read_soup(bytes, format)?;
+    let mut soup = read_soup(bytes, format)?;
     report.objects = soup.objects;
     report.file_vertices = soup.positions.len();
     report.file_triangles = soup.triangles.len();
+    // The groups are carried by position once the repairs are done (a copy only where the
+    // file has groups).
+    let grouped = soup
+        .groups
+        .take()
+        .map(|g| (g, soup.positions.clone(), soup.triangles.clone()));
     let (mut mesh, _) = soup.into_mesh()?;
     lap(&mut report, "parse", "welding");
 
@@ -389,12 +420,15 @@ pub fn parse(
         // share (before the holes, whose loops may run through such a vertex).
         let split = split_sheets(&mut mesh);
         report.split_vertices = split.vertices;
+        report.marks.split_vertices = split.marked;
         report.opened_edges = split.edges;
         if split.vertices > 0 {
             half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
         }
         if c.boundary > 0 && options.fill_holes > 0 {
+            let before = mesh.triangles.len() as u32;
             holes = fill_holes(&mut mesh, &half, options.fill_holes);
+            report.marks.hole_faces = (before..mesh.triangles.len() as u32).collect();
             report.holes_filled = holes.filled;
             report.hole_faces = holes.faces;
             report.hole_vertices = holes.vertices;
@@ -431,6 +465,9 @@ pub fn parse(
     report.zero_area = topo.zero_area_faces;
     report.flipped_parts = topo.flipped_parts;
     report.riders = topo.riders;
+    if let Some((faces, positions, triangles)) = grouped {
+        report.groups = Groups::carry(&faces, &positions, &triangles, &mesh);
+    }
     lap(&mut report, "check", "checked");
     Ok((mesh, report))
 }

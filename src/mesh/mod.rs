@@ -26,6 +26,7 @@ mod edges;
 mod fill;
 mod fit;
 mod gltf;
+mod groups;
 mod guard;
 mod load;
 pub mod measure;
@@ -44,9 +45,10 @@ mod weld;
 
 pub use decimate::decimate;
 pub use fit::{fit_surface, SurfaceFit};
+pub use groups::{FaceGroups, Groups};
 pub use load::{
     file_mesh, load, load_with, parse, parse_file_mesh, parse_obj, Format, LoadOptions, LoadReport,
-    FILL_HOLES, WELD_TOLERANCE,
+    RepairMarks, FILL_HOLES, WELD_TOLERANCE,
 };
 pub use normals::vertex_normals;
 pub use obj::write as write_obj;

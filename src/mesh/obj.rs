@@ -2,8 +2,10 @@
 //!
 //! Read: `v x y z` (extra values such as `w` or colours are ignored), `f` with `v`, `v/vt`,
 //! `v//vn` or `v/vt/vn` corners and negative (relative) indices; polygons are split into
-//! a fan from their first corner; `o` and `g` lines are counted; everything else (`vt`,
-//! `vn`, `l`, `p`, `usemtl`, comments) is skipped. Vertices keep the order of the file, so
+//! a fan from their first corner; `o` and `g` lines are counted, and their names and those
+//! of `usemtl` lines kept as the faces' groups ([`super::groups`]: the materials where the
+//! file has any, else the groups and objects); everything else (`vt`, `vn`, `l`, `p`,
+//! comments) is skipped. Vertices keep the order of the file, so
 //! `puppet skeleton` output lines up with the input.
 //!
 //! The text is cut at line ends into a few chunks per core, parsed in parallel by a byte
@@ -13,6 +15,7 @@
 //! chunk keeps the lines where its demand on the vertices before it first grows, and the
 //! first error of the file (in line order) is the one reported.
 
+use super::groups::FaceGroups;
 use super::soup::Soup;
 use super::MeshError;
 use glam::DVec3;
@@ -65,16 +68,46 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
         lines_before += part.lines;
         vertices_before += part.positions.len();
     }
-    assemble(parts, &offsets, vertices_before)
+    let mut soup = assemble(&parts, &offsets, vertices_before)?;
+    soup.groups = face_groups(&parts);
+    Ok(soup)
+}
+
+/// The faces' groups: by `usemtl` where the file has any, else by `g` and `o` names.
+fn face_groups(parts: &[Chunk]) -> Option<FaceGroups> {
+    if parts.iter().all(|p| p.names.is_empty()) {
+        return None;
+    }
+    let material = parts.iter().any(|p| p.names.iter().any(|n| n.material));
+    let mut current: Option<&str> = None;
+    let mut per_face = Vec::new();
+    for part in parts {
+        let mut events = part
+            .names
+            .iter()
+            .filter(|n| n.material == material)
+            .peekable();
+        for t in 0..part.triangles.len() as u32 {
+            while let Some(e) = events.next_if(|e| e.before <= t) {
+                current = Some(&e.name);
+            }
+            per_face.push(current);
+        }
+        for e in events {
+            current = Some(&e.name);
+        }
+    }
+    FaceGroups::from_names(per_face.into_iter())
 }
 
 /// Joins the chunks (in parallel), resolving relative indices.
-fn assemble(parts: Vec<Chunk>, offsets: &[usize], vertices: usize) -> Result<Soup, MeshError> {
+fn assemble(parts: &[Chunk], offsets: &[usize], vertices: usize) -> Result<Soup, MeshError> {
     let triangles: usize = parts.iter().map(|p| p.triangles.len()).sum();
     let mut soup = Soup {
         positions: vec![DVec3::ZERO; vertices],
         triangles: vec![[0; 3]; triangles],
         objects: parts.iter().map(|p| p.objects).sum::<usize>().max(1),
+        groups: None,
     };
     let mut jobs = Vec::with_capacity(parts.len());
     let (mut ps, mut ts) = (&mut soup.positions[..], &mut soup.triangles[..]);
@@ -138,6 +171,15 @@ struct Demand {
     so_far: usize,
 }
 
+/// A name line: what it names and where.
+struct Name {
+    /// Triangles of the chunk before the line.
+    before: u32,
+    /// A `usemtl` (else `g` or `o`).
+    material: bool,
+    name: String,
+}
+
 /// One chunk parsed.
 #[derive(Default)]
 struct Chunk {
@@ -148,6 +190,8 @@ struct Chunk {
     /// (negative: a vertex of an earlier chunk).
     relative: Vec<(u32, u8, i64)>,
     objects: usize,
+    /// `g`, `o` and `usemtl` names, in order.
+    names: Vec<Name>,
     /// Lines in the chunk.
     lines: usize,
     /// The first malformed line (from 1 in the chunk) and what is wrong, if any; parsing
@@ -213,6 +257,19 @@ impl<'a> Cursor<'a> {
     #[inline]
     fn word_ends(&self, at: usize) -> bool {
         at >= self.text.len() || self.text[at].is_ascii_whitespace()
+    }
+
+    /// The rest of the line, trimmed (the line's end is left for [`Cursor::next_line`]).
+    fn rest(&mut self) -> String {
+        let start = self.at;
+        let end = self.text[start..]
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(self.text.len(), |p| start + p);
+        self.at = end;
+        String::from_utf8_lossy(&self.text[start..end])
+            .trim()
+            .to_string()
     }
 
     /// Moves past the end of the line.
@@ -290,6 +347,21 @@ fn parse_chunk(text: &[u8]) -> Chunk {
                 b"f" => face(&mut cur, &mut c, line, &mut corners),
                 b"o" | b"g" => {
                     c.objects += 1;
+                    let name = cur.rest();
+                    c.names.push(Name {
+                        before: c.triangles.len() as u32,
+                        material: false,
+                        name,
+                    });
+                    Ok(())
+                }
+                b"usemtl" => {
+                    let name = cur.rest();
+                    c.names.push(Name {
+                        before: c.triangles.len() as u32,
+                        material: true,
+                        name,
+                    });
                     Ok(())
                 }
                 _ => Ok(()),

@@ -149,14 +149,21 @@ impl Parts {
         self.select(mesh, |k| !self.rider[k])
     }
 
-    /// The body parts, by number.
+    /// The body parts with faces, by number (a vertex no face uses is a part of its own,
+    /// with no area).
     pub fn body_parts(&self) -> Vec<usize> {
-        (0..self.len()).filter(|&k| !self.rider[k]).collect()
+        (0..self.len())
+            .filter(|&k| !self.rider[k] && self.area[k] > 0.0)
+            .collect()
     }
 
-    /// One part as a mesh of its own, with the index in `mesh` of each of its vertices.
-    pub fn part(&self, mesh: &Mesh, k: usize) -> (Mesh, Vec<u32>) {
-        self.select(mesh, |j| j == k)
+    /// One part as a mesh of its own, with the index in `mesh` of each of its vertices;
+    /// `loose`: with the vertices no face uses (unwelded twins, which take their twin's
+    /// skeleton).
+    pub fn part(&self, mesh: &Mesh, k: usize, loose: bool) -> (Mesh, Vec<u32>) {
+        self.select(mesh, |j| {
+            j == k || (loose && !self.rider[j] && self.area[j] <= 0.0)
+        })
     }
 
     /// The parts `keep` says yes to, as one mesh, and the index in `mesh` of each vertex.

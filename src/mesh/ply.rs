@@ -108,6 +108,7 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
         positions: vertices.iter().map(|e| DVec3::from_array(e.xyz)).collect(),
         triangles: Vec::with_capacity(faces.len()),
         objects: 1,
+        groups: None,
     };
     for (s, strip) in strips.iter().enumerate() {
         if let Some(&bad) = strip.corners.iter().find(|&&c| c < -1 || c >= n) {

@@ -1,6 +1,7 @@
 //! A triangle soup: positions and triangles as a file gave them, before welding, repairs
 //! and validation make a [`Mesh`] of them.
 
+use super::groups::FaceGroups;
 use super::{Mesh, MeshError, MAX_COORDINATE};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -14,6 +15,8 @@ pub struct Soup {
     pub triangles: Vec<[u32; 3]>,
     /// Objects or groups in the file (at least 1).
     pub objects: usize,
+    /// The faces' named groups, where the file has two or more.
+    pub groups: Option<FaceGroups>,
 }
 
 impl Soup {

@@ -11,12 +11,14 @@ use glam::DVec3;
 use std::collections::HashMap;
 
 /// What [`split_sheets`] changed.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub(super) struct Split {
     /// Vertices where separate sheets met, each now one per sheet.
     pub vertices: usize,
     /// Edges of more than two faces, opened into one edge per pair of faces.
     pub edges: usize,
+    /// The split vertices and their copies.
+    pub marked: Vec<u32>,
 }
 
 /// Union-find with path halving, over corners (`face × 3 + k`).
@@ -144,6 +146,10 @@ pub(super) fn split_sheets(mesh: &mut Mesh) -> Split {
         }
     }
     split.vertices = split_vertex.iter().filter(|&&s| s).count();
+    split.marked = (0..n as u32)
+        .filter(|&v| split_vertex[v as usize])
+        .chain(n as u32..mesh.positions.len() as u32)
+        .collect();
     split
 }
 
@@ -193,7 +199,8 @@ mod tests {
             s,
             Split {
                 vertices: 1,
-                edges: 0
+                edges: 0,
+                marked: vec![0, 8]
             }
         );
         assert!(HalfEdges::new(m.positions.len(), &m.triangles).is_closed_manifold());
@@ -225,7 +232,8 @@ mod tests {
             s,
             Split {
                 vertices: 2,
-                edges: 1
+                edges: 1,
+                marked: vec![0, 3, 8, 9]
             }
         );
         assert!(HalfEdges::new(m.positions.len(), &m.triangles).is_closed_manifold());

@@ -12,7 +12,7 @@ pub use rig_file::{Region, RigError, RigFile};
 use crate::anim::Bound;
 use crate::files;
 use crate::joints::{JointError, Joints, Local, PoseScratch};
-use crate::mesh::{self, Mesh, MeshError};
+use crate::mesh::{self, Groups, Mesh, MeshError};
 use crate::progress::Progress;
 use crate::rig::Rig;
 use crate::sim::{Layer, Regions, Simulation};
@@ -55,11 +55,24 @@ pub struct Puppet {
     pub sim: Simulation,
     /// The rig file it was built from (preset name, skeleton method, mesh path).
     pub rig_file: RigFile,
+    /// The mesh file's named groups (its materials), which regions may name.
+    pub groups: Groups,
 }
 
 impl Puppet {
     /// Builds the skeleton, rig, simulation and joints of a validated mesh.
     pub fn build(mesh: Mesh, rig_file: RigFile, progress: Progress) -> Result<Puppet, BuildError> {
+        Puppet::build_grouped(mesh, Groups::default(), rig_file, progress)
+    }
+
+    /// [`Puppet::build`] for a mesh whose file named groups (`LoadReport::groups`), which
+    /// the rig file's regions may name.
+    pub fn build_grouped(
+        mesh: Mesh,
+        groups: Groups,
+        rig_file: RigFile,
+        progress: Progress,
+    ) -> Result<Puppet, BuildError> {
         let normals = mesh::vertex_normals(&mesh)?;
         let params = SkeletonParams {
             method: rig_file.method,
@@ -90,6 +103,7 @@ impl Puppet {
             joints,
             sim,
             rig_file,
+            groups,
         };
         let regions = puppet.regions(true).map_err(BuildError::Regions)?;
         puppet.sim.set_regions(regions);
@@ -106,14 +120,14 @@ impl Puppet {
                 material: r.material,
                 weight: r
                     .paint
-                    .resolve(&self.joints, strict)
+                    .resolve(&self.joints, &self.groups, strict)
                     .map_err(|e| format!("region '{}': {e}", r.name))?,
             });
         }
         out.pin = self
             .rig_file
             .pin
-            .resolve(&self.joints, strict)
+            .resolve(&self.joints, &self.groups, strict)
             .map_err(|e| format!("pin: {e}"))?;
         Ok(out)
     }

@@ -4,16 +4,20 @@
 //! weights per welded vertex (the order [`crate::mesh`] gives a file's vertices after
 //! welding, which does not depend on how the file lists its corners). In a rig file the
 //! painted weights are quantised to 0..255 and run-length encoded: `"0*1200 255*40 128 0*1689"`
-//! is 1,200 vertices at 0, 40 at 1, one at 128/255, 1,689 at 0. A weight is the larger of
-//! the painted one and its section's.
+//! is 1,200 vertices at 0, 40 at 1, one at 128/255, 1,689 at 0. A paint may also name the
+//! mesh file's groups ([`crate::mesh::Groups`]: its materials, as `eyes` or `skin`). A
+//! weight is the largest of the painted one, its section's and its groups'.
 
 use crate::joints::Joints;
+use crate::mesh::Groups;
 
 /// Where something applies: whole sections, and painted weights per welded vertex.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Paint {
     /// Sections (by name) whose every vertex has weight 1.
     pub sections: Vec<String>,
+    /// Groups of the mesh file (by name), each vertex with its share of the group's faces.
+    pub groups: Vec<String>,
     /// Painted weight per welded vertex, each a multiple of 1/255 (empty: nothing
     /// painted).
     pub weights: Vec<f32>,
@@ -83,13 +87,19 @@ pub fn decode(text: &str) -> Result<Vec<f32>, String> {
 impl Paint {
     /// True when it applies nowhere.
     pub fn is_empty(&self) -> bool {
-        self.sections.is_empty() && self.weights.iter().all(|&w| w <= 0.0)
+        self.sections.is_empty() && self.groups.is_empty() && self.weights.iter().all(|&w| w <= 0.0)
     }
 
-    /// The weight of every vertex of a puppet with `joints`. `strict`: a section name the
-    /// joints do not have, or painted weights for another number of vertices, are errors
-    /// (a file); otherwise they are skipped (a session whose cuts changed).
-    pub fn resolve(&self, joints: &Joints, strict: bool) -> Result<Vec<f32>, String> {
+    /// The weight of every vertex of a puppet with `joints` and the mesh file's `groups`.
+    /// `strict`: a section or group name the puppet does not have, or painted weights for
+    /// another number of vertices, are errors (a file); otherwise they are skipped (a
+    /// session whose cuts changed).
+    pub fn resolve(
+        &self,
+        joints: &Joints,
+        groups: &Groups,
+        strict: bool,
+    ) -> Result<Vec<f32>, String> {
         let section_of = joints.section_of();
         let n = section_of.len();
         let mut w = vec![0.0f32; n];
@@ -116,6 +126,26 @@ impl Paint {
                 }
                 None if strict => return Err(format!("no section '{name}'")),
                 None => {}
+            }
+        }
+        for name in &self.groups {
+            match groups.weights_of(name) {
+                Some(g) if g.len() == n => {
+                    for (wi, &gi) in w.iter_mut().zip(g) {
+                        *wi = wi.max(gi);
+                    }
+                }
+                _ if strict => {
+                    return Err(if groups.is_empty() {
+                        format!("no group '{name}': the mesh file names no groups")
+                    } else {
+                        format!(
+                            "no group '{name}' (the mesh file's groups: {})",
+                            groups.names.join(", ")
+                        )
+                    })
+                }
+                _ => {}
             }
         }
         Ok(w)

@@ -151,6 +151,8 @@ struct RegionEntry {
     material: Option<String>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     sections: Vec<String>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    groups: Vec<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     painted: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -163,6 +165,8 @@ struct RegionEntry {
 struct PinEntry {
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     sections: Vec<String>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    groups: Vec<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     painted: Option<String>,
 }
@@ -321,6 +325,7 @@ impl RigFile {
             regions.push(Region {
                 paint: Paint {
                     sections: r.sections,
+                    groups: r.groups,
                     weights: painted(r.painted.as_deref(), &at)?,
                 },
                 name: r.name,
@@ -332,6 +337,7 @@ impl RigFile {
         let pin = Paint {
             weights: painted(pin.painted.as_deref(), "pin")?,
             sections: pin.sections,
+            groups: pin.groups,
         };
         for c in &cuts {
             if let Some(b) = c.band {
@@ -428,6 +434,7 @@ impl RigFile {
                     name: r.name.clone(),
                     material: Some(r.preset.clone()),
                     sections: r.paint.sections.clone(),
+                    groups: r.paint.groups.clone(),
                     painted: written(&r.paint.weights),
                     params: Some(shortest_floats(
                         toml::Table::try_from(r.material).unwrap_or_default(),
@@ -436,6 +443,7 @@ impl RigFile {
                 .collect(),
             pin: (!self.pin.is_empty()).then(|| PinEntry {
                 sections: self.pin.sections.clone(),
+                groups: self.pin.groups.clone(),
                 painted: written(&self.pin.weights),
             }),
         }
@@ -645,6 +653,7 @@ mod tests {
                 material: Material::preset("water").unwrap(),
                 paint: Paint {
                     sections: vec!["head".into()],
+                    groups: vec!["eyes".into()],
                     weights: vec![0.0, 0.5, 1.0],
                 },
             }],

@@ -140,8 +140,10 @@ impl Loader {
                 .file_name()
                 .map_or(given.clone(), |n| n.to_string_lossy().into_owned());
             let source = Some(path.canonicalize().unwrap_or(path));
-            let mut opened = build(mesh, given, rig_file, progress)?;
+            let groups = report.groups.clone();
+            let mut opened = build(mesh, groups, given, rig_file, progress)?;
             opened.session.name = name;
+            opened.session.repairs = report.marks.clone();
             opened.source = source;
             opened.seconds += report.seconds.iter().map(|s| s.1).sum::<f64>();
             opened.report = Some(report);
@@ -160,10 +162,15 @@ impl Loader {
         after: AfterLoad,
     ) -> Loader {
         Loader::spawn(after, move |progress| {
-            let mut opened = build(mesh, name, rig_file, progress)?;
+            let groups = report
+                .as_ref()
+                .map(|r| r.groups.clone())
+                .unwrap_or_default();
+            let mut opened = build(mesh, groups, name, rig_file, progress)?;
             opened.source = source;
             if let Some(r) = &report {
                 opened.seconds += r.total_seconds();
+                opened.session.repairs = r.marks.clone();
             }
             opened.report = report;
             Ok(opened)
@@ -208,12 +215,13 @@ impl Loader {
 
 fn build(
     mesh: Mesh,
+    groups: crate::mesh::Groups,
     name: String,
     rig_file: RigFile,
     progress: &(dyn Fn(&str, f64) + Sync),
 ) -> Loaded {
     let start = std::time::Instant::now();
-    match Puppet::build(mesh, rig_file, progress) {
+    match Puppet::build_grouped(mesh, groups, rig_file, progress) {
         Ok(puppet) => Ok(Opened {
             seconds: start.elapsed().as_secs_f64(),
             session: Box::new(Session::new(puppet, name)),

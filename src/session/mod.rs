@@ -37,6 +37,7 @@ pub use recording::Recorder;
 pub use view::{Line, Overlays, View};
 
 use crate::joints::{Local, PoseScratch};
+use crate::mesh::RepairMarks;
 use crate::puppet::Puppet;
 use crate::sim::{Material, Params};
 use glam::{DQuat, DVec3};
@@ -87,6 +88,8 @@ pub struct Session {
     pub revision: u64,
     /// Bumped when sections, selection or cuts change (colours, overlays).
     pub layout_revision: u64,
+    /// Where loading repaired the mesh (filled holes, split vertices), for the overlay.
+    pub repairs: RepairMarks,
 }
 
 impl Session {
@@ -117,6 +120,7 @@ impl Session {
             settled: false,
             revision: 0,
             layout_revision: 0,
+            repairs: RepairMarks::default(),
         }
     }
 

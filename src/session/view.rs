@@ -24,6 +24,9 @@ pub struct Overlays {
     pub cuts: bool,
     /// The cuts' pivots (a drag moves one).
     pub pivots: bool,
+    /// Where loading repaired the mesh: the edges of filled holes (orange) and the split
+    /// vertices (magenta crosses). On by itself when a file needed repairs.
+    pub repairs: bool,
 }
 
 impl Default for Overlays {
@@ -35,6 +38,7 @@ impl Default for Overlays {
             bone_springs: false,
             cuts: false,
             pivots: true,
+            repairs: false,
         }
     }
 }
@@ -48,6 +52,7 @@ impl Overlays {
             || self.bone_springs
             || self.cuts
             || self.pivots
+            || self.repairs
     }
 }
 
@@ -253,6 +258,25 @@ impl View<'_> {
             for (i, sp) in p.skeleton.points.iter().enumerate() {
                 let w = world[sections[i] as usize].transform_point3(*sp).as_vec3();
                 push_cross(top, w, size * 0.002, [0.95, 0.9, 0.2, 0.9]);
+            }
+        }
+        if o.repairs {
+            let marks = &s.repairs;
+            let tris = &p.mesh.triangles;
+            let n = x.len();
+            for &f in &marks.hole_faces {
+                if let Some(t) = tris.get(f as usize) {
+                    for k in 0..3 {
+                        // Each edge once (its other face runs it the other way).
+                        let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
+                        if a < b && b < n {
+                            push_line(lines, x.get(a), x.get(b), [1.0, 0.55, 0.1, 0.9]);
+                        }
+                    }
+                }
+            }
+            for &v in marks.split_vertices.iter().filter(|&&v| (v as usize) < n) {
+                push_cross(top, x.get(v as usize), size * 0.008, [0.95, 0.2, 0.85, 1.0]);
             }
         }
         if o.bone_springs {

@@ -55,8 +55,8 @@ pub fn build(
         inside_voronoi_vertices: 0,
         seconds: Vec::new(),
     };
-    for k in body {
-        let (part, old) = parts.part(mesh, k);
+    for (i, &k) in body.iter().enumerate() {
+        let (part, old) = parts.part(mesh, k, i == 0);
         let part_normals: Vec<DVec3> = old.iter().map(|&v| normals[v as usize]).collect();
         let sk = build_with(
             &part,

@@ -235,6 +235,45 @@ mod tests {
         assert!(started > 0 && started < pts.len(), "{started} started");
     }
 
+    /// Two balls modelled apart and pushed into each other (the second one a capsule, as an
+    /// arm pushed into a body): each part's skeleton is its own, as if the other were not
+    /// there, and every skeletal point is inside by the winding number.
+    #[test]
+    fn overlapping_parts_each_get_their_own_skeleton() {
+        let ball = shapes::icosphere(1.0, 3);
+        let arm = shapes::capsule(0.3, 0.8, 8, 8, 16);
+        let mut mesh = ball.clone();
+        let n = mesh.positions.len() as u32;
+        let shift = DVec3::new(1.0, 0.0, 0.0);
+        // The capsule lies along z: turn it to lie along x, its far end out of the ball.
+        mesh.positions.extend(
+            arm.positions
+                .iter()
+                .map(|p| DVec3::new(p.z, p.y, -p.x) + shift),
+        );
+        mesh.triangles
+            .extend(arm.triangles.iter().map(|t| t.map(|i| i + n)));
+        let normals = crate::mesh::vertex_normals(&mesh).unwrap();
+        let none = |_: &str, _: f64| {};
+        let params = SkeletonParams::default();
+        let sk = build(&mesh, &normals, &params, &none).unwrap();
+        assert_eq!(sk.riders, 0);
+        let alone = |m: &Mesh| build(m, &crate::mesh::vertex_normals(m).unwrap(), &params, &none);
+        let ball_alone = alone(&ball).unwrap();
+        assert_eq!(&sk.distance[..n as usize], &ball_alone.distance[..]);
+        let inside = crate::geom::inside::InsideTest::new(&mesh);
+        for (v, p) in sk.points.iter().enumerate() {
+            assert!(inside.contains(*p), "skeletal point {v} outside");
+        }
+        // The ball's points near the arm are not pulled to the surface by the arm's
+        // buried vertices: every ball vertex keeps most of its radius.
+        let least = sk.distance[..n as usize]
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
+        assert!(least > 0.8, "{least}");
+    }
+
     /// The mesh-neighbour bound that shortens the thickness rays cast during the
     /// tetrahedralization holds (twice every shrinking-ball radius), and is not loose
     /// everywhere (or the shortcut would be worthless), on a bumpy ellipsoid.

@@ -16,6 +16,8 @@ pub(super) fn overlay_section(
         ui.checkbox(&mut o.bone_springs, "bone springs");
         ui.checkbox(&mut o.cuts, "cut planes");
         ui.checkbox(&mut o.pivots, "pivots");
+        ui.checkbox(&mut o.repairs, "repairs")
+            .on_hover_text("filled holes (orange edges) and split vertices (magenta)");
     });
     if ui.button("Frame model (F)").clicked() {
         actions.push(Action::Frame);

@@ -19,11 +19,15 @@ fn add_selected(paint: &mut Paint, session: &Session) {
 /// What a paint covers, in words.
 fn describe(paint: &Paint) -> String {
     let painted = paint.weights.iter().filter(|&&w| w > 0.0).count();
-    match (paint.sections.is_empty(), painted) {
-        (true, 0) => "nowhere yet".into(),
-        (false, 0) => paint.sections.join(", "),
-        (true, n) => format!("{n} painted vertices"),
-        (false, n) => format!("{} + {n} painted vertices", paint.sections.join(", ")),
+    let mut parts: Vec<String> = paint.sections.clone();
+    parts.extend(paint.groups.iter().map(|g| format!("group {g}")));
+    if painted > 0 {
+        parts.push(format!("{painted} painted vertices"));
+    }
+    if parts.is_empty() {
+        "nowhere yet".into()
+    } else {
+        parts.join(" + ")
     }
 }
 
@@ -88,6 +92,30 @@ pub(super) fn regions_section(ui: &mut egui::Ui, session: &mut Session) {
         };
         add_selected(&mut region.paint, session);
         regions.push(region);
+    }
+    let groups = &session.puppet.groups;
+    if !groups.is_empty() {
+        ui.horizontal_wrapped(|ui| {
+            ui.small("the file's groups:");
+            for name in &groups.names {
+                let taken = regions.iter().any(|r| r.paint.groups.contains(name));
+                if ui
+                    .add_enabled(!taken, egui::Button::new(name.as_str()).small())
+                    .on_hover_text("a region of this group's faces, in the base material until you pick another")
+                    .clicked()
+                {
+                    regions.push(Region {
+                        name: name.clone(),
+                        preset: session.puppet.rig_file.preset.clone(),
+                        material: session.puppet.sim.params().material,
+                        paint: Paint {
+                            groups: vec![name.clone()],
+                            ..Paint::default()
+                        },
+                    });
+                }
+            }
+        });
     }
     ui.horizontal(|ui| {
         let mut painting = session.paint_tool.active && session.paint_tool.target.is_none();

@@ -49,6 +49,13 @@ pub(super) fn stats_section(ui: &mut egui::Ui, state: &PanelState, session: &Ses
             );
             label.on_hover_text(stages.join(", "));
             ui.end_row();
+            // What loading repaired, one line each.
+            let repairs = report.as_ref().map(|r| r.warnings()).unwrap_or_default();
+            for (k, line) in repairs.iter().enumerate() {
+                ui.label(if k == 0 { "on load" } else { "" });
+                ui.small(line);
+                ui.end_row();
+            }
         }
     });
     ui.small("drag: turn selection or orbit · right drag: pan · wheel: zoom · F: frame · R: reset pose · Ctrl+Z/Y: undo/redo · W: wireframe · Space: pause");
