@@ -5,7 +5,7 @@
 use super::edges::HalfEdges;
 use super::groups::Groups;
 use super::parts::Parts;
-use super::repair::{fill_holes, orient, weld_seams, Holes};
+use super::repair::{drop_duplicate_faces, fill_holes, orient, weld_seams, Holes};
 use super::soup::Soup;
 use super::split::split_sheets;
 use super::validate::validate_with;
@@ -135,6 +135,10 @@ pub struct LoadReport {
     pub zero_area: usize,
     /// Parts that were inside out and were flipped.
     pub flipped_parts: usize,
+    /// Faces over the same three vertices as an earlier one, dropped.
+    pub duplicate_faces: usize,
+    /// Connected parts of the loaded mesh.
+    pub parts: usize,
     /// Seconds per stage (read, parse, weld, repair, check), in order.
     pub seconds: Vec<(&'static str, f64)>,
     /// The file's named groups (OBJ materials or groups, glTF materials), carried to the
@@ -182,6 +186,8 @@ impl LoadReport {
             riders: 0,
             zero_area: 0,
             flipped_parts: 0,
+            duplicate_faces: 0,
+            parts: 0,
             seconds: Vec::new(),
             groups: Groups::default(),
             marks: RepairMarks::default(),
@@ -207,6 +213,12 @@ impl LoadReport {
         }
         if self.unreferenced > 0 {
             w.push(format!("removed {} unused vertices", self.unreferenced));
+        }
+        if self.duplicate_faces > 0 {
+            w.push(format!(
+                "removed {} over the same corners as another",
+                plural(self.duplicate_faces, "duplicate face")
+            ));
         }
         if self.seams_welded > 0 {
             w.push(format!(
@@ -267,14 +279,16 @@ impl LoadReport {
             w.push(format!("{} faces have zero area", self.zero_area));
         }
         if self.flipped_parts > 0 {
-            w.push(format!(
-                "{} was inside out; its faces were flipped",
-                if self.flipped_parts == 1 {
-                    "the mesh".to_string()
-                } else {
-                    format!("{} parts", self.flipped_parts)
+            w.push(match (self.flipped_parts, self.parts) {
+                (_, 0 | 1) => "the mesh was inside out; its faces were flipped".to_string(),
+                (1, n) => format!("1 of its {n} parts was inside out; its faces were flipped"),
+                (k, n) if k == n => {
+                    format!("all {n} of its parts were inside out; their faces were flipped")
                 }
-            ));
+                (k, n) => {
+                    format!("{k} of its {n} parts were inside out; their faces were flipped")
+                }
+            });
         }
         w
     }
@@ -404,6 +418,13 @@ pub fn parse(
     if closed == Some(false) {
         let c = half.census(&|_| true);
         (closed, measured) = (None, None);
+        // A face written twice makes its edges look shared by more than two faces.
+        if c.nonmanifold > 0 {
+            report.duplicate_faces = drop_duplicate_faces(&mut mesh);
+            if report.duplicate_faces > 0 {
+                half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
+            }
+        }
         if c.boundary > 0 {
             report.seams_welded = weld_seams(&mut mesh, &half);
             if report.seams_welded > 0 {
@@ -464,6 +485,7 @@ pub fn parse(
     })?;
     report.zero_area = topo.zero_area_faces;
     report.flipped_parts = topo.flipped_parts;
+    report.parts = topo.components;
     report.riders = topo.riders;
     if let Some((faces, positions, triangles)) = grouped {
         report.groups = Groups::carry(&faces, &positions, &triangles, &mesh);

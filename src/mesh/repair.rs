@@ -1,6 +1,8 @@
 //! Repairs of what downloaded meshes often get wrong, each run only when the edge census
 //! shows it is needed:
 //!
+//! * **duplicate faces**: a face over the same three vertices as an earlier one (either
+//!   way round) is dropped;
 //! * **open seams**: boundary vertices almost on top of another boundary vertex (closer
 //!   than a tenth of their shortest edge: a gap no modeller meant) are welded;
 //! * **inconsistent orientation**: faces are turned to agree with their neighbours, part by
@@ -14,6 +16,19 @@
 use super::edges::{target, HalfEdges};
 use super::weld::remap;
 use super::Mesh;
+
+/// Drops every face over the same three vertices as an earlier face (in either
+/// orientation). Returns how many were dropped.
+pub(super) fn drop_duplicate_faces(mesh: &mut Mesh) -> usize {
+    let mut seen = std::collections::HashSet::with_capacity(mesh.triangles.len());
+    let before = mesh.triangles.len();
+    mesh.triangles.retain(|t| {
+        let mut key = *t;
+        key.sort_unstable();
+        seen.insert(key)
+    });
+    before - mesh.triangles.len()
+}
 
 /// Welds boundary vertices closer than a tenth of the shortest edge at either. Returns how
 /// many vertices were merged (0 leaves the mesh untouched).
