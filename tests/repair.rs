@@ -1234,3 +1234,61 @@ fn base64(bytes: &[u8]) -> String {
     }
     out
 }
+
+/// A rig file's region names a group of the mesh file (its materials): the puppet simulates
+/// with it under gravity, and the legs, made of water, sag further than the hide in skin;
+/// a group the file does not have is one line naming the region and the groups there are.
+#[test]
+fn a_rig_file_region_gives_a_file_group_its_material() {
+    let dir = scratch("groups");
+    let mesh = corpus_dir().join("materials-open-neck.obj");
+    let mesh = mesh.to_str().unwrap();
+    let run = |rig: &str, name: &str| {
+        let rig_path = write(&dir, &format!("{name}.rig.toml"), rig.as_bytes());
+        let out = dir.join(format!("{name}.obj"));
+        let o = puppet(&[
+            "simulate",
+            mesh,
+            "--rig",
+            rig_path.to_str().unwrap(),
+            "--frames",
+            "30",
+            "--gravity",
+            "1",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        (o, out)
+    };
+    let (o, plain) = run("material = \"skin\"\n", "plain");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rig = "material = \"skin\"\n[[region]]\nname = \"wobbly legs\"\nmaterial = \"water\"\ngroups = [\"legs\"]\n";
+    let (o, legs) = run(rig, "legs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let read = |p: &Path| mesh::file_mesh(p).unwrap().positions;
+    let (a, b) = (read(&plain), read(&legs));
+    let (lo, hi) = mesh::file_mesh(Path::new(mesh)).unwrap().bounds();
+    let low = |p: &DVec3| p.y < lo.y + 0.3 * (hi.y - lo.y);
+    let moved = |pick: &dyn Fn(&DVec3) -> bool| {
+        a.iter()
+            .zip(&b)
+            .filter(|(p, _)| pick(p))
+            .map(|(p, q)| p.distance(*q))
+            .fold(0.0, f64::max)
+    };
+    // The water legs move away from the skin run; the top of the back barely.
+    let (legs_moved, back_moved) = (moved(&low), moved(&|p| p.y > lo.y + 0.8 * (hi.y - lo.y)));
+    assert!(
+        legs_moved > 3.0 * back_moved && legs_moved > 1e-3,
+        "{legs_moved} {back_moved}"
+    );
+    let bad = "[[region]]\nname = \"eyes\"\nmaterial = \"water\"\ngroups = [\"eyes\"]\n";
+    let (o, _) = run(bad, "bad");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.lines().filter(|l| l.starts_with("error:")).count() == 1
+            && err.contains("region 'eyes': no group 'eyes' (the mesh file's groups: legs, hide)"),
+        "{err}"
+    );
+}

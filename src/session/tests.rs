@@ -577,3 +577,39 @@ fn the_cut_tool_places_and_applies_a_sphere() {
     }
     assert!(s.puppet.joints.sections()[k].vertices > 0);
 }
+
+/// A file that needed repairs shows them: the open-necked cow's filled holes as orange
+/// edges (each once) and nothing else; a clean file shows none.
+#[test]
+fn the_repairs_overlay_draws_the_filled_holes() {
+    let bytes = std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/defects/open-neck.obj"
+    ))
+    .unwrap();
+    let (mesh, report) = crate::mesh::parse(
+        &bytes,
+        crate::mesh::Format::Obj,
+        &crate::mesh::LoadOptions::default(),
+        crate::progress::silent(),
+    )
+    .unwrap();
+    assert_eq!(report.marks.hole_faces.len(), report.hole_faces);
+    let puppet = Puppet::build(mesh, RigFile::default(), crate::progress::silent()).unwrap();
+    let mut s = Session::new(puppet, "open neck");
+    let overlays = Overlays {
+        repairs: true,
+        pivots: false,
+        ..Overlays::default()
+    };
+    let (mut lines, mut top) = (Vec::new(), Vec::new());
+    s.view(overlays).lines(&mut lines, &mut top);
+    assert!(lines.is_empty() && top.is_empty(), "nothing marked yet");
+    s.repairs = report.marks.clone();
+    s.view(overlays).lines(&mut lines, &mut top);
+    // Every edge of the patches once: (3 F + loop edges) / 2 of them.
+    let faces = report.hole_faces;
+    assert!(lines.len() >= 3 * faces / 2 && lines.len() <= 3 * faces, "{} lines", lines.len());
+    assert!(lines.iter().all(|l| l.color == [1.0, 0.55, 0.1, 0.9]));
+    assert!(top.is_empty(), "no split vertices");
+}
