@@ -186,8 +186,7 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         .as_ref()
         .map(|p| p.display().to_string())
         .unwrap_or_else(|| mesh_name.clone());
-    let groups = report.groups;
-    let built = Puppet::build_grouped(mesh, groups, spec, &|s, f| bar.update(s, f));
+    let built = Puppet::build_loaded(mesh, Some(&report), spec, &|s, f| bar.update(s, f));
     let mut puppet = built.map_err(|e| match e {
         puppet::puppet::BuildError::Joints(e) => FileError::new(&rig_name, e),
         e @ puppet::puppet::BuildError::Regions(_) => FileError::new(&rig_name, e),

@@ -47,15 +47,15 @@ struct CutRow {
 }
 
 pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
-    let (mesh, _report, name) = load_mesh(args.mesh.as_deref(), load)?;
+    let (mesh, report, name) = load_mesh(args.mesh.as_deref(), load)?;
     let bar = ProgressBar::new();
     let t = Instant::now();
     let mut rig = RigFile::default();
     if let Some(method) = args.method {
         rig.method = method;
     }
-    let mut puppet =
-        Puppet::build(mesh, rig, &|s, f| bar.update(s, f)).map_err(|e| FileError::new(&name, e))?;
+    let mut puppet = Puppet::build_loaded(mesh, Some(&report), rig, &|s, f| bar.update(s, f))
+        .map_err(|e| FileError::new(&name, e))?;
     bar.finish();
     let seconds_skeleton = t.elapsed().as_secs_f64();
     let t = Instant::now();

@@ -107,15 +107,66 @@ pub(super) fn close(
     if !simple(&flat, 1e-9 * mean_edge) {
         return fan(lp, positions, base);
     }
-    let Some(patch) = triangulate(lp, &flat, mean_edge, base) else {
+    // A chord of the loop that the surface already has as an edge (the loop runs round a
+    // neck, and two of its vertices are neighbours across it) would be an edge of three
+    // faces: each such chord gets a new vertex at its middle, which no triangulation can
+    // pass through, and the hole is triangulated again.
+    let joined = |a: u32, b: u32| neighbours(a).contains(&b) || neighbours(b).contains(&a);
+    let slot: std::collections::HashMap<u32, usize> =
+        lp.iter().enumerate().map(|(k, &v)| (v, k)).collect();
+    let mut steiner: Vec<DVec2> = Vec::new();
+    let mut patch = None;
+    for _ in 0..4 {
+        let Some((points, triangles)) = triangulate(lp, &flat, &steiner, mean_edge, base) else {
+            return fan(lp, positions, base);
+        };
+        let before = steiner.len();
+        for t in &triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let (Some(&i), Some(&j)) = (slot.get(&a), slot.get(&b)) else {
+                    continue;
+                };
+                let consecutive = (i + 1) % lp.len() == j || (j + 1) % lp.len() == i;
+                if a < b && !consecutive && joined(a, b) {
+                    steiner.push((flat[i] + flat[j]) * 0.5);
+                }
+            }
+        }
+        if steiner.len() == before {
+            patch = Some((points, triangles));
+            break;
+        }
+    }
+    let Some((mut new_positions, triangles)) = patch else {
         return fan(lp, positions, base);
     };
-    let (mut new_positions, triangles) = patch;
     // Lift the new vertices onto the plane, then fair them.
     for p in &mut new_positions {
         *p = origin + u * p.x + v * p.y;
     }
-    fair(&mut new_positions, &triangles, positions, neighbours, base);
+    // Fairing bends the patch to continue the surface; where that would turn a face over
+    // (a rim that twists), the membrane is kept, or else the flat patch.
+    let flat_positions = new_positions.clone();
+    let membrane = fair(&mut new_positions, &triangles, positions, neighbours, base);
+    let faces_up = |x: &[DVec3]| {
+        triangles.iter().all(|t| {
+            let [a, b, c] = t.map(|v| {
+                if v >= base {
+                    x[(v - base) as usize]
+                } else {
+                    positions[v as usize]
+                }
+            });
+            (b - a).cross(c - a).dot(normal) > 0.0
+        })
+    };
+    if !faces_up(&new_positions) {
+        new_positions = match membrane {
+            Some(m) if faces_up(&m) => m,
+            _ => flat_positions,
+        };
+    }
     Patch {
         positions: new_positions,
         triangles,
@@ -124,21 +175,28 @@ pub(super) fn close(
 }
 
 /// The refined constrained Delaunay triangulation of the simple polygon `flat` (the loop
-/// `lp`'s projection): new vertices as `(x, y, 0)` in the plane, and the triangles inside,
+/// `lp`'s projection), through the `steiner` points inside it: new vertices as `(x, y, 0)` in the plane, and the triangles inside,
 /// counter-clockwise. `None` where spade refuses the loop.
 fn triangulate(
     lp: &[u32],
     flat: &[DVec2],
+    steiner: &[DVec2],
     mean_edge: f64,
     base: u32,
 ) -> Option<(Vec<DVec3>, Vec<[u32; 3]>)> {
+    // In units of the mean edge: spade's refinement has absolute limits, and a hole must
+    // get the same patch at any scale.
+    let unit = 1.0 / mean_edge;
     let mut cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::new();
     let mut handles = Vec::with_capacity(flat.len());
     for p in flat {
-        handles.push(cdt.insert(Point2::new(p.x, p.y)).ok()?);
+        handles.push(cdt.insert(Point2::new(p.x * unit, p.y * unit)).ok()?);
     }
     if cdt.num_vertices() != flat.len() {
         return None;
+    }
+    for p in steiner {
+        cdt.insert(Point2::new(p.x * unit, p.y * unit)).ok()?;
     }
     for k in 0..handles.len() {
         let (a, b) = (handles[k], handles[(k + 1) % handles.len()]);
@@ -148,7 +206,7 @@ fn triangulate(
         cdt.add_constraint(a, b);
     }
     // Triangles about as large as an equilateral one on the loop's mean edge.
-    let area = 3f64.sqrt() / 4.0 * mean_edge * mean_edge;
+    let area = 3f64.sqrt() / 4.0;
     let result = cdt.refine(
         RefinementParameters::<f64>::new()
             .exclude_outer_faces(true)
@@ -172,7 +230,7 @@ fn triangulate(
         let corners = face.vertices().map(|vh| {
             *index.entry(vh.fix().index()).or_insert_with(|| {
                 let p = vh.position();
-                new_positions.push(DVec3::new(p.x, p.y, 0.0));
+                new_positions.push(DVec3::new(p.x * mean_edge, p.y * mean_edge, 0.0));
                 base + new_positions.len() as u32 - 1
             })
         });
@@ -185,16 +243,16 @@ fn triangulate(
 /// the surface around it, the loop and the surface held, starting from the membrane (the
 /// Laplacian's zero). The Laplacian weighs each neighbour by the inverse of its distance
 /// (measured once, on the membrane), so a patch finer than the surface around it does not
-/// overshoot it.
+/// overshoot it. Returns the membrane.
 fn fair(
     new_positions: &mut [DVec3],
     triangles: &[[u32; 3]],
     positions: &[DVec3],
     neighbours: &dyn Fn(u32) -> Vec<u32>,
     base: u32,
-) {
+) -> Option<Vec<DVec3>> {
     if new_positions.is_empty() {
-        return;
+        return None;
     }
     // Neighbourhoods: each vertex the patch touches, its mesh neighbours plus its patch ones.
     let mut ring: std::collections::BTreeMap<u32, Vec<(u32, f64)>> = Default::default();
@@ -236,6 +294,7 @@ fn fair(
         r.iter_mut().for_each(|(_, w)| *w /= total);
     }
     relax(new_positions, &ring, base, &at, scale, true);
+    Some(snapshot)
 }
 
 /// Gauss–Seidel passes over the new vertices until they move less than `1e-10 × scale`:

@@ -12,7 +12,7 @@ pub use rig_file::{Region, RigError, RigFile};
 use crate::anim::Bound;
 use crate::files;
 use crate::joints::{JointError, Joints, Local, PoseScratch};
-use crate::mesh::{self, Groups, Mesh, MeshError};
+use crate::mesh::{self, Groups, LoadReport, Mesh, MeshError};
 use crate::progress::Progress;
 use crate::rig::Rig;
 use crate::sim::{Layer, Regions, Simulation};
@@ -62,14 +62,15 @@ pub struct Puppet {
 impl Puppet {
     /// Builds the skeleton, rig, simulation and joints of a validated mesh.
     pub fn build(mesh: Mesh, rig_file: RigFile, progress: Progress) -> Result<Puppet, BuildError> {
-        Puppet::build_grouped(mesh, Groups::default(), rig_file, progress)
+        Puppet::build_loaded(mesh, None, rig_file, progress)
     }
 
-    /// [`Puppet::build`] for a mesh whose file named groups (`LoadReport::groups`), which
-    /// the rig file's regions may name.
-    pub fn build_grouped(
+    /// [`Puppet::build`] for a mesh as loading left it (`report`): the file's groups, which
+    /// the rig file's regions may name, and where a hole was filled or a vertex split, every
+    /// skeletal point held inside ([`Skeleton::keep_inside`]).
+    pub fn build_loaded(
         mesh: Mesh,
-        groups: Groups,
+        report: Option<&LoadReport>,
         rig_file: RigFile,
         progress: Progress,
     ) -> Result<Puppet, BuildError> {
@@ -78,7 +79,14 @@ impl Puppet {
             method: rig_file.method,
             ..SkeletonParams::default()
         };
-        let skeleton = skeleton::cache::build_cached(&mesh, &normals, &params, progress)?;
+        let mut skeleton = skeleton::cache::build_cached(&mesh, &normals, &params, progress)?;
+        let groups = report.map(|r| r.groups.clone()).unwrap_or_default();
+        if report.is_some_and(|r| !r.marks.is_empty()) {
+            let moved = skeleton.keep_inside(&mesh);
+            if moved > 0 {
+                log::debug!("{moved} skeletal points moved back inside the repaired mesh");
+            }
+        }
         // Riders go with the section of the body vertex nearest to them.
         let hosts = if skeleton.riders > 0 {
             mesh::Parts::of(&mesh).hosts(&mesh.positions)

@@ -140,8 +140,7 @@ impl Loader {
                 .file_name()
                 .map_or(given.clone(), |n| n.to_string_lossy().into_owned());
             let source = Some(path.canonicalize().unwrap_or(path));
-            let groups = report.groups.clone();
-            let mut opened = build(mesh, groups, given, rig_file, progress)?;
+            let mut opened = build(mesh, Some(&report), given, rig_file, progress)?;
             opened.session.name = name;
             opened.session.repairs = report.marks.clone();
             opened.source = source;
@@ -162,11 +161,7 @@ impl Loader {
         after: AfterLoad,
     ) -> Loader {
         Loader::spawn(after, move |progress| {
-            let groups = report
-                .as_ref()
-                .map(|r| r.groups.clone())
-                .unwrap_or_default();
-            let mut opened = build(mesh, groups, name, rig_file, progress)?;
+            let mut opened = build(mesh, report.as_ref(), name, rig_file, progress)?;
             opened.source = source;
             if let Some(r) = &report {
                 opened.seconds += r.total_seconds();
@@ -215,13 +210,13 @@ impl Loader {
 
 fn build(
     mesh: Mesh,
-    groups: crate::mesh::Groups,
+    report: Option<&LoadReport>,
     name: String,
     rig_file: RigFile,
     progress: &(dyn Fn(&str, f64) + Sync),
 ) -> Loaded {
     let start = std::time::Instant::now();
-    match Puppet::build_grouped(mesh, groups, rig_file, progress) {
+    match Puppet::build_loaded(mesh, report, rig_file, progress) {
         Ok(puppet) => Ok(Opened {
             seconds: start.elapsed().as_secs_f64(),
             session: Box::new(Session::new(puppet, name)),

@@ -264,16 +264,19 @@ impl View<'_> {
             let marks = &s.repairs;
             let tris = &p.mesh.triangles;
             let n = x.len();
-            for &f in &marks.hole_faces {
-                if let Some(t) = tris.get(f as usize) {
-                    for k in 0..3 {
-                        // Each edge once (its other face runs it the other way).
-                        let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
-                        if a < b && b < n {
-                            push_line(lines, x.get(a), x.get(b), [1.0, 0.55, 0.1, 0.9]);
-                        }
-                    }
-                }
+            let mut edges: Vec<(usize, usize)> = marks
+                .hole_faces
+                .iter()
+                .filter_map(|&f| tris.get(f as usize))
+                .flat_map(|t| (0..3).map(move |k| (t[k] as usize, t[(k + 1) % 3] as usize)))
+                .map(|(a, b)| (a.min(b), a.max(b)))
+                .filter(|&(_, b)| b < n)
+                .collect();
+            // Each edge once: the patch's inner edges have two of its faces.
+            edges.sort_unstable();
+            edges.dedup();
+            for (a, b) in edges {
+                push_line(lines, x.get(a), x.get(b), [1.0, 0.55, 0.1, 0.9]);
             }
             for &v in marks.split_vertices.iter().filter(|&&v| (v as usize) < n) {
                 push_cross(top, x.get(v as usize), size * 0.008, [0.95, 0.2, 0.85, 1.0]);

@@ -170,6 +170,40 @@ pub struct Skeleton {
     pub seconds: Vec<(&'static str, f64)>,
 }
 
+impl Skeleton {
+    /// Moves every skeletal point that lies outside `mesh` (by its exact winding number)
+    /// back towards its vertex, halving its distance until it is inside (at most 30
+    /// times, then `d = 0`); returns how many moved. A safety net for repaired meshes,
+    /// where a filled hole's rim can fold and turn a normal into the object, so that no
+    /// face stops its ball; a tidy surface needs none of it (the loader calls it only
+    /// after repairs that leave rims).
+    pub fn keep_inside(&mut self, mesh: &crate::mesh::Mesh) -> usize {
+        let inside = crate::geom::inside::InsideTest::new(mesh);
+        let mut moved = 0;
+        for (v, p) in mesh.positions.iter().enumerate() {
+            let (d, sp) = (self.distance[v], self.points[v]);
+            if d <= 0.0 || inside.contains(sp) {
+                continue;
+            }
+            let n = (*p - sp) / d;
+            let mut d = d;
+            for _ in 0..30 {
+                d *= 0.5;
+                if inside.contains(*p - d * n) {
+                    break;
+                }
+            }
+            if !inside.contains(*p - d * n) {
+                d = 0.0;
+            }
+            self.distance[v] = d;
+            self.points[v] = *p - d * n;
+            moved += 1;
+        }
+        moved
+    }
+}
+
 /// Why no skeleton could be built.
 #[derive(Debug, thiserror::Error)]
 pub enum SkeletonError {
