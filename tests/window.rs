@@ -310,3 +310,59 @@ fn a_pivot_is_dragged_with_the_mouse_and_undo_puts_it_back() {
     w.wait(|r| off(r) < 0.5, "undo to put the pivot back");
     assert!(w.quit().success());
 }
+
+/// What loading repaired shows on the model: the cow with its head cut off opens with its
+/// filled neck drawn in orange edges, and the panel's line says what was filled; the same
+/// cow whole shows none of that orange.
+#[test]
+fn a_repaired_mesh_shows_its_filled_hole() {
+    let dir = common::scratch("window-repairs");
+    let runtime = dir.join("xdg");
+    std::fs::create_dir_all(&runtime).unwrap();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&runtime, std::fs::Permissions::from_mode(0o700)).unwrap();
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let shoot = |mesh: &Path, name: &str| {
+        let shot = dir.join(format!("{name}.png"));
+        let out = Command::new("xvfb-run")
+            .args(["-a", "-s", "-screen 0 1280x800x24"])
+            .arg(env!("CARGO_BIN_EXE_puppet"))
+            .arg(mesh)
+            .arg("--screenshot")
+            .arg(&shot)
+            .args(["--frames", "5"])
+            .env("XDG_RUNTIME_DIR", &runtime)
+            .env("RUST_LOG", "error")
+            .output()
+            .expect("xvfb-run (scripts/setup.sh installs the xvfb package)");
+        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+        assert!(
+            out.status.success(),
+            "{stdout}{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let report: serde_json::Value =
+            serde_json::from_str(stdout.lines().last().unwrap_or("")).unwrap();
+        let img = Image::load_png(&shot).unwrap();
+        // Orange (the overlay's 1.0, 0.55, 0.1), right of the panel.
+        let orange = (360..img.width)
+            .flat_map(|x| (0..img.height).map(move |y| (x, y)))
+            .map(|(x, y)| img.pixel(x, y))
+            .filter(|p| {
+                p[0] > 200 && p[1] > 110 && p[1] < 210 && (p[2] as i32) < (p[1] as i32) - 70
+            })
+            .count();
+        (report, orange)
+    };
+    let (report, orange) = shoot(&root.join("tests/data/defects/open-neck.obj"), "open-neck");
+    let message = report["message"].as_str().unwrap_or("");
+    assert!(message.contains("filled 1 hole"), "{report}");
+    let (_, whole) = shoot(&root.join("tests/data/meshes/spot-small.obj"), "whole");
+    assert!(
+        orange > 20 * whole.max(10),
+        "{orange} orange pixels against {whole}"
+    );
+}
