@@ -13,13 +13,7 @@ use std::time::{Duration, Instant};
 fn the_window_shows_the_puppet_and_panels_and_a_drag_turns_a_section() {
     let dir = common::scratch("window");
     let shot = dir.join("window.png");
-    let runtime = dir.join("xdg");
-    std::fs::create_dir_all(&runtime).unwrap();
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        std::fs::set_permissions(&runtime, std::fs::Permissions::from_mode(0o700)).unwrap();
-    }
+    let runtime = common::runtime_dir(&dir);
     let rig = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples/spot-jaw.rig.toml");
     let mut child = Command::new("xvfb-run")
         .args(["-a", "-s", "-screen 0 1280x800x24"])
@@ -317,13 +311,7 @@ fn a_pivot_is_dragged_with_the_mouse_and_undo_puts_it_back() {
 #[test]
 fn a_repaired_mesh_shows_its_filled_hole() {
     let dir = common::scratch("window-repairs");
-    let runtime = dir.join("xdg");
-    std::fs::create_dir_all(&runtime).unwrap();
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        std::fs::set_permissions(&runtime, std::fs::Permissions::from_mode(0o700)).unwrap();
-    }
+    let runtime = common::runtime_dir(&dir);
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let shoot = |mesh: &Path, name: &str| {
         let shot = dir.join(format!("{name}.png"));

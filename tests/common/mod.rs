@@ -84,17 +84,24 @@ pub struct Window {
     window: String,
 }
 
+/// `DIR/xdg`, made private to its owner as `XDG_RUNTIME_DIR` must be, for a window run in
+/// `dir`.
+pub fn runtime_dir(dir: &Path) -> PathBuf {
+    let runtime = dir.join("xdg");
+    std::fs::create_dir_all(&runtime).unwrap();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&runtime, std::fs::Permissions::from_mode(0o700)).unwrap();
+    }
+    runtime
+}
+
 impl Window {
     /// Starts `puppet ARGS` in a virtual X server in `dir` and waits until its puppet is
     /// built and settled.
     pub fn open(dir: &Path, args: &[&str]) -> Window {
-        let runtime = dir.join("xdg");
-        std::fs::create_dir_all(&runtime).unwrap();
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::PermissionsExt;
-            std::fs::set_permissions(&runtime, std::fs::Permissions::from_mode(0o700)).unwrap();
-        }
+        runtime_dir(dir);
         let config = dir.join("config");
         std::fs::create_dir_all(&config).unwrap();
         Window::open_with(dir, args, &config)
