@@ -6,7 +6,8 @@
 //! Data flows one way through the core:
 //!
 //! [`mesh`] → [`skeleton`] (on [`delaunay`] and [`geom`]) → [`rig`] → [`sim`] ← [`joints`];
-//! [`anim`], [`puppet`], [`scenario`], [`session`] and [`export`] on top.
+//! [`anim`], [`puppet`], [`scenario`], [`session`], [`export`] and [`controls`] (live
+//! devices mapped to sections) on top.
 //!
 //! The shell (`render`, `ui`, `app`, behind the default `gui` feature, and the command line
 //! in the binary) only reads the core. The core never imports a GPU or windowing crate: they
@@ -16,6 +17,7 @@
 #![warn(missing_docs)]
 
 pub mod anim;
+pub mod controls;
 pub mod delaunay;
 pub mod export;
 pub mod files;
