@@ -18,6 +18,7 @@
 pub mod camera;
 pub mod cut_tool;
 pub mod export;
+pub mod live;
 pub mod loader;
 pub mod paint_tool;
 pub mod pick;

@@ -617,3 +617,49 @@ fn the_repairs_overlay_draws_the_filled_holes() {
     assert!(lines.iter().all(|l| l.color == [1.0, 0.55, 0.1, 0.9]));
     assert!(top.is_empty(), "no split vertices");
 }
+
+/// Live controls turn sections as the mouse does: a take recorded with an OSC button
+/// holds the motion the controls made, and hostile messages change nothing.
+#[test]
+fn live_controls_turn_sections_and_record_a_take() {
+    use crate::controls::{Controls, ControlsFile, Event};
+    let mut s = session();
+    let file = ControlsFile::parse(
+        "[[control]]\nosc = \"/bend\"\nsection = \"arm\"\nangles = [0, 80]\nmin_cutoff = 1000\n\
+         [[control]]\nosc = \"/rec\"\naction = \"record\"\n",
+    )
+    .unwrap();
+    let mut c = Controls::new(file, &s.section_names()).unwrap();
+    let osc = |address: &str, x: f64| Event::Osc {
+        address: address.into(),
+        args: vec![Some(x)],
+    };
+    c.feed(&osc("/rec", 1.0), 0.0);
+    assert_eq!(s.drive(&mut c), None);
+    assert!(s.is_recording());
+    for k in 0..30 {
+        c.feed(&osc("/bend", k as f64 / 29.0), k as f64 / 30.0);
+        s.drive(&mut c);
+        s.advance(1.0 / 30.0, 10);
+    }
+    let angle = s.local[1]
+        .rotation
+        .angle_between(DQuat::IDENTITY)
+        .to_degrees();
+    assert!((angle - 80.0).abs() < 1.0, "{angle}");
+    c.feed(&osc("/rec", 0.0), 1.0);
+    c.feed(&osc("/rec", 1.0), 1.1);
+    let said = s.drive(&mut c).expect("the take stops");
+    assert!(!s.is_recording(), "{said}");
+    let take = s.playback.as_ref().expect("the take plays back");
+    let tracks: Vec<&str> = take
+        .animation
+        .track
+        .iter()
+        .map(|t| t.section.as_str())
+        .collect();
+    assert!(tracks.contains(&"arm"), "{tracks:?}");
+    c.feed(&osc("/nobody", 1.0), 2.0);
+    c.feed(&osc("/bend", f64::NAN), 2.0);
+    assert_eq!((c.unknown, c.ignored), (1, 1));
+}
