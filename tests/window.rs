@@ -354,3 +354,96 @@ fn a_repaired_mesh_shows_its_filled_hole() {
         "{orange} orange pixels against {whole}"
     );
 }
+
+/// A glove over OSC drives the shipped hand: the test sends the messages a glove would
+/// (`assets/examples/glove.toml`), the fingers curl (the report's turned sections), a
+/// button records a take that holds the fingers' motion, and hostile packets are counted.
+#[test]
+fn a_glove_over_osc_curls_the_fingers_and_records_a_take() {
+    use puppet::controls::{glove, osc};
+    let dir = common::scratch("window-glove");
+    let port = std::net::UdpSocket::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port()
+        .to_string();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples");
+    let arg = |f: &str| root.join(f).display().to_string();
+    let (hand, rig, controls) = (arg("hand.obj"), arg("hand.rig.toml"), arg("glove.toml"));
+    let mut w = common::Window::open(
+        &dir,
+        &[
+            &hand,
+            "--rig",
+            &rig,
+            "--controls",
+            &controls,
+            "--listen",
+            &port,
+        ],
+    );
+    let socket = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+    socket.connect(format!("127.0.0.1:{port}")).unwrap();
+    let send = |address: &str, values: &[f32]| {
+        socket.send(&osc::encode(address, values)).unwrap();
+    };
+    let angle = |r: &serde_json::Value, name: &str| -> f64 {
+        r["turned"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(|t| t.as_str()?.strip_prefix(&format!("{name}:"))?.parse().ok())
+            .next()
+            .unwrap_or(0.0)
+    };
+    // Every finger curled, then hostile packets: garbage, an unknown address, NaN.
+    for _ in 0..30 {
+        send("/glove/flex", &[1.0; 5]);
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    socket.send(b"not osc at all").unwrap();
+    send("/nobody", &[1.0]);
+    send("/glove/flex", &[f32::NAN; 5]);
+    let r = w.wait(
+        |r| angle(r, "index.3") > 60.0 && r["controls"]["bad_packets"] == 1,
+        "the index finger to curl",
+    );
+    assert!(
+        angle(&r, "middle") > 60.0 && angle(&r, "thumb") > 40.0,
+        "{r}"
+    );
+    let c = &r["controls"];
+    assert_eq!(
+        (c["unknown"].as_u64(), c["ignored"].as_u64()),
+        (Some(1), Some(5)),
+        "{r}"
+    );
+    // The record button, a second of the synthetic performance, the button again.
+    send("/glove/button", &[1.0]);
+    send("/glove/button", &[0.0]);
+    w.wait(|r| r["recording"] == true, "the button to start a take");
+    let start = Instant::now();
+    while start.elapsed() < Duration::from_secs(1) {
+        for (address, values) in glove::performance(start.elapsed().as_secs_f64()) {
+            send(address, &values);
+        }
+        std::thread::sleep(Duration::from_millis(16));
+    }
+    send("/glove/button", &[1.0]);
+    send("/glove/button", &[0.0]);
+    let r = w.wait(|r| r["recording"] == false, "the button to stop the take");
+    let tracks: Vec<&str> = r["tracks"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|t| t.as_str())
+        .collect();
+    for name in ["index", "thumb.3", "wrist"] {
+        assert!(
+            tracks.contains(&name),
+            "the take has a track for {name}: {r}"
+        );
+    }
+    assert!(w.quit().success());
+}

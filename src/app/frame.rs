@@ -27,6 +27,12 @@ impl WindowState {
         self.drive_test();
         let mut steps = 0;
         if let Some(s) = &mut self.session {
+            if let Some(live) = &mut self.live {
+                if let Some(message) = live.pump(s) {
+                    self.panel.message = Some(message);
+                }
+                self.panel.live = Some(live.counts());
+            }
             steps = s.advance(seconds, 8);
             if let Some(said) = s.poll_export() {
                 self.panel.message = Some(match said {

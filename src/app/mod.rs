@@ -23,12 +23,14 @@ mod dialog;
 mod drive;
 mod frame;
 mod hooks;
+mod live;
 mod report;
 mod screenshot;
 mod settings;
 mod window;
 
 pub use hooks::TestHooks;
+pub use live::{LiveOptions, Wake};
 pub use report::Report;
 
 use crate::puppet::RigFile;
@@ -69,6 +71,8 @@ pub struct Options {
     pub after: AfterLoad,
     /// What scripts and tests ask of the window.
     pub hooks: TestHooks,
+    /// Live controls (`--controls`, `--listen`), if any.
+    pub live: Option<LiveOptions>,
 }
 
 /// Everything the open window holds: the window and its GPU surface, egui, and the
@@ -103,6 +107,8 @@ struct WindowState {
     /// A file dialog being shown.
     dialog: Option<dialog::Dialog>,
     hooks: TestHooks,
+    /// Live controls, if the command line gave some.
+    live: Option<live::Live>,
 }
 
 /// egui's context, its window state and its renderer.
@@ -115,10 +121,12 @@ struct Egui {
 /// Opens the window and runs until it is closed. With a screenshot requested, returns what
 /// it shows.
 pub fn run(options: Options) -> Result<Option<Report>> {
-    let event_loop = EventLoop::new().context(
+    let event_loop = EventLoop::<Wake>::with_user_event().build().context(
         "cannot open a window (no display?); the headless commands are `puppet skeleton`, `puppet suggest`, `puppet simulate` and `puppet bench`",
     )?;
+    let proxy = event_loop.create_proxy();
     let mut app = App {
+        proxy,
         options: Some(options),
         window: None,
         error: None,
@@ -132,13 +140,25 @@ pub fn run(options: Options) -> Result<Option<Report>> {
 }
 
 struct App {
+    /// Wakes the loop from the live input's thread.
+    proxy: winit::event_loop::EventLoopProxy<Wake>,
     options: Option<Options>,
     window: Option<WindowState>,
     error: Option<anyhow::Error>,
     report: Option<Report>,
 }
 
-impl ApplicationHandler for App {
+impl ApplicationHandler<Wake> for App {
+    fn user_event(&mut self, _event_loop: &ActiveEventLoop, event: Wake) {
+        match event {
+            Wake::Input => {
+                if let Some(w) = &self.window {
+                    w.window.request_redraw();
+                }
+            }
+        }
+    }
+
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
         if self.window.is_some() {
             return;
@@ -146,7 +166,7 @@ impl ApplicationHandler for App {
         let Some(options) = self.options.take() else {
             return;
         };
-        match WindowState::new(event_loop, options) {
+        match WindowState::new(event_loop, options, self.proxy.clone()) {
             Ok(w) => {
                 w.window.request_redraw();
                 self.window = Some(w);

@@ -69,6 +69,8 @@ pub struct Report {
     pub display: Option<String>,
     /// `$XAUTHORITY`.
     pub xauthority: Option<String>,
+    /// The live controls' counts and values, when `--controls` gave some.
+    pub controls: Option<crate::ui::LiveCounts>,
 }
 
 impl WindowState {
@@ -87,6 +89,7 @@ impl WindowState {
             pid: std::process::id(),
             display: std::env::var("DISPLAY").ok(),
             xauthority: std::env::var("XAUTHORITY").ok(),
+            controls: self.live.as_ref().map(|l| l.counts()),
             ..Report::default()
         };
         let Some(s) = &self.session else {

@@ -16,7 +16,11 @@ use winit::keyboard::ModifiersState;
 use winit::window::Window;
 
 impl WindowState {
-    pub fn new(event_loop: &ActiveEventLoop, options: Options) -> Result<WindowState> {
+    pub fn new(
+        event_loop: &ActiveEventLoop,
+        options: Options,
+        proxy: winit::event_loop::EventLoopProxy<super::Wake>,
+    ) -> Result<WindowState> {
         let attributes = Window::default_attributes()
             .with_title(format!("puppet — {}", options.name))
             .with_inner_size(winit::dpi::LogicalSize::new(1280.0, 800.0));
@@ -97,6 +101,9 @@ impl WindowState {
             dialog: None,
             load: options.load,
             hooks: options.hooks,
+            live: options
+                .live
+                .map(|live| super::live::Live::start(live, proxy)),
         };
         state.panel.recent = state.settings.recent.clone();
         state.panel.hint = !state.settings.hint_done;

@@ -4,6 +4,7 @@
 
 pub mod bench;
 pub mod progress_bar;
+pub mod send_osc;
 pub mod simulate;
 pub mod skeleton;
 pub mod suggest;
@@ -58,6 +59,12 @@ pub struct Cli {
     /// the window closes: for tests and scripts that drive the window.
     #[arg(long, hide = true)]
     pub report: Option<PathBuf>,
+    /// Controls file: live devices (a glove or tracker over OSC) mapped to sections.
+    #[arg(long)]
+    pub controls: Option<PathBuf>,
+    /// UDP port to receive OSC on (with --controls; default 9000).
+    #[arg(long)]
+    pub listen: Option<u16>,
 }
 
 #[derive(Subcommand, Debug)]
@@ -69,6 +76,8 @@ pub enum Command {
     Suggest(suggest::Args),
     /// Play an animation file through the simulation and write OBJ frames (headless).
     Simulate(simulate::Args),
+    /// Stream a synthetic glove performance as OSC (try `--controls` without a glove).
+    SendOsc(send_osc::Args),
     /// Measure (every figure in BENCHMARKS.md): throughput, accuracy, stress, skip, sag,
     /// export, joints, skeleton, skeleton-speed, skeleton-change, machine.
     #[command(arg_required_else_help = false)]
@@ -152,6 +161,7 @@ pub fn run(cli: Cli) -> Result<()> {
     match &cli.command {
         Some(Command::Skeleton(args)) => skeleton::run(args, &cli.load),
         Some(Command::Simulate(args)) => simulate::run(args, &cli.load),
+        Some(Command::SendOsc(args)) => send_osc::run(args),
         Some(Command::Suggest(args)) => suggest::run(args, &cli.load),
         Some(Command::Bench { mode }) => bench::run(mode, &cli.load),
         None => open(&cli),
@@ -180,6 +190,22 @@ fn open(cli: &Cli) -> Result<()> {
         }
         None => None,
     };
+    let live = match &cli.controls {
+        Some(path) => {
+            let name = path.display().to_string();
+            let file =
+                puppet::controls::ControlsFile::load(path).map_err(|e| FileError::new(&name, e))?;
+            let port = cli.listen.unwrap_or(9000);
+            let socket = std::net::UdpSocket::bind(("0.0.0.0", port)).map_err(|e| {
+                FileError::new(&name, format!("cannot listen on UDP port {port}: {e}"))
+            })?;
+            Some(puppet::app::LiveOptions { file, socket })
+        }
+        None if cli.listen.is_some() => {
+            anyhow::bail!("--listen needs --controls: a file that says what the messages drive")
+        }
+        None => None,
+    };
     let mesh_path = cli.mesh.clone().or_else(|| rig_file.mesh.clone());
     let (mesh, load_report, _) = load_mesh(mesh_path.as_deref(), &cli.load)?;
     // The embedded cow opens ready to play: with its suggested joints.
@@ -198,6 +224,7 @@ fn open(cli: &Cli) -> Result<()> {
             cli.drive_test,
             cli.report.clone(),
         ),
+        live,
     })?;
     if let Some(report) = report {
         println!("{}", serde_json::to_string(&report)?);

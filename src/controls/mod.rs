@@ -7,12 +7,14 @@
 //! * [`live`]: the controls at run time: events in, filtered values, section rotations
 //!   and actions out, with counts of what was ignored.
 //! * [`osc`]: OSC packets (UDP) to events, hostile input counted, never a panic.
+//! * [`glove`]: a synthetic glove performance (`puppet send-osc`), to try it without one.
 //!
 //! Devices themselves (sockets, ports) are the shell's: the core sees only [`Event`]s, so
 //! mapping, calibration and filtering are tested with synthetic events.
 
 pub mod file;
 pub mod filter;
+pub mod glove;
 pub mod live;
 pub mod osc;
 

@@ -2,6 +2,7 @@
 //! materials, pinning, the brush), pose, cuts, overlays and stats, one file each. They edit the core's [`Session`] directly and hand what needs the window (opening
 //! files, framing) back as [`Action`]s.
 
+mod controls;
 mod cuts;
 mod export;
 mod file;
@@ -16,6 +17,7 @@ mod world;
 pub use file::file_name;
 
 use crate::session::{Overlays, Session};
+pub use controls::LiveCounts;
 
 /// What a file dialog is for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -84,6 +86,8 @@ pub struct PanelState {
     pub opened: Option<(f64, Option<crate::mesh::LoadReport>)>,
     /// Frame statistics.
     pub stats: Stats,
+    /// The live controls, when the command line gave some.
+    pub live: Option<LiveCounts>,
 }
 
 impl Default for PanelState {
@@ -100,6 +104,7 @@ impl Default for PanelState {
             loading: None,
             opened: None,
             stats: Stats::default(),
+            live: None,
         }
     }
 }
@@ -153,6 +158,10 @@ pub fn side_panel(
                     ui.separator();
                     overlays::overlay_section(ui, state, &mut actions);
                     ui.separator();
+                    if let Some(live) = &state.live {
+                        controls::controls_section(ui, live);
+                        ui.separator();
+                    }
                     stats::stats_section(ui, state, session);
                 }
             });
