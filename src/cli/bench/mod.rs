@@ -17,6 +17,7 @@
 //! * `machine`: copy bandwidth and a plain scalar spring loop, as yardsticks ([`machine`]).
 
 mod accuracy;
+mod controls;
 mod export;
 mod joints;
 mod machine;
@@ -59,6 +60,9 @@ pub enum Bench {
     SkeletonChange(skeleton::ChangeArgs),
     /// This machine's copy bandwidth and a plain scalar spring loop (yardsticks).
     Machine(machine::Args),
+    /// Latency of live input: from an OSC packet leaving the sender to the end of the step
+    /// that shows it.
+    Controls(controls::Args),
 }
 
 /// The input of the step measurements.
@@ -81,6 +85,7 @@ pub fn run(bench: &Bench, load: &LoadArgs) -> Result<()> {
         Bench::SkeletonSpeed(args) => skeleton::speed(args, load),
         Bench::SkeletonChange(args) => skeleton::change(args, load),
         Bench::Machine(args) => machine::run(args),
+        Bench::Controls(args) => controls::run(args),
     }
 }
 
