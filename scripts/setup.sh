@@ -5,8 +5,8 @@ set -euo pipefail
 
 need=()
 # Software Vulkan (lavapipe), a virtual X server, and xdotool to drive the real window in
-# the window tests the way a user would.
-for pkg in mesa-vulkan-drivers libvulkan1 xvfb xauth xdotool; do
+# the window tests the way a user would; ALSA and udev headers for MIDI and gamepad input.
+for pkg in mesa-vulkan-drivers libvulkan1 xvfb xauth xdotool libasound2-dev libudev-dev pkg-config; do
   dpkg -s "$pkg" >/dev/null 2>&1 || need+=("$pkg")
 done
 if [ ${#need[@]} -gt 0 ]; then

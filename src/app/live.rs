@@ -1,13 +1,15 @@
-//! Live input in the window: a thread receives OSC packets on a UDP port, decodes them and
-//! hands their messages to the frame loop, waking it (a settled window sleeps until then);
-//! the frame loop feeds them to the controls bound to the current puppet's sections.
+//! Live input in the window: a thread per kind of device the controls file uses (OSC
+//! packets on a UDP port; every MIDI input port, watched for ports that come and go;
+//! gamepads) turns what arrives into events and hands them to the frame loop, waking it (a
+//! settled window sleeps until then); the frame loop feeds them to the controls bound to
+//! the current puppet's sections. Devices that come or go are a line in the panel.
 
-use crate::controls::{osc, Controls, ControlsFile, Event};
+use crate::controls::{midi, osc, Controls, ControlsFile, Event, Source};
 use crate::session::Session;
 use crate::ui::LiveCounts;
 use std::net::UdpSocket;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::mpsc::{channel, Receiver};
+use std::sync::mpsc::{channel, Receiver, Sender};
 use std::sync::Arc;
 use std::time::Instant;
 use winit::event_loop::EventLoopProxy;
@@ -24,8 +26,16 @@ pub enum Wake {
 pub struct LiveOptions {
     /// The controls.
     pub file: ControlsFile,
-    /// The bound socket.
-    pub socket: UdpSocket,
+    /// The bound socket, when the file reads OSC.
+    pub socket: Option<UdpSocket>,
+}
+
+/// What a device thread hands the frame loop.
+enum Arrival {
+    /// Events, and when they arrived.
+    Events(Vec<Event>, Instant),
+    /// A device came or went (a line for the panel).
+    Notice(String),
 }
 
 /// The live controls of an open window.
@@ -33,7 +43,7 @@ pub(super) struct Live {
     file: ControlsFile,
     /// The controls bound to the session with this id.
     controls: Option<(u64, Controls)>,
-    rx: Receiver<(Vec<Event>, Instant)>,
+    rx: Receiver<Arrival>,
     start: Instant,
     /// Packets that were not OSC.
     bad_packets: Arc<AtomicUsize>,
@@ -46,27 +56,22 @@ impl Live {
     pub(super) fn start(options: LiveOptions, proxy: EventLoopProxy<Wake>) -> Live {
         let (tx, rx) = channel();
         let bad_packets = Arc::new(AtomicUsize::new(0));
-        let bad = bad_packets.clone();
-        let socket = options.socket;
-        let port = socket.local_addr().map_or(0, |a| a.port());
-        std::thread::spawn(move || {
-            let mut buf = vec![0u8; 65536];
-            while let Ok((n, _)) = socket.recv_from(&mut buf) {
-                match osc::decode(&buf[..n]) {
-                    Some(events) => {
-                        if tx.send((events, Instant::now())).is_err() {
-                            return;
-                        }
-                    }
-                    None => {
-                        bad.fetch_add(1, Ordering::Relaxed);
-                    }
-                }
-                if proxy.send_event(Wake::Input).is_err() {
-                    return;
-                }
-            }
-        });
+        let uses =
+            |kind: fn(&Source) -> bool| options.file.controls.iter().any(|c| kind(&c.source));
+        let mut port = 0;
+        if let Some(socket) = options.socket {
+            port = socket.local_addr().map_or(0, |a| a.port());
+            let (tx, proxy, bad) = (tx.clone(), proxy.clone(), bad_packets.clone());
+            std::thread::spawn(move || listen_osc(socket, tx, proxy, bad));
+        }
+        if uses(|s| matches!(s, Source::MidiCc { .. } | Source::MidiNote { .. })) {
+            let (tx, proxy) = (tx.clone(), proxy.clone());
+            std::thread::spawn(move || watch_midi(tx, proxy));
+        }
+        if uses(|s| matches!(s, Source::Gamepad { .. })) {
+            let (tx, proxy) = (tx.clone(), proxy.clone());
+            std::thread::spawn(move || watch_gamepads(tx, proxy));
+        }
         Live {
             file: options.file,
             controls: None,
@@ -91,14 +96,19 @@ impl Live {
                 }
             }
         }
-        let arrived: Vec<(Vec<Event>, Instant)> = self.rx.try_iter().collect();
+        let arrived: Vec<Arrival> = self.rx.try_iter().collect();
         let Some((_, controls)) = &mut self.controls else {
             return message;
         };
-        for (events, at) in arrived {
-            let time = (at - self.start).as_secs_f64();
-            for e in &events {
-                controls.feed(e, time);
+        for a in arrived {
+            match a {
+                Arrival::Events(events, at) => {
+                    let time = (at - self.start).as_secs_f64();
+                    for e in &events {
+                        controls.feed(e, time);
+                    }
+                }
+                Arrival::Notice(line) => message = Some((line, false)),
             }
         }
         session
@@ -125,5 +135,120 @@ impl Live {
                 .collect();
         }
         out
+    }
+}
+
+/// Receives OSC packets until the window goes.
+fn listen_osc(
+    socket: UdpSocket,
+    tx: Sender<Arrival>,
+    proxy: EventLoopProxy<Wake>,
+    bad: Arc<AtomicUsize>,
+) {
+    let mut buf = vec![0u8; 65536];
+    while let Ok((n, _)) = socket.recv_from(&mut buf) {
+        match osc::decode(&buf[..n]) {
+            Some(events) => {
+                if tx.send(Arrival::Events(events, Instant::now())).is_err() {
+                    return;
+                }
+            }
+            None => {
+                bad.fetch_add(1, Ordering::Relaxed);
+            }
+        }
+        if proxy.send_event(Wake::Input).is_err() {
+            return;
+        }
+    }
+}
+
+/// Connects to every MIDI input port, and every second to ports that appeared; says when
+/// one comes or goes.
+fn watch_midi(tx: Sender<Arrival>, proxy: EventLoopProxy<Wake>) {
+    let notice = |line: String| {
+        let sent = tx.send(Arrival::Notice(line)).is_ok();
+        sent && proxy.send_event(Wake::Input).is_ok()
+    };
+    let mut open: Vec<(String, midir::MidiInputConnection<()>)> = Vec::new();
+    loop {
+        let Ok(probe) = midir::MidiInput::new("puppet") else {
+            let _ = notice("MIDI: no MIDI system here (ALSA sequencer)".to_string());
+            return;
+        };
+        let names: Vec<(String, midir::MidiInputPort)> = probe
+            .ports()
+            .into_iter()
+            .filter_map(|p| Some((probe.port_name(&p).ok()?, p)))
+            .collect();
+        // Ports that went.
+        let before = open.len();
+        open.retain(|(name, _)| names.iter().any(|(n, _)| n == name));
+        if open.len() < before && !notice("MIDI: a device was unplugged".to_string()) {
+            return;
+        }
+        for (name, port) in names {
+            if open.iter().any(|(n, _)| *n == name) {
+                continue;
+            }
+            let Ok(input) = midir::MidiInput::new("puppet") else {
+                continue;
+            };
+            let (tx, proxy) = (tx.clone(), proxy.clone());
+            let connected = input.connect(
+                &port,
+                "puppet",
+                move |_, bytes, _| {
+                    if let Some(e) = midi::event(bytes) {
+                        let _ = tx.send(Arrival::Events(vec![e], Instant::now()));
+                        let _ = proxy.send_event(Wake::Input);
+                    }
+                },
+                (),
+            );
+            if let Ok(c) = connected {
+                if !notice(format!("MIDI: {name} connected")) {
+                    return;
+                }
+                open.push((name, c));
+            }
+        }
+        std::thread::sleep(std::time::Duration::from_secs(1));
+    }
+}
+
+/// Gamepads' axes and buttons as events, and their coming and going.
+fn watch_gamepads(tx: Sender<Arrival>, proxy: EventLoopProxy<Wake>) {
+    let mut gilrs = match gilrs::Gilrs::new() {
+        Ok(g) => g,
+        Err(e) => {
+            let _ = tx.send(Arrival::Notice(format!("gamepads: not available ({e})")));
+            let _ = proxy.send_event(Wake::Input);
+            return;
+        }
+    };
+    while let Some(ev) = gilrs.next_event_blocking(None) {
+        let arrival = match ev.event {
+            gilrs::EventType::AxisChanged(axis, value, _) => Arrival::Events(
+                vec![midi::gamepad(&format!("{axis:?}"), value)],
+                Instant::now(),
+            ),
+            gilrs::EventType::ButtonChanged(button, value, _) => Arrival::Events(
+                vec![midi::gamepad(&format!("{button:?}"), value)],
+                Instant::now(),
+            ),
+            gilrs::EventType::Connected => Arrival::Notice(format!(
+                "gamepad: {} connected",
+                gilrs.gamepad(ev.id).name()
+            )),
+            gilrs::EventType::Disconnected => Arrival::Notice(format!(
+                "gamepad: {} unplugged",
+                gilrs.gamepad(ev.id).name()
+            )),
+            _ => continue,
+        };
+        if tx.send(arrival).is_err() || proxy.send_event(Wake::Input).is_err() {
+            return;
+        }
     }
 }

@@ -195,10 +195,19 @@ fn open(cli: &Cli) -> Result<()> {
             let name = path.display().to_string();
             let file =
                 puppet::controls::ControlsFile::load(path).map_err(|e| FileError::new(&name, e))?;
-            let port = cli.listen.unwrap_or(9000);
-            let socket = std::net::UdpSocket::bind(("0.0.0.0", port)).map_err(|e| {
-                FileError::new(&name, format!("cannot listen on UDP port {port}: {e}"))
-            })?;
+            // A UDP port only where the file reads OSC (or --listen asks for one).
+            let osc = file
+                .controls
+                .iter()
+                .any(|c| matches!(c.source, puppet::controls::Source::Osc { .. }));
+            let socket = if osc || cli.listen.is_some() {
+                let port = cli.listen.unwrap_or(9000);
+                Some(std::net::UdpSocket::bind(("0.0.0.0", port)).map_err(|e| {
+                    FileError::new(&name, format!("cannot listen on UDP port {port}: {e}"))
+                })?)
+            } else {
+                None
+            };
             Some(puppet::app::LiveOptions { file, socket })
         }
         None if cli.listen.is_some() => {

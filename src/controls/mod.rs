@@ -7,6 +7,7 @@
 //! * [`live`]: the controls at run time: events in, filtered values, section rotations
 //!   and actions out, with counts of what was ignored.
 //! * [`osc`]: OSC packets (UDP) to events, hostile input counted, never a panic.
+//! * [`midi`]: MIDI messages (and gamepad axes and buttons) to events.
 //! * [`glove`]: a synthetic glove performance (`puppet send-osc`), to try it without one.
 //!
 //! Devices themselves (sockets, ports) are the shell's: the core sees only [`Event`]s, so
@@ -16,6 +17,7 @@ pub mod file;
 pub mod filter;
 pub mod glove;
 pub mod live;
+pub mod midi;
 pub mod osc;
 
 pub use file::{Action, Calibration, Control, ControlsError, ControlsFile, Source, Target};
