@@ -219,7 +219,7 @@ fn mesh_readers_never_panic() {
 }
 
 #[test]
-fn rig_and_animation_readers_never_panic() {
+fn rig_animation_controls_and_osc_readers_never_panic() {
     let rig = std::fs::read(example("spot-mouth.rig.toml")).unwrap();
     survive("rig", &rig, 3, |bytes| {
         let text = std::str::from_utf8(bytes).map_err(|e| e.to_string())?;
@@ -234,6 +234,20 @@ fn rig_and_animation_readers_never_panic() {
             .and_then(|a| a.check().map(|()| a))
             .map(|_| ())
             .map_err(|e| e.to_string())
+    });
+    // The controls file, and OSC packets: mutated copies of a glove's message.
+    let controls = std::fs::read(example("glove.toml")).unwrap();
+    survive("controls", &controls, 5, |bytes| {
+        let text = std::str::from_utf8(bytes).map_err(|e| e.to_string())?;
+        puppet::controls::ControlsFile::parse(text)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    });
+    let packet = puppet::controls::osc::encode("/glove/flex", &[0.1, 0.2, 0.3, 0.4, 0.5]);
+    survive("osc", &packet, 6, |bytes| {
+        puppet::controls::osc::decode(bytes)
+            .map(|_| ())
+            .ok_or_else(|| "not OSC".to_string())
     });
 }
 
