@@ -17,7 +17,7 @@ fn params(method: Method) -> SkeletonParams {
 /// Error bounds per method, from the measured table in BENCHMARKS.md (with headroom): they
 /// fail if a change makes the skeleton measurably worse. The fitted ball is held to the
 /// targets (median 1 %, 95th percentile 3 %) on every shape and resolution, tidy and
-/// uneven alike (the third resolution, in BENCHMARKS.md, is within them too).
+/// uneven alike (the finer resolutions, in `docs/performance-log.md`, are within them too).
 #[test]
 fn accuracy_against_analytic_shapes() {
     let cases = truth::cases(2);
