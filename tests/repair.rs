@@ -934,6 +934,23 @@ fn regenerate_the_defect_corpus() {
         spot_src,
         &["duplicate faces over the same corners"],
     );
+    // A two-sided flap, as the famous monkey head has: a triangle written both ways round,
+    // hanging off an edge of the surface by a vertex of its own.
+    let mut flap = spot.clone();
+    let [fa, fb, fc] = spot.triangles[0];
+    let tip = (spot.positions[fa as usize] + spot.positions[fb as usize]) * 0.5
+        + (spot.positions[fa as usize] - spot.positions[fc as usize]);
+    flap.positions.push(tip);
+    let t = (flap.positions.len() - 1) as u32;
+    flap.triangles.push([fa, fb, t]);
+    flap.triangles.push([fb, fa, t]);
+    add(
+        "flap.obj",
+        obj(&flap),
+        "the cow with a two-sided flap (one triangle written both ways round) on an edge",
+        spot_src,
+        &["removed 2 duplicate faces", "removed 1 unused vertices"],
+    );
     let mut soup = Mesh {
         positions: Vec::new(),
         triangles: Vec::new(),

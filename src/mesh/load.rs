@@ -422,6 +422,9 @@ pub fn parse(
         if c.nonmanifold > 0 {
             report.duplicate_faces = drop_duplicate_faces(&mut mesh);
             if report.duplicate_faces > 0 {
+                // A dropped flap can leave a vertex no face uses.
+                let identity: Vec<u32> = (0..mesh.positions.len() as u32).collect();
+                report.unreferenced += super::weld::remap(&mut mesh, &identity).removed_vertices;
                 half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
             }
         }

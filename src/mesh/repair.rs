@@ -1,8 +1,9 @@
 //! Repairs of what downloaded meshes often get wrong, each run only when the edge census
 //! shows it is needed:
 //!
-//! * **duplicate faces**: a face over the same three vertices as an earlier one (either
-//!   way round) is dropped;
+//! * **duplicate faces**: a face over the same three vertices as an earlier one is dropped;
+//!   a two-sided flap (a face written both ways round, hanging off the surface by an edge
+//!   no other face uses) goes whole;
 //! * **open seams**: boundary vertices almost on top of another boundary vertex (closer
 //!   than a tenth of their shortest edge: a gap no modeller meant) are welded;
 //! * **inconsistent orientation**: faces are turned to agree with their neighbours, part by
@@ -17,15 +18,42 @@ use super::edges::{target, HalfEdges};
 use super::weld::remap;
 use super::Mesh;
 
-/// Drops every face over the same three vertices as an earlier face (in either
-/// orientation). Returns how many were dropped.
+/// Drops the faces written more than once over the same three vertices, keeping the first;
+/// a *flap* (a face written both ways round with an edge no other face uses: a two-sided
+/// triangle hanging off the surface) goes whole. Returns how many faces were dropped.
 pub(super) fn drop_duplicate_faces(mesh: &mut Mesh) -> usize {
-    let mut seen = std::collections::HashSet::with_capacity(mesh.triangles.len());
+    use std::collections::HashMap;
+    let way = |t: &[u32; 3]| {
+        let k = (0..3).min_by_key(|&k| t[k]).unwrap_or(0);
+        usize::from(t[(k + 1) % 3] < t[(k + 2) % 3])
+    };
+    let key = |t: &[u32; 3]| {
+        let mut k = *t;
+        k.sort_unstable();
+        k
+    };
+    // Copies of each vertex set, each way round; faces on each edge.
+    let mut copies: HashMap<[u32; 3], [u32; 2]> = HashMap::with_capacity(mesh.triangles.len());
+    let mut on_edge: HashMap<(u32, u32), u32> = HashMap::new();
+    for t in &mesh.triangles {
+        copies.entry(key(t)).or_default()[way(t)] += 1;
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            *on_edge.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    let flap = |k: &[u32; 3], n: [u32; 2]| {
+        n[0] > 0
+            && n[1] > 0
+            && [(k[0], k[1]), (k[1], k[2]), (k[0], k[2])]
+                .iter()
+                .any(|e| on_edge.get(e).copied().unwrap_or(0) <= n[0] + n[1])
+    };
+    let mut kept = std::collections::HashSet::with_capacity(mesh.triangles.len());
     let before = mesh.triangles.len();
     mesh.triangles.retain(|t| {
-        let mut key = *t;
-        key.sort_unstable();
-        seen.insert(key)
+        let k = key(t);
+        copies.get(&k).is_some_and(|&n| !flap(&k, n)) && kept.insert(k)
     });
     before - mesh.triangles.len()
 }
