@@ -131,7 +131,7 @@ impl Live {
             out.values = c
                 .values()
                 .into_iter()
-                .map(|(name, _, v)| (name.to_string(), v))
+                .map(|(name, v)| (name.to_string(), v))
                 .collect();
         }
         out

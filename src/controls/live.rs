@@ -5,7 +5,7 @@
 //! reads, an argument that is missing, not a number, non-finite or beyond 1e9, a
 //! quaternion of zero length. A flood is fine: each event costs a lookup per control.
 
-use super::file::{Action, Calibration, Control, ControlsError, ControlsFile, Source, Target};
+use super::file::{Action, Control, ControlsError, ControlsFile, Source, Target};
 use super::filter::OneEuro;
 use crate::joints::Local;
 use glam::DQuat;
@@ -56,8 +56,6 @@ const MAX_RAW: f64 = 1e9;
 struct State {
     /// Sections it turns (indices into the puppet's sections).
     sections: Vec<usize>,
-    /// The last raw value.
-    raw: Option<f64>,
     /// Filtered 0..1 value.
     filter: OneEuro,
     /// Orientation: one filter per quaternion component, and the last quaternion.
@@ -80,9 +78,6 @@ pub struct Controls {
     fired: Vec<Action>,
     changed: bool,
 }
-
-/// What the controls asked for besides poses.
-pub type Fired = Action;
 
 impl Controls {
     /// The controls of `file` for a puppet whose sections are `sections` (by name).
@@ -114,7 +109,6 @@ impl Controls {
             let (min_cutoff, beta) = c.smoothing;
             state.push(State {
                 sections: found,
-                raw: None,
                 filter: OneEuro::new(min_cutoff, beta),
                 quat: None,
                 pressed: false,
@@ -136,13 +130,13 @@ impl Controls {
         &self.file.controls
     }
 
-    /// Each control's name, last raw value and current 0..1 value (for the panel).
-    pub fn values(&self) -> Vec<(&str, Option<f64>, Option<f64>)> {
+    /// Each control's name and current 0..1 value (for the panel).
+    pub fn values(&self) -> Vec<(&str, Option<f64>)> {
         self.file
             .controls
             .iter()
             .zip(&self.state)
-            .map(|(c, s)| (c.name.as_str(), s.raw, s.filter.value()))
+            .map(|(c, s)| (c.name.as_str(), s.filter.value()))
             .collect()
     }
 
@@ -200,7 +194,6 @@ impl Controls {
     fn take(&mut self, k: usize, raw: f64, time: f64) {
         let c = &self.file.controls[k];
         let s = &mut self.state[k];
-        s.raw = Some(raw);
         let v = c.calibration.apply(raw);
         if let Target::Action(a) = c.target {
             let pressed = v > 0.5;
@@ -238,16 +231,14 @@ impl Controls {
         if q.dot(*last) < 0.0 {
             q = -q;
         }
-        let c = q.to_array().map(|x| x);
         let mut out = [0.0; 4];
-        for ((o, f), x) in out.iter_mut().zip(filters.iter_mut()).zip(c) {
+        for ((o, f), x) in out.iter_mut().zip(filters.iter_mut()).zip(q.to_array()) {
             *o = f.filter(x, time);
         }
         let filtered = DQuat::from_array(out);
         if filtered.length() > 1e-6 {
             *last = filtered.normalize();
         }
-        s.raw = Some(q.w);
         self.changed = true;
     }
 
@@ -289,11 +280,6 @@ impl Controls {
             }
         }
         touched
-    }
-
-    /// Each control's calibration, for a calibrate step to change.
-    pub fn calibration_mut(&mut self, k: usize) -> Option<&mut Calibration> {
-        self.file.controls.get_mut(k).map(|c| &mut c.calibration)
     }
 }
 

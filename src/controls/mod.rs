@@ -22,4 +22,4 @@ pub mod osc;
 
 pub use file::{Action, Calibration, Control, ControlsError, ControlsFile, Source, Target};
 pub use filter::OneEuro;
-pub use live::{Controls, Event, Fired};
+pub use live::{Controls, Event};
