@@ -447,3 +447,84 @@ fn a_glove_over_osc_curls_the_fingers_and_records_a_take() {
     }
     assert!(w.quit().success());
 }
+
+/// Learning a control as MIDI learn works: with the window listening and no controls yet,
+/// L starts learning, a control that moves (OSC here) and a click on a part map one to the
+/// other, and from then on the control turns that part.
+#[test]
+fn learn_maps_the_control_that_moved_to_the_part_clicked() {
+    use puppet::controls::osc;
+    let dir = common::scratch("window-learn");
+    let port = std::net::UdpSocket::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port()
+        .to_string();
+    let mut w = common::Window::open(&dir, &["--listen", &port]);
+    let socket = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+    socket.connect(format!("127.0.0.1:{port}")).unwrap();
+    let send = |values: &[f32]| {
+        socket.send(&osc::encode("/knob", values)).unwrap();
+    };
+    let r = w.state().unwrap();
+    let (name, at) = common::part_on_screen(&r);
+    w.hover([120.0, 400.0]);
+    std::thread::sleep(Duration::from_millis(300));
+    w.key("l");
+    w.wait(
+        |r| r["controls"]["learning"].is_string(),
+        "L to start learning",
+    );
+    // The knob's second value sweeps; its first only jitters.
+    for k in 0..=10 {
+        send(&[0.5 + 0.001 * (k % 2) as f32, 0.1 * k as f32]);
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    w.wait(
+        |r| {
+            r["controls"]["learning"]
+                .as_str()
+                .is_some_and(|l| l.starts_with("moved: /knob 1"))
+        },
+        "the moved control to be named",
+    );
+    w.click(at);
+    let r = w.wait(
+        |r| {
+            r["controls"]["values"]
+                .as_array()
+                .is_some_and(|v| !v.is_empty())
+        },
+        "the click to map the control",
+    );
+    assert_eq!(r["controls"]["values"][0][0], name.as_str(), "{r}");
+    assert!(
+        r["message"]
+            .as_str()
+            .unwrap_or("")
+            .contains("learned: /knob 1"),
+        "{r}"
+    );
+    w.key("l");
+    w.wait(
+        |r| r["controls"]["learning"].is_null(),
+        "L to stop learning",
+    );
+    // The knob turned all the way is the part turned 90°.
+    let angle = |r: &serde_json::Value| -> f64 {
+        r["turned"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(|t| t.as_str()?.strip_prefix(&format!("{name}:"))?.parse().ok())
+            .next()
+            .unwrap_or(0.0)
+    };
+    for _ in 0..30 {
+        send(&[0.5, 1.0]);
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    w.wait(|r| angle(r) > 85.0, "the knob to turn the part");
+    assert!(w.quit().success());
+}

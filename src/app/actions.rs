@@ -89,6 +89,7 @@ impl WindowState {
                         s.toggle_brush();
                     }
                 }
+                ("l", false) => self.toggle_learn(),
                 ("r", false) => {
                     if let Some(s) = &mut self.session {
                         s.reset_pose();
@@ -208,8 +209,67 @@ impl WindowState {
                 self.dialog = Some(Dialog::show(purpose, dir));
             }
             Action::File(purpose, path) => self.use_file(purpose, path),
+            Action::Learn => self.toggle_learn(),
+            Action::Calibrate => {
+                if let Some(live) = &mut self.live {
+                    live.start_calibrating();
+                }
+            }
+            Action::CalibrateDone(keep) => {
+                if let Some(said) = self.live.as_mut().and_then(|l| l.finish_calibrating(keep)) {
+                    self.panel.message = Some((said, false));
+                }
+            }
         }
         self.window.request_redraw();
+    }
+
+    /// Starts or stops learning controls (starting the live input, with no controls yet,
+    /// where there is none).
+    fn toggle_learn(&mut self) {
+        let Some(s) = &mut self.session else {
+            return;
+        };
+        let live = self.live.get_or_insert_with(|| {
+            super::live::Live::start(
+                super::LiveOptions {
+                    file: crate::controls::ControlsFile::default(),
+                    socket: None,
+                },
+                self.proxy.clone(),
+            )
+        });
+        self.panel.message = Some(live.toggle_learn(s));
+        self.panel.live = Some(live.counts());
+    }
+
+    /// Uses a controls file loaded from the panel: a bad one is a line in the panel and
+    /// the controls in use stay.
+    fn load_controls(&mut self, path: &Path) -> Result<String, String> {
+        let shown = crate::ui::file_name(path);
+        let file =
+            crate::controls::ControlsFile::load(path).map_err(|e| format!("{shown}: {e}"))?;
+        let n = file.controls.len();
+        let osc = file
+            .controls
+            .iter()
+            .any(|c| matches!(c.source, crate::controls::Source::Osc { .. }));
+        let live = match &mut self.live {
+            Some(live) => {
+                live.set_file(file);
+                live
+            }
+            None => self.live.insert(super::live::Live::start(
+                super::LiveOptions { file, socket: None },
+                self.proxy.clone(),
+            )),
+        };
+        let warning = if osc { live.ensure_osc() } else { None };
+        self.panel.live = Some(live.counts());
+        match warning {
+            Some(w) => Err(format!("loaded {shown} ({n} controls); {w}")),
+            None => Ok(format!("loaded {shown}: {n} controls")),
+        }
     }
 
     /// What a file is for, done: open, load, save or export.
@@ -255,6 +315,15 @@ impl WindowState {
             FilePurpose::SaveAnimation => match self.session() {
                 Some(s) => s.save_animation(&path),
                 None => return,
+            },
+            FilePurpose::LoadControls => self.load_controls(&path),
+            FilePurpose::SaveControls => match &self.live {
+                Some(live) => live
+                    .file()
+                    .save(&path)
+                    .map(|_| format!("saved {shown}"))
+                    .map_err(|e| format!("{shown}: cannot write: {e}")),
+                None => Err("no controls to save yet: learn some, or load a file".into()),
             },
             FilePurpose::ExportSurface => match self.session() {
                 Some(s) => s

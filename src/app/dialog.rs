@@ -68,6 +68,15 @@ impl Dialog {
                     .add_filter("animation files", &["toml", "json"])
                     .set_file_name("puppet.anim.toml")
                     .save_file(),
+                FilePurpose::LoadControls => d
+                    .set_title("Load controls")
+                    .add_filter("controls files", &["toml"])
+                    .pick_file(),
+                FilePurpose::SaveControls => d
+                    .set_title("Save the controls")
+                    .add_filter("controls files", &["toml"])
+                    .set_file_name("controls.toml")
+                    .save_file(),
             };
             let _ = tx.send(picked);
         });

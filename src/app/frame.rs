@@ -28,7 +28,8 @@ impl WindowState {
         let mut steps = 0;
         if let Some(s) = &mut self.session {
             if let Some(live) = &mut self.live {
-                if let Some(message) = live.pump(s) {
+                let view = (self.camera.target - self.camera.eye()).as_dvec3();
+                if let Some(message) = live.pump(s, view) {
                     self.panel.message = Some(message);
                 }
                 self.panel.live = Some(live.counts());

@@ -30,7 +30,7 @@ mod settings;
 mod window;
 
 pub use hooks::TestHooks;
-pub use live::{LiveOptions, Wake};
+pub use live::{LiveOptions, Wake, DEFAULT_PORT};
 pub use report::Report;
 
 use crate::puppet::RigFile;
@@ -107,8 +107,10 @@ struct WindowState {
     /// A file dialog being shown.
     dialog: Option<dialog::Dialog>,
     hooks: TestHooks,
-    /// Live controls, if the command line gave some.
+    /// Live controls, once the command line or the panel started them.
     live: Option<live::Live>,
+    /// Wakes the loop from the live input's threads.
+    proxy: winit::event_loop::EventLoopProxy<Wake>,
 }
 
 /// egui's context, its window state and its renderer.
@@ -211,7 +213,8 @@ impl ApplicationHandler<Wake> for App {
                     event_loop.exit();
                 }
             },
-            // A dropped animation plays; a dropped rig loads; anything else opens as a mesh.
+            // A dropped animation plays; a dropped rig or controls file loads; anything else
+            // opens as a mesh.
             WindowEvent::DroppedFile(path) => {
                 let text_file = path.extension().is_some_and(|e| {
                     e.eq_ignore_ascii_case("toml") || e.eq_ignore_ascii_case("json")
@@ -220,6 +223,8 @@ impl ApplicationHandler<Wake> for App {
                     crate::ui::FilePurpose::OpenMesh
                 } else if crate::session::playback::is_animation_file(&path) {
                     crate::ui::FilePurpose::OpenAnimation
+                } else if crate::controls::file::is_controls_file(&path) {
+                    crate::ui::FilePurpose::LoadControls
                 } else {
                     crate::ui::FilePurpose::LoadRig
                 };

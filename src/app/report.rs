@@ -69,7 +69,8 @@ pub struct Report {
     pub display: Option<String>,
     /// `$XAUTHORITY`.
     pub xauthority: Option<String>,
-    /// The live controls' counts and values, when `--controls` gave some.
+    /// The live controls' counts and values, once the command line or the panel started
+    /// them.
     pub controls: Option<crate::ui::LiveCounts>,
 }
 

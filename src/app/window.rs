@@ -103,7 +103,8 @@ impl WindowState {
             hooks: options.hooks,
             live: options
                 .live
-                .map(|live| super::live::Live::start(live, proxy)),
+                .map(|live| super::live::Live::start(live, proxy.clone())),
+            proxy,
         };
         state.panel.recent = state.settings.recent.clone();
         state.panel.hint = !state.settings.hint_done;

@@ -62,7 +62,8 @@ pub struct Cli {
     /// Controls file: live devices (a glove or tracker over OSC) mapped to sections.
     #[arg(long)]
     pub controls: Option<PathBuf>,
-    /// UDP port to receive OSC on (with --controls; default 9000).
+    /// UDP port to receive OSC on (default 9000 where the controls file reads OSC); alone,
+    /// it listens with no controls yet, for the Controls panel's Learn.
     #[arg(long)]
     pub listen: Option<u16>,
 }
@@ -190,8 +191,8 @@ fn open(cli: &Cli) -> Result<()> {
         }
         None => None,
     };
-    let live = match &cli.controls {
-        Some(path) => {
+    let live = match (&cli.controls, cli.listen) {
+        (Some(path), listen) => {
             let name = path.display().to_string();
             let file =
                 puppet::controls::ControlsFile::load(path).map_err(|e| FileError::new(&name, e))?;
@@ -200,8 +201,8 @@ fn open(cli: &Cli) -> Result<()> {
                 .controls
                 .iter()
                 .any(|c| matches!(c.source, puppet::controls::Source::Osc { .. }));
-            let socket = if osc || cli.listen.is_some() {
-                let port = cli.listen.unwrap_or(9000);
+            let socket = if osc || listen.is_some() {
+                let port = listen.unwrap_or(puppet::app::DEFAULT_PORT);
                 Some(std::net::UdpSocket::bind(("0.0.0.0", port)).map_err(|e| {
                     FileError::new(&name, format!("cannot listen on UDP port {port}: {e}"))
                 })?)
@@ -210,10 +211,20 @@ fn open(cli: &Cli) -> Result<()> {
             };
             Some(puppet::app::LiveOptions { file, socket })
         }
-        None if cli.listen.is_some() => {
-            anyhow::bail!("--listen needs --controls: a file that says what the messages drive")
+        // Listening with no controls yet: the panel's Learn maps what arrives.
+        (None, Some(port)) => {
+            let socket = std::net::UdpSocket::bind(("0.0.0.0", port)).map_err(|e| {
+                anyhow::anyhow!(
+                    "cannot listen on UDP port {port}: {}",
+                    puppet::files::io_message(&e)
+                )
+            })?;
+            Some(puppet::app::LiveOptions {
+                file: puppet::controls::ControlsFile::default(),
+                socket: Some(socket),
+            })
         }
-        None => None,
+        (None, None) => None,
     };
     let mesh_path = cli.mesh.clone().or_else(|| rig_file.mesh.clone());
     let (mesh, load_report, _) = load_mesh(mesh_path.as_deref(), &cli.load)?;

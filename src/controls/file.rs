@@ -61,6 +61,19 @@ pub enum Source {
     },
 }
 
+impl std::fmt::Display for Source {
+    /// As the panel shows it: `/glove/flex 2`, `midi 1 cc 7`, `midi 1 note 60`,
+    /// `gamepad LeftStickX`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Source::Osc { address, arg } => write!(f, "{address} {arg}"),
+            Source::MidiCc { channel, cc } => write!(f, "midi {channel} cc {cc}"),
+            Source::MidiNote { channel, note } => write!(f, "midi {channel} note {note}"),
+            Source::Gamepad { name } => write!(f, "gamepad {name}"),
+        }
+    }
+}
+
 /// What a button does instead of turning a section.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -268,6 +281,127 @@ impl ControlsFile {
     }
 }
 
+impl ControlsFile {
+    /// The file as TOML that [`ControlsFile::parse`] reads back to the same controls
+    /// (their lines aside): one `[[control]]` table each, keys left out where they hold
+    /// the default, numbers in their shortest form.
+    pub fn to_toml(&self) -> String {
+        let mut out = String::from(
+            "# Live controls for puppet: `puppet MESH --rig R --controls THIS_FILE`.\n",
+        );
+        for c in &self.controls {
+            out.push_str("\n[[control]]\n");
+            line(&mut out, "name", &quoted(&c.name));
+            match &c.source {
+                Source::Osc { address, arg } => {
+                    line(&mut out, "osc", &quoted(address));
+                    if *arg != 0 {
+                        line(&mut out, "arg", &arg.to_string());
+                    }
+                }
+                Source::MidiCc { channel, cc } => {
+                    line(
+                        &mut out,
+                        "midi",
+                        &format!("{{ channel = {channel}, cc = {cc} }}"),
+                    );
+                }
+                Source::MidiNote { channel, note } => line(
+                    &mut out,
+                    "midi",
+                    &format!("{{ channel = {channel}, note = {note} }}"),
+                ),
+                Source::Gamepad { name } => line(&mut out, "gamepad", &quoted(name)),
+            }
+            let k = &c.calibration;
+            let default = Calibration::default();
+            if k.min != default.min || k.max != default.max {
+                line(&mut out, "min", &number(k.min));
+                line(&mut out, "max", &number(k.max));
+            }
+            if k.invert {
+                line(&mut out, "invert", "true");
+            }
+            if k.dead_zone != 0.0 {
+                line(&mut out, "dead_zone", &number(k.dead_zone));
+            }
+            match &c.target {
+                Target::Turn {
+                    sections,
+                    axis,
+                    angles,
+                } => {
+                    if let [one] = sections.as_slice() {
+                        line(&mut out, "section", &quoted(one));
+                    } else {
+                        let names: Vec<String> = sections.iter().map(|s| quoted(s)).collect();
+                        line(&mut out, "curl", &format!("[{}]", names.join(", ")));
+                    }
+                    if *axis != DVec3::Z {
+                        line(&mut out, "axis", &vector(&axis.to_array()));
+                    }
+                    if *angles != [0.0, 90.0] {
+                        line(&mut out, "angles", &vector(angles));
+                    }
+                }
+                Target::Orientation { section } => {
+                    line(&mut out, "orientation", &quoted(section));
+                }
+                Target::Action(a) => {
+                    let name = match a {
+                        Action::Record => "record",
+                        Action::Reset => "reset",
+                        Action::Play => "play",
+                    };
+                    line(&mut out, "action", &quoted(name));
+                }
+            }
+            if c.smoothing != DEFAULT_SMOOTHING {
+                line(&mut out, "min_cutoff", &number(c.smoothing.0));
+                line(&mut out, "beta", &number(c.smoothing.1));
+            }
+        }
+        out
+    }
+
+    /// Writes the file (as [`ControlsFile::to_toml`]).
+    ///
+    /// # Errors
+    /// The file cannot be written, in words.
+    pub fn save(&self, path: &std::path::Path) -> Result<(), ControlsError> {
+        std::fs::write(path, self.to_toml())
+            .map_err(|e| ControlsError(crate::files::io_message(&e)))
+    }
+}
+
+fn line(out: &mut String, key: &str, value: &str) {
+    out.push_str(key);
+    out.push_str(" = ");
+    out.push_str(value);
+    out.push('\n');
+}
+
+/// A TOML string.
+fn quoted(s: &str) -> String {
+    toml::Value::String(s.to_string()).to_string()
+}
+
+/// The shortest text that reads back to `x`.
+fn number(x: f64) -> String {
+    format!("{x}")
+}
+
+fn vector(v: &[f64]) -> String {
+    let parts: Vec<String> = v.iter().map(|&x| number(x)).collect();
+    format!("[{}]", parts.join(", "))
+}
+
+/// Whether the file at `path` reads as a controls file (it has a `[[control]]` table), so
+/// a file dropped on the window goes where it belongs.
+pub fn is_controls_file(path: &std::path::Path) -> bool {
+    std::fs::read_to_string(path).is_ok_and(|text| text.lines().any(|l| l.trim() == "[[control]]"))
+}
+
 /// The line (from 1) of byte `at` of `text`.
 fn line_of(text: &str, at: usize) -> usize {
     text.as_bytes()[..at.min(text.len())]
@@ -411,10 +545,8 @@ fn control(
         return Err(at("min_cutoff must be above 0 and beta at least 0"));
     }
     let name = c.name.clone().unwrap_or_else(|| match &source {
-        Source::Osc { address, arg } => format!("{address} {arg}"),
-        Source::MidiCc { channel, cc } => format!("midi {channel} cc {cc}"),
-        Source::MidiNote { channel, note } => format!("midi {channel} note {note}"),
         Source::Gamepad { name } => name.clone(),
+        other => other.to_string(),
     });
     Ok(Control {
         name,
@@ -484,6 +616,44 @@ action = "record"
         ));
         assert_eq!(f.controls[3].target, Target::Action(Action::Record));
         assert_eq!(f.sections(), ["index.1", "index.2", "jaw", "hand"]);
+    }
+
+    #[test]
+    fn a_file_written_reads_back_to_the_same_controls() {
+        let mut f = ControlsFile::parse(GLOVE).unwrap();
+        f.controls[0].calibration.dead_zone = 0.125;
+        f.controls[0].smoothing = (0.3, 0.7);
+        f.controls.push(Control {
+            name: "a \"quoted\" name".into(),
+            source: Source::MidiNote {
+                channel: 16,
+                note: 60,
+            },
+            calibration: Calibration {
+                min: -1.0,
+                max: 0.1 + 0.2,
+                ..Calibration::default()
+            },
+            target: Target::Turn {
+                sections: vec!["jaw".into()],
+                axis: DVec3::new(0.6, 0.8, 0.0),
+                angles: [-12.5, 1e-3],
+            },
+            smoothing: DEFAULT_SMOOTHING,
+            line: 0,
+        });
+        let text = f.to_toml();
+        let back = ControlsFile::parse(&text).unwrap();
+        let unlined = |f: &ControlsFile| {
+            let mut f = f.clone();
+            for c in &mut f.controls {
+                c.line = 0;
+            }
+            f
+        };
+        assert_eq!(unlined(&back), unlined(&f), "{text}");
+        assert_eq!(back.to_toml(), text, "saving again gives the same bytes");
+        assert!(text.contains("curl = [\"index.1\", \"index.2\"]"), "{text}");
     }
 
     #[test]

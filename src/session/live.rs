@@ -4,6 +4,7 @@
 
 use super::Session;
 use crate::controls::{Action, Controls};
+use glam::DVec3;
 
 impl Session {
     /// Applies what `controls` took in since the last call: fired actions first (record
@@ -29,6 +30,44 @@ impl Session {
             }
         }
         said
+    }
+
+    /// The axis a learned control turns `section` about, seen along `view` (the camera's
+    /// direction): across the section's length and the line of sight, so that the part
+    /// bends towards the viewer as a finger curls, whichever way it points on screen.
+    /// Falls back to +z where the section points along the view.
+    pub fn bend_axis(&self, section: usize, view: DVec3) -> DVec3 {
+        let Some(pivot) = self.puppet.joints.sections().get(section).map(|s| s.pivot) else {
+            return DVec3::Z;
+        };
+        let (mut sum, mut n) = (DVec3::ZERO, 0usize);
+        for (p, &k) in self
+            .puppet
+            .mesh
+            .positions
+            .iter()
+            .zip(self.puppet.joints.section_of())
+        {
+            if usize::from(k) == section {
+                sum += *p;
+                n += 1;
+            }
+        }
+        let along = if n > 0 {
+            sum / n as f64 - pivot
+        } else {
+            DVec3::ZERO
+        };
+        view.cross(along)
+            .try_normalize()
+            .filter(|_| {
+                along
+                    .normalize_or_zero()
+                    .dot(view.normalize_or_zero())
+                    .abs()
+                    < 0.95
+            })
+            .unwrap_or(DVec3::Z)
     }
 
     /// The names of the sections, in order (what a controls file names).

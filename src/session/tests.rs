@@ -663,3 +663,17 @@ fn live_controls_turn_sections_and_record_a_take() {
     c.feed(&osc("/bend", f64::NAN), 2.0);
     assert_eq!((c.unknown, c.ignored), (1, 1));
 }
+
+#[test]
+fn a_learned_control_bends_its_section_towards_the_viewer() {
+    let s = session();
+    let arm = s.section_names().iter().position(|&n| n == "arm").unwrap();
+    // Seen from +z, the arm (along +y) bends about +x: its tip comes towards the camera.
+    let axis = s.bend_axis(arm, DVec3::NEG_Z);
+    assert!(axis.distance(DVec3::X) < 0.02, "{axis}");
+    let tip = DQuat::from_axis_angle(axis, 0.5) * DVec3::Y;
+    assert!(tip.z > 0.4, "{tip}");
+    // Seen along the arm there is no such axis: +z.
+    assert_eq!(s.bend_axis(arm, DVec3::NEG_Y), DVec3::Z);
+    assert_eq!(s.bend_axis(99, DVec3::NEG_Z), DVec3::Z);
+}

@@ -71,6 +71,8 @@ pub(super) fn file_section(
                 ("Open anim", FilePurpose::OpenAnimation),
                 ("Save anim", FilePurpose::SaveAnimation),
                 ("Export anim", FilePurpose::ExportAnimation),
+                ("Load controls", FilePurpose::LoadControls),
+                ("Save controls", FilePurpose::SaveControls),
             ] {
                 if ui.add_enabled(typed, egui::Button::new(label)).clicked() {
                     actions.push(Action::File(purpose, path.clone()));

@@ -1,5 +1,5 @@
 //! The puppeteer's panels (egui): file, material, world (gravity, floor), regions (other
-//! materials, pinning, the brush), pose, cuts, overlays and stats, one file each. They edit the core's [`Session`] directly and hand what needs the window (opening
+//! materials, pinning, the brush), pose, cuts, overlays, live controls and stats, one file each. They edit the core's [`Session`] directly and hand what needs the window (opening
 //! files, framing) back as [`Action`]s.
 
 mod controls;
@@ -36,6 +36,10 @@ pub enum FilePurpose {
     SaveAnimation,
     /// Bake the animation to `.glb`, `.pc2` or a folder of OBJ files.
     ExportAnimation,
+    /// Load a controls file (live devices mapped to sections).
+    LoadControls,
+    /// Save the controls as they stand (with what was learned and calibrated).
+    SaveControls,
 }
 
 /// Something the panel asks the window to do.
@@ -49,6 +53,12 @@ pub enum Action {
     Frame,
     /// Replace the cuts with the ones suggested by the skeleton.
     SuggestJoints,
+    /// Start or stop learning: the control that moves drives the section clicked.
+    Learn,
+    /// Start calibrating the controls.
+    Calibrate,
+    /// End calibrating: keep the ranges seen (true) or drop them.
+    CalibrateDone(bool),
 }
 
 /// Frame statistics shown in the panel.
@@ -158,10 +168,8 @@ pub fn side_panel(
                     ui.separator();
                     overlays::overlay_section(ui, state, &mut actions);
                     ui.separator();
-                    if let Some(live) = &state.live {
-                        controls::controls_section(ui, live);
-                        ui.separator();
-                    }
+                    controls::controls_section(ui, state.live.as_ref(), &mut actions);
+                    ui.separator();
                     stats::stats_section(ui, state, session);
                 }
             });
