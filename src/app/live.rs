@@ -42,8 +42,8 @@ pub struct LiveOptions {
 enum Arrival {
     /// Events, and when they arrived.
     Events(Vec<Event>, Instant),
-    /// A device came or went (a line for the panel).
-    Notice(String),
+    /// A device came or went (a line for the panel), and whether it went.
+    Notice(String, bool),
 }
 
 /// The live controls of an open window.
@@ -233,7 +233,15 @@ impl Live {
                         }
                     }
                 }
-                Arrival::Notice(line) => message = Some((line, false)),
+                // A device gone while a take records: the take keeps what it did and
+                // goes on (the mouse or another device may carry on).
+                Arrival::Notice(line, true) if session.is_recording() => {
+                    message = Some((
+                        format!("{line}; the take goes on recording (Ctrl+R stops it)"),
+                        true,
+                    ));
+                }
+                Arrival::Notice(line, gone) => message = Some((line, gone)),
             }
         }
         if let Some(learned) = self.learned(session, view) {
@@ -332,14 +340,14 @@ fn listen_osc(
 /// Connects to every MIDI input port, and every second to ports that appeared; says when
 /// one comes or goes.
 fn watch_midi(tx: Sender<Arrival>, proxy: EventLoopProxy<Wake>) {
-    let notice = |line: String| {
-        let sent = tx.send(Arrival::Notice(line)).is_ok();
+    let notice = |line: String, gone: bool| {
+        let sent = tx.send(Arrival::Notice(line, gone)).is_ok();
         sent && proxy.send_event(Wake::Input).is_ok()
     };
     let mut open: Vec<(String, midir::MidiInputConnection<()>)> = Vec::new();
     loop {
         let Ok(probe) = midir::MidiInput::new("puppet") else {
-            let _ = notice("MIDI: no MIDI system here (ALSA sequencer)".to_string());
+            let _ = notice("MIDI: no MIDI system here (ALSA sequencer)".to_string(), false);
             return;
         };
         let names: Vec<(String, midir::MidiInputPort)> = probe
@@ -350,7 +358,7 @@ fn watch_midi(tx: Sender<Arrival>, proxy: EventLoopProxy<Wake>) {
         // Ports that went.
         let before = open.len();
         open.retain(|(name, _)| names.iter().any(|(n, _)| n == name));
-        if open.len() < before && !notice("MIDI: a device was unplugged".to_string()) {
+        if open.len() < before && !notice("MIDI: a device was unplugged".to_string(), true) {
             return;
         }
         for (name, port) in names {
@@ -373,7 +381,7 @@ fn watch_midi(tx: Sender<Arrival>, proxy: EventLoopProxy<Wake>) {
                 (),
             );
             if let Ok(c) = connected {
-                if !notice(format!("MIDI: {name} connected")) {
+                if !notice(format!("MIDI: {name} connected"), false) {
                     return;
                 }
                 open.push((name, c));
@@ -388,7 +396,7 @@ fn watch_gamepads(tx: Sender<Arrival>, proxy: EventLoopProxy<Wake>) {
     let mut gilrs = match gilrs::Gilrs::new() {
         Ok(g) => g,
         Err(e) => {
-            let _ = tx.send(Arrival::Notice(format!("gamepads: not available ({e})")));
+            let _ = tx.send(Arrival::Notice(format!("gamepads: not available ({e})"), false));
             let _ = proxy.send_event(Wake::Input);
             return;
         }
@@ -403,14 +411,14 @@ fn watch_gamepads(tx: Sender<Arrival>, proxy: EventLoopProxy<Wake>) {
                 vec![midi::gamepad(&format!("{button:?}"), value)],
                 Instant::now(),
             ),
-            gilrs::EventType::Connected => Arrival::Notice(format!(
-                "gamepad: {} connected",
-                gilrs.gamepad(ev.id).name()
-            )),
-            gilrs::EventType::Disconnected => Arrival::Notice(format!(
-                "gamepad: {} unplugged",
-                gilrs.gamepad(ev.id).name()
-            )),
+            gilrs::EventType::Connected => Arrival::Notice(
+                format!("gamepad: {} connected", gilrs.gamepad(ev.id).name()),
+                false,
+            ),
+            gilrs::EventType::Disconnected => Arrival::Notice(
+                format!("gamepad: {} unplugged", gilrs.gamepad(ev.id).name()),
+                true,
+            ),
             _ => continue,
         };
         if tx.send(arrival).is_err() || proxy.send_event(Wake::Input).is_err() {

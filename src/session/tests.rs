@@ -677,3 +677,41 @@ fn a_learned_control_bends_its_section_towards_the_viewer() {
     assert_eq!(s.bend_axis(arm, DVec3::NEG_Y), DVec3::Z);
     assert_eq!(s.bend_axis(99, DVec3::NEG_Z), DVec3::Z);
 }
+
+/// A device unplugged while a take records: its controls stop (they are dropped, as the
+/// window's are when the device goes), the take goes on, and stopping it keeps what the
+/// device did.
+#[test]
+fn a_take_survives_its_device_going_away() {
+    use crate::controls::{Controls, ControlsFile, Event};
+    let mut s = session();
+    let file = ControlsFile::parse(
+        "[[control]]\nmidi = { channel = 1, cc = 1 }\nsection = \"arm\"\nmin_cutoff = 1000\n",
+    )
+    .unwrap();
+    let mut c = Controls::new(file, &s.section_names()).unwrap();
+    s.start_recording();
+    for k in 0..20 {
+        c.feed(
+            &Event::MidiCc {
+                channel: 1,
+                cc: 1,
+                value: (k * 6) as u8,
+            },
+            k as f64 / 30.0,
+        );
+        s.drive(&mut c);
+        s.advance(1.0 / 30.0, 10);
+    }
+    drop(c);
+    for _ in 0..10 {
+        s.advance(1.0 / 30.0, 10);
+    }
+    assert!(s.is_recording());
+    let said = s.stop_recording().expect("the take stops");
+    let take = s.playback.as_ref().expect("the take plays back");
+    assert!(
+        take.animation.track.iter().any(|t| t.section == "arm"),
+        "{said}"
+    );
+}
