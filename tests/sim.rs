@@ -302,6 +302,7 @@ fn extreme_parameters_never_produce_nan() {
             floor: u() < 0.5,
             floor_height: u() - 0.5,
             floor_friction: u() * 2.0,
+            ..World::default()
         };
         let material = Material {
             damping,
@@ -310,6 +311,12 @@ fn extreme_parameters_never_produce_nan() {
             max_length,
             min_length,
             stiffening: (u() * 8.0) as u32,
+        };
+        // Drawn last, so the draws before are what they were.
+        let world = World {
+            collision: u() < 0.5,
+            collision_margin: [u() * 0.2 - 0.05, f32::NAN][(u() * 2.0) as usize % 2],
+            ..world
         };
         let params = Params {
             material,

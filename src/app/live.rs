@@ -347,7 +347,10 @@ fn watch_midi(tx: Sender<Arrival>, proxy: EventLoopProxy<Wake>) {
     let mut open: Vec<(String, midir::MidiInputConnection<()>)> = Vec::new();
     loop {
         let Ok(probe) = midir::MidiInput::new("puppet") else {
-            let _ = notice("MIDI: no MIDI system here (ALSA sequencer)".to_string(), false);
+            let _ = notice(
+                "MIDI: no MIDI system here (ALSA sequencer)".to_string(),
+                false,
+            );
             return;
         };
         let names: Vec<(String, midir::MidiInputPort)> = probe
@@ -396,7 +399,10 @@ fn watch_gamepads(tx: Sender<Arrival>, proxy: EventLoopProxy<Wake>) {
     let mut gilrs = match gilrs::Gilrs::new() {
         Ok(g) => g,
         Err(e) => {
-            let _ = tx.send(Arrival::Notice(format!("gamepads: not available ({e})"), false));
+            let _ = tx.send(Arrival::Notice(
+                format!("gamepads: not available ({e})"),
+                false,
+            ));
             let _ = proxy.send_event(Wake::Input);
             return;
         }

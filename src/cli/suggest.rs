@@ -141,9 +141,10 @@ fn print_tree(cuts: &[CutRow], parent: &str, depth: usize) {
     }
 }
 
-/// The puppet's sections drawn from the front and from the side, side by side.
+/// The puppet (as its simulation stands) drawn from the front and from the side, side by
+/// side, its sections coloured.
 #[cfg(feature = "gui")]
-fn picture(puppet: Puppet, path: &std::path::Path) -> Result<()> {
+pub(crate) fn picture(puppet: Puppet, path: &std::path::Path) -> Result<()> {
     use puppet::render::{render_image, Gpu, Image, SceneRenderer, OFFSCREEN_FORMAT};
     use puppet::session::{Camera, Overlays, Session};
     let gpu = Gpu::headless()?;
@@ -192,7 +193,7 @@ fn picture(puppet: Puppet, path: &std::path::Path) -> Result<()> {
 
 /// Without the `gui` feature there is no renderer.
 #[cfg(not(feature = "gui"))]
-fn picture(_puppet: Puppet, path: &std::path::Path) -> Result<()> {
+pub(crate) fn picture(_puppet: Puppet, path: &std::path::Path) -> Result<()> {
     Err(FileError::new(
         path.display().to_string(),
         "drawing needs the renderer (a build with the `gui` feature)",

@@ -2,6 +2,7 @@
 //! inside/outside classification (exact on closed surfaces, the generalized winding number on
 //! open ones). Everything here is `f64` and deterministic.
 
+pub mod balls;
 pub mod bvh;
 pub mod exact;
 pub mod hilbert;

@@ -60,6 +60,7 @@
 //! remaining cuts (O(vertices × cuts)); the skeleton is never recomputed.
 
 pub mod band;
+pub mod collide;
 mod cut;
 mod pose;
 mod shape;
@@ -414,6 +415,27 @@ impl Joints {
     /// The skeletal points the cuts classify.
     pub fn points(&self) -> &[DVec3] {
         &self.body.points
+    }
+
+    /// Each section's rank for contacts: its depth in the hierarchy, then its index, so a
+    /// point of a section yields to the balls of its ancestors and of shallower sections
+    /// (an arm to the body, a finger to the palm), and of two at one depth the later one
+    /// yields ([`crate::sim::contact`]).
+    pub fn contact_ranks(&self) -> Vec<u32> {
+        let sections = self.sections();
+        (0..sections.len())
+            .map(|s| {
+                let (mut depth, mut at) = (0u32, s);
+                while let Some(p) = sections[at].parent {
+                    depth += 1;
+                    at = p;
+                    if depth as usize > sections.len() {
+                        break;
+                    }
+                }
+                depth * 65_536 + s as u32
+            })
+            .collect()
     }
 
     /// Index of the section named `name`.

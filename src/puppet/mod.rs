@@ -4,6 +4,7 @@
 pub mod bake;
 pub mod bend;
 pub mod paint;
+pub mod press;
 mod rig_file;
 
 pub use paint::Paint;
@@ -57,6 +58,9 @@ pub struct Puppet {
     pub rig_file: RigFile,
     /// The mesh file's named groups (its materials), which regions may name.
     pub groups: Groups,
+    /// The sections' balls for the pose limit, built when first needed (and again after
+    /// the cuts change).
+    balls: Option<std::sync::Arc<crate::joints::collide::Balls>>,
 }
 
 impl Puppet {
@@ -105,6 +109,7 @@ impl Puppet {
         );
         let mut sim = Simulation::new(rig, rig_file.params);
         sim.set_sections(joints.transform_of().to_vec());
+        sim.set_joint_sections(joints.section_of().to_vec(), joints.contact_ranks());
         let mut puppet = Puppet {
             mesh,
             skeleton,
@@ -112,6 +117,7 @@ impl Puppet {
             sim,
             rig_file,
             groups,
+            balls: None,
         };
         let regions = puppet.regions(true).map_err(BuildError::Regions)?;
         puppet.sim.set_regions(regions);
@@ -140,10 +146,29 @@ impl Puppet {
         Ok(out)
     }
 
+    /// How far (0..1) along the move from the pose `from` to `to` the puppet can go with
+    /// collision on before a part presses into another ([`crate::joints::collide`]); 1
+    /// with collision off.
+    pub fn limit_pose(&mut self, from: &[Local], to: &[Local]) -> f64 {
+        if !self.sim.params().world.collision {
+            return 1.0;
+        }
+        let joints = &self.joints;
+        let balls = self
+            .balls
+            .get_or_insert_with(|| std::sync::Arc::new(joints.balls()));
+        balls.limit(joints, from, to)
+    }
+
     /// Gives the simulation the current sections, and the regions and pinning resolved on
     /// them ([`Puppet::sync_regions`]). Call after any change of cuts.
     pub fn sync_sections(&mut self) {
+        self.balls = None;
         self.sim.set_sections(self.joints.transform_of().to_vec());
+        self.sim.set_joint_sections(
+            self.joints.section_of().to_vec(),
+            self.joints.contact_ranks(),
+        );
         self.sync_regions();
     }
 

@@ -23,7 +23,9 @@ impl Session {
             }
         }
         if controls.take_changed() {
+            let before = self.local.clone();
             let touched = controls.apply(&mut self.local);
+            self.hold_back(&before);
             if !touched.is_empty() {
                 self.touch(&touched);
                 self.wake();

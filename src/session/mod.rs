@@ -219,6 +219,7 @@ impl Session {
             return;
         }
         let world = self.puppet.joints.world(&self.local);
+        let before = self.local.clone();
         let sel = self.selection.clone();
         for &s in &sel {
             if sel.iter().any(|&a| a != s && self.is_ancestor(a, s)) {
@@ -236,7 +237,18 @@ impl Session {
                 l.rotation = DQuat::IDENTITY;
             }
         }
+        self.hold_back(&before);
         self.wake();
+    }
+
+    /// With collision on, takes the move from `before` to the pose now in `local` only as
+    /// far as no part presses into another (see [`crate::joints::collide`]): a limb
+    /// dragged into the body stops at it, however fast the drag.
+    pub fn hold_back(&mut self, before: &[Local]) {
+        let s = self.puppet.limit_pose(before, &self.local);
+        if s < 1.0 {
+            self.local = crate::joints::collide::between(before, &self.local, s);
+        }
     }
 
     /// Every section back to rest.

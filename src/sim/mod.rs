@@ -35,10 +35,12 @@
 //!   pinning;
 //! * [`pose`]: the [`Pose`] a step takes and the [`Positions`] it leaves;
 //! * [`options`]: solver [`Options`] (sleeping, tile size, SIMD);
+//! * [`contact`]: sections colliding through their medial balls (stage 4c);
 //! * `step`: [`Simulation::step`], its numbered stages, and sleeping;
 //! * [`layout`]: the solver's Hilbert-ordered slots and tiles;
 //! * `kernel`, `lanes`: the fused pass over a tile, eight slots per register.
 
+pub mod contact;
 mod kernel;
 mod lanes;
 pub mod layout;
@@ -77,6 +79,8 @@ pub struct StageTimes {
     /// Stages 1–4 fused in one pass over the awake tiles: bone transforms, forces, Verlet,
     /// constraint.
     pub fused: f64,
+    /// Stage 4c: contacts between sections (zero when collision is off).
+    pub contact: f64,
     /// Stage 5: tiles that stopped moving go to sleep, moving tiles wake their neighbours.
     pub sleep: f64,
 }
@@ -84,7 +88,7 @@ pub struct StageTimes {
 impl StageTimes {
     /// The whole step.
     pub fn total(&self) -> f64 {
-        self.wake + self.fused + self.sleep
+        self.wake + self.fused + self.contact + self.sleep
     }
 }
 
@@ -121,6 +125,8 @@ struct Scratch {
     changed: Vec<bool>,
     /// Per tile: woken by a moving neighbour.
     to_wake: Vec<bool>,
+    /// Per section: its transform this step (for the contacts).
+    affine: Vec<Affine3A>,
 }
 
 /// A simulated puppet: rig, parameters, options, state and scratch.
@@ -139,6 +145,14 @@ pub struct Simulation {
     pin: Option<Vec<f32>>,
     /// Every vertex's material is static: the surface just follows the bones.
     all_static: bool,
+    /// The medial balls sections collide with, built at the first step with collision on
+    /// (and again after the sections change).
+    contacts: Option<contact::Colliders>,
+    /// The joint section of each vertex, for contacts (the transforms of `section_of`
+    /// split a section into its band levels); empty: the transforms'.
+    joint_section: Vec<u16>,
+    /// Each joint section's rank for contacts (see [`contact::Colliders::bind`]).
+    section_rank: Vec<u32>,
     /// The sleep threshold as a squared distance.
     sleep_threshold2: f32,
     diagonal: f32,
@@ -187,7 +201,11 @@ impl Simulation {
                 motion: vec![0.0; tiles],
                 changed: vec![false; 1],
                 to_wake: vec![false; tiles],
+                affine: Vec::new(),
             },
+            contacts: None,
+            joint_section: Vec::new(),
+            section_rank: Vec::new(),
             regions: Regions::default(),
             per_slot: None,
             pin: None,
@@ -229,6 +247,7 @@ impl Simulation {
         if tile != self.layout.tile {
             self.layout = Layout::new(&self.rig, tile);
             self.layout.set_sections(&self.state.section_of);
+            self.contacts = None;
             let tiles = self.layout.tiles();
             self.state.awake = vec![true; tiles];
             self.state.steps_under_threshold = vec![0; tiles];
@@ -344,7 +363,23 @@ impl Simulation {
             .transforms
             .resize(sections, kernel::IDENTITY_ROWS);
         self.scratch.changed.resize(sections, false);
+        self.contacts = None;
         self.state.wake_all = true;
+    }
+
+    /// Gives the joint section of each vertex, which contacts go by (points of one
+    /// section never collide with its own balls, whichever band level moves them), and
+    /// each section's rank: a point yields only to the balls of sections of lower rank (a
+    /// limb to the body it is pressed into). Without it, each transform of
+    /// [`Simulation::set_sections`] counts as a section, ranked by its index.
+    pub fn set_joint_sections(&mut self, joint_section: Vec<u16>, rank: Vec<u32>) {
+        if joint_section.len() == self.rig.len()
+            && (joint_section != self.joint_section || rank != self.section_rank)
+        {
+            self.joint_section = joint_section;
+            self.section_rank = rank;
+            self.contacts = None;
+        }
     }
 
     /// Current positions.

@@ -88,10 +88,20 @@ pub struct World {
     /// Height of the floor above the rest mesh's lowest point, in mesh units (0: the floor
     /// touches the puppet at rest).
     pub floor_height: f32,
-    /// Share of a touching mass point's sliding motion the floor takes away per reference
-    /// step, 0..1 (0 ice, 1 glue).
+    /// Share of a touching mass point's sliding motion the floor (and a contact between
+    /// sections) takes away per reference step, 0..1 (0 ice, 1 glue).
     pub floor_friction: f32,
+    /// Sections collide: a mass point of one section stays out of the medial balls of
+    /// the others ([`super::contact`]). Off by default, so rig files written before it
+    /// behave as they did.
+    pub collision: bool,
+    /// Gap kept between a mass point and another section's balls, as a share of the
+    /// mesh's bounding-box diagonal, 0..[`MAX_MARGIN`].
+    pub collision_margin: f32,
 }
+
+/// Largest collision margin (a share of the diagonal).
+pub const MAX_MARGIN: f32 = 0.05;
 
 impl Default for World {
     /// No gravity, no floor.
@@ -101,6 +111,8 @@ impl Default for World {
             floor: false,
             floor_height: 0.0,
             floor_friction: 0.5,
+            collision: false,
+            collision_margin: 0.002,
         }
     }
 }
@@ -209,6 +221,8 @@ impl World {
             floor: self.floor,
             floor_height: clamp(self.floor_height, -MAX_HEIGHT, MAX_HEIGHT, 0.0),
             floor_friction: clamp(self.floor_friction, 0.0, 1.0, d.floor_friction),
+            collision: self.collision,
+            collision_margin: clamp(self.collision_margin, 0.0, MAX_MARGIN, d.collision_margin),
         }
     }
 
@@ -228,6 +242,13 @@ impl World {
                 "-1e9..1e9",
             ),
             ("floor_friction", self.floor_friction, 0.0, 1.0, "0..1"),
+            (
+                "collision_margin",
+                self.collision_margin,
+                0.0,
+                MAX_MARGIN,
+                "0..0.05",
+            ),
         ])
     }
 
@@ -371,10 +392,12 @@ mod tests {
             "floor",
             "floor_height",
             "floor_friction",
+            "collision",
+            "collision_margin",
         ] {
             assert!(table.contains_key(field), "{field}");
         }
-        assert_eq!(table.len(), 13);
+        assert_eq!(table.len(), 15);
         let back: Params = toml::Value::Table(table).try_into().unwrap();
         assert_eq!(back, p);
         let partial: Params =

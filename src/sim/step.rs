@@ -65,7 +65,8 @@ impl Simulation {
     ///    `g h²`; a pinned point is then drawn to its posed rest position by its weight, and
     ///    one that would pass the floor loses part of its sliding motion (friction).
     /// 4. **Constraint**: circumsphere projection, or iterated spring reduction; then the
-    ///    floor lifts any point below it onto it.
+    ///    floor lifts any point below it onto it. With collision on, (4c) every point of a
+    ///    section is put out of the other sections' medial balls ([`super::contact`]).
     /// 5. **Sleep**: a tile that moved less than the threshold for [`SLEEP_AFTER`] steps,
     ///    with still neighbours, stops (its velocity is set to zero); a tile that moved wakes
     ///    its neighbours for the next step.
@@ -90,13 +91,76 @@ impl Simulation {
             self.largest_motion = 0.0;
         }
         let t2 = Instant::now();
+        if self.params.world.collision && !self.is_static() {
+            self.collide();
+        }
+        let t3 = Instant::now();
         self.sleep();
         self.state.steps += 1;
         self.last_times = StageTimes {
             wake: (t1 - t0).as_secs_f64(),
             fused: (t2 - t1).as_secs_f64(),
-            sleep: t2.elapsed().as_secs_f64(),
+            contact: (t3 - t2).as_secs_f64(),
+            sleep: t3.elapsed().as_secs_f64(),
         };
+    }
+
+    /// Stage 4c: contacts between sections (see [`super::contact`]). Tiles a contact
+    /// moved wake, and their motion is measured again from where their points ended.
+    fn collide(&mut self) {
+        let rig = &self.rig;
+        let contacts = self.contacts.get_or_insert_with(|| {
+            let centers: Vec<glam::Vec3> = (0..rig.len())
+                .map(|i| rig.rest[i] - rig.normals[i] * rig.skeletal_distance[i])
+                .collect();
+            let transform_of = &self.state.section_of;
+            let section_of = if self.joint_section.is_empty() {
+                transform_of
+            } else {
+                &self.joint_section
+            };
+            let mut c = super::contact::Colliders::new(
+                &centers,
+                &rig.skeletal_distance,
+                section_of,
+                transform_of,
+            );
+            c.bind(
+                &self.layout,
+                section_of,
+                &self.section_rank,
+                &rig.skeletal_distance,
+            );
+            c
+        });
+        let (state, scratch) = (&mut self.state, &mut self.scratch);
+        scratch.affine.clear();
+        scratch
+            .affine
+            .extend(state.transforms.iter().map(kernel::affine_of));
+        let p = &self.params;
+        let stage = super::contact::Stage {
+            layout: &self.layout,
+            transforms: &scratch.affine,
+            changed: &scratch.changed,
+            margin: p.world.collision_margin * self.diagonal,
+            keep: (1.0 - p.world.floor_friction).powf(p.solver.time_step / REFERENCE_STEP),
+        };
+        let touched = contacts.resolve(&stage, &mut state.cur, &mut state.prev, &state.awake);
+        for t in touched {
+            let motion = self
+                .layout
+                .tile_range(t)
+                .map(|k| (state.cur.get(k) - state.prev.get(k)).length_squared())
+                .fold(0.0, f32::max);
+            if !state.awake[t] {
+                state.awake[t] = true;
+                state.steps_under_threshold[t] = 0;
+                self.awake_tiles += 1;
+            }
+            scratch.motion[t] = motion;
+            self.largest_motion = self.largest_motion.max(motion);
+        }
     }
 
     /// Stage 0.

@@ -12,11 +12,13 @@
 //!   settle ([`sag`]);
 //! * `export`: time and size of a take in each export format ([`export`]);
 //! * `joints`: a bent joint's surface, hinge against bands ([`joints`]);
+//! * `collide`: parts pressed into the body, collision off and on ([`collide`]);
 //! * `skeleton`, `skeleton-speed`, `skeleton-change`: the skeleton's accuracy, its speed,
 //!   and how far real meshes' points move between methods ([`skeleton`]);
 //! * `machine`: copy bandwidth and a plain scalar spring loop, as yardsticks ([`machine`]).
 
 mod accuracy;
+mod collide;
 mod controls;
 mod export;
 mod joints;
@@ -51,6 +53,9 @@ pub enum Bench {
     Export(export::Args),
     /// A bent joint's surface: faces crossing, volume, dihedral angles, hinge against bands.
     Joints(joints::Args),
+    /// Parts pressed into the body (arms down, legs crossed…), collision off and on:
+    /// crossing faces, deepest penetration, section volumes, step cost.
+    Collide(collide::Args),
     /// Skeleton accuracy against analytic shapes.
     Skeleton(skeleton::AccuracyArgs),
     /// Time from file to skeleton, per stage, on the mesh Loop-subdivided 0..=N times.
@@ -81,6 +86,7 @@ pub fn run(bench: &Bench, load: &LoadArgs) -> Result<()> {
         Bench::Sag(args) => sag::run(args, load),
         Bench::Export(args) => export::run(args, load),
         Bench::Joints(args) => joints::run(args),
+        Bench::Collide(args) => collide::run(args, load),
         Bench::Skeleton(args) => skeleton::accuracy(args),
         Bench::SkeletonSpeed(args) => skeleton::speed(args, load),
         Bench::SkeletonChange(args) => skeleton::change(args, load),

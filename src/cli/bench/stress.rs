@@ -222,6 +222,7 @@ fn random_params(rng: &mut Rng) -> Params {
         floor: rng.below(3) == 0,
         floor_height: 0.0,
         floor_friction: rng.extreme(0.0, 1.0) as f32,
+        ..World::default()
     };
     let material = Material {
         damping,
@@ -230,6 +231,12 @@ fn random_params(rng: &mut Rng) -> Params {
         max_length,
         min_length,
         stiffening: rng.below(MAX_STIFFENING as usize + 1) as u32,
+    };
+    // Collision last, so the draws before it are what they were.
+    let world = World {
+        collision: rng.below(2) == 0,
+        collision_margin: rng.extreme(0.0, puppet::sim::params::MAX_MARGIN as f64) as f32,
+        ..world
     };
     Params {
         material,

@@ -1,0 +1,105 @@
+//! `puppet bench collide`: parts pressed into the body (see `puppet::puppet::press`), with
+//! collision off and on: faces crossing, the deepest penetration, section volumes, and the
+//! step's cost.
+
+use crate::cli::LoadArgs;
+use anyhow::{anyhow, Result};
+use puppet::puppet::press::{Pressed, PRESSES};
+use std::path::PathBuf;
+
+/// `puppet bench collide`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Folder holding `human.obj` and `hand.obj`.
+    #[arg(long, default_value = "tests/data/meshes")]
+    meshes: PathBuf,
+    /// Only the presses whose name contains this.
+    #[arg(long)]
+    only: Option<String>,
+    /// Margin (share of the diagonal) with collision on.
+    #[arg(long, default_value_t = puppet::sim::World::default().collision_margin)]
+    margin: f32,
+    /// Write a picture of each settled press here (`NAME-off.png`, `NAME-on.png`).
+    #[arg(long)]
+    images: Option<PathBuf>,
+    /// Print JSON instead of a Markdown table.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(serde::Serialize)]
+struct Row {
+    press: &'static str,
+    collision: bool,
+    #[serde(flatten)]
+    pressed: Pressed,
+}
+
+pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
+    let mut rows = Vec::new();
+    for press in PRESSES.iter().filter(|p| {
+        args.only
+            .as_ref()
+            .is_none_or(|o| p.name.contains(o.as_str()))
+    }) {
+        // The cow is the embedded one.
+        let path = (press.mesh != "spot.obj").then(|| args.meshes.join(press.mesh));
+        let (mesh, _, name) = crate::cli::load_mesh(path.as_deref(), load)?;
+        for collision in [false, true] {
+            let mut params = puppet::sim::Params::default();
+            params.world.collision = collision;
+            params.world.collision_margin = args.margin;
+            let pressed = press
+                .press(&mesh, params)
+                .map_err(|e| anyhow!("{name}: {e}"))?;
+            if let Some(dir) = &args.images {
+                let (p, _) = press
+                    .posed(&mesh, params)
+                    .map_err(|e| anyhow!("{name}: {e}"))?;
+                let file: String = press
+                    .name
+                    .chars()
+                    .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
+                    .collect();
+                let on = if collision { "on" } else { "off" };
+                crate::cli::suggest::picture(p, &dir.join(format!("{file}-{on}.png")))?;
+            }
+            let row = Row {
+                press: press.name,
+                collision,
+                pressed,
+            };
+            if !args.json {
+                print_row(&row, rows.is_empty());
+            }
+            rows.push(row);
+        }
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&rows)?);
+    }
+    Ok(())
+}
+
+fn print_row(r: &Row, header: bool) {
+    if header {
+        println!("| pose | collision | reached | new crossing faces | deepest (% diagonal) | vertices inside | section volumes | step (ms) | awake tiles at the end |");
+        println!("|---|---|---:|---:|---:|---:|---:|---:|---:|");
+    }
+    let p = &r.pressed;
+    println!(
+        "| {} | {} | {:.0}° | {} of {} | {:.2} | {} | {:+.1} % … {:+.1} % | {:.2} | {} of {} |",
+        r.press,
+        if r.collision { "on" } else { "off" },
+        p.reached,
+        p.crossing,
+        p.faces,
+        p.deepest,
+        p.inside,
+        100.0 * p.volume[0],
+        100.0 * p.volume[1],
+        p.step_ms,
+        p.awake[0],
+        p.awake[1]
+    );
+}

@@ -1,0 +1,296 @@
+//! The pose limit: a section turned into another part of the body stops where their
+//! medial balls meet, however fast it was dragged.
+//!
+//! Each section's balls ([`crate::geom::balls::thin`] of the skeleton's) move rigidly with
+//! its world transform. Two balls of different sections *press* by how far they overlap
+//! in a pose, over the smaller radius; pairs that were neighbours at rest
+//! ([`crate::geom::balls::neighbours`]: the two sides of a joint) never press. A pose is
+//! allowed while no pair presses more than [`SQUASH`]: the flesh gives that much, and the
+//! simulation's contacts keep the surfaces apart ([`crate::sim::contact`]).
+//!
+//! [`Balls::limit`] walks from the pose the puppet has to the one asked for (each section's
+//! rotation slerped, its translation lerped) in steps no ball moves more than half the
+//! smallest moving radius in, so nothing passes through a part between two samples, and
+//! bisects to the last allowed pose before the first that is not. A pose that already
+//! presses (collision just turned on) may move anywhere that presses no more.
+
+use super::{Joints, Local};
+use crate::geom::balls;
+use glam::{DAffine3, DVec3};
+use std::collections::HashMap;
+
+/// How far two parts may overlap, as a share of the smaller ball's radius.
+pub const SQUASH: f64 = 0.25;
+
+/// Samples at most along a move (beyond them the move's sampling is coarser).
+const MAX_SAMPLES: usize = 64;
+
+/// Bisection steps between the last allowed sample and the first that is not.
+const BISECTIONS: usize = 8;
+
+/// The balls of a puppet's sections.
+#[derive(Clone, Debug, Default)]
+pub struct Balls {
+    center: Vec<DVec3>,
+    radius: Vec<f64>,
+    section: Vec<usize>,
+    /// Grid cell ([`balls::cell`]).
+    cell: f64,
+}
+
+impl Joints {
+    /// The balls the pose limit tests (see the module docs).
+    pub fn balls(&self) -> Balls {
+        let body = &self.body;
+        let n = body.points.len().min(body.radius.len());
+        let kept = balls::thin(
+            &body.points[..n],
+            &body.radius[..n],
+            &self.section_of[..n.min(self.section_of.len())],
+        );
+        let mut out = Balls {
+            center: kept.iter().map(|&i| body.points[i]).collect(),
+            radius: kept.iter().map(|&i| body.radius[i]).collect(),
+            section: kept
+                .iter()
+                .map(|&i| usize::from(self.section_of.get(i).copied().unwrap_or(0)))
+                .collect(),
+            cell: 0.0,
+        };
+        out.cell = balls::cell(&out.radius);
+        out
+    }
+}
+
+impl Balls {
+    /// Number of balls.
+    pub fn len(&self) -> usize {
+        self.center.len()
+    }
+
+    /// True when there is none.
+    pub fn is_empty(&self) -> bool {
+        self.center.is_empty()
+    }
+
+    /// How much the deepest pair of balls presses in the pose whose world transforms are
+    /// `world` (see the module docs), among pairs with a ball of a section in `moving`.
+    pub fn pressing(&self, world: &[DAffine3], moving: &[bool]) -> f64 {
+        Still::new(self, world, moving).pressing(world)
+    }
+
+    /// The deepest press of pair `a`, `b` at `pa`, `pb` (0 when they do not press or
+    /// were neighbours at rest).
+    fn press(&self, a: usize, b: usize, pa: DVec3, pb: DVec3) -> f64 {
+        let (ra, rb) = (self.radius[a], self.radius[b]);
+        let small = ra.min(rb);
+        let depth = ra + rb - pa.distance(pb);
+        if depth <= SQUASH * small || self.section[a] == self.section[b] {
+            return 0.0;
+        }
+        // Neighbours at rest: the surfaces within a few of the smaller radii.
+        let at_rest = self.center[a].distance(self.center[b]);
+        if balls::neighbours(at_rest - small, ra.max(rb), small) {
+            return 0.0;
+        }
+        depth / small
+    }
+
+    /// How far (0..1) along the move from `from` to `to` the puppet can go before two
+    /// parts press more than [`SQUASH`] (see the module docs); 1 when the whole move is
+    /// allowed, 0 when no part can move more than a hundredth of its smallest ball.
+    pub fn limit(&self, joints: &Joints, from: &[Local], to: &[Local]) -> f64 {
+        let start = joints.world(from);
+        let end = joints.world(to);
+        let moving: Vec<bool> = start
+            .iter()
+            .zip(&end)
+            .map(|(a, b)| !a.abs_diff_eq(*b, 1e-12))
+            .collect();
+        if self.is_empty() || !moving.iter().any(|&m| m) {
+            return 1.0;
+        }
+        let mut still = Still::new(self, &start, &moving);
+        still.relative(&start, &end);
+        let pressing = |s: f64| still.pressing(&joints.world(&between(from, to, s)));
+        let already = pressing(0.0).max(SQUASH);
+        let allowed = |p: f64| p <= already + 1e-9;
+        // Samples close enough that no ball jumps more than half the smallest moving one.
+        let (mut far, mut smallest) = (0.0f64, f64::INFINITY);
+        for &b in &still.movers {
+            let (s, c) = (self.section[b], self.center[b]);
+            far = far.max(
+                start[s]
+                    .transform_point3(c)
+                    .distance(end[s].transform_point3(c)),
+            );
+            smallest = smallest.min(self.radius[b]);
+        }
+        let samples = ((far / (0.5 * smallest)).ceil() as usize).clamp(1, MAX_SAMPLES);
+        let mut good = 0.0;
+        for k in 1..=samples {
+            let s = k as f64 / samples as f64;
+            if allowed(pressing(s)) {
+                good = s;
+                continue;
+            }
+            let mut bad = s;
+            for _ in 0..BISECTIONS {
+                let mid = 0.5 * (good + bad);
+                if allowed(pressing(mid)) {
+                    good = mid;
+                } else {
+                    bad = mid;
+                }
+            }
+            // A creep of less than a hundredth of a ball is no move: a limb held against
+            // the body settles.
+            return if good * far < 0.01 * smallest {
+                0.0
+            } else {
+                good
+            };
+        }
+        1.0
+    }
+}
+
+/// The balls that do not move during a move, in a grid, and those that do.
+struct Still<'a> {
+    balls: &'a Balls,
+    /// Per pair of sections (`a * n + b`): their relative transform changes in the move.
+    apart: Vec<bool>,
+    sections: usize,
+    /// Balls of moving sections.
+    movers: Vec<usize>,
+    /// The others, posed: small ones by grid cell, big ones (over a cell) apart.
+    posed: Vec<DVec3>,
+    grid: HashMap<[i64; 3], Vec<u32>>,
+    big: Vec<u32>,
+    /// Per ball: in the grid.
+    gridded: Vec<bool>,
+}
+
+impl<'a> Still<'a> {
+    fn new(balls: &'a Balls, world: &[DAffine3], moving: &[bool]) -> Still<'a> {
+        let sections = moving.len().max(world.len());
+        let mut out = Still {
+            balls,
+            apart: vec![true; sections * sections],
+            sections,
+            movers: Vec::new(),
+            posed: vec![DVec3::ZERO; balls.len()],
+            grid: HashMap::new(),
+            big: Vec::new(),
+            gridded: vec![false; balls.len()],
+        };
+        for b in 0..balls.len() {
+            let s = balls.section[b];
+            if moving.get(s).copied().unwrap_or(false) {
+                out.movers.push(b);
+                continue;
+            }
+            let p = world
+                .get(s)
+                .map_or(balls.center[b], |w| w.transform_point3(balls.center[b]));
+            out.posed[b] = p;
+            if balls.radius[b] > balls.cell || !p.is_finite() {
+                out.big.push(b as u32);
+            } else {
+                out.grid.entry(out.key(p)).or_default().push(b as u32);
+                out.gridded[b] = true;
+            }
+        }
+        out
+    }
+
+    /// Marks the pairs of moving sections that move together (their relative transform
+    /// the same at both ends): their balls cannot come to press.
+    fn relative(&mut self, start: &[DAffine3], end: &[DAffine3]) {
+        let n = self.sections.min(start.len()).min(end.len());
+        for a in 0..n {
+            for b in 0..n {
+                let before = start[a].inverse() * start[b];
+                let after = end[a].inverse() * end[b];
+                self.apart[a * self.sections + b] = !before.abs_diff_eq(after, 1e-9);
+            }
+        }
+    }
+
+    fn key(&self, p: DVec3) -> [i64; 3] {
+        let k = (p / self.balls.cell).floor();
+        [k.x as i64, k.y as i64, k.z as i64]
+    }
+
+    /// The deepest press of a moving ball in the pose `world`.
+    fn pressing(&self, world: &[DAffine3]) -> f64 {
+        let balls = self.balls;
+        let posed = |b: usize| {
+            world
+                .get(balls.section[b])
+                .map_or(balls.center[b], |w| w.transform_point3(balls.center[b]))
+        };
+        let movers: Vec<DVec3> = self.movers.iter().map(|&b| posed(b)).collect();
+        let mut deepest = 0.0f64;
+        for (i, &a) in self.movers.iter().enumerate() {
+            let pa = movers[i];
+            // Moving balls of sections moving apart from it (two arms turned into each
+            // other).
+            let row = balls.section[a] * self.sections;
+            for (j, &b) in self.movers.iter().enumerate().skip(i + 1) {
+                if self
+                    .apart
+                    .get(row + balls.section[b])
+                    .copied()
+                    .unwrap_or(true)
+                {
+                    deepest = deepest.max(balls.press(a, b, pa, movers[j]));
+                }
+            }
+            for &b in &self.big {
+                let b = b as usize;
+                deepest = deepest.max(balls.press(a, b, pa, self.posed[b]));
+            }
+            // Small still balls within reach: the cells about it (a small ball's radius is
+            // at most one cell).
+            let reach = ((balls.radius[a] + balls.cell) / balls.cell).ceil() as i64;
+            if reach > 8 || !pa.is_finite() {
+                for b in 0..balls.len() {
+                    if self.gridded[b] {
+                        deepest = deepest.max(balls.press(a, b, pa, self.posed[b]));
+                    }
+                }
+                continue;
+            }
+            let k = self.key(pa);
+            for dx in -reach..=reach {
+                for dy in -reach..=reach {
+                    for dz in -reach..=reach {
+                        if let Some(list) = self.grid.get(&[k[0] + dx, k[1] + dy, k[2] + dz]) {
+                            for &b in list {
+                                let b = b as usize;
+                                deepest = deepest.max(balls.press(a, b, pa, self.posed[b]));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        deepest
+    }
+}
+
+/// The pose a share `s` of the way from `from` to `to`: each section's rotation slerped,
+/// its translation lerped.
+pub fn between(from: &[Local], to: &[Local], s: f64) -> Vec<Local> {
+    (0..from.len().max(to.len()))
+        .map(|k| {
+            let a = from.get(k).copied().unwrap_or_default();
+            let b = to.get(k).copied().unwrap_or_default();
+            Local {
+                rotation: a.rotation.slerp(b.rotation, s).normalize(),
+                translation: a.translation.lerp(b.translation, s),
+            }
+        })
+        .collect()
+}

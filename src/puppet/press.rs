@@ -1,0 +1,382 @@
+//! A measured press: parts of a shipped mesh cut off and turned into the rest of the body
+//! (arms down past the sides, legs crossed, a head turned into a shoulder), settled, and the
+//! surface measured (`puppet bench collide`, the collision tests):
+//! * faces crossing another face that did not at rest ([`intersecting_faces`], exact);
+//! * the deepest penetration: how far a vertex lies inside another part (a point just
+//!   outside the surface at it has generalized winding number 1 against the posed surface,
+//!   not 0; vertices inside at rest do not count), as the distance to the nearest face of
+//!   the other sections, in % of the diagonal;
+//! * each section's volume change (the cone volume of its faces from its pivot, which a
+//!   turn about the pivot does not change): the extremes.
+
+use super::{BuildError, Puppet, RigFile};
+use crate::geom::intersect::intersecting_faces;
+use crate::geom::winding::Winding;
+use crate::joints::{Cut, Local, Shape};
+use crate::mesh::measure::cone_volume;
+use crate::mesh::{self, Mesh};
+use crate::sim::Params;
+use glam::DVec3;
+
+/// Seconds over which the pose is reached (a smooth ramp), then [`HOLD`] seconds held.
+pub const RAMP: f64 = 0.5;
+
+/// Seconds the pose is held before the surface is measured.
+pub const HOLD: f64 = 1.5;
+
+/// One part turned: a cut of the root and its turn.
+#[derive(Clone, Copy, Debug)]
+pub struct Turn {
+    /// A point of the cut's plane.
+    pub point: DVec3,
+    /// The plane's normal, into the part.
+    pub normal: DVec3,
+    /// The axis it turns about.
+    pub axis: DVec3,
+    /// The angle (degrees).
+    pub degrees: f64,
+}
+
+/// A pose that presses parts of a mesh into each other.
+#[derive(Clone, Copy, Debug)]
+pub struct Press {
+    /// What it is ("human arms down 95°").
+    pub name: &'static str,
+    /// The mesh file (in `tests/data/meshes`, or `assets` for `spot.obj`).
+    pub mesh: &'static str,
+    /// The parts turned.
+    pub turns: &'static [Turn],
+}
+
+const fn turn(point: [f64; 3], normal: [f64; 3], axis: [f64; 3], degrees: f64) -> Turn {
+    Turn {
+        point: DVec3::from_array(point),
+        normal: DVec3::from_array(normal),
+        axis: DVec3::from_array(axis),
+        degrees,
+    }
+}
+
+/// The human's shoulders (the cuts `puppet suggest` makes), turned down by `d` degrees.
+const fn arms(d: f64) -> [Turn; 2] {
+    [
+        turn(
+            [-0.199, 1.336, -0.038],
+            [-0.980, -0.053, 0.192],
+            [0.0, 0.0, 1.0],
+            d,
+        ),
+        turn(
+            [0.199, 1.336, -0.038],
+            [0.980, -0.053, 0.192],
+            [0.0, 0.0, 1.0],
+            -d,
+        ),
+    ]
+}
+
+const ARMS_95: [Turn; 2] = arms(95.0);
+const ARMS_105: [Turn; 2] = arms(105.0);
+const LEGS: [Turn; 1] = [turn(
+    [0.069, 0.610, 0.011],
+    [0.109, -0.989, -0.099],
+    [0.0, 0.0, 1.0],
+    -25.0,
+)];
+const HEAD: [Turn; 1] = [turn(
+    [-0.003, 1.451, 0.017],
+    [-0.007, 0.897, 0.442],
+    [0.0, 0.0, 1.0],
+    100.0,
+)];
+const FINGER: [Turn; 1] = [turn(
+    [-0.117, 0.571, 0.063],
+    [-0.071, 0.974, -0.217],
+    [1.0, 0.0, 0.0],
+    165.0,
+)];
+const COW: [Turn; 1] = [turn(
+    [0.0, 0.250, -0.119],
+    [0.0, 0.286, -0.958],
+    [0.0, 1.0, 0.0],
+    130.0,
+)];
+
+/// The presses `puppet bench collide` measures.
+pub const PRESSES: [Press; 6] = [
+    Press {
+        name: "human arms down 95°",
+        mesh: "human.obj",
+        turns: &ARMS_95,
+    },
+    Press {
+        name: "human arms down 105°",
+        mesh: "human.obj",
+        turns: &ARMS_105,
+    },
+    Press {
+        name: "human legs crossed",
+        mesh: "human.obj",
+        turns: &LEGS,
+    },
+    Press {
+        name: "human head into a shoulder",
+        mesh: "human.obj",
+        turns: &HEAD,
+    },
+    Press {
+        name: "hand index curled into the palm",
+        mesh: "hand.obj",
+        turns: &FINGER,
+    },
+    Press {
+        name: "cow head into its flank",
+        mesh: "spot.obj",
+        turns: &COW,
+    },
+];
+
+/// What a settled press measured.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Pressed {
+    /// Faces crossing another face that did not at rest.
+    pub crossing: usize,
+    /// Faces in all.
+    pub faces: usize,
+    /// The deepest a vertex lies inside another part, in % of the diagonal.
+    pub deepest: f64,
+    /// Vertices inside another part.
+    pub inside: usize,
+    /// The smallest and largest relative volume change of a section.
+    pub volume: [f64; 2],
+    /// Kinetic energy left at the end (how settled it is).
+    pub kinetic: f64,
+    /// Median step time over the hold (ms).
+    pub step_ms: f64,
+    /// Tiles still awake at the end, of all (sleeping: a settled press costs nothing).
+    pub awake: [usize; 2],
+    /// The smallest angle a part reached, in degrees (collision stops a part early).
+    pub reached: f64,
+}
+
+impl Press {
+    /// The rig: each part a connected cut of the root with the default band.
+    pub fn rig(&self, params: Params) -> RigFile {
+        let cuts = self
+            .turns
+            .iter()
+            .enumerate()
+            .map(|(k, t)| Cut {
+                name: format!("part {}", k + 1),
+                section: crate::joints::ROOT.into(),
+                point: t.point,
+                normal: t.normal,
+                pivot: None,
+                connected: true,
+                band: None,
+                shape: Shape::Plane,
+                shared_pivot: false,
+            })
+            .collect();
+        RigFile {
+            cuts,
+            params,
+            ..RigFile::default()
+        }
+    }
+
+    /// The puppet of `mesh` posed over [`RAMP`] seconds and held [`HOLD`] seconds, with the
+    /// step times of the hold.
+    pub fn posed(&self, mesh: &Mesh, params: Params) -> Result<(Puppet, Vec<f64>), BuildError> {
+        self.posed_with_angles(mesh, params)
+            .map(|(p, times, _)| (p, times))
+    }
+
+    /// As [`Press::posed`], with the smallest angle a part reached (degrees).
+    fn posed_with_angles(
+        &self,
+        mesh: &Mesh,
+        params: Params,
+    ) -> Result<(Puppet, Vec<f64>, f64), BuildError> {
+        let mut p = Puppet::build(mesh.clone(), self.rig(params), crate::progress::silent())?;
+        let dt = f64::from(p.sim.params().solver.time_step);
+        let steps = ((RAMP + HOLD) / dt).ceil() as usize;
+        let mut local = vec![Local::default(); p.joints.sections().len()];
+        let mut scratch = crate::joints::PoseScratch::default();
+        let mut times = Vec::new();
+        for k in 1..=steps {
+            let s = (k as f64 * dt / RAMP).min(1.0);
+            let s = s * s * (3.0 - 2.0 * s);
+            let before = local.clone();
+            for (n, t) in self.turns.iter().enumerate() {
+                if let Some(section) = p.joints.find(&format!("part {}", n + 1)) {
+                    local[section] = Local::axis_angle(t.axis, t.degrees * s);
+                }
+            }
+            // As a drag in the window would: held back where parts meet.
+            let allowed = p.limit_pose(&before, &local);
+            if allowed < 1.0 {
+                local = crate::joints::collide::between(&before, &local, allowed);
+            }
+            let start = std::time::Instant::now();
+            p.sim.step(p.joints.pose_into(&local, &mut scratch));
+            if k as f64 * dt > RAMP {
+                times.push(start.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+        let reached = local
+            .iter()
+            .skip(1)
+            .map(|l| l.rotation.angle_between(glam::DQuat::IDENTITY).to_degrees())
+            .fold(f64::INFINITY, f64::min);
+        Ok((p, times, if reached.is_finite() { reached } else { 0.0 }))
+    }
+
+    /// Poses `mesh`, settles it and measures it.
+    pub fn press(&self, mesh: &Mesh, params: Params) -> Result<Pressed, BuildError> {
+        let (p, mut times, reached) = self.posed_with_angles(mesh, params)?;
+        times.sort_by(f64::total_cmp);
+        let mut out = measure(&p);
+        out.step_ms = times.get(times.len() / 2).copied().unwrap_or(0.0);
+        out.reached = reached;
+        Ok(out)
+    }
+}
+
+/// Measures a posed puppet's surface (see the module's list).
+pub fn measure(p: &Puppet) -> Pressed {
+    let rest = &p.mesh.positions;
+    let now: Vec<DVec3> = (0..rest.len())
+        .map(|i| p.sim.positions().get(i).as_dvec3())
+        .collect();
+    let triangles = &p.mesh.triangles;
+    let before = intersecting_faces(rest, triangles);
+    let after = intersecting_faces(&now, triangles);
+    let crossing = before
+        .iter()
+        .zip(&after)
+        .filter(|(b, a)| **a && !**b)
+        .count();
+    let section_of = p.joints.section_of();
+    let (lo, hi) = p.mesh.bounds();
+    let diagonal = (hi - lo).length().max(f64::MIN_POSITIVE);
+    // Inside another part: a point just outside the surface at a vertex (a thousandth of
+    // the diagonal along its normal) has winding number 0 against the posed surface, 1
+    // when the vertex lies inside another part. Vertices inside at rest (a mesh's own
+    // overlaps) do not count.
+    let offset = 1e-3 * diagonal;
+    let outside = |positions: &[DVec3]| -> Vec<bool> {
+        let posed = Mesh {
+            positions: positions.to_vec(),
+            triangles: triangles.clone(),
+        };
+        let normals = mesh::vertex_normals(&posed).unwrap_or_default();
+        let winding = Winding::new(positions, triangles);
+        positions
+            .iter()
+            .enumerate()
+            .map(|(v, &x)| {
+                let n = normals.get(v).copied().unwrap_or(DVec3::ZERO);
+                winding.at(x + n * offset) > 0.5
+            })
+            .collect()
+    };
+    let inside_at_rest = outside(rest);
+    let inside_now = outside(&now);
+    let mut deepest = 0.0f64;
+    let mut inside = 0;
+    for (v, &x) in now.iter().enumerate() {
+        if !inside_now[v] || inside_at_rest[v] {
+            continue;
+        }
+        inside += 1;
+        let own = section_of[v];
+        let nearest = triangles
+            .iter()
+            .filter(|t| t.iter().all(|&i| section_of[i as usize] != own))
+            .map(|t| point_triangle(x, t.map(|i| now[i as usize])))
+            .fold(f64::INFINITY, f64::min);
+        if nearest.is_finite() {
+            deepest = deepest.max(nearest);
+        }
+    }
+    let mut volume = [f64::INFINITY, f64::NEG_INFINITY];
+    for (s, section) in p.joints.sections().iter().enumerate() {
+        let faces: Vec<bool> = triangles
+            .iter()
+            .map(|t| t.iter().all(|&i| usize::from(section_of[i as usize]) == s))
+            .collect();
+        let a = cone_volume(rest, triangles, &faces, section.pivot);
+        if a.abs() < 1e-12 {
+            continue;
+        }
+        let change = cone_volume(&now, triangles, &faces, section.pivot) / a - 1.0;
+        volume = [volume[0].min(change), volume[1].max(change)];
+    }
+    Pressed {
+        crossing,
+        faces: triangles.len(),
+        deepest: 100.0 * deepest / diagonal,
+        inside,
+        volume,
+        kinetic: p.sim.kinetic_energy(),
+        step_ms: 0.0,
+        awake: {
+            let (all, awake) = p.sim.tiles();
+            [awake, all]
+        },
+        reached: 0.0,
+    }
+}
+
+/// The distance from `p` to the triangle `t`.
+pub fn point_triangle(p: DVec3, t: [DVec3; 3]) -> f64 {
+    let [a, b, c] = t;
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return ap.length();
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return bp.length();
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        let v = d1 / (d1 - d3);
+        return (p - (a + ab * v)).length();
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return cp.length();
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        let w = d2 / (d2 - d6);
+        return (p - (a + ac * w)).length();
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return (p - (b + (c - b) * w)).length();
+    }
+    let denom = 1.0 / (va + vb + vc);
+    let (v, w) = (vb * denom, vc * denom);
+    (p - (a + ab * v + ac * w)).length()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn point_triangle_distance_matches_the_cases() {
+        let t = [DVec3::ZERO, DVec3::X, DVec3::Y];
+        assert!((point_triangle(DVec3::new(0.2, 0.2, 1.0), t) - 1.0).abs() < 1e-12);
+        assert!((point_triangle(DVec3::new(-1.0, -1.0, 0.0), t) - 2f64.sqrt()).abs() < 1e-12);
+        assert!((point_triangle(DVec3::new(0.5, -1.0, 0.0), t) - 1.0).abs() < 1e-12);
+        assert!((point_triangle(DVec3::new(1.0, 1.0, 0.0), t) - 0.5f64.sqrt()).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,458 @@
+//! Contacts between sections (paper §5: the medial balls as colliders).
+//!
+//! The skeleton gives every surface vertex `i` a medial ball, centre `p_i − d_i n_i` and
+//! radius `d_i`, and their union is the inside. A ball moves rigidly with its vertex's
+//! section. After the step's constraint (stage 4), every mass point of one section is put
+//! back out of the balls of the other sections (stage 4c):
+//!
+//! * **Which balls.** Those [`balls::thin`] keeps: most balls are nearly inside a bigger
+//!   one of the same section.
+//! * **Which pairs.** A point yields to the balls of sections nearer the root (an arm to
+//!   the body, a finger to the palm; of two at one depth, the later), never to its own
+//!   section's, and never to a ball it was a neighbour of at rest ([`balls::neighbours`]):
+//!   at a joint the two sides touch at rest, and the band holds the fold.
+//! * **Broad phase.** The posed balls go into a uniform grid (rebuilt only in steps where a
+//!   section moved); a tile whose box meets no foreign ball is skipped whole.
+//! * **Response.** A point inside a ball goes to its surface (plus the margin) along the
+//!   line from the centre; its motion into the ball is dropped and its sliding motion
+//!   keeps `1 − friction` (the floor's friction). It is a projection, so a limb posed deep
+//!   into the body squashes against it and nothing gains energy: no explosion.
+//! * **No tunnelling.** A point tests the segment it moved along in the step, taken in the
+//!   frame of each ball (the ball's own motion subtracted): a point that crossed a ball in
+//!   one step is put back at the surface where it entered, however fast the drag.
+//! * **Sleeping.** A sleeping tile is tested only in a step where a section moved, and
+//!   wakes only when a contact moves one of its points; a settled pose with contacts
+//!   settles (the contact puts a point back where it was, so the tile's motion is zero).
+
+use super::layout::{Layout, Packed};
+use crate::geom::balls;
+use glam::{Affine3A, DVec3, Vec3};
+use std::collections::HashMap;
+
+/// Points tested together against the balls that meet their box.
+const GROUP: usize = 8;
+
+/// The balls of a puppet and the broad phase over them.
+#[derive(Clone, Debug, Default)]
+pub struct Colliders {
+    /// Per joint section, its rank: a point yields to the balls of sections of lower rank
+    /// only (the body's parts nearer the root stay where they are).
+    rank: Vec<u32>,
+    /// Rest centre, radius, joint section and transform of each ball kept.
+    center: Vec<Vec3>,
+    radius: Vec<f32>,
+    section: Vec<u16>,
+    transform: Vec<u16>,
+    /// The joint section and skeletal distance of each slot, and the section of each tile
+    /// when it has only one.
+    slot_section: Vec<u16>,
+    slot_radius: Vec<f32>,
+    tile_section: Vec<Option<u16>>,
+    /// Balls too big for the grid (tested against every tile's box).
+    big: Vec<u32>,
+    /// Per ball: the last tile that listed it (to list it once).
+    stamp: Vec<u32>,
+    /// The centres as posed at the last and at this step.
+    posed: Vec<Vec3>,
+    before: Vec<Vec3>,
+    /// Grid cell size and the balls by cell.
+    cell: f32,
+    grid: HashMap<[i32; 3], Vec<u32>>,
+    /// How far the balls that moved most moved in the last step.
+    motion: f32,
+    /// The grid is out of date (the first step, or a section moved).
+    stale: bool,
+    /// Smallest radius kept (the sweep's threshold).
+    smallest: f32,
+}
+
+/// What the contact stage needs of the step.
+pub struct Stage<'a> {
+    /// The layout (slot order, rest positions, sections).
+    pub layout: &'a Layout,
+    /// Each section's transform this step.
+    pub transforms: &'a [Affine3A],
+    /// Which sections' transforms changed this step.
+    pub changed: &'a [bool],
+    /// Margin kept between a point and a foreign ball (mesh units).
+    pub margin: f32,
+    /// Share of sliding motion a touching point keeps.
+    pub keep: f32,
+}
+
+impl Colliders {
+    /// The balls of `centers`/`radii` (one per vertex, in vertex order), each in its
+    /// vertex's joint section (`section_of`) and moved by its transform (`transform_of`),
+    /// thinned ([`balls::thin`]). [`Colliders::bind`] gives it the slots.
+    pub fn new(
+        centers: &[Vec3],
+        radii: &[f32],
+        section_of: &[u16],
+        transform_of: &[u16],
+    ) -> Colliders {
+        let group = |i: usize| section_of.get(i).copied().unwrap_or(0);
+        let mut out = Colliders {
+            stale: true,
+            ..Colliders::default()
+        };
+        let wide: Vec<DVec3> = centers.iter().map(|c| c.as_dvec3()).collect();
+        let radii64: Vec<f64> = radii.iter().map(|&r| f64::from(r)).collect();
+        for i in balls::thin(&wide, &radii64, section_of) {
+            out.center.push(centers[i]);
+            out.radius.push(radii[i]);
+            out.section.push(group(i));
+            out.transform
+                .push(transform_of.get(i).copied().unwrap_or(0));
+        }
+        if out.is_empty() {
+            return out;
+        }
+        out.smallest = out.radius.iter().copied().fold(f32::INFINITY, f32::min);
+        out.cell = balls::cell(&radii64_kept(&out.radius)) as f32;
+        out.posed = out.center.clone();
+        out.before = out.center.clone();
+        out.big = (0..out.len() as u32)
+            .filter(|&b| out.radius[b as usize] > 2.0 * out.cell)
+            .collect();
+        out.stamp = vec![u32::MAX; out.len()];
+        out
+    }
+
+    /// Takes the slots of `layout`, whose vertices are in the joint sections `section_of`
+    /// (vertex order), and each section's rank (a point yields to the balls of lower rank;
+    /// missing ranks: the section's index).
+    pub fn bind(&mut self, layout: &Layout, section_of: &[u16], rank: &[u32], radii: &[f32]) {
+        self.slot_radius = layout
+            .order
+            .iter()
+            .map(|&v| radii.get(v as usize).copied().unwrap_or(0.0))
+            .collect();
+        let sections = section_of
+            .iter()
+            .map(|&s| usize::from(s) + 1)
+            .max()
+            .unwrap_or(1);
+        self.rank = (0..sections)
+            .map(|s| rank.get(s).copied().unwrap_or(s as u32))
+            .collect();
+        let group = |v: u32| section_of.get(v as usize).copied().unwrap_or(0);
+        self.slot_section = layout.order.iter().map(|&v| group(v)).collect();
+        self.tile_section = (0..layout.tiles())
+            .map(|t| {
+                let mut r = layout.tile_range(t);
+                let first = self.slot_section[r.start];
+                r.all(|k| self.slot_section[k] == first).then_some(first)
+            })
+            .collect();
+        self.stale = true;
+    }
+
+    /// Number of balls kept.
+    pub fn len(&self) -> usize {
+        self.center.len()
+    }
+
+    /// True when there is none.
+    pub fn is_empty(&self) -> bool {
+        self.center.is_empty()
+    }
+
+    /// The balls kept: rest centre, radius, section.
+    pub fn balls(&self) -> impl Iterator<Item = (Vec3, f32, u16)> + '_ {
+        (0..self.len()).map(|b| (self.center[b], self.radius[b], self.section[b]))
+    }
+
+    /// Stage 4c over the tiles: awake ones, and sleeping ones in a step where a section
+    /// moved. Moves points of `cur` out of foreign balls, sets their `prev` (velocity) by
+    /// the response, and returns the tiles it moved a point of (to be woken, their motion
+    /// measured again).
+    pub fn resolve(
+        &mut self,
+        stage: &Stage,
+        cur: &mut Packed,
+        prev: &mut Packed,
+        awake: &[bool],
+    ) -> Vec<usize> {
+        let layout = stage.layout;
+        let moved = stage.changed.iter().any(|&c| c);
+        if moved || self.stale {
+            self.pose(stage);
+        }
+        let mut touched = Vec::new();
+        if self.is_empty() {
+            return touched;
+        }
+        let reach = self.smallest * 0.5;
+        let mut group = Vec::new();
+        for (t, &awake) in awake.iter().enumerate().take(layout.tiles()) {
+            let range = layout.tile_range(t);
+            if !awake && !moved {
+                continue;
+            }
+            // The tile's box, with where its points were, grown by the margin and by how
+            // far the balls moved (a ball that swept through it counts).
+            let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+            let mut fastest = 0.0f32;
+            for k in range.clone() {
+                let (x, p) = (cur.get(k), prev.get(k));
+                lo = lo.min(x.min(p));
+                hi = hi.max(x.max(p));
+                fastest = fastest.max((x - p).length_squared());
+            }
+            let sweep = fastest.sqrt() > reach || self.motion > reach;
+            let grow = stage.margin + if sweep { self.motion } else { 0.0 };
+            let candidates = self.near(t, lo - grow, hi + grow);
+            if candidates.is_empty() {
+                continue;
+            }
+            let mut any = false;
+            let mut k0 = range.start;
+            while k0 < range.end {
+                let k1 = (k0 + GROUP).min(range.end);
+                // The balls that meet this group of points' box.
+                let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+                for k in k0..k1 {
+                    let (x, p) = (cur.get(k), prev.get(k));
+                    lo = lo.min(x.min(p));
+                    hi = hi.max(x.max(p));
+                }
+                let (lo, hi) = (lo - grow, hi + grow);
+                group.clear();
+                group.extend(candidates.iter().copied().filter(|&b| {
+                    let (c, r) = (self.posed[b as usize], self.radius[b as usize]);
+                    c.clamp(lo, hi).distance_squared(c) <= r * r
+                }));
+                if !group.is_empty() {
+                    for k in k0..k1 {
+                        if self.point(stage, k, &group, sweep, cur, prev) {
+                            any = true;
+                        }
+                    }
+                }
+                k0 = k1;
+            }
+            if any {
+                touched.push(t);
+            }
+        }
+        touched
+    }
+
+    /// Poses every ball with its section's transform and rebuilds the grid.
+    fn pose(&mut self, stage: &Stage) {
+        std::mem::swap(&mut self.before, &mut self.posed);
+        for b in 0..self.len() {
+            let t = stage
+                .transforms
+                .get(self.transform[b] as usize)
+                .copied()
+                .unwrap_or(Affine3A::IDENTITY);
+            self.posed[b] = t.transform_point3(self.center[b]);
+        }
+        if self.stale {
+            self.before.clone_from(&self.posed);
+        }
+        self.motion = self
+            .posed
+            .iter()
+            .zip(&self.before)
+            .map(|(a, b)| a.distance(*b))
+            .fold(0.0, f32::max);
+        self.stale = false;
+        self.grid.clear();
+        for b in 0..self.len() {
+            let (c, r) = (self.posed[b], self.radius[b]);
+            if r > 2.0 * self.cell {
+                continue;
+            }
+            let (lo, hi) = (key(c - r, self.cell), key(c + r, self.cell));
+            for x in lo[0]..=hi[0] {
+                for y in lo[1]..=hi[1] {
+                    for z in lo[2]..=hi[2] {
+                        self.grid.entry([x, y, z]).or_default().push(b as u32);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The balls that meet the box of tile `t`, each once (a tile of one section without
+    /// that section's own).
+    fn near(&mut self, t: usize, lo: Vec3, hi: Vec3) -> Vec<u32> {
+        let (a, b) = (key(lo, self.cell), key(hi, self.cell));
+        let own = self.tile_section[t];
+        let stamp = t as u32;
+        let mut out = Vec::new();
+        let meets = |c: Vec3, r: f32| c.clamp(lo, hi).distance_squared(c) <= r * r;
+        let take = |ball: u32, out: &mut Vec<u32>, this: &mut Self| {
+            let k = ball as usize;
+            if this.stamp[k] == stamp || own.is_some_and(|s| !this.yields(s, this.section[k])) {
+                return;
+            }
+            this.stamp[k] = stamp;
+            if meets(this.posed[k], this.radius[k]) {
+                out.push(ball);
+            }
+        };
+        for i in 0..self.big.len() {
+            take(self.big[i], &mut out, self);
+        }
+        // A box spanning a huge part of the grid (a point flung far): test every ball.
+        let cells = (0..3)
+            .map(|i| i64::from(b[i]) - i64::from(a[i]) + 1)
+            .product::<i64>();
+        if cells > 4096 {
+            for ball in 0..self.len() as u32 {
+                take(ball, &mut out, self);
+            }
+            return out;
+        }
+        for x in a[0]..=b[0] {
+            for y in a[1]..=b[1] {
+                for z in a[2]..=b[2] {
+                    let Some(list) = self.grid.get(&[x, y, z]) else {
+                        continue;
+                    };
+                    for i in 0..list.len() {
+                        let ball = self.grid[&[x, y, z]][i];
+                        take(ball, &mut out, self);
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// Whether a point of section `a` yields to the balls of section `b`.
+    fn yields(&self, a: u16, b: u16) -> bool {
+        let rank = |s: u16| {
+            self.rank
+                .get(usize::from(s))
+                .copied()
+                .unwrap_or(u32::from(s))
+        };
+        a != b && rank(a) > rank(b)
+    }
+
+    /// Puts slot `k` out of the foreign balls among `candidates`; true when it moved.
+    fn point(
+        &self,
+        stage: &Stage,
+        k: usize,
+        candidates: &[u32],
+        sweep: bool,
+        cur: &mut Packed,
+        prev: &mut Packed,
+    ) -> bool {
+        let slots = &stage.layout.slots;
+        let (section, rest, own) = (
+            self.slot_section[k],
+            slots.rest.get(k),
+            f64::from(self.slot_radius[k]),
+        );
+        let (mut x, p) = (cur.get(k), prev.get(k));
+        let start = x;
+        let mut normal = None;
+        for _pass in 0..2 {
+            let mut again = false;
+            for &b in candidates {
+                let b = b as usize;
+                let (c, r) = (self.posed[b], self.radius[b] + stage.margin);
+                let d = x - c;
+                let d2 = d.length_squared();
+                if (d2 >= r * r && !sweep) || !self.yields(section, self.section[b]) {
+                    continue;
+                }
+                // Near at rest: the flesh about a joint.
+                let at_rest = f64::from(rest.distance(self.center[b]));
+                if balls::neighbours(at_rest, f64::from(r), own) {
+                    continue;
+                }
+                let to = if d2 < r * r {
+                    // Inside: out along the line from the centre (or, at the centre, back
+                    // the way it came).
+                    let dir = d
+                        .try_normalize()
+                        .or_else(|| (p - x).try_normalize())
+                        .unwrap_or(Vec3::Y);
+                    Some((c + dir * r, dir))
+                } else if sweep {
+                    // Outside now: did it cross the ball in this step (in the ball's frame)?
+                    let from = p + (c - self.before[b]);
+                    entry(from, x, c, r).map(|e| (e, (e - c) / r))
+                } else {
+                    None
+                };
+                if let Some((to, n)) = to {
+                    x = to;
+                    normal = Some(n);
+                    again = true;
+                }
+            }
+            if !again {
+                break;
+            }
+        }
+        let Some(n) = normal else {
+            return false;
+        };
+        if !x.is_finite() {
+            return false;
+        }
+        // Response: the motion into the ball is dropped, the sliding motion keeps `keep`.
+        let v = x - p;
+        let along = v.dot(n);
+        let tangent = v - n * along;
+        let v = tangent * stage.keep + n * along.max(0.0);
+        cur.set(k, x);
+        prev.set(k, x - v);
+        x != start || v != start - p
+    }
+}
+
+fn radii64_kept(radii: &[f32]) -> Vec<f64> {
+    radii.iter().map(|&r| f64::from(r)).collect()
+}
+
+/// The first point where the segment `a → b` enters the ball `(c, r)`, when `a` is
+/// outside it and the segment passes through it.
+fn entry(a: Vec3, b: Vec3, c: Vec3, r: f32) -> Option<Vec3> {
+    let d = b - a;
+    let len2 = d.length_squared();
+    if len2 <= 0.0 {
+        return None;
+    }
+    let f = a - c;
+    let (bq, cq) = (f.dot(d), f.length_squared() - r * r);
+    if cq <= 0.0 || bq >= 0.0 {
+        return None;
+    }
+    let disc = bq * bq - len2 * cq;
+    if disc < 0.0 {
+        return None;
+    }
+    let t = (-bq - disc.sqrt()) / len2;
+    (0.0..=1.0).contains(&t).then(|| a + d * t)
+}
+
+/// The grid cell of `p`.
+fn key(p: Vec3, cell: f32) -> [i32; 3] {
+    let k = (p / cell).floor();
+    let clamp = |x: f32| x.clamp(-1e9, 1e9) as i32;
+    [clamp(k.x), clamp(k.y), clamp(k.z)]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_segment_entering_a_ball_is_found() {
+        let (c, r) = (Vec3::ZERO, 1.0);
+        let e = entry(Vec3::new(-3.0, 0.0, 0.0), Vec3::new(3.0, 0.0, 0.0), c, r).unwrap();
+        assert!(e.distance(Vec3::new(-1.0, 0.0, 0.0)) < 1e-6);
+        assert!(entry(Vec3::new(-3.0, 2.0, 0.0), Vec3::new(3.0, 2.0, 0.0), c, r).is_none());
+        assert!(entry(Vec3::new(-3.0, 0.0, 0.0), Vec3::new(-2.0, 0.0, 0.0), c, r).is_none());
+        assert!(entry(Vec3::new(0.5, 0.0, 0.0), Vec3::new(3.0, 0.0, 0.0), c, r).is_none());
+    }
+}
