@@ -60,6 +60,8 @@ pub struct Colliders {
     grid: HashMap<[i32; 3], Vec<u32>>,
     /// How far the balls that moved most moved in the last step.
     motion: f32,
+    /// The slots the last step moved out of a ball.
+    pushed: Vec<u32>,
     /// The grid is out of date (the first step, or a section moved).
     stale: bool,
     /// Smallest radius kept (the sweep's threshold).
@@ -78,6 +80,9 @@ pub struct Stage<'a> {
     pub margin: f32,
     /// Share of sliding motion a touching point keeps.
     pub keep: f32,
+    /// The floor's height, when there is one: a point a ball pushed is then held above
+    /// it by the same response (the floor wins, as in the kernel).
+    pub floor: Option<f32>,
 }
 
 impl Colliders {
@@ -147,6 +152,16 @@ impl Colliders {
         self.stale = true;
     }
 
+    /// The slots the last step moved out of a ball.
+    pub fn pushed(&self) -> &[u32] {
+        &self.pushed
+    }
+
+    /// Forgets the last step's contacts (a step without collision).
+    pub fn clear(&mut self) {
+        self.pushed.clear();
+    }
+
     /// Number of balls kept.
     pub fn len(&self) -> usize {
         self.center.len()
@@ -175,6 +190,7 @@ impl Colliders {
     ) -> Vec<usize> {
         let layout = stage.layout;
         let moved = stage.changed.iter().any(|&c| c);
+        self.pushed.clear();
         if moved || self.stale {
             self.pose(stage);
         }
@@ -226,6 +242,7 @@ impl Colliders {
                     for k in k0..k1 {
                         if self.point(stage, k, &group, sweep, cur, prev) {
                             any = true;
+                            self.pushed.push(k as u32);
                         }
                     }
                 }
@@ -393,11 +410,18 @@ impl Colliders {
                 break;
             }
         }
-        let Some(n) = normal else {
+        let Some(mut n) = normal else {
             return false;
         };
         if !x.is_finite() {
             return false;
+        }
+        // The floor, a half-space contact with the same response, wins.
+        if let Some(h) = stage.floor {
+            if x.y < h {
+                x.y = h;
+                n = Vec3::Y;
+            }
         }
         // Response: the motion into the ball is dropped, the sliding motion keeps `keep`.
         let v = x - p;

@@ -421,6 +421,17 @@ impl Simulation {
             .map_or(Affine3A::IDENTITY, kernel::affine_of)
     }
 
+    /// The vertices the last step put out of another section's ball (they may be outside
+    /// their constraint: a contact wins over it, as the floor does).
+    pub fn pushed(&self) -> Vec<usize> {
+        self.contacts.as_ref().map_or_else(Vec::new, |c| {
+            c.pushed()
+                .iter()
+                .map(|&k| self.layout.order[k as usize] as usize)
+                .collect()
+        })
+    }
+
     /// Steps taken so far.
     pub fn steps(&self) -> u64 {
         self.state.steps

@@ -93,6 +93,8 @@ impl Simulation {
         let t2 = Instant::now();
         if self.params.world.collision && !self.is_static() {
             self.collide();
+        } else if let Some(c) = &mut self.contacts {
+            c.clear();
         }
         let t3 = Instant::now();
         self.sleep();
@@ -108,6 +110,7 @@ impl Simulation {
     /// Stage 4c: contacts between sections (see [`super::contact`]). Tiles a contact
     /// moved wake, and their motion is measured again from where their points ended.
     fn collide(&mut self) {
+        let floor = self.floor().map(|(height, _)| height);
         let rig = &self.rig;
         let contacts = self.contacts.get_or_insert_with(|| {
             let centers: Vec<glam::Vec3> = (0..rig.len())
@@ -145,6 +148,7 @@ impl Simulation {
             changed: &scratch.changed,
             margin: p.world.collision_margin * self.diagonal,
             keep: (1.0 - p.world.floor_friction).powf(p.solver.time_step / REFERENCE_STEP),
+            floor,
         };
         let touched = contacts.resolve(&stage, &mut state.cur, &mut state.prev, &state.awake);
         for t in touched {
