@@ -1,5 +1,6 @@
 //! `puppet simulate [MESH.obj] --rig RIG --anim ANIM [--frames N] [--fps F]
-//! [--out-dir DIR] [--out FINAL.obj] [--gravity G] [--floor H] [--friction F] [--json]`:
+//! [--out-dir DIR] [--out FINAL.obj] [--gravity G] [--floor H] [--friction F] [--collision]
+//! [--json]`:
 //! plays an animation through the full simulation, headless.
 //!
 //! Frame `k` (1-based) shows time `k / fps`. The simulation runs on its own fixed step (the
@@ -66,9 +67,14 @@ pub struct Args {
     /// A floor this high above the mesh's lowest rest point (mesh units), over the rig's.
     #[arg(long, allow_negative_numbers = true)]
     pub floor: Option<f32>,
-    /// The floor's friction, 0..1 (over the rig's `floor_friction`).
+    /// The floor's friction, 0..1 (over the rig's `floor_friction`); contacts between
+    /// sections use it too.
     #[arg(long)]
     pub friction: Option<f32>,
+    /// Sections collide (over the rig's `collision`): each point is kept out of the
+    /// medial balls of the sections nearer the root.
+    #[arg(long)]
+    pub collision: bool,
     /// Print one JSON object instead of the text summary.
     #[arg(long)]
     pub json: bool,
@@ -203,6 +209,9 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     }
     if let Some(f) = args.friction {
         params.world.floor_friction = f;
+    }
+    if args.collision {
+        params.world.collision = true;
     }
     params
         .check()

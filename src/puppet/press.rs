@@ -185,19 +185,10 @@ impl Press {
         }
     }
 
-    /// The puppet of `mesh` posed over [`RAMP`] seconds and held [`HOLD`] seconds, with the
-    /// step times of the hold.
-    pub fn posed(&self, mesh: &Mesh, params: Params) -> Result<(Puppet, Vec<f64>), BuildError> {
-        self.posed_with_angles(mesh, params)
-            .map(|(p, times, _)| (p, times))
-    }
-
-    /// As [`Press::posed`], with the smallest angle a part reached (degrees).
-    fn posed_with_angles(
-        &self,
-        mesh: &Mesh,
-        params: Params,
-    ) -> Result<(Puppet, Vec<f64>, f64), BuildError> {
+    /// The puppet of `mesh` posed over [`RAMP`] seconds (each step's pose held back where
+    /// parts meet, with collision on, as a drag in the window is) and held [`HOLD`]
+    /// seconds.
+    pub fn posed(&self, mesh: &Mesh, params: Params) -> Result<Posed, BuildError> {
         let mut p = Puppet::build(mesh.clone(), self.rig(params), crate::progress::silent())?;
         let dt = f64::from(p.sim.params().solver.time_step);
         let steps = ((RAMP + HOLD) / dt).ceil() as usize;
@@ -213,7 +204,6 @@ impl Press {
                     local[section] = Local::axis_angle(t.axis, t.degrees * s);
                 }
             }
-            // As a drag in the window would: held back where parts meet.
             let allowed = p.limit_pose(&before, &local);
             if allowed < 1.0 {
                 local = crate::joints::collide::between(&before, &local, allowed);
@@ -224,23 +214,40 @@ impl Press {
                 times.push(start.elapsed().as_secs_f64() * 1e3);
             }
         }
-        let reached = local
-            .iter()
-            .skip(1)
-            .map(|l| l.rotation.angle_between(glam::DQuat::IDENTITY).to_degrees())
-            .fold(f64::INFINITY, f64::min);
-        Ok((p, times, if reached.is_finite() { reached } else { 0.0 }))
+        Ok(Posed {
+            puppet: p,
+            times,
+            local,
+        })
     }
 
     /// Poses `mesh`, settles it and measures it.
     pub fn press(&self, mesh: &Mesh, params: Params) -> Result<Pressed, BuildError> {
-        let (p, mut times, reached) = self.posed_with_angles(mesh, params)?;
+        let Posed {
+            puppet,
+            mut times,
+            local,
+        } = self.posed(mesh, params)?;
         times.sort_by(f64::total_cmp);
-        let mut out = measure(&p);
+        let mut out = measure(&puppet);
         out.step_ms = times.get(times.len() / 2).copied().unwrap_or(0.0);
-        out.reached = reached;
+        out.reached = local
+            .iter()
+            .skip(1)
+            .map(|l| l.rotation.angle_between(glam::DQuat::IDENTITY).to_degrees())
+            .fold(f64::INFINITY, f64::min);
         Ok(out)
     }
+}
+
+/// A press's puppet at its end, the step times of its hold (ms) and the pose it holds.
+pub struct Posed {
+    /// The puppet.
+    pub puppet: Puppet,
+    /// Each step's time over the hold (ms).
+    pub times: Vec<f64>,
+    /// The sections' poses at the end.
+    pub local: Vec<Local>,
 }
 
 /// Measures a posed puppet's surface (see the module's list).

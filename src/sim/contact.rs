@@ -47,6 +47,9 @@ pub struct Colliders {
     /// when it has only one.
     slot_section: Vec<u16>,
     slot_radius: Vec<f32>,
+    /// Per tile: a point of it yields to some ball (a tile of the root has none to yield
+    /// to, and is skipped).
+    tile_yields: Vec<bool>,
     tile_section: Vec<Option<u16>>,
     /// Balls too big for the grid (tested against every tile's box).
     big: Vec<u32>,
@@ -60,8 +63,9 @@ pub struct Colliders {
     grid: HashMap<[i32; 3], Vec<u32>>,
     /// How far the balls that moved most moved in the last step.
     motion: f32,
-    /// The slots the last step moved out of a ball.
-    pushed: Vec<u32>,
+    /// Per slot: a ball holds it (set when a step moves it out of one, kept while its
+    /// tile sleeps).
+    held: Vec<bool>,
     /// The grid is out of date (the first step, or a section moved).
     stale: bool,
     /// Smallest radius kept (the sweep's threshold).
@@ -142,6 +146,16 @@ impl Colliders {
             .collect();
         let group = |v: u32| section_of.get(v as usize).copied().unwrap_or(0);
         self.slot_section = layout.order.iter().map(|&v| group(v)).collect();
+        let lowest = self
+            .section
+            .iter()
+            .map(|&s| self.rank.get(usize::from(s)).copied().unwrap_or(u32::from(s)))
+            .min()
+            .unwrap_or(u32::MAX);
+        let yields = |s: u16| self.rank.get(usize::from(s)).copied().unwrap_or(u32::from(s)) > lowest;
+        self.tile_yields = (0..layout.tiles())
+            .map(|t| layout.tile_range(t).any(|k| yields(self.slot_section[k])))
+            .collect();
         self.tile_section = (0..layout.tiles())
             .map(|t| {
                 let mut r = layout.tile_range(t);
@@ -152,14 +166,14 @@ impl Colliders {
         self.stale = true;
     }
 
-    /// The slots the last step moved out of a ball.
-    pub fn pushed(&self) -> &[u32] {
-        &self.pushed
+    /// Per slot: a ball holds it (the last step that tested it moved it out of one).
+    pub fn held(&self) -> &[bool] {
+        &self.held
     }
 
-    /// Forgets the last step's contacts (a step without collision).
+    /// Forgets the contacts (a step without collision).
     pub fn clear(&mut self) {
-        self.pushed.clear();
+        self.held.fill(false);
     }
 
     /// Number of balls kept.
@@ -179,18 +193,19 @@ impl Colliders {
 
     /// Stage 4c over the tiles: awake ones, and sleeping ones in a step where a section
     /// moved. Moves points of `cur` out of foreign balls, sets their `prev` (velocity) by
-    /// the response, and returns the tiles it moved a point of (to be woken, their motion
-    /// measured again).
+    /// the response, and returns the tiles it moved a point of, each with the largest
+    /// squared distance a point of it moved in the whole step (to be woken when that is
+    /// motion).
     pub fn resolve(
         &mut self,
         stage: &Stage,
         cur: &mut Packed,
         prev: &mut Packed,
         awake: &[bool],
-    ) -> Vec<usize> {
+    ) -> Vec<(usize, f32)> {
         let layout = stage.layout;
         let moved = stage.changed.iter().any(|&c| c);
-        self.pushed.clear();
+        self.held.resize(layout.len(), false);
         if moved || self.stale {
             self.pose(stage);
         }
@@ -202,7 +217,7 @@ impl Colliders {
         let mut group = Vec::new();
         for (t, &awake) in awake.iter().enumerate().take(layout.tiles()) {
             let range = layout.tile_range(t);
-            if !awake && !moved {
+            if (!awake && !moved) || !self.tile_yields.get(t).copied().unwrap_or(true) {
                 continue;
             }
             // The tile's box, with where its points were, grown by the margin and by how
@@ -219,9 +234,11 @@ impl Colliders {
             let grow = stage.margin + if sweep { self.motion } else { 0.0 };
             let candidates = self.near(t, lo - grow, hi + grow);
             if candidates.is_empty() {
+                self.held[range].fill(false);
                 continue;
             }
             let mut any = false;
+            let mut motion = 0.0f32;
             let mut k0 = range.start;
             while k0 < range.end {
                 let k1 = (k0 + GROUP).min(range.end);
@@ -238,18 +255,26 @@ impl Colliders {
                     let (c, r) = (self.posed[b as usize], self.radius[b as usize]);
                     c.clamp(lo, hi).distance_squared(c) <= r * r
                 }));
-                if !group.is_empty() {
-                    for k in k0..k1 {
-                        if self.point(stage, k, &group, sweep, cur, prev) {
+                for k in k0..k1 {
+                    let moved = if group.is_empty() {
+                        None
+                    } else {
+                        self.point(stage, k, &group, sweep, cur, prev)
+                    };
+                    self.held[k] = moved.is_some();
+                    match moved {
+                        Some(d2) => {
                             any = true;
-                            self.pushed.push(k as u32);
+                            motion = motion.max(d2);
                         }
+                        // The step's own motion (the kernel left where it was in `prev`).
+                        None => motion = motion.max(cur.get(k).distance_squared(prev.get(k))),
                     }
                 }
                 k0 = k1;
             }
             if any {
-                touched.push(t);
+                touched.push((t, motion));
             }
         }
         touched
@@ -351,7 +376,10 @@ impl Colliders {
         a != b && rank(a) > rank(b)
     }
 
-    /// Puts slot `k` out of the foreign balls among `candidates`; true when it moved.
+    /// Puts slot `k` out of the foreign balls among `candidates`. Returns, when it moved
+    /// it, the square of how far the point moved in the whole step (from where it was
+    /// before the step, which `prev` held): a contact held where it was is no motion, so
+    /// a settled press sleeps.
     fn point(
         &self,
         stage: &Stage,
@@ -360,7 +388,7 @@ impl Colliders {
         sweep: bool,
         cur: &mut Packed,
         prev: &mut Packed,
-    ) -> bool {
+    ) -> Option<f32> {
         let slots = &stage.layout.slots;
         let (section, rest, own) = (
             self.slot_section[k],
@@ -410,11 +438,9 @@ impl Colliders {
                 break;
             }
         }
-        let Some(mut n) = normal else {
-            return false;
-        };
+        let mut n = normal?;
         if !x.is_finite() {
-            return false;
+            return None;
         }
         // The floor, a half-space contact with the same response, wins.
         if let Some(h) = stage.floor {
@@ -428,9 +454,12 @@ impl Colliders {
         let along = v.dot(n);
         let tangent = v - n * along;
         let v = tangent * stage.keep + n * along.max(0.0);
+        if x == start && v == start - p {
+            return None;
+        }
         cur.set(k, x);
         prev.set(k, x - v);
-        x != start || v != start - p
+        Some(x.distance_squared(p))
     }
 }
 

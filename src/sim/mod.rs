@@ -421,13 +421,16 @@ impl Simulation {
             .map_or(Affine3A::IDENTITY, kernel::affine_of)
     }
 
-    /// The vertices the last step put out of another section's ball (they may be outside
-    /// their constraint: a contact wins over it, as the floor does).
-    pub fn pushed(&self) -> Vec<usize> {
+    /// The vertices a contact holds: the last step that tested them put them out of
+    /// another section's ball (they may be outside their constraint: a contact wins over
+    /// it, as the floor does).
+    pub fn in_contact(&self) -> Vec<usize> {
         self.contacts.as_ref().map_or_else(Vec::new, |c| {
-            c.pushed()
+            c.held()
                 .iter()
-                .map(|&k| self.layout.order[k as usize] as usize)
+                .enumerate()
+                .filter(|(_, &h)| h)
+                .map(|(k, _)| self.layout.order[k] as usize)
                 .collect()
         })
     }

@@ -107,8 +107,9 @@ impl Simulation {
         };
     }
 
-    /// Stage 4c: contacts between sections (see [`super::contact`]). Tiles a contact
-    /// moved wake, and their motion is measured again from where their points ended.
+    /// Stage 4c: contacts between sections (see [`super::contact`]). A tile's motion is
+    /// measured again from where its points ended (a contact held in place is none), and
+    /// a sleeping tile a contact moved wakes.
     fn collide(&mut self) {
         let floor = self.floor().map(|(height, _)| height);
         let rig = &self.rig;
@@ -151,13 +152,8 @@ impl Simulation {
             floor,
         };
         let touched = contacts.resolve(&stage, &mut state.cur, &mut state.prev, &state.awake);
-        for t in touched {
-            let motion = self
-                .layout
-                .tile_range(t)
-                .map(|k| (state.cur.get(k) - state.prev.get(k)).length_squared())
-                .fold(0.0, f32::max);
-            if !state.awake[t] {
+        for (t, motion) in touched {
+            if !state.awake[t] && motion > self.sleep_threshold2 {
                 state.awake[t] = true;
                 state.steps_under_threshold[t] = 0;
                 self.awake_tiles += 1;

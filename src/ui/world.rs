@@ -1,6 +1,8 @@
-//! The World section: gravity (strength and direction) and the floor.
+//! The World section: gravity (strength and direction), the floor, and collision between
+//! sections.
 
 use crate::session::Session;
+use crate::sim::params::MAX_MARGIN;
 use crate::sim::{Params, MAX_GRAVITY};
 
 /// Gravity directions offered by name; anything else shows as "custom".
@@ -57,6 +59,20 @@ pub(super) fn world_section(ui: &mut egui::Ui, session: &mut Session) {
                 .text("height above the lowest point"),
         );
         ui.add(egui::Slider::new(&mut w.floor_friction, 0.0..=1.0).text("friction"));
+    }
+    ui.checkbox(&mut w.collision, "collision")
+        .on_hover_text("parts stop where they meet another part of the body: a limb dragged into it, a finger into the palm");
+    if w.collision {
+        let mut percent = w.collision_margin * 100.0;
+        ui.add(
+            egui::Slider::new(&mut percent, 0.0..=MAX_MARGIN * 100.0)
+                .text("margin (% of size)"),
+        )
+        .on_hover_text("the gap kept between touching parts");
+        w.collision_margin = percent / 100.0;
+        if !w.floor {
+            ui.add(egui::Slider::new(&mut w.floor_friction, 0.0..=1.0).text("friction"));
+        }
     }
     if w != before {
         let params = Params {

@@ -53,9 +53,10 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                 .press(&mesh, params)
                 .map_err(|e| anyhow!("{name}: {e}"))?;
             if let Some(dir) = &args.images {
-                let (p, _) = press
+                let p = press
                     .posed(&mesh, params)
-                    .map_err(|e| anyhow!("{name}: {e}"))?;
+                    .map_err(|e| anyhow!("{name}: {e}"))?
+                    .puppet;
                 let file: String = press
                     .name
                     .chars()

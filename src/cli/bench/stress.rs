@@ -345,7 +345,7 @@ fn run_scenario(
     let mut targets: Vec<Vec3> = (0..n).map(|i| sim.target(i)).collect();
     let mut before: Vec<Vec3> = sim.positions().to_vec();
     let tolerance = 1e-5 * size;
-    // Per vertex: a contact moved it in the last step or the one before (it may be
+    // Per vertex: a contact held it in the last step or the one before (it may be
     // outside its constraint, and come back from there).
     let mut pushed = vec![0u8; n];
     let h = p.solver.time_step as f64;
@@ -381,7 +381,7 @@ fn run_scenario(
             k += 1;
             done += 1;
             pushed.iter_mut().for_each(|p| *p = p.saturating_sub(1));
-            for i in sim.pushed() {
+            for i in sim.in_contact() {
                 pushed[i] = 2;
             }
             check(

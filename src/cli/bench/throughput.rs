@@ -58,6 +58,10 @@ pub fn measure(scenario: &Scenario, params: Params, regions: Regions, steps: usi
     let mut sim =
         Simulation::with_options(scenario.rig(params.material.bone_distance), params, options);
     sim.set_sections(scenario.joints.transform_of().to_vec());
+    sim.set_joint_sections(
+        scenario.joints.section_of().to_vec(),
+        scenario.joints.contact_ranks(),
+    );
     sim.set_regions(regions);
     let springs = sim.rig().spring_count();
     let vertices = sim.rig().len();
@@ -146,6 +150,9 @@ pub struct Args {
     /// squash against it).
     #[arg(long)]
     floor: bool,
+    /// Sections collide (the limb with the body; see `puppet bench collide`).
+    #[arg(long)]
+    collision: bool,
     /// Painted materials: the half of the surface with `x` above the middle is "thick skin",
     /// with stiffening exponent 2, and every tenth vertex is pinned with weight 0.5.
     #[arg(long)]
@@ -206,6 +213,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     params.solver.time_step = REFERENCE_STEP;
     params.world.gravity = [0.0, -args.gravity, 0.0];
     params.world.floor = args.floor;
+    params.world.collision = args.collision;
     let params = params.sanitized();
     let max_level = if args.scaling {
         args.subdivisions as usize

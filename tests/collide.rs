@@ -1,0 +1,147 @@
+//! Sections that collide (`collision = true`): parts of the shipped meshes pressed into the
+//! body stop where they meet it, the surfaces do not cross, a fast drag does not tunnel,
+//! a settled press sleeps, and collision off is what it was.
+
+mod common;
+
+use glam::DQuat;
+use puppet::puppet::press::{Press, PRESSES};
+use puppet::session::Session;
+use puppet::sim::Params;
+use puppet::{Puppet, RigFile};
+
+fn press(name: &str) -> &'static Press {
+    PRESSES
+        .iter()
+        .find(|p| p.name.contains(name))
+        .unwrap_or_else(|| panic!("no press {name}"))
+}
+
+fn mesh(file: &str) -> puppet::mesh::Mesh {
+    puppet::mesh::load(&common::test_mesh(file)).unwrap().0
+}
+
+fn colliding() -> Params {
+    let mut p = Params::default();
+    p.world.collision = true;
+    p
+}
+
+/// The figures `puppet bench collide` reports for BENCHMARKS.md, held: arms turned down
+/// 95° and 105° past the body's sides, a leg crossed over the other, a finger curled into
+/// the palm. Without collision each presses hundreds of faces through others.
+#[test]
+fn pressed_parts_stop_at_the_body_without_crossing() {
+    let human = mesh("human.obj");
+    let hand = mesh("hand.obj");
+    for (name, mesh, most) in [
+        ("arms down 95", &human, 0),
+        ("arms down 105", &human, 10),
+        ("legs crossed", &human, 10),
+        ("index curled", &hand, 10),
+    ] {
+        let p = press(name);
+        let off = p.press(mesh, Params::default()).unwrap();
+        assert!(off.crossing > 100, "{name}: the pose presses: {off:?}");
+        let on = p.press(mesh, colliding()).unwrap();
+        assert!(on.crossing <= most, "{name}: {on:?}");
+        assert!(on.deepest <= 0.5, "{name}: {on:?}");
+        assert!(
+            on.reached < p.turns.iter().map(|t| t.degrees.abs()).fold(0.0, f64::max),
+            "{name}: the part stopped early: {on:?}"
+        );
+        assert!(
+            on.volume[0] > -0.05 && on.volume[1] < 0.05,
+            "{name}: no part squashed: {on:?}"
+        );
+    }
+}
+
+/// A drag of 150° in one frame (the arm would pass right through the body to the other
+/// side) stops where the arm meets the body, as slow drags do.
+#[test]
+fn a_fast_drag_does_not_tunnel() {
+    let human = mesh("human.obj");
+    let p = press("arms down 95");
+    let rig = RigFile {
+        params: colliding(),
+        ..p.rig(colliding())
+    };
+    let puppet = Puppet::build(human, rig, puppet::progress::silent()).unwrap();
+    let mut s = Session::new(puppet, "human");
+    let arm = s.puppet.joints.find("part 1").unwrap();
+    s.select(Some(arm), false);
+    s.rotate_selected(DQuat::from_rotation_z(150f64.to_radians()));
+    let angle = s.local[arm]
+        .rotation
+        .angle_between(DQuat::IDENTITY)
+        .to_degrees();
+    assert!(angle > 60.0 && angle < 95.0, "the arm stopped at {angle}°");
+    // The same move in small steps stops at the same place.
+    s.reset_pose();
+    for _ in 0..150 {
+        s.rotate_selected(DQuat::from_rotation_z(1f64.to_radians()));
+    }
+    let slow = s.local[arm]
+        .rotation
+        .angle_between(DQuat::IDENTITY)
+        .to_degrees();
+    assert!((slow - angle).abs() < 3.0, "{slow}° against {angle}°");
+    // Away from the body it moves freely.
+    s.rotate_selected(DQuat::from_rotation_z(-60f64.to_radians()));
+    let back = s.local[arm]
+        .rotation
+        .angle_between(DQuat::IDENTITY)
+        .to_degrees();
+    assert!((back - (slow - 60.0)).abs() < 1.0, "{back}°");
+}
+
+/// A press held still settles: every tile sleeps (a settled window costs nothing), and the
+/// contacts hold the surface where it was.
+#[test]
+fn a_settled_press_sleeps() {
+    let human = mesh("human.obj");
+    let posed = press("arms down 105").posed(&human, colliding()).unwrap();
+    let mut puppet = posed.puppet;
+    let mut scratch = puppet::joints::PoseScratch::default();
+    let mut steps = 0;
+    while !puppet.sim.is_asleep() && steps < 1200 {
+        puppet
+            .sim
+            .step(puppet.joints.pose_into(&posed.local, &mut scratch));
+        steps += 1;
+    }
+    assert!(
+        puppet.sim.is_asleep(),
+        "still awake after {steps} more steps: {:?}",
+        puppet.sim.tiles()
+    );
+    let settled = puppet::puppet::press::measure(&puppet);
+    assert_eq!(settled.crossing, 0, "{settled:?}");
+}
+
+/// Collision is off by default and in rig files that do not name it; a rig file may turn
+/// it on with its margin, and a margin out of range is refused.
+#[test]
+fn collision_is_off_unless_a_rig_turns_it_on() {
+    assert!(!Params::default().world.collision);
+    let old = RigFile::parse("[params]\ndamping = 0.5\n", puppet::files::Format::Toml, std::path::Path::new("test.rig.toml")).unwrap();
+    assert!(!old.params.world.collision);
+    let on = RigFile::parse(
+        "[params]\ncollision = true\ncollision_margin = 0.01\n",
+        puppet::files::Format::Toml,
+        std::path::Path::new("test.rig.toml"),
+    )
+    .unwrap();
+    assert!(on.params.world.collision);
+    assert_eq!(on.params.world.collision_margin, 0.01);
+    let bad = RigFile::parse(
+        "[params]\ncollision = true\ncollision_margin = 0.5\n",
+        puppet::files::Format::Toml,
+        std::path::Path::new("test.rig.toml"),
+    );
+    assert!(
+        bad.is_err_and(|e| e.to_string().contains("collision_margin")),
+        "a margin of half the model is refused"
+    );
+}
