@@ -125,7 +125,12 @@ fn a_settled_press_sleeps() {
 #[test]
 fn collision_is_off_unless_a_rig_turns_it_on() {
     assert!(!Params::default().world.collision);
-    let old = RigFile::parse("[params]\ndamping = 0.5\n", puppet::files::Format::Toml, std::path::Path::new("test.rig.toml")).unwrap();
+    let old = RigFile::parse(
+        "[params]\ndamping = 0.5\n",
+        puppet::files::Format::Toml,
+        std::path::Path::new("test.rig.toml"),
+    )
+    .unwrap();
     assert!(!old.params.world.collision);
     let on = RigFile::parse(
         "[params]\ncollision = true\ncollision_margin = 0.01\n",

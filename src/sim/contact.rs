@@ -27,7 +27,33 @@
 use super::layout::{Layout, Packed};
 use crate::geom::balls;
 use glam::{Affine3A, DVec3, Vec3};
+use rayon::prelude::*;
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
+/// A grid cell's hash: its three coordinates mixed by multiplication (the standard
+/// library's SipHash, made for untrusted keys, took a third of the stage).
+#[derive(Default)]
+struct CellHasher(u64);
+
+impl Hasher for CellHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0.rotate_left(5) ^ u64::from(b)).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+        }
+    }
+
+    fn write_i32(&mut self, i: i32) {
+        self.0 =
+            (self.0.rotate_left(5) ^ (i as u32 as u64)).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+
+    fn write_usize(&mut self, _: usize) {}
+}
 
 /// Points tested together against the balls that meet their box.
 const GROUP: usize = 8;
@@ -53,14 +79,17 @@ pub struct Colliders {
     tile_section: Vec<Option<u16>>,
     /// Balls too big for the grid (tested against every tile's box).
     big: Vec<u32>,
-    /// Per ball: the last tile that listed it (to list it once).
-    stamp: Vec<u32>,
+    /// The balls some point may yield to (of a section below the highest-ranked section
+    /// with points): only these are posed and gridded.
+    needed: Vec<u32>,
+    /// Per transform: a needed ball moves with it.
+    needed_transform: Vec<bool>,
     /// The centres as posed at the last and at this step.
     posed: Vec<Vec3>,
     before: Vec<Vec3>,
     /// Grid cell size and the balls by cell.
     cell: f32,
-    grid: HashMap<[i32; 3], Vec<u32>>,
+    grid: HashMap<[i32; 3], Vec<u32>, BuildHasherDefault<CellHasher>>,
     /// How far the balls that moved most moved in the last step.
     motion: f32,
     /// Per slot: a ball holds it (set when a step moves it out of one, kept while its
@@ -120,10 +149,6 @@ impl Colliders {
         out.cell = balls::cell(&radii64_kept(&out.radius)) as f32;
         out.posed = out.center.clone();
         out.before = out.center.clone();
-        out.big = (0..out.len() as u32)
-            .filter(|&b| out.radius[b as usize] > 2.0 * out.cell)
-            .collect();
-        out.stamp = vec![u32::MAX; out.len()];
         out
     }
 
@@ -149,10 +174,58 @@ impl Colliders {
         let lowest = self
             .section
             .iter()
-            .map(|&s| self.rank.get(usize::from(s)).copied().unwrap_or(u32::from(s)))
+            .map(|&s| {
+                self.rank
+                    .get(usize::from(s))
+                    .copied()
+                    .unwrap_or(u32::from(s))
+            })
             .min()
             .unwrap_or(u32::MAX);
-        let yields = |s: u16| self.rank.get(usize::from(s)).copied().unwrap_or(u32::from(s)) > lowest;
+        let yields = |s: u16| {
+            self.rank
+                .get(usize::from(s))
+                .copied()
+                .unwrap_or(u32::from(s))
+                > lowest
+        };
+        let highest = self
+            .slot_section
+            .iter()
+            .map(|&s| {
+                self.rank
+                    .get(usize::from(s))
+                    .copied()
+                    .unwrap_or(u32::from(s))
+            })
+            .max()
+            .unwrap_or(0);
+        self.needed = (0..self.len() as u32)
+            .filter(|&b| {
+                let s = self.section[b as usize];
+                self.rank
+                    .get(usize::from(s))
+                    .copied()
+                    .unwrap_or(u32::from(s))
+                    < highest
+            })
+            .collect();
+        let transforms = self
+            .transform
+            .iter()
+            .map(|&t| usize::from(t) + 1)
+            .max()
+            .unwrap_or(0);
+        self.needed_transform = vec![false; transforms];
+        for &b in &self.needed {
+            self.needed_transform[usize::from(self.transform[b as usize])] = true;
+        }
+        self.big = self
+            .needed
+            .iter()
+            .copied()
+            .filter(|&b| self.radius[b as usize] > 2.0 * self.cell)
+            .collect();
         self.tile_yields = (0..layout.tiles())
             .map(|t| layout.tile_range(t).any(|k| yields(self.slot_section[k])))
             .collect();
@@ -204,86 +277,119 @@ impl Colliders {
         awake: &[bool],
     ) -> Vec<(usize, f32)> {
         let layout = stage.layout;
-        let moved = stage.changed.iter().any(|&c| c);
+        // A ball some point yields to moved: sleeping tiles are tested too.
+        let moved = stage
+            .changed
+            .iter()
+            .zip(&self.needed_transform)
+            .any(|(&c, &n)| c && n);
         self.held.resize(layout.len(), false);
         if moved || self.stale {
             self.pose(stage);
         }
-        let mut touched = Vec::new();
         if self.is_empty() {
-            return touched;
+            return Vec::new();
         }
-        let reach = self.smallest * 0.5;
-        let mut group = Vec::new();
-        for (t, &awake) in awake.iter().enumerate().take(layout.tiles()) {
-            let range = layout.tile_range(t);
-            if (!awake && !moved) || !self.tile_yields.get(t).copied().unwrap_or(true) {
-                continue;
-            }
-            // The tile's box, with where its points were, grown by the margin and by how
-            // far the balls moved (a ball that swept through it counts).
-            let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-            let mut fastest = 0.0f32;
-            for k in range.clone() {
-                let (x, p) = (cur.get(k), prev.get(k));
-                lo = lo.min(x.min(p));
-                hi = hi.max(x.max(p));
-                fastest = fastest.max((x - p).length_squared());
-            }
-            let sweep = fastest.sqrt() > reach || self.motion > reach;
-            let grow = stage.margin + if sweep { self.motion } else { 0.0 };
-            let candidates = self.near(t, lo - grow, hi + grow);
-            if candidates.is_empty() {
-                self.held[range].fill(false);
-                continue;
-            }
-            let mut any = false;
-            let mut motion = 0.0f32;
-            let mut k0 = range.start;
-            while k0 < range.end {
-                let k1 = (k0 + GROUP).min(range.end);
-                // The balls that meet this group of points' box.
-                let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-                for k in k0..k1 {
-                    let (x, p) = (cur.get(k), prev.get(k));
-                    lo = lo.min(x.min(p));
-                    hi = hi.max(x.max(p));
+        let tile = layout.tile;
+        let mut held = std::mem::take(&mut self.held);
+        let this = &*self;
+        let touched: Vec<(usize, f32)> = cur
+            .0
+            .par_chunks_mut(tile)
+            .zip(prev.0.par_chunks_mut(tile))
+            .zip(held.par_chunks_mut(tile))
+            .enumerate()
+            .filter_map(|(t, ((cur, prev), held))| {
+                let awake = awake.get(t).copied().unwrap_or(true);
+                if (!awake && !moved) || !this.tile_yields.get(t).copied().unwrap_or(true) {
+                    return None;
                 }
-                let (lo, hi) = (lo - grow, hi + grow);
-                group.clear();
-                group.extend(candidates.iter().copied().filter(|&b| {
-                    let (c, r) = (self.posed[b as usize], self.radius[b as usize]);
-                    c.clamp(lo, hi).distance_squared(c) <= r * r
-                }));
-                for k in k0..k1 {
-                    let moved = if group.is_empty() {
-                        None
-                    } else {
-                        self.point(stage, k, &group, sweep, cur, prev)
-                    };
-                    self.held[k] = moved.is_some();
-                    match moved {
-                        Some(d2) => {
-                            any = true;
-                            motion = motion.max(d2);
-                        }
-                        // The step's own motion (the kernel left where it was in `prev`).
-                        None => motion = motion.max(cur.get(k).distance_squared(prev.get(k))),
-                    }
-                }
-                k0 = k1;
-            }
-            if any {
-                touched.push((t, motion));
-            }
-        }
+                this.tile(stage, t, cur, prev, held).map(|m| (t, m))
+            })
+            .collect();
+        self.held = held;
         touched
     }
 
-    /// Poses every ball with its section's transform and rebuilds the grid.
+    /// Stage 4c on tile `t`, whose points, previous points and held flags are `cur`,
+    /// `prev` and `held`: the largest squared distance a point of it moved in the step,
+    /// when a contact moved one.
+    fn tile(
+        &self,
+        stage: &Stage,
+        t: usize,
+        cur: &mut [[f32; 4]],
+        prev: &mut [[f32; 4]],
+        held: &mut [bool],
+    ) -> Option<f32> {
+        let get = |a: &[[f32; 4]], i: usize| Vec3::new(a[i][0], a[i][1], a[i][2]);
+        let start = stage.layout.tile_range(t).start;
+        let n = cur.len();
+        let reach = self.smallest * 0.5;
+        // The tile's box, with where its points were, grown by the margin and by how far
+        // the balls moved (a ball that swept through it counts).
+        let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+        let mut fastest = 0.0f32;
+        for i in 0..n {
+            let (x, p) = (get(cur, i), get(prev, i));
+            lo = lo.min(x.min(p));
+            hi = hi.max(x.max(p));
+            fastest = fastest.max((x - p).length_squared());
+        }
+        let sweep = fastest.sqrt() > reach || self.motion > reach;
+        let grow = stage.margin + if sweep { self.motion } else { 0.0 };
+        let candidates = self.near(t, lo - grow, hi + grow);
+        if candidates.is_empty() {
+            held.fill(false);
+            return None;
+        }
+        let mut any = false;
+        let mut motion = 0.0f32;
+        let mut group = Vec::with_capacity(candidates.len());
+        for i0 in (0..n).step_by(GROUP) {
+            let i1 = (i0 + GROUP).min(n);
+            // The balls that meet this group of points' box.
+            let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+            for i in i0..i1 {
+                let (x, p) = (get(cur, i), get(prev, i));
+                lo = lo.min(x.min(p));
+                hi = hi.max(x.max(p));
+            }
+            let (lo, hi) = (lo - grow, hi + grow);
+            group.clear();
+            group.extend(candidates.iter().copied().filter(|&b| {
+                let (c, r) = (self.posed[b as usize], self.radius[b as usize]);
+                c.clamp(lo, hi).distance_squared(c) <= r * r
+            }));
+            for i in i0..i1 {
+                let (x, p) = (get(cur, i), get(prev, i));
+                let moved = if group.is_empty() {
+                    None
+                } else {
+                    self.point(stage, start + i, &group, sweep, x, p)
+                };
+                held[i] = moved.is_some();
+                match moved {
+                    Some((x, v)) => {
+                        any = true;
+                        motion = motion.max(x.distance_squared(p));
+                        cur[i] = [x.x, x.y, x.z, 0.0];
+                        let q = x - v;
+                        prev[i] = [q.x, q.y, q.z, 0.0];
+                    }
+                    // The step's own motion (the kernel left where it was in `prev`).
+                    None => motion = motion.max(x.distance_squared(p)),
+                }
+            }
+        }
+        any.then_some(motion)
+    }
+
+    /// Poses the needed balls with their transforms and rebuilds the grid.
     fn pose(&mut self, stage: &Stage) {
         std::mem::swap(&mut self.before, &mut self.posed);
-        for b in 0..self.len() {
+        for &b in &self.needed {
+            let b = b as usize;
             let t = stage
                 .transforms
                 .get(self.transform[b] as usize)
@@ -295,14 +401,14 @@ impl Colliders {
             self.before.clone_from(&self.posed);
         }
         self.motion = self
-            .posed
+            .needed
             .iter()
-            .zip(&self.before)
-            .map(|(a, b)| a.distance(*b))
+            .map(|&b| self.posed[b as usize].distance(self.before[b as usize]))
             .fold(0.0, f32::max);
         self.stale = false;
         self.grid.clear();
-        for b in 0..self.len() {
+        for &b in &self.needed {
+            let b = b as usize;
             let (c, r) = (self.posed[b], self.radius[b]);
             if r > 2.0 * self.cell {
                 continue;
@@ -318,50 +424,38 @@ impl Colliders {
         }
     }
 
-    /// The balls that meet the box of tile `t`, each once (a tile of one section without
-    /// that section's own).
-    fn near(&mut self, t: usize, lo: Vec3, hi: Vec3) -> Vec<u32> {
+    /// The needed balls that meet the box of tile `t`, each once (a tile of one section
+    /// only those it yields to).
+    fn near(&self, t: usize, lo: Vec3, hi: Vec3) -> Vec<u32> {
         let (a, b) = (key(lo, self.cell), key(hi, self.cell));
         let own = self.tile_section[t];
-        let stamp = t as u32;
-        let mut out = Vec::new();
-        let meets = |c: Vec3, r: f32| c.clamp(lo, hi).distance_squared(c) <= r * r;
-        let take = |ball: u32, out: &mut Vec<u32>, this: &mut Self| {
-            let k = ball as usize;
-            if this.stamp[k] == stamp || own.is_some_and(|s| !this.yields(s, this.section[k])) {
-                return;
-            }
-            this.stamp[k] = stamp;
-            if meets(this.posed[k], this.radius[k]) {
-                out.push(ball);
-            }
-        };
-        for i in 0..self.big.len() {
-            take(self.big[i], &mut out, self);
-        }
-        // A box spanning a huge part of the grid (a point flung far): test every ball.
+        let mut out: Vec<u32> = Vec::new();
+        out.extend_from_slice(&self.big);
+        // A box spanning a huge part of the grid (a point flung far): every needed ball.
         let cells = (0..3)
             .map(|i| i64::from(b[i]) - i64::from(a[i]) + 1)
             .product::<i64>();
         if cells > 4096 {
-            for ball in 0..self.len() as u32 {
-                take(ball, &mut out, self);
-            }
-            return out;
-        }
-        for x in a[0]..=b[0] {
-            for y in a[1]..=b[1] {
-                for z in a[2]..=b[2] {
-                    let Some(list) = self.grid.get(&[x, y, z]) else {
-                        continue;
-                    };
-                    for i in 0..list.len() {
-                        let ball = self.grid[&[x, y, z]][i];
-                        take(ball, &mut out, self);
+            out.extend_from_slice(&self.needed);
+        } else {
+            for x in a[0]..=b[0] {
+                for y in a[1]..=b[1] {
+                    for z in a[2]..=b[2] {
+                        if let Some(list) = self.grid.get(&[x, y, z]) {
+                            out.extend_from_slice(list);
+                        }
                     }
                 }
             }
+            out.sort_unstable();
+            out.dedup();
         }
+        out.retain(|&ball| {
+            let k = ball as usize;
+            let (c, r) = (self.posed[k], self.radius[k]);
+            own.is_none_or(|s| self.yields(s, self.section[k]))
+                && c.clamp(lo, hi).distance_squared(c) <= r * r
+        });
         out
     }
 
@@ -376,27 +470,25 @@ impl Colliders {
         a != b && rank(a) > rank(b)
     }
 
-    /// Puts slot `k` out of the foreign balls among `candidates`. Returns, when it moved
-    /// it, the square of how far the point moved in the whole step (from where it was
-    /// before the step, which `prev` held): a contact held where it was is no motion, so
-    /// a settled press sleeps.
+    /// Puts slot `k`, at `x` after the step and at `p` before it, out of the foreign balls
+    /// among `candidates`. Returns, when that moves it, where it goes and its velocity
+    /// after the response.
     fn point(
         &self,
         stage: &Stage,
         k: usize,
         candidates: &[u32],
         sweep: bool,
-        cur: &mut Packed,
-        prev: &mut Packed,
-    ) -> Option<f32> {
+        x: Vec3,
+        p: Vec3,
+    ) -> Option<(Vec3, Vec3)> {
         let slots = &stage.layout.slots;
         let (section, rest, own) = (
             self.slot_section[k],
             slots.rest.get(k),
             f64::from(self.slot_radius[k]),
         );
-        let (mut x, p) = (cur.get(k), prev.get(k));
-        let start = x;
+        let (mut x, start) = (x, x);
         let mut normal = None;
         for _pass in 0..2 {
             let mut again = false;
@@ -457,9 +549,7 @@ impl Colliders {
         if x == start && v == start - p {
             return None;
         }
-        cur.set(k, x);
-        prev.set(k, x - v);
-        Some(x.distance_squared(p))
+        Some((x, v))
     }
 }
 

@@ -65,8 +65,7 @@ pub(super) fn world_section(ui: &mut egui::Ui, session: &mut Session) {
     if w.collision {
         let mut percent = w.collision_margin * 100.0;
         ui.add(
-            egui::Slider::new(&mut percent, 0.0..=MAX_MARGIN * 100.0)
-                .text("margin (% of size)"),
+            egui::Slider::new(&mut percent, 0.0..=MAX_MARGIN * 100.0).text("margin (% of size)"),
         )
         .on_hover_text("the gap kept between touching parts");
         w.collision_margin = percent / 100.0;

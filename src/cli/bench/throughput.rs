@@ -31,6 +31,8 @@ pub struct Row {
     pub fused_ms_median: f64,
     pub fused_ms_p95: f64,
     pub sleep_ms_median: f64,
+    /// Stage 4c, contacts between sections (0 with collision off).
+    pub contact_ms_median: f64,
     pub springs_per_second: f64,
     pub steps_per_second: f64,
     pub threads: usize,
@@ -66,8 +68,8 @@ pub fn measure(scenario: &Scenario, params: Params, regions: Regions, steps: usi
     let springs = sim.rig().spring_count();
     let vertices = sim.rig().len();
     let h = params.solver.time_step as f64;
-    let (mut total, mut wake, mut fused, mut sleep) =
-        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut total, mut wake, mut fused, mut sleep, mut contact) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let mut scratch = puppet::joints::PoseScratch::default();
     for k in 0..steps + WARM_UP {
         // The pose is part of the step's cost (a joint band's levels and contacts).
@@ -83,6 +85,7 @@ pub fn measure(scenario: &Scenario, params: Params, regions: Regions, steps: usi
             wake.push(st.wake * 1e3);
             fused.push(st.fused * 1e3);
             sleep.push(st.sleep * 1e3);
+            contact.push(st.contact * 1e3);
         }
     }
     let (med, p95) = median_p95(total);
@@ -99,6 +102,7 @@ pub fn measure(scenario: &Scenario, params: Params, regions: Regions, steps: usi
         fused_ms_median: fused_med,
         fused_ms_p95: fused_p95,
         sleep_ms_median: median_p95(sleep).0,
+        contact_ms_median: median_p95(contact).0,
         springs_per_second: springs as f64 / (med * 1e-3),
         steps_per_second: 1e3 / med,
         threads: rayon::current_num_threads(),
