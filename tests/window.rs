@@ -528,3 +528,59 @@ fn learn_maps_the_control_that_moved_to_the_part_clicked() {
     w.wait(|r| angle(r) > 85.0, "the knob to turn the part");
     assert!(w.quit().success());
 }
+
+/// With collision on, an arm dragged into the body stops at it: the human's right arm,
+/// dragged sideways so that it swings forward and across the chest, turns no further than
+/// where it meets the body; the same drag with collision off swings it on through.
+#[test]
+fn an_arm_dragged_into_the_body_stops_at_it() {
+    let dir = common::scratch("window-collide");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let on = root.join("tests/data/human-arms.rig.toml");
+    let text = std::fs::read_to_string(&on).unwrap();
+    let mesh = root.join("tests/data/meshes/human.obj");
+    let off = dir.join("human-arms-off.rig.toml");
+    std::fs::write(
+        &off,
+        text.replace("collision = true", "collision = false")
+            .replace("meshes/human.obj", mesh.to_str().unwrap()),
+    )
+    .unwrap();
+    let drag = |rig: &Path, name: &str| -> f64 {
+        let mut w = common::Window::open(&dir.join(name), &["--rig", rig.to_str().unwrap()]);
+        let r = w.state().unwrap();
+        let angle = |r: &serde_json::Value| -> f64 {
+            r["turned"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .filter_map(|t| t.as_str()?.strip_prefix("right arm:")?.parse().ok())
+                .next()
+                .unwrap_or(0.0)
+        };
+        let t = &r["targets"]["right arm"];
+        let at = [t[0].as_f64().unwrap(), t[1].as_f64().unwrap()];
+        // A sideways drag swings the arm about the vertical through the shoulder: forward,
+        // then across the chest (650 pixels of an 800-pixel view: about 146°).
+        w.drag(at, [650.0, 0.0]);
+        w.wait(|r| angle(r) > 30.0, "the drag to turn the arm");
+        // Until it stops turning.
+        let mut last = -1.0;
+        loop {
+            std::thread::sleep(Duration::from_millis(400));
+            let now = angle(&w.state().unwrap());
+            if (now - last).abs() < 0.05 {
+                break;
+            }
+            last = now;
+        }
+        assert!(w.quit().success());
+        last
+    };
+    let stopped = drag(&on, "on");
+    let free = drag(&off, "off");
+    assert!(
+        free > stopped + 10.0,
+        "with collision the arm stopped at {stopped}°, without it turned {free}°"
+    );
+}
