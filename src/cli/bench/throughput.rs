@@ -157,6 +157,11 @@ pub struct Args {
     /// Sections collide (the limb with the body; see `puppet bench collide`).
     #[arg(long)]
     collision: bool,
+    /// Measure the first size with collision on and off, alternating, ROUNDS times each,
+    /// and fail when the step with collision costs more than PERCENT % above the one
+    /// without.
+    #[arg(long, value_name = "PERCENT", conflicts_with = "max_band_cost")]
+    max_collision_cost: Option<f64>,
     /// Painted materials: the half of the surface with `x` above the middle is "thick skin",
     /// with stiffening exponent 2, and every tenth vertex is pinned with weight 0.5.
     #[arg(long)]
@@ -211,6 +216,9 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     if let Some(max) = args.max_band_cost.filter(|m| !m.is_finite()) {
         anyhow::bail!("--max-band-cost: {max} is not a number of percent");
     }
+    if let Some(max) = args.max_collision_cost.filter(|m| !m.is_finite()) {
+        anyhow::bail!("--max-collision-cost: {max} is not a number of percent");
+    }
     let base = Base::load(&args.input, load, args.springs.filter(|_| args.torus))?;
     let mut params = Params::default();
     params.solver.constraint = args.constraint;
@@ -256,6 +264,9 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         if let (Some(max), Some(band)) = (args.max_band_cost, args.band) {
             let hinge = banded(scenario.clone(), Some(0.0));
             return band_cost(&scenario, &hinge, params, &regions, args, band, max);
+        }
+        if let Some(max) = args.max_collision_cost {
+            return collision_cost(&scenario, params, &regions, args, max);
         }
         let row = measure(&scenario, params, regions, args.frames.max(1));
         let held = row.ms_per_step_median <= BUDGET_MS;
@@ -376,6 +387,50 @@ fn band_cost(
     if percent.is_nan() || percent > max_percent {
         anyhow::bail!(
             "the band's step costs {percent:+.1} % against a hinge's, more than {max_percent} %"
+        );
+    }
+    Ok(())
+}
+
+/// `--max-collision-cost`: the same scene with collision off and on, alternating.
+fn collision_cost(
+    scenario: &Scenario,
+    params: Params,
+    regions: &Regions,
+    args: &Args,
+    max_percent: f64,
+) -> Result<()> {
+    let (mut on, mut off, mut contact) = (Vec::new(), Vec::new(), Vec::new());
+    let mut springs = 0;
+    let frames = args.frames.max(1);
+    for _ in 0..args.rounds.max(1) {
+        let mut p = params;
+        p.world.collision = false;
+        off.push(measure(scenario, p, regions.clone(), frames).ms_per_step_median);
+        p.world.collision = true;
+        let row = measure(scenario, p, regions.clone(), frames);
+        on.push(row.ms_per_step_median);
+        contact.push(row.contact_ms_median);
+        springs = row.springs;
+    }
+    let (off_ms, on_ms) = (median_p95(off.clone()).0, median_p95(on.clone()).0);
+    let percent = 100.0 * (on_ms / off_ms - 1.0);
+    let list = |v: &[f64]| {
+        v.iter()
+            .map(|m| format!("{m:.2}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    println!(
+        "{springs} springs, median ms per step over {} alternating rounds: collision off {off_ms:.2} ({}), on {on_ms:.2} ({}; contacts {:.2}): {percent:+.1} %",
+        args.rounds.max(1),
+        list(&off),
+        list(&on),
+        median_p95(contact).0
+    );
+    if percent.is_nan() || percent > max_percent {
+        anyhow::bail!(
+            "the step with collision costs {percent:+.1} % against one without, more than {max_percent} %"
         );
     }
     Ok(())
