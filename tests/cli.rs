@@ -91,6 +91,43 @@ fn band_cost_check_passes_and_fails_on_its_bound() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("--max-band-cost"));
 }
 
+/// `--max-collision-cost` compares collision on with off and fails (exit 2) above the
+/// bound; `bench collide` prints its table.
+#[test]
+fn collision_cost_check_passes_and_fails_on_its_bound() {
+    let run = |bound: &str| {
+        puppet(&[
+            "bench",
+            "throughput",
+            "--torus",
+            "--springs",
+            "20000",
+            "--frames",
+            "3",
+            "--rounds",
+            "1",
+            &format!("--max-collision-cost={bound}"),
+        ])
+    };
+    let out = run("1e12");
+    assert_eq!(out.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("collision off"));
+    let out = run("-1000");
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.starts_with("error: ") && err.contains("more than -1000 %"),
+        "{err}"
+    );
+    let out = puppet(&["bench", "collide", "--only", "legs"]);
+    assert_eq!(out.status.code(), Some(0));
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        table.contains("| human legs crossed | on |") && table.lines().count() == 4,
+        "{table}"
+    );
+}
+
 #[test]
 fn throughput_json_has_the_documented_fields() {
     let report = ok_json(&[

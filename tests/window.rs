@@ -362,12 +362,7 @@ fn a_repaired_mesh_shows_its_filled_hole() {
 fn a_glove_over_osc_curls_the_fingers_and_records_a_take() {
     use puppet::controls::{glove, osc};
     let dir = common::scratch("window-glove");
-    let port = std::net::UdpSocket::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port()
-        .to_string();
+    let port = common::free_port();
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples");
     let arg = |f: &str| root.join(f).display().to_string();
     let (hand, rig, controls) = (arg("hand.obj"), arg("hand.rig.toml"), arg("glove.toml"));
@@ -455,12 +450,7 @@ fn a_glove_over_osc_curls_the_fingers_and_records_a_take() {
 fn learn_maps_the_control_that_moved_to_the_part_clicked() {
     use puppet::controls::osc;
     let dir = common::scratch("window-learn");
-    let port = std::net::UdpSocket::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port()
-        .to_string();
+    let port = common::free_port();
     let mut w = common::Window::open(&dir, &["--listen", &port]);
     let socket = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
     socket.connect(format!("127.0.0.1:{port}")).unwrap();

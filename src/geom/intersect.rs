@@ -10,6 +10,20 @@ use super::predicates::orient3d;
 use glam::DVec3;
 use std::collections::HashMap;
 
+/// Faces that cross another face in `now` and did not in `rest` (the same triangles).
+///
+/// # Panics
+/// If a triangle names a vertex beyond either position list.
+pub fn new_crossings(rest: &[DVec3], now: &[DVec3], triangles: &[[u32; 3]]) -> usize {
+    let before = intersecting_faces(rest, triangles);
+    let after = intersecting_faces(now, triangles);
+    before
+        .iter()
+        .zip(&after)
+        .filter(|(b, a)| **a && !**b)
+        .count()
+}
+
 /// Per face, whether it crosses another face it shares no vertex with.
 ///
 /// # Panics

@@ -11,7 +11,7 @@
 //!   mesh's.
 
 use super::{BuildError, Puppet, RigFile};
-use crate::geom::intersect::intersecting_faces;
+use crate::geom::intersect::new_crossings;
 use crate::joints::{Cut, Local, Shape};
 use crate::mesh::measure::{cone_volume, largest_dihedral};
 use crate::mesh::Mesh;
@@ -177,13 +177,7 @@ pub fn measure(p: &Puppet, degrees: f64) -> Bent {
             .collect(),
         None => vec![false; triangles.len()],
     };
-    let before = intersecting_faces(rest, triangles);
-    let after = intersecting_faces(&now, triangles);
-    let crossing = before
-        .iter()
-        .zip(&after)
-        .filter(|(b, a)| **a && !**b)
-        .count();
+    let crossing = new_crossings(rest, &now, triangles);
     let all = vec![true; triangles.len()];
     let pivot = p
         .joints

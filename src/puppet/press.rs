@@ -10,7 +10,7 @@
 //!   turn about the pivot does not change): the extremes.
 
 use super::{BuildError, Puppet, RigFile};
-use crate::geom::intersect::intersecting_faces;
+use crate::geom::intersect::new_crossings;
 use crate::geom::winding::Winding;
 use crate::joints::{Cut, Local, Shape};
 use crate::mesh::measure::cone_volume;
@@ -257,13 +257,7 @@ pub fn measure(p: &Puppet) -> Pressed {
         .map(|i| p.sim.positions().get(i).as_dvec3())
         .collect();
     let triangles = &p.mesh.triangles;
-    let before = intersecting_faces(rest, triangles);
-    let after = intersecting_faces(&now, triangles);
-    let crossing = before
-        .iter()
-        .zip(&after)
-        .filter(|(b, a)| **a && !**b)
-        .count();
+    let crossing = new_crossings(rest, &now, triangles);
     let section_of = p.joints.section_of();
     let (lo, hi) = p.mesh.bounds();
     let diagonal = (hi - lo).length().max(f64::MIN_POSITIVE);

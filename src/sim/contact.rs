@@ -174,41 +174,17 @@ impl Colliders {
         let lowest = self
             .section
             .iter()
-            .map(|&s| {
-                self.rank
-                    .get(usize::from(s))
-                    .copied()
-                    .unwrap_or(u32::from(s))
-            })
+            .map(|&s| self.rank_of(s))
             .min()
             .unwrap_or(u32::MAX);
-        let yields = |s: u16| {
-            self.rank
-                .get(usize::from(s))
-                .copied()
-                .unwrap_or(u32::from(s))
-                > lowest
-        };
         let highest = self
             .slot_section
             .iter()
-            .map(|&s| {
-                self.rank
-                    .get(usize::from(s))
-                    .copied()
-                    .unwrap_or(u32::from(s))
-            })
+            .map(|&s| self.rank_of(s))
             .max()
             .unwrap_or(0);
         self.needed = (0..self.len() as u32)
-            .filter(|&b| {
-                let s = self.section[b as usize];
-                self.rank
-                    .get(usize::from(s))
-                    .copied()
-                    .unwrap_or(u32::from(s))
-                    < highest
-            })
+            .filter(|&b| self.rank_of(self.section[b as usize]) < highest)
             .collect();
         let transforms = self
             .transform
@@ -227,7 +203,11 @@ impl Colliders {
             .filter(|&b| self.radius[b as usize] > 2.0 * self.cell)
             .collect();
         self.tile_yields = (0..layout.tiles())
-            .map(|t| layout.tile_range(t).any(|k| yields(self.slot_section[k])))
+            .map(|t| {
+                layout
+                    .tile_range(t)
+                    .any(|k| self.rank_of(self.slot_section[k]) > lowest)
+            })
             .collect();
         self.tile_section = (0..layout.tiles())
             .map(|t| {
@@ -459,15 +439,17 @@ impl Colliders {
         out
     }
 
+    /// A section's rank (its index where none was given).
+    fn rank_of(&self, s: u16) -> u32 {
+        self.rank
+            .get(usize::from(s))
+            .copied()
+            .unwrap_or(u32::from(s))
+    }
+
     /// Whether a point of section `a` yields to the balls of section `b`.
     fn yields(&self, a: u16, b: u16) -> bool {
-        let rank = |s: u16| {
-            self.rank
-                .get(usize::from(s))
-                .copied()
-                .unwrap_or(u32::from(s))
-        };
-        a != b && rank(a) > rank(b)
+        a != b && self.rank_of(a) > self.rank_of(b)
     }
 
     /// Puts slot `k`, at `x` after the step and at `p` before it, out of the foreign balls

@@ -371,3 +371,13 @@ pub fn stl_binary(m: &puppet::mesh::Mesh) -> Vec<u8> {
     }
     b
 }
+
+/// A UDP port free on this machine now (for a window to listen on).
+pub fn free_port() -> String {
+    std::net::UdpSocket::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port()
+        .to_string()
+}

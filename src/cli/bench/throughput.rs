@@ -348,7 +348,7 @@ fn banded(mut scenario: Scenario, band: Option<f64>) -> Scenario {
     scenario
 }
 
-/// `--max-band-cost`: the step with the band against the same scene as a hinge, alternating.
+/// `--max-band-cost`: the same scene with the band and as a hinge, alternating.
 fn band_cost(
     scenario: &Scenario,
     hinge: &Scenario,
@@ -358,38 +358,17 @@ fn band_cost(
     band: f64,
     max_percent: f64,
 ) -> Result<()> {
-    let (mut with_band, mut without) = (Vec::new(), Vec::new());
-    let mut springs = 0;
-    for _ in 0..args.rounds.max(1) {
-        let frames = args.frames.max(1);
-        without.push(measure(hinge, params, regions.clone(), frames).ms_per_step_median);
-        let row = measure(scenario, params, regions.clone(), frames);
-        with_band.push(row.ms_per_step_median);
-        springs = row.springs;
-    }
-    let (hinge_ms, band_ms) = (
-        median_p95(without.clone()).0,
-        median_p95(with_band.clone()).0,
-    );
-    let percent = 100.0 * (band_ms / hinge_ms - 1.0);
-    let list = |v: &[f64]| {
-        v.iter()
-            .map(|m| format!("{m:.2}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    println!(
-        "{springs} springs, median ms per step over {} alternating rounds: hinge {hinge_ms:.2} ({}), band {band} {band_ms:.2} ({}): {percent:+.1} %",
-        args.rounds.max(1),
-        list(&without),
-        list(&with_band)
-    );
-    if percent.is_nan() || percent > max_percent {
-        anyhow::bail!(
-            "the band's step costs {percent:+.1} % against a hinge's, more than {max_percent} %"
-        );
-    }
-    Ok(())
+    let frames = args.frames.max(1);
+    compare(
+        args.rounds,
+        ("hinge", &|| measure(hinge, params, regions.clone(), frames)),
+        (&format!("band {band}"), &|| {
+            measure(scenario, params, regions.clone(), frames)
+        }),
+        max_percent,
+        "the band's step",
+        "a hinge's",
+    )
 }
 
 /// `--max-collision-cost`: the same scene with collision off and on, alternating.
@@ -400,21 +379,42 @@ fn collision_cost(
     args: &Args,
     max_percent: f64,
 ) -> Result<()> {
-    let (mut on, mut off, mut contact) = (Vec::new(), Vec::new(), Vec::new());
-    let mut springs = 0;
     let frames = args.frames.max(1);
-    for _ in 0..args.rounds.max(1) {
+    let with = |collision: bool| {
         let mut p = params;
-        p.world.collision = false;
-        off.push(measure(scenario, p, regions.clone(), frames).ms_per_step_median);
-        p.world.collision = true;
-        let row = measure(scenario, p, regions.clone(), frames);
-        on.push(row.ms_per_step_median);
-        contact.push(row.contact_ms_median);
+        p.world.collision = collision;
+        measure(scenario, p, regions.clone(), frames)
+    };
+    compare(
+        args.rounds,
+        ("collision off", &|| with(false)),
+        ("on", &|| with(true)),
+        max_percent,
+        "the step with collision",
+        "one without",
+    )
+}
+
+/// Measures `base` and `other` alternating, `rounds` times each; prints their median
+/// steps and fails when `other`'s is more than `max_percent` % above `base`'s.
+fn compare(
+    rounds: usize,
+    base: (&str, &dyn Fn() -> Row),
+    other: (&str, &dyn Fn() -> Row),
+    max_percent: f64,
+    what: &str,
+    against: &str,
+) -> Result<()> {
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    let mut springs = 0;
+    for _ in 0..rounds.max(1) {
+        a.push((base.1)().ms_per_step_median);
+        let row = (other.1)();
+        b.push(row.ms_per_step_median);
         springs = row.springs;
     }
-    let (off_ms, on_ms) = (median_p95(off.clone()).0, median_p95(on.clone()).0);
-    let percent = 100.0 * (on_ms / off_ms - 1.0);
+    let (a_ms, b_ms) = (median_p95(a.clone()).0, median_p95(b.clone()).0);
+    let percent = 100.0 * (b_ms / a_ms - 1.0);
     let list = |v: &[f64]| {
         v.iter()
             .map(|m| format!("{m:.2}"))
@@ -422,16 +422,15 @@ fn collision_cost(
             .join(", ")
     };
     println!(
-        "{springs} springs, median ms per step over {} alternating rounds: collision off {off_ms:.2} ({}), on {on_ms:.2} ({}; contacts {:.2}): {percent:+.1} %",
-        args.rounds.max(1),
-        list(&off),
-        list(&on),
-        median_p95(contact).0
+        "{springs} springs, median ms per step over {} alternating rounds: {} {a_ms:.2} ({}), {} {b_ms:.2} ({}): {percent:+.1} %",
+        rounds.max(1),
+        base.0,
+        list(&a),
+        other.0,
+        list(&b)
     );
     if percent.is_nan() || percent > max_percent {
-        anyhow::bail!(
-            "the step with collision costs {percent:+.1} % against one without, more than {max_percent} %"
-        );
+        anyhow::bail!("{what} costs {percent:+.1} % against {against}, more than {max_percent} %");
     }
     Ok(())
 }
