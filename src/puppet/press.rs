@@ -3,9 +3,9 @@
 //! surface measured (`puppet bench collide`, the collision tests):
 //! * faces crossing another face that did not at rest ([`intersecting_faces`], exact);
 //! * the deepest penetration: how far a vertex lies inside another part (a point just
-//!   outside the surface at it has generalized winding number 1 against the posed surface,
-//!   not 0; vertices inside at rest do not count), as the distance to the nearest face of
-//!   the other sections, in % of the diagonal;
+//!   outside the surface at it has generalized winding number 1 against the faces of the
+//!   other sections, not 0; vertices inside at rest do not count), as the distance to the
+//!   nearest face of the other sections, in % of the diagonal;
 //! * each section's volume change (the cone volume of its faces from its pivot, which a
 //!   turn about the pivot does not change): the extremes.
 
@@ -262,28 +262,43 @@ pub fn measure(p: &Puppet) -> Pressed {
     let (lo, hi) = p.mesh.bounds();
     let diagonal = (hi - lo).length().max(f64::MIN_POSITIVE);
     // Inside another part: a point just outside the surface at a vertex (a thousandth of
-    // the diagonal along its normal) has winding number 0 against the posed surface, 1
-    // when the vertex lies inside another part. Vertices inside at rest (a mesh's own
-    // overlaps) do not count.
+    // the diagonal along its normal) has generalized winding number 1 against the faces
+    // of the other sections (those with no corner in the vertex's section), 0 when it is
+    // outside them; an ear flopping into its own head is not a press. Vertices inside at
+    // rest (a mesh's own overlaps) do not count.
     let offset = 1e-3 * diagonal;
-    let outside = |positions: &[DVec3]| -> Vec<bool> {
+    let sections = p.joints.sections().len();
+    let others: Vec<Vec<[u32; 3]>> = (0..sections)
+        .map(|s| {
+            triangles
+                .iter()
+                .copied()
+                .filter(|t| t.iter().all(|&i| usize::from(section_of[i as usize]) != s))
+                .collect()
+        })
+        .collect();
+    let inside_others = |positions: &[DVec3]| -> Vec<bool> {
         let posed = Mesh {
             positions: positions.to_vec(),
             triangles: triangles.clone(),
         };
         let normals = mesh::vertex_normals(&posed).unwrap_or_default();
-        let winding = Winding::new(positions, triangles);
+        let windings: Vec<Winding> = others
+            .iter()
+            .map(|faces| Winding::new(positions, faces))
+            .collect();
         positions
             .iter()
             .enumerate()
             .map(|(v, &x)| {
                 let n = normals.get(v).copied().unwrap_or(DVec3::ZERO);
-                winding.at(x + n * offset) > 0.5
+                let s = usize::from(section_of[v]);
+                !others[s].is_empty() && windings[s].at(x + n * offset) > 0.5
             })
             .collect()
     };
-    let inside_at_rest = outside(rest);
-    let inside_now = outside(&now);
+    let inside_at_rest = inside_others(rest);
+    let inside_now = inside_others(&now);
     let mut deepest = 0.0f64;
     let mut inside = 0;
     for (v, &x) in now.iter().enumerate() {
@@ -291,10 +306,8 @@ pub fn measure(p: &Puppet) -> Pressed {
             continue;
         }
         inside += 1;
-        let own = section_of[v];
-        let nearest = triangles
+        let nearest = others[usize::from(section_of[v])]
             .iter()
-            .filter(|t| t.iter().all(|&i| section_of[i as usize] != own))
             .map(|t| point_triangle(x, t.map(|i| now[i as usize])))
             .fold(f64::INFINITY, f64::min);
         if nearest.is_finite() {
