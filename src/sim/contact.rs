@@ -55,6 +55,14 @@ impl Hasher for CellHasher {
     fn write_usize(&mut self, _: usize) {}
 }
 
+/// A worker's lists, kept from tile to tile so the stage allocates nothing per tile: the
+/// balls near a tile, and those near a group of its points.
+#[derive(Default)]
+struct Buffers {
+    candidates: Vec<u32>,
+    group: Vec<u32>,
+}
+
 /// Points tested together against the balls that meet their box.
 const GROUP: usize = 8;
 
@@ -146,7 +154,8 @@ impl Colliders {
             return out;
         }
         out.smallest = out.radius.iter().copied().fold(f32::INFINITY, f32::min);
-        out.cell = balls::cell(&radii64_kept(&out.radius)) as f32;
+        let kept: Vec<f64> = out.radius.iter().map(|&r| f64::from(r)).collect();
+        out.cell = balls::cell(&kept) as f32;
         out.posed = out.center.clone();
         out.before = out.center.clone();
         out
@@ -239,11 +248,6 @@ impl Colliders {
         self.center.is_empty()
     }
 
-    /// The balls kept: rest centre, radius, section.
-    pub fn balls(&self) -> impl Iterator<Item = (Vec3, f32, u16)> + '_ {
-        (0..self.len()).map(|b| (self.center[b], self.radius[b], self.section[b]))
-    }
-
     /// Stage 4c over the tiles: awake ones, and sleeping ones in a step where a section
     /// moved. Moves points of `cur` out of foreign balls, sets their `prev` (velocity) by
     /// the response, and returns the tiles it moved a point of, each with the largest
@@ -279,13 +283,15 @@ impl Colliders {
             .zip(prev.0.par_chunks_mut(tile))
             .zip(held.par_chunks_mut(tile))
             .enumerate()
-            .filter_map(|(t, ((cur, prev), held))| {
+            .map_init(Buffers::default, |buffers, (t, ((cur, prev), held))| {
                 let awake = awake.get(t).copied().unwrap_or(true);
                 if (!awake && !moved) || !this.tile_yields.get(t).copied().unwrap_or(true) {
                     return None;
                 }
-                this.tile(stage, t, cur, prev, held).map(|m| (t, m))
+                this.tile(stage, t, cur, prev, held, buffers)
+                    .map(|m| (t, m))
             })
+            .flatten()
             .collect();
         self.held = held;
         touched
@@ -301,6 +307,7 @@ impl Colliders {
         cur: &mut [[f32; 4]],
         prev: &mut [[f32; 4]],
         held: &mut [bool],
+        buffers: &mut Buffers,
     ) -> Option<f32> {
         let get = |a: &[[f32; 4]], i: usize| Vec3::new(a[i][0], a[i][1], a[i][2]);
         let start = stage.layout.tile_range(t).start;
@@ -318,14 +325,14 @@ impl Colliders {
         }
         let sweep = fastest.sqrt() > reach || self.motion > reach;
         let grow = stage.margin + if sweep { self.motion } else { 0.0 };
-        let candidates = self.near(t, lo - grow, hi + grow);
+        let Buffers { candidates, group } = buffers;
+        self.near(t, lo - grow, hi + grow, candidates);
         if candidates.is_empty() {
             held.fill(false);
             return None;
         }
         let mut any = false;
         let mut motion = 0.0f32;
-        let mut group = Vec::with_capacity(candidates.len());
         for i0 in (0..n).step_by(GROUP) {
             let i1 = (i0 + GROUP).min(n);
             // The balls that meet this group of points' box.
@@ -346,7 +353,7 @@ impl Colliders {
                 let moved = if group.is_empty() {
                     None
                 } else {
-                    self.point(stage, start + i, &group, sweep, x, p)
+                    self.point(stage, start + i, group, sweep, x, p)
                 };
                 held[i] = moved.is_some();
                 match moved {
@@ -404,18 +411,19 @@ impl Colliders {
         }
     }
 
-    /// The needed balls that meet the box of tile `t`, each once (a tile of one section
-    /// only those it yields to).
-    fn near(&self, t: usize, lo: Vec3, hi: Vec3) -> Vec<u32> {
+    /// The needed balls that meet the box of tile `t`, each once, into `out` (a tile of
+    /// one section: only those it yields to).
+    fn near(&self, t: usize, lo: Vec3, hi: Vec3, out: &mut Vec<u32>) {
         let (a, b) = (key(lo, self.cell), key(hi, self.cell));
         let own = self.tile_section[t];
-        let mut out: Vec<u32> = Vec::new();
+        out.clear();
         out.extend_from_slice(&self.big);
         // A box spanning a huge part of the grid (a point flung far): every needed ball.
         let cells = (0..3)
             .map(|i| i64::from(b[i]) - i64::from(a[i]) + 1)
             .product::<i64>();
         if cells > 4096 {
+            out.clear();
             out.extend_from_slice(&self.needed);
         } else {
             for x in a[0]..=b[0] {
@@ -436,7 +444,6 @@ impl Colliders {
             own.is_none_or(|s| self.yields(s, self.section[k]))
                 && c.clamp(lo, hi).distance_squared(c) <= r * r
         });
-        out
     }
 
     /// A section's rank (its index where none was given).
@@ -533,10 +540,6 @@ impl Colliders {
         }
         Some((x, v))
     }
-}
-
-fn radii64_kept(radii: &[f32]) -> Vec<f64> {
-    radii.iter().map(|&r| f64::from(r)).collect()
 }
 
 /// The first point where the segment `a → b` enters the ball `(c, r)`, when `a` is
