@@ -13,6 +13,7 @@
 //! * `export`: time and size of a take in each export format ([`export`]);
 //! * `joints`: a bent joint's surface, hinge against bands ([`joints`]);
 //! * `collide`: parts pressed into the body, collision off and on ([`collide`]);
+//! * `suggest`: suggested joints against the labelled characters' references ([`suggest`]);
 //! * `skeleton`, `skeleton-speed`, `skeleton-change`: the skeleton's accuracy, its speed,
 //!   and how far real meshes' points move between methods ([`skeleton`]);
 //! * `machine`: copy bandwidth and a plain scalar spring loop, as yardsticks ([`machine`]).
@@ -27,6 +28,7 @@ mod sag;
 mod skeleton;
 mod skip;
 mod stress;
+mod suggest;
 mod throughput;
 
 use super::{load_mesh, LoadArgs};
@@ -56,6 +58,9 @@ pub enum Bench {
     /// Parts pressed into the body (arms down, legs crossed…), collision off and on:
     /// crossing faces, deepest penetration, section volumes, step cost.
     Collide(collide::Args),
+    /// Suggested joints against the labelled set's references: recall, spurious cuts,
+    /// names, joint-to-joint distance, time.
+    Suggest(suggest::Args),
     /// Skeleton accuracy against analytic shapes.
     Skeleton(skeleton::AccuracyArgs),
     /// Time from file to skeleton, per stage, on the mesh Loop-subdivided 0..=N times.
@@ -87,6 +92,7 @@ pub fn run(bench: &Bench, load: &LoadArgs) -> Result<()> {
         Bench::Export(args) => export::run(args, load),
         Bench::Joints(args) => joints::run(args),
         Bench::Collide(args) => collide::run(args, load),
+        Bench::Suggest(args) => suggest::run(args, load),
         Bench::Skeleton(args) => skeleton::accuracy(args),
         Bench::SkeletonSpeed(args) => skeleton::speed(args, load),
         Bench::SkeletonChange(args) => skeleton::change(args, load),

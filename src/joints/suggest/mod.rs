@@ -40,6 +40,7 @@
 
 mod cuts;
 mod graph;
+pub mod reference;
 mod rules;
 mod sections;
 mod tree;

@@ -1,0 +1,176 @@
+//! `puppet bench suggest`: the suggested joints of each labelled character against its
+//! reference (see `puppet::joints::suggest::reference`): recall of the required joints,
+//! spurious cuts, names, RigNet's joint-to-joint distance, and the time taken.
+
+use crate::cli::LoadArgs;
+use anyhow::{anyhow, bail, Result};
+use puppet::joints::suggest::reference::{Reference, Score, TOLERANCE};
+use puppet::{Puppet, RigFile};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// `puppet bench suggest`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Folder of the labelled set: one reference (`NAME.toml`) per character.
+    #[arg(long, default_value = "tests/data/characters")]
+    set: PathBuf,
+    /// Only the characters whose name contains this.
+    #[arg(long)]
+    only: Option<String>,
+    /// Write a picture of each character's suggested sections here (`NAME.png`).
+    #[arg(long)]
+    images: Option<PathBuf>,
+    /// Fail when the recall of required joints over the set is below this (%).
+    #[arg(long)]
+    min_recall: Option<f64>,
+    /// Fail when the share of spurious cuts over the set is above this (%).
+    #[arg(long)]
+    max_spurious: Option<f64>,
+    /// Print JSON instead of a Markdown table.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(serde::Serialize)]
+struct Row {
+    character: String,
+    kind: String,
+    vertices: usize,
+    #[serde(flatten)]
+    score: Score,
+    ms_skeleton: f64,
+    ms_suggest: f64,
+}
+
+/// The references in `dir`, by name.
+fn references(dir: &Path) -> Result<Vec<(String, PathBuf)>> {
+    let mut out: Vec<(String, PathBuf)> = std::fs::read_dir(dir)
+        .map_err(|e| anyhow!("{}: {}", dir.display(), puppet::files::io_message(&e)))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .filter_map(|p| Some((p.file_stem()?.to_str()?.to_string(), p.clone())))
+        .collect();
+    out.sort();
+    Ok(out)
+}
+
+pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
+    let mut rows = Vec::new();
+    for (name, file) in references(&args.set)? {
+        if args
+            .only
+            .as_ref()
+            .is_some_and(|o| !name.contains(o.as_str()))
+        {
+            continue;
+        }
+        let reference = Reference::read(&file).map_err(|e| anyhow!("{}: {e}", file.display()))?;
+        let path = reference.mesh_path(&file);
+        let (mesh, report, shown) = crate::cli::load_mesh(Some(&path), load)?;
+        let (lo, hi) = mesh.bounds();
+        let height = (hi - lo).max_element();
+        let t = Instant::now();
+        let built = Puppet::build_loaded(
+            mesh,
+            Some(&report),
+            RigFile::default(),
+            puppet::progress::silent(),
+        )
+        .map_err(|e| anyhow!("{shown}: {e}"))?;
+        let ms_skeleton = t.elapsed().as_secs_f64() * 1e3;
+        // The suggestion's time: the median of three.
+        let mut times = Vec::new();
+        let mut puppet = built.clone();
+        for _ in 0..3 {
+            puppet = built.clone();
+            let t = Instant::now();
+            puppet
+                .suggest_joints()
+                .map_err(|e| anyhow!("{shown}: {e}"))?;
+            times.push(t.elapsed().as_secs_f64() * 1e3);
+        }
+        times.sort_by(f64::total_cmp);
+        let sections = puppet.joints.sections();
+        let cuts: Vec<(String, glam::DVec3)> = puppet
+            .joints
+            .cuts()
+            .iter()
+            .enumerate()
+            .map(|(k, c)| (c.name.clone(), sections[k + 1].pivot))
+            .collect();
+        let score = reference.score(&cuts, height);
+        let vertices = puppet.mesh.positions.len();
+        if let Some(dir) = &args.images {
+            crate::cli::suggest::picture(puppet, &dir.join(format!("{name}.png")))?;
+        }
+        let row = Row {
+            character: name,
+            kind: reference.kind.clone(),
+            vertices,
+            score,
+            ms_skeleton,
+            ms_suggest: times[1],
+        };
+        if !args.json {
+            print_row(&row, rows.is_empty());
+        }
+        rows.push(row);
+    }
+    let required: usize = rows.iter().map(|r| r.score.required).sum();
+    let found: usize = rows.iter().map(|r| r.score.found).sum();
+    let cuts: usize = rows.iter().map(|r| r.score.cuts).sum();
+    let spurious: usize = rows.iter().map(|r| r.score.spurious).sum();
+    let recall = 100.0 * found as f64 / required.max(1) as f64;
+    let spurious_share = 100.0 * spurious as f64 / cuts.max(1) as f64;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&rows)?);
+    } else {
+        let matched: usize = rows.iter().map(|r| r.score.matched).sum();
+        let named: usize = rows.iter().map(|r| r.score.named).sum();
+        let j2j = rows.iter().map(|r| r.score.j2j).sum::<f64>() / rows.len().max(1) as f64;
+        println!(
+            "| **all** | | | {found}/{required} ({recall:.0} %) | {spurious}/{cuts} ({spurious_share:.0} %) | {named}/{matched} | {j2j:.1} | | | |"
+        );
+        println!(
+            "\nA cut matches a joint within {:.0} % of the height (the longest side of the bounding box).",
+            TOLERANCE * 100.0
+        );
+    }
+    if let Some(min) = args.min_recall {
+        if recall < min {
+            bail!("recall {recall:.1} % is below --min-recall {min}");
+        }
+    }
+    if let Some(max) = args.max_spurious {
+        if spurious_share > max {
+            bail!("{spurious_share:.1} % spurious cuts is above --max-spurious {max}");
+        }
+    }
+    Ok(())
+}
+
+fn print_row(r: &Row, header: bool) {
+    if header {
+        println!("| character | kind | vertices | required found | spurious cuts | named as the role | CD-J2J (% height) | skeleton (ms) | suggestion (ms) | missed; spurious |");
+        println!("|---|---|---:|---:|---:|---:|---:|---:|---:|---|");
+    }
+    let s = &r.score;
+    println!(
+        "| {} | {} | {} | {}/{} | {}/{} | {}/{} | {:.1} | {:.0} | {:.1} | {}; {} |",
+        r.character,
+        r.kind,
+        r.vertices,
+        s.found,
+        s.required,
+        s.spurious,
+        s.cuts,
+        s.named,
+        s.matched,
+        s.j2j,
+        r.ms_skeleton,
+        r.ms_suggest,
+        s.missed.join(", "),
+        s.extra.join(", ")
+    );
+}
