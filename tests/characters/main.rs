@@ -511,6 +511,49 @@ fn dino() -> Character {
     c
 }
 
+/// An ant: head, thorax and abdomen joined at narrow waists, six sprawled legs from the
+/// thorax and two antennae.
+fn ant() -> Character {
+    let mut c = Character {
+        name: "ant",
+        kind: "insect",
+        what: "an ant with a narrow waist, six legs and antennae",
+        cell: 0.007,
+        blend: 0.012,
+        ..Default::default()
+    };
+    c.bone([0.0, 0.2, 0.0], [0.0, 0.22, 0.19], 0.055, 0.05);
+    c.bone([0.0, 0.2, -0.07], [0.0, 0.2, -0.03], 0.025, 0.025);
+    c.bone([0.0, 0.2, -0.22], [0.0, 0.22, -0.12], 0.09, 0.07);
+    c.bone([0.0, 0.23, 0.22], [0.0, 0.24, 0.24], 0.022, 0.022);
+    c.bone([0.0, 0.25, 0.3], [0.0, 0.24, 0.34], 0.065, 0.06);
+    c.joint("head", [0.0, 0.235, 0.24], true);
+    c.joint("abdomen", [0.0, 0.2, -0.06], true);
+    c.both(|c, s, lr| {
+        let antenna = [
+            [0.03 * s, 0.3, 0.36],
+            [0.09 * s, 0.38, 0.38],
+            [0.14 * s, 0.4, 0.46],
+        ];
+        c.chain(&antenna, &[0.026, 0.024, 0.022]);
+        c.joint(&format!("antenna.{lr}"), antenna[0], false);
+        c.free(&format!("antenna.{lr}"), &antenna);
+        for (k, z) in [(1, 0.17), (2, 0.09), (3, 0.01)] {
+            let spread = (z - 0.1) * 2.0;
+            let (hip, knee, foot) = (
+                [0.04 * s, 0.2, z],
+                [0.2 * s, 0.3, z + spread],
+                [0.32 * s, 0.02, z + 1.6 * spread],
+            );
+            c.chain(&[hip, knee, foot], &[0.034, 0.03, 0.026]);
+            c.joint(&format!("leg{k}.{lr}"), hip, true);
+            c.joint(&format!("shin{k}.{lr}"), knee, true);
+            c.free(&format!("shin{k}.{lr}"), &[knee, foot]);
+        }
+    });
+    c
+}
+
 fn characters() -> Vec<Character> {
     vec![
         robot(),
@@ -520,6 +563,7 @@ fn characters() -> Vec<Character> {
         horse(),
         lizard(),
         dino(),
+        ant(),
     ]
 }
 
