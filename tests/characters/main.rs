@@ -17,6 +17,8 @@ struct Joint {
     role: String,
     at: DVec3,
     required: bool,
+    /// A limb's root: the direction its bone leaves the trunk, and its radius there.
+    limb: Option<(DVec3, f64)>,
 }
 
 /// A stretch along which any cut is a fair joint (a tail, a long flexible limb).
@@ -38,6 +40,8 @@ struct Character {
     free: Vec<Free>,
     /// Modelled Z-up (front -Y), as CAD and some DCC tools export: written rotated.
     z_up: bool,
+    /// The trunk's bones (those made before the limbs).
+    trunk: Option<usize>,
 }
 
 fn v(p: [f64; 3]) -> DVec3 {
@@ -46,18 +50,25 @@ fn v(p: [f64; 3]) -> DVec3 {
 
 impl Character {
     fn bone(&mut self, a: [f64; 3], b: [f64; 3], ra: f64, rb: f64) {
+        let group = self.bones.len();
+        self.grouped(a, b, ra, rb, group);
+    }
+
+    fn grouped(&mut self, a: [f64; 3], b: [f64; 3], ra: f64, rb: f64, group: usize) {
         self.bones.push(Bone {
             a: v(a),
             b: v(b),
             ra,
             rb,
+            group,
         });
     }
 
-    /// Bones from point to point, `radii` at each point.
+    /// Bones from point to point, `radii` at each point, joined without a blend.
     fn chain(&mut self, points: &[[f64; 3]], radii: &[f64]) {
+        let group = self.bones.len();
         for k in 1..points.len() {
-            self.bone(points[k - 1], points[k], radii[k - 1], radii[k]);
+            self.grouped(points[k - 1], points[k], radii[k - 1], radii[k], group);
         }
     }
 
@@ -66,7 +77,39 @@ impl Character {
             role: role.into(),
             at: v(at),
             required,
+            limb: None,
         });
+    }
+
+    /// A limb's root: where the bone from `at` towards `toward` (radius `r`) leaves the
+    /// trunk, half its radius in: where a puppeteer puts the ball of a shoulder or a hip.
+    fn root(&mut self, role: &str, at: [f64; 3], toward: [f64; 3], r: f64) {
+        self.joints.push(Joint {
+            role: role.into(),
+            at: v(at),
+            required: true,
+            limb: Some(((v(toward) - v(at)).normalize(), r)),
+        });
+    }
+
+    /// Where joint `j` is: a limb's root is found on the trunk's surface.
+    fn place(&self, j: &Joint) -> DVec3 {
+        let Some((dir, r)) = j.limb else {
+            return j.at;
+        };
+        let trunk = Body {
+            bones: self.bones[..self.trunk.unwrap_or(self.bones.len())].to_vec(),
+            blend: self.blend,
+        };
+        let step = r * 0.01;
+        let mut p = j.at;
+        for _ in 0..10_000 {
+            if trunk.field(p) > 0.0 {
+                break;
+            }
+            p += dir * step;
+        }
+        p - dir * 0.5 * r
     }
 
     fn free(&mut self, role: &str, along: &[[f64; 3]]) {
@@ -78,6 +121,7 @@ impl Character {
 
     /// Runs `side` for the character's left (x > 0, suffix `L`) and right.
     fn both(&mut self, side: impl Fn(&mut Character, f64, &str)) {
+        self.trunk.get_or_insert(self.bones.len());
         side(self, 1.0, "L");
         side(self, -1.0, "R");
     }
@@ -102,11 +146,12 @@ impl Character {
         // The first grid offset that gives a manifold surface (surface nets can pinch
         // where two sheets pass within a cell).
         let body = self.body();
-        let (positions, mut triangles) = [0.33, 0.21, 0.47, 0.12, 0.39]
-            .iter()
-            .map(|&o| body.mesh(self.cell, o))
-            .find(|(p, t)| mesher::manifold(t, p.len()) && distinct(p))
-            .expect("a manifold surface at one of the offsets");
+        let (positions, mut triangles) =
+            [0.33, 0.21, 0.47, 0.12, 0.39, 0.05, 0.27, 0.43, 0.15, 0.36]
+                .iter()
+                .map(|&o| body.mesh(self.cell, o))
+                .find(|(p, t)| mesher::manifold(t, p.len()) && distinct(p))
+                .unwrap_or_else(|| panic!("{}: no manifold surface at any offset", self.name));
         let volume: f64 = triangles
             .iter()
             .map(|t| {
@@ -147,7 +192,7 @@ impl Character {
         let _ = writeln!(s, "kind = \"{}\"", self.kind);
         let _ = writeln!(s, "up = \"{}\"", if self.z_up { "+z" } else { "+y" });
         for j in &self.joints {
-            let p = self.out(j.at);
+            let p = self.out(self.place(j));
             let _ = writeln!(
                 s,
                 "\n[[joint]]\nrole = \"{}\"\nat = [{}, {}, {}]\nrequired = {}",
@@ -217,7 +262,7 @@ fn robot() -> Character {
             [0.58 * s, 0.78, 0.04],
         );
         c.chain(&[sh, el, wr, tip], &[0.055, 0.045, 0.035, 0.03]);
-        c.joint(&format!("arm.{lr}"), sh, true);
+        c.root(&format!("arm.{lr}"), sh, el, 0.055);
         c.joint(&format!("forearm.{lr}"), el, true);
         c.joint(&format!("hand.{lr}"), wr, false);
         let (hip, knee, ankle, toe) = (
@@ -228,7 +273,7 @@ fn robot() -> Character {
         );
         c.chain(&[hip, knee, ankle], &[0.08, 0.06, 0.042]);
         c.bone(ankle, toe, 0.045, 0.035);
-        c.joint(&format!("leg.{lr}"), hip, true);
+        c.root(&format!("leg.{lr}"), hip, knee, 0.08);
         c.joint(&format!("shin.{lr}"), knee, true);
         c.joint(&format!("foot.{lr}"), ankle, false);
     });
@@ -269,7 +314,7 @@ fn cartoon() -> Character {
         );
         c.chain(&[sh, el, wr], &[0.062, 0.05, 0.042]);
         c.bone(wr, tip, 0.055, 0.05);
-        c.joint(&format!("arm.{lr}"), sh, true);
+        c.root(&format!("arm.{lr}"), sh, el, 0.062);
         c.joint(&format!("forearm.{lr}"), el, true);
         c.joint(&format!("hand.{lr}"), wr, false);
         let (hip, knee, ankle, toe) = (
@@ -280,7 +325,7 @@ fn cartoon() -> Character {
         );
         c.chain(&[hip, knee, ankle], &[0.085, 0.07, 0.055]);
         c.bone(ankle, toe, 0.06, 0.05);
-        c.joint(&format!("leg.{lr}"), hip, true);
+        c.root(&format!("leg.{lr}"), hip, knee, 0.085);
         c.joint(&format!("shin.{lr}"), knee, false);
         c.joint(&format!("foot.{lr}"), ankle, false);
     });
@@ -306,7 +351,7 @@ fn teddy() -> Character {
         c.joint(&format!("ear.{lr}"), [0.16 * s, 0.92, 0.0], false);
         let (sh, paw) = ([0.16 * s, 0.52, 0.0], [0.32 * s, 0.4, 0.07]);
         c.bone(sh, paw, 0.07, 0.06);
-        c.joint(&format!("arm.{lr}"), sh, true);
+        c.root(&format!("arm.{lr}"), sh, paw, 0.07);
         c.free(&format!("arm.{lr}"), &[sh, paw]);
         let (hip, ankle, toe) = (
             [0.1 * s, 0.22, 0.0],
@@ -315,7 +360,7 @@ fn teddy() -> Character {
         );
         c.bone(hip, ankle, 0.085, 0.075);
         c.bone(ankle, toe, 0.065, 0.06);
-        c.joint(&format!("leg.{lr}"), hip, true);
+        c.root(&format!("leg.{lr}"), hip, ankle, 0.085);
         c.free(&format!("leg.{lr}"), &[hip, ankle, toe]);
     });
     c
@@ -353,7 +398,7 @@ fn dog() -> Character {
         );
         c.chain(&[sh, el, wr], &[0.05, 0.036, 0.03]);
         c.bone(wr, paw, 0.034, 0.03);
-        c.joint(&format!("arm.{lr}"), sh, true);
+        c.root(&format!("arm.{lr}"), sh, el, 0.05);
         c.joint(&format!("forearm.{lr}"), el, true);
         c.joint(&format!("hand.{lr}"), wr, false);
         let (hip, knee, hock, paw) = (
@@ -363,7 +408,7 @@ fn dog() -> Character {
             [0.09 * s, 0.035, -0.27],
         );
         c.chain(&[hip, knee, hock, paw], &[0.058, 0.04, 0.03, 0.03]);
-        c.joint(&format!("leg.{lr}"), hip, true);
+        c.root(&format!("leg.{lr}"), hip, knee, 0.058);
         c.joint(&format!("shin.{lr}"), knee, true);
         c.joint(&format!("foot.{lr}"), hock, false);
     });
@@ -401,7 +446,7 @@ fn horse() -> Character {
         );
         c.chain(&[sh, carpus, fetlock], &[0.09, 0.06, 0.045]);
         c.bone(fetlock, hoof, 0.045, 0.055);
-        c.joint(&format!("arm.{lr}"), sh, true);
+        c.root(&format!("arm.{lr}"), sh, carpus, 0.09);
         c.joint(&format!("forearm.{lr}"), carpus, true);
         c.joint(&format!("hand.{lr}"), fetlock, false);
         let (hip, stifle, hock, fetlock, hoof) = (
@@ -413,7 +458,7 @@ fn horse() -> Character {
         );
         c.chain(&[hip, stifle, hock, fetlock], &[0.13, 0.085, 0.06, 0.045]);
         c.bone(fetlock, hoof, 0.045, 0.055);
-        c.joint(&format!("leg.{lr}"), hip, true);
+        c.root(&format!("leg.{lr}"), hip, stifle, 0.13);
         c.joint(&format!("shin.{lr}"), stifle, true);
         c.joint(&format!("foot.{lr}"), hock, false);
         c.free(&format!("foot.{lr}"), &[hock, fetlock, hoof]);
@@ -452,7 +497,7 @@ fn lizard() -> Character {
             [0.2 * s, 0.018, 0.25],
         );
         c.chain(&[sh, el, wr, foot], &[0.028, 0.022, 0.018, 0.016]);
-        c.joint(&format!("arm.{lr}"), sh, true);
+        c.root(&format!("arm.{lr}"), sh, el, 0.028);
         c.joint(&format!("forearm.{lr}"), el, true);
         c.joint(&format!("hand.{lr}"), wr, false);
         let (hip, knee, ankle, foot) = (
@@ -462,7 +507,7 @@ fn lizard() -> Character {
             [0.22 * s, 0.018, -0.23],
         );
         c.chain(&[hip, knee, ankle, foot], &[0.032, 0.024, 0.02, 0.016]);
-        c.joint(&format!("leg.{lr}"), hip, true);
+        c.root(&format!("leg.{lr}"), hip, knee, 0.032);
         c.joint(&format!("shin.{lr}"), knee, true);
         c.joint(&format!("foot.{lr}"), ankle, false);
     });
@@ -494,7 +539,7 @@ fn dino() -> Character {
             [0.21 * s, 0.98, 0.5],
         );
         c.chain(&[sh, el, tip], &[0.04, 0.032, 0.025]);
-        c.joint(&format!("arm.{lr}"), sh, true);
+        c.root(&format!("arm.{lr}"), sh, el, 0.04);
         c.free(&format!("arm.{lr}"), &[sh, el, tip]);
         let (hip, knee, ankle, toe) = (
             [0.14 * s, 0.95, -0.1],
@@ -504,7 +549,7 @@ fn dino() -> Character {
         );
         c.chain(&[hip, knee, ankle], &[0.13, 0.09, 0.06]);
         c.bone(ankle, toe, 0.055, 0.045);
-        c.joint(&format!("leg.{lr}"), hip, true);
+        c.root(&format!("leg.{lr}"), hip, knee, 0.13);
         c.joint(&format!("shin.{lr}"), knee, true);
         c.joint(&format!("foot.{lr}"), ankle, false);
     });
@@ -546,7 +591,7 @@ fn ant() -> Character {
                 [0.32 * s, 0.02, z + 1.6 * spread],
             );
             c.chain(&[hip, knee, foot], &[0.034, 0.03, 0.026]);
-            c.joint(&format!("leg{k}.{lr}"), hip, true);
+            c.root(&format!("leg{k}.{lr}"), hip, knee, 0.034);
             c.joint(&format!("shin{k}.{lr}"), knee, true);
             c.free(&format!("shin{k}.{lr}"), &[knee, foot]);
         }

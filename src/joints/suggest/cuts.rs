@@ -2,7 +2,9 @@
 //! where a limb or a part of the body is cut: at its base, at narrowings, where it widens
 //! into an extremity, along a digit, in the middle of a long stretch.
 
-use super::rules::{BASE, DIGIT, DIP, ELONGATED, HEAD, LONG, SLENDER, THINNER};
+use super::rules::{
+    BASE, BEND, DIGIT, DIP, ELONGATED, HEAD, LONG, NARROW, PROTRUDES, SLENDER, SMALL, THINNER,
+};
 use super::tree::Tree;
 use glam::DVec3;
 
@@ -55,7 +57,8 @@ impl Tree<'_> {
             let Some(cut) = self.cut_at(k, low + BASE) else {
                 continue;
             };
-            if hanging.iter().all(|&w| w <= SLENDER * cut.width) {
+            if hanging.iter().all(|&w| w <= SLENDER * cut.width) && self.narrows_at(k, parent, &cut)
+            {
                 base[k] = Some(cut);
             }
         }
@@ -116,7 +119,11 @@ impl Tree<'_> {
             .map_or(shape.root, |p| shape.owner[p]);
         let extremity = limb && shape.limbs_from[k] >= 2;
         let digit = limb && shape.limbs_from[k] == 0 && shape.tips_from[parent] >= 4;
-        if k != shape.root {
+        let part = limb
+            || self.segments[k]
+                .parent
+                .is_some_and(|p| self.protrudes(k, p, shape.children));
+        if k != shape.root && part {
             for inner in self.inner_cuts(k, limb, extremity, digit) {
                 out.push(Limb {
                     parent: current,
@@ -203,10 +210,79 @@ impl Tree<'_> {
         if !is_limb(own, parent_size, high - low, r) {
             return None;
         }
+        // Growing right from the core and forking within a few radii (a pelvis that
+        // both legs hang from), it is a part of the body, not a limb.
+        if below.is_empty() && children[k].len() >= 2 && self.highest(seg) - low < HEAD {
+            return None;
+        }
+        if !self.protrudes(k, parent, children) {
+            return None;
+        }
         // Through the ring a radius above the fork, across the axis there: far enough out
         // that the plane does not reach a neighbour at the fork (the other leg at the
-        // crotch).
-        self.cut_at(k, low + BASE)
+        // crotch). It turns about the ball of its root, a radius in from the cut (the
+        // head of a femur sits inside the hip, above the crotch).
+        self.cut_at(k, low + BASE).map(|cut| {
+            let ring = self.ring(seg, low + BASE - 0.25, low + BASE + 0.25);
+            Limb {
+                pivot: cut.pivot - cut.normal * self.radius(&ring),
+                ..cut
+            }
+        })
+    }
+
+    /// Does segment `k` (with what grows from it) stick out of the thickest medial ball of
+    /// the trunk `parent` near its fork by [`PROTRUDES`] of its own size and by [`SMALL`] of
+    /// the mesh? A nose, an eye, an ear flat on a head, a face in front of a skull, a belly
+    /// do not: they are bumps, neither limbs nor cut inside.
+    pub(super) fn protrudes(&self, k: usize, parent: usize, children: &[Vec<usize>]) -> bool {
+        let seg = &self.segments[k].vertices;
+        let low = self.lowest(seg);
+        let own = self.size(&self.ring(seg, low + 1.0, low + 3.0));
+        let below_empty = self.trunk_ring(parent, low - 3.0, low - 1.0).is_empty();
+        let (anchor, anchor_radius) = self
+            .trunk_ring(parent, low - 3.0, low + 0.5)
+            .iter()
+            .map(|&v| {
+                (
+                    self.skeleton.points[v as usize],
+                    self.skeleton.distance[v as usize],
+                )
+            })
+            .chain(below_empty.then_some(self.core))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap_or(self.core);
+        let stick = self
+            .subtree(k, children)
+            .iter()
+            .map(|&v| self.mesh.positions[v as usize].distance(anchor))
+            .fold(0.0, f64::max)
+            - anchor_radius;
+        stick >= PROTRUDES * own && stick >= SMALL * self.size_of_mesh
+    }
+
+    /// Is `cut`, at the base of segment `k` that grows from `parent`, a clear narrowing: at
+    /// most [`NARROW`] of the trunk below it and of the part's own widest ring?
+    fn narrows_at(&self, k: usize, parent: usize, cut: &Limb) -> bool {
+        let seg = &self.segments[k].vertices;
+        let low = self.lowest(seg);
+        let below = self.trunk_ring(parent, low - 3.0, low - 1.0);
+        let trunk = if below.is_empty() {
+            self.size(&self.segments[parent].vertices)
+        } else {
+            self.size(&below)
+        };
+        let high = self.highest(seg);
+        let mut widest: f64 = 0.0;
+        let mut at = low + 1.0;
+        while at < high {
+            let ring = self.ring(seg, at, at + 0.5);
+            if ring.len() >= 3 {
+                widest = widest.max(self.size(&ring));
+            }
+            at += 0.5;
+        }
+        cut.width <= NARROW * trunk.min(widest)
     }
 
     /// The profile of segment `k` from its base up, in bins half its radius long: the
@@ -227,12 +303,20 @@ impl Tree<'_> {
         }
         let mut d = vec![f64::NAN; bins];
         let mut size = vec![f64::NAN; bins];
+        let mut centre = [
+            vec![f64::NAN; bins],
+            vec![f64::NAN; bins],
+            vec![f64::NAN; bins],
+        ];
         for b in 0..bins {
             let lo = low + b as f64 * step;
             let ring = self.ring(seg, lo, lo + step);
             if ring.len() >= 3 {
                 d[b] = self.radius(&ring);
                 let (c, _) = self.centre(&ring);
+                for (axis, v) in centre.iter_mut().enumerate() {
+                    v[b] = c[axis];
+                }
                 size[b] = ring
                     .iter()
                     .map(|&v| (self.mesh.positions[v as usize] - c).length())
@@ -241,7 +325,15 @@ impl Tree<'_> {
             }
         }
         let (d, size) = (smooth(&fill(&d)?), smooth(&fill(&size)?));
-        Some(Profile { low, step, d, size })
+        let [x, y, z] = [fill(&centre[0])?, fill(&centre[1])?, fill(&centre[2])?];
+        let centre = (0..bins).map(|b| DVec3::new(x[b], y[b], z[b])).collect();
+        Some(Profile {
+            low,
+            step,
+            d,
+            size,
+            centre,
+        })
     }
 
     /// Cuts inside segment `k`, from its base up: at clear narrowings; where it widens into
@@ -331,6 +423,8 @@ pub(super) struct Profile {
     /// Per bin: median skeletal distance, and mean distance from the ring's centre.
     pub(super) d: Vec<f64>,
     pub(super) size: Vec<f64>,
+    /// Per bin: the ring's centre (the limb's axis).
+    pub(super) centre: Vec<DVec3>,
 }
 
 impl Profile {
@@ -355,11 +449,20 @@ impl Profile {
         // Narrowings: a minimum of the skeletal distance or of the ring's size clearly below
         // the thicker parts on either side.
         for b in 1..bins - 1 {
+            // (The part past it widens again within three radii: the end of a taper into
+            // a foot whose rings the bend distorts is no narrowing.)
             let narrows = |v: &[f64]| {
                 let here = v[b];
                 let before = v[..b].iter().copied().fold(0.0, f64::max);
                 let after = v[b + 1..].iter().copied().fold(0.0, f64::max);
-                here <= v[b - 1] && here <= v[b + 1] && here <= (1.0 - DIP) * before.min(after)
+                let soon = v[b + 1..(b + 7).min(bins)]
+                    .iter()
+                    .copied()
+                    .fold(0.0, f64::max);
+                here <= v[b - 1]
+                    && here <= v[b + 1]
+                    && here <= (1.0 - DIP) * before.min(after)
+                    && here <= (1.0 - DIP) * soon
             };
             if (narrows(&self.d) || narrows(&self.size)) && free(&at, b) {
                 at.push(b);
@@ -380,6 +483,25 @@ impl Profile {
                 }
             }
         }
+        // Where the axis bends (a bent knee, an ankle, a hock): the sharpest turn over
+        // three bins either side, if it turns by at least BEND.
+        let turn = |b: usize| {
+            let w = 3;
+            if b < w || b + w >= bins {
+                return 0.0;
+            }
+            let u = self.centre[b] - self.centre[b - w];
+            let v = self.centre[b + w] - self.centre[b];
+            u.angle_between(v).to_degrees()
+        };
+        // (Not within four radii of the base, where the axis turns out of the trunk, nor
+        // within three of the tip, where it rounds.)
+        for b in 8..bins.saturating_sub(1) {
+            let t = turn(b);
+            if t >= BEND && t >= turn(b - 1) && t >= turn(b + 1) && b + 6 <= bins && free(&at, b) {
+                at.push(b);
+            }
+        }
         // A digit's two joints, at 45 % and 72 % of its length (where a finger's bend),
         // unless narrowings already cut it.
         if digit && at.is_empty() && bins as f64 * self.step >= DIGIT {
@@ -392,16 +514,26 @@ impl Profile {
         }
         // A long stretch with no joint (an arm whose elbow does not narrow) bends in the
         // middle.
+        // (A digit's two joints stand in for this, unless something else cut it.)
         at.sort_unstable();
-        if !digit {
+        if !digit || !at.is_empty() {
             let ends: Vec<usize> = std::iter::once(first / 2)
                 .chain(at.iter().copied())
                 .chain(std::iter::once(bins))
                 .collect();
+            // Metres along the axis from the base, bin by bin (the middle of a tapering
+            // stretch is nearer its thin end in local radii).
+            let mut along = vec![0.0; bins];
+            for b in 1..bins {
+                along[b] = along[b - 1] + self.centre[b].distance(self.centre[b - 1]);
+            }
             for w in ends.windows(2) {
                 let (a, b) = (w[0], w[1]);
                 if ((b - a) as f64 * self.step) >= LONG {
-                    let mid = (a + b) / 2;
+                    let half = 0.5 * (along[a] + along[b.min(bins - 1)]);
+                    let mid = (a..b.min(bins))
+                        .find(|&m| along[m] >= half)
+                        .unwrap_or((a + b) / 2);
                     if free(&at, mid) {
                         at.push(mid);
                     }

@@ -84,7 +84,8 @@ pub struct Score {
     /// The mean distance from each joint to the nearest cut and from each cut to the
     /// nearest joint, averaged (RigNet's CD-J2J), in % of the height.
     pub j2j: f64,
-    /// The required joints no cut matched, and the spurious cuts, by name.
+    /// The required joints no cut matched (with the distance to the nearest cut, in % of
+    /// the height), and the spurious cuts, by name.
     pub missed: Vec<String>,
     /// The spurious cuts' names.
     pub extra: Vec<String>,
@@ -146,7 +147,16 @@ impl Reference {
                 if taken[j] {
                     score.found += 1;
                 } else {
-                    score.missed.push(joint.role.clone());
+                    // With how far the nearest cut is, in % of the height.
+                    let nearest = cuts
+                        .iter()
+                        .map(|c| c.1.distance(at[j]))
+                        .fold(f64::INFINITY, f64::min);
+                    score.missed.push(format!(
+                        "{} ({:.0} %)",
+                        joint.role,
+                        100.0 * nearest / height
+                    ));
                 }
             }
         }
@@ -236,7 +246,10 @@ mod tests {
     #[test]
     fn a_missing_required_joint_is_named() {
         let s = reference().score(&[("x".into(), DVec3::new(2.0, 0.0, 0.0))], 2.0);
-        assert_eq!((s.found, s.missed.clone()), (0, vec!["arm.L".to_string()]));
+        assert_eq!(
+            (s.found, s.missed.clone()),
+            (0, vec!["arm.L (50 %)".to_string()])
+        );
         assert_eq!(s.spurious, 0);
     }
 }

@@ -12,9 +12,22 @@ pub(super) const THINNER: f64 = 0.75;
 pub(super) const BASE: f64 = 0.5;
 /// A limb or a bump must be at least this many of its radii long.
 pub(super) const ELONGATED: f64 = 1.6;
+/// A limb's tip sticks out of the medial ball of the trunk it grows from by at least this
+/// many of its sizes (the mean distance of its ring from the ring's centre): a nose, an
+/// eye, an ear flat on a head, a face in front of a skull or a belly does not.
+pub(super) const PROTRUDES: f64 = 2.0;
+/// ... and by at least this share of the mesh's size (the longest side of its bounding
+/// box): a human's ears are bumps.
+pub(super) const SMALL: f64 = 0.025;
+/// A part of the body is cut at its base (a head) only where it is at most this share of
+/// the trunk below it and of its own widest ring: a clear narrowing, a neck, not a waist
+/// as wide as the hips.
+pub(super) const NARROW: f64 = 0.88;
 /// A narrowing is a joint when the radius dips by at least this share below the thinner of
 /// the thicker parts on either side (and an extremity is that much wider than its wrist).
 pub(super) const DIP: f64 = 0.06;
+/// A limb whose axis turns by at least this many degrees (over three radii) bends there.
+pub(super) const BEND: f64 = 40.0;
 /// A digit (a tip among several that grow from one extremity) at least this many of its
 /// radii long gets its two joints.
 pub(super) const DIGIT: f64 = 6.0;

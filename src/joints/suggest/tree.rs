@@ -27,6 +27,10 @@ pub(super) struct Tree<'a> {
     pub(super) segments: Vec<Segment>,
     /// Each segment's children (the segments whose parent it is).
     pub(super) children: Vec<Vec<usize>>,
+    /// The root's medial ball: the body's core is at least this.
+    pub(super) core: (DVec3, f64),
+    /// The longest side of the mesh's bounding box.
+    pub(super) size_of_mesh: f64,
 }
 
 impl<'a> Tree<'a> {
@@ -40,6 +44,11 @@ impl<'a> Tree<'a> {
             g: Vec::new(),
             segments: Vec::new(),
             children: Vec::new(),
+            core: (DVec3::ZERO, 0.0),
+            size_of_mesh: {
+                let (lo, hi) = mesh.bounds();
+                (hi - lo).max_element()
+            },
         };
         if n < 4 {
             return tree;
@@ -91,6 +100,7 @@ impl<'a> Tree<'a> {
             .collect();
         let (g, _) = graph.distances_from(&core);
         tree.g = g;
+        tree.core = (centre, reach);
         tree.segments = tree.sweep(&graph);
         tree.children = tree.children();
         tree
