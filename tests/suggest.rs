@@ -4,7 +4,10 @@
 mod common;
 
 use common::{puppet, scratch, test_mesh};
+use puppet::joints::suggest::reference::Reference;
+use puppet::joints::suggest::Up;
 use puppet::{mesh, Puppet, RigFile};
+use std::path::Path;
 
 /// The suggested section tree: how many cuts lie between vertex `v` and the root.
 fn depth(p: &Puppet, v: usize) -> usize {
@@ -153,7 +156,7 @@ fn suggest_prints_the_tree_and_writes_a_rig_that_loads() {
     let text = puppet(&["suggest", hand.to_str().unwrap()]);
     let text = String::from_utf8_lossy(&text.stdout);
     assert!(text.lines().nth(1) == Some("root"), "{text}");
-    assert!(text.contains("  joint 1"), "{text}");
+    assert!(text.contains("  thumb ("), "{text}");
     // Bad input: one error line, status 2.
     let bad = dir.join("open.obj");
     std::fs::write(&bad, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
@@ -164,4 +167,147 @@ fn suggest_prints_the_tree_and_writes_a_rig_that_loads() {
         err.starts_with("error: ") && err.lines().count() == 1,
         "{err}"
     );
+}
+
+/// A labelled character's puppet with its suggested joints (see `tests/data/characters`).
+fn labelled(name: &str) -> (Reference, Puppet) {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/characters")
+        .join(format!("{name}.toml"));
+    let reference = Reference::read(&file).unwrap();
+    let (m, _) = mesh::load(&reference.mesh_path(&file)).unwrap();
+    let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
+    p.suggest_joints().unwrap();
+    (reference, p)
+}
+
+fn names(p: &Puppet) -> Vec<String> {
+    p.joints.cuts().iter().map(|c| c.name.clone()).collect()
+}
+
+/// What `puppet bench suggest` reports over the labelled set, held: recall of the required
+/// joints, spurious cuts, and up found as each reference says.
+#[test]
+fn the_labelled_set_scores_as_benchmarks_says() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/characters");
+    let mut characters: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| {
+            let p = e.ok()?.path();
+            (p.extension()? == "toml").then(|| p.file_stem().unwrap().to_string_lossy().into())
+        })
+        .collect();
+    characters.sort();
+    assert!(characters.len() >= 12, "{characters:?}");
+    let (mut required, mut found, mut cuts, mut spurious) = (0, 0, 0, 0);
+    for name in &characters {
+        let (reference, p) = labelled(name);
+        let (lo, hi) = p.mesh.bounds();
+        let sections = p.joints.sections();
+        let pivots: Vec<(String, glam::DVec3)> = p
+            .joints
+            .cuts()
+            .iter()
+            .enumerate()
+            .map(|(k, c)| (c.name.clone(), sections[k + 1].pivot))
+            .collect();
+        let score = reference.score(&pivots, (hi - lo).max_element());
+        required += score.required;
+        found += score.found;
+        cuts += score.cuts;
+        spurious += score.spurious;
+        if let Some(up) = &reference.up {
+            let up: Up = up.parse().unwrap();
+            assert!(p.up().distance(up.vector()) < 1e-9, "{name}: up {}", p.up());
+        }
+    }
+    let recall = found as f64 / required as f64;
+    let share = spurious as f64 / cuts as f64;
+    assert!(recall >= 0.66, "recall {found}/{required}");
+    assert!(share <= 0.20, "spurious {spurious}/{cuts}");
+}
+
+#[test]
+fn limbs_are_named_by_role_and_a_z_up_horse_is_found_standing() {
+    // The human faces +z: her left arm is at +x.
+    let (_, human) = labelled("human");
+    let n = names(&human);
+    for role in [
+        "neck",
+        "arm.L",
+        "arm.R",
+        "forearm.L",
+        "forearm.R",
+        "hand.L",
+        "leg.L",
+        "leg.R",
+        "shin.L",
+        "shin.R",
+    ] {
+        assert!(n.iter().any(|x| x == role), "{role} in {n:?}");
+    }
+    let arm = human.joints.find("arm.L").unwrap();
+    assert!(human.joints.sections()[arm].pivot.x > 0.1);
+    // The hand on its own: its fingers by name, the thumb the one turned from the others.
+    let (_, hand) = labelled("hand");
+    let n = names(&hand);
+    for role in ["thumb", "index", "middle", "ring", "little"] {
+        assert!(n.iter().any(|x| x == role), "{role} in {n:?}");
+    }
+    let thumb = hand.joints.find("thumb").unwrap();
+    assert!(
+        hand.joints.sections()[thumb].pivot.x < -0.2,
+        "the thumb is the leftmost"
+    );
+    // The horse, modelled z-up and facing -y: it stands, its forelegs are its arms.
+    let (_, horse) = labelled("horse");
+    assert_eq!(horse.up(), glam::DVec3::Z);
+    assert_eq!(horse.frame().unwrap().front, glam::DVec3::NEG_Y);
+    let n = names(&horse);
+    for role in ["neck", "head", "tail", "arm.L", "arm.R", "leg.L", "leg.R"] {
+        assert!(n.iter().any(|x| x == role), "{role} in {n:?}");
+    }
+    let fore = horse.joints.find("arm.L").unwrap();
+    let hind = horse.joints.find("leg.L").unwrap();
+    let s = horse.joints.sections();
+    assert!(s[fore].pivot.y < s[hind].pivot.y, "forelegs in front (-y)");
+}
+
+#[test]
+fn up_given_is_kept_in_the_rig_file_and_overrides_what_is_found() {
+    let dir = scratch("suggest-up");
+    let rig = dir.join("horse.rig.toml");
+    let horse = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/characters/horse.obj");
+    let out = puppet(&[
+        "suggest",
+        horse.to_str().unwrap(),
+        "--up=+y",
+        "-o",
+        rig.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(report["up"], serde_json::json!([0.0, 1.0, 0.0]));
+    // Each cut carries its role (or none, where it keeps a number).
+    assert!(report["cuts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|c| c["role"].is_null() || c["role"] == c["name"]));
+    let text = std::fs::read_to_string(&rig).unwrap();
+    assert!(text.contains("up = \"+y\"\n"), "{text}");
+    assert_eq!(RigFile::load(&rig).unwrap().up, Some(Up::PosY));
+    // Without it, the z-up horse is found z-up; a bad axis is one error line.
+    let found = puppet(&["suggest", horse.to_str().unwrap(), "--json"]);
+    let report: serde_json::Value = serde_json::from_slice(&found.stdout).unwrap();
+    assert_eq!(report["up"][2], serde_json::json!(1.0));
+    let bad = dir.join("bad.rig.toml");
+    std::fs::write(&bad, text.replace("up = \"+y\"", "up = \"sideways\"")).unwrap();
+    let err = RigFile::load(&bad).unwrap_err().to_string();
+    assert!(err.contains("up = 'sideways' is not one of"), "{err}");
 }

@@ -175,6 +175,7 @@ impl WindowState {
         if let Some(s) = &self.session {
             let (lo, hi) = s.puppet.mesh.bounds();
             self.camera.frame(lo.as_vec3(), hi.as_vec3());
+            self.camera.up = s.puppet.up().as_vec3();
         }
     }
 

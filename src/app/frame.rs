@@ -176,6 +176,7 @@ impl WindowState {
                     Ok(opened) => {
                         let (lo, hi) = opened.session.puppet.mesh.bounds();
                         self.camera.frame(lo.as_vec3(), hi.as_vec3());
+                        self.camera.up = opened.session.puppet.up().as_vec3();
                         self.window
                             .set_title(&format!("puppet — {}", opened.session.name));
                         self.panel.message = Some(opened.message());

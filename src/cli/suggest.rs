@@ -24,6 +24,10 @@ pub struct Args {
     /// How the skeletal distance is taken (default: the rig file's default method).
     #[arg(long, value_enum)]
     pub method: Option<puppet::skeleton::Method>,
+    /// The axis the mesh is modelled with as up: +x, -x, +y, -y, +z or -z (default: found
+    /// from its shape; written into the rig file when given).
+    #[arg(long, value_name = "AXIS", allow_hyphen_values = true)]
+    pub up: Option<puppet::joints::suggest::Up>,
 }
 
 /// What the command prints (`--json` prints exactly these fields).
@@ -31,6 +35,9 @@ pub struct Args {
 struct Summary {
     mesh: String,
     vertices: usize,
+    /// Up, as given or found, and the way the character faces.
+    up: [f64; 3],
+    front: [f64; 3],
     cuts: Vec<CutRow>,
     seconds_skeleton: f64,
     seconds_suggest: f64,
@@ -40,6 +47,8 @@ struct Summary {
 #[derive(serde::Serialize)]
 struct CutRow {
     name: String,
+    /// The role the name gives (`arm.L`, `thumb.R`, `tail`…), none for a numbered cut.
+    role: Option<String>,
     parent: String,
     vertices: usize,
     pivot: [f64; 3],
@@ -54,6 +63,7 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     if let Some(method) = args.method {
         rig.method = method;
     }
+    rig.up = args.up;
     let mut puppet = Puppet::build_loaded(mesh, Some(&report), rig, &|s, f| bar.update(s, f))
         .map_err(|e| FileError::new(&name, e))?;
     bar.finish();
@@ -73,6 +83,7 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
             let s = &sections[k + 1];
             CutRow {
                 name: c.name.clone(),
+                role: (!c.name.starts_with("joint ")).then(|| c.name.clone()),
                 parent: s.parent.map_or(String::new(), |p| sections[p].name.clone()),
                 vertices: s.vertices,
                 pivot: s.pivot.to_array(),
@@ -92,12 +103,15 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         })?;
     }
     let vertices = puppet.mesh.positions.len();
+    let frame = puppet.frame().unwrap_or_default();
     if let Some(path) = &args.image {
         picture(puppet, path)?;
     }
     let summary = Summary {
         mesh: name,
         vertices,
+        up: frame.up.to_array(),
+        front: frame.front.to_array(),
         cuts,
         seconds_skeleton,
         seconds_suggest,
@@ -161,6 +175,7 @@ pub(crate) fn picture(puppet: Puppet, path: &std::path::Path) -> Result<()> {
         let mut camera = Camera {
             yaw,
             pitch: 0.1,
+            up: session.puppet.up().as_vec3(),
             ..Camera::default()
         };
         camera.frame(lo.as_vec3(), hi.as_vec3());

@@ -61,6 +61,8 @@ pub struct Puppet {
     /// The sections' balls for the pose limit, built when first needed (and again after
     /// the cuts change).
     balls: Option<std::sync::Arc<crate::joints::collide::Balls>>,
+    /// Up, front and left, as the last suggestion found them.
+    frame: Option<crate::joints::suggest::Frame>,
 }
 
 impl Puppet {
@@ -118,6 +120,7 @@ impl Puppet {
             rig_file,
             groups,
             balls: None,
+            frame: None,
         };
         let regions = puppet.regions(true).map_err(BuildError::Regions)?;
         puppet.sim.set_regions(regions);
@@ -194,12 +197,28 @@ impl Puppet {
     /// ([`crate::joints::suggest`]); returns how many. On error nothing changes.
     pub fn suggest_joints(&mut self) -> Result<usize, JointError> {
         let root = self.joints.sections()[0].name.clone();
-        let cuts = crate::joints::suggest::suggest(&self.mesh, &self.skeleton, &root);
+        let up = self.rig_file.up.map(|u| u.vector());
+        let (cuts, frame) = crate::joints::suggest::suggest(&self.mesh, &self.skeleton, &root, up);
+        self.frame = Some(frame);
         let mut joints = self.joints.without_cuts(&root);
         joints.add_cuts(cuts.iter().cloned())?;
         self.joints = joints;
         self.sync_sections();
         Ok(cuts.len())
+    }
+
+    /// Up, front and left as the last suggestion found them (`None` before one).
+    pub fn frame(&self) -> Option<crate::joints::suggest::Frame> {
+        self.frame
+    }
+
+    /// The mesh's up direction: the rig file's, or as the last suggestion found it, or +y.
+    pub fn up(&self) -> DVec3 {
+        match (self.rig_file.up, self.frame) {
+            (Some(u), _) => u.vector(),
+            (None, Some(f)) => f.up,
+            (None, None) => DVec3::Y,
+        }
     }
 
     /// Step `step` (1-based) of an animation: the pose at `step × h` into `local`, then one

@@ -46,6 +46,7 @@
 
 use super::paint::{self, Paint};
 use crate::files::{self, Format};
+use crate::joints::suggest::Up;
 use crate::joints::{Cut, JointError, Joints, Shape, ROOT};
 use crate::sim::{Constraint, Material, Params};
 use crate::skeleton::Method;
@@ -186,6 +187,8 @@ struct RigEntry {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     root: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    up: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     params: Option<toml::Table>,
     #[serde(default)]
     cut: Vec<CutEntry>,
@@ -221,6 +224,9 @@ pub struct RigFile {
     pub params: Params,
     /// Name of the root section.
     pub root: String,
+    /// The up direction the mesh is modelled with, when the file says (else it is found
+    /// from the mesh's shape when joints are suggested).
+    pub up: Option<Up>,
     /// Cuts in order.
     pub cuts: Vec<Cut>,
     /// Material regions, blended over the base material in order.
@@ -237,6 +243,7 @@ impl Default for RigFile {
             preset: "skin".into(),
             params: Params::default(),
             root: ROOT.into(),
+            up: None,
             cuts: Vec::new(),
             regions: Vec::new(),
             pin: Paint::default(),
@@ -350,7 +357,15 @@ impl RigFile {
                 }
             }
         }
+        let up = match &entry.up {
+            Some(text) => Some(
+                text.parse::<Up>()
+                    .map_err(|e| RigError(format!("up = {e}")))?,
+            ),
+            None => None,
+        };
         Ok(RigFile {
+            up,
             mesh: entry.mesh.map(|m| base.join(m)),
             method: entry.skeleton.unwrap_or_default(),
             preset: base_preset,
@@ -399,6 +414,7 @@ impl RigFile {
             material: Some(self.preset.clone()),
             constraint: Some(self.params.solver.constraint),
             root: Some(self.root.clone()),
+            up: self.up.map(|u| u.to_string()),
             params: Some(params),
             cut: self
                 .cuts

@@ -16,6 +16,9 @@ pub struct Camera {
     pub distance: f32,
     /// Vertical field of view in radians.
     pub fov_y: f32,
+    /// The world's up (the mesh's: +y unless it is modelled otherwise); yaw turns about
+    /// it and pitch rises towards it.
+    pub up: Vec3,
 }
 
 impl Default for Camera {
@@ -26,6 +29,7 @@ impl Default for Camera {
             pitch: 0.25,
             distance: 3.0,
             fov_y: 40f32.to_radians(),
+            up: Vec3::Y,
         }
     }
 }
@@ -47,12 +51,18 @@ impl Camera {
             self.pitch.sin(),
             self.pitch.cos() * self.yaw.cos(),
         );
-        self.target + dir * self.distance
+        self.target + self.tilt() * dir * self.distance
+    }
+
+    /// The rotation from +y up to the world's up (+z up: the front view looks along +y,
+    /// at a character facing −y, Blender's front).
+    fn tilt(&self) -> glam::Quat {
+        glam::Quat::from_rotation_arc(Vec3::Y, self.up.try_normalize().unwrap_or(Vec3::Y))
     }
 
     /// The view matrix (world to camera).
     pub fn view(&self) -> Mat4 {
-        glam::camera::rh::view::look_at_mat4(self.eye(), self.target, Vec3::Y)
+        glam::camera::rh::view::look_at_mat4(self.eye(), self.target, self.tilt() * Vec3::Y)
     }
 
     /// The perspective projection for a viewport of `aspect` = width / height.

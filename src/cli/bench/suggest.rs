@@ -5,6 +5,7 @@
 use crate::cli::LoadArgs;
 use anyhow::{anyhow, bail, Result};
 use puppet::joints::suggest::reference::{Reference, Score, TOLERANCE};
+use puppet::joints::suggest::Up;
 use puppet::{Puppet, RigFile};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -37,6 +38,9 @@ struct Row {
     character: String,
     kind: String,
     vertices: usize,
+    /// Up as found, and whether the reference says the same.
+    up: String,
+    up_right: bool,
     #[serde(flatten)]
     score: Score,
     ms_skeleton: f64,
@@ -100,6 +104,11 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             .map(|(k, c)| (c.name.clone(), sections[k + 1].pivot))
             .collect();
         let score = reference.score(&cuts, height);
+        let up = axis_name(puppet.up());
+        let up_right = reference
+            .up
+            .as_deref()
+            .is_none_or(|u| u.parse::<Up>().is_ok_and(|r| r.to_string() == up));
         let vertices = puppet.mesh.positions.len();
         if let Some(dir) = &args.images {
             crate::cli::suggest::picture(puppet, &dir.join(format!("{name}.png")))?;
@@ -108,6 +117,8 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             character: name,
             kind: reference.kind.clone(),
             vertices,
+            up,
+            up_right,
             score,
             ms_skeleton,
             ms_suggest: times[1],
@@ -129,8 +140,10 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         let matched: usize = rows.iter().map(|r| r.score.matched).sum();
         let named: usize = rows.iter().map(|r| r.score.named).sum();
         let j2j = rows.iter().map(|r| r.score.j2j).sum::<f64>() / rows.len().max(1) as f64;
+        let ups = rows.iter().filter(|r| r.up_right).count();
+        let characters = rows.len();
         println!(
-            "| **all** | | | {found}/{required} ({recall:.0} %) | {spurious}/{cuts} ({spurious_share:.0} %) | {named}/{matched} | {j2j:.1} | | | |"
+            "| **all** | | | {ups}/{characters} | {found}/{required} ({recall:.0} %) | {spurious}/{cuts} ({spurious_share:.0} %) | {named}/{matched} | {j2j:.1} | | | |"
         );
         println!(
             "\nA cut matches a joint within {:.0} % of the height (the longest side of the bounding box).",
@@ -150,17 +163,32 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     Ok(())
 }
 
+/// The axis nearest `v`, as `+y`.
+fn axis_name(v: glam::DVec3) -> String {
+    let a = v.abs();
+    let (axis, c) = if a.x >= a.y && a.x >= a.z {
+        ("x", v.x)
+    } else if a.y >= a.z {
+        ("y", v.y)
+    } else {
+        ("z", v.z)
+    };
+    format!("{}{axis}", if c < 0.0 { "-" } else { "+" })
+}
+
 fn print_row(r: &Row, header: bool) {
     if header {
-        println!("| character | kind | vertices | required found | spurious cuts | named as the role | CD-J2J (% height) | skeleton (ms) | suggestion (ms) | missed; spurious |");
-        println!("|---|---|---:|---:|---:|---:|---:|---:|---:|---|");
+        println!("| character | kind | vertices | up found | required found | spurious cuts | named as the role | CD-J2J (% height) | skeleton (ms) | suggestion (ms) | missed; spurious |");
+        println!("|---|---|---:|---|---:|---:|---:|---:|---:|---:|---|");
     }
     let s = &r.score;
     println!(
-        "| {} | {} | {} | {}/{} | {}/{} | {}/{} | {:.1} | {:.0} | {:.1} | {}; {} |",
+        "| {} | {} | {} | {}{} | {}/{} | {}/{} | {}/{} | {:.1} | {:.0} | {:.1} | {}; {} |",
         r.character,
         r.kind,
         r.vertices,
+        r.up,
+        if r.up_right { "" } else { " (wrong)" },
         s.found,
         s.required,
         s.spurious,

@@ -120,9 +120,10 @@ impl Tree<'_> {
         let extremity = limb && shape.limbs_from[k] >= 2;
         let digit = limb && shape.limbs_from[k] == 0 && shape.tips_from[parent] >= 4;
         let part = limb
-            || self.segments[k]
-                .parent
-                .is_some_and(|p| self.protrudes(k, p, shape.children));
+            || (self.segments[k].vertices.len() >= 16
+                && self.segments[k]
+                    .parent
+                    .is_some_and(|p| self.protrudes(k, p, shape.children)));
         if k != shape.root && part {
             for inner in self.inner_cuts(k, limb, extremity, digit) {
                 out.push(Limb {
@@ -222,10 +223,18 @@ impl Tree<'_> {
         // that the plane does not reach a neighbour at the fork (the other leg at the
         // crotch). It turns about the ball of its root, a radius in from the cut (the
         // head of a femur sits inside the hip, above the crotch).
+        // (Only a limb thinner than the core: a head as thick as the body turns where it
+        // is cut.)
         self.cut_at(k, low + BASE).map(|cut| {
             let ring = self.ring(seg, low + BASE - 0.25, low + BASE + 0.25);
+            let r = self.radius(&ring);
+            let inward = if r <= THINNER * self.core.1 {
+                0.5 * r
+            } else {
+                0.0
+            };
             Limb {
-                pivot: cut.pivot - cut.normal * self.radius(&ring),
+                pivot: cut.pivot - cut.normal * inward,
                 ..cut
             }
         })
@@ -494,9 +503,9 @@ impl Profile {
             let v = self.centre[b + w] - self.centre[b];
             u.angle_between(v).to_degrees()
         };
-        // (Not within four radii of the base, where the axis turns out of the trunk, nor
+        // (Not within two and a half radii of the base, where the axis turns out of the trunk, nor
         // within three of the tip, where it rounds.)
-        for b in 8..bins.saturating_sub(1) {
+        for b in 5..bins.saturating_sub(1) {
             let t = turn(b);
             if t >= BEND && t >= turn(b - 1) && t >= turn(b + 1) && b + 6 <= bins && free(&at, b) {
                 at.push(b);

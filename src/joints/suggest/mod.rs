@@ -38,6 +38,7 @@
 //! * `cuts`: which segments are limbs and where they are cut (step 3);
 //! * `sections`: naming and applying the cuts (step 4).
 
+mod anatomy;
 mod cuts;
 mod graph;
 pub mod reference;
@@ -49,4 +50,5 @@ mod union_find;
 #[cfg(test)]
 mod tests;
 
+pub use anatomy::{mirror_plane, Frame, Up};
 pub use sections::suggest;

@@ -2,6 +2,9 @@
 //! medial radius (or as a share), so one mesh's scale is another's. `puppet bench suggest`
 //! and `tests/suggest.rs` measure what moving one changes.
 
+/// The root is the point nearest the centroid among those on the middle of the body at
+/// least this share of the thickest there.
+pub(super) const THICK: f64 = 0.85;
 /// The body's core reaches as far as its skeletal distance stays this share of the root's,
 /// and no farther than this many of the root's radii from its centre.
 pub(super) const CORE: f64 = 0.85;

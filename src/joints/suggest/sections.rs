@@ -1,15 +1,26 @@
-//! Step 4 of the module docs: the cuts found, named by their place in the tree and applied
-//! parent-first; one that leaves too small a section, or slips past its limb, is dropped.
+//! Step 4 of the module docs: the cuts found, numbered by their place in the tree and
+//! applied parent-first; one that leaves too small a section, or slips past its limb, is
+//! dropped. Then (step 5, `anatomy`) they are named by role.
 
+use super::anatomy::Frame;
 use super::rules::SMALLEST;
 use super::tree::Tree;
 use crate::joints::{Cut, Joints, Shape};
 use crate::mesh::Mesh;
 use crate::skeleton::Skeleton;
+use glam::DVec3;
+use std::collections::HashMap;
 
 /// Cuts where the protrusions of `mesh` narrow, organised parent-first as a section tree
-/// under the root section `root`. Every cut applies, in order, to joints without cuts.
-pub fn suggest(mesh: &Mesh, skeleton: &Skeleton, root: &str) -> Vec<Cut> {
+/// under the root section `root`, named by role where one fits, and the frame (up, front,
+/// left) they were named in: `up` when given, else found. Every cut applies, in order, to
+/// joints without cuts.
+pub fn suggest(
+    mesh: &Mesh,
+    skeleton: &Skeleton,
+    root: &str,
+    up: Option<DVec3>,
+) -> (Vec<Cut>, Frame) {
     // Riders have no skeleton: the limbs are the body's, and riders go with their hosts.
     let (limbs, hosts) = if skeleton.riders > 0 {
         let parts = crate::mesh::Parts::of(mesh);
@@ -29,7 +40,7 @@ pub fn suggest(mesh: &Mesh, skeleton: &Skeleton, root: &str) -> Vec<Cut> {
     // hangs from it hangs from its parent instead.
     let mut joints = Joints::with_mesh(&skeleton.points, &mesh.triangles, &hosts, root);
     let mut applied: Vec<Option<String>> = Vec::with_capacity(limbs.len());
-    let mut count: std::collections::HashMap<String, usize> = Default::default();
+    let mut count: HashMap<String, usize> = Default::default();
     let mut cuts = Vec::new();
     for limb in &limbs {
         // The nearest ancestor that applied, or the root.
@@ -87,5 +98,24 @@ pub fn suggest(mesh: &Mesh, skeleton: &Skeleton, root: &str) -> Vec<Cut> {
             }
         }
     }
-    cuts
+    // Names by role; a name taken twice, and a cut no role fits, keep their numbers.
+    let (roles, frame) = super::anatomy::roles(mesh, &joints, up);
+    let mut renamed: HashMap<String, String> = HashMap::new();
+    let mut taken: std::collections::HashSet<String> = Default::default();
+    for (k, cut) in cuts.iter().enumerate() {
+        if let Some(role) = roles.get(k + 1).cloned().flatten() {
+            if role != root && taken.insert(role.clone()) {
+                renamed.insert(cut.name.clone(), role);
+            }
+        }
+    }
+    for cut in &mut cuts {
+        if let Some(name) = renamed.get(&cut.name) {
+            cut.name = name.clone();
+        }
+        if let Some(section) = renamed.get(&cut.section) {
+            cut.section = section.clone();
+        }
+    }
+    (cuts, frame)
 }

@@ -3,11 +3,30 @@
 //! largest `g` down that cuts the mesh into segments, protrusions hanging from forks.
 
 use super::graph::{farthest, Graph};
-use super::rules::{CORE, CORE_REACH, ELONGATED};
+use super::rules::{CORE, CORE_REACH, ELONGATED, THICK};
 use super::union_find::UnionFind;
 use crate::mesh::Mesh;
 use crate::skeleton::Skeleton;
 use glam::DVec3;
+
+/// The centroid of the volume a mesh encloses (of its vertices where it encloses none):
+/// unlike the vertices' mean, not pulled towards a finely meshed face.
+fn volume_centroid(mesh: &Mesh) -> DVec3 {
+    let mut sum = DVec3::ZERO;
+    let mut volume = 0.0;
+    let origin = mesh.positions.first().copied().unwrap_or_default();
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|i| mesh.positions[i as usize] - origin);
+        let v = a.dot(b.cross(c)) / 6.0;
+        sum += (a + b + c) / 4.0 * v;
+        volume += v;
+    }
+    if volume.abs() > f64::MIN_POSITIVE && (sum / volume).is_finite() {
+        origin + sum / volume
+    } else {
+        mesh.positions.iter().sum::<DVec3>() / mesh.positions.len().max(1) as f64
+    }
+}
 
 /// A segment of the join tree: the vertices added between two events of the sweep.
 #[derive(Clone, Debug)]
@@ -61,18 +80,34 @@ impl<'a> Tree<'a> {
         let b = farthest(&da);
         // The path from b back to a is a shortest path: along it, the distance from b is
         // the span less the distance from a.
+        // Of the points on its middle three fifths nearly as thick as the thickest there
+        // (a big head and a body), the one nearest the mesh's centroid: the body that
+        // the limbs hang from, not the head on it.
         let span = da[b];
-        let mut root = b;
-        let mut best = f64::NEG_INFINITY;
+        let mut middle = Vec::new();
         let mut v = b;
         while v != a && pred[v] != u32::MAX {
             let along = 1.0 - da[v] / span.max(f64::MIN_POSITIVE);
-            if (0.4..=0.6).contains(&along) && skeleton.distance[v] > best {
-                best = skeleton.distance[v];
-                root = v;
+            if (0.2..=0.8).contains(&along) {
+                middle.push(v);
             }
             v = pred[v] as usize;
         }
+        let thickest = middle
+            .iter()
+            .map(|&v| skeleton.distance[v])
+            .fold(0.0, f64::max);
+        let centroid = volume_centroid(mesh);
+        let root = middle
+            .iter()
+            .copied()
+            .filter(|&v| skeleton.distance[v] >= THICK * thickest)
+            .min_by(|&p, &q| {
+                points[p]
+                    .distance(centroid)
+                    .total_cmp(&points[q].distance(centroid))
+            })
+            .unwrap_or(b);
         // g: over the surface, from the body's core: the vertices whose skeletal point lies
         // in the root's medial ball, and with them every vertex joined to them through
         // vertices nearly as thick (a long body is all core; its limbs start where it ends).
