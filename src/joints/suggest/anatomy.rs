@@ -699,3 +699,91 @@ fn name_digit(names: &mut [Option<String>], children: &[Vec<usize>], s: usize, n
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Points on two boxes side by side, mirrored across x = 1, with a tail off to one side.
+    fn figure(tail: bool) -> Vec<DVec3> {
+        let mut p = Vec::new();
+        for i in 0..10 {
+            for j in 0..20 {
+                for k in 0..6 {
+                    let (x, y, z) = (i as f64 * 0.1, j as f64 * 0.1, k as f64 * 0.1);
+                    p.push(DVec3::new(0.05 + x, y, z));
+                    p.push(DVec3::new(1.95 - x, y, z));
+                }
+            }
+        }
+        if tail {
+            for j in 0..20 {
+                p.push(DVec3::new(
+                    1.5 + j as f64 * 0.02,
+                    0.0,
+                    -0.5 - j as f64 * 0.05,
+                ));
+            }
+        }
+        p
+    }
+
+    #[test]
+    fn the_mirror_plane_is_found_across_the_axis_it_mirrors() {
+        let (n, o) = mirror_plane(&figure(false)).unwrap();
+        assert_eq!(n, DVec3::X);
+        assert!((o - 1.0).abs() < 0.02, "{o}");
+        // A few points off the plane (a curled tail) move nothing.
+        let (n, o) = mirror_plane(&figure(true)).unwrap();
+        assert_eq!(n, DVec3::X);
+        assert!((o - 1.0).abs() < 0.02, "{o}");
+        // A lopsided cloud has none.
+        let lopsided: Vec<DVec3> = (0..500)
+            .map(|i| {
+                let t = i as f64;
+                DVec3::new(
+                    (t * 0.37).sin().abs() * t.sqrt(),
+                    (t * 0.11).cos(),
+                    t * 0.01,
+                )
+            })
+            .collect();
+        assert!(mirror_plane(&lopsided).is_none());
+    }
+
+    #[test]
+    fn legs_hanging_along_an_axis_make_the_other_way_up() {
+        let plane = figure(false);
+        // Four legs off the plane hanging along -z: z is up, front across it and x.
+        let leg = |x: f64, y: f64| Reach {
+            pivot: DVec3::new(x, y, 0.0),
+            tip: DVec3::new(x, y, -1.0),
+            vertices: 50,
+        };
+        let limbs = [leg(0.5, 0.2), leg(1.5, 0.2), leg(0.5, 1.8), leg(1.5, 1.8)];
+        let f = frame(&plane, &limbs, None);
+        assert_eq!(f.up, DVec3::Z);
+        assert!(f.front.dot(DVec3::Y).abs() > 0.99);
+        assert!((f.left - f.up.cross(f.front)).length() < 1e-12);
+        // Given, up is kept.
+        assert_eq!(frame(&plane, &limbs, Some(DVec3::Y)).up, DVec3::Y);
+        // Sprawled legs say little: +y stays.
+        let sprawl = |x: f64, y: f64, s: f64| Reach {
+            pivot: DVec3::new(x, y, 0.0),
+            tip: DVec3::new(x + s, y, -0.3),
+            vertices: 50,
+        };
+        let limbs = [sprawl(0.5, 0.2, -1.0), sprawl(1.5, 0.2, 1.0)];
+        assert_eq!(frame(&plane, &limbs, None).up, DVec3::Y);
+    }
+
+    #[test]
+    fn up_reads_and_writes_as_an_axis() {
+        for text in ["+x", "-x", "+y", "-y", "+z", "-z"] {
+            let up: Up = text.parse().unwrap();
+            assert_eq!(up.to_string(), text);
+        }
+        assert_eq!("Z".parse::<Up>().unwrap(), Up::PosZ);
+        assert!("up".parse::<Up>().is_err());
+    }
+}

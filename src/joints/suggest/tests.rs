@@ -4,14 +4,41 @@
 use super::cuts::{fill, is_limb, smooth, Profile};
 use super::rules::{DIP, LONG};
 
-/// A profile of `d` (the skeletal distance per bin) with the ring sizes the same shape.
+/// A profile of `d` (the skeletal distance per bin) with the ring sizes the same shape,
+/// along a straight axis a unit per bin.
 fn profile(d: &[f64]) -> Profile {
     Profile {
         low: 0.0,
         step: 0.5,
         d: d.to_vec(),
         size: d.to_vec(),
+        centre: (0..d.len()).map(|b| glam::DVec3::X * b as f64).collect(),
     }
+}
+
+#[test]
+fn a_limb_bends_where_its_axis_turns_and_a_long_stretch_is_halved_in_metres() {
+    // Straight, then a right angle at bin 20 of 30: cut there, not near the base or tip.
+    let mut p = profile(&[1.0; 30]);
+    for b in 20..30 {
+        p.centre[b] = glam::DVec3::new(20.0, (b - 20) as f64, 0.0);
+    }
+    let cuts = p.cut_bins(true, false, false);
+    assert!(cuts.contains(&20), "{cuts:?}");
+    // A long straight stretch whose bins grow apart (a taper: the thin end is longer in
+    // radii): the middle cut falls at half the metres.
+    let mut p = profile(&[1.0; 30]);
+    let mut x = 0.0;
+    for b in 0..30 {
+        p.centre[b] = glam::DVec3::X * x;
+        x += if b < 15 { 1.0 } else { 0.25 };
+    }
+    let cuts = p.cut_bins(true, false, false);
+    let half = 0.5 * (p.centre[2].x + p.centre[29].x);
+    assert!(
+        cuts.iter().any(|&b| (p.centre[b].x - half).abs() <= 1.0),
+        "{cuts:?} near {half}"
+    );
 }
 
 #[test]
