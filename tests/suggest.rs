@@ -4,7 +4,7 @@
 mod common;
 
 use common::{puppet, scratch, test_mesh};
-use puppet::joints::suggest::reference::Reference;
+use puppet::joints::suggest::labels::Labels;
 use puppet::joints::suggest::Up;
 use puppet::{mesh, Puppet, RigFile};
 use std::path::Path;
@@ -170,15 +170,15 @@ fn suggest_prints_the_tree_and_writes_a_rig_that_loads() {
 }
 
 /// A labelled character's puppet with its suggested joints (see `tests/data/characters`).
-fn labelled(name: &str) -> (Reference, Puppet) {
+fn labelled(name: &str) -> (Labels, Puppet) {
     let file = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data/characters")
         .join(format!("{name}.toml"));
-    let reference = Reference::read(&file).unwrap();
-    let (m, _) = mesh::load(&reference.mesh_path(&file)).unwrap();
+    let labels = Labels::read(&file).unwrap();
+    let (m, _) = mesh::load(&labels.mesh_path(&file)).unwrap();
     let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
     p.suggest_joints().unwrap();
-    (reference, p)
+    (labels, p)
 }
 
 fn names(p: &Puppet) -> Vec<String> {
@@ -186,7 +186,7 @@ fn names(p: &Puppet) -> Vec<String> {
 }
 
 /// What `puppet bench suggest` reports over the labelled set, held: recall of the required
-/// joints, spurious cuts, and up found as each reference says.
+/// joints, spurious cuts, and up found as each labels file says.
 #[test]
 fn the_labelled_set_scores_as_benchmarks_says() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/characters");
@@ -201,7 +201,7 @@ fn the_labelled_set_scores_as_benchmarks_says() {
     assert!(characters.len() >= 12, "{characters:?}");
     let (mut required, mut found, mut cuts, mut spurious) = (0, 0, 0, 0);
     for name in &characters {
-        let (reference, p) = labelled(name);
+        let (labels, p) = labelled(name);
         let (lo, hi) = p.mesh.bounds();
         let sections = p.joints.sections();
         let pivots: Vec<(String, glam::DVec3)> = p
@@ -211,12 +211,12 @@ fn the_labelled_set_scores_as_benchmarks_says() {
             .enumerate()
             .map(|(k, c)| (c.name.clone(), sections[k + 1].pivot))
             .collect();
-        let score = reference.score(&pivots, (hi - lo).max_element());
+        let score = labels.score(&pivots, (hi - lo).max_element());
         required += score.required;
         found += score.found;
         cuts += score.cuts;
         spurious += score.spurious;
-        if let Some(up) = &reference.up {
+        if let Some(up) = &labels.up {
             let up: Up = up.parse().unwrap();
             assert!(p.up().distance(up.vector()) < 1e-9, "{name}: up {}", p.up());
         }

@@ -10,7 +10,7 @@ use mesher::{Body, Bone};
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// A joint of the reference: the section it starts (`arm.L` at the shoulder), where, and
+/// A labelled joint: the section it starts (`arm.L` at the shoulder), where, and
 /// whether a suggestion must find it (limb roots, neck, elbows, knees) or may (wrists,
 /// ankles, ears, tail).
 struct Joint {
@@ -180,7 +180,7 @@ impl Character {
         s
     }
 
-    fn reference(&self) -> String {
+    fn labels(&self) -> String {
         let mut s = String::new();
         let _ = writeln!(
             s,
@@ -623,15 +623,15 @@ fn write_the_generated_characters() {
     std::fs::create_dir_all(&dir).unwrap();
     for c in characters() {
         std::fs::write(dir.join(format!("{}.obj", c.name)), c.obj()).unwrap();
-        std::fs::write(dir.join(format!("{}.toml", c.name)), c.reference()).unwrap();
+        std::fs::write(dir.join(format!("{}.toml", c.name)), c.labels()).unwrap();
     }
 }
 
 #[test]
 fn the_generated_characters_are_what_this_file_makes() {
     for c in characters() {
-        let reference = std::fs::read_to_string(folder().join(format!("{}.toml", c.name)))
-            .expect("the reference is in tests/data/characters");
-        assert_eq!(reference, c.reference(), "{}.toml is stale", c.name);
+        let labels = std::fs::read_to_string(folder().join(format!("{}.toml", c.name)))
+            .expect("the labels are in tests/data/characters");
+        assert_eq!(labels, c.labels(), "{}.toml is stale", c.name);
     }
 }

@@ -1,10 +1,10 @@
 //! `puppet bench suggest`: the suggested joints of each labelled character against its
-//! reference (see `puppet::joints::suggest::reference`): recall of the required joints,
+//! labels (see `puppet::joints::suggest::labels`): recall of the required joints,
 //! spurious cuts, names, RigNet's joint-to-joint distance, and the time taken.
 
 use crate::cli::LoadArgs;
 use anyhow::{anyhow, bail, Result};
-use puppet::joints::suggest::reference::{Reference, Score, TOLERANCE};
+use puppet::joints::suggest::labels::{Labels, Score, TOLERANCE};
 use puppet::joints::suggest::Up;
 use puppet::{Puppet, RigFile};
 use std::path::{Path, PathBuf};
@@ -13,7 +13,7 @@ use std::time::Instant;
 /// `puppet bench suggest`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Folder of the labelled set: one reference (`NAME.toml`) per character.
+    /// Folder of the labelled set: one labels file (`NAME.toml`) per character.
     #[arg(long, default_value = "tests/data/characters")]
     set: PathBuf,
     /// Only the characters whose name contains this.
@@ -38,7 +38,7 @@ struct Row {
     character: String,
     kind: String,
     vertices: usize,
-    /// Up as found, and whether the reference says the same.
+    /// Up as found, and whether the labels say the same.
     up: String,
     up_right: bool,
     #[serde(flatten)]
@@ -47,8 +47,8 @@ struct Row {
     ms_suggest: f64,
 }
 
-/// The references in `dir`, by name.
-fn references(dir: &Path) -> Result<Vec<(String, PathBuf)>> {
+/// The labels files in `dir`, by name.
+fn label_files(dir: &Path) -> Result<Vec<(String, PathBuf)>> {
     let mut out: Vec<(String, PathBuf)> = std::fs::read_dir(dir)
         .map_err(|e| anyhow!("{}: {}", dir.display(), puppet::files::io_message(&e)))?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -61,7 +61,7 @@ fn references(dir: &Path) -> Result<Vec<(String, PathBuf)>> {
 
 pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     let mut rows = Vec::new();
-    for (name, file) in references(&args.set)? {
+    for (name, file) in label_files(&args.set)? {
         if args
             .only
             .as_ref()
@@ -69,8 +69,8 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         {
             continue;
         }
-        let reference = Reference::read(&file).map_err(|e| anyhow!("{}: {e}", file.display()))?;
-        let path = reference.mesh_path(&file);
+        let labels = Labels::read(&file).map_err(|e| anyhow!("{}: {e}", file.display()))?;
+        let path = labels.mesh_path(&file);
         let (mesh, report, shown) = crate::cli::load_mesh(Some(&path), load)?;
         let (lo, hi) = mesh.bounds();
         let height = (hi - lo).max_element();
@@ -103,9 +103,9 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             .enumerate()
             .map(|(k, c)| (c.name.clone(), sections[k + 1].pivot))
             .collect();
-        let score = reference.score(&cuts, height);
+        let score = labels.score(&cuts, height);
         let up = axis_name(puppet.up());
-        let up_right = reference
+        let up_right = labels
             .up
             .as_deref()
             .is_none_or(|u| u.parse::<Up>().is_ok_and(|r| r.to_string() == up));
@@ -115,7 +115,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         }
         let row = Row {
             character: name,
-            kind: reference.kind.clone(),
+            kind: labels.kind.clone(),
             vertices,
             up,
             up_right,

@@ -123,7 +123,7 @@ pub fn mirror_plane(positions: &[DVec3]) -> Option<(DVec3, f64)> {
     }
     let (lo, hi) = crate::mesh::bounds(positions);
     let size = (hi - lo).max_element();
-    if !(size > 0.0) || !size.is_finite() {
+    if size <= 0.0 || !size.is_finite() {
         return None;
     }
     let centroid = positions.iter().sum::<DVec3>() / positions.len() as f64;
@@ -327,14 +327,6 @@ pub fn roles(mesh: &Mesh, joints: &Joints, up: Option<DVec3>) -> (Vec<Option<Str
         }
     }
     // Each section's subtree: its tip (farthest from its pivot) and its vertex count.
-    let mut top = vec![0usize; n];
-    for s in 0..n {
-        let mut t = s;
-        while let Some(p) = sections[t].parent.filter(|&p| p != 0) {
-            t = p;
-        }
-        top[s] = t;
-    }
     let mut within: Vec<Vec<usize>> = vec![Vec::new(); n];
     for (v, &s) in section_of.iter().enumerate() {
         let mut t = s as usize;

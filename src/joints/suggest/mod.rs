@@ -3,11 +3,13 @@
 //! (shoulder → elbow → wrist).
 //!
 //! 1. **The body and a distance from it.** Two sweeps of shortest paths find two far tips;
-//!    the thickest skeletal point on the middle fifth of the path between them is the root.
-//!    The body's core is every vertex whose skeletal point lies in the root's medial ball,
-//!    grown through vertices nearly as thick (`CORE`) within a few radii of it
-//!    (`CORE_REACH`: a long body is all core, fingers as thick as the palm are not). `g(v)` is the shortest path from
-//!    the core to `v` over the surface, each edge counted in units of the local skeletal
+//!    of the points on the middle three fifths of the path between them at least `THICK`
+//!    of the thickest there, the root is the one nearest the centroid of the enclosed
+//!    volume (the body the limbs hang from, not a big head on it). The body's core is every
+//!    vertex whose skeletal point lies in the root's medial ball, grown through vertices
+//!    nearly as thick (`CORE`) within a few radii of it (`CORE_REACH`: a long body is all
+//!    core, fingers as thick as the palm are not). `g(v)` is the shortest path from the
+//!    core to `v` over the surface, each edge counted in units of the local skeletal
 //!    distance: one unit is about one local radius, so a fat body is crossed in a few units
 //!    and limbs stand out, and the level sets of `g` are close to cross-sections of a limb.
 //! 2. **Protrusions.** The vertices are added from the largest `g` down, joined by mesh
@@ -15,20 +17,33 @@
 //!    component; where two or more reaching `ELONGATED` radii meet (a fork) a new segment
 //!    starts; shorter ones (bumps) fold into the longest.
 //! 3. **Cuts.** A segment that hangs from a fork, is narrower than the trunk below it
-//!    (`THINNER`, by the rings' sizes) and longer than wide is a *limb*: it is cut at its
-//!    base. A part as wide as the body with two or more limbs of its own, each at most
-//!    `SLENDER` of its width (a head with ears and horns, a hand with fingers, not a palm
-//!    with its wrist), is cut at its base too (`HEAD`). Inside a part, cuts go where the
-//!    medial radius or the ring's size narrows between wider parts (`DIP`: an elbow, a
-//!    knee, a neck); where a limb widens into an extremity that limbs grow from (a wrist);
-//!    along a digit (a tip among four or more of one extremity) at 45 % and 72 % of its
-//!    length; and in the middle of a limb's stretch longer than `LONG` radii without a
-//!    joint.
+//!    (`THINNER`, by the rings' sizes), longer than wide, and sticks out of the trunk's
+//!    thickest medial ball by `PROTRUDES` of its size and `SMALL` of the mesh (an ear on a
+//!    head, a face, a nose, an eye do not: they are bumps, and get no cuts at all) is a
+//!    *limb*: it is cut at its base, and turns about a point half its radius in from the
+//!    cut (the ball of a hip sits above the crotch). A part growing from the core that
+//!    forks within `HEAD` radii (a pelvis both legs hang from) is body. A part as wide as
+//!    the body with two or more limbs of its own, each at most `SLENDER` of its width (a
+//!    head with ears and horns, a hand with fingers), is cut at its base too (`HEAD`), if
+//!    that base is a clear narrowing (`NARROW`: a neck, not a waist as wide as the hips).
+//!    Inside a part, cuts go where the medial radius or the ring's size narrows between
+//!    wider parts and widens again soon (`DIP`: an elbow, a knee, a neck); where the axis
+//!    bends (`BEND`: a bent knee, an ankle, a hock); where a limb widens into an extremity
+//!    that limbs grow from (a wrist); along a digit (a tip among four or more of one
+//!    extremity) at 45 % and 72 % of its length; and halfway, in metres, along a limb's
+//!    stretch longer than `LONG` radii without a joint (an elbow that does not narrow).
 //! 4. **Sections.** Each cut is a connected plane through the ring's centre, across the
-//!    limb's axis there, its pivot on the axis; cuts apply parent-first, are named by their
-//!    place in the tree (`joint 2`, `joint 2.1`, …), and one that would leave a section of
-//!    fewer than `SMALLEST` of the vertices, or whose plane takes more than twice what
-//!    lies past it in the join tree (it slipped past the limb into the body), is dropped.
+//!    limb's axis there, its pivot on the axis; cuts apply parent-first, and one that would
+//!    leave a section of fewer than `SMALLEST` of the vertices, or whose plane takes more
+//!    than twice what lies past it in the join tree (it slipped past the limb into the
+//!    body), is dropped.
+//! 5. **Anatomy.** A mirror plane, up (given, or found from how the limbs hang), front and
+//!    left, and names by role: `neck`, `head`, `arm.L`, `forearm.L`, `hand.L`, `thumb.L`…,
+//!    `leg.R`, `shin.R`, `foot.R`, `tail`, `ear.L`; a cut no role fits keeps its place in
+//!    the tree (`joint 2.1`). See `anatomy`.
+//!
+//! `puppet bench suggest` scores it against the labelled characters of
+//! `tests/data/characters` (`labels`).
 //!
 //! # Where things are
 //! * `rules`: the thresholds named above (`CORE`, `THINNER`, …), in one place;
@@ -36,12 +51,14 @@
 //! * `union_find`: the sweep's sets;
 //! * `tree`: the root, the core, `g` and the join tree (steps 1–2);
 //! * `cuts`: which segments are limbs and where they are cut (step 3);
-//! * `sections`: naming and applying the cuts (step 4).
+//! * `sections`: numbering and applying the cuts (step 4);
+//! * `anatomy`: the mirror plane, up, front and left, and the names by role (step 5);
+//! * `labels`: a labelled character's joints, and a suggestion's score against them.
 
 mod anatomy;
 mod cuts;
 mod graph;
-pub mod reference;
+pub mod labels;
 mod rules;
 mod sections;
 mod tree;

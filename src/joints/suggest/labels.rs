@@ -21,11 +21,11 @@ use std::path::{Path, PathBuf};
 /// A match is within this share of the character's height.
 pub const TOLERANCE: f64 = 0.05;
 
-/// A labelled character's reference (see the module docs).
+/// A labelled character: its mesh and joints (see the module docs).
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct Reference {
-    /// The mesh, relative to the reference file.
+pub struct Labels {
+    /// The mesh, relative to the labels file.
     pub mesh: PathBuf,
     /// What it is (`humanoid`, `quadruped`, `toy`…).
     pub kind: String,
@@ -43,7 +43,7 @@ pub struct Reference {
     pub free: Vec<Free>,
 }
 
-/// A reference joint.
+/// A labelled joint.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Joint {
@@ -66,7 +66,7 @@ pub struct Free {
     pub along: Vec<[f64; 3]>,
 }
 
-/// A suggestion against a reference.
+/// A suggestion against a labelled character.
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct Score {
     /// Required joints, and how many a cut matched.
@@ -91,14 +91,14 @@ pub struct Score {
     pub extra: Vec<String>,
 }
 
-impl Reference {
-    /// Reads a reference file; the error is one line.
-    pub fn read(path: &Path) -> Result<Reference, String> {
+impl Labels {
+    /// Reads a labels file; the error is one line.
+    pub fn read(path: &Path) -> Result<Labels, String> {
         let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
         toml::from_str(&text).map_err(|e| e.message().to_string())
     }
 
-    /// The mesh's path, given the reference file's.
+    /// The mesh's path, given the labels file's.
     pub fn mesh_path(&self, file: &Path) -> PathBuf {
         file.parent().unwrap_or(Path::new(".")).join(&self.mesh)
     }
@@ -206,7 +206,7 @@ fn segment_distance(p: DVec3, a: DVec3, b: DVec3) -> f64 {
 mod tests {
     use super::*;
 
-    fn reference() -> Reference {
+    fn labels() -> Labels {
         toml::from_str(
             r#"
             mesh = "x.obj"
@@ -228,7 +228,7 @@ mod tests {
 
     #[test]
     fn cuts_match_the_nearest_joint_once_and_free_stretches_are_no_spurious_cuts() {
-        let r = reference();
+        let r = labels();
         let cuts = vec![
             ("arm.L".to_string(), DVec3::new(1.02, 0.0, 0.0)),
             ("joint 2".to_string(), DVec3::new(1.04, 0.0, 0.0)),
@@ -245,7 +245,7 @@ mod tests {
 
     #[test]
     fn a_missing_required_joint_is_named() {
-        let s = reference().score(&[("x".into(), DVec3::new(2.0, 0.0, 0.0))], 2.0);
+        let s = labels().score(&[("x".into(), DVec3::new(2.0, 0.0, 0.0))], 2.0);
         assert_eq!(
             (s.found, s.missed.clone()),
             (0, vec!["arm.L (50 %)".to_string()])
