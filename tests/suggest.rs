@@ -302,10 +302,18 @@ fn up_given_is_kept_in_the_rig_file_and_overrides_what_is_found() {
     let text = std::fs::read_to_string(&rig).unwrap();
     assert!(text.contains("up = \"+y\"\n"), "{text}");
     assert_eq!(RigFile::load(&rig).unwrap().up, Some(Up::PosY));
-    // Without it, the z-up horse is found z-up; a bad axis is one error line.
-    let found = puppet(&["suggest", horse.to_str().unwrap(), "--json"]);
+    // Without it, the z-up horse is found z-up, and the rig says so: it opens standing.
+    let found_rig = dir.join("found.rig.toml");
+    let found = puppet(&[
+        "suggest",
+        horse.to_str().unwrap(),
+        "--json",
+        "-o",
+        found_rig.to_str().unwrap(),
+    ]);
     let report: serde_json::Value = serde_json::from_slice(&found.stdout).unwrap();
     assert_eq!(report["up"][2], serde_json::json!(1.0));
+    assert_eq!(RigFile::load(&found_rig).unwrap().up, Some(Up::PosZ));
     let bad = dir.join("bad.rig.toml");
     std::fs::write(&bad, text.replace("up = \"+y\"", "up = \"sideways\"")).unwrap();
     let err = RigFile::load(&bad).unwrap_err().to_string();

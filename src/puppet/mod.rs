@@ -12,6 +12,7 @@ pub use rig_file::{Region, RigError, RigFile};
 
 use crate::anim::Bound;
 use crate::files;
+use crate::joints::suggest::Up;
 use crate::joints::{JointError, Joints, Local, PoseScratch};
 use crate::mesh::{self, Groups, LoadReport, Mesh, MeshError};
 use crate::progress::Progress;
@@ -240,10 +241,13 @@ impl Puppet {
 
     /// The rig file of the puppet as it is now (parameters, and cuts with resolved pivots).
     pub fn current_rig_file(&self) -> RigFile {
+        // An up found other than +y is written, so the rig opens the mesh standing.
+        let found = Up::nearest(self.up());
         RigFile {
             params: *self.sim.params(),
             cuts: self.joints.cuts().to_vec(),
             root: self.joints.sections()[0].name.clone(),
+            up: self.rig_file.up.or((found != Up::PosY).then_some(found)),
             ..self.rig_file.clone()
         }
     }

@@ -104,7 +104,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             .map(|(k, c)| (c.name.clone(), sections[k + 1].pivot))
             .collect();
         let score = labels.score(&cuts, height);
-        let up = axis_name(puppet.up());
+        let up = Up::nearest(puppet.up()).to_string();
         let up_right = labels
             .up
             .as_deref()
@@ -161,19 +161,6 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// The axis nearest `v`, as `+y`.
-fn axis_name(v: glam::DVec3) -> String {
-    let a = v.abs();
-    let (axis, c) = if a.x >= a.y && a.x >= a.z {
-        ("x", v.x)
-    } else if a.y >= a.z {
-        ("y", v.y)
-    } else {
-        ("z", v.z)
-    };
-    format!("{}{axis}", if c < 0.0 { "-" } else { "+" })
 }
 
 fn print_row(r: &Row, header: bool) {

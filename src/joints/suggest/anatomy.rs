@@ -48,6 +48,28 @@ pub enum Up {
 }
 
 impl Up {
+    /// The axis direction nearest `v`.
+    pub fn nearest(v: DVec3) -> Up {
+        let a = v.abs();
+        if a.x >= a.y && a.x >= a.z {
+            if v.x < 0.0 {
+                Up::NegX
+            } else {
+                Up::PosX
+            }
+        } else if a.y >= a.z {
+            if v.y < 0.0 {
+                Up::NegY
+            } else {
+                Up::PosY
+            }
+        } else if v.z < 0.0 {
+            Up::NegZ
+        } else {
+            Up::PosZ
+        }
+    }
+
     /// The unit vector.
     pub fn vector(self) -> DVec3 {
         match self {
@@ -776,6 +798,7 @@ mod tests {
             assert_eq!(up.to_string(), text);
         }
         assert_eq!("Z".parse::<Up>().unwrap(), Up::PosZ);
+        assert_eq!(Up::nearest(DVec3::new(0.1, -0.2, -0.9)), Up::NegZ);
         assert!("up".parse::<Up>().is_err());
     }
 }
