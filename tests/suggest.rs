@@ -31,6 +31,20 @@ fn limb(p: &Puppet, v: usize) -> usize {
     s
 }
 
+/// `puppet suggest ARGS --json`, which must succeed, as JSON.
+fn suggest_json(args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["suggest"];
+    all.extend_from_slice(args);
+    all.push("--json");
+    let out = puppet(&all);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
 fn suggested(name: &str) -> Puppet {
     let (m, _) = mesh::load(&test_mesh(name)).unwrap();
     let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
@@ -112,19 +126,7 @@ fn suggest_prints_the_tree_and_writes_a_rig_that_loads() {
     let dir = scratch("suggest");
     let rig = dir.join("hand.rig.toml");
     let hand = test_mesh("hand.obj");
-    let out = puppet(&[
-        "suggest",
-        hand.to_str().unwrap(),
-        "-o",
-        rig.to_str().unwrap(),
-        "--json",
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let report = suggest_json(&[hand.to_str().unwrap(), "-o", rig.to_str().unwrap()]);
     let cuts = report["cuts"].as_array().unwrap();
     assert!(cuts.len() >= 5, "{report}");
     assert!(
@@ -203,15 +205,7 @@ fn the_labelled_set_scores_as_benchmarks_says() {
     for name in &characters {
         let (labels, p) = labelled(name);
         let (lo, hi) = p.mesh.bounds();
-        let sections = p.joints.sections();
-        let pivots: Vec<(String, glam::DVec3)> = p
-            .joints
-            .cuts()
-            .iter()
-            .enumerate()
-            .map(|(k, c)| (c.name.clone(), sections[k + 1].pivot))
-            .collect();
-        let score = labels.score(&pivots, (hi - lo).max_element());
+        let score = labels.score(&p.joints.cut_pivots(), (hi - lo).max_element());
         required += score.required;
         found += score.found;
         cuts += score.cuts;
@@ -278,20 +272,12 @@ fn up_given_is_kept_in_the_rig_file_and_overrides_what_is_found() {
     let dir = scratch("suggest-up");
     let rig = dir.join("horse.rig.toml");
     let horse = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/characters/horse.obj");
-    let out = puppet(&[
-        "suggest",
+    let report = suggest_json(&[
         horse.to_str().unwrap(),
         "--up=+y",
         "-o",
         rig.to_str().unwrap(),
-        "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(report["up"], serde_json::json!([0.0, 1.0, 0.0]));
     // Each cut carries its role (or none, where it keeps a number).
     assert!(report["cuts"]
@@ -304,14 +290,7 @@ fn up_given_is_kept_in_the_rig_file_and_overrides_what_is_found() {
     assert_eq!(RigFile::load(&rig).unwrap().up, Some(Up::PosY));
     // Without it, the z-up horse is found z-up, and the rig says so: it opens standing.
     let found_rig = dir.join("found.rig.toml");
-    let found = puppet(&[
-        "suggest",
-        horse.to_str().unwrap(),
-        "--json",
-        "-o",
-        found_rig.to_str().unwrap(),
-    ]);
-    let report: serde_json::Value = serde_json::from_slice(&found.stdout).unwrap();
+    let report = suggest_json(&[horse.to_str().unwrap(), "-o", found_rig.to_str().unwrap()]);
     assert_eq!(report["up"][2], serde_json::json!(1.0));
     assert_eq!(RigFile::load(&found_rig).unwrap().up, Some(Up::PosZ));
     let bad = dir.join("bad.rig.toml");

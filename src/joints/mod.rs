@@ -407,6 +407,16 @@ impl Joints {
         &self.cuts
     }
 
+    /// Each cut's name and the pivot of the section it makes (cut `k` makes section
+    /// `k + 1`), as `puppet bench suggest` scores them.
+    pub fn cut_pivots(&self) -> Vec<(String, DVec3)> {
+        self.cuts
+            .iter()
+            .zip(&self.sections[1..])
+            .map(|(c, s)| (c.name.clone(), s.pivot))
+            .collect()
+    }
+
     /// Section index of each vertex.
     pub fn section_of(&self) -> &[u16] {
         &self.section_of

@@ -95,15 +95,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             times.push(t.elapsed().as_secs_f64() * 1e3);
         }
         times.sort_by(f64::total_cmp);
-        let sections = puppet.joints.sections();
-        let cuts: Vec<(String, glam::DVec3)> = puppet
-            .joints
-            .cuts()
-            .iter()
-            .enumerate()
-            .map(|(k, c)| (c.name.clone(), sections[k + 1].pivot))
-            .collect();
-        let score = labels.score(&cuts, height);
+        let score = labels.score(&puppet.joints.cut_pivots(), height);
         let up = Up::nearest(puppet.up()).to_string();
         let up_right = labels
             .up

@@ -341,82 +341,111 @@ pub fn frame(positions: &[DVec3], limbs: &[Reach], up: Option<DVec3>) -> Frame {
 pub fn roles(mesh: &Mesh, joints: &Joints, up: Option<DVec3>) -> (Vec<Option<String>>, Frame) {
     let sections = joints.sections();
     let n = sections.len();
-    let section_of = joints.section_of();
     let mut children = vec![Vec::new(); n];
     for (s, sec) in sections.iter().enumerate() {
         if let Some(p) = sec.parent {
             children[p].push(s);
         }
     }
-    // Each section's subtree: its tip (farthest from its pivot) and its vertex count.
+    // Each section's subtree: the vertices in it and in what hangs from it.
     let mut within: Vec<Vec<usize>> = vec![Vec::new(); n];
-    for (v, &s) in section_of.iter().enumerate() {
-        let mut t = s as usize;
-        loop {
-            within[t].push(v);
-            match sections[t].parent {
-                Some(p) => t = p,
-                None => break,
-            }
+    for (v, &s) in joints.section_of().iter().enumerate() {
+        let mut t = Some(s as usize);
+        while let Some(at) = t {
+            within[at].push(v);
+            t = sections[at].parent;
         }
     }
-    let reach = |s: usize| -> Reach {
-        let pivot = sections[s].pivot;
-        let tip = within[s]
+    let mut naming = Naming {
+        mesh,
+        sections,
+        children,
+        within,
+        frame: Frame::default(),
+        names: vec![None; n],
+        size: mesh_size(mesh).max(1e-12),
+    };
+    let limbs: Vec<(usize, Reach)> = naming.children[0]
+        .iter()
+        .map(|&s| (s, naming.reach(s)))
+        .collect();
+    let reaches: Vec<Reach> = limbs.iter().map(|l| l.1).collect();
+    naming.frame = frame(&mesh.positions, &reaches, up);
+    naming.root(&limbs);
+    (naming.names, naming.frame)
+}
+
+/// What naming the sections needs: the section tree, each subtree's vertices, the frame.
+struct Naming<'a> {
+    mesh: &'a Mesh,
+    sections: &'a [crate::joints::Section],
+    children: Vec<Vec<usize>>,
+    within: Vec<Vec<usize>>,
+    frame: Frame,
+    names: Vec<Option<String>>,
+    /// The mesh's size (the longest side of its bounding box).
+    size: f64,
+}
+
+impl Naming<'_> {
+    /// Section `s`'s pivot, its tip (the farthest point from the pivot of it and what hangs
+    /// from it) and its vertices.
+    fn reach(&self, s: usize) -> Reach {
+        let pivot = self.sections[s].pivot;
+        let tip = self.within[s]
             .iter()
-            .map(|&v| mesh.positions[v])
+            .map(|&v| self.mesh.positions[v])
             .max_by(|a, b| a.distance(pivot).total_cmp(&b.distance(pivot)))
             .unwrap_or(pivot);
         Reach {
             pivot,
             tip,
-            vertices: within[s].len(),
+            vertices: self.within[s].len(),
         }
-    };
-    let limbs: Vec<usize> = children[0].clone();
-    let reaches: Vec<Reach> = limbs.iter().map(|&s| reach(s)).collect();
-    let frame = frame(&mesh.positions, &reaches, up);
-    let mut names: Vec<Option<String>> = vec![None; n];
-    let centre =
-        within[0].iter().map(|&v| mesh.positions[v]).sum::<DVec3>() / within[0].len().max(1) as f64;
-    let size = {
-        let (lo, hi) = mesh.bounds();
-        (hi - lo).max_element().max(1e-12)
-    };
-    let side = |p: DVec3| -> Option<&'static str> {
-        let (nrm, o) = frame.mirror?;
-        let d = p.dot(nrm) - o;
-        if d.abs() < OFF_PLANE * size {
+    }
+
+    /// The side of the mirror plane `p` is on (`None` on the plane, or with no plane).
+    fn side(&self, p: DVec3) -> Option<&'static str> {
+        let (n, o) = self.frame.mirror?;
+        let d = p.dot(n) - o;
+        if d.abs() < OFF_PLANE * self.size {
             return None;
         }
-        Some(if d * nrm.dot(frame.left) > 0.0 {
+        Some(if d * n.dot(self.frame.left) > 0.0 {
             "L"
         } else {
             "R"
         })
-    };
-    // The root's limbs: on the mirror plane, off it pointing up from above the centre
-    // (ears), and the rest (arms and legs).
-    let mut midline: Vec<(usize, Reach)> = Vec::new();
-    let mut ears: Vec<(usize, Reach)> = Vec::new();
-    let mut legs: Vec<(usize, Reach)> = Vec::new();
-    for (&s, r) in limbs.iter().zip(&reaches) {
-        let up_dot = r.direction().dot(frame.up);
-        if frame.mirror.is_some() && side(r.pivot).is_none() {
-            midline.push((s, *r));
-        } else if up_dot > 0.5 && (r.pivot - centre).dot(frame.up) > 0.0 {
-            ears.push((s, *r));
-        } else {
-            legs.push((s, *r));
-        }
     }
-    let along = |r: &Reach| (r.pivot - centre).dot(frame.front);
-    let chain = |names: &mut Vec<Option<String>>, s: usize, family: Family, tag: &str| {
-        name_chain(
-            names, &children, sections, &within, mesh, &frame, s, family, tag,
-        );
-    };
-    if frame.mirror.is_some() {
+
+    /// Names the root's limbs and what hangs from them.
+    fn root(&mut self, limbs: &[(usize, Reach)]) {
+        let frame = self.frame;
+        if frame.mirror.is_none() {
+            // No mirror plane: a hand on its own, or a creature posed off its symmetry.
+            self.digits(0, "");
+            return;
+        }
+        let within = &self.within[0];
+        let centre = within
+            .iter()
+            .map(|&v| self.mesh.positions[v])
+            .sum::<DVec3>()
+            / within.len().max(1) as f64;
+        // On the mirror plane; off it pointing up from above the centre (ears); the rest
+        // (arms and legs).
+        let mut midline: Vec<(usize, Reach)> = Vec::new();
+        let mut ears: Vec<(usize, Reach)> = Vec::new();
+        let mut legs: Vec<(usize, Reach)> = Vec::new();
+        for &(s, r) in limbs {
+            if self.side(r.pivot).is_none() {
+                midline.push((s, r));
+            } else if r.direction().dot(frame.up) > 0.5 && (r.pivot - centre).dot(frame.up) > 0.0 {
+                ears.push((s, r));
+            } else {
+                legs.push((s, r));
+            }
+        }
         // Midline: the neck (or head) leans most up and forward; the tail points back.
         let head = midline
             .iter()
@@ -429,19 +458,20 @@ pub fn roles(mesh: &Mesh, joints: &Joints, up: Option<DVec3>) -> (Vec<Option<Str
             .map(|h| h.0);
         for &(s, r) in &midline {
             if Some(s) == head {
-                chain(&mut names, s, Family::Neck, "");
+                self.chain(s, Family::Neck, "");
             } else if r.direction().dot(frame.front) < -0.3 {
-                chain(&mut names, s, Family::Tail, "");
+                self.chain(s, Family::Tail, "");
             }
         }
         // Two pairs, one pointing down and one not: legs and arms (a biped). Else pairs
         // from the front: arms (forelegs) and legs, or numbered legs from three pairs on.
+        let along = |r: &Reach| (r.pivot - centre).dot(frame.front);
         legs.sort_by(|a, b| along(&b.1).total_cmp(&along(&a.1)));
         let pairs = legs.len().div_ceil(2);
         let downward = |r: &Reach| r.direction().dot(frame.up) < -0.5;
         let biped = legs.iter().filter(|l| downward(&l.1)).count() == 2 && pairs <= 2;
         for (k, &(s, r)) in legs.iter().enumerate() {
-            let lr = side(r.pivot).unwrap_or("L");
+            let lr = self.side(r.pivot).unwrap_or("L");
             let rank = k / 2;
             let family = if biped {
                 if downward(&r) {
@@ -458,18 +488,138 @@ pub fn roles(mesh: &Mesh, joints: &Joints, up: Option<DVec3>) -> (Vec<Option<Str
             } else {
                 Family::Arm
             };
-            chain(&mut names, s, family, lr);
+            self.chain(s, family, lr);
         }
         for &(s, r) in &ears {
-            chain(&mut names, s, Family::Ear, side(r.pivot).unwrap_or("L"));
+            let lr = self.side(r.pivot).unwrap_or("L");
+            self.chain(s, Family::Ear, lr);
         }
-    } else {
-        // No mirror plane: a hand on its own, or a creature posed off its symmetry.
-        name_digits(
-            &mut names, &children, sections, &within, mesh, &frame, 0, "",
-        );
     }
-    (names, frame)
+
+    /// Names section `s` and the single chain that follows it with `family`'s names (side
+    /// `tag`), then what branches from the chain: digits of a hand or foot, ears of a head.
+    fn chain(&mut self, s: usize, family: Family, tag: &str) {
+        let list = family.names();
+        let mut at = s;
+        let mut k = 0;
+        loop {
+            let base = if k < list.len() {
+                list[k].clone()
+            } else {
+                format!("{}.{}", list[list.len() - 1], k - list.len() + 2)
+            };
+            self.names[at] = Some(tagged(&base, tag));
+            match self.children[at].as_slice() {
+                [] => return,
+                [only] if !(family == Family::Neck && k + 1 >= list.len()) => {
+                    at = *only;
+                    k += 1;
+                }
+                _ => break,
+            }
+        }
+        if family != Family::Neck {
+            self.digits(at, tag);
+            return;
+        }
+        // A neck whose head has no cut of its own is the head.
+        if k == 0 && self.children[at].len() >= 2 {
+            self.names[at] = Some(tagged("head", tag));
+        }
+        // Off the plane: ears; on it, below the head: a jaw.
+        for c in self.children[at].clone() {
+            match self.side(self.sections[c].pivot) {
+                Some(lr) => self.chain(c, Family::Ear, lr),
+                None => {
+                    self.chain(c, Family::Tail, "");
+                    self.names[c] = Some("jaw".into());
+                }
+            }
+        }
+    }
+
+    /// Names the branches of section `at`: four or five digits as fingers (thumb first) or
+    /// toes; each digit's chain goes on with `.2`, `.3`…. A branch of the root pointing
+    /// away from the digits (a forearm below a palm) is the forearm.
+    fn digits(&mut self, at: usize, tag: &str) {
+        let kids = self.children[at].clone();
+        if kids.len() < 2 {
+            return;
+        }
+        let dirs: Vec<DVec3> = kids.iter().map(|&c| self.reach(c).direction()).collect();
+        let mean = dirs.iter().sum::<DVec3>().normalize_or_zero();
+        let digits: Vec<usize> = (0..kids.len())
+            .filter(|&i| dirs[i].dot(mean) > 0.0)
+            .collect();
+        let toes = self.names[at]
+            .as_deref()
+            .is_some_and(|n| n.starts_with("foot"));
+        if !toes && (4..=5).contains(&digits.len()) {
+            // The thumb is the digit turned most from the others; the rest by distance
+            // from it.
+            let others = |i: usize| {
+                digits
+                    .iter()
+                    .filter(|&&j| j != i)
+                    .map(|&j| dirs[j])
+                    .sum::<DVec3>()
+                    .normalize_or_zero()
+            };
+            let thumb = digits
+                .iter()
+                .copied()
+                .min_by(|&a, &b| dirs[a].dot(others(a)).total_cmp(&dirs[b].dot(others(b))))
+                .unwrap_or(digits[0]);
+            let base = self.sections[kids[thumb]].pivot;
+            let mut order = digits.clone();
+            order.sort_by(|&a, &b| {
+                let d = |i: usize| self.sections[kids[i]].pivot.distance(base);
+                d(a).total_cmp(&d(b))
+            });
+            let fingers = ["thumb", "index", "middle", "ring", "little"];
+            let skip = 5 - digits.len();
+            for (rank, &i) in order.iter().enumerate() {
+                let name = if rank == 0 {
+                    fingers[0]
+                } else {
+                    fingers[rank + skip]
+                };
+                self.digit(kids[i], &tagged(name, tag));
+            }
+        } else if digits.len() >= 2 {
+            let base = if toes { "toe" } else { "finger" };
+            for (rank, &i) in digits.iter().enumerate() {
+                self.digit(kids[i], &tagged(&format!("{base}{}", rank + 1), tag));
+            }
+        }
+        if at == 0 {
+            for (i, &c) in kids.iter().enumerate() {
+                if !digits.contains(&i) && self.names[c].is_none() {
+                    self.digit(c, &tagged("forearm", tag));
+                }
+            }
+        }
+    }
+
+    /// Names a digit's chain: `index`, `index.2`, `index.3`….
+    fn digit(&mut self, s: usize, name: &str) {
+        let mut at = s;
+        let mut k = 1;
+        loop {
+            self.names[at] = Some(if k == 1 {
+                name.to_string()
+            } else {
+                format!("{name}.{k}")
+            });
+            match self.children[at].as_slice() {
+                [only] => {
+                    at = *only;
+                    k += 1;
+                }
+                _ => return,
+            }
+        }
+    }
 }
 
 /// What a chain of cuts down one limb is called.
@@ -498,220 +648,18 @@ impl Family {
     }
 }
 
-/// Names section `s` and the single chain that follows it with `family`'s names (side
-/// `tag`), then what branches from the chain: digits of a hand or foot, ears of a head.
-#[allow(clippy::too_many_arguments)]
-fn name_chain(
-    names: &mut [Option<String>],
-    children: &[Vec<usize>],
-    sections: &[crate::joints::Section],
-    within: &[Vec<usize>],
-    mesh: &Mesh,
-    frame: &Frame,
-    s: usize,
-    family: Family,
-    tag: &str,
-) {
-    let list = family.names();
-    let with_tag = |base: &str| {
-        if tag.is_empty() {
-            base.to_string()
-        } else {
-            format!("{base}.{tag}")
-        }
-    };
-    let mut at = s;
-    let mut k = 0;
-    loop {
-        let base = if k < list.len() {
-            list[k].clone()
-        } else {
-            format!("{}.{}", list[list.len() - 1], k - list.len() + 2)
-        };
-        names[at] = Some(with_tag(&base));
-        let kids = &children[at];
-        match kids.len() {
-            0 => return,
-            1 if !(family == Family::Neck && k + 1 >= list.len()) => {
-                at = kids[0];
-                k += 1;
-            }
-            _ => break,
-        }
-    }
-    // Branches: a neck whose head has no cut of its own is the head.
-    if family == Family::Neck && k == 0 && children[at].len() >= 2 {
-        names[at] = Some(with_tag("head"));
-    }
-    match family {
-        Family::Neck => {
-            // Pairs off the plane are ears (then horns), one on it below the head a jaw.
-            let mut side_kids: Vec<usize> = Vec::new();
-            for &c in &children[at] {
-                let p = sections[c].pivot;
-                let off = frame.mirror.map_or(0.0, |(n, o)| (p.dot(n) - o).abs());
-                if off > OFF_PLANE * mesh_size(mesh) {
-                    side_kids.push(c);
-                } else {
-                    name_chain(
-                        names,
-                        children,
-                        sections,
-                        within,
-                        mesh,
-                        frame,
-                        c,
-                        Family::Tail,
-                        "",
-                    );
-                    names[c] = Some("jaw".into());
-                }
-            }
-            for c in side_kids {
-                let p = sections[c].pivot;
-                let lr = frame.mirror.map_or("L", |(n, o)| {
-                    if (p.dot(n) - o) * n.dot(frame.left) > 0.0 {
-                        "L"
-                    } else {
-                        "R"
-                    }
-                });
-                name_chain(
-                    names,
-                    children,
-                    sections,
-                    within,
-                    mesh,
-                    frame,
-                    c,
-                    Family::Ear,
-                    lr,
-                );
-            }
-        }
-        _ => name_digits(names, children, sections, within, mesh, frame, at, tag),
+/// `base` with its side: `arm.L`; `tail` on the plane.
+fn tagged(base: &str, tag: &str) -> String {
+    if tag.is_empty() {
+        base.to_string()
+    } else {
+        format!("{base}.{tag}")
     }
 }
 
 fn mesh_size(mesh: &Mesh) -> f64 {
     let (lo, hi) = mesh.bounds();
     (hi - lo).max_element()
-}
-
-/// Names the branches of section `at`: four or five digits as fingers (thumb first) or
-/// toes; each digit's chain goes on with `.2`, `.3`….
-#[allow(clippy::too_many_arguments)]
-fn name_digits(
-    names: &mut [Option<String>],
-    children: &[Vec<usize>],
-    sections: &[crate::joints::Section],
-    within: &[Vec<usize>],
-    mesh: &Mesh,
-    frame: &Frame,
-    at: usize,
-    tag: &str,
-) {
-    let kids = &children[at];
-    if kids.len() < 2 {
-        return;
-    }
-    let direction = |c: usize| {
-        let pivot = sections[c].pivot;
-        let tip = within[c]
-            .iter()
-            .map(|&v| mesh.positions[v])
-            .max_by(|a, b| a.distance(pivot).total_cmp(&b.distance(pivot)))
-            .unwrap_or(pivot);
-        (tip - pivot).normalize_or_zero()
-    };
-    let dirs: Vec<DVec3> = kids.iter().map(|&c| direction(c)).collect();
-    // Digits point roughly one way; the rest of a branch (a forearm below a palm) does not.
-    let mean = dirs.iter().sum::<DVec3>().normalize_or_zero();
-    let digits: Vec<usize> = (0..kids.len())
-        .filter(|&i| dirs[i].dot(mean) > 0.0)
-        .collect();
-    let toes = names[at].as_deref().is_some_and(|n| n.starts_with("foot"));
-    let with_tag = |base: &str| {
-        if tag.is_empty() {
-            base.to_string()
-        } else {
-            format!("{base}.{tag}")
-        }
-    };
-    let mut order: Vec<usize> = digits.clone();
-    let finger_names = ["thumb", "index", "middle", "ring", "little"];
-    if !toes && (4..=5).contains(&digits.len()) {
-        // The thumb is the digit turned most from the others; the rest by distance from it.
-        let others_mean = |i: usize| {
-            digits
-                .iter()
-                .filter(|&&j| j != i)
-                .map(|&j| dirs[j])
-                .sum::<DVec3>()
-                .normalize_or_zero()
-        };
-        let thumb = *digits
-            .iter()
-            .min_by(|&&a, &&b| {
-                dirs[a]
-                    .dot(others_mean(a))
-                    .total_cmp(&dirs[b].dot(others_mean(b)))
-            })
-            .unwrap_or(&digits[0]);
-        let base = sections[kids[thumb]].pivot;
-        order.sort_by(|&a, &b| {
-            sections[kids[a]]
-                .pivot
-                .distance(base)
-                .total_cmp(&sections[kids[b]].pivot.distance(base))
-        });
-        let skip = 5 - digits.len();
-        for (rank, &i) in order.iter().enumerate() {
-            let name = if rank == 0 {
-                "thumb"
-            } else {
-                finger_names[rank + skip]
-            };
-            name_digit(names, children, kids[i], &with_tag(name));
-        }
-    } else if digits.len() >= 2 {
-        for (rank, &i) in order.iter().enumerate() {
-            let base = if toes { "toe" } else { "finger" };
-            name_digit(
-                names,
-                children,
-                kids[i],
-                &with_tag(&format!("{base}{}", rank + 1)),
-            );
-        }
-    }
-    // A branch that is no digit below an extremity (a forearm below a palm).
-    for (i, &c) in kids.iter().enumerate() {
-        if !digits.contains(&i) && names[c].is_none() && at == 0 {
-            name_digit(names, children, c, &with_tag("forearm"));
-        }
-    }
-    let _ = frame;
-}
-
-/// Names a digit's chain: `index`, `index.2`, `index.3`….
-fn name_digit(names: &mut [Option<String>], children: &[Vec<usize>], s: usize, name: &str) {
-    let mut at = s;
-    let mut k = 1;
-    loop {
-        names[at] = Some(if k == 1 {
-            name.to_string()
-        } else {
-            format!("{name}.{k}")
-        });
-        match children[at].as_slice() {
-            [only] => {
-                at = *only;
-                k += 1;
-            }
-            _ => return,
-        }
-    }
 }
 
 #[cfg(test)]
