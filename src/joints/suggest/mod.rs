@@ -40,7 +40,8 @@
 //! 5. **Anatomy.** A mirror plane, up (given, or found from how the limbs hang), front and
 //!    left, and names by role: `neck`, `head`, `arm.L`, `forearm.L`, `hand.L`, `thumb.L`…,
 //!    `leg.R`, `shin.R`, `foot.R`, `tail`, `ear.L`; a cut no role fits keeps its place in
-//!    the tree (`joint 2.1`). See `anatomy`.
+//!    the tree (`joint 2.1`). See `anatomy`. A left and a right cut that nearly mirror
+//!    each other (`PAIRED`) are made to mirror each other exactly.
 //!
 //! `puppet bench suggest` scores it against the labelled characters of
 //! `tests/data/characters` (`labels`).

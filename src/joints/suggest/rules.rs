@@ -41,5 +41,8 @@ pub(super) const LONG: f64 = 10.0;
 pub(super) const HEAD: f64 = 3.0;
 /// ... and every limb it has is at most this share of its width.
 pub(super) const SLENDER: f64 = 0.5;
+/// A left and a right cut whose pivots lie within this share of the mesh's size of each
+/// other's mirror image are made to mirror each other exactly.
+pub(super) const PAIRED: f64 = 0.02;
 /// Sections smaller than this share of the vertices (or 12 vertices) are not suggested.
 pub(super) const SMALLEST: f64 = 0.002;

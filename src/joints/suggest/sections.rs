@@ -3,7 +3,7 @@
 //! dropped. Then (step 5, `anatomy`) they are named by role.
 
 use super::anatomy::Frame;
-use super::rules::SMALLEST;
+use super::rules::{PAIRED, SMALLEST};
 use super::tree::Tree;
 use crate::joints::{Cut, Joints, Shape};
 use crate::mesh::Mesh;
@@ -117,5 +117,66 @@ pub fn suggest(
             cut.section = section.clone();
         }
     }
+    let mirrored = mirror_pairs(&cuts, &frame, mesh);
+    // (Kept only if the mirrored cuts still apply, each leaving both sides non-empty.)
+    let mut check = Joints::with_mesh(&skeleton.points, &mesh.triangles, &hosts, root);
+    if mirrored != cuts && check.add_cuts(mirrored.iter().cloned()).is_ok() {
+        cuts = mirrored;
+    }
     (cuts, frame)
+}
+
+/// Left and right mirror each other: each pair of cuts named alike but for `L` and `R`
+/// whose pivots already lie within [`PAIRED`] of the mesh's size of each other's mirror
+/// image is moved to the mean of the one and the other's mirror image.
+fn mirror_pairs(cuts: &[Cut], frame: &Frame, mesh: &Mesh) -> Vec<Cut> {
+    let mut out = cuts.to_vec();
+    let Some((n, o)) = frame.mirror else {
+        return out;
+    };
+    let point = |p: DVec3| p - n * 2.0 * (p.dot(n) - o);
+    let vector = |v: DVec3| v - n * 2.0 * v.dot(n);
+    let (lo, hi) = mesh.bounds();
+    let size = (hi - lo).max_element();
+    let index: HashMap<&str, usize> = cuts
+        .iter()
+        .enumerate()
+        .map(|(k, c)| (c.name.as_str(), k))
+        .collect();
+    for (i, a) in cuts.iter().enumerate() {
+        let words: Vec<&str> = a.name.split('.').collect();
+        if !words.contains(&"L") {
+            continue;
+        }
+        let other: Vec<&str> = words
+            .iter()
+            .map(|&w| if w == "L" { "R" } else { w })
+            .collect();
+        let Some(&j) = index.get(other.join(".").as_str()) else {
+            continue;
+        };
+        let b = &cuts[j];
+        let (pa, pb) = (a.pivot.unwrap_or(a.point), b.pivot.unwrap_or(b.point));
+        if pa.distance(point(pb)) > PAIRED * size {
+            continue;
+        }
+        let pivot = 0.5 * (pa + point(pb));
+        let at = 0.5 * (a.point + point(b.point));
+        let normal = (a.normal + vector(b.normal)).normalize_or(a.normal);
+        out[i] = Cut {
+            point: at,
+            normal,
+            pivot: Some(pivot),
+            ..a.clone()
+        }
+        .rounded();
+        out[j] = Cut {
+            point: point(at),
+            normal: vector(normal),
+            pivot: Some(point(pivot)),
+            ..b.clone()
+        }
+        .rounded();
+    }
+    out
 }
