@@ -265,6 +265,14 @@ fn limbs_are_named_by_role_and_a_z_up_horse_is_found_standing() {
     let hind = horse.joints.find("leg.L").unwrap();
     let s = horse.joints.sections();
     assert!(s[fore].pivot.y < s[hind].pivot.y, "forelegs in front (-y)");
+    // The lizard's tail is longer than its head and neck, but ends in a point: the neck is
+    // at the front (+z).
+    let (_, lizard) = labelled("lizard");
+    let neck = lizard.joints.find("neck").unwrap();
+    assert!(
+        lizard.joints.sections()[neck].pivot.z > 0.1,
+        "the neck, not the tail"
+    );
 }
 
 #[test]

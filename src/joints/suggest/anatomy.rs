@@ -14,9 +14,9 @@
 //!   character's own left, as `.L` in Blender's names.
 //! * **Roles.** The root's limbs: off the mirror plane and pointing down, legs (the back
 //!   pair of four; numbered from the front when there are three pairs or more); off the
-//!   plane otherwise, arms, or ears above the root's centre; on the plane, the one that
-//!   leans most up and front is the neck (or the head if nothing follows it), one pointing
-//!   back the tail. Down a limb the names go on: `arm`, `forearm`, `hand`; `leg`, `shin`,
+//!   plane otherwise, arms, or ears above the root's centre; on the plane, the one whose
+//!   far half is thickest (a head ends in a bulb, a tail in a point), leaning up and front,
+//!   is the neck (or the head if nothing follows it), one pointing back the tail. Down a limb the names go on: `arm`, `forearm`, `hand`; `leg`, `shin`,
 //!   `foot`; `neck`, `head`; four or five digits of a hand are `thumb`, `index`, `middle`,
 //!   `ring`, `little` (the thumb the one turned most from the others), of a foot `toe1`….
 //!   Side suffixes come from the side of the mirror plane; what fits no role keeps a
@@ -240,8 +240,9 @@ pub struct Reach {
     pub pivot: DVec3,
     /// Its point farthest from the pivot.
     pub tip: DVec3,
-    /// Its vertices, with what hangs from it.
-    pub vertices: usize,
+    /// How thick its far half is: the largest skeletal distance there (a head ends in a
+    /// bulb, a tail in a point).
+    pub end: f64,
 }
 
 impl Reach {
@@ -307,9 +308,10 @@ pub fn frame(positions: &[DVec3], limbs: &[Reach], up: Option<DVec3>) -> Frame {
     };
     let on_plane =
         |l: &Reach| mirror.is_none_or(|(n, o)| (l.pivot.dot(n) - o).abs() < OFF_PLANE * size);
-    // The head leans forward (a quadruped's); else the feet point forward.
+    // The head (of the limbs on the plane, the one ending widest, leaning up) leans
+    // forward on a quadruped; else the feet point forward.
     let head = limbs.iter().filter(|l| on_plane(l)).max_by(|a, b| {
-        let score = |l: &Reach| l.vertices as f64 * (1.0 + l.direction().dot(up));
+        let score = |l: &Reach| l.end * (1.0 + l.direction().dot(up));
         score(a).total_cmp(&score(b))
     });
     let lean = head.map_or(0.0, |h| h.direction().dot(axis));
@@ -337,8 +339,14 @@ pub fn frame(positions: &[DVec3], limbs: &[Reach], up: Option<DVec3>) -> Frame {
 }
 
 /// Role names for the sections of `joints` (index 0 is the root and keeps its name), in
-/// the frame found for them; `None` where no role fits. Also returns the frame.
-pub fn roles(mesh: &Mesh, joints: &Joints, up: Option<DVec3>) -> (Vec<Option<String>>, Frame) {
+/// the frame found for them; `None` where no role fits. Also returns the frame. `radius`
+/// is each vertex's skeletal distance.
+pub fn roles(
+    mesh: &Mesh,
+    radius: &[f64],
+    joints: &Joints,
+    up: Option<DVec3>,
+) -> (Vec<Option<String>>, Frame) {
     let sections = joints.sections();
     let n = sections.len();
     let mut children = vec![Vec::new(); n];
@@ -358,6 +366,7 @@ pub fn roles(mesh: &Mesh, joints: &Joints, up: Option<DVec3>) -> (Vec<Option<Str
     }
     let mut naming = Naming {
         mesh,
+        radius,
         sections,
         children,
         within,
@@ -378,6 +387,8 @@ pub fn roles(mesh: &Mesh, joints: &Joints, up: Option<DVec3>) -> (Vec<Option<Str
 /// What naming the sections needs: the section tree, each subtree's vertices, the frame.
 struct Naming<'a> {
     mesh: &'a Mesh,
+    /// Each vertex's skeletal distance.
+    radius: &'a [f64],
     sections: &'a [crate::joints::Section],
     children: Vec<Vec<usize>>,
     within: Vec<Vec<usize>>,
@@ -389,7 +400,7 @@ struct Naming<'a> {
 
 impl Naming<'_> {
     /// Section `s`'s pivot, its tip (the farthest point from the pivot of it and what hangs
-    /// from it) and its vertices.
+    /// from it) and how thick its far half is.
     fn reach(&self, s: usize) -> Reach {
         let pivot = self.sections[s].pivot;
         let tip = self.within[s]
@@ -397,11 +408,13 @@ impl Naming<'_> {
             .map(|&v| self.mesh.positions[v])
             .max_by(|a, b| a.distance(pivot).total_cmp(&b.distance(pivot)))
             .unwrap_or(pivot);
-        Reach {
-            pivot,
-            tip,
-            vertices: self.within[s].len(),
-        }
+        let reach = tip.distance(pivot);
+        let end = self.within[s]
+            .iter()
+            .filter(|&&v| self.mesh.positions[v].distance(pivot) >= 0.5 * reach)
+            .map(|&v| self.radius[v])
+            .fold(0.0, f64::max);
+        Reach { pivot, tip, end }
     }
 
     /// The side of the mirror plane `p` is on (`None` on the plane, or with no plane).
@@ -446,13 +459,12 @@ impl Naming<'_> {
                 legs.push((s, r));
             }
         }
-        // Midline: the neck (or head) leans most up and forward; the tail points back.
+        // Midline: the neck (or head) ends widest, leaning up and forward; the tail points
+        // back.
         let head = midline
             .iter()
             .max_by(|a, b| {
-                let score = |r: &Reach| {
-                    r.vertices as f64 * (1.0 + r.direction().dot(frame.up + frame.front))
-                };
+                let score = |r: &Reach| r.end * (1.0 + r.direction().dot(frame.up + frame.front));
                 score(&a.1).total_cmp(&score(&b.1))
             })
             .map(|h| h.0);
@@ -720,7 +732,7 @@ mod tests {
         let leg = |x: f64, y: f64| Reach {
             pivot: DVec3::new(x, y, 0.0),
             tip: DVec3::new(x, y, -1.0),
-            vertices: 50,
+            end: 0.1,
         };
         let limbs = [leg(0.5, 0.2), leg(1.5, 0.2), leg(0.5, 1.8), leg(1.5, 1.8)];
         let f = frame(&plane, &limbs, None);
@@ -733,7 +745,7 @@ mod tests {
         let sprawl = |x: f64, y: f64, s: f64| Reach {
             pivot: DVec3::new(x, y, 0.0),
             tip: DVec3::new(x + s, y, -0.3),
-            vertices: 50,
+            end: 0.1,
         };
         let limbs = [sprawl(0.5, 0.2, -1.0), sprawl(1.5, 0.2, 1.0)];
         assert_eq!(frame(&plane, &limbs, None).up, DVec3::Y);

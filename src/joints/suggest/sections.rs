@@ -99,7 +99,7 @@ pub fn suggest(
         }
     }
     // Names by role; a name taken twice, and a cut no role fits, keep their numbers.
-    let (roles, frame) = super::anatomy::roles(mesh, &joints, up);
+    let (roles, frame) = super::anatomy::roles(mesh, &skeleton.distance, &joints, up);
     let mut renamed: HashMap<String, String> = HashMap::new();
     let mut taken: std::collections::HashSet<String> = Default::default();
     for (k, cut) in cuts.iter().enumerate() {
