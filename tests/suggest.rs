@@ -319,15 +319,10 @@ fn left_and_right_cuts_mirror_each_other() {
         let image = |q: glam::DVec3| q - n * 2.0 * (q.dot(n) - o);
         let pivots = p.joints.cut_pivots();
         for (left, at) in &pivots {
-            let words: Vec<&str> = left.split('.').collect();
-            if !words.contains(&"L") {
+            if !left.split('.').any(|w| w == "L") {
                 continue;
             }
-            let right: Vec<&str> = words
-                .iter()
-                .map(|&w| if w == "L" { "R" } else { w })
-                .collect();
-            let right = right.join(".");
+            let right = puppet::joints::suggest::other_side(left).unwrap();
             let Some((_, other)) = pivots.iter().find(|(n, _)| *n == right) else {
                 continue;
             };

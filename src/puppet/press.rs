@@ -57,7 +57,8 @@ const fn turn(point: [f64; 3], normal: [f64; 3], axis: [f64; 3], degrees: f64) -
     }
 }
 
-/// The human's shoulders (the cuts `puppet suggest` makes), turned down by `d` degrees.
+/// The human's shoulders (fixed planes near where `puppet suggest` cuts), turned down by
+/// `d` degrees.
 const fn arms(d: f64) -> [Turn; 2] {
     [
         turn(

@@ -660,6 +660,24 @@ impl Family {
     }
 }
 
+/// The name of the same role on the other side: `index.R.2` for `index.L.2`; `None` for a
+/// name with no side.
+pub fn other_side(name: &str) -> Option<String> {
+    let words: Vec<&str> = name.split('.').collect();
+    if !words.iter().any(|&w| w == "L" || w == "R") {
+        return None;
+    }
+    let swapped: Vec<&str> = words
+        .iter()
+        .map(|&w| match w {
+            "L" => "R",
+            "R" => "L",
+            w => w,
+        })
+        .collect();
+    Some(swapped.join("."))
+}
+
 /// `base` with its side: `arm.L`; `tail` on the plane.
 fn tagged(base: &str, tag: &str) -> String {
     if tag.is_empty() {
@@ -759,6 +777,9 @@ mod tests {
         }
         assert_eq!("Z".parse::<Up>().unwrap(), Up::PosZ);
         assert_eq!(Up::nearest(DVec3::new(0.1, -0.2, -0.9)), Up::NegZ);
+        assert_eq!(other_side("index.L.2").as_deref(), Some("index.R.2"));
+        assert_eq!(other_side("leg1.R").as_deref(), Some("leg1.L"));
+        assert_eq!(other_side("tail.2"), None);
         assert!("up".parse::<Up>().is_err());
     }
 }

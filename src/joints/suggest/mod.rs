@@ -68,5 +68,5 @@ mod union_find;
 #[cfg(test)]
 mod tests;
 
-pub use anatomy::{mirror_plane, Frame, Up};
+pub use anatomy::{mirror_plane, other_side, Frame, Up};
 pub use sections::suggest;

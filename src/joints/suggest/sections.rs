@@ -144,15 +144,13 @@ fn mirror_pairs(cuts: &[Cut], frame: &Frame, mesh: &Mesh) -> Vec<Cut> {
         .map(|(k, c)| (c.name.as_str(), k))
         .collect();
     for (i, a) in cuts.iter().enumerate() {
-        let words: Vec<&str> = a.name.split('.').collect();
-        if !words.contains(&"L") {
+        if !a.name.split('.').any(|w| w == "L") {
             continue;
         }
-        let other: Vec<&str> = words
-            .iter()
-            .map(|&w| if w == "L" { "R" } else { w })
-            .collect();
-        let Some(&j) = index.get(other.join(".").as_str()) else {
+        let Some(other) = super::anatomy::other_side(&a.name) else {
+            continue;
+        };
+        let Some(&j) = index.get(other.as_str()) else {
             continue;
         };
         let b = &cuts[j];
