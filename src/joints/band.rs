@@ -8,9 +8,16 @@
 //! `band` the cut's factor ([`Cut::band`], [`DEFAULT_BAND`] when unset; 0 is a hinge),
 //! but never wider than the child reaches beyond the cut (its skeletal points' largest
 //! `d`), so the far end of a short section (a jaw, a head on a short neck) turns whole.
+//! On the child's side the band also ends where the child stops being a limb of about
+//! that radius ([`BULB`]; at least a quarter of `W`): a head beyond its neck turns whole
+//! and the neck takes the bend. Across a face the skeleton is too uneven to blend by
+//! (the two lips' skeletal points lie centimetres apart), and a band reaching into it
+//! turned neighbouring vertices by different angles: the head bent 76° into a shoulder
+//! crossed 41 faces at its lips, 2 with the band ended at the head (`bench collide`).
 //! A vertex of the child or the parent whose skeletal point lies at signed distance `d`
-//! from the plane (positive into the child), `|d| < W`, moves with the weight
-//! `w = weight((d + W) / 2W)` of the child's own motion (see [`weight`]): its transform is
+//! from the plane (positive into the child), `−W < d < W_c` (`W_c ≤ W` the child's side),
+//! moves with the weight `w = weight((d + W) / (W + W_c))` of the child's own motion (see
+//! [`weight`]): its transform is
 //!
 //! `W(parent) · T(pivot + w·t) · slerp(I, R, w) · T(−pivot)`
 //!
@@ -75,6 +82,10 @@ pub const LEVELS: usize = 64;
 /// 2.4 r` from the pivot.
 pub const CONTACT_REACH: f64 = 3.0;
 
+/// A child wider than this many local medial radii beyond its cut is a bulb (a head on
+/// its neck), where the band's child side ends.
+pub const BULB: f64 = 1.5;
+
 /// How much a bent band swells across the limb, per radian of bend, at its middle (see the
 /// module docs).
 pub const BULGE: f64 = 0.0125;
@@ -89,8 +100,11 @@ pub struct Band {
     pub child: usize,
     /// Its parent now.
     pub parent: usize,
-    /// Half-width of the band (mesh units).
+    /// Half-width of the band on the parent's side (mesh units).
     pub width: f64,
+    /// How far it reaches into the child (mesh units, at most `width`; see the module
+    /// docs).
+    pub child_width: f64,
     /// The local medial radius it was measured from.
     pub radius: f64,
     /// The cut's pivot (where the two sides meet; not always the point the child turns
@@ -237,6 +251,43 @@ impl Joints {
             .fold(0.0, f64::max)
     }
 
+    /// How far beyond cut `k` its child stays a limb of about the local medial `radius`:
+    /// the start of the first slab (a radius thick) where a tenth of the skeletal
+    /// distances exceed [`BULB`] radii (a head beyond its neck; the 90th percentile, as
+    /// a face's bumps give many small balls), or infinity.
+    fn tube(&self, k: usize, child: usize, radius: f64) -> f64 {
+        let cut = &self.cuts[k];
+        let normal = cut.normal.normalize_or_zero();
+        let mut slabs: Vec<Vec<f64>> = Vec::new();
+        for i in 0..self.section_of.len() {
+            if self.body.is_rider(i) || self.section_of[i] as usize != child {
+                continue;
+            }
+            let d = cut.signed(self.body.points[i], normal);
+            if !(d >= 0.0 && d.is_finite()) {
+                continue;
+            }
+            let slab = (d / radius) as usize;
+            if slab >= 16 {
+                continue;
+            }
+            if slabs.len() <= slab {
+                slabs.resize(slab + 1, Vec::new());
+            }
+            slabs[slab].push(self.body.radius[i]);
+        }
+        for (s, radii) in slabs.iter_mut().enumerate() {
+            if radii.len() < 3 {
+                continue;
+            }
+            radii.sort_by(f64::total_cmp);
+            if radii[radii.len() * 9 / 10] > BULB * radius {
+                return s as f64 * radius;
+            }
+        }
+        f64::INFINITY
+    }
+
     /// Cut `k`'s pivot and the unit normal of its surface there (into the child): where a
     /// band bends and along what.
     pub(super) fn cut_frame(&self, k: usize) -> (DVec3, DVec3) {
@@ -288,13 +339,16 @@ impl Joints {
             if !(width.is_finite() && width > 0.0) {
                 continue;
             }
+            // The child's side: no farther than the child stays a limb.
+            let reach = self.tube(k, child, radius).clamp(0.25 * width, width);
             for (i, d) in self.near_cut(k, radius, width) {
-                if d.abs() / width >= depth[i] {
+                let side = if d > 0.0 { reach } else { width };
+                if d >= reach || d.abs() / side >= depth[i] {
                     continue;
                 }
-                let w = weight((d + width) / (2.0 * width));
+                let w = weight((d + width) / (width + reach));
                 let level = (w * LEVELS as f64).round() as usize;
-                depth[i] = d.abs() / width;
+                depth[i] = d.abs() / side;
                 self.transform_of[i] = match level {
                     0 => parent as u16,
                     l if l >= LEVELS => child as u16,
@@ -306,6 +360,7 @@ impl Joints {
                 child,
                 parent,
                 width,
+                child_width: reach,
                 radius,
                 pivot,
                 normal,

@@ -39,6 +39,52 @@ pub fn largest_dihedral(positions: &[DVec3], triangles: &[[u32; 3]], region: &[b
     largest
 }
 
+/// The largest rise of a dihedral angle over its rest angle, in degrees: per edge whose
+/// two faces are both in `region`, the angle between their normals in `now` less the
+/// angle in `rest`, the largest. Unlike [`largest_dihedral`] against the rest mesh's
+/// largest, a crease cannot hide behind a sharper feature elsewhere in the region.
+/// Degenerate faces (no normal) are skipped.
+///
+/// # Panics
+/// If `region` is not one flag per triangle, or a triangle names a vertex beyond `rest`
+/// or `now`.
+pub fn largest_crease(
+    rest: &[DVec3],
+    now: &[DVec3],
+    triangles: &[[u32; 3]],
+    region: &[bool],
+) -> f64 {
+    assert_eq!(region.len(), triangles.len(), "one flag per triangle");
+    let normal = |positions: &[DVec3], f: usize| {
+        let [a, b, c] = triangles[f].map(|i| positions[i as usize]);
+        (b - a).cross(c - a).normalize_or_zero()
+    };
+    let angle = |positions: &[DVec3], f: usize, g: usize| {
+        let (n, m) = (normal(positions, f), normal(positions, g));
+        (n != DVec3::ZERO && m != DVec3::ZERO)
+            .then(|| n.dot(m).clamp(-1.0, 1.0).acos().to_degrees())
+    };
+    let mut first: HashMap<(u32, u32), usize> = HashMap::new();
+    let mut largest: f64 = 0.0;
+    for (f, t) in triangles.iter().enumerate().filter(|(f, _)| region[*f]) {
+        for e in 0..3 {
+            let (a, b) = (t[e], t[(e + 1) % 3]);
+            let key = (a.min(b), a.max(b));
+            match first.remove(&key) {
+                Some(g) => {
+                    if let (Some(x), Some(y)) = (angle(now, f, g), angle(rest, f, g)) {
+                        largest = largest.max(x - y);
+                    }
+                }
+                None => {
+                    first.insert(key, f);
+                }
+            }
+        }
+    }
+    largest
+}
+
 /// The volume of the cones from `apex` to the faces in `region` (signed, positive for
 /// outward faces): the region's share of the enclosed volume. A rotation about `apex`
 /// leaves it unchanged; only a deformation of the region's surface changes it. Over every

@@ -8,12 +8,13 @@
 //! * the change of the whole mesh's volume, and of the region's cone volume from the pivot
 //!   (unchanged by the rotation itself: only the deformation counts);
 //! * the largest dihedral angle between neighbouring faces of the region, and the rest
-//!   mesh's.
+//!   mesh's;
+//! * the crease: the largest rise of one edge's dihedral angle over its own rest angle.
 
 use super::{BuildError, Puppet, RigFile};
 use crate::geom::intersect::new_crossings;
 use crate::joints::{Cut, Local, Shape};
-use crate::mesh::measure::{cone_volume, largest_dihedral};
+use crate::mesh::measure::{cone_volume, largest_crease, largest_dihedral};
 use crate::mesh::Mesh;
 use crate::sim::Params;
 use glam::DVec3;
@@ -95,6 +96,9 @@ pub struct Bent {
     pub dihedral: f64,
     /// The rest mesh's (degrees).
     pub rest_dihedral: f64,
+    /// The largest rise of an edge's dihedral angle over its own rest angle in the region
+    /// (degrees; [`largest_crease`]).
+    pub crease: f64,
     /// Kinetic energy left at the end (how settled it is).
     pub kinetic: f64,
 }
@@ -198,6 +202,7 @@ pub fn measure(p: &Puppet, degrees: f64) -> Bent {
         ),
         dihedral: largest_dihedral(&now, triangles, &region_faces),
         rest_dihedral: largest_dihedral(rest, triangles, &region_faces),
+        crease: largest_crease(rest, &now, triangles, &region_faces),
         kinetic: p.sim.kinetic_energy(),
     }
 }

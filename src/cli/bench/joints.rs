@@ -82,11 +82,11 @@ pub fn run(args: &Args) -> Result<()> {
 
 fn print_row(r: &Row, header: bool) {
     if header {
-        println!("| joint | band | bend | faces crossing | volume | region volume | largest dihedral (rest) |");
-        println!("|---|---:|---:|---:|---:|---:|---:|");
+        println!("| joint | band | bend | faces crossing | volume | region volume | largest dihedral (rest) | crease |");
+        println!("|---|---:|---:|---:|---:|---:|---:|---:|");
     }
     println!(
-        "| {} | {} | {}° | {} of {} | {:+.2} % | {:+.2} % | {:.0}° ({:.0}°) |",
+        "| {} | {} | {}° | {} of {} | {:+.2} % | {:+.2} % | {:.0}° ({:.0}°) | {:+.0}° |",
         r.joint,
         if r.band == 0.0 {
             "hinge".to_string()
@@ -99,6 +99,7 @@ fn print_row(r: &Row, header: bool) {
         100.0 * r.bent.volume,
         100.0 * r.bent.region_volume,
         r.bent.dihedral,
-        r.bent.rest_dihedral
+        r.bent.rest_dihedral,
+        r.bent.crease
     );
 }
