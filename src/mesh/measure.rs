@@ -130,4 +130,26 @@ mod tests {
         let all = vec![true; c.triangles.len()];
         assert!((largest_dihedral(&c.positions, &c.triangles, &all) - 90.0).abs() < 1e-9);
     }
+
+    #[test]
+    fn a_crease_is_measured_against_its_own_rest_angle() {
+        // Two faces hinged on the edge 0–1, flat at rest.
+        let rest = [
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::new(0.5, 1.0, 0.0),
+            DVec3::new(0.5, -1.0, 0.0),
+        ];
+        let triangles = [[0, 1, 2], [1, 0, 3]];
+        let both = [true, true];
+        assert_eq!(largest_crease(&rest, &rest, &triangles, &both), 0.0);
+        // Folded by 40° about the edge: a 40° crease, whether or not a sharper feature
+        // elsewhere dominates the largest dihedral angle.
+        let a = 40f64.to_radians();
+        let mut now = rest;
+        now[3] = DVec3::new(0.5, -a.cos(), a.sin());
+        let crease = largest_crease(&rest, &now, &triangles, &both);
+        assert!((crease - 40.0).abs() < 1e-9, "{crease}");
+        assert_eq!(largest_crease(&rest, &now, &triangles, &[true, false]), 0.0);
+    }
 }
