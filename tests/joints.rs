@@ -479,6 +479,8 @@ fn the_elbow_bent_90_degrees_keeps_its_skin_whole_its_volume_and_a_smooth_bend()
     assert!(b.volume.abs() <= 0.03, "{b:?}");
     assert!(b.region_volume.abs() <= 0.03, "{b:?}");
     assert!(b.dihedral <= b.rest_dihedral + 30.0, "{b:?}");
+    // Edge by edge the crease rises more (+34° today; BENCHMARKS.md): held where it is.
+    assert!(b.crease <= 45.0, "{b:?}");
     // A hinge folds: faces cross and the skin makes a corner.
     let h = elbow.bend(&m, Some(0.0), 90.0, Params::default()).unwrap();
     assert!(h.crossing >= 10, "{h:?}");
@@ -501,6 +503,7 @@ fn the_knee_and_two_finger_joints_bent_90_degrees_hold_the_same_targets() {
         assert!(b.volume.abs() <= 0.03, "{name}: {b:?}");
         assert!(b.region_volume.abs() <= 0.03, "{name}: {b:?}");
         assert!(b.dihedral <= b.rest_dihedral + 30.0, "{name}: {b:?}");
+        assert!(b.crease <= 45.0, "{name}: {b:?}");
     }
 }
 

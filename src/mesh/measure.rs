@@ -12,30 +12,12 @@ use std::collections::HashMap;
 /// If `region` is not one flag per triangle, or a triangle names a vertex beyond
 /// `positions`.
 pub fn largest_dihedral(positions: &[DVec3], triangles: &[[u32; 3]], region: &[bool]) -> f64 {
-    assert_eq!(region.len(), triangles.len(), "one flag per triangle");
-    let normal = |f: usize| {
-        let [a, b, c] = triangles[f].map(|i| positions[i as usize]);
-        (b - a).cross(c - a).normalize_or_zero()
-    };
-    let mut first: HashMap<(u32, u32), usize> = HashMap::new();
     let mut largest: f64 = 0.0;
-    for (f, t) in triangles.iter().enumerate().filter(|(f, _)| region[*f]) {
-        for e in 0..3 {
-            let (a, b) = (t[e], t[(e + 1) % 3]);
-            let key = (a.min(b), a.max(b));
-            match first.remove(&key) {
-                Some(g) => {
-                    let (n, m) = (normal(f), normal(g));
-                    if n != DVec3::ZERO && m != DVec3::ZERO {
-                        largest = largest.max(n.dot(m).clamp(-1.0, 1.0).acos().to_degrees());
-                    }
-                }
-                None => {
-                    first.insert(key, f);
-                }
-            }
+    for_each_edge(triangles, region, |f, g| {
+        if let Some(x) = dihedral(positions, triangles, f, g) {
+            largest = largest.max(x);
         }
-    }
+    });
     largest
 }
 
@@ -54,35 +36,46 @@ pub fn largest_crease(
     triangles: &[[u32; 3]],
     region: &[bool],
 ) -> f64 {
-    assert_eq!(region.len(), triangles.len(), "one flag per triangle");
-    let normal = |positions: &[DVec3], f: usize| {
-        let [a, b, c] = triangles[f].map(|i| positions[i as usize]);
-        (b - a).cross(c - a).normalize_or_zero()
-    };
-    let angle = |positions: &[DVec3], f: usize, g: usize| {
-        let (n, m) = (normal(positions, f), normal(positions, g));
-        (n != DVec3::ZERO && m != DVec3::ZERO)
-            .then(|| n.dot(m).clamp(-1.0, 1.0).acos().to_degrees())
-    };
-    let mut first: HashMap<(u32, u32), usize> = HashMap::new();
     let mut largest: f64 = 0.0;
+    for_each_edge(triangles, region, |f, g| {
+        let bent = dihedral(now, triangles, f, g);
+        if let (Some(x), Some(y)) = (bent, dihedral(rest, triangles, f, g)) {
+            largest = largest.max(x - y);
+        }
+    });
+    largest
+}
+
+/// Calls `visit(f, g)` for each edge shared by two faces `f`, `g` of `region`.
+///
+/// # Panics
+/// If `region` is not one flag per triangle.
+fn for_each_edge(triangles: &[[u32; 3]], region: &[bool], mut visit: impl FnMut(usize, usize)) {
+    assert_eq!(region.len(), triangles.len(), "one flag per triangle");
+    let mut first: HashMap<(u32, u32), usize> = HashMap::new();
     for (f, t) in triangles.iter().enumerate().filter(|(f, _)| region[*f]) {
         for e in 0..3 {
             let (a, b) = (t[e], t[(e + 1) % 3]);
             let key = (a.min(b), a.max(b));
             match first.remove(&key) {
-                Some(g) => {
-                    if let (Some(x), Some(y)) = (angle(now, f, g), angle(rest, f, g)) {
-                        largest = largest.max(x - y);
-                    }
-                }
+                Some(g) => visit(f, g),
                 None => {
                     first.insert(key, f);
                 }
             }
         }
     }
-    largest
+}
+
+/// The angle between the normals of faces `f` and `g` (degrees); `None` when one is
+/// degenerate.
+fn dihedral(positions: &[DVec3], triangles: &[[u32; 3]], f: usize, g: usize) -> Option<f64> {
+    let normal = |f: usize| {
+        let [a, b, c] = triangles[f].map(|i| positions[i as usize]);
+        (b - a).cross(c - a).normalize_or_zero()
+    };
+    let (n, m) = (normal(f), normal(g));
+    (n != DVec3::ZERO && m != DVec3::ZERO).then(|| n.dot(m).clamp(-1.0, 1.0).acos().to_degrees())
 }
 
 /// The volume of the cones from `apex` to the faces in `region` (signed, positive for

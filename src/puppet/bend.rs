@@ -9,7 +9,8 @@
 //!   (unchanged by the rotation itself: only the deformation counts);
 //! * the largest dihedral angle between neighbouring faces of the region, and the rest
 //!   mesh's;
-//! * the crease: the largest rise of one edge's dihedral angle over its own rest angle.
+//! * the crease: the largest rise of one edge's dihedral angle over its own rest angle,
+//!   of the surface and of the band's targets alone (the bone motion).
 
 use super::{BuildError, Puppet, RigFile};
 use crate::geom::intersect::new_crossings;
@@ -99,6 +100,8 @@ pub struct Bent {
     /// The largest rise of an edge's dihedral angle over its own rest angle in the region
     /// (degrees; [`largest_crease`]).
     pub crease: f64,
+    /// The same of the band's targets alone (the bone motion, no simulation).
+    pub target_crease: f64,
     /// Kinetic energy left at the end (how settled it is).
     pub kinetic: f64,
 }
@@ -173,6 +176,9 @@ pub fn measure(p: &Puppet, degrees: f64) -> Bent {
     let now: Vec<DVec3> = (0..rest.len())
         .map(|i| p.sim.positions().get(i).as_dvec3())
         .collect();
+    let targets: Vec<DVec3> = (0..rest.len())
+        .map(|i| p.sim.target(i).as_dvec3())
+        .collect();
     let triangles = &p.mesh.triangles;
     let region_faces: Vec<bool> = match p.joints.joint_region(CUT, REGION) {
         Some((region, _)) => triangles
@@ -203,6 +209,7 @@ pub fn measure(p: &Puppet, degrees: f64) -> Bent {
         dihedral: largest_dihedral(&now, triangles, &region_faces),
         rest_dihedral: largest_dihedral(rest, triangles, &region_faces),
         crease: largest_crease(rest, &now, triangles, &region_faces),
+        target_crease: largest_crease(rest, &targets, triangles, &region_faces),
         kinetic: p.sim.kinetic_energy(),
     }
 }

@@ -82,11 +82,11 @@ pub fn run(args: &Args) -> Result<()> {
 
 fn print_row(r: &Row, header: bool) {
     if header {
-        println!("| joint | band | bend | faces crossing | volume | region volume | largest dihedral (rest) | crease |");
+        println!("| joint | band | bend | faces crossing | volume | region volume | largest dihedral (rest) | crease (bones alone) |");
         println!("|---|---:|---:|---:|---:|---:|---:|---:|");
     }
     println!(
-        "| {} | {} | {}° | {} of {} | {:+.2} % | {:+.2} % | {:.0}° ({:.0}°) | {:+.0}° |",
+        "| {} | {} | {}° | {} of {} | {:+.2} % | {:+.2} % | {:.0}° ({:.0}°) | {:+.0}° ({:+.0}°) |",
         r.joint,
         if r.band == 0.0 {
             "hinge".to_string()
@@ -100,6 +100,7 @@ fn print_row(r: &Row, header: bool) {
         100.0 * r.bent.region_volume,
         r.bent.dihedral,
         r.bent.rest_dihedral,
-        r.bent.crease
+        r.bent.crease,
+        r.bent.target_crease
     );
 }
