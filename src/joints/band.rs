@@ -11,9 +11,9 @@
 //! On the child's side the band also ends where the child stops being a limb of about
 //! that radius ([`BULB`]; at least a quarter of `W`): a head beyond its neck turns whole
 //! and the neck takes the bend. Across a face the skeleton is too uneven to blend by
-//! (the two lips' skeletal points lie centimetres apart), and a band reaching into it
-//! turned neighbouring vertices by different angles: the head bent 76° into a shoulder
-//! crossed 41 faces at its lips, 2 with the band ended at the head (`bench collide`).
+//! (the two lips' skeletal points lie centimetres apart): a band reaching into it turns
+//! neighbouring vertices by different angles and the lips cross (`bench collide`, the
+//! head bent into a shoulder).
 //! A vertex of the child or the parent whose skeletal point lies at signed distance `d`
 //! from the plane (positive into the child), `−W < d < W_c` (`W_c ≤ W` the child's side),
 //! moves with the weight `w = weight((d + W) / (W + W_c))` of the child's own motion (see
