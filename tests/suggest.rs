@@ -204,14 +204,12 @@ fn the_labelled_set_scores_as_benchmarks_says() {
     let (mut required, mut found, mut cuts, mut spurious) = (0, 0, 0, 0);
     for name in &characters {
         let (labels, p) = labelled(name);
-        let (lo, hi) = p.mesh.bounds();
-        let score = labels.score(&p.joints.cut_pivots(), (hi - lo).max_element());
+        let score = labels.score(&p.joints.cut_pivots(), p.mesh.longest_side());
         required += score.required;
         found += score.found;
         cuts += score.cuts;
         spurious += score.spurious;
-        if let Some(up) = &labels.up {
-            let up: Up = up.parse().unwrap();
+        if let Some(up) = labels.up {
             assert!(p.up().distance(up.vector()) < 1e-9, "{name}: up {}", p.up());
         }
     }
@@ -314,8 +312,7 @@ fn left_and_right_cuts_mirror_each_other() {
     for name in ["robot", "dog", "human"] {
         let (_, p) = labelled(name);
         let (n, o) = p.frame().unwrap().mirror.expect("a mirror plane");
-        let (lo, hi) = p.mesh.bounds();
-        let size = (hi - lo).max_element();
+        let size = p.mesh.longest_side();
         let image = |q: glam::DVec3| q - n * 2.0 * (q.dot(n) - o);
         let pivots = p.joints.cut_pivots();
         for (left, at) in &pivots {

@@ -131,6 +131,12 @@ impl Mesh {
         bounds(&self.positions)
     }
 
+    /// The longest side of the bounding box (a character's height, whichever way it is
+    /// modelled up).
+    pub fn longest_side(&self) -> f64 {
+        longest_side(&self.positions)
+    }
+
     /// Length of the bounding-box diagonal.
     pub fn diagonal(&self) -> f64 {
         let (lo, hi) = self.bounds();
@@ -140,6 +146,25 @@ impl Mesh {
     /// Number of unique undirected edges.
     pub fn edge_count(&self) -> usize {
         unique_edges(&self.triangles).len()
+    }
+
+    /// The centroid of the volume the mesh encloses (of its vertices where it encloses
+    /// none): unlike the vertices' mean, not pulled towards a finely meshed face.
+    pub fn volume_centroid(&self) -> DVec3 {
+        let mut sum = DVec3::ZERO;
+        let mut volume = 0.0;
+        let origin = self.positions.first().copied().unwrap_or_default();
+        for t in &self.triangles {
+            let [a, b, c] = t.map(|i| self.positions[i as usize] - origin);
+            let v = a.dot(b.cross(c)) / 6.0;
+            sum += (a + b + c) / 4.0 * v;
+            volume += v;
+        }
+        if volume.abs() > f64::MIN_POSITIVE && (sum / volume).is_finite() {
+            origin + sum / volume
+        } else {
+            self.positions.iter().sum::<DVec3>() / self.positions.len().max(1) as f64
+        }
     }
 
     /// Signed volume (positive for an outward-oriented closed mesh).
@@ -161,6 +186,12 @@ fn one_line(message: &str) -> String {
     // A parser's internal state says nothing to a user.
     let line = line.split(" Error: ParseError").next().unwrap_or(&line);
     line.replace(". Error:", ":")
+}
+
+/// The longest side of the bounding box of a point set; 0 when empty.
+pub fn longest_side(points: &[DVec3]) -> f64 {
+    let (lo, hi) = bounds(points);
+    (hi - lo).max_element()
 }
 
 /// Bounding box of a point set; `(0, 0)` when empty.
@@ -244,6 +275,21 @@ pub fn unique_edges(triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
 #[cfg(test)]
 mod tests {
     use super::unique_edges;
+    use glam::DVec3;
+
+    #[test]
+    fn the_volume_centroid_is_a_cubes_centre_however_meshed_and_wherever_it_is() {
+        let mut m = super::shapes::cube_grid(2.0, 1);
+        let fine = super::shapes::cube_grid(2.0, 8);
+        assert!(fine.volume_centroid().length() < 1e-12);
+        m.positions.iter_mut().for_each(|p| *p += DVec3::X);
+        assert!((m.volume_centroid() - DVec3::X).length() < 1e-12);
+        assert_eq!(
+            super::Mesh::default().volume_centroid(),
+            DVec3::ZERO,
+            "an empty mesh"
+        );
+    }
 
     #[test]
     fn unique_edges_are_the_sorted_deduplicated_pairs() {

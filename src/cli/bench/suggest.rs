@@ -72,8 +72,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         let labels = Labels::read(&file).map_err(|e| anyhow!("{}: {e}", file.display()))?;
         let path = labels.mesh_path(&file);
         let (mesh, report, shown) = crate::cli::load_mesh(Some(&path), load)?;
-        let (lo, hi) = mesh.bounds();
-        let height = (hi - lo).max_element();
+        let height = mesh.longest_side();
         let t = Instant::now();
         let built = Puppet::build_loaded(
             mesh,
@@ -96,11 +95,9 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         }
         times.sort_by(f64::total_cmp);
         let score = labels.score(&puppet.joints.cut_pivots(), height);
-        let up = Up::nearest(puppet.up()).to_string();
-        let up_right = labels
-            .up
-            .as_deref()
-            .is_none_or(|u| u.parse::<Up>().is_ok_and(|r| r.to_string() == up));
+        let found = Up::nearest(puppet.up());
+        let up_right = labels.up.is_none_or(|u| u == found);
+        let up = found.to_string();
         let vertices = puppet.mesh.positions.len();
         if let Some(dir) = &args.images {
             crate::cli::suggest::picture(puppet, &dir.join(format!("{name}.png")))?;

@@ -31,7 +31,8 @@ const OFF_PLANE: f64 = 0.03;
 
 /// An axis direction a mesh is modelled with as up: `+y` (OBJ's and glTF's convention),
 /// `+z` (CAD's and Blender's)…, written `x`, `+x` or `-x`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+#[serde(try_from = "String")]
 pub enum Up {
     /// `+x`.
     PosX,
@@ -95,6 +96,13 @@ impl std::str::FromStr for Up {
             "-z" => Up::NegZ,
             _ => return Err(format!("'{s}' is not one of +x, -x, +y, -y, +z, -z")),
         })
+    }
+}
+
+impl TryFrom<String> for Up {
+    type Error = String;
+    fn try_from(s: String) -> Result<Up, String> {
+        s.parse()
     }
 }
 
@@ -193,16 +201,15 @@ struct Grid {
 
 impl Grid {
     fn new(positions: &[DVec3], lo: DVec3, cell: f64) -> Grid {
-        let mut cells: std::collections::HashMap<[i64; 3], Vec<u32>> = Default::default();
         let mut grid = Grid {
             lo,
             cell,
             cells: Default::default(),
         };
         for (i, p) in positions.iter().enumerate() {
-            cells.entry(grid.key(*p)).or_default().push(i as u32);
+            let key = grid.key(*p);
+            grid.cells.entry(key).or_default().push(i as u32);
         }
-        grid.cells = cells;
         grid
     }
 
@@ -254,8 +261,7 @@ impl Reach {
 /// The frame of a mesh whose root has `limbs` (see the module docs); `up` when given.
 pub fn frame(positions: &[DVec3], limbs: &[Reach], up: Option<DVec3>) -> Frame {
     let mirror = mirror_plane(positions);
-    let (lo, hi) = crate::mesh::bounds(positions);
-    let size = (hi - lo).max_element();
+    let size = crate::mesh::longest_side(positions);
     let axes = [
         DVec3::X,
         DVec3::NEG_X,
@@ -372,7 +378,7 @@ pub fn roles(
         within,
         frame: Frame::default(),
         names: vec![None; n],
-        size: mesh_size(mesh).max(1e-12),
+        size: mesh.longest_side().max(1e-12),
     };
     let limbs: Vec<(usize, Reach)> = naming.children[0]
         .iter()
@@ -685,11 +691,6 @@ fn tagged(base: &str, tag: &str) -> String {
     } else {
         format!("{base}.{tag}")
     }
-}
-
-fn mesh_size(mesh: &Mesh) -> f64 {
-    let (lo, hi) = mesh.bounds();
-    (hi - lo).max_element()
 }
 
 #[cfg(test)]

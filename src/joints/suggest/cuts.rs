@@ -505,9 +505,9 @@ impl Profile {
         };
         // (Not within two and a half radii of the base, where the axis turns out of the trunk, nor
         // within three of the tip, where it rounds.)
-        for b in 5..bins.saturating_sub(1) {
+        for b in 5..bins.saturating_sub(5) {
             let t = turn(b);
-            if t >= BEND && t >= turn(b - 1) && t >= turn(b + 1) && b + 6 <= bins && free(&at, b) {
+            if t >= BEND && t >= turn(b - 1) && t >= turn(b + 1) && free(&at, b) {
                 at.push(b);
             }
         }

@@ -31,7 +31,7 @@ pub struct Labels {
     pub kind: String,
     /// The up direction it is modelled with (`+y`, `+z`), when it says.
     #[serde(default)]
-    pub up: Option<String>,
+    pub up: Option<super::Up>,
     /// Where the mesh comes from and its licence, for meshes not generated here.
     #[serde(default)]
     pub credit: Option<String>,
@@ -69,11 +69,11 @@ pub struct Free {
 /// A suggestion against a labelled character.
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct Score {
-    /// Required joints, and how many a cut matched.
+    /// Required joints.
     pub required: usize,
     /// Required joints a cut matched.
     pub found: usize,
-    /// Suggested cuts, and how many matched nothing.
+    /// Suggested cuts.
     pub cuts: usize,
     /// Cuts that matched no joint and lie on no free stretch.
     pub spurious: usize,
@@ -84,8 +84,8 @@ pub struct Score {
     /// The mean distance from each joint to the nearest cut and from each cut to the
     /// nearest joint, averaged (RigNet's CD-J2J), in % of the height.
     pub j2j: f64,
-    /// The required joints no cut matched (with the distance to the nearest cut, in % of
-    /// the height), and the spurious cuts, by name.
+    /// The required joints no cut matched, each with the distance to the nearest cut in %
+    /// of the height.
     pub missed: Vec<String>,
     /// The spurious cuts' names.
     pub extra: Vec<String>,

@@ -136,8 +136,7 @@ fn mirror_pairs(cuts: &[Cut], frame: &Frame, mesh: &Mesh) -> Vec<Cut> {
     };
     let point = |p: DVec3| p - n * 2.0 * (p.dot(n) - o);
     let vector = |v: DVec3| v - n * 2.0 * v.dot(n);
-    let (lo, hi) = mesh.bounds();
-    let size = (hi - lo).max_element();
+    let size = mesh.longest_side();
     let index: HashMap<&str, usize> = cuts
         .iter()
         .enumerate()

@@ -9,25 +9,6 @@ use crate::mesh::Mesh;
 use crate::skeleton::Skeleton;
 use glam::DVec3;
 
-/// The centroid of the volume a mesh encloses (of its vertices where it encloses none):
-/// unlike the vertices' mean, not pulled towards a finely meshed face.
-fn volume_centroid(mesh: &Mesh) -> DVec3 {
-    let mut sum = DVec3::ZERO;
-    let mut volume = 0.0;
-    let origin = mesh.positions.first().copied().unwrap_or_default();
-    for t in &mesh.triangles {
-        let [a, b, c] = t.map(|i| mesh.positions[i as usize] - origin);
-        let v = a.dot(b.cross(c)) / 6.0;
-        sum += (a + b + c) / 4.0 * v;
-        volume += v;
-    }
-    if volume.abs() > f64::MIN_POSITIVE && (sum / volume).is_finite() {
-        origin + sum / volume
-    } else {
-        mesh.positions.iter().sum::<DVec3>() / mesh.positions.len().max(1) as f64
-    }
-}
-
 /// A segment of the join tree: the vertices added between two events of the sweep.
 #[derive(Clone, Debug)]
 pub(super) struct Segment {
@@ -64,10 +45,7 @@ impl<'a> Tree<'a> {
             segments: Vec::new(),
             children: Vec::new(),
             core: (DVec3::ZERO, 0.0),
-            size_of_mesh: {
-                let (lo, hi) = mesh.bounds();
-                (hi - lo).max_element()
-            },
+            size_of_mesh: mesh.longest_side(),
         };
         if n < 4 {
             return tree;
@@ -97,7 +75,7 @@ impl<'a> Tree<'a> {
             .iter()
             .map(|&v| skeleton.distance[v])
             .fold(0.0, f64::max);
-        let centroid = volume_centroid(mesh);
+        let centroid = mesh.volume_centroid();
         let root = middle
             .iter()
             .copied()
