@@ -9,7 +9,7 @@
 //! but never wider than the child reaches beyond the cut (its skeletal points' largest
 //! `d`), so the far end of a short section (a jaw, a head on a short neck) turns whole.
 //! On the child's side the band also ends where the child stops being a limb of about
-//! that radius ([`BULB`]; at least a quarter of `W`): a head beyond its neck turns whole
+//! that radius ([`BULB`]; at least half of `W`): a head beyond its neck turns whole
 //! and the neck takes the bend. Across a face the skeleton is too uneven to blend by
 //! (the two lips' skeletal points lie centimetres apart): a band reaching into it turns
 //! neighbouring vertices by different angles and the lips cross (`bench collide`, the
@@ -340,7 +340,7 @@ impl Joints {
                 continue;
             }
             // The child's side: no farther than the child stays a limb.
-            let reach = self.tube(k, child, radius).clamp(0.25 * width, width);
+            let reach = self.tube(k, child, radius).clamp(0.5 * width, width);
             for (i, d) in self.near_cut(k, radius, width) {
                 let side = if d > 0.0 { reach } else { width };
                 if d >= reach || d.abs() / side >= depth[i] {
