@@ -341,3 +341,35 @@ fn bad_controls_are_one_line_before_the_window() {
         );
     }
 }
+
+/// `--images` makes its folder (a path that cannot be one is an error naming it) and draws
+/// each character there.
+#[test]
+fn suggest_bench_draws_into_a_new_folder() {
+    let dir = common::scratch("bench-images").join("new").join("folder");
+    let out = puppet(&[
+        "bench",
+        "suggest",
+        "--only",
+        "bunny",
+        "--images",
+        dir.to_str().unwrap(),
+    ]);
+    common::ok(&out);
+    assert!(dir.join("bunny.png").is_file());
+    let file = dir.join("bunny.png");
+    let out = puppet(&[
+        "bench",
+        "suggest",
+        "--only",
+        "bunny",
+        "--images",
+        file.join("x").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.starts_with("error: ") && err.contains("cannot create"),
+        "{err}"
+    );
+}

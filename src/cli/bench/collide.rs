@@ -37,6 +37,7 @@ struct Row {
 
 pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     let mut rows = Vec::new();
+    super::image_folder(args.images.as_ref())?;
     for press in PRESSES.iter().filter(|p| {
         args.only
             .as_ref()

@@ -179,3 +179,13 @@ impl Base {
 fn median_p95(v: Vec<f64>) -> (f64, f64) {
     puppet::skeleton::truth::median_p95(v)
 }
+
+/// Makes the folder `--images` names, if it does not exist yet.
+fn image_folder(dir: Option<&PathBuf>) -> Result<()> {
+    if let Some(dir) = dir {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            super::FileError::new(dir.display().to_string(), format!("cannot create: {e}"))
+        })?;
+    }
+    Ok(())
+}

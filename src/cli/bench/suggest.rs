@@ -61,6 +61,7 @@ fn label_files(dir: &Path) -> Result<Vec<(String, PathBuf)>> {
 
 pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     let mut rows = Vec::new();
+    super::image_folder(args.images.as_ref())?;
     for (name, file) in label_files(&args.set)? {
         if args
             .only

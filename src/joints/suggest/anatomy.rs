@@ -12,9 +12,11 @@
 //! * **Front.** Across up and the mirror plane: the way the head leans, else the way the
 //!   feet point, else the convention (+z for y up, −y for z up). **Left** = up × front: a
 //!   character's own left, as `.L` in Blender's names.
-//! * **Roles.** The root's limbs: off the mirror plane and pointing down, legs (the back
-//!   pair of four; numbered from the front when there are three pairs or more); off the
-//!   plane otherwise, arms, or ears above the root's centre; on the plane, the one whose
+//! * **Roles.** The root's limbs off the mirror plane: pointing up from above the root's
+//!   centre, ears; of the others, when one pair stands on the ground ([`GROUND`]) and the
+//!   rest do not, a biped: the standing pair are legs and the largest raised limb on each
+//!   side an arm (arms held out or hanging down); when all stand, pairs from the front:
+//!   arms (forelegs) and legs, numbered legs from three pairs on; on the plane, the one whose
 //!   far half is thickest (a head ends in a bulb, a tail in a point), leaning up and front,
 //!   is the neck (or the head if nothing follows it), one pointing back the tail. Down a limb the names go on: `arm`, `forearm`, `hand`; `leg`, `shin`,
 //!   `foot`; `neck`, `head`; four or five digits of a hand are `thumb`, `index`, `middle`,
@@ -28,6 +30,9 @@ use glam::DVec3;
 
 /// A cut's pivot this share of the mesh's size from the mirror plane is on one side.
 const OFF_PLANE: f64 = 0.03;
+/// A limb that reaches this share of the height above the mesh's lowest point stands on
+/// the ground.
+const GROUND: f64 = 0.1;
 
 /// An axis direction a mesh is modelled with as up: `+y` (OBJ's and glTF's convention),
 /// `+z` (CAD's and Blender's)…, written `x`, `+x` or `-x`.
@@ -481,8 +486,73 @@ impl Naming<'_> {
                 self.chain(s, Family::Tail, "");
             }
         }
-        // Two pairs, one pointing down and one not: legs and arms (a biped). Else pairs
-        // from the front: arms (forelegs) and legs, or numbered legs from three pairs on.
+        // A biped: one pair stands on the ground and the rest do not (arms hanging down
+        // or held out), legs and arms; of the raised limbs, one per side (the largest) is
+        // an arm, and the others keep their numbers.
+        let height = |p: DVec3| p.dot(frame.up);
+        let lowest = |s: usize| {
+            self.within[s]
+                .iter()
+                .map(|&v| height(self.mesh.positions[v]))
+                .fold(f64::INFINITY, f64::min)
+        };
+        let (floor, top) = self
+            .mesh
+            .positions
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &p| {
+                (lo.min(height(p)), hi.max(height(p)))
+            });
+        let stands: Vec<bool> = legs
+            .iter()
+            .map(|l| lowest(l.0) <= floor + GROUND * (top - floor))
+            .collect();
+        let standing = stands.iter().filter(|&&st| st).count();
+        if (1..=2).contains(&standing) && standing < legs.len() {
+            let side = |r: &Reach| self.side(r.pivot).unwrap_or("L");
+            let arms: Vec<usize> = ["L", "R"]
+                .iter()
+                .filter_map(|&lr| {
+                    legs.iter()
+                        .zip(&stands)
+                        .filter(|(l, &st)| !st && side(&l.1) == lr)
+                        .max_by_key(|(l, _)| self.within[l.0].len())
+                        .map(|(l, _)| l.0)
+                })
+                .collect();
+            let families: Vec<(usize, Option<Family>, &str)> = legs
+                .iter()
+                .zip(&stands)
+                .map(|(&(s, r), &st)| {
+                    let family = if st {
+                        Some(Family::Leg)
+                    } else if arms.contains(&s) {
+                        Some(Family::Arm)
+                    } else {
+                        None
+                    };
+                    (s, family, side(&r))
+                })
+                .collect();
+            for (s, family, lr) in families {
+                if let Some(family) = family {
+                    self.chain(s, family, lr);
+                }
+            }
+        } else {
+            self.limbs_from_the_front(&mut legs, centre);
+        }
+        for &(s, r) in &ears {
+            let lr = self.side(r.pivot).unwrap_or("L");
+            self.chain(s, Family::Ear, lr);
+        }
+    }
+
+    /// Names limbs that all stand (or none does) in pairs from the front: arms (forelegs)
+    /// and legs, or numbered legs from three pairs on; with two pairs, one pointing down
+    /// and one not, legs and arms.
+    fn limbs_from_the_front(&mut self, legs: &mut [(usize, Reach)], centre: DVec3) {
+        let frame = self.frame;
         let along = |r: &Reach| (r.pivot - centre).dot(frame.front);
         legs.sort_by(|a, b| along(&b.1).total_cmp(&along(&a.1)));
         let pairs = legs.len().div_ceil(2);
@@ -507,10 +577,6 @@ impl Naming<'_> {
                 Family::Arm
             };
             self.chain(s, family, lr);
-        }
-        for &(s, r) in &ears {
-            let lr = self.side(r.pivot).unwrap_or("L");
-            self.chain(s, Family::Ear, lr);
         }
     }
 

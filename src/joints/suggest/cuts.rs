@@ -462,7 +462,10 @@ impl Profile {
             // a foot whose rings the bend distorts is no narrowing.)
             let narrows = |v: &[f64]| {
                 let here = v[b];
-                let before = v[..b].iter().copied().fold(0.0, f64::max);
+                let before = v[b.saturating_sub(6)..b]
+                    .iter()
+                    .copied()
+                    .fold(0.0, f64::max);
                 let after = v[b + 1..].iter().copied().fold(0.0, f64::max);
                 let soon = v[b + 1..(b + 7).min(bins)]
                     .iter()
@@ -495,7 +498,7 @@ impl Profile {
         // Where the axis bends (a bent knee, an ankle, a hock): the sharpest turn over
         // three bins either side, if it turns by at least BEND.
         let turn = |b: usize| {
-            let w = 3;
+            let w = 6;
             if b < w || b + w >= bins {
                 return 0.0;
             }

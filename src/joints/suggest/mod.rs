@@ -26,8 +26,9 @@
 //!    the body with two or more limbs of its own, each at most `SLENDER` of its width (a
 //!    head with ears and horns, a hand with fingers), is cut at its base too (`HEAD`), if
 //!    that base is a clear narrowing (`NARROW`: a neck, not a waist as wide as the hips).
-//!    Inside a part, cuts go where the medial radius or the ring's size narrows between
-//!    wider parts and widens again soon (`DIP`: an elbow, a knee, a neck); where the axis
+//!    Inside a part, cuts go where the medial radius or the ring's size narrows below the
+//!    wider parts within three radii on either side (`DIP`: an elbow, a knee, a neck, not
+//!    the wobble of a coarse mesh's rings); where the axis, over three radii either side,
 //!    bends (`BEND`: a bent knee, an ankle, a hock); where a limb widens into an extremity
 //!    that limbs grow from (a wrist); along a digit (a tip among four or more of one
 //!    extremity) at 45 % and 72 % of its length; and halfway, in metres, along a limb's
@@ -41,7 +42,9 @@
 //!    left, and names by role: `neck`, `head`, `arm.L`, `forearm.L`, `hand.L`, `thumb.L`…,
 //!    `leg.R`, `shin.R`, `foot.R`, `tail`, `ear.L`; a cut no role fits keeps its place in
 //!    the tree (`joint 2.1`). See `anatomy`. A left and a right cut that nearly mirror
-//!    each other (`PAIRED`) are made to mirror each other exactly.
+//!    each other (`PAIRED`) are made to mirror each other exactly: at their mean, or, where
+//!    that leaves a side empty, one as the other's image; a pair that cannot keeps its
+//!    places, and the others are still mirrored.
 //!
 //! `puppet bench suggest` scores it against the labelled characters of
 //! `tests/data/characters` (`labels`).

@@ -117,22 +117,54 @@ pub fn suggest(
             cut.section = section.clone();
         }
     }
-    let mirrored = mirror_pairs(&cuts, &frame, mesh);
-    // (Kept only if the mirrored cuts still apply, each leaving both sides non-empty.)
-    let mut check = Joints::with_mesh(&skeleton.points, &mesh.triangles, &hosts, root);
-    if mirrored != cuts && check.add_cuts(mirrored.iter().cloned()).is_ok() {
-        cuts = mirrored;
+    // Left and right mirror each other where they nearly do: at their mean; where that
+    // leaves a side empty, the right as the left's image, or the left as the right's; else
+    // each keeps its own place. (A cut that fails was moved, or a moved cut before it moved
+    // its section: the nearest moved one tries its pair's next way.)
+    let pairs = mirror_pairs(&cuts, &frame, mesh);
+    let mut way = vec![0usize; pairs.len()];
+    loop {
+        let mut trial = cuts.clone();
+        for (p, pair) in pairs.iter().enumerate() {
+            if let Some((a, b)) = pair.ways.get(way[p]) {
+                trial[pair.left] = a.clone();
+                trial[pair.right] = b.clone();
+            }
+        }
+        if trial == cuts {
+            break;
+        }
+        let mut check = Joints::with_mesh(&skeleton.points, &mesh.triangles, &hosts, root);
+        let Some(bad) = trial.iter().position(|c| check.add_cut(c.clone()).is_err()) else {
+            cuts = trial;
+            break;
+        };
+        let Some(p) = (0..=bad)
+            .rev()
+            .filter(|&k| trial[k] != cuts[k])
+            .find_map(|k| pairs.iter().position(|q| q.left == k || q.right == k))
+        else {
+            break;
+        };
+        way[p] += 1;
     }
     (cuts, frame)
 }
 
-/// Left and right mirror each other: each pair of cuts named alike but for `L` and `R`
-/// whose pivots already lie within [`PAIRED`] of the mesh's size of each other's mirror
-/// image is moved to the mean of the one and the other's mirror image.
-fn mirror_pairs(cuts: &[Cut], frame: &Frame, mesh: &Mesh) -> Vec<Cut> {
-    let mut out = cuts.to_vec();
+/// A left and a right cut that nearly mirror each other, and the ways to make them mirror
+/// each other exactly, in order of preference.
+struct Pair {
+    left: usize,
+    right: usize,
+    ways: Vec<(Cut, Cut)>,
+}
+
+/// The pairs of cuts named alike but for `L` and `R` whose pivots already lie within
+/// [`PAIRED`] of the mesh's size of each other's mirror image; each can be moved to the
+/// mean of the one and the other's image, or one to the other's image.
+fn mirror_pairs(cuts: &[Cut], frame: &Frame, mesh: &Mesh) -> Vec<Pair> {
     let Some((n, o)) = frame.mirror else {
-        return out;
+        return Vec::new();
     };
     let point = |p: DVec3| p - n * 2.0 * (p.dot(n) - o);
     let vector = |v: DVec3| v - n * 2.0 * v.dot(n);
@@ -142,6 +174,26 @@ fn mirror_pairs(cuts: &[Cut], frame: &Frame, mesh: &Mesh) -> Vec<Cut> {
         .enumerate()
         .map(|(k, c)| (c.name.as_str(), k))
         .collect();
+    // `a` moved to (point, normal, pivot), and `b` to its image.
+    let placed = |a: &Cut, b: &Cut, at: DVec3, normal: DVec3, pivot: DVec3| {
+        (
+            Cut {
+                point: at,
+                normal,
+                pivot: Some(pivot),
+                ..a.clone()
+            }
+            .rounded(),
+            Cut {
+                point: point(at),
+                normal: vector(normal),
+                pivot: Some(point(pivot)),
+                ..b.clone()
+            }
+            .rounded(),
+        )
+    };
+    let mut out = Vec::new();
     for (i, a) in cuts.iter().enumerate() {
         if !a.name.split('.').any(|w| w == "L") {
             continue;
@@ -157,23 +209,20 @@ fn mirror_pairs(cuts: &[Cut], frame: &Frame, mesh: &Mesh) -> Vec<Cut> {
         if pa.distance(point(pb)) > PAIRED * size {
             continue;
         }
-        let pivot = 0.5 * (pa + point(pb));
-        let at = 0.5 * (a.point + point(b.point));
-        let normal = (a.normal + vector(b.normal)).normalize_or(a.normal);
-        out[i] = Cut {
-            point: at,
-            normal,
-            pivot: Some(pivot),
-            ..a.clone()
-        }
-        .rounded();
-        out[j] = Cut {
-            point: point(at),
-            normal: vector(normal),
-            pivot: Some(point(pivot)),
-            ..b.clone()
-        }
-        .rounded();
+        let mean = placed(
+            a,
+            b,
+            0.5 * (a.point + point(b.point)),
+            (a.normal + vector(b.normal)).normalize_or(a.normal),
+            0.5 * (pa + point(pb)),
+        );
+        let left = placed(a, b, a.point, a.normal, pa);
+        let (b2, a2) = placed(b, a, b.point, b.normal, pb);
+        out.push(Pair {
+            left: i,
+            right: j,
+            ways: vec![mean, left, (a2, b2)],
+        });
     }
     out
 }

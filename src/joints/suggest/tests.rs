@@ -99,9 +99,9 @@ fn a_clear_narrowing_is_cut_and_a_faint_one_is_not() {
 #[test]
 fn an_extremity_is_cut_where_it_widens_and_a_digit_at_its_two_joints() {
     // A forearm widening into a hand over its last third (short of a long stretch).
-    let d: Vec<f64> = (0..20).map(|b| if b < 14 { 1.0 } else { 1.5 }).collect();
+    let d: Vec<f64> = (0..16).map(|b| if b < 11 { 1.0 } else { 1.5 }).collect();
     let wrist = profile(&d).cut_bins(true, true, false);
-    assert_eq!(wrist, vec![10], "the narrowest ring of its last half");
+    assert_eq!(wrist, vec![8], "the narrowest ring of its last half");
     assert!(
         profile(&d).cut_bins(true, false, false).is_empty(),
         "no extremity, no wrist"
