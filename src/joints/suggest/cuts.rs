@@ -496,9 +496,10 @@ impl Profile {
             }
         }
         // Where the axis bends (a bent knee, an ankle, a hock): the sharpest turn over
-        // three bins either side, if it turns by at least BEND.
+        // three radii either side, if it turns by at least BEND, and no other cut within
+        // those three radii (the same joint, a narrowing at an ankle).
+        let w = 6;
         let turn = |b: usize| {
-            let w = 6;
             if b < w || b + w >= bins {
                 return 0.0;
             }
@@ -510,7 +511,8 @@ impl Profile {
         // within three of the tip, where it rounds.)
         for b in 5..bins.saturating_sub(5) {
             let t = turn(b);
-            if t >= BEND && t >= turn(b - 1) && t >= turn(b + 1) && free(&at, b) {
+            let alone = at.iter().all(|&c| c.abs_diff(b) >= w);
+            if t >= BEND && t >= turn(b - 1) && t >= turn(b + 1) && free(&at, b) && alone {
                 at.push(b);
             }
         }
@@ -524,8 +526,9 @@ impl Profile {
                 }
             }
         }
-        // A long stretch with no joint (an arm whose elbow does not narrow) bends in the
-        // middle.
+        // A long first stretch, from the base to the first joint (an upper arm whose elbow
+        // neither narrows nor bends), bends in the middle; later stretches are between
+        // joints already found (a shin between a knee and an ankle).
         // (A digit's two joints stand in for this, unless something else cut it.)
         at.sort_unstable();
         if !digit || !at.is_empty() {
@@ -539,7 +542,7 @@ impl Profile {
             for b in 1..bins {
                 along[b] = along[b - 1] + self.centre[b].distance(self.centre[b - 1]);
             }
-            for w in ends.windows(2) {
+            for w in ends.windows(2).take(1) {
                 let (a, b) = (w[0], w[1]);
                 if ((b - a) as f64 * self.step) >= LONG {
                     let half = 0.5 * (along[a] + along[b.min(bins - 1)]);

@@ -26,13 +26,15 @@
 //!    the body with two or more limbs of its own, each at most `SLENDER` of its width (a
 //!    head with ears and horns, a hand with fingers), is cut at its base too (`HEAD`), if
 //!    that base is a clear narrowing (`NARROW`: a neck, not a waist as wide as the hips).
-//!    Inside a part, cuts go where the medial radius or the ring's size narrows below the
-//!    wider parts within three radii on either side (`DIP`: an elbow, a knee, a neck, not
-//!    the wobble of a coarse mesh's rings); where the axis, over three radii either side,
-//!    bends (`BEND`: a bent knee, an ankle, a hock); where a limb widens into an extremity
-//!    that limbs grow from (a wrist); along a digit (a tip among four or more of one
-//!    extremity) at 45 % and 72 % of its length; and halfway, in metres, along a limb's
-//!    stretch longer than `LONG` radii without a joint (an elbow that does not narrow).
+//!    Inside a part, cuts go where the medial radius or the ring's size narrows between
+//!    wider parts and widens again soon (`DIP`: an elbow, a knee, a neck, not the wobble of
+//!    a coarse mesh's rings); where the axis, over three radii either side, bends (`BEND`:
+//!    a bent knee, an ankle, a hock; not within those three radii of another cut); where a
+//!    limb widens into an extremity that limbs grow from (a wrist); along a digit (a tip
+//!    among four or more of one extremity) at 45 % and 72 % of its length; and halfway, in
+//!    metres, along a limb's first stretch, from its base to its first joint, when that is
+//!    longer than `LONG` radii (an elbow or a knee that neither narrows nor bends; a shin
+//!    between a knee and an ankle already found is not cut again).
 //! 4. **Sections.** Each cut is a connected plane through the ring's centre, across the
 //!    limb's axis there, its pivot on the axis; cuts apply parent-first, and one that would
 //!    leave a section of fewer than `SMALLEST` of the vertices, or whose plane takes more

@@ -27,15 +27,15 @@ pub(super) const SMALL: f64 = 0.025;
 /// as wide as the hips.
 pub(super) const NARROW: f64 = 0.88;
 /// A narrowing is a joint when the radius dips by at least this share below the thinner of
-/// the thicker parts within three radii on either side (and an extremity is that much
-/// wider than its wrist).
+/// the thicker parts on either side (and an extremity is that much wider than its wrist).
 pub(super) const DIP: f64 = 0.12;
 /// A limb whose axis turns by at least this many degrees (over three radii) bends there.
 pub(super) const BEND: f64 = 40.0;
 /// A digit (a tip among several that grow from one extremity) at least this many of its
 /// radii long gets its two joints.
 pub(super) const DIGIT: f64 = 6.0;
-/// A stretch of a limb this many of its radii long with no joint bends in the middle.
+/// A limb's first stretch (from its base to its first joint) this many of its radii long
+/// bends in the middle.
 pub(super) const LONG: f64 = 8.0;
 /// A part as thick as the body with limbs of its own turns at its base when it reaches
 /// this many radii out.

@@ -71,6 +71,11 @@ fn a_tube_of_one_width_is_cut_only_where_it_is_long() {
     assert_eq!(cuts.len(), 1, "{cuts:?}");
     let short = profile(&vec![1.0; (2.0 * LONG) as usize - 4]).cut_bins(true, false, false);
     assert!(short.is_empty(), "{short:?}");
+    // Past a first joint (a knee that narrows), however long the shin, no second cut.
+    let d: Vec<f64> = (0..bins + 20)
+        .map(|b| if b == 8 { 1.0 - 2.0 * DIP } else { 1.0 })
+        .collect();
+    assert_eq!(profile(&d).cut_bins(true, false, false), vec![8]);
 }
 
 #[test]
