@@ -252,6 +252,14 @@ fn limbs_are_named_by_role_and_a_z_up_horse_is_found_standing() {
             "arm.{side} above leg.{side}"
         );
     }
+    // The teddy's head is as thick as its body, so it is part of the body's core: it still
+    // turns, at the neck between them, and its ears go with it.
+    let (_, teddy) = labelled("teddy");
+    let head = teddy.joints.find("head").expect("the teddy's head");
+    let s = teddy.joints.sections();
+    assert!((0.55..0.68).contains(&s[head].pivot.y), "{}", s[head].pivot);
+    let ear = teddy.joints.find("ear.L").unwrap();
+    assert_eq!(s[ear].parent, Some(head));
     // The hand on its own: its fingers by name, the thumb the one turned from the others.
     let (_, hand) = labelled("hand");
     let n = names(&hand);

@@ -94,6 +94,18 @@ impl Tree<'_> {
             root,
         };
         self.walk(root, None, &shape, &mut out);
+        // A neck across the core: first, and what hangs from the core past it hangs
+        // from it.
+        if let Some(neck) = self.trunk_cut() {
+            for limb in &mut out {
+                limb.parent = match limb.parent {
+                    Some(p) => Some(p + 1),
+                    None if (limb.point - neck.point).dot(neck.normal) > 0.0 => Some(0),
+                    None => None,
+                };
+            }
+            out.insert(0, neck);
+        }
         out
     }
 

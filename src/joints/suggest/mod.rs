@@ -35,6 +35,9 @@
 //!    metres, along a limb's first stretch, from its base to its first joint, when that is
 //!    longer than `LONG` radii (an elbow or a knee that neither narrows nor bends; a shin
 //!    between a knee and an ankle already found is not cut again).
+//!    The core itself is cut only at a clear narrowing along its long axis (`NARROW`): a
+//!    head as thick as the body it sits on (a teddy's) is part of the core, and turns at
+//!    its neck, with what hangs from it past the neck.
 //! 4. **Sections.** Each cut is a connected plane through the ring's centre, across the
 //!    limb's axis there, its pivot on the axis; cuts apply parent-first, and one that would
 //!    leave a section of fewer than `SMALLEST` of the vertices, or whose plane takes more
@@ -56,6 +59,7 @@
 //! * `graph`: the mesh's edges in local radii, shortest paths;
 //! * `union_find`: the sweep's sets;
 //! * `tree`: the root, the core, `g` and the join tree (steps 1–2);
+//! * `trunk`: the cut across the core at a neck (step 3);
 //! * `cuts`: which segments are limbs and where they are cut (step 3);
 //! * `sections`: numbering and applying the cuts (step 4);
 //! * `anatomy`: the mirror plane, up, front and left, and the names by role (step 5);
@@ -68,6 +72,7 @@ pub mod labels;
 mod rules;
 mod sections;
 mod tree;
+mod trunk;
 mod union_find;
 
 #[cfg(test)]
