@@ -215,7 +215,7 @@ fn the_labelled_set_scores_as_benchmarks_says() {
     }
     let recall = found as f64 / required as f64;
     let share = spurious as f64 / cuts as f64;
-    assert!(recall >= 0.75, "recall {found}/{required}");
+    assert!(recall >= 0.77, "recall {found}/{required}");
     assert!(share <= 0.13, "spurious {spurious}/{cuts}");
 }
 
@@ -354,4 +354,31 @@ fn left_and_right_cuts_mirror_each_other() {
         }
     }
     assert!(mirrored >= 6, "{mirrored} pairs mirrored");
+}
+
+/// A joint found on one side only (the robot's rings wobble, so one elbow narrows clearly
+/// and the other does not) is copied to the other: every cut off the mirror plane has a cut
+/// near its mirror image.
+#[test]
+fn a_joint_found_on_one_side_is_copied_to_the_other() {
+    for name in ["robot", "teddy", "dog"] {
+        let (_, p) = labelled(name);
+        let (n, o) = p.frame().unwrap().mirror.expect("a mirror plane");
+        let size = p.mesh.longest_side();
+        let image = |q: glam::DVec3| q - n * 2.0 * (q.dot(n) - o);
+        let pivots = p.joints.cut_pivots();
+        for (cut, at) in &pivots {
+            if (at.dot(n) - o).abs() < 0.05 * size {
+                continue;
+            }
+            let near = pivots
+                .iter()
+                .map(|(_, q)| q.distance(image(*at)))
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                near <= 0.05 * size,
+                "{name}: {cut} has no mirror image ({near})"
+            );
+        }
+    }
 }

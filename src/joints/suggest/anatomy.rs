@@ -263,9 +263,14 @@ impl Reach {
     }
 }
 
-/// The frame of a mesh whose root has `limbs` (see the module docs); `up` when given.
-pub fn frame(positions: &[DVec3], limbs: &[Reach], up: Option<DVec3>) -> Frame {
-    let mirror = mirror_plane(positions);
+/// The frame of a mesh with the mirror plane `mirror` ([`mirror_plane`]) whose root has
+/// `limbs` (see the module docs); `up` when given.
+pub fn frame(
+    positions: &[DVec3],
+    mirror: Option<(DVec3, f64)>,
+    limbs: &[Reach],
+    up: Option<DVec3>,
+) -> Frame {
     let size = crate::mesh::longest_side(positions);
     let axes = [
         DVec3::X,
@@ -351,12 +356,13 @@ pub fn frame(positions: &[DVec3], limbs: &[Reach], up: Option<DVec3>) -> Frame {
 
 /// Role names for the sections of `joints` (index 0 is the root and keeps its name), in
 /// the frame found for them; `None` where no role fits. Also returns the frame. `radius`
-/// is each vertex's skeletal distance.
+/// is each vertex's skeletal distance, `mirror` the mesh's mirror plane ([`mirror_plane`]).
 pub fn roles(
     mesh: &Mesh,
     radius: &[f64],
     joints: &Joints,
     up: Option<DVec3>,
+    mirror: Option<(DVec3, f64)>,
 ) -> (Vec<Option<String>>, Frame) {
     let sections = joints.sections();
     let n = sections.len();
@@ -390,7 +396,7 @@ pub fn roles(
         .map(|&s| (s, naming.reach(s)))
         .collect();
     let reaches: Vec<Reach> = limbs.iter().map(|l| l.1).collect();
-    naming.frame = frame(&mesh.positions, &reaches, up);
+    naming.frame = frame(&mesh.positions, mirror, &reaches, up);
     naming.root(&limbs);
     (naming.names, naming.frame)
 }
@@ -820,12 +826,15 @@ mod tests {
             end: 0.1,
         };
         let limbs = [leg(0.5, 0.2), leg(1.5, 0.2), leg(0.5, 1.8), leg(1.5, 1.8)];
-        let f = frame(&plane, &limbs, None);
+        let f = frame(&plane, mirror_plane(&plane), &limbs, None);
         assert_eq!(f.up, DVec3::Z);
         assert!(f.front.dot(DVec3::Y).abs() > 0.99);
         assert!((f.left - f.up.cross(f.front)).length() < 1e-12);
         // Given, up is kept.
-        assert_eq!(frame(&plane, &limbs, Some(DVec3::Y)).up, DVec3::Y);
+        assert_eq!(
+            frame(&plane, mirror_plane(&plane), &limbs, Some(DVec3::Y)).up,
+            DVec3::Y
+        );
         // Sprawled legs say little: +y stays.
         let sprawl = |x: f64, y: f64, s: f64| Reach {
             pivot: DVec3::new(x, y, 0.0),
@@ -833,7 +842,10 @@ mod tests {
             end: 0.1,
         };
         let limbs = [sprawl(0.5, 0.2, -1.0), sprawl(1.5, 0.2, 1.0)];
-        assert_eq!(frame(&plane, &limbs, None).up, DVec3::Y);
+        assert_eq!(
+            frame(&plane, mirror_plane(&plane), &limbs, None).up,
+            DVec3::Y
+        );
     }
 
     #[test]

@@ -3,14 +3,16 @@
 //! into an extremity, along a digit, in the middle of a long stretch.
 
 use super::rules::{
-    BASE, BEND, DIGIT, DIP, ELONGATED, HEAD, LONG, NARROW, PROTRUDES, SLENDER, SMALL, THINNER,
+    BASE, BEND, DIGIT, DIP, ELONGATED, HEAD, LONG, MATCHED, NARROW, PROTRUDES, SLENDER, SMALL,
+    THINNER,
 };
 use super::tree::Tree;
 use glam::DVec3;
 
 impl Tree<'_> {
-    /// Every cut's place, parent-first: `parent` indexes this list.
-    pub(super) fn limbs(&self) -> Vec<Limb> {
+    /// Every cut's place, parent-first: `parent` indexes this list. `mirror`: the mesh's
+    /// mirror plane (unit normal, offset), if it has one.
+    pub(super) fn limbs(&self, mirror: Option<(DVec3, f64)>) -> Vec<Limb> {
         let mut out = Vec::new();
         if self.segments.is_empty() {
             return out;
@@ -106,7 +108,51 @@ impl Tree<'_> {
             }
             out.insert(0, neck);
         }
+        if let Some(mirror) = mirror {
+            self.copy_to_the_other_side(&mut out, mirror);
+        }
         out
+    }
+
+    /// A cut off the mirror plane `(n, o)` with no cut near its mirror image, on a limb
+    /// whose mirror image is cut (or on the body), is copied there: a knee found on one leg
+    /// only.
+    fn copy_to_the_other_side(&self, out: &mut Vec<Limb>, (n, o): (DVec3, f64)) {
+        let image = |p: DVec3| p - n * 2.0 * (p.dot(n) - o);
+        let size = self.size_of_mesh;
+        let partner: Vec<Option<usize>> = out
+            .iter()
+            .map(|l| {
+                let want = image(l.pivot);
+                out.iter()
+                    .enumerate()
+                    .map(|(j, m)| (j, m.pivot.distance(want)))
+                    .filter(|&(_, d)| d <= MATCHED * size)
+                    .min_by(|a, b| a.1.total_cmp(&b.1))
+                    .map(|(j, _)| j)
+            })
+            .collect();
+        let mut copies = Vec::new();
+        for (i, l) in out.iter().enumerate() {
+            if partner[i].is_some() || (l.pivot.dot(n) - o).abs() < MATCHED * size {
+                continue;
+            }
+            let parent = match l.parent {
+                Some(p) => match partner[p] {
+                    Some(q) if q != p => Some(q),
+                    _ => continue,
+                },
+                None => None,
+            };
+            copies.push(Limb {
+                parent,
+                point: image(l.point),
+                normal: l.normal - n * 2.0 * l.normal.dot(n),
+                pivot: image(l.pivot),
+                ..*l
+            });
+        }
+        out.extend(copies);
     }
 
     /// Visits segment `k` (whose limb, the nearest cut below it, is `limb`), adding the

@@ -45,5 +45,8 @@ pub(super) const SLENDER: f64 = 0.5;
 /// A left and a right cut whose pivots lie within this share of the mesh's size of each
 /// other's mirror image are made to mirror each other exactly.
 pub(super) const PAIRED: f64 = 0.02;
+/// A cut with no cut within this share of the mesh's size of its mirror image is copied
+/// there (on a limb whose mirror image is cut).
+pub(super) const MATCHED: f64 = 0.05;
 /// Sections smaller than this share of the vertices (or 12 vertices) are not suggested.
 pub(super) const SMALLEST: f64 = 0.002;

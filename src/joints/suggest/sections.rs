@@ -21,6 +21,9 @@ pub fn suggest(
     root: &str,
     up: Option<DVec3>,
 ) -> (Vec<Cut>, Frame) {
+    // The mirror plane, once: the cuts copy across it, and the names take their sides
+    // from it.
+    let mirror = super::anatomy::mirror_plane(&mesh.positions);
     // Riders have no skeleton: the limbs are the body's, and riders go with their hosts.
     let (limbs, hosts) = if skeleton.riders > 0 {
         let parts = crate::mesh::Parts::of(mesh);
@@ -31,10 +34,10 @@ pub fn suggest(
             riders: 0,
             ..skeleton.clone()
         };
-        let limbs = Tree::new(&body, &body_skeleton).limbs();
+        let limbs = Tree::new(&body, &body_skeleton).limbs(mirror);
         (limbs, parts.hosts(&mesh.positions))
     } else {
-        (Tree::new(mesh, skeleton).limbs(), Vec::new())
+        (Tree::new(mesh, skeleton).limbs(mirror), Vec::new())
     };
     // Apply them in order; one that cannot apply (a side left empty) is dropped and what
     // hangs from it hangs from its parent instead.
@@ -99,7 +102,7 @@ pub fn suggest(
         }
     }
     // Names by role; a name taken twice, and a cut no role fits, keep their numbers.
-    let (roles, frame) = super::anatomy::roles(mesh, &skeleton.distance, &joints, up);
+    let (roles, frame) = super::anatomy::roles(mesh, &skeleton.distance, &joints, up, mirror);
     let mut renamed: HashMap<String, String> = HashMap::new();
     let mut taken: std::collections::HashSet<String> = Default::default();
     for (k, cut) in cuts.iter().enumerate() {
