@@ -158,3 +158,58 @@ fn collision_is_off_unless_a_rig_turns_it_on() {
         "a margin of half the model is refused"
     );
 }
+
+/// A section's volume change is measured against its rest volume, or 1 % of the whole
+/// mesh's when it is smaller (a small section's cone can be near zero): the tip of a finger,
+/// turned, is such a section.
+#[test]
+fn a_small_section_s_volume_is_measured_against_the_whole() {
+    use puppet::mesh::measure::cone_volume;
+    use puppet::puppet::press::{measure, Turn, SMALL_SECTION};
+    let hand = mesh("hand.obj");
+    static TIP: [Turn; 1] = [Turn {
+        point: glam::DVec3::new(0.03, 0.90, 0.06),
+        normal: glam::DVec3::new(0.099, 0.989, 0.113),
+        axis: glam::DVec3::X,
+        degrees: 60.0,
+    }];
+    let press = Press {
+        name: "fingertip",
+        mesh: "hand.obj",
+        turns: &TIP,
+    };
+    let posed = press.posed(&hand, colliding()).unwrap();
+    let p = &posed.puppet;
+    let (rest, triangles) = (&p.mesh.positions, &p.mesh.triangles);
+    let now: Vec<glam::DVec3> = (0..rest.len())
+        .map(|i| p.sim.positions().get(i).as_dvec3())
+        .collect();
+    let whole = cone_volume(
+        rest,
+        triangles,
+        &vec![true; triangles.len()],
+        glam::DVec3::ZERO,
+    );
+    let mut want = [f64::INFINITY, f64::NEG_INFINITY];
+    let mut small = false;
+    for (s, section) in p.joints.sections().iter().enumerate() {
+        let faces: Vec<bool> = triangles
+            .iter()
+            .map(|t| {
+                t.iter()
+                    .all(|&i| p.joints.section_of()[i as usize] as usize == s)
+            })
+            .collect();
+        let before = cone_volume(rest, triangles, &faces, section.pivot);
+        let after = cone_volume(&now, triangles, &faces, section.pivot);
+        small |= before.abs() < SMALL_SECTION * whole.abs();
+        let change = (after - before) / before.abs().max(SMALL_SECTION * whole.abs());
+        want = [want[0].min(change), want[1].max(change)];
+    }
+    assert!(small, "the fingertip is smaller than 1 % of the hand");
+    let got = measure(p).volume;
+    assert!(
+        (got[0] - want[0]).abs() < 1e-9 && (got[1] - want[1]).abs() < 1e-9,
+        "{got:?} against {want:?}"
+    );
+}

@@ -7,7 +7,8 @@
 //!   other sections, not 0; vertices inside at rest do not count), as the distance to the
 //!   nearest face of the other sections, in % of the diagonal;
 //! * each section's volume change (the cone volume of its faces from its pivot, which a
-//!   turn about the pivot does not change): the extremes.
+//!   turn about the pivot does not change), relative to that volume or to
+//!   [`SMALL_SECTION`] of the whole mesh's, whichever is larger: the extremes.
 
 use super::{BuildError, Puppet, RigFile};
 use crate::geom::intersect::new_crossings;
@@ -136,6 +137,10 @@ pub const PRESSES: [Press; 6] = [
         turns: &COW,
     },
 ];
+
+/// A section's volume change is measured against at least this share of the whole mesh's
+/// volume (a small section's cone volume can be near zero).
+pub const SMALL_SECTION: f64 = 0.01;
 
 /// What a settled press measured.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -316,16 +321,20 @@ pub fn measure(p: &Puppet) -> Pressed {
         }
     }
     let mut volume = [f64::INFINITY, f64::NEG_INFINITY];
+    // A small section's cone from a pivot outside it is near zero, and a ratio to it says
+    // nothing: a section is measured against at least SMALL_SECTION of the whole volume.
+    let whole = cone_volume(rest, triangles, &vec![true; triangles.len()], DVec3::ZERO).abs();
     for (s, section) in p.joints.sections().iter().enumerate() {
         let faces: Vec<bool> = triangles
             .iter()
             .map(|t| t.iter().all(|&i| usize::from(section_of[i as usize]) == s))
             .collect();
         let a = cone_volume(rest, triangles, &faces, section.pivot);
-        if a.abs() < 1e-12 {
+        let against = a.abs().max(SMALL_SECTION * whole);
+        if against < 1e-12 {
             continue;
         }
-        let change = cone_volume(&now, triangles, &faces, section.pivot) / a - 1.0;
+        let change = (cone_volume(&now, triangles, &faces, section.pivot) - a) / against;
         volume = [volume[0].min(change), volume[1].max(change)];
     }
     Pressed {
