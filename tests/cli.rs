@@ -346,26 +346,15 @@ fn bad_controls_are_one_line_before_the_window() {
 /// each character there.
 #[test]
 fn suggest_bench_draws_into_a_new_folder() {
+    let draw = |dir: &std::path::Path| {
+        let dir = dir.to_str().unwrap();
+        puppet(&["bench", "suggest", "--only", "bunny", "--images", dir])
+    };
     let dir = common::scratch("bench-images").join("new").join("folder");
-    let out = puppet(&[
-        "bench",
-        "suggest",
-        "--only",
-        "bunny",
-        "--images",
-        dir.to_str().unwrap(),
-    ]);
-    common::ok(&out);
-    assert!(dir.join("bunny.png").is_file());
+    common::ok(&draw(&dir));
     let file = dir.join("bunny.png");
-    let out = puppet(&[
-        "bench",
-        "suggest",
-        "--only",
-        "bunny",
-        "--images",
-        file.join("x").to_str().unwrap(),
-    ]);
+    assert!(file.is_file());
+    let out = draw(&file.join("x"));
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
