@@ -514,7 +514,7 @@ impl Profile {
             b >= first && b + 3 <= bins && at.iter().all(|&c| c.abs_diff(b) >= 3)
         };
         // Narrowings: a minimum of the skeletal distance or of the ring's size clearly below
-        // the thicker parts on either side.
+        // the thickest within three radii (six bins) before it and the thicker part after it.
         for b in 1..bins - 1 {
             // (The part past it widens again within three radii: the end of a taper into
             // a foot whose rings the bend distorts is no narrowing.)

@@ -26,9 +26,9 @@
 //!    the body with two or more limbs of its own, each at most `SLENDER` of its width (a
 //!    head with ears and horns, a hand with fingers), is cut at its base too (`HEAD`), if
 //!    that base is a clear narrowing (`NARROW`: a neck, not a waist as wide as the hips).
-//!    Inside a part, cuts go where the medial radius or the ring's size narrows between
-//!    wider parts and widens again soon (`DIP`: an elbow, a knee, a neck, not the wobble of
-//!    a coarse mesh's rings); where the axis, over three radii either side, bends (`BEND`:
+//!    Inside a part, cuts go where the medial radius or the ring's size narrows below the
+//!    widest within three radii before it and widens again soon (`DIP`: an elbow, a knee, a
+//!    neck, not the wobble of a coarse mesh's rings); where the axis, over three radii either side, bends (`BEND`:
 //!    a bent knee, an ankle, a hock; not within those three radii of another cut); where a
 //!    limb widens into an extremity that limbs grow from (a wrist); along a digit (a tip
 //!    among four or more of one extremity) at 45 % and 72 % of its length; and halfway, in

@@ -27,7 +27,8 @@ pub(super) const SMALL: f64 = 0.025;
 /// as wide as the hips.
 pub(super) const NARROW: f64 = 0.88;
 /// A narrowing is a joint when the radius dips by at least this share below the thinner of
-/// the thicker parts on either side (and an extremity is that much wider than its wrist).
+/// the thickest within three radii before it and the thicker part after it (and an
+/// extremity is that much wider than its wrist).
 pub(super) const DIP: f64 = 0.12;
 /// A limb whose axis turns by at least this many degrees (over three radii) bends there.
 pub(super) const BEND: f64 = 40.0;
