@@ -123,7 +123,9 @@ fn collision_cost_check_passes_and_fails_on_its_bound() {
     assert_eq!(out.status.code(), Some(0));
     let table = String::from_utf8_lossy(&out.stdout);
     assert!(
-        table.contains("| human legs crossed | on |") && table.lines().count() == 4,
+        table.contains("| human legs crossed | on |")
+            && table.contains("| human legs crossed | on, flesh 0.25 |")
+            && table.lines().count() == 5,
         "{table}"
     );
 }

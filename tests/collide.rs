@@ -104,6 +104,51 @@ fn a_fast_drag_does_not_tunnel() {
     assert!((back - (slow - 60.0)).abs() < 1.0, "{back}°");
 }
 
+/// Soft flesh: the cow's head turned into its flank and a leg crossed over the other dent
+/// the body (twice as deep as with hard flesh or more), the pressed part squashes no
+/// more, nothing crosses that did not with hard flesh, nothing lies inside, and the press
+/// still settles to sleep.
+#[test]
+fn soft_flesh_dents_the_body() {
+    let human = mesh("human.obj");
+    let spot = puppet::mesh::load(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/spot.obj"),
+    )
+    .unwrap()
+    .0;
+    let mut soft = colliding();
+    soft.world.flesh = 0.25;
+    for (name, mesh) in [("cow head", &spot), ("legs crossed", &human)] {
+        let p = press(name);
+        let hard = p.press(mesh, colliding()).unwrap();
+        let dented = p.press(mesh, soft).unwrap();
+        assert!(
+            dented.dent[0] >= 2.0 * hard.dent[0],
+            "{name}: {dented:?} against {hard:?}"
+        );
+        assert!(
+            dented.dent[1] <= hard.dent[1] + 1e-3,
+            "{name}: {dented:?} against {hard:?}"
+        );
+        assert!(
+            dented.crossing <= hard.crossing,
+            "{name}: {dented:?} against {hard:?}"
+        );
+        assert!(dented.deepest <= 0.05, "{name}: {dented:?}");
+    }
+    let posed = press("cow head").posed(&spot, soft).unwrap();
+    let mut puppet = posed.puppet;
+    let mut scratch = puppet::joints::PoseScratch::default();
+    let mut steps = 0;
+    while !puppet.sim.is_asleep() && steps < 1200 {
+        puppet
+            .sim
+            .step(puppet.joints.pose_into(&posed.local, &mut scratch));
+        steps += 1;
+    }
+    assert!(puppet.sim.is_asleep(), "{:?}", puppet.sim.tiles());
+}
+
 /// A press held still settles: every tile sleeps (a settled window costs nothing), and the
 /// contacts hold the surface where it was.
 #[test]
@@ -148,6 +193,20 @@ fn collision_is_off_unless_a_rig_turns_it_on() {
     .unwrap();
     assert!(on.params.world.collision);
     assert_eq!(on.params.world.collision_margin, 0.01);
+    assert_eq!(on.params.world.flesh, 0.0, "hard unless a rig says");
+    let soft = RigFile::parse(
+        "[params]\ncollision = true\nflesh = 0.3\n",
+        puppet::files::Format::Toml,
+        std::path::Path::new("test.rig.toml"),
+    )
+    .unwrap();
+    assert_eq!(soft.params.world.flesh, 0.3);
+    let too_soft = RigFile::parse(
+        "[params]\ncollision = true\nflesh = 2\n",
+        puppet::files::Format::Toml,
+        std::path::Path::new("test.rig.toml"),
+    );
+    assert!(too_soft.is_err_and(|e| e.to_string().contains("flesh")));
     let bad = RigFile::parse(
         "[params]\ncollision = true\ncollision_margin = 0.5\n",
         puppet::files::Format::Toml,

@@ -316,6 +316,7 @@ fn extreme_parameters_never_produce_nan() {
         let world = World {
             collision: u() < 0.5,
             collision_margin: [u() * 0.2 - 0.05, f32::NAN][(u() * 2.0) as usize % 2],
+            flesh: [u() * 1.5 - 0.25, f32::NAN][(u() * 2.0) as usize % 2],
             ..world
         };
         let params = Params {

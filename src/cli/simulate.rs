@@ -1,6 +1,6 @@
 //! `puppet simulate [MESH.obj] --rig RIG --anim ANIM [--frames N] [--fps F]
 //! [--out-dir DIR] [--out FINAL.obj] [--gravity G] [--floor H] [--friction F] [--collision]
-//! [--json]`:
+//! [--flesh F] [--json]`:
 //! plays an animation through the full simulation, headless.
 //!
 //! Frame `k` (1-based) shows time `k / fps`. The simulation runs on its own fixed step (the
@@ -75,6 +75,10 @@ pub struct Args {
     /// medial balls of the sections nearer the root.
     #[arg(long)]
     pub collision: bool,
+    /// How far the flesh of a part nearer the root gives under a part pressed into it,
+    /// 0..0.5 of its medial radius (over the rig's `flesh`; turns collision on).
+    #[arg(long)]
+    pub flesh: Option<f32>,
     /// Print one JSON object instead of the text summary.
     #[arg(long)]
     pub json: bool,
@@ -213,9 +217,13 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     if args.collision {
         params.world.collision = true;
     }
+    if let Some(f) = args.flesh {
+        params.world.collision = true;
+        params.world.flesh = f;
+    }
     params
         .check()
-        .map_err(|e| anyhow::anyhow!("--gravity/--floor/--friction: {e}"))?;
+        .map_err(|e| anyhow::anyhow!("--gravity/--floor/--friction/--flesh: {e}"))?;
     puppet.sim.set_params(params);
     if args.suggest_joints {
         puppet

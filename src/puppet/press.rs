@@ -8,7 +8,11 @@
 //!   nearest face of the other sections, in % of the diagonal;
 //! * each section's volume change (the cone volume of its faces from its pivot, which a
 //!   turn about the pivot does not change), relative to that volume or to
-//!   [`SMALL_SECTION`] of the whole mesh's, whichever is larger: the extremes.
+//!   [`SMALL_SECTION`] of the whole mesh's, whichever is larger: the extremes;
+//! * the dents: how far a vertex of the body (the root section) and of a turned part lies
+//!   inside where its bones hold it (its target, along the target surface's inward
+//!   normal), in % of the diagonal: soft flesh dents the body, hard flesh squashes the
+//!   part.
 
 use super::{BuildError, Puppet, RigFile};
 use crate::geom::intersect::new_crossings;
@@ -163,6 +167,8 @@ pub struct Pressed {
     pub awake: [usize; 2],
     /// The smallest angle a part reached, in degrees (collision stops a part early).
     pub reached: f64,
+    /// The deepest dent of the body and of the turned parts, in % of the diagonal.
+    pub dent: [f64; 2],
 }
 
 impl Press {
@@ -320,6 +326,21 @@ pub fn measure(p: &Puppet) -> Pressed {
             deepest = deepest.max(nearest);
         }
     }
+    // Dents: how far inside its target a vertex lies, along the target surface's normal.
+    let targets: Vec<DVec3> = (0..rest.len())
+        .map(|i| p.sim.target(i).as_dvec3())
+        .collect();
+    let target_normals = mesh::vertex_normals(&Mesh {
+        positions: targets.clone(),
+        triangles: triangles.clone(),
+    })
+    .unwrap_or_default();
+    let mut dent = [0.0f64; 2];
+    for (v, (&x, &t)) in now.iter().zip(&targets).enumerate() {
+        let n = target_normals.get(v).copied().unwrap_or(DVec3::ZERO);
+        let part = usize::from(section_of[v] != 0);
+        dent[part] = dent[part].max((t - x).dot(n));
+    }
     let mut volume = [f64::INFINITY, f64::NEG_INFINITY];
     // A small section's cone from a pivot outside it is near zero, and a ratio to it says
     // nothing: a section is measured against at least SMALL_SECTION of the whole volume.
@@ -350,6 +371,7 @@ pub fn measure(p: &Puppet) -> Pressed {
             [awake, all]
         },
         reached: 0.0,
+        dent: dent.map(|d| 100.0 * d / diagonal),
     }
 }
 

@@ -11,8 +11,18 @@
 //!   the body, a finger to the palm; of two at one depth, the later), never to its own
 //!   section's, and never to a ball it was a neighbour of at rest ([`balls::neighbours`]):
 //!   at a joint the two sides touch at rest, and the band holds the fold.
-//! * **Broad phase.** The posed balls go into a uniform grid (rebuilt only in steps where a
-//!   section moved); a tile whose box meets no foreign ball is skipped whole.
+//! * **Soft flesh** (`flesh` > 0, a share of a ball's radius): the point sinks into the
+//!   balls it yields to by that share of their radii, and, the other way round, a point
+//!   of a section nearer the root is pushed in by the balls of the parts pressed into it,
+//!   grown by the same share (the pressing part bulges around its balls as it squashes):
+//!   an arm dents a belly instead of squashing against it. Every ball is then posed and
+//!   gridded, and every tile may be tested.
+//! * **Broad phase.** The posed balls go into uniform grids (one for the balls points
+//!   yield to, one for those that dent soft flesh; each rebuilt only in steps where one of
+//!   its sections moved). A tile of one section keeps the box of its points from its last
+//!   test, grown by how far they moved since: while that box meets no cell holding a ball
+//!   the tile's section meets, its points are not read. Otherwise a tile whose box meets
+//!   no such ball is skipped whole.
 //! * **Response.** A point inside a ball goes to its surface (plus the margin) along the
 //!   line from the centre; its motion into the ball is dropped and its sliding motion
 //!   keeps `1 − friction` (the floor's friction). It is a projection, so a limb posed deep
@@ -20,8 +30,8 @@
 //! * **No tunnelling.** A point tests the segment it moved along in the step, taken in the
 //!   frame of each ball (the ball's own motion subtracted): a point that crossed a ball in
 //!   one step is put back at the surface where it entered, however fast the drag.
-//! * **Sleeping.** A sleeping tile is tested only in a step where a section moved, and
-//!   wakes only when a contact moves one of its points; a settled pose with contacts
+//! * **Sleeping.** A sleeping tile is tested only in a step where a ball that may touch
+//!   it moved near its box, and wakes only when a contact moves one of its points; a settled pose with contacts
 //!   settles (the contact puts a point back where it was, so the tile's motion is zero).
 
 use super::layout::{Layout, Packed};
@@ -82,22 +92,30 @@ pub struct Colliders {
     slot_section: Vec<u16>,
     slot_radius: Vec<f32>,
     /// Per tile: a point of it yields to some ball (a tile of the root has none to yield
-    /// to, and is skipped).
+    /// to, and is skipped, unless the flesh gives).
     tile_yields: Vec<bool>,
+    /// The lowest and highest rank of a section with balls, and with points.
+    ranks: (u32, u32),
+    /// The lists below are chosen for flesh that gives (every ball may dent a point).
+    soft: bool,
+    /// The flesh's give the grid was built for: a ball reaches `1 + flesh` of its radius.
+    flesh: f32,
+    /// Per joint section, the box of its posed needed balls' reach (empty: none), and
+    /// whether they moved in this step.
+    boxes: Vec<(Vec3, Vec3)>,
+    moving: Vec<bool>,
+    /// Per tile, the box of its points when it was last tested (a sleeping tile's points
+    /// stay there): a sleeping tile far from every ball that moved is not read.
+    tile_box: Vec<Option<(Vec3, Vec3)>>,
     tile_section: Vec<Option<u16>>,
-    /// Balls too big for the grid (tested against every tile's box).
-    big: Vec<u32>,
-    /// The balls some point may yield to (of a section below the highest-ranked section
-    /// with points): only these are posed and gridded.
-    needed: Vec<u32>,
-    /// Per transform: a needed ball moves with it.
-    needed_transform: Vec<bool>,
+    /// The balls some point may meet, each set posed and gridded on its own (see
+    /// [`Colliders::choose`]): a set whose sections did not move keeps its grid.
+    sets: Vec<Set>,
     /// The centres as posed at the last and at this step.
     posed: Vec<Vec3>,
     before: Vec<Vec3>,
-    /// Grid cell size and the balls by cell.
+    /// Grid cell size.
     cell: f32,
-    grid: HashMap<[i32; 3], Vec<u32>, BuildHasherDefault<CellHasher>>,
     /// How far the balls that moved most moved in the last step.
     motion: f32,
     /// Per slot: a ball holds it (set when a step moves it out of one, kept while its
@@ -107,6 +125,20 @@ pub struct Colliders {
     stale: bool,
     /// Smallest radius kept (the sweep's threshold).
     smallest: f32,
+}
+
+/// A set of balls, posed and gridded together.
+#[derive(Clone, Debug, Default)]
+struct Set {
+    balls: Vec<u32>,
+    /// Per transform: a ball of the set moves with it.
+    transforms: Vec<bool>,
+    /// Balls too big for the grid (tested against every tile's box).
+    big: Vec<u32>,
+    /// The others by grid cell.
+    grid: HashMap<[i32; 3], Vec<u32>, BuildHasherDefault<CellHasher>>,
+    /// Posed again in the last step (its `before` is not its `posed`).
+    moved: bool,
 }
 
 /// What the contact stage needs of the step.
@@ -121,6 +153,12 @@ pub struct Stage<'a> {
     pub margin: f32,
     /// Share of sliding motion a touching point keeps.
     pub keep: f32,
+    /// How far the flesh of a part nearer the root gives under a part pressed into it,
+    /// as a share of its balls' radii (0: hard, as the medial balls are).
+    pub flesh: f32,
+    /// Per tile, the largest squared distance a point of it moved in this step's
+    /// integration (awake tiles).
+    pub tile_motion: &'a [f32],
     /// The floor's height, when there is one: a point a ball pushed is then held above
     /// it by the same response (the floor wins, as in the kernel).
     pub floor: Option<f32>,
@@ -192,37 +230,61 @@ impl Colliders {
             .map(|&s| self.rank_of(s))
             .max()
             .unwrap_or(0);
-        self.needed = (0..self.len() as u32)
-            .filter(|&b| self.rank_of(self.section[b as usize]) < highest)
+        self.ranks = (lowest, highest);
+        self.tile_section = (0..layout.tiles())
+            .map(|t| {
+                let mut r = layout.tile_range(t);
+                let first = self.slot_section[r.start];
+                r.all(|k| self.slot_section[k] == first).then_some(first)
+            })
             .collect();
+        self.choose(layout, false);
+    }
+
+    /// The balls some point may meet and the tiles that test any: the balls of sections
+    /// below the highest-ranked section with points (they are yielded to) and the tiles
+    /// with a point above the lowest-ranked section with balls; with soft flesh (`soft`)
+    /// also, as a second set, the highest-ranked section's balls (they dent what lies
+    /// below), and every tile. The sets do not share a ball: the body's balls stay still
+    /// while a limb swings, and their grid is kept while the limb's is built again.
+    fn choose(&mut self, layout: &Layout, soft: bool) {
+        let (lowest, highest) = self.ranks;
+        self.soft = soft;
         let transforms = self
             .transform
             .iter()
             .map(|&t| usize::from(t) + 1)
             .max()
             .unwrap_or(0);
-        self.needed_transform = vec![false; transforms];
-        for &b in &self.needed {
-            self.needed_transform[usize::from(self.transform[b as usize])] = true;
+        let set = |keep: &dyn Fn(u32) -> bool| {
+            let balls: Vec<u32> = (0..self.len() as u32)
+                .filter(|&b| keep(self.rank_of(self.section[b as usize])))
+                .collect();
+            let mut moves = vec![false; transforms];
+            for &b in &balls {
+                moves[usize::from(self.transform[b as usize])] = true;
+            }
+            Set {
+                big: balls
+                    .iter()
+                    .copied()
+                    .filter(|&b| self.radius[b as usize] > 2.0 * self.cell)
+                    .collect(),
+                balls,
+                transforms: moves,
+                ..Set::default()
+            }
+        };
+        let mut sets = vec![set(&|r| r < highest)];
+        if soft {
+            sets.push(set(&|r| r >= highest && r > lowest));
         }
-        self.big = self
-            .needed
-            .iter()
-            .copied()
-            .filter(|&b| self.radius[b as usize] > 2.0 * self.cell)
-            .collect();
+        self.sets = sets;
         self.tile_yields = (0..layout.tiles())
             .map(|t| {
-                layout
+                soft || layout
                     .tile_range(t)
                     .any(|k| self.rank_of(self.slot_section[k]) > lowest)
-            })
-            .collect();
-        self.tile_section = (0..layout.tiles())
-            .map(|t| {
-                let mut r = layout.tile_range(t);
-                let first = self.slot_section[r.start];
-                r.all(|k| self.slot_section[k] == first).then_some(first)
             })
             .collect();
         self.stale = true;
@@ -261,45 +323,111 @@ impl Colliders {
         awake: &[bool],
     ) -> Vec<(usize, f32)> {
         let layout = stage.layout;
-        // A ball some point yields to moved: sleeping tiles are tested too.
-        let moved = stage
-            .changed
-            .iter()
-            .zip(&self.needed_transform)
-            .any(|(&c, &n)| c && n);
-        self.held.resize(layout.len(), false);
-        if moved || self.stale {
-            self.pose(stage);
+        if stage.flesh != self.flesh {
+            self.flesh = stage.flesh;
+            self.stale = true;
         }
+        if (stage.flesh > 0.0) != self.soft {
+            self.choose(layout, stage.flesh > 0.0);
+        }
+        self.held.resize(layout.len(), false);
+        // A ball some point meets moved: sleeping tiles are tested too.
+        let moved = self.pose(stage);
         if self.is_empty() {
             return Vec::new();
         }
         let tile = layout.tile;
+        self.tile_box.resize(layout.tiles(), None);
         let mut held = std::mem::take(&mut self.held);
+        let mut boxes = std::mem::take(&mut self.tile_box);
         let this = &*self;
         let touched: Vec<(usize, f32)> = cur
             .0
             .par_chunks_mut(tile)
             .zip(prev.0.par_chunks_mut(tile))
             .zip(held.par_chunks_mut(tile))
+            .zip(boxes.par_iter_mut())
             .enumerate()
-            .map_init(Buffers::default, |buffers, (t, ((cur, prev), held))| {
-                let awake = awake.get(t).copied().unwrap_or(true);
-                if (!awake && !moved) || !this.tile_yields.get(t).copied().unwrap_or(true) {
-                    return None;
-                }
-                this.tile(stage, t, cur, prev, held, buffers)
-                    .map(|m| (t, m))
-            })
+            .map_init(
+                Buffers::default,
+                |buffers, (t, (((cur, prev), held), bx))| {
+                    let awake = awake.get(t).copied().unwrap_or(true);
+                    if !this.tile_yields.get(t).copied().unwrap_or(true) || (!awake && !moved) {
+                        return None;
+                    }
+                    if awake {
+                        let m = stage.tile_motion.get(t).map_or(f32::INFINITY, |m| m.sqrt());
+                        *bx = bx.map(|(lo, hi)| (lo - m, hi + m));
+                    }
+                    if !this.may_meet(stage, t, *bx, !awake) {
+                        held.fill(false);
+                        return None;
+                    }
+                    this.tile(stage, t, cur, prev, held, bx, buffers)
+                        .map(|m| (t, m))
+                },
+            )
             .flatten()
             .collect();
         self.held = held;
+        self.tile_box = boxes;
         touched
+    }
+
+    /// Whether a ball (one that moved in this step, when `moved`) may meet tile `t`, whose
+    /// points lie in `bx` (unknown: it may), without reading its points: most of the body
+    /// lies far from the parts that touch it.
+    fn may_meet(&self, stage: &Stage, t: usize, bx: Option<(Vec3, Vec3)>, moved: bool) -> bool {
+        let (Some(own), Some((lo, hi))) = (self.tile_section[t], bx) else {
+            return true;
+        };
+        let grow = stage.margin + self.motion;
+        let (lo, hi) = (lo - grow, hi + grow);
+        let boxed = self
+            .boxes
+            .iter()
+            .zip(&self.moving)
+            .enumerate()
+            .any(|(s, (&(a, b), &m))| {
+                (m || !moved)
+                    && self.meets(own, s as u16).is_some()
+                    && a.cmple(hi).all()
+                    && lo.cmple(b).all()
+            });
+        if !boxed {
+            return false;
+        }
+        // Then by the grids' cells.
+        let (a, b) = (key(lo, self.cell), key(hi, self.cell));
+        let cells = (0..3)
+            .map(|i| i64::from(b[i]) - i64::from(a[i]) + 1)
+            .product::<i64>();
+        if cells > 64 {
+            return true;
+        }
+        let hit = |ball: u32| {
+            let k = ball as usize;
+            (!moved || self.moving.get(usize::from(self.section[k])) == Some(&true))
+                && self.meets(own, self.section[k]).is_some()
+        };
+        self.sets.iter().any(|set| {
+            set.big.iter().any(|&ball| hit(ball))
+                || (a[0]..=b[0]).any(|x| {
+                    (a[1]..=b[1]).any(|y| {
+                        (a[2]..=b[2]).any(|z| {
+                            set.grid
+                                .get(&[x, y, z])
+                                .is_some_and(|list| list.iter().any(|&ball| hit(ball)))
+                        })
+                    })
+                })
+        })
     }
 
     /// Stage 4c on tile `t`, whose points, previous points and held flags are `cur`,
     /// `prev` and `held`: the largest squared distance a point of it moved in the step,
-    /// when a contact moved one.
+    /// when a contact moved one. Keeps the box of its points in `bx`.
+    #[allow(clippy::too_many_arguments)]
     fn tile(
         &self,
         stage: &Stage,
@@ -307,6 +435,7 @@ impl Colliders {
         cur: &mut [[f32; 4]],
         prev: &mut [[f32; 4]],
         held: &mut [bool],
+        bx: &mut Option<(Vec3, Vec3)>,
         buffers: &mut Buffers,
     ) -> Option<f32> {
         let get = |a: &[[f32; 4]], i: usize| Vec3::new(a[i][0], a[i][1], a[i][2]);
@@ -323,10 +452,12 @@ impl Colliders {
             hi = hi.max(x.max(p));
             fastest = fastest.max((x - p).length_squared());
         }
+        *bx = Some((lo, hi));
         let sweep = fastest.sqrt() > reach || self.motion > reach;
         let grow = stage.margin + if sweep { self.motion } else { 0.0 };
+        let (lo, hi) = (lo - grow, hi + grow);
         let Buffers { candidates, group } = buffers;
-        self.near(t, lo - grow, hi + grow, candidates);
+        self.near(t, lo, hi, candidates);
         if candidates.is_empty() {
             held.fill(false);
             return None;
@@ -345,7 +476,7 @@ impl Colliders {
             let (lo, hi) = (lo - grow, hi + grow);
             group.clear();
             group.extend(candidates.iter().copied().filter(|&b| {
-                let (c, r) = (self.posed[b as usize], self.radius[b as usize]);
+                let (c, r) = (self.posed[b as usize], self.reach(b as usize));
                 c.clamp(lo, hi).distance_squared(c) <= r * r
             }));
             for i in i0..i1 {
@@ -369,46 +500,95 @@ impl Colliders {
                 }
             }
         }
+        if any {
+            let (lo, hi) = (0..n).fold(
+                (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+                |(lo, hi), i| (lo.min(get(cur, i)), hi.max(get(cur, i))),
+            );
+            *bx = Some((lo, hi));
+        }
         any.then_some(motion)
     }
 
-    /// Poses the needed balls with their transforms and rebuilds the grid.
-    fn pose(&mut self, stage: &Stage) {
-        std::mem::swap(&mut self.before, &mut self.posed);
-        for &b in &self.needed {
-            let b = b as usize;
-            let t = stage
-                .transforms
-                .get(self.transform[b] as usize)
-                .copied()
-                .unwrap_or(Affine3A::IDENTITY);
-            self.posed[b] = t.transform_point3(self.center[b]);
-        }
-        if self.stale {
-            self.before.clone_from(&self.posed);
-        }
-        self.motion = self
-            .needed
-            .iter()
-            .map(|&b| self.posed[b as usize].distance(self.before[b as usize]))
-            .fold(0.0, f32::max);
-        self.stale = false;
-        self.grid.clear();
-        for &b in &self.needed {
-            let b = b as usize;
-            let (c, r) = (self.posed[b], self.radius[b]);
-            if r > 2.0 * self.cell {
+    /// Poses each set of balls one of whose transforms changed (all of them when stale)
+    /// and builds its grid again; then the sections' boxes and which moved. Returns
+    /// whether a ball moved.
+    fn pose(&mut self, stage: &Stage) -> bool {
+        let stale = std::mem::take(&mut self.stale);
+        let mut sets = std::mem::take(&mut self.sets);
+        let (mut moved, mut motion) = (false, 0.0f32);
+        self.moving.clear();
+        self.moving.resize(self.rank.len().max(1), false);
+        for set in &mut sets {
+            let changed = stale
+                || stage
+                    .changed
+                    .iter()
+                    .zip(&set.transforms)
+                    .any(|(&c, &n)| c && n);
+            if !changed {
+                // Still: where it was is where it is.
+                if std::mem::take(&mut set.moved) {
+                    for &b in &set.balls {
+                        self.before[b as usize] = self.posed[b as usize];
+                    }
+                }
                 continue;
             }
-            let (lo, hi) = (key(c - r, self.cell), key(c + r, self.cell));
-            for x in lo[0]..=hi[0] {
-                for y in lo[1]..=hi[1] {
-                    for z in lo[2]..=hi[2] {
-                        self.grid.entry([x, y, z]).or_default().push(b as u32);
+            moved = true;
+            set.moved = true;
+            set.grid.clear();
+            for &b in &set.balls {
+                let b = b as usize;
+                let t = stage
+                    .transforms
+                    .get(self.transform[b] as usize)
+                    .copied()
+                    .unwrap_or(Affine3A::IDENTITY);
+                let now = t.transform_point3(self.center[b]);
+                self.before[b] = if stale { now } else { self.posed[b] };
+                self.posed[b] = now;
+                motion = motion.max(now.distance(self.before[b]));
+                if stage.changed.get(usize::from(self.transform[b])) == Some(&true) {
+                    if let Some(m) = self.moving.get_mut(usize::from(self.section[b])) {
+                        *m = true;
+                    }
+                }
+                if self.radius[b] > 2.0 * self.cell {
+                    continue;
+                }
+                let (c, r) = (now, self.reach(b));
+                let (lo, hi) = (key(c - r, self.cell), key(c + r, self.cell));
+                for x in lo[0]..=hi[0] {
+                    for y in lo[1]..=hi[1] {
+                        for z in lo[2]..=hi[2] {
+                            set.grid.entry([x, y, z]).or_default().push(b as u32);
+                        }
                     }
                 }
             }
         }
+        if moved {
+            self.motion = motion;
+            self.boxes.clear();
+            self.boxes.resize(
+                self.rank.len().max(1),
+                (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            );
+            for set in &sets {
+                for &b in &set.balls {
+                    let b = b as usize;
+                    let (c, r) = (self.posed[b], self.reach(b));
+                    if let Some(bx) = self.boxes.get_mut(usize::from(self.section[b])) {
+                        *bx = (bx.0.min(c - r), bx.1.max(c + r));
+                    }
+                }
+            }
+        } else {
+            self.motion = 0.0;
+        }
+        self.sets = sets;
+        moved
     }
 
     /// The needed balls that meet the box of tile `t`, each once, into `out` (a tile of
@@ -417,33 +597,39 @@ impl Colliders {
         let (a, b) = (key(lo, self.cell), key(hi, self.cell));
         let own = self.tile_section[t];
         out.clear();
-        out.extend_from_slice(&self.big);
-        // A box spanning a huge part of the grid (a point flung far): every needed ball.
+        // A box spanning a huge part of the grid (a point flung far): every ball.
         let cells = (0..3)
             .map(|i| i64::from(b[i]) - i64::from(a[i]) + 1)
             .product::<i64>();
-        if cells > 4096 {
-            out.clear();
-            out.extend_from_slice(&self.needed);
-        } else {
+        for set in &self.sets {
+            if cells > 4096 {
+                out.extend_from_slice(&set.balls);
+                continue;
+            }
+            out.extend_from_slice(&set.big);
             for x in a[0]..=b[0] {
                 for y in a[1]..=b[1] {
                     for z in a[2]..=b[2] {
-                        if let Some(list) = self.grid.get(&[x, y, z]) {
+                        if let Some(list) = set.grid.get(&[x, y, z]) {
                             out.extend_from_slice(list);
                         }
                     }
                 }
             }
-            out.sort_unstable();
-            out.dedup();
         }
+        out.sort_unstable();
+        out.dedup();
         out.retain(|&ball| {
             let k = ball as usize;
-            let (c, r) = (self.posed[k], self.radius[k]);
-            own.is_none_or(|s| self.yields(s, self.section[k]))
+            let (c, r) = (self.posed[k], self.reach(k));
+            own.is_none_or(|s| self.meets(s, self.section[k]).is_some())
                 && c.clamp(lo, hi).distance_squared(c) <= r * r
         });
+    }
+
+    /// How far ball `b` reaches: its radius, grown by the flesh's give (it dents that far).
+    fn reach(&self, b: usize) -> f32 {
+        self.radius[b] * (1.0 + self.flesh)
     }
 
     /// A section's rank (its index where none was given).
@@ -454,9 +640,12 @@ impl Colliders {
             .unwrap_or(u32::from(s))
     }
 
-    /// Whether a point of section `a` yields to the balls of section `b`.
-    fn yields(&self, a: u16, b: u16) -> bool {
-        a != b && self.rank_of(a) > self.rank_of(b)
+    /// Whether a point of section `a` meets the balls of section `b`, and how: `Some(true)`
+    /// when it yields to them (`b` is nearer the root), `Some(false)` when they dent its
+    /// flesh (soft flesh only, `b` farther from the root).
+    fn meets(&self, a: u16, b: u16) -> Option<bool> {
+        let yields = self.rank_of(a) > self.rank_of(b);
+        (a != b && (yields || self.soft)).then_some(yields)
     }
 
     /// Puts slot `k`, at `x` after the step and at `p` before it, out of the foreign balls
@@ -483,15 +672,25 @@ impl Colliders {
             let mut again = false;
             for &b in candidates {
                 let b = b as usize;
-                let (c, r) = (self.posed[b], self.radius[b] + stage.margin);
+                let Some(yields) = self.meets(section, self.section[b]) else {
+                    continue;
+                };
+                // Soft flesh: a part pressed into it sinks into its balls by the flesh's
+                // give, and its own balls, grown by as much (its surface bulges around
+                // them as it squashes), push the flesh in; the flesh is never swept (it
+                // does not follow the part).
+                let (c, whole) = (self.posed[b], self.radius[b] + stage.margin);
+                let give = self.radius[b] * stage.flesh;
+                let r = if yields { whole - give } else { whole + give };
+                let sweep = sweep && yields;
                 let d = x - c;
                 let d2 = d.length_squared();
-                if (d2 >= r * r && !sweep) || !self.yields(section, self.section[b]) {
+                if d2 >= r * r && !sweep {
                     continue;
                 }
                 // Near at rest: the flesh about a joint.
                 let at_rest = f64::from(rest.distance(self.center[b]));
-                if balls::neighbours(at_rest, f64::from(r), own) {
+                if balls::neighbours(at_rest, f64::from(whole), own) {
                     continue;
                 }
                 let to = if d2 < r * r {

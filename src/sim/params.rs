@@ -98,10 +98,19 @@ pub struct World {
     /// Gap kept between a mass point and another section's balls, as a share of the
     /// mesh's bounding-box diagonal, 0..[`MAX_MARGIN`].
     pub collision_margin: f32,
+    /// How far the flesh of a part nearer the root gives under a part pressed into it (an
+    /// arm dents a belly), as a share of its medial balls' radii, 0..[`MAX_FLESH`]: the
+    /// pressing part sinks that far into the balls, and its own balls, grown by that
+    /// share, push the other's surface in ([`super::contact`]). 0 (the default): hard,
+    /// only the pressing part squashes, as rig files written before it behave.
+    pub flesh: f32,
 }
 
 /// Largest collision margin (a share of the diagonal).
 pub const MAX_MARGIN: f32 = 0.05;
+
+/// Largest give of the flesh (a share of a medial ball's radius).
+pub const MAX_FLESH: f32 = 0.5;
 
 impl Default for World {
     /// No gravity, no floor.
@@ -113,6 +122,7 @@ impl Default for World {
             floor_friction: 0.5,
             collision: false,
             collision_margin: 0.002,
+            flesh: 0.0,
         }
     }
 }
@@ -223,6 +233,7 @@ impl World {
             floor_friction: clamp(self.floor_friction, 0.0, 1.0, d.floor_friction),
             collision: self.collision,
             collision_margin: clamp(self.collision_margin, 0.0, MAX_MARGIN, d.collision_margin),
+            flesh: clamp(self.flesh, 0.0, MAX_FLESH, d.flesh),
         }
     }
 
@@ -249,6 +260,7 @@ impl World {
                 MAX_MARGIN,
                 "0..0.05",
             ),
+            ("flesh", self.flesh, 0.0, MAX_FLESH, "0..0.5"),
         ])
     }
 
@@ -394,10 +406,11 @@ mod tests {
             "floor_friction",
             "collision",
             "collision_margin",
+            "flesh",
         ] {
             assert!(table.contains_key(field), "{field}");
         }
-        assert_eq!(table.len(), 15);
+        assert_eq!(table.len(), 16);
         let back: Params = toml::Value::Table(table).try_into().unwrap();
         assert_eq!(back, p);
         let partial: Params =

@@ -148,6 +148,8 @@ impl Simulation {
             transforms: &scratch.affine,
             changed: &scratch.changed,
             margin: p.world.collision_margin * self.diagonal,
+            flesh: p.world.flesh,
+            tile_motion: &scratch.motion,
             keep: (1.0 - p.world.floor_friction).powf(p.solver.time_step / REFERENCE_STEP),
             floor,
         };

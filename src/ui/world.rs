@@ -2,7 +2,7 @@
 //! sections.
 
 use crate::session::Session;
-use crate::sim::params::MAX_MARGIN;
+use crate::sim::params::{MAX_FLESH, MAX_MARGIN};
 use crate::sim::{Params, MAX_GRAVITY};
 
 /// Gravity directions offered by name; anything else shows as "custom".
@@ -69,6 +69,8 @@ pub(super) fn world_section(ui: &mut egui::Ui, session: &mut Session) {
         )
         .on_hover_text("the gap kept between touching parts");
         w.collision_margin = percent / 100.0;
+        ui.add(egui::Slider::new(&mut w.flesh, 0.0..=MAX_FLESH).text("flesh gives"))
+            .on_hover_text("how far a part pressed into the body dents it, as a share of its thickness there (0: hard)");
         if !w.floor {
             ui.add(egui::Slider::new(&mut w.floor_friction, 0.0..=1.0).text("friction"));
         }

@@ -19,6 +19,9 @@ pub struct Args {
     /// Margin (share of the diagonal) with collision on.
     #[arg(long, default_value_t = puppet::sim::World::default().collision_margin)]
     margin: f32,
+    /// How far the body's flesh gives in the third run of each press (0: two runs only).
+    #[arg(long, default_value_t = 0.25)]
+    flesh: f32,
     /// Write a picture of each settled press here (`NAME-off.png`, `NAME-on.png`).
     #[arg(long)]
     images: Option<PathBuf>,
@@ -31,6 +34,7 @@ pub struct Args {
 struct Row {
     press: &'static str,
     collision: bool,
+    flesh: f32,
     #[serde(flatten)]
     pressed: Pressed,
 }
@@ -46,10 +50,19 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         // The cow is the embedded one.
         let path = (press.mesh != "spot.obj").then(|| args.meshes.join(press.mesh));
         let (mesh, _, name) = crate::cli::load_mesh(path.as_deref(), load)?;
-        for collision in [false, true] {
+        let mut runs = vec![(false, 0.0), (true, 0.0)];
+        if args.flesh > 0.0 {
+            runs.push((true, args.flesh));
+        }
+        for (collision, flesh) in runs {
             let mut params = puppet::sim::Params::default();
             params.world.collision = collision;
             params.world.collision_margin = args.margin;
+            params.world.flesh = flesh;
+            params
+                .world
+                .check()
+                .map_err(|e| anyhow!("--margin/--flesh: {e}"))?;
             let pressed = press
                 .press(&mesh, params)
                 .map_err(|e| anyhow!("{name}: {e}"))?;
@@ -63,12 +76,17 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                     .chars()
                     .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
                     .collect();
-                let on = if collision { "on" } else { "off" };
+                let on = match (collision, flesh > 0.0) {
+                    (false, _) => "off",
+                    (true, false) => "on",
+                    (true, true) => "soft",
+                };
                 crate::cli::suggest::picture(p, &dir.join(format!("{file}-{on}.png")))?;
             }
             let row = Row {
                 press: press.name,
                 collision,
+                flesh,
                 pressed,
             };
             if !args.json {
@@ -85,19 +103,25 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
 
 fn print_row(r: &Row, header: bool) {
     if header {
-        println!("| pose | collision | reached | new crossing faces | deepest (% diagonal) | vertices inside | section volumes | step (ms) | awake tiles at the end |");
-        println!("|---|---|---:|---:|---:|---:|---:|---:|---:|");
+        println!("| pose | collision | reached | new crossing faces | deepest (% diagonal) | vertices inside | body dent / part squashed (% diagonal) | section volumes | step (ms) | awake tiles at the end |");
+        println!("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     }
     let p = &r.pressed;
     println!(
-        "| {} | {} | {:.0}° | {} of {} | {:.2} | {} | {:+.1} % … {:+.1} % | {:.2} | {} of {} |",
+        "| {} | {} | {:.0}° | {} of {} | {:.2} | {} | {:.2} / {:.2} | {:+.1} % … {:+.1} % | {:.2} | {} of {} |",
         r.press,
-        if r.collision { "on" } else { "off" },
+        match (r.collision, r.flesh > 0.0) {
+            (false, _) => "off".to_string(),
+            (true, false) => "on".to_string(),
+            (true, true) => format!("on, flesh {}", r.flesh),
+        },
         p.reached,
         p.crossing,
         p.faces,
         p.deepest,
         p.inside,
+        p.dent[0],
+        p.dent[1],
         100.0 * p.volume[0],
         100.0 * p.volume[1],
         p.step_ms,

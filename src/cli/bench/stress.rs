@@ -236,6 +236,7 @@ fn random_params(rng: &mut Rng) -> Params {
     let world = World {
         collision: rng.below(2) == 0,
         collision_margin: rng.extreme(0.0, puppet::sim::params::MAX_MARGIN as f64) as f32,
+        flesh: rng.extreme(0.0, puppet::sim::params::MAX_FLESH as f64) as f32,
         ..world
     };
     Params {

@@ -157,6 +157,9 @@ pub struct Args {
     /// Sections collide (the limb with the body; see `puppet bench collide`).
     #[arg(long)]
     collision: bool,
+    /// With collision, the body's flesh gives this share of its balls' radii (0: hard).
+    #[arg(long, default_value_t = 0.0)]
+    flesh: f32,
     /// Measure the first size with collision on and off, alternating, ROUNDS times each,
     /// and fail when the step with collision costs more than PERCENT % above the one
     /// without.
@@ -226,6 +229,11 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     params.world.gravity = [0.0, -args.gravity, 0.0];
     params.world.floor = args.floor;
     params.world.collision = args.collision;
+    params.world.flesh = args.flesh;
+    params
+        .world
+        .check()
+        .map_err(|e| anyhow::anyhow!("--flesh: {e}"))?;
     let params = params.sanitized();
     let max_level = if args.scaling {
         args.subdivisions as usize
