@@ -3,8 +3,8 @@
 //! into an extremity, along a digit, in the middle of a long stretch.
 
 use super::rules::{
-    BASE, BEND, DIGIT, DIP, ELONGATED, HEAD, LONG, MATCHED, NARROW, PROTRUDES, SLENDER, SMALL,
-    THINNER,
+    BASE, BEND, DIGIT, DIP, ELONGATED, HEAD, LONG, LONG_TO_WRIST, MATCHED, NARROW, PROTRUDES,
+    SLENDER, SMALL, THINNER, WRIST,
 };
 use super::tree::Tree;
 use glam::DVec3;
@@ -585,7 +585,8 @@ impl Profile {
             }
         }
         // A long first stretch, from the base to the first joint (an upper arm whose elbow
-        // neither narrows nor bends), bends in the middle; later stretches are between
+        // neither narrows nor bends, a dog's straight leg down to its wrist), bends in the
+        // middle; later stretches are between
         // joints already found (a shin between a knee and an ankle).
         // (A digit's two joints stand in for this, unless something else cut it.)
         at.sort_unstable();
@@ -602,7 +603,11 @@ impl Profile {
             }
             for w in ends.windows(2).take(1) {
                 let (a, b) = (w[0], w[1]);
-                if ((b - a) as f64 * self.step) >= LONG {
+                // (From fewer radii when that joint lies in the limb's last part: a wrist
+                // or an ankle, with an elbow or a knee still to come before it.)
+                let len = (b - a) as f64 * self.step;
+                let to_wrist = b < bins && b as f64 >= WRIST * bins as f64;
+                if len >= LONG || (to_wrist && len >= LONG_TO_WRIST) {
                     let half = 0.5 * (along[a] + along[b.min(bins - 1)]);
                     let mid = (a..b.min(bins))
                         .find(|&m| along[m] >= half)

@@ -38,6 +38,10 @@ pub(super) const DIGIT: f64 = 6.0;
 /// A limb's first stretch (from its base to its first joint) this many of its radii long
 /// bends in the middle.
 pub(super) const LONG: f64 = 8.0;
+/// ... or this many, when its first joint lies past this share of the limb's length (a wrist
+/// or an ankle: the elbow or knee before it neither narrows nor bends).
+pub(super) const LONG_TO_WRIST: f64 = 6.0;
+pub(super) const WRIST: f64 = 0.6;
 /// A part as thick as the body with limbs of its own turns at its base when it reaches
 /// this many radii out.
 pub(super) const HEAD: f64 = 3.0;
