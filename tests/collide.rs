@@ -21,6 +21,26 @@ fn mesh(file: &str) -> puppet::mesh::Mesh {
     puppet::mesh::load(&common::test_mesh(file)).unwrap().0
 }
 
+/// The embedded cow.
+fn spot() -> puppet::mesh::Mesh {
+    puppet::mesh::load(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/spot.obj"))
+        .unwrap()
+        .0
+}
+
+/// Holds a press's pose until the simulation sleeps (at most 1,200 steps); the steps taken.
+fn settle(local: &[puppet::joints::Local], puppet: &mut Puppet) -> usize {
+    let mut scratch = puppet::joints::PoseScratch::default();
+    let mut steps = 0;
+    while !puppet.sim.is_asleep() && steps < 1200 {
+        puppet
+            .sim
+            .step(puppet.joints.pose_into(local, &mut scratch));
+        steps += 1;
+    }
+    steps
+}
+
 fn colliding() -> Params {
     let mut p = Params::default();
     p.world.collision = true;
@@ -35,11 +55,7 @@ fn colliding() -> Params {
 fn pressed_parts_stop_at_the_body_without_crossing() {
     let human = mesh("human.obj");
     let hand = mesh("hand.obj");
-    let spot = puppet::mesh::load(
-        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/spot.obj"),
-    )
-    .unwrap()
-    .0;
+    let spot = spot();
     for (name, mesh, most) in [
         ("arms down 95", &human, 0),
         ("arms down 105", &human, 10),
@@ -111,11 +127,7 @@ fn a_fast_drag_does_not_tunnel() {
 #[test]
 fn soft_flesh_dents_the_body() {
     let human = mesh("human.obj");
-    let spot = puppet::mesh::load(
-        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/spot.obj"),
-    )
-    .unwrap()
-    .0;
+    let spot = spot();
     let mut soft = colliding();
     soft.world.flesh = 0.25;
     for (name, mesh) in [("cow head", &spot), ("legs crossed", &human)] {
@@ -138,14 +150,7 @@ fn soft_flesh_dents_the_body() {
     }
     let posed = press("cow head").posed(&spot, soft).unwrap();
     let mut puppet = posed.puppet;
-    let mut scratch = puppet::joints::PoseScratch::default();
-    let mut steps = 0;
-    while !puppet.sim.is_asleep() && steps < 1200 {
-        puppet
-            .sim
-            .step(puppet.joints.pose_into(&posed.local, &mut scratch));
-        steps += 1;
-    }
+    settle(&posed.local, &mut puppet);
     assert!(puppet.sim.is_asleep(), "{:?}", puppet.sim.tiles());
 }
 
@@ -156,14 +161,7 @@ fn a_settled_press_sleeps() {
     let human = mesh("human.obj");
     let posed = press("arms down 105").posed(&human, colliding()).unwrap();
     let mut puppet = posed.puppet;
-    let mut scratch = puppet::joints::PoseScratch::default();
-    let mut steps = 0;
-    while !puppet.sim.is_asleep() && steps < 1200 {
-        puppet
-            .sim
-            .step(puppet.joints.pose_into(&posed.local, &mut scratch));
-        steps += 1;
-    }
+    let steps = settle(&posed.local, &mut puppet);
     assert!(
         puppet.sim.is_asleep(),
         "still awake after {steps} more steps: {:?}",
