@@ -534,7 +534,13 @@ impl Profile {
                     && here <= (1.0 - DIP) * before.min(after)
                     && here <= (1.0 - DIP) * soon
             };
-            if (narrows(&self.d) || narrows(&self.size)) && free(&at, b) {
+            // (A dip of the skeletal distance alone, where the rings bulge, is the middle of
+            // a round end, a big ear's: no narrowing.)
+            let bulge = {
+                let near = &self.size[b.saturating_sub(2)..(b + 3).min(bins)];
+                self.size[b] > (1.0 + DIP) * near.iter().copied().fold(f64::INFINITY, f64::min)
+            };
+            if ((narrows(&self.d) && !bulge) || narrows(&self.size)) && free(&at, b) {
                 at.push(b);
             }
         }

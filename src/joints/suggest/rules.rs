@@ -28,7 +28,8 @@ pub(super) const SMALL: f64 = 0.025;
 pub(super) const NARROW: f64 = 0.88;
 /// A narrowing is a joint when the radius dips by at least this share below the thinner of
 /// the thickest within three radii before it and the thicker part after it (and an
-/// extremity is that much wider than its wrist).
+/// extremity is that much wider than its wrist; a ring that much wider than the narrowest
+/// within a radius is a bulge, where a dip of the skeletal distance alone is none).
 pub(super) const DIP: f64 = 0.12;
 /// A limb whose axis turns by at least this many degrees (over three radii) bends there.
 pub(super) const BEND: f64 = 40.0;
