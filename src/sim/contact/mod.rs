@@ -34,36 +34,13 @@
 //!   it moved near its box, and wakes only when a contact moves one of its points; a settled pose with contacts
 //!   settles (the contact puts a point back where it was, so the tile's motion is zero).
 
+mod grid;
+
 use super::layout::{Layout, Packed};
 use crate::geom::balls;
 use glam::{Affine3A, DVec3, Vec3};
+use grid::{key, Set};
 use rayon::prelude::*;
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
-
-/// A grid cell's hash: its three coordinates mixed by multiplication (the standard
-/// library's SipHash, made for untrusted keys, took a third of the stage).
-#[derive(Default)]
-struct CellHasher(u64);
-
-impl Hasher for CellHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.0 = (self.0.rotate_left(5) ^ u64::from(b)).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-        }
-    }
-
-    fn write_i32(&mut self, i: i32) {
-        self.0 =
-            (self.0.rotate_left(5) ^ (i as u32 as u64)).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-    }
-
-    fn write_usize(&mut self, _: usize) {}
-}
 
 /// A worker's lists, kept from tile to tile so the stage allocates nothing per tile: the
 /// balls near a tile, and those near a group of its points.
@@ -125,20 +102,6 @@ pub struct Colliders {
     stale: bool,
     /// Smallest radius kept (the sweep's threshold).
     smallest: f32,
-}
-
-/// A set of balls, posed and gridded together.
-#[derive(Clone, Debug, Default)]
-struct Set {
-    balls: Vec<u32>,
-    /// Per transform: a ball of the set moves with it.
-    transforms: Vec<bool>,
-    /// Balls too big for the grid (tested against every tile's box).
-    big: Vec<u32>,
-    /// The others by grid cell.
-    grid: HashMap<[i32; 3], Vec<u32>, BuildHasherDefault<CellHasher>>,
-    /// Posed again in the last step (its `before` is not its `posed`).
-    moved: bool,
 }
 
 /// What the contact stage needs of the step.
@@ -264,16 +227,12 @@ impl Colliders {
             for &b in &balls {
                 moves[usize::from(self.transform[b as usize])] = true;
             }
-            Set {
-                big: balls
-                    .iter()
-                    .copied()
-                    .filter(|&b| self.radius[b as usize] > 2.0 * self.cell)
-                    .collect(),
-                balls,
-                transforms: moves,
-                ..Set::default()
-            }
+            let big = balls
+                .iter()
+                .copied()
+                .filter(|&b| self.radius[b as usize] > 2.0 * self.cell)
+                .collect();
+            Set::new(balls, moves, big)
         };
         let mut sets = vec![set(&|r| r < highest)];
         if soft {
@@ -397,12 +356,9 @@ impl Colliders {
         if !boxed {
             return false;
         }
-        // Then by the grids' cells.
+        // Then by the grids' cells (a big box: it may).
         let (a, b) = (key(lo, self.cell), key(hi, self.cell));
-        let cells = (0..3)
-            .map(|i| i64::from(b[i]) - i64::from(a[i]) + 1)
-            .product::<i64>();
-        if cells > 64 {
+        if grid::cells(a, b) > 64 {
             return true;
         }
         let hit = |ball: u32| {
@@ -410,18 +366,7 @@ impl Colliders {
             (!moved || self.moving.get(usize::from(self.section[k])) == Some(&true))
                 && self.meets(own, self.section[k]).is_some()
         };
-        self.sets.iter().any(|set| {
-            set.big.iter().any(|&ball| hit(ball))
-                || (a[0]..=b[0]).any(|x| {
-                    (a[1]..=b[1]).any(|y| {
-                        (a[2]..=b[2]).any(|z| {
-                            set.grid
-                                .get(&[x, y, z])
-                                .is_some_and(|list| list.iter().any(|&ball| hit(ball)))
-                        })
-                    })
-                })
-        })
+        self.sets.iter().any(|set| set.any(a, b, hit))
     }
 
     /// Stage 4c on tile `t`, whose points, previous points and held flags are `cur`,
@@ -537,9 +482,9 @@ impl Colliders {
             }
             moved = true;
             set.moved = true;
-            set.grid.clear();
-            for &b in &set.balls {
-                let b = b as usize;
+            set.clear();
+            for i in 0..set.balls.len() {
+                let b = set.balls[i] as usize;
                 let t = stage
                     .transforms
                     .get(self.transform[b] as usize)
@@ -554,17 +499,8 @@ impl Colliders {
                         *m = true;
                     }
                 }
-                if self.radius[b] > 2.0 * self.cell {
-                    continue;
-                }
-                let (c, r) = (now, self.reach(b));
-                let (lo, hi) = (key(c - r, self.cell), key(c + r, self.cell));
-                for x in lo[0]..=hi[0] {
-                    for y in lo[1]..=hi[1] {
-                        for z in lo[2]..=hi[2] {
-                            set.grid.entry([x, y, z]).or_default().push(b as u32);
-                        }
-                    }
+                if self.radius[b] <= 2.0 * self.cell {
+                    set.insert(b as u32, now, self.reach(b), self.cell);
                 }
             }
         }
@@ -598,23 +534,12 @@ impl Colliders {
         let own = self.tile_section[t];
         out.clear();
         // A box spanning a huge part of the grid (a point flung far): every ball.
-        let cells = (0..3)
-            .map(|i| i64::from(b[i]) - i64::from(a[i]) + 1)
-            .product::<i64>();
+        let huge = grid::cells(a, b) > 4096;
         for set in &self.sets {
-            if cells > 4096 {
+            if huge {
                 out.extend_from_slice(&set.balls);
-                continue;
-            }
-            out.extend_from_slice(&set.big);
-            for x in a[0]..=b[0] {
-                for y in a[1]..=b[1] {
-                    for z in a[2]..=b[2] {
-                        if let Some(list) = set.grid.get(&[x, y, z]) {
-                            out.extend_from_slice(list);
-                        }
-                    }
-                }
+            } else {
+                set.gather(a, b, out);
             }
         }
         out.sort_unstable();
@@ -760,13 +685,6 @@ fn entry(a: Vec3, b: Vec3, c: Vec3, r: f32) -> Option<Vec3> {
     }
     let t = (-bq - disc.sqrt()) / len2;
     (0.0..=1.0).contains(&t).then(|| a + d * t)
-}
-
-/// The grid cell of `p`.
-fn key(p: Vec3, cell: f32) -> [i32; 3] {
-    let k = (p / cell).floor();
-    let clamp = |x: f32| x.clamp(-1e9, 1e9) as i32;
-    [clamp(k.x), clamp(k.y), clamp(k.z)]
 }
 
 #[cfg(test)]
