@@ -363,16 +363,20 @@ fn up_given_is_kept_in_the_rig_file_and_overrides_what_is_found() {
     assert!(err.contains("up = 'sideways' is not one of"), "{err}");
 }
 
+/// A suggested puppet's mirror plane, its size and its cuts' pivots.
+fn mirror_and_pivots(p: &Puppet) -> ((glam::DVec3, f64), f64, Vec<(String, glam::DVec3)>) {
+    let mirror = p.frame().unwrap().mirror.expect("a mirror plane");
+    (mirror, p.mesh.longest_side(), p.joints.cut_pivots())
+}
+
 /// Left and right cuts that nearly mirror each other are made to mirror each other exactly.
 #[test]
 fn left_and_right_cuts_mirror_each_other() {
     let mut mirrored = 0;
     for name in ["robot", "dog", "human"] {
         let (_, p) = labelled(name);
-        let (n, o) = p.frame().unwrap().mirror.expect("a mirror plane");
-        let size = p.mesh.longest_side();
-        let image = |q: glam::DVec3| q - n * 2.0 * (q.dot(n) - o);
-        let pivots = p.joints.cut_pivots();
+        let (mirror, size, pivots) = mirror_and_pivots(&p);
+        let image = |q: glam::DVec3| puppet::joints::suggest::image(mirror, q);
         for (left, at) in &pivots {
             if !left.split('.').any(|w| w == "L") {
                 continue;
@@ -401,10 +405,9 @@ fn left_and_right_cuts_mirror_each_other() {
 fn a_joint_found_on_one_side_is_copied_to_the_other() {
     for name in ["robot", "teddy", "dog"] {
         let (_, p) = labelled(name);
-        let (n, o) = p.frame().unwrap().mirror.expect("a mirror plane");
-        let size = p.mesh.longest_side();
-        let image = |q: glam::DVec3| q - n * 2.0 * (q.dot(n) - o);
-        let pivots = p.joints.cut_pivots();
+        let (mirror, size, pivots) = mirror_and_pivots(&p);
+        let (n, o) = mirror;
+        let image = |q: glam::DVec3| puppet::joints::suggest::image(mirror, q);
         for (cut, at) in &pivots {
             if (at.dot(n) - o).abs() < 0.05 * size {
                 continue;

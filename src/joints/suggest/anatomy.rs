@@ -151,6 +151,17 @@ impl Default for Frame {
     }
 }
 
+/// The mirror image of the point `p` in the plane of unit normal `n` and offset `o`
+/// (the points `q` with `q·n = o`).
+pub fn image((n, o): (DVec3, f64), p: DVec3) -> DVec3 {
+    p - n * 2.0 * (p.dot(n) - o)
+}
+
+/// The mirror image of the direction `v` in a plane of unit normal `n`.
+pub fn reflect(n: DVec3, v: DVec3) -> DVec3 {
+    v - n * 2.0 * v.dot(n)
+}
+
 /// The mirror plane across one of the axes, if the mesh has one (see the module docs).
 pub fn mirror_plane(positions: &[DVec3]) -> Option<(DVec3, f64)> {
     if positions.len() < 8 {
@@ -173,7 +184,7 @@ pub fn mirror_plane(positions: &[DVec3]) -> Option<(DVec3, f64)> {
             let mut gaps = Vec::new();
             let mut shifts = Vec::new();
             for p in positions.iter().step_by(step) {
-                let m = *p - n * 2.0 * (p.dot(n) - offset);
+                let m = image((n, offset), *p);
                 let (q, d) = grid.nearest(positions, m);
                 gaps.push(d);
                 shifts.push((q - m).dot(n));

@@ -78,5 +78,5 @@ mod union_find;
 #[cfg(test)]
 mod tests;
 
-pub use anatomy::{mirror_plane, other_side, Frame, Up};
+pub use anatomy::{image, mirror_plane, other_side, Frame, Up};
 pub use sections::suggest;

@@ -169,8 +169,8 @@ fn mirror_pairs(cuts: &[Cut], frame: &Frame, mesh: &Mesh) -> Vec<Pair> {
     let Some((n, o)) = frame.mirror else {
         return Vec::new();
     };
-    let point = |p: DVec3| p - n * 2.0 * (p.dot(n) - o);
-    let vector = |v: DVec3| v - n * 2.0 * v.dot(n);
+    let point = |p: DVec3| super::anatomy::image((n, o), p);
+    let vector = |v: DVec3| super::anatomy::reflect(n, v);
     let size = mesh.longest_side();
     let index: HashMap<&str, usize> = cuts
         .iter()

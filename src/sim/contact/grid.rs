@@ -30,7 +30,7 @@ impl Hasher for CellHasher {
 }
 
 /// A set of balls, posed and gridded together.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub(super) struct Set {
     pub(super) balls: Vec<u32>,
     /// Per transform: a ball of the set moves with it.

@@ -73,9 +73,8 @@ pub struct Colliders {
     tile_yields: Vec<bool>,
     /// The lowest and highest rank of a section with balls, and with points.
     ranks: (u32, u32),
-    /// The lists below are chosen for flesh that gives (every ball may dent a point).
-    soft: bool,
-    /// The flesh's give the grid was built for: a ball reaches `1 + flesh` of its radius.
+    /// The flesh's give the sets and grids were built for: a ball reaches `1 + flesh` of
+    /// its radius, and with any give every ball may dent a point.
     flesh: f32,
     /// Per joint section, the box of its posed needed balls' reach (empty: none), and
     /// whether they moved in this step.
@@ -201,18 +200,18 @@ impl Colliders {
                 r.all(|k| self.slot_section[k] == first).then_some(first)
             })
             .collect();
-        self.choose(layout, false);
+        self.choose(layout);
     }
 
     /// The balls some point may meet and the tiles that test any: the balls of sections
     /// below the highest-ranked section with points (they are yielded to) and the tiles
-    /// with a point above the lowest-ranked section with balls; with soft flesh (`soft`)
-    /// also, as a second set, the highest-ranked section's balls (they dent what lies
-    /// below), and every tile. The sets do not share a ball: the body's balls stay still
+    /// with a point above the lowest-ranked section with balls; with soft flesh also, as a
+    /// second set, the highest-ranked section's balls (they dent what lies below), and
+    /// every tile. The sets do not share a ball: the body's balls stay still
     /// while a limb swings, and their grid is kept while the limb's is built again.
-    fn choose(&mut self, layout: &Layout, soft: bool) {
+    fn choose(&mut self, layout: &Layout) {
         let (lowest, highest) = self.ranks;
-        self.soft = soft;
+        let soft = self.flesh > 0.0;
         let transforms = self
             .transform
             .iter()
@@ -283,11 +282,12 @@ impl Colliders {
     ) -> Vec<(usize, f32)> {
         let layout = stage.layout;
         if stage.flesh != self.flesh {
+            let was_soft = self.flesh > 0.0;
             self.flesh = stage.flesh;
             self.stale = true;
-        }
-        if (stage.flesh > 0.0) != self.soft {
-            self.choose(layout, stage.flesh > 0.0);
+            if was_soft != (self.flesh > 0.0) {
+                self.choose(layout);
+            }
         }
         self.held.resize(layout.len(), false);
         // A ball some point meets moved: sleeping tiles are tested too.
@@ -570,7 +570,7 @@ impl Colliders {
     /// flesh (soft flesh only, `b` farther from the root).
     fn meets(&self, a: u16, b: u16) -> Option<bool> {
         let yields = self.rank_of(a) > self.rank_of(b);
-        (a != b && (yields || self.soft)).then_some(yields)
+        (a != b && (yields || self.flesh > 0.0)).then_some(yields)
     }
 
     /// Puts slot `k`, at `x` after the step and at `p` before it, out of the foreign balls
