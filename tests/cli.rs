@@ -119,6 +119,15 @@ fn collision_cost_check_passes_and_fails_on_its_bound() {
         err.starts_with("error: ") && err.contains("more than -1000 %"),
         "{err}"
     );
+    // A give out of range is one line and exit 2, before any press runs.
+    let out = puppet(&["bench", "collide", "--only", "legs", "--flesh", "-0.1"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.stdout.is_empty()
+            && err.trim() == "error: --margin/--flesh: flesh = -0.1 is outside 0..0.5",
+        "{err}"
+    );
     let out = puppet(&["bench", "collide", "--only", "legs"]);
     assert_eq!(out.status.code(), Some(0));
     let table = String::from_utf8_lossy(&out.stdout);

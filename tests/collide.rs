@@ -205,6 +205,17 @@ fn collision_is_off_unless_a_rig_turns_it_on() {
         std::path::Path::new("test.rig.toml"),
     );
     assert!(too_soft.is_err_and(|e| e.to_string().contains("flesh")));
+    // The value as the file wrote it, not as an f32 widened to f64.
+    let nine = RigFile::parse(
+        "[params]\ncollision = true\nflesh = 0.9\n",
+        puppet::files::Format::Toml,
+        std::path::Path::new("test.rig.toml"),
+    );
+    assert!(
+        nine.as_ref()
+            .is_err_and(|e| e.to_string().contains("flesh = 0.9 is outside 0..0.5")),
+        "{nine:?}"
+    );
     let bad = RigFile::parse(
         "[params]\ncollision = true\ncollision_margin = 0.5\n",
         puppet::files::Format::Toml,

@@ -77,7 +77,7 @@ pub struct Args {
     pub collision: bool,
     /// How far the flesh of a part nearer the root gives under a part pressed into it,
     /// 0..0.5 of its medial radius (over the rig's `flesh`; turns collision on).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub flesh: Option<f32>,
     /// Print one JSON object instead of the text summary.
     #[arg(long)]

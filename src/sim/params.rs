@@ -179,9 +179,10 @@ pub(super) type Check = (&'static str, f32, f32, f32, &'static str);
 pub(super) fn first_failure(checks: &[Check]) -> Result<(), ParamError> {
     for &(field, value, lo, hi, range) in checks {
         if !(lo..=hi).contains(&value) {
+            // The f32 as its shortest text reads (0.9, not 0.8999999761581421).
             return Err(ParamError {
                 field,
-                value: value as f64,
+                value: value.to_string().parse().unwrap_or(f64::from(value)),
                 range,
             });
         }

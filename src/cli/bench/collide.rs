@@ -17,10 +17,10 @@ pub struct Args {
     #[arg(long)]
     only: Option<String>,
     /// Margin (share of the diagonal) with collision on.
-    #[arg(long, default_value_t = puppet::sim::World::default().collision_margin)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = puppet::sim::World::default().collision_margin)]
     margin: f32,
     /// How far the body's flesh gives in the third run of each press (0: two runs only).
-    #[arg(long, default_value_t = 0.25)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.25)]
     flesh: f32,
     /// Write a picture of each settled press here (`NAME-off.png`, `NAME-on.png`).
     #[arg(long)]
@@ -41,6 +41,15 @@ struct Row {
 
 pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     let mut rows = Vec::new();
+    // Both settings checked before any press runs.
+    puppet::sim::World {
+        collision: true,
+        collision_margin: args.margin,
+        flesh: args.flesh,
+        ..puppet::sim::World::default()
+    }
+    .check()
+    .map_err(|e| anyhow!("--margin/--flesh: {e}"))?;
     super::image_folder(args.images.as_ref())?;
     for press in PRESSES.iter().filter(|p| {
         args.only
@@ -59,10 +68,6 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             params.world.collision = collision;
             params.world.collision_margin = args.margin;
             params.world.flesh = flesh;
-            params
-                .world
-                .check()
-                .map_err(|e| anyhow!("--margin/--flesh: {e}"))?;
             let pressed = press
                 .press(&mesh, params)
                 .map_err(|e| anyhow!("{name}: {e}"))?;

@@ -158,7 +158,7 @@ pub struct Args {
     #[arg(long)]
     collision: bool,
     /// With collision, the body's flesh gives this share of its balls' radii (0: hard).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0)]
     flesh: f32,
     /// Measure the first size with collision on and off, alternating, ROUNDS times each,
     /// and fail when the step with collision costs more than PERCENT % above the one
