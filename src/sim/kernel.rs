@@ -27,9 +27,10 @@
 //! and selects are used, each correctly rounded, in the same order on both, so the two builds
 //! give bit-identical results (tested), whatever the thread count.
 
+use super::contact::Floor;
 #[cfg(target_arch = "x86_64")]
 use super::lanes::Avx;
-use super::lanes::{Lanes, Portable, LANES};
+use super::lanes::{Lanes, Portable, LANES, V3};
 use super::layout::{Layout, Packed};
 use super::regions::PerSlot;
 use super::{Constraint, Params};
@@ -50,9 +51,8 @@ pub(super) struct Ctx<'a> {
     pub avx2: bool,
     /// Gravity's displacement per step, `g (h)²` (`None`: off).
     pub gravity: Option<[f32; 3]>,
-    /// The floor: its height `y` and the share of sliding motion a touching point keeps per
-    /// step (`None`: no floor).
-    pub floor: Option<(f32, f32)>,
+    /// The floor (`None`: none).
+    pub floor: Option<Floor>,
     /// Per-slot materials (`None`: every slot has `params`).
     pub mixed: Option<&'a PerSlot>,
     /// Per-slot pin weights (`None`: nothing pinned).
@@ -123,14 +123,6 @@ fn factor<V: Lanes>(dx: V, dy: V, dz: V, rest: V) -> V {
 fn factor_of_squared<V: Lanes>(len2: V, rest: V) -> V {
     let len = len2.sqrt();
     len.positive_or_zero((len - rest) / len)
-}
-
-/// A vector in lanes.
-#[derive(Clone, Copy)]
-struct V3<V> {
-    x: V,
-    y: V,
-    z: V,
 }
 
 #[inline(always)]
@@ -366,8 +358,8 @@ unsafe fn group<V: Lanes, const EXTRAS: bool>(
     // The floor's friction: a point that would pass the floor keeps only part of its
     // sliding motion (before the constraint, so friction never holds a point away from
     // its bones).
-    if let (true, Some((height, keep))) = (EXTRAS, ctx.floor) {
-        y = friction(y, x, V::splat(height), V::splat(keep));
+    if let (true, Some(floor)) = (EXTRAS, ctx.floor) {
+        y = floor.slide(y, x);
     }
 
     // Stage 4: the constraint.
@@ -404,13 +396,7 @@ unsafe fn group<V: Lanes, const EXTRAS: bool>(
     // Stage 4b: the floor, which no point passes: it wins over the constraint, so a section
     // posed into the floor squashes against it.
     let new = match (EXTRAS, ctx.floor) {
-        (true, Some((height, _))) => {
-            let below = new.y.lt(V::splat(height));
-            V3 {
-                y: below.select(V::splat(height), new.y),
-                ..new
-            }
-        }
+        (true, Some(floor)) => floor.hold(new),
         _ => new,
     };
     let (mx, my, mz) = (new.x - x.x, new.y - x.y, new.z - x.z);
@@ -654,18 +640,6 @@ fn stiffening<V: Lanes>(d: V3<V>, rest: V, rho: V, m: &Material<V>) -> V {
         out = m.exponent.gt(V::splat(e as f32)).select(out * s, out);
     }
     out
-}
-
-/// Lifts points below the floor `height` onto it; those keep `keep` of their sliding
-/// motion from `x`.
-#[inline(always)]
-fn friction<V: Lanes>(new: V3<V>, x: V3<V>, height: V, keep: V) -> V3<V> {
-    let below = new.y.lt(height);
-    V3 {
-        x: below.select(x.x + (new.x - x.x) * keep, new.x),
-        y: below.select(height, new.y),
-        z: below.select(x.z + (new.z - x.z) * keep, new.z),
-    }
 }
 
 /// `r + (y − r) s`.

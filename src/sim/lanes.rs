@@ -10,6 +10,14 @@ use std::ops::{Add, Div, Mul, Sub};
 /// Number of lanes.
 pub(super) const LANES: usize = 8;
 
+/// A vector in lanes.
+#[derive(Clone, Copy)]
+pub(super) struct V3<V> {
+    pub(super) x: V,
+    pub(super) y: V,
+    pub(super) z: V,
+}
+
 /// Eight `f32` lanes.
 pub(super) trait Lanes:
     Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>

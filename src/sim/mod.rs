@@ -35,7 +35,7 @@
 //!   pinning;
 //! * [`pose`]: the [`Pose`] a step takes and the [`Positions`] it leaves;
 //! * [`options`]: solver [`Options`] (sleeping, tile size, SIMD);
-//! * [`contact`]: sections colliding through their medial balls (stage 4c);
+//! * [`contact`]: sections colliding through their medial balls (stage 4c), and the floor;
 //! * `step`: [`Simulation::step`], its numbered stages, and sleeping;
 //! * [`layout`]: the solver's Hilbert-ordered slots and tiles;
 //! * `kernel`, `lanes`: the fused pass over a tile, eight slots per register.

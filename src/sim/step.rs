@@ -1,6 +1,7 @@
 //! One step and its stages (see [`Simulation::step`]), and the fixed-step clock
 //! ([`Simulation::advance`]).
 
+use super::contact::Floor;
 use super::{kernel, Pose, Simulation, StageTimes, REFERENCE_STEP, SLEEP_AFTER, STANDARD_GRAVITY};
 use glam::Affine3A;
 use rayon::prelude::*;
@@ -63,10 +64,11 @@ impl Simulation {
     /// 3. **Verlet** with velocity damping:
     ///    `x' = x + C_vd^(h/h₀) (x − x_prev) + D (h/h₀)² / (deg + 2) · F`, plus gravity
     ///    `g h²`; a pinned point is then drawn to its posed rest position by its weight, and
-    ///    one that would pass the floor loses part of its sliding motion (friction).
-    /// 4. **Constraint**: circumsphere projection, or iterated spring reduction; then the
-    ///    floor lifts any point below it onto it. With collision on, (4c) every point of a
-    ///    section is put out of the other sections' medial balls ([`super::contact`]).
+    ///    (3b) one that would pass the floor loses part of its sliding motion (friction).
+    /// 4. **Constraint**: circumsphere projection, or iterated spring reduction; then (4b)
+    ///    the floor lifts any point below it onto it (3b and 4b: [`super::contact::Floor`]).
+    ///    With collision on, (4c) every point of a section is put out of the other
+    ///    sections' medial balls ([`super::contact`]), and off the floor.
     /// 5. **Sleep**: a tile that moved less than the threshold for [`SLEEP_AFTER`] steps,
     ///    with still neighbours, stops (its velocity is set to zero); a tile that moved wakes
     ///    its neighbours for the next step.
@@ -111,7 +113,7 @@ impl Simulation {
     /// measured again from where its points ended (a contact held in place is none), and
     /// a sleeping tile a contact moved wakes.
     fn collide(&mut self) {
-        let floor = self.floor().map(|(height, _)| height);
+        let (floor, keep) = (self.floor(), self.keep());
         let rig = &self.rig;
         let contacts = self.contacts.get_or_insert_with(|| {
             let centers: Vec<glam::Vec3> = (0..rig.len())
@@ -150,7 +152,7 @@ impl Simulation {
             margin: p.world.collision_margin * self.diagonal,
             flesh: p.world.flesh,
             tile_motion: &scratch.motion,
-            keep: (1.0 - p.world.floor_friction).powf(p.solver.time_step / REFERENCE_STEP),
+            keep,
             floor,
         };
         let touched = contacts.resolve(&stage, &mut state.cur, &mut state.prev, &state.awake);
@@ -202,7 +204,7 @@ impl Simulation {
 
     /// Stages 1–4 for a static material: awake tiles take their posed rest positions.
     fn follow_bones(&mut self) {
-        let floor = self.floor().map(|(height, _)| height);
+        let floor = self.floor();
         let (layout, state) = (&self.layout, &mut self.state);
         let mut largest = 0.0f32;
         for t in 0..layout.tiles() {
@@ -213,8 +215,8 @@ impl Simulation {
                 let s = &layout.slots;
                 let mut r = kernel::affine_of(&state.transforms[s.section[k] as usize])
                     .transform_point3(s.rest.get(k));
-                if let Some(height) = floor {
-                    r.y = r.y.max(height);
+                if let Some(lifted) = floor.and_then(|f| f.lift(r)) {
+                    r = lifted;
                 }
                 largest = largest.max((r - state.cur.get(k)).length_squared());
                 state.cur.set(k, r);
@@ -276,16 +278,23 @@ impl Simulation {
 
     /// The floor's `y` when there is one.
     pub fn floor_y(&self) -> Option<f32> {
-        self.floor().map(|(y, _)| y)
+        self.floor().map(|f| f.height)
     }
 
-    /// The floor's height and the share of sliding motion a touching point keeps per step.
-    pub(super) fn floor(&self) -> Option<(f32, f32)> {
+    /// The floor, when the world has one.
+    pub(super) fn floor(&self) -> Option<Floor> {
         let p = &self.params;
-        p.world.floor.then(|| {
-            let keep = (1.0 - p.world.floor_friction).powf(p.solver.time_step / REFERENCE_STEP);
-            (self.lowest + p.world.floor_height, keep)
+        p.world.floor.then(|| Floor {
+            height: self.lowest + p.world.floor_height,
+            keep: self.keep(),
         })
+    }
+
+    /// The share of its sliding motion a touching point keeps per step (the floor's and
+    /// the balls' friction).
+    fn keep(&self) -> f32 {
+        let p = &self.params;
+        (1.0 - p.world.floor_friction).powf(p.solver.time_step / REFERENCE_STEP)
     }
 
     /// Stage 5.

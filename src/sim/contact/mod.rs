@@ -27,6 +27,9 @@
 //!   line from the centre; its motion into the ball is dropped and its sliding motion
 //!   keeps `1 − friction` (the floor's friction). It is a projection, so a limb posed deep
 //!   into the body squashes against it and nothing gains energy: no explosion.
+//! * **The floor** ([`Floor`], `floor.rs`) is a half-space contact with the same response.
+//!   Every point may touch it, so the kernel runs it in its fused pass (stages 3b and 4b);
+//!   a point a ball pushed goes through the same code here, and ends above it.
 //! * **No tunnelling.** A point tests the segment it moved along in the step, taken in the
 //!   frame of each ball (the ball's own motion subtracted): a point that crossed a ball in
 //!   one step is put back at the surface where it entered, however fast the drag.
@@ -34,7 +37,10 @@
 //!   it moved near its box, and wakes only when a contact moves one of its points; a settled pose with contacts
 //!   settles (the contact puts a point back where it was, so the tile's motion is zero).
 
+mod floor;
 mod grid;
+
+pub use floor::Floor;
 
 use super::layout::{Layout, Packed};
 use crate::geom::balls;
@@ -121,9 +127,9 @@ pub struct Stage<'a> {
     /// Per tile, the largest squared distance a point of it moved in this step's
     /// integration (awake tiles).
     pub tile_motion: &'a [f32],
-    /// The floor's height, when there is one: a point a ball pushed is then held above
-    /// it by the same response (the floor wins, as in the kernel).
-    pub floor: Option<f32>,
+    /// The floor, when there is one: a point a ball pushed is then held above it (the
+    /// floor wins, as in the kernel).
+    pub floor: Option<Floor>,
 }
 
 impl Colliders {
@@ -648,11 +654,9 @@ impl Colliders {
             return None;
         }
         // The floor, a half-space contact with the same response, wins.
-        if let Some(h) = stage.floor {
-            if x.y < h {
-                x.y = h;
-                n = Vec3::Y;
-            }
+        if let Some(lifted) = stage.floor.and_then(|f| f.lift(x)) {
+            x = lifted;
+            n = Vec3::Y;
         }
         // Response: the motion into the ball is dropped, the sliding motion keeps `keep`.
         let v = x - p;
