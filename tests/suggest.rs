@@ -216,7 +216,7 @@ fn the_labelled_set_scores_as_benchmarks_says() {
     let recall = found as f64 / required as f64;
     let share = spurious as f64 / cuts as f64;
     assert!(recall >= 0.79, "recall {found}/{required}");
-    assert!(share <= 0.12, "spurious {spurious}/{cuts}");
+    assert!(share <= 0.10, "spurious {spurious}/{cuts}");
 }
 
 /// The teddy's big round ears are cut once each, where they meet the head: the middle of
@@ -231,6 +231,26 @@ fn a_big_round_ear_is_cut_once() {
             .filter(|x| x.starts_with("ear") && x.ends_with(lr))
             .count();
         assert_eq!(ears, 1, "{n:?}");
+    }
+}
+
+/// A snout (the dog's, the lizard's, the horse's) is the end of the head, not a jaw: it
+/// gets no cut, and its tip turns with the head.
+#[test]
+fn a_snout_is_the_end_of_the_head() {
+    for name in ["dog", "lizard", "horse"] {
+        let (_, p) = labelled(name);
+        let n = names(&p);
+        assert!(!n.iter().any(|x| x.starts_with("jaw")), "{name}: {n:?}");
+        let front = p.frame().expect("a frame").front;
+        let tip = (0..p.mesh.positions.len())
+            .max_by(|&a, &b| {
+                let along = |v: usize| p.mesh.positions[v].dot(front);
+                along(a).total_cmp(&along(b))
+            })
+            .unwrap();
+        let section = p.joints.section_of()[tip] as usize;
+        assert_eq!(p.joints.sections()[section].name, "head", "{name}: {n:?}");
     }
 }
 

@@ -24,6 +24,7 @@
 //!   Side suffixes come from the side of the mirror plane; what fits no role keeps a
 //!   number.
 
+use super::rules::SNOUT;
 use crate::joints::Joints;
 use crate::mesh::Mesh;
 use glam::DVec3;
@@ -365,16 +366,27 @@ pub fn frame(
     }
 }
 
-/// Role names for the sections of `joints` (index 0 is the root and keeps its name), in
-/// the frame found for them; `None` where no role fits. Also returns the frame. `radius`
-/// is each vertex's skeletal distance, `mirror` the mesh's mirror plane ([`mirror_plane`]).
+/// The sections of a suggestion as [`roles`] reads them.
+pub struct Roles {
+    /// Per section, its name by role (index 0 is the root and keeps its name); `None`
+    /// where no role fits.
+    pub names: Vec<Option<String>>,
+    /// The frame they were named in.
+    pub frame: Frame,
+    /// Sections that are the end of their parent, no joint (a head's snout): their cuts
+    /// are taken back.
+    pub ends: Vec<usize>,
+}
+
+/// Role names for the sections of `joints`, in the frame found for them. `radius` is each
+/// vertex's skeletal distance, `mirror` the mesh's mirror plane ([`mirror_plane`]).
 pub fn roles(
     mesh: &Mesh,
     radius: &[f64],
     joints: &Joints,
     up: Option<DVec3>,
     mirror: Option<(DVec3, f64)>,
-) -> (Vec<Option<String>>, Frame) {
+) -> Roles {
     let sections = joints.sections();
     let n = sections.len();
     let mut children = vec![Vec::new(); n];
@@ -400,6 +412,7 @@ pub fn roles(
         within,
         frame: Frame::default(),
         names: vec![None; n],
+        ends: Vec::new(),
         size: mesh.longest_side().max(1e-12),
     };
     let limbs: Vec<(usize, Reach)> = naming.children[0]
@@ -409,7 +422,11 @@ pub fn roles(
     let reaches: Vec<Reach> = limbs.iter().map(|l| l.1).collect();
     naming.frame = frame(&mesh.positions, mirror, &reaches, up);
     naming.root(&limbs);
-    (naming.names, naming.frame)
+    Roles {
+        names: naming.names,
+        frame: naming.frame,
+        ends: naming.ends,
+    }
 }
 
 /// What naming the sections needs: the section tree, each subtree's vertices, the frame.
@@ -422,6 +439,8 @@ struct Naming<'a> {
     within: Vec<Vec<usize>>,
     frame: Frame,
     names: Vec<Option<String>>,
+    /// Sections that are no joint (see [`Roles::ends`]).
+    ends: Vec<usize>,
     /// The mesh's size (the longest side of its bounding box).
     size: f64,
 }
@@ -627,11 +646,25 @@ impl Naming<'_> {
         if k == 0 && self.children[at].len() >= 2 {
             self.names[at] = Some(tagged("head", tag));
         }
-        // Off the plane: ears; on it, below the head: a jaw.
-        for c in self.children[at].clone() {
+        // Off the plane: ears; on it, below the head: a jaw. A head's one short part on the
+        // plane (a snout, a muzzle, a nose: at most SNOUT of its own thickness long) is its
+        // end, no joint; a jaw is one of two (an open mouth).
+        let kids = self.children[at].clone();
+        let on_plane: Vec<usize> = kids
+            .iter()
+            .copied()
+            .filter(|&c| self.side(self.sections[c].pivot).is_none())
+            .collect();
+        for c in kids {
             match self.side(self.sections[c].pivot) {
                 Some(lr) => self.chain(c, Family::Ear, lr),
                 None => {
+                    let r = self.reach(c);
+                    let short = r.tip.distance(r.pivot) <= SNOUT * r.end;
+                    if on_plane.len() == 1 && short && self.children[c].is_empty() {
+                        self.ends.push(c);
+                        continue;
+                    }
                     self.chain(c, Family::Tail, "");
                     self.names[c] = Some("jaw".into());
                 }

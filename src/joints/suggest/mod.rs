@@ -45,8 +45,9 @@
 //!    body), is dropped.
 //! 5. **Anatomy.** A mirror plane, up (given, or found from how the limbs hang), front and
 //!    left, and names by role: `neck`, `head`, `arm.L`, `forearm.L`, `hand.L`, `thumb.L`…,
-//!    `leg.R`, `shin.R`, `foot.R`, `tail`, `ear.L`; a cut no role fits keeps its place in
-//!    the tree (`joint 2.1`). See `anatomy`. A left and a right cut that nearly mirror
+//!    `leg.R`, `shin.R`, `foot.R`, `tail`, `ear.L`, `jaw`; a cut no role fits keeps its
+//!    place in the tree (`joint 2.1`). A head's one short part on the mirror plane (a
+//!    snout, a muzzle, a nose: `SNOUT`) is the head's end, and its cut is taken back. See `anatomy`. A left and a right cut that nearly mirror
 //!    each other (`PAIRED`) are made to mirror each other exactly: at their mean, or, where
 //!    that leaves a side empty, one as the other's image; a pair that cannot keeps its
 //!    places, and the others are still mirrored.

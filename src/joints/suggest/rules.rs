@@ -48,6 +48,10 @@ pub(super) const WRIST: f64 = 0.6;
 pub(super) const HEAD: f64 = 3.0;
 /// ... and every limb it has is at most this share of its width.
 pub(super) const SLENDER: f64 = 0.5;
+/// A head's one part on the mirror plane that reaches at most this many times the
+/// thickness of its far half (its largest skeletal distance there) is the head's end, a
+/// snout or a muzzle, not a jaw: no joint.
+pub(super) const SNOUT: f64 = 4.0;
 /// A left and a right cut whose pivots lie within this share of the mesh's size of each
 /// other's mirror image are made to mirror each other exactly.
 pub(super) const PAIRED: f64 = 0.02;

@@ -102,16 +102,27 @@ pub fn suggest(
         }
     }
     // Names by role; a name taken twice, and a cut no role fits, keep their numbers.
-    let (roles, frame) = super::anatomy::roles(mesh, &skeleton.distance, &joints, up, mirror);
+    let roles = super::anatomy::roles(mesh, &skeleton.distance, &joints, up, mirror);
+    let frame = roles.frame;
     let mut renamed: HashMap<String, String> = HashMap::new();
     let mut taken: std::collections::HashSet<String> = Default::default();
     for (k, cut) in cuts.iter().enumerate() {
-        if let Some(role) = roles.get(k + 1).cloned().flatten() {
+        if let Some(role) = roles.names.get(k + 1).cloned().flatten() {
             if role != root && taken.insert(role.clone()) {
                 renamed.insert(cut.name.clone(), role);
             }
         }
     }
+    // A section that is its parent's end (a snout) is no joint: its cut is taken back
+    // (it is a leaf, so nothing else moves).
+    let ends: Vec<String> = roles
+        .ends
+        .iter()
+        .filter_map(|&s| cuts.get(s.checked_sub(1)?))
+        .filter(|end| !cuts.iter().any(|c| c.section == end.name))
+        .map(|end| end.name.clone())
+        .collect();
+    cuts.retain(|c| !ends.contains(&c.name));
     for cut in &mut cuts {
         if let Some(name) = renamed.get(&cut.name) {
             cut.name = name.clone();
