@@ -15,10 +15,11 @@ use std::collections::HashMap;
 /// union dips between two of them by 3 % of the radius.
 pub const THIN: f64 = 0.25;
 
-/// Two things near each other at rest never collide: a point (or ball) within this many
-/// local radii of a ball's surface at rest (the smaller of the two radii). That is the
-/// flesh about a joint, where each side's balls meet the other side's surface and where
-/// the joint band's own contact holds the inner fold (`joints::band::CONTACT_REACH`).
+/// The two sides of a joint near each other at rest never collide: a point (or ball) of
+/// the joint's flesh (`Joints::joint_flesh`) within this many local radii of a ball's
+/// surface at rest (the smaller of the two radii). That is where each side's balls meet the
+/// other side's surface and where the joint band's own contact holds the inner fold
+/// (`joints::band::CONTACT_REACH`). Other parts near each other at rest do collide.
 pub const NEIGHBOURS: f64 = 2.0;
 
 /// A grid cell for `radii`: twice the 90th percentile, so most balls meet a few cells and

@@ -315,6 +315,55 @@ impl Joints {
         Some((region, radius))
     }
 
+    /// Per vertex, the joint whose flesh it is: 1 + the index of the cut within whose
+    /// [`CONTACT_REACH`] local radii of its plane it lies, in the section it made or its
+    /// parent (the nearest plane wins), 0 for none. The simulation's contacts never push a
+    /// point out of a ball of its own joint's flesh that it lay near at rest
+    /// (`sim::contact`); two parts that merely rest against each other (an arm hanging by
+    /// the body) do collide.
+    ///
+    /// Empty without the skeletal distances (joints of skeletal points alone): then there
+    /// are no local radii to measure by, and every pair near at rest is a joint's flesh.
+    pub fn joint_flesh(&self) -> Vec<u16> {
+        let n = self.section_of.len();
+        if self.body.radius.len() != n {
+            return Vec::new();
+        }
+        let mut out = vec![0u16; n];
+        let mut nearest = vec![f64::INFINITY; n];
+        for k in 0..self.cuts.len().min(usize::from(u16::MAX) - 1) {
+            let Some((radius, _, _)) = self.local_radius(k) else {
+                continue;
+            };
+            // Both sides of the plane, anywhere along it (a cut through a ring meets its
+            // section at two places).
+            let Some(child) = self.find(&self.cuts[k].name) else {
+                continue;
+            };
+            let parent = self.sections[child].parent;
+            let (cut, reach) = (&self.cuts[k], CONTACT_REACH * radius);
+            let normal = cut.normal.normalize_or_zero();
+            for i in 0..n.min(self.body.points.len()) {
+                let s = usize::from(self.section_of[i]);
+                if s != child && Some(s) != parent {
+                    continue;
+                }
+                let d = cut.signed(self.body.points[i], normal);
+                let depth = d.abs() / radius;
+                if depth * radius < reach && depth < nearest[i] {
+                    nearest[i] = depth;
+                    out[i] = k as u16 + 1;
+                }
+            }
+        }
+        for (i, &h) in self.body.host.iter().enumerate() {
+            if h != super::NO_HOST {
+                out[i] = out.get(h as usize).copied().unwrap_or(0);
+            }
+        }
+        out
+    }
+
     /// Recomputes the bands and every vertex's transform (after the cuts changed).
     pub(super) fn refresh_bands(&mut self) {
         let n = self.section_of.len();

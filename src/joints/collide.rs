@@ -3,8 +3,10 @@
 //!
 //! Each section's balls ([`crate::geom::balls::thin`] of the skeleton's) move rigidly with
 //! its world transform. Two balls of different sections *press* by how far they overlap
-//! in a pose, over the smaller radius; pairs that were neighbours at rest
-//! ([`crate::geom::balls::neighbours`]: the two sides of a joint) never press. A pose is
+//! in a pose, over the smaller radius; pairs at one joint that were neighbours at rest
+//! ([`crate::geom::balls::neighbours`]: the two sides of a joint) never press, nor parts
+//! that pressed at rest (a mesh's own overlap); parts that merely rest near each other (an
+//! arm hanging by the body) do. A pose is
 //! allowed while no pair presses more than [`SQUASH`]: the flesh gives that much, and the
 //! simulation's contacts keep the surfaces apart ([`crate::sim::contact`]).
 //!
@@ -34,6 +36,9 @@ pub struct Balls {
     center: Vec<DVec3>,
     radius: Vec<f64>,
     section: Vec<usize>,
+    /// The joint whose flesh each ball's vertex is (0: none, [`Joints::joint_flesh`];
+    /// empty: unknown).
+    joint: Vec<u16>,
     /// Grid cell ([`balls::cell`]).
     cell: f64,
 }
@@ -48,7 +53,16 @@ impl Joints {
             &body.radius[..n],
             &self.section_of[..n.min(self.section_of.len())],
         );
+        let flesh = self.joint_flesh();
         let mut out = Balls {
+            // (None known: every pair near at rest is a joint's flesh.)
+            joint: if flesh.is_empty() {
+                Vec::new()
+            } else {
+                kept.iter()
+                    .map(|&i| flesh.get(i).copied().unwrap_or(0))
+                    .collect()
+            },
             center: kept.iter().map(|&i| body.points[i]).collect(),
             radius: kept.iter().map(|&i| body.radius[i]).collect(),
             section: kept
@@ -88,9 +102,18 @@ impl Balls {
         if depth <= SQUASH * small || self.section[a] == self.section[b] {
             return 0.0;
         }
-        // Neighbours at rest: the surfaces within a few of the smaller radii.
+        // The two sides of a joint never press when they were neighbours at rest (the
+        // surfaces within a few of the smaller radii); other parts do, unless they pressed
+        // at rest already (a mesh's own overlap): an arm hanging by the body presses it
+        // when it turns in.
         let at_rest = self.center[a].distance(self.center[b]);
-        if balls::neighbours(at_rest - small, ra.max(rb), small) {
+        let joint = self.joint.get(a).copied();
+        let skip = if joint.is_none() || (joint != Some(0) && joint == self.joint.get(b).copied()) {
+            balls::neighbours(at_rest - small, ra.max(rb), small)
+        } else {
+            ra + rb - at_rest > SQUASH * small
+        };
+        if skip {
             return 0.0;
         }
         depth / small

@@ -427,6 +427,17 @@ impl Joints {
         &self.body.points
     }
 
+    /// What the simulation's contacts need of the joints: each vertex's section, each
+    /// section's rank ([`Joints::contact_ranks`]) and each vertex's joint flesh
+    /// ([`Joints::joint_flesh`]).
+    pub fn joint_sections(&self) -> crate::sim::JointSections {
+        crate::sim::JointSections {
+            section: self.section_of.clone(),
+            rank: self.contact_ranks(),
+            flesh: self.joint_flesh(),
+        }
+    }
+
     /// Each section's rank for contacts: its depth in the hierarchy, then its index, so a
     /// point of a section yields to the balls of its ancestors and of shallower sections
     /// (an arm to the body, a finger to the palm), and of two at one depth the later one

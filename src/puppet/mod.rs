@@ -112,7 +112,7 @@ impl Puppet {
         );
         let mut sim = Simulation::new(rig, rig_file.params);
         sim.set_sections(joints.transform_of().to_vec());
-        sim.set_joint_sections(joints.section_of().to_vec(), joints.contact_ranks());
+        sim.set_joint_sections(joints.joint_sections());
         let mut puppet = Puppet {
             mesh,
             skeleton,
@@ -169,10 +169,7 @@ impl Puppet {
     pub fn sync_sections(&mut self) {
         self.balls = None;
         self.sim.set_sections(self.joints.transform_of().to_vec());
-        self.sim.set_joint_sections(
-            self.joints.section_of().to_vec(),
-            self.joints.contact_ranks(),
-        );
+        self.sim.set_joint_sections(self.joints.joint_sections());
         self.sync_regions();
     }
 

@@ -129,6 +129,24 @@ struct Scratch {
     affine: Vec<Affine3A>,
 }
 
+/// What the contacts need of the joints (`Joints::joint_sections`), per vertex and per
+/// section. The transforms of [`Simulation::set_sections`] split a section into its band
+/// levels; contacts go by whole sections.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct JointSections {
+    /// Each vertex's joint section: a point never collides with its own section's balls,
+    /// whichever band level moves it.
+    pub section: Vec<u16>,
+    /// Each section's rank: a point yields only to the balls of sections of lower rank
+    /// (a limb to the body it is pressed into).
+    pub rank: Vec<u32>,
+    /// Each vertex's joint flesh: 1 + the index of the joint it lies at, 0 for none. A
+    /// point is never pushed out of a ball of its own joint's flesh that it lay near at
+    /// rest; two parts that merely rest against each other do collide. Empty: every pair
+    /// near at rest is a joint's flesh.
+    pub flesh: Vec<u16>,
+}
+
 /// A simulated puppet: rig, parameters, options, state and scratch.
 #[derive(Clone)]
 pub struct Simulation {
@@ -148,11 +166,8 @@ pub struct Simulation {
     /// The medial balls sections collide with, built at the first step with collision on
     /// (and again after the sections change).
     contacts: Option<contact::Colliders>,
-    /// The joint section of each vertex, for contacts (the transforms of `section_of`
-    /// split a section into its band levels); empty: the transforms'.
-    joint_section: Vec<u16>,
-    /// Each joint section's rank for contacts (see [`contact::Colliders::bind`]).
-    section_rank: Vec<u32>,
+    /// The joint sections, for contacts (empty: the transforms').
+    joint: JointSections,
     /// The sleep threshold as a squared distance.
     sleep_threshold2: f32,
     diagonal: f32,
@@ -204,8 +219,7 @@ impl Simulation {
                 affine: Vec::new(),
             },
             contacts: None,
-            joint_section: Vec::new(),
-            section_rank: Vec::new(),
+            joint: JointSections::default(),
             regions: Regions::default(),
             per_slot: None,
             pin: None,
@@ -367,17 +381,12 @@ impl Simulation {
         self.state.wake_all = true;
     }
 
-    /// Gives the joint section of each vertex, which contacts go by (points of one
-    /// section never collide with its own balls, whichever band level moves them), and
-    /// each section's rank: a point yields only to the balls of sections of lower rank (a
-    /// limb to the body it is pressed into). Without it, each transform of
-    /// [`Simulation::set_sections`] counts as a section, ranked by its index.
-    pub fn set_joint_sections(&mut self, joint_section: Vec<u16>, rank: Vec<u32>) {
-        if joint_section.len() == self.rig.len()
-            && (joint_section != self.joint_section || rank != self.section_rank)
-        {
-            self.joint_section = joint_section;
-            self.section_rank = rank;
+    /// Gives the joint sections the contacts go by ([`JointSections`]). Without them, each
+    /// transform of [`Simulation::set_sections`] counts as a section, ranked by its index,
+    /// and every pair near at rest is a joint's flesh.
+    pub fn set_joint_sections(&mut self, joint: JointSections) {
+        if joint.section.len() == self.rig.len() && joint != self.joint {
+            self.joint = joint;
             self.contacts = None;
         }
     }

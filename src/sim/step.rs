@@ -120,22 +120,25 @@ impl Simulation {
                 .map(|i| rig.rest[i] - rig.normals[i] * rig.skeletal_distance[i])
                 .collect();
             let transform_of = &self.state.section_of;
-            let section_of = if self.joint_section.is_empty() {
+            let joint = &self.joint;
+            let section_of = if joint.section.is_empty() {
                 transform_of
             } else {
-                &self.joint_section
+                &joint.section
             };
             let mut c = super::contact::Colliders::new(
                 &centers,
                 &rig.skeletal_distance,
                 section_of,
                 transform_of,
+                &joint.flesh,
             );
             c.bind(
                 &self.layout,
                 section_of,
-                &self.section_rank,
+                &joint.rank,
                 &rig.skeletal_distance,
+                &joint.flesh,
             );
             c
         });

@@ -328,7 +328,7 @@ fn run_scenario(
     }
     let mut sim = Simulation::new(scenario.rig(params.material.bone_distance), params);
     sim.set_sections(joints.transform_of().to_vec());
-    sim.set_joint_sections(joints.section_of().to_vec(), joints.contact_ranks());
+    sim.set_joint_sections(joints.joint_sections());
     sim.set_regions(random_regions(rng, joints.section_of()));
     let p = *sim.params();
     // The floor somewhere between a little below the puppet and its middle.
@@ -360,7 +360,7 @@ fn run_scenario(
             let to = lo + (hi - lo) * DVec3::new(rng.unit(), rng.unit(), rng.unit()) * 1.4;
             joints.set_pivot(k, to - (hi - lo) * 0.2);
             sim.set_sections(joints.transform_of().to_vec());
-            sim.set_joint_sections(joints.section_of().to_vec(), joints.contact_ranks());
+            sim.set_joint_sections(joints.joint_sections());
             pose = joints.pose(&local);
         }
         if rng.below(3) == 0 {

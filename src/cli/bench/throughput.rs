@@ -60,10 +60,7 @@ pub fn measure(scenario: &Scenario, params: Params, regions: Regions, steps: usi
     let mut sim =
         Simulation::with_options(scenario.rig(params.material.bone_distance), params, options);
     sim.set_sections(scenario.joints.transform_of().to_vec());
-    sim.set_joint_sections(
-        scenario.joints.section_of().to_vec(),
-        scenario.joints.contact_ranks(),
-    );
+    sim.set_joint_sections(scenario.joints.joint_sections());
     sim.set_regions(regions);
     let springs = sim.rig().spring_count();
     let vertices = sim.rig().len();

@@ -9,8 +9,10 @@
 //!   one of the same section.
 //! * **Which pairs.** A point yields to the balls of sections nearer the root (an arm to
 //!   the body, a finger to the palm; of two at one depth, the later), never to its own
-//!   section's, and never to a ball it was a neighbour of at rest ([`balls::neighbours`]):
-//!   at a joint the two sides touch at rest, and the band holds the fold.
+//!   section's, and never to a ball of its own joint's flesh that it was a neighbour of at
+//!   rest ([`balls::neighbours`], `Joints::joint_flesh`): at a joint the two sides touch
+//!   at rest, and the band holds the fold. Parts that merely rest near each other (an arm
+//!   hanging by the body) collide, unless they overlap at rest.
 //! * **Soft flesh** (`flesh` > 0, a share of a ball's radius): the point sinks into the
 //!   balls it yields to by that share of their radii, and, the other way round, a point
 //!   of a section nearer the root is pushed in by the balls of the parts pressed into it,
@@ -70,6 +72,11 @@ pub struct Colliders {
     radius: Vec<f32>,
     section: Vec<u16>,
     transform: Vec<u16>,
+    /// The joint whose flesh each ball's vertex is (0: none), and each slot's; with
+    /// `everywhere`, every pair near at rest counts as a joint's flesh (no joints given).
+    joint: Vec<u16>,
+    slot_joint: Vec<u16>,
+    everywhere: bool,
     /// The joint section and skeletal distance of each slot, and the section of each tile
     /// when it has only one.
     slot_section: Vec<u16>,
@@ -141,6 +148,7 @@ impl Colliders {
         radii: &[f32],
         section_of: &[u16],
         transform_of: &[u16],
+        flesh: &[u16],
     ) -> Colliders {
         let group = |i: usize| section_of.get(i).copied().unwrap_or(0);
         let mut out = Colliders {
@@ -155,6 +163,7 @@ impl Colliders {
             out.section.push(group(i));
             out.transform
                 .push(transform_of.get(i).copied().unwrap_or(0));
+            out.joint.push(flesh.get(i).copied().unwrap_or(0));
         }
         if out.is_empty() {
             return out;
@@ -170,7 +179,20 @@ impl Colliders {
     /// Takes the slots of `layout`, whose vertices are in the joint sections `section_of`
     /// (vertex order), and each section's rank (a point yields to the balls of lower rank;
     /// missing ranks: the section's index).
-    pub fn bind(&mut self, layout: &Layout, section_of: &[u16], rank: &[u32], radii: &[f32]) {
+    pub fn bind(
+        &mut self,
+        layout: &Layout,
+        section_of: &[u16],
+        rank: &[u32],
+        radii: &[f32],
+        flesh: &[u16],
+    ) {
+        self.everywhere = flesh.is_empty();
+        self.slot_joint = layout
+            .order
+            .iter()
+            .map(|&v| flesh.get(v as usize).copied().unwrap_or(0))
+            .collect();
         self.slot_radius = layout
             .order
             .iter()
@@ -592,6 +614,7 @@ impl Colliders {
         p: Vec3,
     ) -> Option<(Vec3, Vec3)> {
         let slots = &stage.layout.slots;
+        let joint = self.slot_joint.get(k).copied().unwrap_or(0);
         let (section, rest, own) = (
             self.slot_section[k],
             slots.rest.get(k),
@@ -619,9 +642,15 @@ impl Colliders {
                 if d2 >= r * r && !sweep {
                     continue;
                 }
-                // Near at rest: the flesh about a joint.
-                let at_rest = f64::from(rest.distance(self.center[b]));
-                if balls::neighbours(at_rest, f64::from(whole), own) {
+                // Near at rest: the flesh about their joint, never pushed. Two parts that
+                // merely rest near each other collide, unless they overlap at rest.
+                let at_rest = rest.distance(self.center[b]);
+                let skip = if self.everywhere || (joint != 0 && joint == self.joint[b]) {
+                    balls::neighbours(f64::from(at_rest), f64::from(whole), own)
+                } else {
+                    at_rest < r.max(whole)
+                };
+                if skip {
                     continue;
                 }
                 let to = if d2 < r * r {
