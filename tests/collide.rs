@@ -124,6 +124,42 @@ fn arms_hanging_by_the_body_stop_when_turned_into_it() {
     }
 }
 
+/// The flesh of a joint is what lies near its cut's plane, on its two sides: the shoulder's,
+/// not the hand hanging by the hip.
+#[test]
+fn a_joint_s_flesh_lies_at_its_cut() {
+    let human = mesh("human.obj");
+    let p = Puppet::build(
+        human.clone(),
+        press("arms down 95").rig(colliding()),
+        puppet::progress::silent(),
+    )
+    .unwrap();
+    let flesh = p.joints.joint_flesh();
+    assert_eq!(flesh.len(), human.positions.len());
+    for (k, cut) in p.joints.cuts().iter().enumerate() {
+        let at = |v: usize| (human.positions[v] - cut.point).dot(cut.normal.normalize());
+        let section = p.joints.find(&cut.name).unwrap();
+        let of = |v: usize| usize::from(p.joints.section_of()[v]);
+        // The vertex of the arm farthest past the cut (a fingertip) is no joint's flesh;
+        // some of the arm next to the cut and of the body next to it are this joint's.
+        let tip = (0..flesh.len())
+            .filter(|&v| of(v) == section)
+            .max_by(|&a, &b| at(a).total_cmp(&at(b)))
+            .unwrap();
+        assert_eq!(flesh[tip], 0, "{}", cut.name);
+        let mine = |side: bool| {
+            (0..flesh.len())
+                .filter(|&v| (of(v) == section) == side && usize::from(flesh[v]) == k + 1)
+                .count()
+        };
+        assert!(mine(true) > 10 && mine(false) > 10, "{}", cut.name);
+    }
+    // Without skeletal distances there is nothing to measure by: none known.
+    let bare = puppet::joints::Joints::new(&human.positions, "body");
+    assert!(bare.joint_flesh().is_empty());
+}
+
 /// A drag of 150° in one frame (the arm would pass right through the body to the other
 /// side) stops where the arm meets the body, as slow drags do.
 #[test]

@@ -341,7 +341,7 @@ impl Joints {
                 continue;
             };
             let parent = self.sections[child].parent;
-            let (cut, reach) = (&self.cuts[k], CONTACT_REACH * radius);
+            let cut = &self.cuts[k];
             let normal = cut.normal.normalize_or_zero();
             for i in 0..n.min(self.body.points.len()) {
                 let s = usize::from(self.section_of[i]);
@@ -350,7 +350,7 @@ impl Joints {
                 }
                 let d = cut.signed(self.body.points[i], normal);
                 let depth = d.abs() / radius;
-                if depth * radius < reach && depth < nearest[i] {
+                if depth < CONTACT_REACH && depth < nearest[i] {
                     nearest[i] = depth;
                     out[i] = k as u16 + 1;
                 }
