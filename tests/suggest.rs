@@ -423,7 +423,8 @@ fn left_and_right_cuts_mirror_each_other() {
 /// near its mirror image.
 #[test]
 fn a_joint_found_on_one_side_is_copied_to_the_other() {
-    for name in ["robot", "teddy", "dog"] {
+    // (The cow's: an ear found on its head's right side only.)
+    for name in ["robot", "teddy", "dog", "cow"] {
         let (_, p) = labelled(name);
         let (mirror, size, pivots) = mirror_and_pivots(&p);
         let (n, o) = mirror;
@@ -442,4 +443,32 @@ fn a_joint_found_on_one_side_is_copied_to_the_other() {
             );
         }
     }
+}
+
+#[test]
+fn a_head_with_ears_and_horns_names_both() {
+    // Spot, the embedded default: horns on top, ears out to the sides, each pair cut on
+    // both sides (her right ear alone was found, her left copied across the head).
+    let (_, p) = labelled("cow");
+    let names = names(&p);
+    for role in ["horn.L", "horn.R", "ear.L", "ear.R"] {
+        assert!(names.iter().any(|n| n == role), "{role} in {names:?}");
+        assert_eq!(
+            p.joints.sections()[p.joints.find(role).unwrap()].parent,
+            p.joints.find("head"),
+            "{role}"
+        );
+    }
+    // A horn points up, an ear out.
+    let up = |role: &str| {
+        let s = p.joints.find(role).unwrap();
+        let pivot = p.joints.sections()[s].pivot;
+        let tip = (0..p.mesh.positions.len())
+            .filter(|&v| p.joints.section_of()[v] as usize == s)
+            .map(|v| p.mesh.positions[v])
+            .max_by(|a, b| a.distance(pivot).total_cmp(&b.distance(pivot)))
+            .unwrap();
+        (tip - pivot).normalize().y
+    };
+    assert!(up("horn.L") > up("ear.L") && up("horn.R") > up("ear.R"));
 }

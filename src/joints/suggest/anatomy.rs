@@ -655,8 +655,29 @@ impl Naming<'_> {
             .copied()
             .filter(|&c| self.side(self.sections[c].pivot).is_none())
             .collect();
+        // With two or more parts on one side (ears and horns), the one pointing most
+        // up is a horn.
+        let up = self.frame.up;
+        let horns: Vec<usize> = ["L", "R"]
+            .iter()
+            .filter_map(|&lr| {
+                let mine: Vec<usize> = kids
+                    .iter()
+                    .copied()
+                    .filter(|&c| self.side(self.sections[c].pivot) == Some(lr))
+                    .collect();
+                if mine.len() < 2 {
+                    return None;
+                }
+                mine.into_iter().max_by(|&a, &b| {
+                    let rise = |c: usize| self.reach(c).direction().dot(up);
+                    rise(a).total_cmp(&rise(b))
+                })
+            })
+            .collect();
         for c in kids {
             match self.side(self.sections[c].pivot) {
+                Some(lr) if horns.contains(&c) => self.chain(c, Family::Horn, lr),
                 Some(lr) => self.chain(c, Family::Ear, lr),
                 None => {
                     let r = self.reach(c);
@@ -766,6 +787,7 @@ enum Family {
     Neck,
     Tail,
     Ear,
+    Horn,
 }
 
 impl Family {
@@ -778,6 +800,7 @@ impl Family {
             Family::Neck => vec!["neck".into(), "head".into()],
             Family::Tail => vec!["tail".into()],
             Family::Ear => vec!["ear".into()],
+            Family::Horn => vec!["horn".into()],
         }
     }
 }

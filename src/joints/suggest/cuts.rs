@@ -137,10 +137,12 @@ impl Tree<'_> {
             if partner[i].is_some() || (l.pivot.dot(n) - o).abs() < MATCHED * size {
                 continue;
             }
+            // Its parent's image: the partner of a limb, the parent itself when that lies
+            // on the mirror plane (an ear found on one side of a head).
             let parent = match l.parent {
                 Some(p) => match partner[p] {
-                    Some(q) if q != p => Some(q),
-                    _ => continue,
+                    Some(q) => Some(q),
+                    None => continue,
                 },
                 None => None,
             };
