@@ -324,7 +324,14 @@ impl Joints {
     ///
     /// Empty without the skeletal distances (joints of skeletal points alone): then there
     /// are no local radii to measure by, and every pair near at rest is a joint's flesh.
-    pub fn joint_flesh(&self) -> Vec<u16> {
+    ///
+    /// Kept with the bands: worked out once each time the cuts change.
+    pub fn joint_flesh(&self) -> &[u16] {
+        &self.flesh
+    }
+
+    /// [`Joints::joint_flesh`] worked out, with each cut's [`Joints::local_radius`].
+    fn flesh_of(&self, radii: &[Option<(f64, usize, usize)>]) -> Vec<u16> {
         let n = self.section_of.len();
         if self.body.radius.len() != n {
             return Vec::new();
@@ -332,15 +339,12 @@ impl Joints {
         let mut out = vec![0u16; n];
         let mut nearest = vec![f64::INFINITY; n];
         for k in 0..self.cuts.len().min(usize::from(u16::MAX) - 1) {
-            let Some((radius, _, _)) = self.local_radius(k) else {
+            let Some(&Some((radius, child, parent))) = radii.get(k) else {
                 continue;
             };
+            let parent = Some(parent);
             // Both sides of the plane, anywhere along it (a cut through a ring meets its
             // section at two places).
-            let Some(child) = self.find(&self.cuts[k].name) else {
-                continue;
-            };
-            let parent = self.sections[child].parent;
             let cut = &self.cuts[k];
             let normal = cut.normal.normalize_or_zero();
             for i in 0..n.min(self.body.points.len()) {
@@ -373,13 +377,17 @@ impl Joints {
         // Per vertex, how deep inside its band it is (|d| / W); the nearest plane wins.
         let mut depth = vec![f64::INFINITY; n];
         let mut slot = 0;
-        for k in 0..self.cuts.len() {
+        // Each cut's local radius, once: for its band and its flesh.
+        let radii: Vec<Option<(f64, usize, usize)>> =
+            (0..self.cuts.len()).map(|k| self.local_radius(k)).collect();
+        self.flesh = self.flesh_of(&radii);
+        for (k, &radius) in radii.iter().enumerate() {
             let factor = self.cuts[k].band_factor();
             let first = sections + slot * (LEVELS - 1);
             if factor <= 0.0 || first + LEVELS - 1 > MAX_TRANSFORMS {
                 continue;
             }
-            let Some((radius, child, parent)) = self.local_radius(k) else {
+            let Some((radius, child, parent)) = radius else {
                 continue;
             };
             // No wider than the child reaches beyond the cut, so its far end turns whole (a

@@ -275,6 +275,9 @@ pub struct Joints {
     /// Per vertex, the transform the simulation moves it with (its section's or a band
     /// level's).
     transform_of: Vec<u16>,
+    /// Per vertex, the joint whose flesh it is ([`Joints::joint_flesh`]), kept with the
+    /// bands.
+    flesh: Vec<u16>,
 }
 
 impl Joints {
@@ -347,6 +350,7 @@ impl Joints {
             order: vec![0],
             bands: Vec::new(),
             transform_of: vec![0; n],
+            flesh: Vec::new(),
         }
     }
 
@@ -389,6 +393,12 @@ impl Joints {
             order: vec![0],
             bands: Vec::new(),
             transform_of: vec![0; self.section_of.len()],
+            // (No cuts: no joint has flesh.)
+            flesh: if self.flesh.is_empty() {
+                Vec::new()
+            } else {
+                vec![0; self.section_of.len()]
+            },
         }
     }
 
@@ -434,7 +444,7 @@ impl Joints {
         crate::sim::JointSections {
             section: self.section_of.clone(),
             rank: self.contact_ranks(),
-            flesh: self.joint_flesh(),
+            flesh: self.joint_flesh().to_vec(),
         }
     }
 
