@@ -21,6 +21,8 @@
 //!   is the neck (or the head if nothing follows it), one pointing back the tail. Down a limb the names go on: `arm`, `forearm`, `hand`; `leg`, `shin`,
 //!   `foot`; `neck`, `head`; four or five digits of a hand are `thumb`, `index`, `middle`,
 //!   `ring`, `little` (the thumb the one turned most from the others), of a foot `toe1`….
+//!   A head's parts off the plane are ears; with two on a side, the one pointing most up
+//!   is a horn.
 //!   Side suffixes come from the side of the mirror plane; what fits no role keeps a
 //!   number.
 
