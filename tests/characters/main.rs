@@ -599,11 +599,54 @@ fn ant() -> Character {
     c
 }
 
+/// A toy whose head is bigger than its body, with big flat ears (the kind of a
+/// well-known big-eared toy): the body is where the arms and legs hang, not the head.
+fn bigears() -> Character {
+    let mut c = Character {
+        name: "bigears",
+        kind: "toy",
+        what: "a toy with a head bigger than its body and big flat ears",
+        cell: 0.012,
+        blend: 0.03,
+        ..Default::default()
+    };
+    c.bone([0.0, 0.3, 0.0], [0.0, 0.5, 0.0], 0.11, 0.1);
+    c.bone([0.0, 0.77, 0.0], [0.0, 0.78, 0.0], 0.19, 0.19);
+    c.joint("head", [0.0, 0.6, 0.0], true);
+    c.both(|c, s, lr| {
+        // A flat ear: capsules fanning out from the head to one round rim, one surface.
+        let group = c.bones.len();
+        for dy in [-0.06, -0.03, 0.0, 0.03, 0.06] {
+            let (base, rim) = (
+                [0.17 * s, 0.8 + 0.5 * dy, 0.0],
+                [0.31 * s, 0.81 + dy, -0.02],
+            );
+            c.grouped(base, rim, 0.022, 0.05, group);
+        }
+        c.joint(&format!("ear.{lr}"), [0.17 * s, 0.8, 0.0], false);
+        let (sh, paw) = ([0.09 * s, 0.47, 0.0], [0.22 * s, 0.32, 0.05]);
+        c.bone(sh, paw, 0.04, 0.035);
+        c.root(&format!("arm.{lr}"), sh, paw, 0.04);
+        c.free(&format!("arm.{lr}"), &[sh, paw]);
+        let (hip, ankle, toe) = (
+            [0.06 * s, 0.28, 0.0],
+            [0.07 * s, 0.07, 0.01],
+            [0.07 * s, 0.05, 0.12],
+        );
+        c.bone(hip, ankle, 0.05, 0.045);
+        c.bone(ankle, toe, 0.045, 0.05);
+        c.root(&format!("leg.{lr}"), hip, ankle, 0.05);
+        c.free(&format!("leg.{lr}"), &[hip, ankle, toe]);
+    });
+    c
+}
+
 fn characters() -> Vec<Character> {
     vec![
         robot(),
         cartoon(),
         teddy(),
+        bigears(),
         dog(),
         horse(),
         lizard(),

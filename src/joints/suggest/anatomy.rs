@@ -5,8 +5,8 @@
 //!   [`MIRRORED`] of the mesh's size of a vertex (a character in T-pose or on all fours; a
 //!   curled tail or a raised arm moves few vertices).
 //! * **Up.** Given (`--up`, the rig file's `up`), or found: of the axis directions along
-//!   the mirror plane, the one opposite to where the root's limbs off the plane point,
-//!   the legs hanging down. Without a mirror plane, when +y does nearly as well, or when
+//!   the mirror plane, the one opposite to where the tips of the root's limbs off the
+//!   plane lie from the mesh's centre, the legs hanging down. Without a mirror plane, when +y does nearly as well, or when
 //!   the limbs do not clearly hang along it (sprawled legs), +y (the OBJ and glTF
 //!   convention).
 //! * **Front.** Across up and the mirror plane: the way the head leans, else the way the
@@ -298,13 +298,16 @@ pub fn frame(
         (Some(u), _) => u.normalize_or(DVec3::Y),
         (None, None) => DVec3::Y,
         (None, Some((n, o))) => {
-            // How well each direction across the plane does as down, by the limbs off
-            // the plane (legs and arms; a tail or a neck says nothing about up).
+            // How well each direction across the plane does as down, by where the tips
+            // of the limbs off the plane lie from the mesh's centre (legs and arms; a tail
+            // or a neck says nothing about up). From the centre, not from the limb's own
+            // cut: a stubby leg cut at its ankle is a foot pointing forward.
+            let centre = positions.iter().sum::<DVec3>() / positions.len().max(1) as f64;
             let down = |d: DVec3| -> f64 {
                 limbs
                     .iter()
                     .filter(|l| (l.pivot.dot(n) - o).abs() >= OFF_PLANE * size)
-                    .map(|l| l.direction().dot(d).max(0.0).powi(2))
+                    .map(|l| (l.tip - centre).normalize_or_zero().dot(d).max(0.0).powi(2))
                     .sum()
             };
             let best = axes

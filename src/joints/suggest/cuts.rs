@@ -465,6 +465,7 @@ impl Tree<'_> {
             point,
             normal,
             pivot,
+            past: Some((k, at)),
         })
     }
 }
@@ -690,4 +691,7 @@ pub(super) struct Limb {
     pub(super) point: DVec3,
     pub(super) normal: DVec3,
     pub(super) pivot: DVec3,
+    /// The segment it cuts and the level of `g` it cuts at (`None` for the cut across the
+    /// core at a neck).
+    pub(super) past: Option<(usize, f64)>,
 }

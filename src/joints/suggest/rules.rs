@@ -5,6 +5,11 @@
 /// The root is the point nearest the centroid among those on the middle of the body at
 /// least this share of the thickest there.
 pub(super) const THICK: f64 = 0.85;
+/// A limb of the root with at least this many tips, more than all the root's other limbs
+/// together, and as thick inside as [`BODY_THICK`] of the root is the body (the root found
+/// was a big head on it), and the tree is rooted there instead.
+pub(super) const BODY_TIPS: usize = 3;
+pub(super) const BODY_THICK: f64 = 0.5;
 /// The body's core reaches as far as its skeletal distance stays this share of the root's,
 /// and no farther than this many of the root's radii from its centre.
 pub(super) const CORE: f64 = 0.85;

@@ -3,6 +3,7 @@
 //! dropped. Then (step 5, `anatomy`) they are named by role.
 
 use super::anatomy::Frame;
+use super::cuts::Limb;
 use super::rules::{PAIRED, SMALLEST};
 use super::tree::Tree;
 use crate::joints::{Cut, Joints, Shape};
@@ -10,6 +11,47 @@ use crate::mesh::Mesh;
 use crate::skeleton::Skeleton;
 use glam::DVec3;
 use std::collections::HashMap;
+
+/// The cuts' places, from the root found, or from the body when that root is a big head on
+/// it ([`Tree::body_elsewhere`]).
+fn limbs_of(mesh: &Mesh, skeleton: &Skeleton, mirror: Option<(DVec3, f64)>) -> Vec<Limb> {
+    let tree = Tree::new(mesh, skeleton);
+    let limbs = tree.limbs(mirror);
+    let Some((root, body)) = tree.body_elsewhere(&limbs) else {
+        return limbs;
+    };
+    let mut out = Tree::rooted(mesh, skeleton, Some(root)).limbs(mirror);
+    // The head the tree was first rooted in turns at the cut that hung the body from it,
+    // the other way round, unless a cut from the body near there already takes it; what
+    // hangs from the body past that cut hangs from the head.
+    let head = tree.core.0;
+    let past = |l: &Limb, p: DVec3| (p - l.point).dot(l.normal) > 0.0;
+    if out.iter().any(|l| {
+        l.parent.is_none() && past(l, head) && l.point.distance(body.point) < 2.0 * body.width
+    }) {
+        return out;
+    }
+    let neck = Limb {
+        parent: None,
+        normal: -body.normal,
+        expected: mesh
+            .positions
+            .iter()
+            .filter(|&&p| (p - body.point).dot(body.normal) < 0.0)
+            .count(),
+        past: None,
+        ..body
+    };
+    for limb in &mut out {
+        limb.parent = match limb.parent {
+            Some(p) => Some(p + 1),
+            None if past(&neck, limb.point) => Some(0),
+            None => None,
+        };
+    }
+    out.insert(0, neck);
+    out
+}
 
 /// Cuts where the protrusions of `mesh` narrow, organised parent-first as a section tree
 /// under the root section `root`, named by role where one fits, and the frame (up, front,
@@ -34,10 +76,10 @@ pub fn suggest(
             riders: 0,
             ..skeleton.clone()
         };
-        let limbs = Tree::new(&body, &body_skeleton).limbs(mirror);
+        let limbs = limbs_of(&body, &body_skeleton, mirror);
         (limbs, parts.hosts(&mesh.positions))
     } else {
-        (Tree::new(mesh, skeleton).limbs(mirror), Vec::new())
+        (limbs_of(mesh, skeleton, mirror), Vec::new())
     };
     // Apply them in order; one that cannot apply (a side left empty) is dropped and what
     // hangs from it hangs from its parent instead.

@@ -2,8 +2,9 @@
 //! `g` (the distance from the core in local radii), and the union-find sweep from the
 //! largest `g` down that cuts the mesh into segments, protrusions hanging from forks.
 
+use super::cuts::Limb;
 use super::graph::{farthest, Graph};
-use super::rules::{CORE, CORE_REACH, ELONGATED, THICK};
+use super::rules::{BODY_THICK, BODY_TIPS, CORE, CORE_REACH, ELONGATED, THICK};
 use super::union_find::UnionFind;
 use crate::mesh::Mesh;
 use crate::skeleton::Skeleton;
@@ -34,7 +35,13 @@ pub(super) struct Tree<'a> {
 }
 
 impl<'a> Tree<'a> {
+    /// The tree from the root found (step 1 of the module docs).
     pub(super) fn new(mesh: &'a Mesh, skeleton: &'a Skeleton) -> Tree<'a> {
+        Tree::rooted(mesh, skeleton, None)
+    }
+
+    /// The tree from vertex `root`'s medial ball, or from the root found when `None`.
+    pub(super) fn rooted(mesh: &'a Mesh, skeleton: &'a Skeleton, root: Option<usize>) -> Tree<'a> {
         let points = &skeleton.points;
         let n = points.len();
         let graph = Graph::new(mesh, &mesh.positions, &skeleton.distance);
@@ -76,7 +83,7 @@ impl<'a> Tree<'a> {
             .map(|&v| skeleton.distance[v])
             .fold(0.0, f64::max);
         let centroid = mesh.volume_centroid();
-        let root = middle
+        let found = middle
             .iter()
             .copied()
             .filter(|&v| skeleton.distance[v] >= THICK * thickest)
@@ -86,6 +93,7 @@ impl<'a> Tree<'a> {
                     .total_cmp(&points[q].distance(centroid))
             })
             .unwrap_or(b);
+        let root = root.filter(|&r| r < n).unwrap_or(found);
         // g: over the surface, from the body's core: the vertices whose skeletal point lies
         // in the root's medial ball, and with them every vertex joined to them through
         // vertices nearly as thick (a long body is all core; its limbs start where it ends).
@@ -117,6 +125,50 @@ impl<'a> Tree<'a> {
         tree.segments = tree.sweep(&graph);
         tree.children = tree.children();
         tree
+    }
+
+    /// Where the body is when the root found is not on it: a limb of the root with more
+    /// tips than all the root's other limbs together, at least [`BODY_TIPS`], as thick
+    /// inside as [`BODY_THICK`] of the root (a big head's body, hanging from the head by a
+    /// neck, with the arms and legs; not an arm with its fingers) holds it. Its thickest
+    /// vertex past the cut is returned, to root the tree there instead, with that cut.
+    pub(super) fn body_elsewhere(&self, limbs: &[Limb]) -> Option<(usize, Limb)> {
+        let n = limbs.len();
+        let mut tips = vec![0usize; n];
+        let mut has_child = vec![false; n];
+        for l in limbs {
+            if let Some(p) = l.parent {
+                has_child[p] = true;
+            }
+        }
+        // Each leaf counts for the root limb it hangs from.
+        let top = |mut i: usize| {
+            while let Some(p) = limbs[i].parent {
+                i = p;
+            }
+            i
+        };
+        for i in 0..n {
+            if !has_child[i] {
+                tips[top(i)] += 1;
+            }
+        }
+        let all: usize = tips.iter().sum();
+        let (best, most) = (0..n)
+            .filter(|&i| limbs[i].parent.is_none())
+            .map(|i| (i, tips[i]))
+            .max_by_key(|&(_, t)| t)?;
+        if most < BODY_TIPS || most <= all - most {
+            return None;
+        }
+        let (k, at) = limbs[best].past?;
+        let (v, d) = self
+            .subtree(k, &self.children)
+            .into_iter()
+            .filter(|&v| self.g[v as usize] >= at)
+            .map(|v| (v as usize, self.skeleton.distance[v as usize]))
+            .max_by(|a, b| a.1.total_cmp(&b.1))?;
+        (d >= BODY_THICK * self.core.1).then_some((v, limbs[best]))
     }
 
     /// The union-find sweep from the largest `g` down (see the module docs): segments and

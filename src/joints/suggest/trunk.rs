@@ -83,6 +83,7 @@ impl Tree<'_> {
             point,
             normal,
             pivot: point,
+            past: None,
         })
     }
 }
