@@ -12,6 +12,10 @@
 //!    core to `v` over the surface, each edge counted in units of the local skeletal
 //!    distance: one unit is about one local radius, so a fat body is crossed in a few units
 //!    and limbs stand out, and the level sets of `g` are close to cross-sections of a limb.
+//!    When a limb of that root has more tips than all the root's other limbs and is as
+//!    thick inside (`BODY_TIPS`, `BODY_THICK`: a body hanging by its neck from a head
+//!    bigger than it, with the arms and legs), the tree is built again from that limb's
+//!    thickest point, and the head turns at the neck cut the other way round.
 //! 2. **Protrusions.** The vertices are added from the largest `g` down, joined by mesh
 //!    edges (a union-find sweep: the join tree of `g`). Every local maximum (a tip) starts a
 //!    component; where two or more reaching `ELONGATED` radii meet (a fork) a new segment
