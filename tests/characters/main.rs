@@ -112,6 +112,23 @@ impl Character {
         p - dir * 0.5 * r
     }
 
+    /// A stubby limb from `root` to `tip` (radii `r`), its joint where it leaves the trunk,
+    /// any cut along it fair: a toy's arm.
+    fn stub(&mut self, role: &str, root: [f64; 3], tip: [f64; 3], r: [f64; 2]) {
+        self.bone(root, tip, r[0], r[1]);
+        self.root(role, root, tip, r[0]);
+        self.free(role, &[root, tip]);
+    }
+
+    /// A leg from the hip to the ankle and a foot on to the toe (radii at the hip, the
+    /// ankle's two and the toe), its joint where it leaves the trunk, any cut along it fair.
+    fn leg_with_foot(&mut self, role: &str, [hip, ankle, toe]: [[f64; 3]; 3], r: [f64; 4]) {
+        self.bone(hip, ankle, r[0], r[1]);
+        self.bone(ankle, toe, r[2], r[3]);
+        self.root(role, hip, ankle, r[0]);
+        self.free(role, &[hip, ankle, toe]);
+    }
+
     fn free(&mut self, role: &str, along: &[[f64; 3]]) {
         self.free.push(Free {
             role: role.into(),
@@ -349,19 +366,14 @@ fn teddy() -> Character {
     c.both(|c, s, lr| {
         c.bone([0.16 * s, 0.92, 0.0], [0.24 * s, 1.0, -0.01], 0.06, 0.1);
         c.joint(&format!("ear.{lr}"), [0.16 * s, 0.92, 0.0], false);
-        let (sh, paw) = ([0.16 * s, 0.52, 0.0], [0.32 * s, 0.4, 0.07]);
-        c.bone(sh, paw, 0.07, 0.06);
-        c.root(&format!("arm.{lr}"), sh, paw, 0.07);
-        c.free(&format!("arm.{lr}"), &[sh, paw]);
-        let (hip, ankle, toe) = (
+        let arm = ([0.16 * s, 0.52, 0.0], [0.32 * s, 0.4, 0.07]);
+        c.stub(&format!("arm.{lr}"), arm.0, arm.1, [0.07, 0.06]);
+        let leg = [
             [0.1 * s, 0.22, 0.0],
             [0.12 * s, 0.07, 0.03],
             [0.12 * s, 0.06, 0.12],
-        );
-        c.bone(hip, ankle, 0.085, 0.075);
-        c.bone(ankle, toe, 0.065, 0.06);
-        c.root(&format!("leg.{lr}"), hip, ankle, 0.085);
-        c.free(&format!("leg.{lr}"), &[hip, ankle, toe]);
+        ];
+        c.leg_with_foot(&format!("leg.{lr}"), leg, [0.085, 0.075, 0.065, 0.06]);
     });
     c
 }
@@ -624,19 +636,14 @@ fn bigears() -> Character {
             c.grouped(base, rim, 0.022, 0.05, group);
         }
         c.joint(&format!("ear.{lr}"), [0.17 * s, 0.8, 0.0], false);
-        let (sh, paw) = ([0.09 * s, 0.47, 0.0], [0.22 * s, 0.32, 0.05]);
-        c.bone(sh, paw, 0.04, 0.035);
-        c.root(&format!("arm.{lr}"), sh, paw, 0.04);
-        c.free(&format!("arm.{lr}"), &[sh, paw]);
-        let (hip, ankle, toe) = (
+        let arm = ([0.09 * s, 0.47, 0.0], [0.22 * s, 0.32, 0.05]);
+        c.stub(&format!("arm.{lr}"), arm.0, arm.1, [0.04, 0.035]);
+        let leg = [
             [0.06 * s, 0.28, 0.0],
             [0.07 * s, 0.07, 0.01],
             [0.07 * s, 0.05, 0.12],
-        );
-        c.bone(hip, ankle, 0.05, 0.045);
-        c.bone(ankle, toe, 0.045, 0.05);
-        c.root(&format!("leg.{lr}"), hip, ankle, 0.05);
-        c.free(&format!("leg.{lr}"), &[hip, ankle, toe]);
+        ];
+        c.leg_with_foot(&format!("leg.{lr}"), leg, [0.05, 0.045, 0.045, 0.05]);
     });
     c
 }
