@@ -3,7 +3,7 @@
 //! into an extremity, along a digit, in the middle of a long stretch.
 
 use super::rules::{
-    BASE, BEND, DIGIT, DIP, ELONGATED, HEAD, LONG, LONG_TO_WRIST, MATCHED, NARROW, PROTRUDES,
+    BASE, BEND, DIGIT, DIP, ELONGATED, FLAT, HEAD, LONG, LONG_TO_WRIST, MATCHED, NARROW, PROTRUDES,
     SLENDER, SMALL, THINNER, WRIST,
 };
 use super::tree::Tree;
@@ -615,8 +615,12 @@ impl Profile {
                 // (From fewer radii when that joint lies in the limb's last part: a wrist
                 // or an ankle, with an elbow or a knee still to come before it.)
                 let len = (b - a) as f64 * self.step;
+                // (None in a flat part: its length in radii of its thickness says nothing
+                // of an elbow.)
+                let flat =
+                    median(&self.size[a..b.min(bins)]) > FLAT * median(&self.d[a..b.min(bins)]);
                 let to_wrist = b < bins && b as f64 >= WRIST * bins as f64;
-                if len >= LONG || (to_wrist && len >= LONG_TO_WRIST) {
+                if !flat && (len >= LONG || (to_wrist && len >= LONG_TO_WRIST)) {
                     let half = 0.5 * (along[a] + along[b.min(bins - 1)]);
                     let mid = (a..b.min(bins))
                         .find(|&m| along[m] >= half)
@@ -694,4 +698,11 @@ pub(super) struct Limb {
     /// The segment it cuts and the level of `g` it cuts at (`None` for the cut across the
     /// core at a neck).
     pub(super) past: Option<(usize, f64)>,
+}
+
+/// The median of `values` (0 for none).
+fn median(values: &[f64]) -> f64 {
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2).copied().unwrap_or(0.0)
 }

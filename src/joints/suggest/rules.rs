@@ -44,6 +44,9 @@ pub(super) const DIGIT: f64 = 6.0;
 /// A limb's first stretch (from its base to its first joint) this many of its radii long
 /// bends in the middle.
 pub(super) const LONG: f64 = 8.0;
+/// ... unless the stretch is flat: its rings' median size more than this many times its
+/// median skeletal distance (a big thin ear, a fin; a limb's rings measure 1.0–1.4 times).
+pub(super) const FLAT: f64 = 2.0;
 /// ... or this many, when its first joint lies past this share of the limb's length (a wrist
 /// or an ankle: the elbow or knee before it neither narrows nor bends).
 pub(super) const LONG_TO_WRIST: f64 = 6.0;

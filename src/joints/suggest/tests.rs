@@ -114,3 +114,15 @@ fn an_extremity_is_cut_where_it_widens_and_a_digit_at_its_two_joints() {
     // A finger: at 45 % and 72 % of its length.
     assert_eq!(profile(&[1.0; 20]).cut_bins(true, false, true), vec![9, 14]);
 }
+
+#[test]
+fn a_long_flat_part_is_not_cut_in_its_middle() {
+    // A long straight stretch is cut halfway (an elbow that neither narrows nor bends)...
+    let tube = profile(&[1.0; 30]);
+    assert!(!tube.cut_bins(true, false, false).is_empty());
+    // ... but not when its rings are four times as wide as it is thick (a big thin ear):
+    // its length in radii of its thickness says nothing of a joint.
+    let mut flat = profile(&[1.0; 30]);
+    flat.size = vec![4.0; 30];
+    assert_eq!(flat.cut_bins(true, false, false), Vec::<usize>::new());
+}
