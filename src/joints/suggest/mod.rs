@@ -37,9 +37,9 @@
 //!    limb widens into an extremity that limbs grow from (a wrist); along a digit (a tip
 //!    among four or more of one extremity) at 45 % and 72 % of its length; and halfway, in
 //!    metres, along a limb's first stretch, from its base to its first joint, when that is
-//!    longer than `LONG` radii, unless it is flat (`FLAT`: a big thin ear, whose length in
-//!    radii of its thickness says nothing) (an elbow or a knee that neither narrows nor bends; a shin
-//!    between a knee and an ankle already found is not cut again).
+//!    longer than `LONG` radii (an elbow or a knee that neither narrows nor bends; a shin
+//!    between a knee and an ankle already found is not cut again; nor is a flat part,
+//!    `FLAT`: a big thin ear's length in radii of its thickness says nothing).
 //!    The core itself is cut only at a clear narrowing along its long axis (`NARROW`): a
 //!    head as thick as the body it sits on (a teddy's) is part of the core, and turns at
 //!    its neck, with what hangs from it past the neck.
