@@ -510,3 +510,35 @@ fn a_head_bigger_than_the_body_turns_on_the_body() {
     assert_eq!(section(glam::DVec3::new(0.0, 0.97, 0.0)), head);
     assert_eq!(section(glam::DVec3::new(0.0, 0.4, 0.12)), 0);
 }
+
+/// An arm hanging closer to the body on one side than on the other: the plane found at
+/// its root slips past it into the body, and the mirror image of the other arm's plane
+/// cuts it instead (it was dropped, and the arm stayed with the body).
+#[test]
+fn an_arm_close_to_the_body_is_cut_as_its_mirror_image() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/characters/bigears.obj");
+    let (mut m, _) = mesh::load(&path).unwrap();
+    // The toy's right arm turned 10° in toward its body about the shoulder.
+    let (shoulder, turn) = (glam::DVec3::new(-0.09, 0.47, 0.0), -10f64.to_radians());
+    for p in &mut m.positions {
+        if p.x < -0.1 && (0.2..0.5).contains(&p.y) {
+            let d = *p - shoulder;
+            let (c, s) = (turn.cos(), turn.sin());
+            *p = shoulder + glam::DVec3::new(c * d.x - s * d.y, s * d.x + c * d.y, d.z);
+        }
+    }
+    let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
+    p.suggest_joints().unwrap();
+    let size = |role: &str| {
+        let s = p
+            .joints
+            .find(role)
+            .unwrap_or_else(|| panic!("{role} in {:?}", names(&p)));
+        p.joints.sections()[s].vertices as f64
+    };
+    let (left, right) = (size("arm.L"), size("arm.R"));
+    assert!(
+        (right - left).abs() <= 0.1 * left,
+        "arm.L {left}, arm.R {right}"
+    );
+}

@@ -47,7 +47,8 @@
 //!    limb's axis there, its pivot on the axis; cuts apply parent-first, and one that would
 //!    leave a section of fewer than `SMALLEST` of the vertices, or whose plane takes more
 //!    than twice what lies past it in the join tree (it slipped past the limb into the
-//!    body), is dropped.
+//!    body), is dropped; a limb's root plane that slips so first tries the mirror image of
+//!    its partner's on the other side (an arm hanging closer to the body on one side).
 //! 5. **Anatomy.** A mirror plane, up (given, or found from how the limbs hang), front and
 //!    left, and names by role: `neck`, `head`, `arm.L`, `forearm.L`, `hand.L`, `thumb.L`…,
 //!    `leg.R`, `shin.R`, `foot.R`, `tail`, `ear.L`, `horn.L` (of two parts on a head's

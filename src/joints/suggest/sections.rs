@@ -106,26 +106,57 @@ pub fn suggest(
         } else {
             format!("{section}.{k}")
         };
-        let cut = Cut {
-            name: name.clone(),
-            section,
-            point: limb.point,
-            normal: limb.normal,
-            pivot: Some(limb.pivot),
-            connected: true,
-            band: None,
-            shape: Shape::Plane,
-            shared_pivot: false,
-        }
-        .rounded();
+        let plane = |point: DVec3, normal: DVec3, pivot: DVec3| {
+            Cut {
+                name: name.clone(),
+                section: section.clone(),
+                point,
+                normal,
+                pivot: Some(pivot),
+                connected: true,
+                band: None,
+                shape: Shape::Plane,
+                shared_pivot: false,
+            }
+            .rounded()
+        };
         // Too small a piece, or too little left, is no joint worth a section.
         let smallest = (SMALLEST * skeleton.points.len() as f64).max(12.0) as usize;
-        let big_enough = joints.find(&cut.section).is_some_and(|s| {
-            let taken = joints.preview(s, &cut).iter().filter(|&&t| t).count();
-            taken >= smallest
-                && joints.sections()[s].vertices - taken >= smallest
-                && taken <= 2 * limb.expected + smallest
-        });
+        let big_enough = |cut: &Cut, expected: usize| {
+            joints.find(&cut.section).is_some_and(|s| {
+                let taken = joints.preview(s, cut).iter().filter(|&&t| t).count();
+                taken >= smallest
+                    && joints.sections()[s].vertices - taken >= smallest
+                    && taken <= 2 * expected + smallest
+            })
+        };
+        // A limb's root plane that slips past it into the body (an arm hanging close to
+        // it) may take the mirror image of its partner's on the other side instead.
+        let mut cut = plane(limb.point, limb.normal, limb.pivot);
+        let mut fits = big_enough(&cut, limb.expected);
+        if let (false, Some(m), None) = (fits, mirror, limb.parent) {
+            let size = mesh.longest_side();
+            let partner = limbs
+                .iter()
+                .filter(|o| o.parent.is_none())
+                .map(|o| (o, super::anatomy::image(m, o.pivot).distance(limb.pivot)))
+                .filter(|&(_, d)| d <= PAIRED * size)
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .map(|(o, _)| o);
+            if let Some(o) = partner.filter(|o| !std::ptr::eq(*o, limb)) {
+                let image = |p: DVec3| super::anatomy::image(m, p);
+                let mirrored = plane(
+                    image(o.point),
+                    super::anatomy::reflect(m.0, o.normal),
+                    image(o.pivot),
+                );
+                if big_enough(&mirrored, o.expected) {
+                    cut = mirrored;
+                    fits = true;
+                }
+            }
+        }
+        let big_enough = fits;
         if !big_enough {
             *count.entry(cut.section).or_default() -= 1;
             applied.push(None);
