@@ -53,6 +53,34 @@ fn limbs_of(mesh: &Mesh, skeleton: &Skeleton, mirror: Option<(DVec3, f64)>) -> V
     out
 }
 
+/// The root limb whose pivot's mirror image (through `mirror`) lies nearest root limb
+/// `limb`'s pivot, within [`PAIRED`] of the mesh's `size`; `None` for a nested limb and
+/// for one nearest its own image.
+fn partner<'a>(
+    limbs: &'a [Limb],
+    limb: &Limb,
+    mirror: (DVec3, f64),
+    size: f64,
+) -> Option<&'a Limb> {
+    if limb.parent.is_some() {
+        return None;
+    }
+    limbs
+        .iter()
+        .filter(|o| o.parent.is_none())
+        .map(|o| {
+            (
+                o,
+                super::anatomy::image(mirror, o.pivot).distance(limb.pivot),
+            )
+        })
+        .filter(|&(_, d)| d <= PAIRED * size)
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(o, _)| o)
+        // (A limb on the mirror plane is its own image: it has no partner.)
+        .filter(|o| !std::ptr::eq(*o, limb))
+}
+
 /// Cuts where the protrusions of `mesh` narrow, organised parent-first as a section tree
 /// under the root section `root`, named by role where one fits, and the frame (up, front,
 /// left) they were named in: `up` when given, else found. Every cut applies, in order, to
@@ -122,7 +150,7 @@ pub fn suggest(
         };
         // Too small a piece, or too little left, is no joint worth a section.
         let smallest = (SMALLEST * skeleton.points.len() as f64).max(12.0) as usize;
-        let big_enough = |cut: &Cut, expected: usize| {
+        let big_enough_for = |cut: &Cut, expected: usize| {
             joints.find(&cut.section).is_some_and(|s| {
                 let taken = joints.preview(s, cut).iter().filter(|&&t| t).count();
                 taken >= smallest
@@ -133,30 +161,21 @@ pub fn suggest(
         // A limb's root plane that slips past it into the body (an arm hanging close to
         // it) may take the mirror image of its partner's on the other side instead.
         let mut cut = plane(limb.point, limb.normal, limb.pivot);
-        let mut fits = big_enough(&cut, limb.expected);
-        if let (false, Some(m), None) = (fits, mirror, limb.parent) {
-            let size = mesh.longest_side();
-            let partner = limbs
-                .iter()
-                .filter(|o| o.parent.is_none())
-                .map(|o| (o, super::anatomy::image(m, o.pivot).distance(limb.pivot)))
-                .filter(|&(_, d)| d <= PAIRED * size)
-                .min_by(|a, b| a.1.total_cmp(&b.1))
-                .map(|(o, _)| o);
-            if let Some(o) = partner.filter(|o| !std::ptr::eq(*o, limb)) {
+        let mut big_enough = big_enough_for(&cut, limb.expected);
+        if let (false, Some(m)) = (big_enough, mirror) {
+            if let Some(o) = partner(&limbs, limb, m, mesh.longest_side()) {
                 let image = |p: DVec3| super::anatomy::image(m, p);
                 let mirrored = plane(
                     image(o.point),
                     super::anatomy::reflect(m.0, o.normal),
                     image(o.pivot),
                 );
-                if big_enough(&mirrored, o.expected) {
+                if big_enough_for(&mirrored, o.expected) {
                     cut = mirrored;
-                    fits = true;
+                    big_enough = true;
                 }
             }
         }
-        let big_enough = fits;
         if !big_enough {
             *count.entry(cut.section).or_default() -= 1;
             applied.push(None);
