@@ -379,7 +379,7 @@ impl Joints {
 
     /// The same body with no cuts (the root keeps its name and own pivot).
     fn uncut(&self) -> Joints {
-        Joints {
+        let mut j = Joints {
             body: self.body.clone(),
             cuts: Vec::new(),
             sections: vec![Section {
@@ -393,13 +393,11 @@ impl Joints {
             order: vec![0],
             bands: Vec::new(),
             transform_of: vec![0; self.section_of.len()],
-            // (No cuts: no joint has flesh.)
-            flesh: if self.flesh.is_empty() {
-                Vec::new()
-            } else {
-                vec![0; self.section_of.len()]
-            },
-        }
+            flesh: Vec::new(),
+        };
+        // (No cuts: no bands, and no joint has flesh.)
+        j.refresh_bands();
+        j
     }
 
     /// The root's own pivot (the point it turns about unless a cut shares its pivot).

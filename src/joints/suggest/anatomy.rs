@@ -203,7 +203,8 @@ pub fn mirror_plane(positions: &[DVec3]) -> Option<(DVec3, f64)> {
     (median <= MIRRORED * size).then_some((n, offset))
 }
 
-fn median_of(v: &mut [f64]) -> f64 {
+/// The median of `v` (infinite for none), reordering it.
+pub(super) fn median_of(v: &mut [f64]) -> f64 {
     if v.is_empty() {
         return f64::INFINITY;
     }
@@ -674,10 +675,10 @@ impl Naming<'_> {
                 if mine.len() < 2 {
                     return None;
                 }
-                mine.into_iter().max_by(|&a, &b| {
-                    let rise = |c: usize| self.reach(c).direction().dot(up);
-                    rise(a).total_cmp(&rise(b))
-                })
+                mine.into_iter()
+                    .map(|c| (c, self.reach(c).direction().dot(up)))
+                    .max_by(|a, b| a.1.total_cmp(&b.1))
+                    .map(|(c, _)| c)
             })
             .collect();
         for c in kids {

@@ -99,14 +99,7 @@ impl Tree<'_> {
         // A neck across the core: first, and what hangs from the core past it hangs
         // from it.
         if let Some(neck) = self.trunk_cut() {
-            for limb in &mut out {
-                limb.parent = match limb.parent {
-                    Some(p) => Some(p + 1),
-                    None if (limb.point - neck.point).dot(neck.normal) > 0.0 => Some(0),
-                    None => None,
-                };
-            }
-            out.insert(0, neck);
+            put_first(&mut out, neck);
         }
         if let Some(mirror) = mirror {
             self.copy_to_the_other_side(&mut out, mirror);
@@ -617,6 +610,7 @@ impl Profile {
                 let len = (b - a) as f64 * self.step;
                 // (None in a flat part: its length in radii of its thickness says nothing
                 // of an elbow.)
+                let median = |v: &[f64]| super::anatomy::median_of(&mut v.to_vec());
                 let flat =
                     median(&self.size[a..b.min(bins)]) > FLAT * median(&self.d[a..b.min(bins)]);
                 let to_wrist = b < bins && b as f64 >= WRIST * bins as f64;
@@ -700,9 +694,15 @@ pub(super) struct Limb {
     pub(super) past: Option<(usize, f64)>,
 }
 
-/// The median of `values` (0 for none).
-fn median(values: &[f64]) -> f64 {
-    let mut v = values.to_vec();
-    v.sort_by(f64::total_cmp);
-    v.get(v.len() / 2).copied().unwrap_or(0.0)
+/// Puts `neck`, a cut across the body, first in `limbs` (parent-first, indexed by
+/// position): what hangs from the body past it hangs from it.
+pub(super) fn put_first(limbs: &mut Vec<Limb>, neck: Limb) {
+    for limb in limbs.iter_mut() {
+        limb.parent = match limb.parent {
+            Some(p) => Some(p + 1),
+            None if (limb.point - neck.point).dot(neck.normal) > 0.0 => Some(0),
+            None => None,
+        };
+    }
+    limbs.insert(0, neck);
 }

@@ -42,14 +42,7 @@ fn limbs_of(mesh: &Mesh, skeleton: &Skeleton, mirror: Option<(DVec3, f64)>) -> V
         past: None,
         ..body
     };
-    for limb in &mut out {
-        limb.parent = match limb.parent {
-            Some(p) => Some(p + 1),
-            None if past(&neck, limb.point) => Some(0),
-            None => None,
-        };
-    }
-    out.insert(0, neck);
+    super::cuts::put_first(&mut out, neck);
     out
 }
 
