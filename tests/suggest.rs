@@ -215,7 +215,7 @@ fn the_labelled_set_scores_as_benchmarks_says() {
     }
     let recall = found as f64 / required as f64;
     let share = spurious as f64 / cuts as f64;
-    assert!(recall >= 0.78, "recall {found}/{required}");
+    assert!(recall >= 0.79, "recall {found}/{required}");
     assert!(share <= 0.10, "spurious {spurious}/{cuts}");
 }
 
@@ -471,6 +471,42 @@ fn a_head_with_ears_and_horns_names_both() {
         (tip - pivot).normalize().y
     };
     assert!(up("horn.L") > up("ear.L") && up("horn.R") > up("ear.R"));
+}
+
+/// An ant's head sits on a neck thinner than its antennae: the antennae are thin beside
+/// the head itself, so the head turns at its neck, within 5 % of the height of where its
+/// bones meet, with both antennae hanging from it (the head and antennae stayed with the
+/// body, and the antennae took the front legs' names).
+#[test]
+fn a_head_on_a_neck_thinner_than_its_antennae_turns_with_them() {
+    let (labels, p) = labelled("ant");
+    let sections = p.joints.sections();
+    let head = p.joints.find("head").expect("a head");
+    assert_eq!(sections[head].parent, Some(0));
+    let label = glam::DVec3::from(labels.joints.iter().find(|j| j.role == "head").unwrap().at);
+    let off = sections[head].pivot.distance(label) / p.mesh.longest_side();
+    assert!(
+        off <= 0.05,
+        "head pivot {} is {:.1} % off",
+        sections[head].pivot,
+        100.0 * off
+    );
+    let antennae: Vec<&str> = sections
+        .iter()
+        .filter(|s| s.parent == Some(head))
+        .map(|s| s.name.as_str())
+        .collect();
+    assert_eq!(antennae.len(), 2, "{:?}", names(&p));
+    for k in 1..=3 {
+        for side in ["L", "R"] {
+            let leg = format!("leg{k}.{side}");
+            let s = p
+                .joints
+                .find(&leg)
+                .unwrap_or_else(|| panic!("{leg} in {:?}", names(&p)));
+            assert_eq!(sections[s].parent, Some(0), "{leg}");
+        }
+    }
 }
 
 /// A toy whose head is bigger than its body, with big flat ears: the body is the root the

@@ -53,14 +53,16 @@ impl Tree<'_> {
             if hanging.len() < 2 || low <= 0.0 || high - low < HEAD || parent == root {
                 continue;
             }
-            // Its limbs are thin beside it (ears and horns on a head, fingers on a hand):
-            // where one is about as wide (a wrist below a palm), this is a stretch of the
-            // body where limbs meet, not a part of its own.
+            // Its limbs are thin beside it (ears and horns on a head, fingers on a hand),
+            // measured against its base or its own widest ring, whichever is wider (an
+            // ant's antennae beside its head, not its thin neck): where one is about as
+            // wide (a wrist below a palm), this is a stretch of the body where limbs meet,
+            // not a part of its own.
             let Some(cut) = self.cut_at(k, low + BASE) else {
                 continue;
             };
-            if hanging.iter().all(|&w| w <= SLENDER * cut.width) && self.narrows_at(k, parent, &cut)
-            {
+            let beside = cut.width.max(self.widest_ring(k));
+            if hanging.iter().all(|&w| w <= SLENDER * beside) && self.narrows_at(k, parent, &cut) {
                 base[k] = Some(cut);
             }
         }
@@ -323,6 +325,22 @@ impl Tree<'_> {
         stick >= PROTRUDES * own && stick >= SMALL * self.size_of_mesh
     }
 
+    /// The size of segment `k`'s widest ring, from a radius past its base to its end.
+    fn widest_ring(&self, k: usize) -> f64 {
+        let seg = &self.segments[k].vertices;
+        let (low, high) = (self.lowest(seg), self.highest(seg));
+        let mut widest: f64 = 0.0;
+        let mut at = low + 1.0;
+        while at < high {
+            let ring = self.ring(seg, at, at + 0.5);
+            if ring.len() >= 3 {
+                widest = widest.max(self.size(&ring));
+            }
+            at += 0.5;
+        }
+        widest
+    }
+
     /// Is `cut`, at the base of segment `k` that grows from `parent`, a clear narrowing: at
     /// most [`NARROW`] of the trunk below it and of the part's own widest ring?
     fn narrows_at(&self, k: usize, parent: usize, cut: &Limb) -> bool {
@@ -334,17 +352,7 @@ impl Tree<'_> {
         } else {
             self.size(&below)
         };
-        let high = self.highest(seg);
-        let mut widest: f64 = 0.0;
-        let mut at = low + 1.0;
-        while at < high {
-            let ring = self.ring(seg, at, at + 0.5);
-            if ring.len() >= 3 {
-                widest = widest.max(self.size(&ring));
-            }
-            at += 0.5;
-        }
-        cut.width <= NARROW * trunk.min(widest)
+        cut.width <= NARROW * trunk.min(self.widest_ring(k))
     }
 
     /// The profile of segment `k` from its base up, in bins half its radius long: the
