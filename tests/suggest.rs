@@ -215,7 +215,7 @@ fn the_labelled_set_scores_as_benchmarks_says() {
     }
     let recall = found as f64 / required as f64;
     let share = spurious as f64 / cuts as f64;
-    assert!(recall >= 0.79, "recall {found}/{required}");
+    assert!(recall >= 0.80, "recall {found}/{required}");
     assert!(share <= 0.10, "spurious {spurious}/{cuts}");
 }
 
@@ -473,24 +473,32 @@ fn a_head_with_ears_and_horns_names_both() {
     assert!(up("horn.L") > up("ear.L") && up("horn.R") > up("ear.R"));
 }
 
-/// An ant's head sits on a neck thinner than its antennae: the antennae are thin beside
-/// the head itself, so the head turns at its neck, within 5 % of the height of where its
-/// bones meet, with both antennae hanging from it (the head and antennae stayed with the
-/// body, and the antennae took the front legs' names).
+/// An ant's head sits on a neck thinner than its antennae, its abdomen past a waist: the
+/// antennae are thin beside the head itself, so the head turns at its neck with both
+/// antennae; the abdomen, thicker than the body and with no limbs, turns at its waist and
+/// is named for it, not taken for the head. Both within 5 % of the height of where the
+/// bones meet. (The head, the antennae and the abdomen stayed with the body, and the
+/// antennae took the front legs' names.)
 #[test]
-fn a_head_on_a_neck_thinner_than_its_antennae_turns_with_them() {
+fn an_ant_s_head_and_abdomen_turn_at_their_neck_and_waist() {
     let (labels, p) = labelled("ant");
     let sections = p.joints.sections();
-    let head = p.joints.find("head").expect("a head");
-    assert_eq!(sections[head].parent, Some(0));
-    let label = glam::DVec3::from(labels.joints.iter().find(|j| j.role == "head").unwrap().at);
-    let off = sections[head].pivot.distance(label) / p.mesh.longest_side();
-    assert!(
-        off <= 0.05,
-        "head pivot {} is {:.1} % off",
-        sections[head].pivot,
-        100.0 * off
-    );
+    for role in ["head", "abdomen"] {
+        let s = p
+            .joints
+            .find(role)
+            .unwrap_or_else(|| panic!("{role} in {:?}", names(&p)));
+        assert_eq!(sections[s].parent, Some(0), "{role}");
+        let label = glam::DVec3::from(labels.joints.iter().find(|j| j.role == role).unwrap().at);
+        let off = sections[s].pivot.distance(label) / p.mesh.longest_side();
+        assert!(
+            off <= 0.05,
+            "{role} pivot {} is {:.1} % off",
+            sections[s].pivot,
+            100.0 * off
+        );
+    }
+    let head = p.joints.find("head").unwrap();
     let antennae: Vec<&str> = sections
         .iter()
         .filter(|s| s.parent == Some(head))

@@ -18,7 +18,9 @@
 //!   side an arm (arms held out or hanging down); when all stand, pairs from the front:
 //!   arms (forelegs) and legs, numbered legs from three pairs on; on the plane, the one whose
 //!   far half is thickest (a head ends in a bulb, a tail in a point), leaning up and front,
-//!   is the neck (or the head if nothing follows it), one pointing back the tail. Down a limb the names go on: `arm`, `forearm`, `hand`; `leg`, `shin`,
+//!   counted twice when it carries parts off the plane (ears, antennae), is the neck (or
+//!   the head if nothing follows it), one pointing back the tail, or the abdomen when it
+//!   ends as thick as the head. Down a limb the names go on: `arm`, `forearm`, `hand`; `leg`, `shin`,
 //!   `foot`; `neck`, `head`; four or five digits of a hand are `thumb`, `index`, `middle`,
 //!   `ring`, `little` (the thumb the one turned most from the others), of a foot `toe1`….
 //!   A head's parts off the plane are ears; with two on a side, the one pointing most up
@@ -270,11 +272,21 @@ pub struct Reach {
     /// How thick its far half is: the largest skeletal distance there (a head ends in a
     /// bulb, a tail in a point).
     pub end: f64,
+    /// It carries a part of its own off the mirror plane (a head's ears, horns, antennae).
+    pub paired: bool,
 }
 
 impl Reach {
     fn direction(&self) -> DVec3 {
         (self.tip - self.pivot).normalize_or_zero()
+    }
+
+    /// How much it looks like a head, leaning along `towards`: its far half's thickness,
+    /// more when it leans that way, twice that when it carries parts of its own off the
+    /// mirror plane (an ant's head with its antennae, not the thicker abdomen).
+    fn head_score(&self, towards: DVec3) -> f64 {
+        let pair = if self.paired { 2.0 } else { 1.0 };
+        pair * self.end * (1.0 + self.direction().dot(towards))
     }
 }
 
@@ -344,10 +356,10 @@ pub fn frame(
         |l: &Reach| mirror.is_none_or(|(n, o)| (l.pivot.dot(n) - o).abs() < OFF_PLANE * size);
     // The head (of the limbs on the plane, the one ending widest, leaning up) leans
     // forward on a quadruped; else the feet point forward.
-    let head = limbs.iter().filter(|l| on_plane(l)).max_by(|a, b| {
-        let score = |l: &Reach| l.end * (1.0 + l.direction().dot(up));
-        score(a).total_cmp(&score(b))
-    });
+    let head = limbs
+        .iter()
+        .filter(|l| on_plane(l))
+        .max_by(|a, b| a.head_score(up).total_cmp(&b.head_score(up)));
     let lean = head.map_or(0.0, |h| h.direction().dot(axis));
     let feet: f64 = limbs
         .iter()
@@ -416,7 +428,11 @@ pub fn roles(
         sections,
         children,
         within,
-        frame: Frame::default(),
+        // The mirror plane first: a limb's reach says whether it carries parts off it.
+        frame: Frame {
+            mirror,
+            ..Frame::default()
+        },
         names: vec![None; n],
         ends: Vec::new(),
         size: mesh.longest_side().max(1e-12),
@@ -453,21 +469,51 @@ struct Naming<'a> {
 
 impl Naming<'_> {
     /// Section `s`'s pivot, its tip (the farthest point from the pivot of it and what hangs
-    /// from it) and how thick its far half is.
+    /// from it; of a part on the mirror plane, not what it carries off it: a head's ears or
+    /// antennae) and how thick its far half is.
     fn reach(&self, s: usize) -> Reach {
         let pivot = self.sections[s].pivot;
-        let tip = self.within[s]
+        // A part on the mirror plane with parts of its own off it (a head's ears).
+        let midline = self.side(pivot).is_none();
+        let off: Vec<usize> = self.children[s]
             .iter()
-            .map(|&v| self.mesh.positions[v])
+            .copied()
+            .filter(|&c| midline && self.side(self.sections[c].pivot).is_some())
+            .collect();
+        let mut aside = vec![
+            false;
+            if off.is_empty() {
+                0
+            } else {
+                self.mesh.positions.len()
+            }
+        ];
+        for &c in &off {
+            for &v in &self.within[c] {
+                aside[v] = true;
+            }
+        }
+        let own = || {
+            self.within[s]
+                .iter()
+                .copied()
+                .filter(|&v| !aside.get(v).copied().unwrap_or(false))
+        };
+        let tip = own()
+            .map(|v| self.mesh.positions[v])
             .max_by(|a, b| a.distance(pivot).total_cmp(&b.distance(pivot)))
             .unwrap_or(pivot);
         let reach = tip.distance(pivot);
-        let end = self.within[s]
-            .iter()
-            .filter(|&&v| self.mesh.positions[v].distance(pivot) >= 0.5 * reach)
-            .map(|&v| self.radius[v])
+        let end = own()
+            .filter(|&v| self.mesh.positions[v].distance(pivot) >= 0.5 * reach)
+            .map(|v| self.radius[v])
             .fold(0.0, f64::max);
-        Reach { pivot, tip, end }
+        Reach {
+            pivot,
+            tip,
+            end,
+            paired: !off.is_empty(),
+        }
     }
 
     /// The side of the mirror plane `p` is on (`None` on the plane, or with no plane).
@@ -514,18 +560,18 @@ impl Naming<'_> {
         }
         // Midline: the neck (or head) ends widest, leaning up and forward; the tail points
         // back.
+        let towards = frame.up + frame.front;
         let head = midline
             .iter()
-            .max_by(|a, b| {
-                let score = |r: &Reach| r.end * (1.0 + r.direction().dot(frame.up + frame.front));
-                score(&a.1).total_cmp(&score(&b.1))
-            })
-            .map(|h| h.0);
+            .max_by(|a, b| a.1.head_score(towards).total_cmp(&b.1.head_score(towards)));
         for &(s, r) in &midline {
-            if Some(s) == head {
+            if Some(s) == head.map(|h| h.0) {
                 self.chain(s, Family::Neck, "");
             } else if r.direction().dot(frame.front) < -0.3 {
-                self.chain(s, Family::Tail, "");
+                // Ending as thick as the head: an abdomen; thinner, a tail.
+                let thick = head.is_some_and(|h| r.end >= h.1.end);
+                let family = if thick { Family::Abdomen } else { Family::Tail };
+                self.chain(s, family, "");
             }
         }
         // A biped: one pair stands on the ground and the rest do not (arms hanging down
@@ -792,6 +838,8 @@ enum Family {
     Numbered(usize),
     Neck,
     Tail,
+    /// A part pointing back that ends as thick as the head (an insect's).
+    Abdomen,
     Ear,
     Horn,
 }
@@ -805,6 +853,7 @@ impl Family {
             Family::Numbered(k) => vec![format!("leg{k}"), format!("shin{k}"), format!("foot{k}")],
             Family::Neck => vec!["neck".into(), "head".into()],
             Family::Tail => vec!["tail".into()],
+            Family::Abdomen => vec!["abdomen".into()],
             Family::Ear => vec!["ear".into()],
             Family::Horn => vec!["horn".into()],
         }
@@ -897,6 +946,7 @@ mod tests {
             pivot: DVec3::new(x, y, 0.0),
             tip: DVec3::new(x, y, -1.0),
             end: 0.1,
+            paired: false,
         };
         let limbs = [leg(0.5, 0.2), leg(1.5, 0.2), leg(0.5, 1.8), leg(1.5, 1.8)];
         let f = frame(&plane, mirror_plane(&plane), &limbs, None);
@@ -913,6 +963,7 @@ mod tests {
             pivot: DVec3::new(x, y, 0.0),
             tip: DVec3::new(x + s, y, -0.3),
             end: 0.1,
+            paired: false,
         };
         let limbs = [sprawl(0.5, 0.2, -1.0), sprawl(1.5, 0.2, 1.0)];
         assert_eq!(

@@ -3,8 +3,8 @@
 //! into an extremity, along a digit, in the middle of a long stretch.
 
 use super::rules::{
-    BASE, BEND, DIGIT, DIP, ELONGATED, FLAT, HEAD, LONG, LONG_TO_WRIST, MATCHED, NARROW, PROTRUDES,
-    SLENDER, SMALL, THINNER, WRIST,
+    BASE, BEND, BODY_THICK, DIGIT, DIP, ELONGATED, FLAT, HEAD, LONG, LONG_TO_WRIST, MATCHED,
+    NARROW, PROTRUDES, SLENDER, SMALL, THINNER, WRIST,
 };
 use super::tree::Tree;
 use glam::DVec3;
@@ -50,6 +50,16 @@ impl Tree<'_> {
             let hanging = self.limbs_hanging(k, children, &base);
             let low = self.lowest(seg);
             let high = self.highest(&self.subtree(k, children));
+            // One with none, as thick as half the body (an ant's abdomen), turns at the
+            // waist it hangs from.
+            if hanging.is_empty()
+                && low > 0.0
+                && high - low >= HEAD
+                && self.radius(&self.subtree(k, children)) >= BODY_THICK * self.core.1
+            {
+                base[k] = self.waist(k, parent);
+                continue;
+            }
             if hanging.len() < 2 || low <= 0.0 || high - low < HEAD || parent == root {
                 continue;
             }
@@ -323,6 +333,86 @@ impl Tree<'_> {
             .fold(0.0, f64::max)
             - anchor_radius;
         stick >= PROTRUDES * own && stick >= SMALL * self.size_of_mesh
+    }
+
+    /// The cut at the waist part `k` (no limbs of its own, growing from `parent`) hangs
+    /// from, across the line from the body's core to it: the narrowest slice of the part
+    /// and the segments it grows from, between the core and the part's widest slice, when
+    /// it is at most [`NARROW`] of the widest on both sides (an ant's abdomen past its
+    /// waist). The rings of `g` do not find it: they tilt across a short waist.
+    fn waist(&self, k: usize, parent: usize) -> Option<Limb> {
+        let (centre, _) = self.core;
+        let positions = &self.mesh.positions;
+        let part = self.subtree(k, &self.children);
+        let mut body = part.clone();
+        let mut s = Some(parent);
+        while let Some(p) = s {
+            body.extend_from_slice(&self.segments[p].vertices);
+            s = self.segments[p].parent;
+        }
+        let middle =
+            part.iter().map(|&v| positions[v as usize]).sum::<DVec3>() / part.len().max(1) as f64;
+        let axis = (middle - centre).normalize_or_zero();
+        let r = self.radius(&part);
+        if axis == DVec3::ZERO || r.is_nan() || r <= 0.0 {
+            return None;
+        }
+        let step = 0.5 * r;
+        let far = body
+            .iter()
+            .map(|&v| (positions[v as usize] - centre).dot(axis))
+            .fold(0.0, f64::max);
+        let bins = (far / step).ceil() as usize;
+        if !(4..=4096).contains(&bins) {
+            return None;
+        }
+        let mut slices: Vec<Vec<u32>> = vec![Vec::new(); bins];
+        for &v in &body {
+            let t = (positions[v as usize] - centre).dot(axis);
+            if t >= 0.0 {
+                slices[((t / step) as usize).min(bins - 1)].push(v);
+            }
+        }
+        let size: Vec<f64> = slices
+            .iter()
+            .map(|s| if s.len() >= 8 { self.size(s) } else { f64::NAN })
+            .collect();
+        let widest = (0..bins)
+            .filter(|&b| size[b].is_finite())
+            .max_by(|&a, &b| size[a].total_cmp(&size[b]))?;
+        // The widest slice (the part's, or nothing is cut), and the narrowest before it
+        // with something wider before that.
+        let mut best: Option<(usize, f64)> = None;
+        for b in 1..widest {
+            if !size[b].is_finite() {
+                continue;
+            }
+            let before = size[..b]
+                .iter()
+                .copied()
+                .filter(|s| s.is_finite())
+                .fold(0.0, f64::max);
+            let ratio = size[b] / before.min(size[widest]);
+            if ratio <= NARROW && best.is_none_or(|(_, q)| ratio < q) {
+                best = Some((b, ratio));
+            }
+        }
+        let (b, _) = best?;
+        let (point, pivot) = self.centre(&slices[b]);
+        let pivot = pivot - axis * (pivot - point).dot(axis);
+        let expected = body
+            .iter()
+            .filter(|&&v| (positions[v as usize] - point).dot(axis) > 0.0)
+            .count();
+        Some(Limb {
+            parent: None,
+            expected,
+            width: size[b],
+            point,
+            normal: axis,
+            pivot,
+            past: None,
+        })
     }
 
     /// The size of segment `k`'s widest ring, from a radius past its base to its end.

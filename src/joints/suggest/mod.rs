@@ -27,9 +27,13 @@
 //!    *limb*: it is cut at its base, and turns about a point half its radius in from the
 //!    cut (the ball of a hip sits above the crotch). A part growing from the core that
 //!    forks within `HEAD` radii (a pelvis both legs hang from) is body. A part as wide as
-//!    the body with two or more limbs of its own, each at most `SLENDER` of its width (a
-//!    head with ears and horns, a hand with fingers), is cut at its base too (`HEAD`), if
-//!    that base is a clear narrowing (`NARROW`: a neck, not a waist as wide as the hips).
+//!    the body with two or more limbs of its own, each at most `SLENDER` of its width or
+//!    of its base's, whichever is wider (a head with ears and horns, a hand with fingers,
+//!    an ant's head with antennae thicker than its neck), is cut at its base too (`HEAD`),
+//!    if that base is a clear narrowing (`NARROW`: a neck, not a waist as wide as the
+//!    hips). One with no limbs of its own, as thick as `BODY_THICK` of the body (an ant's
+//!    abdomen), is cut at the narrowest slice across the line from the core to it, when
+//!    that is a clear narrowing (a waist).
 //!    Inside a part, cuts go where the medial radius or the ring's size narrows below the
 //!    widest within three radii before it and widens again soon (`DIP`: an elbow, a knee, a
 //!    neck, not the wobble of a coarse mesh's rings); where the axis, over three radii either side, bends (`BEND`:
@@ -51,8 +55,8 @@
 //!    its partner's on the other side (an arm hanging closer to the body on one side).
 //! 5. **Anatomy.** A mirror plane, up (given, or found from how the limbs hang), front and
 //!    left, and names by role: `neck`, `head`, `arm.L`, `forearm.L`, `hand.L`, `thumb.L`…,
-//!    `leg.R`, `shin.R`, `foot.R`, `tail`, `ear.L`, `horn.L` (of two parts on a head's
-//!    side, the one pointing most up), `jaw`; a cut no role fits keeps its
+//!    `leg.R`, `shin.R`, `foot.R`, `tail` (`abdomen` when it ends as thick as the head),
+//!    `ear.L`, `horn.L` (of two parts on a head's side, the one pointing most up), `jaw`; a cut no role fits keeps its
 //!    place in the tree (`joint 2.1`). A head's one short part on the mirror plane (a
 //!    snout, a muzzle, a nose: `SNOUT`) is the head's end, and its cut is taken back. See `anatomy`. A left and a right cut that nearly mirror
 //!    each other (`PAIRED`) are made to mirror each other exactly: at their mean, or, where
