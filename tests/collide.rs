@@ -86,11 +86,14 @@ fn pressed_parts_stop_at_the_body_without_crossing() {
 /// `suggest` cuts them, turned down 100° into the body. Parts that merely rest near each
 /// other collide (only the two sides of one joint never do): the arms stop with at most 2
 /// faces crossing and no vertex more than 0.5 % of the diagonal inside, where without
-/// collision hundreds cross.
+/// collision hundreds cross. They do not stop long before they meet the body: turned
+/// down without collision, the cartoon's first vertex goes inside at 15°, the teddy's
+/// between 30° and 40°, the robot's at 30°; with it they reach 7°, 33° and 16° (the
+/// robot's stopped at 5°, held by a big chest ball that reached its shoulder at rest).
 #[test]
 fn arms_hanging_by_the_body_stop_when_turned_into_it() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/characters");
-    for name in ["cartoon", "teddy", "robot"] {
+    for (name, least) in [("cartoon", 5.0), ("teddy", 25.0), ("robot", 12.0)] {
         let (m, _) = puppet::mesh::load(&dir.join(format!("{name}.obj"))).unwrap();
         let mut p =
             Puppet::build(m.clone(), RigFile::default(), puppet::progress::silent()).unwrap();
@@ -121,6 +124,7 @@ fn arms_hanging_by_the_body_stop_when_turned_into_it() {
         assert!(on.crossing <= 2, "{name}: {on:?}");
         assert!(on.deepest <= 0.5, "{name}: {on:?}");
         assert!(on.reached < 100.0, "{name}: {on:?}");
+        assert!(on.reached >= least, "{name}: stopped early: {on:?}");
     }
 }
 

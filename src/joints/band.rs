@@ -316,8 +316,9 @@ impl Joints {
     }
 
     /// Per vertex, the joint whose flesh it is: 1 + the index of the cut within whose
-    /// [`CONTACT_REACH`] local radii of its plane it lies, in the section it made or its
-    /// parent (the nearest plane wins), 0 for none. The simulation's contacts never push a
+    /// [`CONTACT_REACH`] local radii of its plane it lies, in the section it made or, as
+    /// far from the pivot across the plane's normal, its parent (the nearest plane wins),
+    /// 0 for none (each by its skeletal point). The simulation's contacts never push a
     /// point out of a ball of its own joint's flesh that it lay near at rest
     /// (`sim::contact`); two parts that merely rest against each other (an arm hanging by
     /// the body) do collide.
@@ -343,14 +344,23 @@ impl Joints {
                 continue;
             };
             let parent = Some(parent);
-            // Both sides of the plane, anywhere along it (a cut through a ring meets its
-            // section at two places).
+            // Both sides of the plane: the child's anywhere along it (a cut through a ring
+            // meets its section at two places), the parent's about the limb's root only.
             let cut = &self.cuts[k];
             let normal = cut.normal.normalize_or_zero();
+            let (pivot, along) = self.cut_frame(k);
             for i in 0..n.min(self.body.points.len()) {
                 let s = usize::from(self.section_of[i]);
                 if s != child && Some(s) != parent {
                     continue;
+                }
+                // (The body's side below an armpit, its skeletal points deep in the chest,
+                // collides with the arm.)
+                if s != child {
+                    let v = self.body.points[i] - pivot;
+                    if (v - along * v.dot(along)).length() > CONTACT_REACH * radius {
+                        continue;
+                    }
                 }
                 let d = cut.signed(self.body.points[i], normal);
                 let depth = d.abs() / radius;

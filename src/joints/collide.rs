@@ -4,9 +4,10 @@
 //! Each section's balls ([`crate::geom::balls::thin`] of the skeleton's) move rigidly with
 //! its world transform. Two balls of different sections *press* by how far they overlap
 //! in a pose, over the smaller radius; pairs at one joint that were neighbours at rest
-//! ([`crate::geom::balls::neighbours`]: the two sides of a joint) never press, nor parts
-//! that pressed at rest (a mesh's own overlap); parts that merely rest near each other (an
-//! arm hanging by the body) do. A pose is
+//! ([`crate::geom::balls::neighbours`]: the two sides of a joint) never press; parts that
+//! merely rest near each other (an arm hanging by the body) do, and two balls that
+//! overlapped at rest (a mesh's own overlap, a big chest ball reaching an arm's root)
+//! press only by how much deeper they go. A pose is
 //! allowed while no pair presses more than [`SQUASH`]: the flesh gives that much, and the
 //! simulation's contacts keep the surfaces apart ([`crate::sim::contact`]).
 //!
@@ -108,15 +109,20 @@ impl Balls {
         // when it turns in.
         let at_rest = self.center[a].distance(self.center[b]);
         let joint = self.joint.get(a).copied();
-        let skip = if joint.is_none() || (joint != Some(0) && joint == self.joint.get(b).copied()) {
-            balls::neighbours(at_rest - small, ra.max(rb), small)
-        } else {
-            ra + rb - at_rest > SQUASH * small
-        };
-        if skip {
+        if joint.is_none() || (joint != Some(0) && joint == self.joint.get(b).copied()) {
+            return if balls::neighbours(at_rest - small, ra.max(rb), small) {
+                0.0
+            } else {
+                depth / small
+            };
+        }
+        // Other parts press by how much deeper they go than they lay at rest: a chest's
+        // big ball that reaches an arm's root at rest does not hold the arm up.
+        let beyond = depth - (ra + rb - at_rest).max(0.0);
+        if beyond <= SQUASH * small {
             return 0.0;
         }
-        depth / small
+        beyond / small
     }
 
     /// How far (0..1) along the move from `from` to `to` the puppet can go before two
