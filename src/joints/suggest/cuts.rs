@@ -358,25 +358,15 @@ impl Tree<'_> {
             return None;
         }
         let step = 0.5 * r;
-        let far = body
+        let t: Vec<f64> = body
             .iter()
             .map(|&v| (positions[v as usize] - centre).dot(axis))
-            .fold(0.0, f64::max);
-        let bins = (far / step).ceil() as usize;
+            .collect();
+        let bins = (t.iter().copied().fold(0.0, f64::max) / step).ceil() as usize;
         if !(4..=4096).contains(&bins) {
             return None;
         }
-        let mut slices: Vec<Vec<u32>> = vec![Vec::new(); bins];
-        for &v in &body {
-            let t = (positions[v as usize] - centre).dot(axis);
-            if t >= 0.0 {
-                slices[((t / step) as usize).min(bins - 1)].push(v);
-            }
-        }
-        let size: Vec<f64> = slices
-            .iter()
-            .map(|s| if s.len() >= 8 { self.size(s) } else { f64::NAN })
-            .collect();
+        let (slices, size) = self.slices(&body, &t, 0.0, step, bins);
         let widest = (0..bins)
             .filter(|&b| size[b].is_finite())
             .max_by(|&a, &b| size[a].total_cmp(&size[b]))?;
@@ -387,12 +377,7 @@ impl Tree<'_> {
             if !size[b].is_finite() {
                 continue;
             }
-            let before = size[..b]
-                .iter()
-                .copied()
-                .filter(|s| s.is_finite())
-                .fold(0.0, f64::max);
-            let ratio = size[b] / before.min(size[widest]);
+            let ratio = size[b] / super::trunk::widest(&size[..b]).min(size[widest]);
             if ratio <= NARROW && best.is_none_or(|(_, q)| ratio < q) {
                 best = Some((b, ratio));
             }

@@ -32,14 +32,7 @@ impl Tree<'_> {
         if bins < 8 {
             return None;
         }
-        let mut slices: Vec<Vec<u32>> = vec![Vec::new(); bins];
-        for (&v, &tv) in core.iter().zip(&t) {
-            slices[(((tv - lo) / step) as usize).min(bins - 1)].push(v);
-        }
-        let size: Vec<f64> = slices
-            .iter()
-            .map(|s| if s.len() >= 8 { self.size(s) } else { f64::NAN })
-            .collect();
+        let (slices, size) = self.slices(&core, &t, lo, step, bins);
         // The clearest narrowing with a part at least ELONGATED radii long past it.
         let reach_bins = (ELONGATED / 0.5).ceil() as usize;
         let mut best: Option<(usize, f64)> = None;
@@ -47,17 +40,7 @@ impl Tree<'_> {
             if !size[b].is_finite() {
                 continue;
             }
-            let before = size[..b]
-                .iter()
-                .copied()
-                .filter(|s| s.is_finite())
-                .fold(0.0, f64::max);
-            let after = size[b + 1..]
-                .iter()
-                .copied()
-                .filter(|s| s.is_finite())
-                .fold(0.0, f64::max);
-            let ratio = size[b] / before.min(after);
+            let ratio = size[b] / widest(&size[..b]).min(widest(&size[b + 1..]));
             let root_before = (root - mean).dot(axis) < lo + (b as f64 + 0.5) * step;
             let past = if root_before { bins - 1 - b } else { b };
             if ratio <= NARROW && past >= reach_bins && best.is_none_or(|(_, r)| ratio < r) {
@@ -86,6 +69,41 @@ impl Tree<'_> {
             past: None,
         })
     }
+}
+
+impl Tree<'_> {
+    /// `vertices` in slices `step` thick from `lo` along their `t` (one per vertex; those
+    /// below `lo` left out, those past the last slice in it), and each slice's size (NaN
+    /// for a slice of fewer than 8 vertices).
+    pub(super) fn slices(
+        &self,
+        vertices: &[u32],
+        t: &[f64],
+        lo: f64,
+        step: f64,
+        bins: usize,
+    ) -> (Vec<Vec<u32>>, Vec<f64>) {
+        let mut slices: Vec<Vec<u32>> = vec![Vec::new(); bins];
+        for (&v, &tv) in vertices.iter().zip(t) {
+            if tv >= lo && bins > 0 {
+                slices[(((tv - lo) / step) as usize).min(bins - 1)].push(v);
+            }
+        }
+        let size = slices
+            .iter()
+            .map(|s| if s.len() >= 8 { self.size(s) } else { f64::NAN })
+            .collect();
+        (slices, size)
+    }
+}
+
+/// The largest of `sizes` that is a number (0 for none).
+pub(super) fn widest(sizes: &[f64]) -> f64 {
+    sizes
+        .iter()
+        .copied()
+        .filter(|s| s.is_finite())
+        .fold(0.0, f64::max)
 }
 
 /// The direction along which `points` (about their mean) spread most: power iteration on
