@@ -20,9 +20,10 @@
 //!   far half is thickest (a head ends in a bulb, a tail in a point), leaning up and front,
 //!   counted twice when it carries parts off the plane (ears, antennae), is the neck (or
 //!   the head if nothing follows it), one pointing back the tail, or the abdomen when it
-//!   ends as thick as the head. Down a limb the names go on: `arm`, `forearm`, `hand`; `leg`, `shin`,
-//!   `foot`; `neck`, `head`; four or five digits of a hand are `thumb`, `index`, `middle`,
-//!   `ring`, `little` (the thumb the one turned most from the others), of a foot `toe1`….
+//!   ends as thick as the head. Down a limb the names go on: `arm`, `forearm`, `hand`;
+//!   `leg`, `shin`, `foot`; `neck`, `head`; four or five digits of a hand are `thumb`,
+//!   `index`, `middle`, `ring`, `little` (the thumb the one turned most from the others),
+//!   of a foot `toe1`….
 //!   A head's parts off the plane are ears; with two on a side, the one pointing most up
 //!   is a horn.
 //!   Side suffixes come from the side of the mirror plane; what fits no role keeps a
@@ -480,17 +481,13 @@ impl Naming<'_> {
             .copied()
             .filter(|&c| midline && self.side(self.sections[c].pivot).is_some())
             .collect();
-        let mut aside = vec![
-            false;
-            if off.is_empty() {
-                0
-            } else {
-                self.mesh.positions.len()
-            }
-        ];
-        for &c in &off {
-            for &v in &self.within[c] {
-                aside[v] = true;
+        let mut aside = Vec::new();
+        if !off.is_empty() {
+            aside = vec![false; self.mesh.positions.len()];
+            for &c in &off {
+                for &v in &self.within[c] {
+                    aside[v] = true;
+                }
             }
         }
         let own = || {
