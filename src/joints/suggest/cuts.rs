@@ -389,15 +389,7 @@ impl Tree<'_> {
             .iter()
             .filter(|&&v| (positions[v as usize] - point).dot(axis) > 0.0)
             .count();
-        Some(Limb {
-            parent: None,
-            expected,
-            width: size[b],
-            point,
-            normal: axis,
-            pivot,
-            past: None,
-        })
+        Some(Limb::across(point, axis, pivot, size[b], expected))
     }
 
     /// The size of segment `k`'s widest ring, from a radius past its base to its end.
@@ -772,9 +764,31 @@ pub(super) struct Limb {
     pub(super) point: DVec3,
     pub(super) normal: DVec3,
     pub(super) pivot: DVec3,
-    /// The segment it cuts and the level of `g` it cuts at (`None` for the cut across the
-    /// core at a neck).
+    /// The segment it cuts and the level of `g` it cuts at (`None` for a cut across a
+    /// slice of the body: the core at a neck, a waist).
     pub(super) past: Option<(usize, f64)>,
+}
+
+impl Limb {
+    /// A cut of the root across a slice of the body of size `width` (a neck across the
+    /// core, a waist), not at a level of `g`, with `expected` vertices past it.
+    pub(super) fn across(
+        point: DVec3,
+        normal: DVec3,
+        pivot: DVec3,
+        width: f64,
+        expected: usize,
+    ) -> Limb {
+        Limb {
+            parent: None,
+            expected,
+            width,
+            point,
+            normal,
+            pivot,
+            past: None,
+        }
+    }
 }
 
 /// Puts `neck`, a cut across the body, first in `limbs` (parent-first, indexed by

@@ -59,15 +59,7 @@ impl Tree<'_> {
             .iter()
             .filter(|&&p| (p - point).dot(normal) > 0.0)
             .count();
-        Some(Limb {
-            parent: None,
-            expected,
-            width: size[b],
-            point,
-            normal,
-            pivot: point,
-            past: None,
-        })
+        Some(Limb::across(point, normal, point, size[b], expected))
     }
 }
 
