@@ -25,11 +25,11 @@
 //!   `index`, `middle`, `ring`, `little` (the thumb the one turned most from the others),
 //!   of a foot `toe1`….
 //!   A head's parts off the plane are ears; with two on a side, the one pointing most up
-//!   is a horn.
+//!   is a horn; one long and round (`ANTENNA`) is an antenna.
 //!   Side suffixes come from the side of the mirror plane; what fits no role keeps a
 //!   number.
 
-use super::rules::SNOUT;
+use super::rules::{ANTENNA, SNOUT};
 use crate::joints::Joints;
 use crate::mesh::Mesh;
 use glam::DVec3;
@@ -727,6 +727,7 @@ impl Naming<'_> {
         for c in kids {
             match self.side(self.sections[c].pivot) {
                 Some(lr) if horns.contains(&c) => self.chain(c, Family::Horn, lr),
+                Some(lr) if self.feeler(c) => self.chain(c, Family::Antenna, lr),
                 Some(lr) => self.chain(c, Family::Ear, lr),
                 None => {
                     let r = self.reach(c);
@@ -740,6 +741,52 @@ impl Naming<'_> {
                 }
             }
         }
+    }
+
+    /// Whether head part `c` is a feeler (an insect's antenna, not an ear or a horn): at
+    /// least [`ANTENNA`] times as long as its far half is thick, and that far half round,
+    /// no wider across than thick (a big flat ear is long against its thickness too).
+    fn feeler(&self, c: usize) -> bool {
+        let r = self.reach(c);
+        r.tip.distance(r.pivot) >= ANTENNA * r.end && self.spread(c) <= r.end
+    }
+
+    /// How far section `c`'s far half (what hangs from it included) spreads across its
+    /// length: the square root of the middle eigenvalue of its points' covariance.
+    fn spread(&self, c: usize) -> f64 {
+        let r = self.reach(c);
+        let reach = r.tip.distance(r.pivot);
+        let far: Vec<DVec3> = self.within[c]
+            .iter()
+            .map(|&v| self.mesh.positions[v])
+            .filter(|p| p.distance(r.pivot) >= 0.5 * reach)
+            .collect();
+        if far.len() < 3 {
+            return 0.0;
+        }
+        let mean = far.iter().sum::<DVec3>() / far.len() as f64;
+        let mut cov = glam::DMat3::ZERO;
+        for p in &far {
+            let d = *p - mean;
+            cov += glam::DMat3::from_cols(d * d.x, d * d.y, d * d.z);
+        }
+        let cov = cov * (1.0 / far.len() as f64);
+        // The eigenvalues of a symmetric 3×3 matrix (trigonometric form), the middle one.
+        let (a, b, c2) = (cov.x_axis, cov.y_axis, cov.z_axis);
+        let p1 = b.x * b.x + c2.x * c2.x + c2.y * c2.y;
+        let q = (a.x + b.y + c2.z) / 3.0;
+        let p2 = (a.x - q).powi(2) + (b.y - q).powi(2) + (c2.z - q).powi(2) + 2.0 * p1;
+        let p = (p2 / 6.0).sqrt();
+        if p <= 0.0 || !p.is_finite() {
+            return q.max(0.0).sqrt();
+        }
+        let bm = (cov - glam::DMat3::from_diagonal(DVec3::splat(q))) * (1.0 / p);
+        let half_det = (bm.determinant() / 2.0).clamp(-1.0, 1.0);
+        let phi = half_det.acos() / 3.0;
+        let largest = q + 2.0 * p * phi.cos();
+        let smallest = q + 2.0 * p * (phi + 2.0 * std::f64::consts::PI / 3.0).cos();
+        let middle = 3.0 * q - largest - smallest;
+        middle.max(0.0).sqrt()
     }
 
     /// Names the branches of section `at`: four or five digits as fingers (thumb first) or
@@ -839,6 +886,8 @@ enum Family {
     Abdomen,
     Ear,
     Horn,
+    /// A head's long thin part off the plane (an insect's feeler).
+    Antenna,
 }
 
 impl Family {
@@ -853,6 +902,7 @@ impl Family {
             Family::Abdomen => vec!["abdomen".into()],
             Family::Ear => vec!["ear".into()],
             Family::Horn => vec!["horn".into()],
+            Family::Antenna => vec!["antenna".into()],
         }
     }
 }

@@ -60,6 +60,9 @@ pub(super) const SLENDER: f64 = 0.5;
 /// thickness of its far half (its largest skeletal distance there) is the head's end, a
 /// snout or a muzzle, not a jaw: no joint.
 pub(super) const SNOUT: f64 = 4.0;
+/// A head's part off the mirror plane at least this many times as long as its far half is
+/// thick, and round there, is an antenna (a feeler), not an ear.
+pub(super) const ANTENNA: f64 = 5.0;
 /// A left and a right cut whose pivots lie within this share of the mesh's size of each
 /// other's mirror image are made to mirror each other exactly.
 pub(super) const PAIRED: f64 = 0.02;
