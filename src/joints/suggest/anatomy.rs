@@ -748,45 +748,26 @@ impl Naming<'_> {
     /// no wider across than thick (a big flat ear is long against its thickness too).
     fn feeler(&self, c: usize) -> bool {
         let r = self.reach(c);
-        r.tip.distance(r.pivot) >= ANTENNA * r.end && self.spread(c) <= r.end
-    }
-
-    /// How far section `c`'s far half (what hangs from it included) spreads across its
-    /// length: the square root of the middle eigenvalue of its points' covariance.
-    fn spread(&self, c: usize) -> f64 {
-        let r = self.reach(c);
         let reach = r.tip.distance(r.pivot);
+        if reach < ANTENNA * r.end {
+            return false;
+        }
+        // The far half's spread across its long axis: the root mean square of its points'
+        // distances from that axis, per direction across (a round tube of radius `t`
+        // spreads 0.71 t; a flat ear as much as it is wide).
         let far: Vec<DVec3> = self.within[c]
             .iter()
             .map(|&v| self.mesh.positions[v])
             .filter(|p| p.distance(r.pivot) >= 0.5 * reach)
             .collect();
-        if far.len() < 3 {
-            return 0.0;
-        }
-        let mean = far.iter().sum::<DVec3>() / far.len() as f64;
-        let mut cov = glam::DMat3::ZERO;
-        for p in &far {
-            let d = *p - mean;
-            cov += glam::DMat3::from_cols(d * d.x, d * d.y, d * d.z);
-        }
-        let cov = cov * (1.0 / far.len() as f64);
-        // The eigenvalues of a symmetric 3×3 matrix (trigonometric form), the middle one.
-        let (a, b, c2) = (cov.x_axis, cov.y_axis, cov.z_axis);
-        let p1 = b.x * b.x + c2.x * c2.x + c2.y * c2.y;
-        let q = (a.x + b.y + c2.z) / 3.0;
-        let p2 = (a.x - q).powi(2) + (b.y - q).powi(2) + (c2.z - q).powi(2) + 2.0 * p1;
-        let p = (p2 / 6.0).sqrt();
-        if p <= 0.0 || !p.is_finite() {
-            return q.max(0.0).sqrt();
-        }
-        let bm = (cov - glam::DMat3::from_diagonal(DVec3::splat(q))) * (1.0 / p);
-        let half_det = (bm.determinant() / 2.0).clamp(-1.0, 1.0);
-        let phi = half_det.acos() / 3.0;
-        let largest = q + 2.0 * p * phi.cos();
-        let smallest = q + 2.0 * p * (phi + 2.0 * std::f64::consts::PI / 3.0).cos();
-        let middle = 3.0 * q - largest - smallest;
-        middle.max(0.0).sqrt()
+        let mean = far.iter().sum::<DVec3>() / far.len().max(1) as f64;
+        let axis = super::trunk::long_axis(far.iter().map(|&p| p - mean));
+        let across = far
+            .iter()
+            .map(|&p| (p - mean).reject_from_normalized(axis).length_squared())
+            .sum::<f64>()
+            / (2 * far.len()).max(1) as f64;
+        across.sqrt() <= r.end
     }
 
     /// Names the branches of section `at`: four or five digits as fingers (thumb first) or

@@ -100,7 +100,7 @@ pub(super) fn widest(sizes: &[f64]) -> f64 {
 
 /// The direction along which `points` (about their mean) spread most: power iteration on
 /// their covariance.
-fn long_axis(points: impl Iterator<Item = DVec3>) -> DVec3 {
+pub(super) fn long_axis(points: impl Iterator<Item = DVec3>) -> DVec3 {
     let mut cov = glam::DMat3::ZERO;
     for p in points {
         cov += glam::DMat3::from_cols(p * p.x, p * p.y, p * p.z);
