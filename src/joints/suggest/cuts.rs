@@ -51,11 +51,12 @@ impl Tree<'_> {
             let low = self.lowest(seg);
             let high = self.highest(&self.subtree(k, children));
             // One with none, as thick as half the body (an ant's abdomen), turns at the
-            // waist it hangs from.
+            // waist it hangs from. (Thick by its rings: a rough surface's medial balls are
+            // small.)
             if hanging.is_empty()
                 && low > 0.0
                 && high - low >= HEAD
-                && self.radius(&self.subtree(k, children)) >= BODY_THICK * self.core.1
+                && self.widest_ring(k) >= BODY_THICK * self.core.1
             {
                 base[k] = self.waist(k, parent);
                 continue;
