@@ -589,3 +589,39 @@ fn an_arm_close_to_the_body_is_cut_as_its_mirror_image() {
         "arm.L {left}, arm.R {right}"
     );
 }
+
+/// `bench suggest --jitter` scores rough copies of the set (as a scan's surface is rough):
+/// one seed gives one rough mesh and one rig, another seed another; a share out of range
+/// is refused.
+#[test]
+fn bench_suggest_scores_rough_copies_by_seed() {
+    let set = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/characters");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "bench",
+            "suggest",
+            "--set",
+            set.to_str().unwrap(),
+            "--only",
+            "teddy",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let out = puppet(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let row = &rows[0];
+        (row["cuts"].clone(), row["j2j"].as_f64().unwrap())
+    };
+    let clean = run(&[]);
+    let rough = run(&["--jitter", "0.1", "--seed", "1"]);
+    assert_eq!(rough, run(&["--jitter", "0.1", "--seed", "1"]));
+    assert_ne!(rough.1, clean.1);
+    assert_ne!(rough.1, run(&["--jitter", "0.1", "--seed", "2"]).1);
+    let out = puppet(&["bench", "suggest", "--jitter", "nan"]);
+    assert_eq!(out.status.code(), Some(2));
+}

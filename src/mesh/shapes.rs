@@ -164,6 +164,35 @@ pub fn jittered_ellipsoid(axes: DVec3, levels: usize, jitter: f64, seed: u64) ->
     outward(m)
 }
 
+/// `mesh` with every vertex moved by up to `share` of the mean edge length, in a direction
+/// and by an amount drawn uniformly from a ball (seeded): a rough surface, as a scan or a
+/// mesh written with few digits has, where [`jittered_ellipsoid`] keeps every vertex on
+/// the surface. The triangles are the same.
+pub fn roughen(mesh: &Mesh, share: f64, seed: u64) -> Mesh {
+    let edges = super::unique_edges(&mesh.triangles);
+    let mean = edges
+        .iter()
+        .map(|&(a, b)| mesh.positions[a as usize].distance(mesh.positions[b as usize]))
+        .sum::<f64>()
+        / edges.len().max(1) as f64;
+    let mut rng = crate::random::SplitMix(seed);
+    let mut unit = || 2.0 * ((rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64) - 1.0;
+    let positions = mesh
+        .positions
+        .iter()
+        .map(|&p| loop {
+            let d = DVec3::new(unit(), unit(), unit());
+            if d.length_squared() <= 1.0 {
+                break p + d * share * mean;
+            }
+        })
+        .collect();
+    Mesh {
+        positions,
+        triangles: mesh.triangles.clone(),
+    }
+}
+
 /// Torus around y: major radius `major`, tube radius `minor`.
 pub fn torus(major: f64, minor: f64, n_major: usize, n_minor: usize) -> Mesh {
     let (nu, nv) = (n_major.max(3), n_minor.max(3));
@@ -292,4 +321,32 @@ pub fn cube_grid(size: f64, n: usize) -> Mesh {
         positions,
         triangles,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_roughened_mesh_moves_each_vertex_within_its_share_and_repeats_by_seed() {
+        let sphere = icosphere(1.0, 3);
+        let edges = crate::mesh::unique_edges(&sphere.triangles);
+        let mean = edges
+            .iter()
+            .map(|&(a, b)| sphere.positions[a as usize].distance(sphere.positions[b as usize]))
+            .sum::<f64>()
+            / edges.len() as f64;
+        let rough = roughen(&sphere, 0.1, 7);
+        assert_eq!(rough.triangles, sphere.triangles);
+        let moved: Vec<f64> = rough
+            .positions
+            .iter()
+            .zip(&sphere.positions)
+            .map(|(a, b)| a.distance(*b))
+            .collect();
+        assert!(moved.iter().all(|&d| d <= 0.1 * mean + 1e-12));
+        assert!(moved.iter().any(|&d| d > 0.05 * mean));
+        assert_eq!(roughen(&sphere, 0.1, 7).positions, rough.positions);
+        assert_ne!(roughen(&sphere, 0.1, 8).positions, rough.positions);
+    }
 }

@@ -28,9 +28,26 @@ pub struct Args {
     /// Fail when the share of spurious cuts over the set is above this (%).
     #[arg(long)]
     max_spurious: Option<f64>,
+    /// Roughen each mesh first: every vertex moved by up to this share of the mean edge
+    /// length, in a random direction (`--seed`), as a scan's surface is rough.
+    #[arg(long, value_name = "SHARE", value_parser = share)]
+    jitter: Option<f64>,
+    /// The seed of `--jitter`.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
     /// Print JSON instead of a Markdown table.
     #[arg(long)]
     json: bool,
+}
+
+/// A `--jitter` share: finite, from 0 to 10 edge lengths.
+fn share(s: &str) -> Result<f64, String> {
+    let v: f64 = s.parse().map_err(|_| format!("not a number: {s}"))?;
+    if v.is_finite() && (0.0..=10.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("{s} is not a share from 0 to 10"))
+    }
 }
 
 #[derive(serde::Serialize)]
@@ -72,7 +89,10 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         }
         let labels = Labels::read(&file).map_err(|e| anyhow!("{}: {e}", file.display()))?;
         let path = labels.mesh_path(&file);
-        let (mesh, report, shown) = crate::cli::load_mesh(Some(&path), load)?;
+        let (mut mesh, report, shown) = crate::cli::load_mesh(Some(&path), load)?;
+        if let Some(share) = args.jitter {
+            mesh = puppet::mesh::shapes::roughen(&mesh, share, args.seed);
+        }
         let height = mesh.longest_side();
         let t = Instant::now();
         let built = Puppet::build_loaded(
