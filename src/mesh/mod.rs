@@ -148,6 +148,16 @@ impl Mesh {
         unique_edges(&self.triangles).len()
     }
 
+    /// The mean length of its unique edges (0 without any).
+    pub fn mean_edge_length(&self) -> f64 {
+        let edges = unique_edges(&self.triangles);
+        edges
+            .iter()
+            .map(|&(a, b)| self.positions[a as usize].distance(self.positions[b as usize]))
+            .sum::<f64>()
+            / edges.len().max(1) as f64
+    }
+
     /// The centroid of the volume the mesh encloses (of its vertices where it encloses
     /// none): unlike the vertices' mean, not pulled towards a finely meshed face.
     pub fn volume_centroid(&self) -> DVec3 {

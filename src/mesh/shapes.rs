@@ -146,12 +146,7 @@ fn capsule_profile(radius: f64, half: f64, rings: usize, len_rings: usize) -> Ve
 /// (seeded): every vertex stays exactly on the surface while its fan becomes uneven.
 pub fn jittered_ellipsoid(axes: DVec3, levels: usize, jitter: f64, seed: u64) -> Mesh {
     let mut m = icosphere(1.0, levels);
-    let edges = super::unique_edges(&m.triangles);
-    let mean = edges
-        .iter()
-        .map(|&(a, b)| m.positions[a as usize].distance(m.positions[b as usize]))
-        .sum::<f64>()
-        / edges.len().max(1) as f64;
+    let mean = m.mean_edge_length();
     let mut rng = crate::random::SplitMix(seed);
     let mut unit = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
     for p in &mut m.positions {
@@ -169,12 +164,7 @@ pub fn jittered_ellipsoid(axes: DVec3, levels: usize, jitter: f64, seed: u64) ->
 /// mesh written with few digits has, where [`jittered_ellipsoid`] keeps every vertex on
 /// the surface. The triangles are the same.
 pub fn roughen(mesh: &Mesh, share: f64, seed: u64) -> Mesh {
-    let edges = super::unique_edges(&mesh.triangles);
-    let mean = edges
-        .iter()
-        .map(|&(a, b)| mesh.positions[a as usize].distance(mesh.positions[b as usize]))
-        .sum::<f64>()
-        / edges.len().max(1) as f64;
+    let mean = mesh.mean_edge_length();
     let mut rng = crate::random::SplitMix(seed);
     let mut unit = || 2.0 * ((rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64) - 1.0;
     let positions = mesh
@@ -330,12 +320,7 @@ mod tests {
     #[test]
     fn a_roughened_mesh_moves_each_vertex_within_its_share_and_repeats_by_seed() {
         let sphere = icosphere(1.0, 3);
-        let edges = crate::mesh::unique_edges(&sphere.triangles);
-        let mean = edges
-            .iter()
-            .map(|&(a, b)| sphere.positions[a as usize].distance(sphere.positions[b as usize]))
-            .sum::<f64>()
-            / edges.len() as f64;
+        let mean = sphere.mean_edge_length();
         let rough = roughen(&sphere, 0.1, 7);
         assert_eq!(rough.triangles, sphere.triangles);
         let moved: Vec<f64> = rough
