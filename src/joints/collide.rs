@@ -42,6 +42,9 @@ pub struct Balls {
     joint: Vec<u16>,
     /// Grid cell ([`balls::cell`]).
     cell: f64,
+    /// Per cut, the sections on its two sides (the child, its parent); `None` for a cut
+    /// whose section is gone.
+    sides: Vec<Option<(usize, usize)>>,
 }
 
 impl Joints {
@@ -71,6 +74,14 @@ impl Joints {
                 .map(|&i| usize::from(self.section_of.get(i).copied().unwrap_or(0)))
                 .collect(),
             cell: 0.0,
+            sides: self
+                .cuts
+                .iter()
+                .map(|c| {
+                    let child = self.find(&c.name)?;
+                    Some((child, self.sections[child].parent?))
+                })
+                .collect(),
         };
         out.cell = balls::cell(&out.radius);
         out
@@ -116,13 +127,31 @@ impl Balls {
                 depth / small
             };
         }
-        // Other parts press by how much deeper they go than they lay at rest: a chest's
-        // big ball that reaches an arm's root at rest does not hold the arm up.
-        let beyond = depth - (ra + rb - at_rest).max(0.0);
+        // A ball of a joint's flesh and one of the section across that joint that touched
+        // at rest (within the squash) are that joint's too, wherever the other's centre
+        // lies: a chest's big ball reaching into the armpit does not hold the arm up.
+        let at_rest_overlap = ra + rb - at_rest;
+        if at_rest_overlap > -SQUASH * small && (self.across(a, b) || self.across(b, a)) {
+            return 0.0;
+        }
+        // Other parts press by how much deeper they go than they lay at rest.
+        let beyond = depth - at_rest_overlap.max(0.0);
         if beyond <= SQUASH * small {
             return 0.0;
         }
         beyond / small
+    }
+
+    /// Whether ball `a` is of a joint's flesh and `b` of the section across that joint.
+    fn across(&self, a: usize, b: usize) -> bool {
+        let Some(&j) = self.joint.get(a) else {
+            return false;
+        };
+        let Some(&Some((child, parent))) = self.sides.get(usize::from(j).wrapping_sub(1)) else {
+            return false;
+        };
+        let (sa, sb) = (self.section[a], self.section[b]);
+        (sa == child && sb == parent) || (sa == parent && sb == child)
     }
 
     /// How far (0..1) along the move from `from` to `to` the puppet can go before two

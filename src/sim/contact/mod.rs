@@ -12,7 +12,8 @@
 //!   section's, and never to a ball of its own joint's flesh that it was a neighbour of at
 //!   rest ([`balls::neighbours`], `Joints::joint_flesh`): at a joint the two sides touch
 //!   at rest, and the band holds the fold. Parts that merely rest near each other (an arm
-//!   hanging by the body) collide, unless they overlap at rest.
+//!   hanging by the body) collide; a point that lay inside a ball at rest (the balls
+//!   reach a little past a crevice's surface) is kept no deeper than it lay.
 //! * **Soft flesh** (`flesh` > 0, a share of a ball's radius): the point sinks into the
 //!   balls it yields to by that share of their radii, and, the other way round, a point
 //!   of a section nearer the root is pushed in by the balls of the parts pressed into it,
@@ -643,16 +644,24 @@ impl Colliders {
                     continue;
                 }
                 // Near at rest: the flesh about their joint, never pushed. Two parts that
-                // merely rest near each other collide, unless they overlap at rest.
+                // merely rest near each other collide; where the point lay inside the
+                // ball at rest, it is put back only as far out as it lay then (and not
+                // swept: it may be inside).
                 let at_rest = rest.distance(self.center[b]);
-                let skip = if self.everywhere || (joint != 0 && joint == self.joint[b]) {
-                    balls::neighbours(f64::from(at_rest), f64::from(whole), own)
+                let (r, sweep) = if self.everywhere || (joint != 0 && joint == self.joint[b]) {
+                    if balls::neighbours(f64::from(at_rest), f64::from(whole), own) {
+                        continue;
+                    }
+                    (r, sweep)
+                } else if at_rest < r.max(whole) {
+                    let r = r.min(at_rest);
+                    if d2 >= r * r {
+                        continue;
+                    }
+                    (r, false)
                 } else {
-                    at_rest < r.max(whole)
+                    (r, sweep)
                 };
-                if skip {
-                    continue;
-                }
                 let to = if d2 < r * r {
                     // Inside: out along the line from the centre (or, at the centre, back
                     // the way it came).
