@@ -4,10 +4,11 @@
 //! Each section's balls ([`crate::geom::balls::thin`] of the skeleton's) move rigidly with
 //! its world transform. Two balls of different sections *press* by how far they overlap
 //! in a pose, over the smaller radius; pairs at one joint that were neighbours at rest
-//! ([`crate::geom::balls::neighbours`]: the two sides of a joint) never press; parts that
-//! merely rest near each other (an arm hanging by the body) do, and two balls that
-//! overlapped at rest (a mesh's own overlap, a big chest ball reaching an arm's root)
-//! press only by how much deeper they go. A pose is
+//! ([`crate::geom::balls::neighbours`]: the two sides of a joint) never press, nor does a
+//! ball of a joint's flesh with one of the section across that joint that touched it at
+//! rest (within [`SQUASH`]: a chest's big ball reaching into the armpit); parts that
+//! merely rest near each other (an arm hanging by the body) do, and two other balls that
+//! overlapped at rest (a mesh's own overlap) press only by how much deeper they go. A pose is
 //! allowed while no pair presses more than [`SQUASH`]: the flesh gives that much, and the
 //! simulation's contacts keep the surfaces apart ([`crate::sim::contact`]).
 //!
