@@ -238,6 +238,35 @@ fn soft_flesh_dents_the_body() {
     assert!(puppet.sim.is_asleep(), "{:?}", puppet.sim.tiles());
 }
 
+/// A dent comes back out when the part that made it leaves: a leg crossed over the other
+/// with soft flesh, settled asleep, then turned back to rest in one step (the standing
+/// leg, which does not move, was held in by the turned leg's balls; a contact that lets
+/// go of a point wakes its tile, `sim::contact`).
+#[test]
+fn a_dent_comes_back_when_the_part_leaves() {
+    let human = mesh("human.obj");
+    let mut soft = colliding();
+    soft.world.flesh = 0.25;
+    let posed = press("legs crossed").posed(&human, soft).unwrap();
+    let mut puppet = posed.puppet;
+    settle(&posed.local, &mut puppet);
+    let dented = puppet::puppet::press::measure(&puppet);
+    assert!(dented.dent[0] > 0.3, "{dented:?}");
+    let rest = vec![puppet::joints::Local::default(); posed.local.len()];
+    let mut scratch = puppet::joints::PoseScratch::default();
+    puppet
+        .sim
+        .step(puppet.joints.pose_into(&rest, &mut scratch));
+    settle(&rest, &mut puppet);
+    assert!(puppet.sim.is_asleep(), "{:?}", puppet.sim.tiles());
+    let back = puppet::puppet::press::measure(&puppet);
+    assert!(
+        back.dent[0] < 0.05,
+        "the dent stays: {back:?} (pressed: {dented:?})"
+    );
+    assert!(puppet.sim.in_contact().is_empty());
+}
+
 /// A press held still settles: every tile sleeps (a settled window costs nothing), and the
 /// contacts hold the surface where it was.
 #[test]

@@ -1,7 +1,7 @@
 //! One step and its stages (see [`Simulation::step`]), and the fixed-step clock
 //! ([`Simulation::advance`]).
 
-use super::contact::Floor;
+use super::contact::{Floor, Touched};
 use super::{kernel, Pose, Simulation, StageTimes, REFERENCE_STEP, SLEEP_AFTER, STANDARD_GRAVITY};
 use glam::Affine3A;
 use rayon::prelude::*;
@@ -159,8 +159,13 @@ impl Simulation {
             floor,
         };
         let touched = contacts.resolve(&stage, &mut state.cur, &mut state.prev, &state.awake);
-        for (t, motion) in touched {
-            if !state.awake[t] && motion > self.sleep_threshold2 {
+        for Touched {
+            tile: t,
+            motion,
+            released,
+        } in touched
+        {
+            if !state.awake[t] && (motion > self.sleep_threshold2 || released) {
                 state.awake[t] = true;
                 state.steps_under_threshold[t] = 0;
                 self.awake_tiles += 1;

@@ -37,7 +37,8 @@
 //!   frame of each ball (the ball's own motion subtracted): a point that crossed a ball in
 //!   one step is put back at the surface where it entered, however fast the drag.
 //! * **Sleeping.** A sleeping tile is tested only in a step where a ball that may touch
-//!   it moved near its box, and wakes only when a contact moves one of its points; a settled pose with contacts
+//!   it moved near its box, and wakes when a contact moves one of its points or lets go
+//!   of one it held (that point may lie outside its constraint: it must come back); a settled pose with contacts
 //!   settles (the contact puts a point back where it was, so the tile's motion is zero).
 
 mod floor;
@@ -57,6 +58,19 @@ use rayon::prelude::*;
 struct Buffers {
     candidates: Vec<u32>,
     group: Vec<u32>,
+    /// The tile's held flags before the stage.
+    was: Vec<bool>,
+}
+
+/// A tile the contact stage moved a point of, or let go of one.
+#[derive(Clone, Copy, Debug)]
+pub struct Touched {
+    /// The tile.
+    pub tile: usize,
+    /// The largest squared distance a point of it moved in the whole step.
+    pub motion: f32,
+    /// A point it held is held no more.
+    pub released: bool,
 }
 
 /// Points tested together against the balls that meet their box.
@@ -301,14 +315,15 @@ impl Colliders {
     /// moved. Moves points of `cur` out of foreign balls, sets their `prev` (velocity) by
     /// the response, and returns the tiles it moved a point of, each with the largest
     /// squared distance a point of it moved in the whole step (to be woken when that is
-    /// motion).
+    /// motion), and those where it let go of a point it held (to be woken: the point
+    /// may lie outside its constraint, and must come back).
     pub fn resolve(
         &mut self,
         stage: &Stage,
         cur: &mut Packed,
         prev: &mut Packed,
         awake: &[bool],
-    ) -> Vec<(usize, f32)> {
+    ) -> Vec<Touched> {
         let layout = stage.layout;
         if stage.flesh != self.flesh {
             let was_soft = self.flesh > 0.0;
@@ -329,7 +344,7 @@ impl Colliders {
         let mut held = std::mem::take(&mut self.held);
         let mut boxes = std::mem::take(&mut self.tile_box);
         let this = &*self;
-        let touched: Vec<(usize, f32)> = cur
+        let touched: Vec<Touched> = cur
             .0
             .par_chunks_mut(tile)
             .zip(prev.0.par_chunks_mut(tile))
@@ -347,12 +362,25 @@ impl Colliders {
                         let m = stage.tile_motion.get(t).map_or(f32::INFINITY, |m| m.sqrt());
                         *bx = bx.map(|(lo, hi)| (lo - m, hi + m));
                     }
-                    if !this.may_meet(stage, t, *bx, !awake) {
-                        held.fill(false);
-                        return None;
+                    // (Only a tile that holds a point can let one go.)
+                    let had = held.contains(&true);
+                    if had {
+                        buffers.was.clear();
+                        buffers.was.extend_from_slice(held);
                     }
-                    this.tile(stage, t, cur, prev, held, bx, buffers)
-                        .map(|m| (t, m))
+                    let motion = if this.may_meet(stage, t, *bx, !awake) {
+                        this.tile(stage, t, cur, prev, held, bx, buffers)
+                    } else {
+                        held.fill(false);
+                        None
+                    };
+                    let released =
+                        had && buffers.was.iter().zip(held.iter()).any(|(&w, &h)| w && !h);
+                    (motion.is_some() || released).then(|| Touched {
+                        tile: t,
+                        motion: motion.unwrap_or(0.0),
+                        released,
+                    })
                 },
             )
             .flatten()
@@ -430,7 +458,9 @@ impl Colliders {
         let sweep = fastest.sqrt() > reach || self.motion > reach;
         let grow = stage.margin + if sweep { self.motion } else { 0.0 };
         let (lo, hi) = (lo - grow, hi + grow);
-        let Buffers { candidates, group } = buffers;
+        let Buffers {
+            candidates, group, ..
+        } = buffers;
         self.near(t, lo, hi, candidates);
         if candidates.is_empty() {
             held.fill(false);
