@@ -625,3 +625,50 @@ fn bench_suggest_scores_rough_copies_by_seed() {
     let out = puppet(&["bench", "suggest", "--jitter", "nan"]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[path = "characters/mesher.rs"]
+#[allow(dead_code)]
+mod mesher;
+
+/// A cartoon man whose head is a cylinder as wide as the top of his body, sitting on his
+/// shoulders (as the cartoon man's: no narrowing to cut a neck at, so the head is
+/// the body's), with small ears on its sides pointing out (generated with the labelled
+/// set's mesher): the ears are `ear.L` and `ear.R`, raised limbs above the arms, smaller
+/// than them, not numbered joints.
+#[test]
+fn ears_on_a_head_not_cut_from_the_body_are_ears() {
+    use glam::DVec3;
+    use mesher::{Body, Bone};
+    let mut bones = Vec::new();
+    let mut bone = |a: [f64; 3], b: [f64; 3], ra: f64, rb: f64| {
+        let group = bones.len();
+        bones.push(Bone {
+            a: DVec3::from_array(a),
+            b: DVec3::from_array(b),
+            ra,
+            rb,
+            group,
+        });
+    };
+    bone([0.0, 0.4, 0.0], [0.0, 0.62, 0.0], 0.13, 0.1);
+    bone([0.0, 0.66, 0.0], [0.0, 0.95, 0.0], 0.1, 0.1);
+    for s in [1.0, -1.0] {
+        bone([0.095 * s, 0.84, 0.0], [0.135 * s, 0.84, 0.0], 0.025, 0.025);
+        bone([0.1 * s, 0.62, 0.0], [0.24 * s, 0.6, 0.0], 0.04, 0.035);
+        bone([0.24 * s, 0.6, 0.0], [0.25 * s, 0.6, 0.14], 0.035, 0.03);
+        bone([0.07 * s, 0.36, 0.0], [0.07 * s, 0.05, 0.0], 0.05, 0.045);
+    }
+    let body = Body { bones, blend: 0.03 };
+    let (positions, triangles) = body.mesh(0.01, 0.37);
+    let m = mesh::Mesh {
+        positions,
+        triangles,
+    };
+    let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
+    p.suggest_joints().unwrap();
+    let names: Vec<&str> = p.joints.cuts().iter().map(|c| c.name.as_str()).collect();
+    for want in ["arm.L", "arm.R", "leg.L", "leg.R", "ear.L", "ear.R"] {
+        assert!(names.contains(&want), "{want} in {names:?}");
+    }
+    assert!(!names.iter().any(|n| n.starts_with("joint")), "{names:?}");
+}

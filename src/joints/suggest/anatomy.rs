@@ -605,6 +605,19 @@ impl Naming<'_> {
                         .map(|(l, _)| l.0)
                 })
                 .collect();
+            // Of the other raised limbs, one above its side's arm, and smaller, is an ear
+            // (a head not cut from the body: it sits on the shoulders as wide as its neck).
+            let arm_on = |lr: &str| {
+                legs.iter()
+                    .find(|l| arms.contains(&l.0) && side(&l.1) == lr)
+                    .copied()
+            };
+            let ear = |s: usize, r: &Reach| {
+                arm_on(side(r)).is_some_and(|(a, ar)| {
+                    height(r.pivot) > height(ar.pivot) + ar.end
+                        && self.within[s].len() < self.within[a].len()
+                })
+            };
             let families: Vec<(usize, Option<Family>, &str)> = legs
                 .iter()
                 .zip(&stands)
@@ -613,6 +626,8 @@ impl Naming<'_> {
                         Some(Family::Leg)
                     } else if arms.contains(&s) {
                         Some(Family::Arm)
+                    } else if ear(s, &r) {
+                        Some(Family::Ear)
                     } else {
                         None
                     };

@@ -56,7 +56,9 @@
 //! 5. **Anatomy.** A mirror plane, up (given, or found from how the limbs hang), front and
 //!    left, and names by role: `neck`, `head`, `arm.L`, `forearm.L`, `hand.L`, `thumb.L`…,
 //!    `leg.R`, `shin.R`, `foot.R`, `tail` (`abdomen` when it ends as thick as the head),
-//!    `ear.L`, `horn.L` (of two parts on a head's side, the one pointing most up),
+//!    `ear.L` (on a head, or, on a biped whose head is not cut from its body, a raised
+//!    part above its side's arm and smaller), `horn.L` (of two parts on a head's side,
+//!    the one pointing most up),
 //!    `antenna.L` (a head's part long and round: `ANTENNA`), `jaw`; a cut no role fits keeps its
 //!    place in the tree (`joint 2.1`). A head's one short part on the mirror plane (a
 //!    snout, a muzzle, a nose: `SNOUT`) is the head's end, and its cut is taken back. See `anatomy`. A left and a right cut that nearly mirror
