@@ -633,8 +633,15 @@ impl Profile {
         }
         // Where the axis bends (a bent knee, an ankle, a hock): the sharpest turn over
         // three radii either side, if it turns by at least BEND, and no other cut within
-        // those three radii (the same joint, a narrowing at an ankle).
-        let w = 6;
+        // those three radii (the same joint, a narrowing at an ankle). A short limb that
+        // ends at an extremity (an arm bent forward, two radii from its elbow to its hand)
+        // is measured over as much as it has, down to 1.5 radii either side, up to that
+        // end (no round tip there).
+        let w: usize = if extremity {
+            ((bins.max(1) - 1) / 2).clamp(3, 6)
+        } else {
+            6
+        };
         let turn = |b: usize| {
             if b < w || b + w >= bins {
                 return 0.0;
@@ -645,7 +652,8 @@ impl Profile {
         };
         // (Not within two and a half radii of the base, where the axis turns out of the trunk, nor
         // within three of the tip, where it rounds.)
-        for b in 5..bins.saturating_sub(5) {
+        let end = if extremity { w } else { 5 };
+        for b in 5..bins.saturating_sub(end) {
             let t = turn(b);
             let alone = at.iter().all(|&c| c.abs_diff(b) >= w);
             if t >= BEND && t >= turn(b - 1) && t >= turn(b + 1) && free(&at, b) && alone {

@@ -37,7 +37,8 @@
 //!    Inside a part, cuts go where the medial radius or the ring's size narrows below the
 //!    widest within three radii before it and widens again soon (`DIP`: an elbow, a knee, a
 //!    neck, not the wobble of a coarse mesh's rings); where the axis, over three radii either side, bends (`BEND`:
-//!    a bent knee, an ankle, a hock; not within those three radii of another cut); where a
+//!    a bent knee, an ankle, a hock; not within those three radii of another cut; a short
+//!    limb ending at an extremity over as much as it has, down to 1.5 radii); where a
 //!    limb widens into an extremity that limbs grow from (a wrist); along a digit (a tip
 //!    among four or more of one extremity) at 45 % and 72 % of its length; and halfway, in
 //!    metres, along a limb's first stretch, from its base to its first joint, when that is

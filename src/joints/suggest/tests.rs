@@ -42,6 +42,21 @@ fn a_limb_bends_where_its_axis_turns_and_a_long_stretch_is_halved_in_metres() {
 }
 
 #[test]
+fn a_short_limb_ending_at_an_extremity_bends_over_what_it_has() {
+    // Five radii long (10 bins), straight for 6 bins, then turned 60° up to the extremity
+    // it ends at (Homer's arm bent forward, 2 radii from his elbow to his hand): cut at the
+    // bend. Ending at a tip instead (nothing grows from it), the tip rounds: no cut.
+    let mut p = profile(&[1.0; 10]);
+    let turn = glam::DVec3::new(0.5, 0.866, 0.0);
+    for b in 6..10 {
+        p.centre[b] = p.centre[5] + turn * (b - 5) as f64;
+    }
+    let cuts = p.cut_bins(true, true, false);
+    assert!(cuts.iter().any(|&b| (4..=6).contains(&b)), "{cuts:?}");
+    assert!(p.cut_bins(true, false, false).is_empty());
+}
+
+#[test]
 fn empty_bins_are_filled_from_their_neighbours() {
     let nan = f64::NAN;
     assert_eq!(
