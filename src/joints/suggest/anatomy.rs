@@ -801,6 +801,26 @@ impl Naming<'_> {
         let toes = self.names[at]
             .as_deref()
             .is_some_and(|n| n.starts_with("foot"));
+        // A hand not cut at its wrist: of two parts, one with two or more digits of its
+        // own and one with none, the first is the hand and the other its thumb.
+        if !toes && at != 0 && digits.len() == 2 {
+            let (a, b) = (kids[digits[0]], kids[digits[1]]);
+            let palm = |c: usize| self.children[c].len() >= 2;
+            let bare = |c: usize| self.children[c].is_empty();
+            let pair = if palm(a) && bare(b) {
+                Some((a, b))
+            } else if palm(b) && bare(a) {
+                Some((b, a))
+            } else {
+                None
+            };
+            if let Some((hand, thumb)) = pair {
+                self.names[hand] = Some(tagged("hand", tag));
+                self.digit(thumb, &tagged("thumb", tag));
+                self.digits(hand, tag);
+                return;
+            }
+        }
         if !toes && (4..=5).contains(&digits.len()) {
             // The thumb is the digit turned most from the others; the rest by distance
             // from it.
@@ -1013,6 +1033,73 @@ mod tests {
             frame(&plane, mirror_plane(&plane), &limbs, None).up,
             DVec3::Y
         );
+    }
+
+    /// A forearm ending in two parts, one carrying fingers (a hand not cut at its wrist)
+    /// and one carrying none (Homer's): the first is the hand, the other its thumb, and
+    /// the hand's parts are fingers.
+    #[test]
+    fn a_part_carrying_fingers_beside_a_bare_one_is_a_hand_and_its_thumb() {
+        // Sections: 0 the body, 1 the forearm, 2 the palm, 3 the thumb, 4–6 fingers; each
+        // a short row of vertices from its pivot along its direction.
+        let along = [
+            (DVec3::ZERO, DVec3::Y),
+            (DVec3::new(0.3, 0.0, 0.0), DVec3::X),
+            (DVec3::new(0.6, 0.0, 0.0), DVec3::X),
+            (DVec3::new(0.55, 0.0, 0.05), DVec3::new(0.6, 0.0, 0.8)),
+            (DVec3::new(0.7, 0.0, -0.03), DVec3::X),
+            (DVec3::new(0.7, 0.0, 0.0), DVec3::X),
+            (DVec3::new(0.7, 0.0, 0.03), DVec3::X),
+        ];
+        let parent = [None, Some(0), Some(1), Some(1), Some(2), Some(2), Some(2)];
+        let mut positions = Vec::new();
+        let mut within = vec![Vec::new(); along.len()];
+        for (s, &(pivot, dir)) in along.iter().enumerate() {
+            for k in 0..5 {
+                within[s].push(positions.len());
+                positions.push(pivot + dir * (0.02 * k as f64));
+            }
+        }
+        let sections: Vec<crate::joints::Section> = (0..along.len())
+            .map(|s| crate::joints::Section {
+                name: format!("s{s}"),
+                parent: parent[s],
+                pivot: along[s].0,
+                vertices: 5,
+            })
+            .collect();
+        let mut children = vec![Vec::new(); along.len()];
+        for (s, p) in parent.iter().enumerate() {
+            if let Some(p) = p {
+                children[*p].push(s);
+            }
+        }
+        let mesh = Mesh {
+            positions,
+            triangles: Vec::new(),
+        };
+        let radius = vec![0.01; mesh.positions.len()];
+        let mut naming = Naming {
+            mesh: &mesh,
+            radius: &radius,
+            sections: &sections,
+            children,
+            within,
+            frame: Frame::default(),
+            names: vec![None; along.len()],
+            ends: Vec::new(),
+            size: 1.0,
+        };
+        naming.digits(1, "L");
+        let names: Vec<Option<&str>> = naming.names.iter().map(|n| n.as_deref()).collect();
+        assert_eq!(names[2], Some("hand.L"), "{names:?}");
+        assert_eq!(names[3], Some("thumb.L"), "{names:?}");
+        for s in 4..7 {
+            assert!(
+                names[s].is_some_and(|n| n.starts_with("finger")),
+                "{names:?}"
+            );
+        }
     }
 
     #[test]

@@ -55,7 +55,9 @@
 //!    body), is dropped; a limb's root plane that slips so first tries the mirror image of
 //!    its partner's on the other side (an arm hanging closer to the body on one side).
 //! 5. **Anatomy.** A mirror plane, up (given, or found from how the limbs hang), front and
-//!    left, and names by role: `neck`, `head`, `arm.L`, `forearm.L`, `hand.L`, `thumb.L`…,
+//!    left, and names by role: `neck`, `head`, `arm.L`, `forearm.L`, `hand.L`, `thumb.L`…
+//!    (a hand not cut at its wrist: of two parts at an arm's end, the one carrying
+//!    fingers, beside a bare one, its thumb),
 //!    `leg.R`, `shin.R`, `foot.R`, `tail` (`abdomen` when it ends as thick as the head),
 //!    `ear.L` (on a head, or, on a biped whose head is not cut from its body, a raised
 //!    part above its side's arm and smaller), `horn.L` (of two parts on a head's side,
