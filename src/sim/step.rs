@@ -165,13 +165,16 @@ impl Simulation {
             released,
         } in touched
         {
-            if !state.awake[t] && (motion > self.sleep_threshold2 || released) {
+            if !state.awake[t] && (motion.is_some_and(|m| m > self.sleep_threshold2) || released) {
                 state.awake[t] = true;
                 state.steps_under_threshold[t] = 0;
                 self.awake_tiles += 1;
             }
-            scratch.motion[t] = motion;
-            self.largest_motion = self.largest_motion.max(motion);
+            // (A tile only let go of keeps the kernel's motion.)
+            if let Some(motion) = motion {
+                scratch.motion[t] = motion;
+                self.largest_motion = self.largest_motion.max(motion);
+            }
         }
     }
 

@@ -67,8 +67,9 @@ struct Buffers {
 pub struct Touched {
     /// The tile.
     pub tile: usize,
-    /// The largest squared distance a point of it moved in the whole step.
-    pub motion: f32,
+    /// The largest squared distance a point of it moved in the whole step, when a
+    /// contact moved one.
+    pub motion: Option<f32>,
     /// A point it held is held no more.
     pub released: bool,
 }
@@ -378,7 +379,7 @@ impl Colliders {
                         had && buffers.was.iter().zip(held.iter()).any(|(&w, &h)| w && !h);
                     (motion.is_some() || released).then(|| Touched {
                         tile: t,
-                        motion: motion.unwrap_or(0.0),
+                        motion,
                         released,
                     })
                 },
