@@ -377,7 +377,7 @@ impl Colliders {
                     };
                     let released =
                         had && buffers.was.iter().zip(held.iter()).any(|(&w, &h)| w && !h);
-                    (motion.is_some() || released).then(|| Touched {
+                    (motion.is_some() || released).then_some(Touched {
                         tile: t,
                         motion,
                         released,
