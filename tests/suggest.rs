@@ -215,8 +215,47 @@ fn the_labelled_set_scores_as_benchmarks_says() {
     }
     let recall = found as f64 / required as f64;
     let share = spurious as f64 / cuts as f64;
-    assert!(recall >= 0.80, "recall {found}/{required}");
+    assert!(recall >= 0.85, "recall {found}/{required}");
     assert!(share <= 0.10, "spurious {spurious}/{cuts}");
+}
+
+/// A shoulder or a hip turns about the ball of its joint, inside the trunk past the armpit
+/// or the crotch (a radius in from its cut), where an ear turns at its base (half a radius
+/// in): on the two toys, generated with their bones (CC0), each arm's, leg's and ear's
+/// pivot lies within the labelled set's tolerance of where its bones meet (the arms' were
+/// 5–6 % of the height out along the arm when they turned half a radius in).
+#[test]
+fn shoulders_and_hips_turn_inside_the_trunk() {
+    use glam::DVec3;
+    use puppet::joints::suggest::labels::TOLERANCE;
+    for name in ["teddy", "bigears"] {
+        let (labels, p) = labelled(name);
+        let tolerance = TOLERANCE * p.mesh.longest_side();
+        let mut seen = 0;
+        for joint in &labels.joints {
+            let ball = ["arm.", "leg."].iter().any(|r| joint.role.starts_with(r));
+            if !ball && !joint.role.starts_with("ear.") {
+                continue;
+            }
+            let cut = p.joints.cuts().iter().find(|c| c.name == joint.role);
+            let cut = cut.unwrap_or_else(|| panic!("{name}: no {}: {:?}", joint.role, names(&p)));
+            let pivot = cut.pivot.unwrap();
+            let off = pivot.distance(DVec3::from(joint.at));
+            assert!(
+                off <= tolerance,
+                "{name} {}: {off} > {tolerance}",
+                joint.role
+            );
+            let depth = (cut.point - pivot).dot(cut.normal);
+            assert!(
+                depth > 0.0,
+                "{name} {}: the pivot is past its cut",
+                joint.role
+            );
+            seen += 1;
+        }
+        assert_eq!(seen, 6, "{name}");
+    }
 }
 
 /// The teddy's big round ears are cut once each, where they meet the head: the middle of

@@ -941,6 +941,16 @@ pub fn other_side(name: &str) -> Option<String> {
     Some(swapped.join("."))
 }
 
+/// Is `role` a limb's root that turns in a ball joint: a shoulder (`arm.L`) or a hip
+/// (`leg.R`, an insect's `leg2.L`)?
+pub(super) fn is_ball_joint(role: &str) -> bool {
+    let base = role.split('.').next().unwrap_or("");
+    base == "arm"
+        || base
+            .strip_prefix("leg")
+            .is_some_and(|k| k.chars().all(|c| c.is_ascii_digit()))
+}
+
 /// `base` with its side: `arm.L`; `tail` on the plane.
 fn tagged(base: &str, tag: &str) -> String {
     if tag.is_empty() {
@@ -1112,6 +1122,17 @@ mod tests {
         assert_eq!(Up::nearest(DVec3::new(0.1, -0.2, -0.9)), Up::NegZ);
         assert_eq!(other_side("index.L.2").as_deref(), Some("index.R.2"));
         assert_eq!(other_side("leg1.R").as_deref(), Some("leg1.L"));
+        for (role, ball) in [
+            ("arm.L", true),
+            ("leg", true),
+            ("leg2.R", true),
+            ("forearm.L", false),
+            ("legs", false),
+            ("ear.L", false),
+            ("joint 2", false),
+        ] {
+            assert_eq!(is_ball_joint(role), ball, "{role}");
+        }
         assert_eq!(other_side("tail.2"), None);
         assert!("up".parse::<Up>().is_err());
     }

@@ -4,7 +4,7 @@
 
 use super::rules::{
     BASE, BEND, BODY_THICK, DIGIT, DIP, ELONGATED, FLAT, HEAD, LONG, LONG_TO_WRIST, MATCHED,
-    NARROW, PROTRUDES, SLENDER, SMALL, THINNER, WRIST,
+    NARROW, PROTRUDES, SLENDER, SMALL, SOCKET, THINNER, WRIST,
 };
 use super::tree::Tree;
 use glam::DVec3;
@@ -301,6 +301,7 @@ impl Tree<'_> {
             };
             Limb {
                 pivot: cut.pivot - cut.normal * inward,
+                socket: if inward > 0.0 { SOCKET * r } else { 0.0 },
                 ..cut
             }
         })
@@ -530,6 +531,7 @@ impl Tree<'_> {
         Some(Limb {
             parent: None,
             expected,
+            socket: 0.0,
             width: self.size(&ring),
             point,
             normal,
@@ -773,6 +775,10 @@ pub(super) struct Limb {
     pub(super) point: DVec3,
     pub(super) normal: DVec3,
     pub(super) pivot: DVec3,
+    /// How much deeper its pivot goes when it turns out to be a shoulder or a hip (named
+    /// in step 5): [`SOCKET`] of its root ring's radius for a limb thinner than the core
+    /// (whose pivot went in from the cut), else 0.
+    pub(super) socket: f64,
     /// The segment it cuts and the level of `g` it cuts at (`None` for a cut across a
     /// slice of the body: the core at a neck, a waist).
     pub(super) past: Option<(usize, f64)>,
@@ -792,6 +798,7 @@ impl Limb {
             parent: None,
             expected,
             width,
+            socket: 0.0,
             point,
             normal,
             pivot,

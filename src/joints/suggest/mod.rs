@@ -25,7 +25,8 @@
 //!    thickest medial ball by `PROTRUDES` of its size and `SMALL` of the mesh (an ear on a
 //!    head, a face, a nose, an eye do not: they are bumps, and get no cuts at all) is a
 //!    *limb*: it is cut at its base, and turns about a point half its radius in from the
-//!    cut (the ball of a hip sits above the crotch). A part growing from the core that
+//!    cut; once named (step 5), a shoulder or a hip a whole radius in (`SOCKET`: the ball
+//!    of a hip sits above the crotch, inside the trunk). A part growing from the core that
 //!    forks within `HEAD` radii (a pelvis both legs hang from) is body. A part as wide as
 //!    the body with two or more limbs of its own, each at most `SLENDER` of its width or
 //!    of its base's, whichever is wider (a head with ears and horns, a hand with fingers,

@@ -18,6 +18,10 @@ pub(super) const CORE_REACH: f64 = 2.5;
 pub(super) const THINNER: f64 = 0.75;
 /// A limb is cut this many of its radii out from the fork.
 pub(super) const BASE: f64 = 0.5;
+/// A shoulder's or a hip's pivot (a limb root named `arm` or `leg`) sits this many more of
+/// its radii in from the cut than another limb's: the ball of a ball joint lies inside the
+/// trunk, past the armpit or the crotch, where an ear, a tail or a finger bends at its base.
+pub(super) const SOCKET: f64 = 0.5;
 /// A limb or a bump must be at least this many of its radii long.
 pub(super) const ELONGATED: f64 = 1.6;
 /// A limb's tip sticks out of the medial ball of the trunk it grows from by at least this

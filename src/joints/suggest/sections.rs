@@ -40,6 +40,7 @@ fn limbs_of(mesh: &Mesh, skeleton: &Skeleton, mirror: Option<(DVec3, f64)>) -> V
             .filter(|&&p| (p - body.point).dot(body.normal) < 0.0)
             .count(),
         past: None,
+        socket: 0.0,
         ..body
     };
     super::cuts::put_first(&mut out, neck);
@@ -108,6 +109,8 @@ pub fn suggest(
     let mut applied: Vec<Option<String>> = Vec::with_capacity(limbs.len());
     let mut count: HashMap<String, usize> = Default::default();
     let mut cuts = Vec::new();
+    // Each applied cut's limb's `socket`.
+    let mut sockets = Vec::new();
     for limb in &limbs {
         // The nearest ancestor that applied, or the root.
         let mut parent = limb.parent;
@@ -178,6 +181,7 @@ pub fn suggest(
             Ok(_) => {
                 applied.push(Some(name));
                 cuts.push(cut);
+                sockets.push(limb.socket);
             }
             Err(e) => {
                 log::debug!("suggested joint dropped: {e}");
@@ -191,10 +195,18 @@ pub fn suggest(
     let frame = roles.frame;
     let mut renamed: HashMap<String, String> = HashMap::new();
     let mut taken: std::collections::HashSet<String> = Default::default();
+    // The shoulders' and hips' sockets, by their final names.
+    let mut ball: HashMap<String, f64> = HashMap::new();
     for (k, cut) in cuts.iter().enumerate() {
         if let Some(role) = roles.names.get(k + 1).cloned().flatten() {
+            let is_ball = super::anatomy::is_ball_joint(&role);
             if role != root && taken.insert(role.clone()) {
-                renamed.insert(cut.name.clone(), role);
+                renamed.insert(cut.name.clone(), role.clone());
+                if is_ball {
+                    ball.insert(role, sockets[k]);
+                }
+            } else if is_ball {
+                ball.insert(cut.name.clone(), sockets[k]);
             }
         }
     }
@@ -246,6 +258,21 @@ pub fn suggest(
             break;
         };
         way[p] += 1;
+    }
+    // A shoulder or a hip turns about the ball inside the trunk, past the cut; a left and a
+    // right one by the same depth, so that a mirrored pair stays mirrored.
+    for cut in &mut cuts {
+        let Some(&own) = ball.get(&cut.name) else {
+            continue;
+        };
+        let depth = super::anatomy::other_side(&cut.name)
+            .and_then(|o| ball.get(&o))
+            .map_or(own, |&o| 0.5 * (own + o));
+        *cut = Cut {
+            pivot: cut.pivot.map(|p| p - cut.normal * depth),
+            ..cut.clone()
+        }
+        .rounded();
     }
     (cuts, frame)
 }
