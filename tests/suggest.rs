@@ -215,8 +215,56 @@ fn the_labelled_set_scores_as_benchmarks_says() {
     }
     let recall = found as f64 / required as f64;
     let share = spurious as f64 / cuts as f64;
-    assert!(recall >= 0.85, "recall {found}/{required}");
+    assert!(recall >= 0.87, "recall {found}/{required}");
     assert!(share <= 0.10, "spurious {spurious}/{cuts}");
+}
+
+/// Thighs that touch below the crotch (the human's, from 0.63 up to the fork at 0.726) tilt
+/// the rings that cut a leg at its root, so its cut sat at 0.67 with the upper thigh left in
+/// the body (a leg section of 92 vertices). A hip's cut moves toward the body while the
+/// mesh's slice around it stays the leg's: each leg now holds its thigh up to the crotch
+/// (the thigh's surface between 0.62 and 0.68 turns with the leg; none did), and its pivot
+/// lies within the labelled set's tolerance of the hand-placed hip.
+#[test]
+fn thighs_that_touch_are_cut_at_the_hip() {
+    use glam::DVec3;
+    use puppet::joints::suggest::labels::TOLERANCE;
+    let (labels, p) = labelled("human");
+    let tolerance = TOLERANCE * p.mesh.longest_side();
+    for side in ["L", "R"] {
+        let name = format!("leg.{side}");
+        let k = p
+            .joints
+            .find(&name)
+            .unwrap_or_else(|| panic!("{:?}", names(&p)));
+        let sign = if side == "L" { 1.0 } else { -1.0 };
+        let thigh: Vec<usize> = (0..p.mesh.positions.len())
+            .filter(|&v| {
+                let q = p.mesh.positions[v];
+                (0.62..0.68).contains(&q.y) && q.x * sign > 0.03
+            })
+            .collect();
+        let with_leg = thigh
+            .iter()
+            .filter(|&&v| p.joints.section_of()[v] as usize == k)
+            .count();
+        assert!(
+            with_leg * 10 >= thigh.len() * 9,
+            "{name}: {with_leg} of {}",
+            thigh.len()
+        );
+        let hip = labels.joints.iter().find(|j| j.role == name).unwrap();
+        let pivot = p
+            .joints
+            .cuts()
+            .iter()
+            .find(|c| c.name == name)
+            .unwrap()
+            .pivot
+            .unwrap();
+        let off = pivot.distance(DVec3::from(hip.at));
+        assert!(off <= tolerance, "{name}: {off} > {tolerance}");
+    }
 }
 
 /// A shoulder or a hip turns about the ball of its joint, inside the trunk past the armpit

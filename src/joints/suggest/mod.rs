@@ -25,8 +25,11 @@
 //!    thickest medial ball by `PROTRUDES` of its size and `SMALL` of the mesh (an ear on a
 //!    head, a face, a nose, an eye do not: they are bumps, and get no cuts at all) is a
 //!    *limb*: it is cut at its base, and turns about a point half its radius in from the
-//!    cut; once named (step 5), a shoulder or a hip a whole radius in (`SOCKET`: the ball
-//!    of a hip sits above the crotch, inside the trunk). A part growing from the core that
+//!    cut; once named (step 5), a shoulder's or a hip's cut moves toward the body while
+//!    the mesh's slice around it stays within `ROUND` of the limb's width (up to where it
+//!    meets the trunk: thighs that touch below the crotch tilt the rings of `g`), and it
+//!    turns a whole radius in from there (`SOCKET`: the ball of a hip sits above the
+//!    crotch, inside the trunk). A part growing from the core that
 //!    forks within `HEAD` radii (a pelvis both legs hang from) is body. A part as wide as
 //!    the body with two or more limbs of its own, each at most `SLENDER` of its width or
 //!    of its base's, whichever is wider (a head with ears and horns, a hand with fingers,
@@ -81,6 +84,7 @@
 //! * `trunk`: the cut across the core at a neck (step 3);
 //! * `cuts`: which segments are limbs and where they are cut (step 3);
 //! * `sections`: numbering and applying the cuts (step 4);
+//! * `slice`: the mesh's slice by a plane, how far a shoulder's or a hip's cut moves in;
 //! * `anatomy`: the mirror plane, up, front and left, and the names by role (step 5);
 //! * `labels`: a labelled character's joints, and a suggestion's score against them.
 
@@ -90,6 +94,7 @@ mod graph;
 pub mod labels;
 mod rules;
 mod sections;
+mod slice;
 mod tree;
 mod trunk;
 mod union_find;

@@ -22,6 +22,10 @@ pub(super) const BASE: f64 = 0.5;
 /// its radii in from the cut than another limb's: the ball of a ball joint lies inside the
 /// trunk, past the armpit or the crotch, where an ear, a tail or a finger bends at its base.
 pub(super) const SOCKET: f64 = 0.5;
+/// A shoulder's or a hip's cut moves toward the body while the slice of the mesh around it
+/// reaches no farther than this many of the limb's widths (the size of its ring) from the
+/// cut's point: until it meets the trunk.
+pub(super) const ROUND: f64 = 1.5;
 /// A limb or a bump must be at least this many of its radii long.
 pub(super) const ELONGATED: f64 = 1.6;
 /// A limb's tip sticks out of the medial ball of the trunk it grows from by at least this

@@ -109,7 +109,7 @@ pub fn suggest(
     let mut applied: Vec<Option<String>> = Vec::with_capacity(limbs.len());
     let mut count: HashMap<String, usize> = Default::default();
     let mut cuts = Vec::new();
-    // Each applied cut's limb's `socket`.
+    // Each applied cut's limb's `socket` and width.
     let mut sockets = Vec::new();
     for limb in &limbs {
         // The nearest ancestor that applied, or the root.
@@ -181,7 +181,7 @@ pub fn suggest(
             Ok(_) => {
                 applied.push(Some(name));
                 cuts.push(cut);
-                sockets.push(limb.socket);
+                sockets.push((limb.socket, limb.width));
             }
             Err(e) => {
                 log::debug!("suggested joint dropped: {e}");
@@ -195,8 +195,8 @@ pub fn suggest(
     let frame = roles.frame;
     let mut renamed: HashMap<String, String> = HashMap::new();
     let mut taken: std::collections::HashSet<String> = Default::default();
-    // The shoulders' and hips' sockets, by their final names.
-    let mut ball: HashMap<String, f64> = HashMap::new();
+    // The shoulders' and hips' sockets and widths, by their final names.
+    let mut ball: HashMap<String, (f64, f64)> = HashMap::new();
     for (k, cut) in cuts.iter().enumerate() {
         if let Some(role) = roles.names.get(k + 1).cloned().flatten() {
             let is_ball = super::anatomy::is_ball_joint(&role);
@@ -259,15 +259,20 @@ pub fn suggest(
         };
         way[p] += 1;
     }
+    // A shoulder's or a hip's cut moves toward the body up to where the limb meets the
+    // trunk; a left and a right one by the same distance.
+    let smallest = (SMALLEST * skeleton.points.len() as f64).max(12.0) as usize;
+    cuts = to_the_body(mesh, skeleton, &hosts, root, cuts, &ball, smallest);
     // A shoulder or a hip turns about the ball inside the trunk, past the cut; a left and a
     // right one by the same depth, so that a mirrored pair stays mirrored.
     for cut in &mut cuts {
-        let Some(&own) = ball.get(&cut.name) else {
+        let Some(&(own, _)) = ball.get(&cut.name) else {
             continue;
         };
         let depth = super::anatomy::other_side(&cut.name)
             .and_then(|o| ball.get(&o))
-            .map_or(own, |&o| 0.5 * (own + o));
+            .map_or(own, |&(o, _)| 0.5 * (own + o));
+
         *cut = Cut {
             pivot: cut.pivot.map(|p| p - cut.normal * depth),
             ..cut.clone()
@@ -275,6 +280,90 @@ pub fn suggest(
         .rounded();
     }
     (cuts, frame)
+}
+
+/// `cuts` with each shoulder's and hip's (`ball`: its socket and width, by name) moved
+/// toward the body along its normal as far as [`super::slice::Slicer::toward_body`] allows, a left
+/// and a right one by the lesser of their two distances; one that then takes more than
+/// twice its section's vertices (it slipped into the body) or cannot apply stays.
+fn to_the_body(
+    mesh: &Mesh,
+    skeleton: &Skeleton,
+    hosts: &[Option<u32>],
+    root: &str,
+    cuts: Vec<Cut>,
+    ball: &HashMap<String, (f64, f64)>,
+    smallest: usize,
+) -> Vec<Cut> {
+    if !cuts.iter().any(|c| ball.contains_key(&c.name)) {
+        return cuts;
+    }
+    let slicer = super::slice::Slicer::new(mesh);
+    let far: HashMap<&str, f64> = cuts
+        .iter()
+        .filter_map(|c| {
+            let &(_, width) = ball.get(&c.name)?;
+            let t = slicer.toward_body(c.point, c.normal, width);
+            (t > 0.0).then_some((c.name.as_str(), t))
+        })
+        .collect();
+    if far.is_empty() {
+        return cuts;
+    }
+    // Each cut's section's vertices, once all apply.
+    let sizes = |cuts: &[Cut]| -> Option<Vec<usize>> {
+        let mut joints = Joints::with_mesh(&skeleton.points, &mesh.triangles, hosts, root);
+        joints.add_cuts(cuts.iter().cloned()).ok()?;
+        cuts.iter()
+            .map(|c| Some(joints.sections()[joints.find(&c.name)?].vertices))
+            .collect()
+    };
+    let Some(before) = sizes(&cuts) else {
+        return cuts;
+    };
+    let moved = |skip: &[&str]| -> Vec<Cut> {
+        cuts.iter()
+            .map(|c| {
+                let Some(&t) = far.get(c.name.as_str()) else {
+                    return c.clone();
+                };
+                let partner = super::anatomy::other_side(&c.name);
+                let t = match partner.as_deref() {
+                    Some(o) if ball.contains_key(o) => t.min(far.get(o).copied().unwrap_or(0.0)),
+                    _ => t,
+                };
+                if t <= 0.0
+                    || skip.contains(&c.name.as_str())
+                    || partner.as_deref().is_some_and(|o| skip.contains(&o))
+                {
+                    return c.clone();
+                }
+                Cut {
+                    point: c.point - c.normal * t,
+                    pivot: c.pivot.map(|p| p - c.normal * t),
+                    ..c.clone()
+                }
+                .rounded()
+            })
+            .collect()
+    };
+    // Moves that slip into the body stay where they were, one at a time.
+    let mut skip: Vec<&str> = Vec::new();
+    loop {
+        let trial = moved(&skip);
+        let bad = sizes(&trial).map_or_else(
+            || trial.iter().zip(&cuts).position(|(a, b)| a != b),
+            |after| {
+                (0..trial.len())
+                    .find(|&k| trial[k] != cuts[k] && after[k] > 2 * before[k] + smallest)
+            },
+        );
+        match bad {
+            None => return trial,
+            Some(k) if !skip.contains(&cuts[k].name.as_str()) => skip.push(cuts[k].name.as_str()),
+            Some(_) => return cuts,
+        }
+    }
 }
 
 /// A left and a right cut that nearly mirror each other, and the ways to make them mirror
