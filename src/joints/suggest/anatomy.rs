@@ -29,7 +29,7 @@
 //!   Side suffixes come from the side of the mirror plane; what fits no role keeps a
 //!   number.
 
-use super::rules::{ANTENNA, SNOUT};
+use super::rules::{ANTENNA, SLENDER, SNOUT};
 use crate::joints::Joints;
 use crate::mesh::Mesh;
 use glam::DVec3;
@@ -695,6 +695,18 @@ impl Naming<'_> {
             self.names[at] = Some(tagged(&base, tag));
             match self.children[at].as_slice() {
                 [] => return,
+                // A lone part with none of its own, at most SLENDER as thick as the limb it
+                // hangs from, is a digit on it (a thumb on an arm whose hand is not cut),
+                // not the limb's next stretch.
+                [only] if self.lone_digit(at, *only, family) => {
+                    let digit = if family == Family::Arm {
+                        "thumb"
+                    } else {
+                        "toe"
+                    };
+                    self.names[*only] = Some(tagged(digit, tag));
+                    return;
+                }
                 [only] if !(family == Family::Neck && k + 1 >= list.len()) => {
                     at = *only;
                     k += 1;
@@ -756,6 +768,16 @@ impl Naming<'_> {
                 }
             }
         }
+    }
+
+    /// Whether `c`, the only part of limb section `at` (of `family`), is a digit on it: an
+    /// arm's or a leg's (an insect's numbered legs' digits are its feet's `toe1`…), with no
+    /// parts of its own, its far half at most [`SLENDER`] as
+    /// thick as the far half of the limb with it.
+    fn lone_digit(&self, at: usize, c: usize, family: Family) -> bool {
+        matches!(family, Family::Arm | Family::Leg)
+            && self.children[c].is_empty()
+            && self.reach(c).end <= SLENDER * self.reach(at).end
     }
 
     /// Whether head part `c` is a feeler (an insect's antenna, not an ear or a horn): at
@@ -1110,6 +1132,62 @@ mod tests {
                 "{names:?}"
             );
         }
+    }
+
+    /// An arm whose hand is not cut, with one thin part of its own (Cheburashka's thumb
+    /// sticking out, 13 and 17 vertices): that part is its thumb, not its forearm; a part
+    /// as thick as the arm's far end is the forearm.
+    #[test]
+    fn an_arm_s_lone_thin_part_is_its_thumb() {
+        let name = |thumb_radius: f64| {
+            // Sections: 0 the body, 1 the arm, 2 its one part; a row of vertices each.
+            let along = [
+                (DVec3::ZERO, DVec3::Y),
+                (DVec3::new(0.3, 0.0, 0.0), DVec3::X),
+                (DVec3::new(0.45, 0.0, 0.02), DVec3::new(0.0, 0.0, 1.0)),
+            ];
+            let parent = [None, Some(0), Some(1)];
+            let mut positions = Vec::new();
+            let mut radius = Vec::new();
+            let mut within = vec![Vec::new(); along.len()];
+            for (s, &(pivot, dir)) in along.iter().enumerate() {
+                for k in 0..8 {
+                    within[s].push(positions.len());
+                    positions.push(pivot + dir * (0.03 * k as f64));
+                    radius.push(if s == 2 { thumb_radius } else { 0.03 });
+                }
+            }
+            // What hangs from the arm is within it too.
+            let thumb = within[2].clone();
+            within[1].extend(thumb);
+            let sections: Vec<crate::joints::Section> = (0..along.len())
+                .map(|s| crate::joints::Section {
+                    name: format!("s{s}"),
+                    parent: parent[s],
+                    pivot: along[s].0,
+                    vertices: 8,
+                })
+                .collect();
+            let mesh = Mesh {
+                positions,
+                triangles: Vec::new(),
+            };
+            let mut naming = Naming {
+                mesh: &mesh,
+                radius: &radius,
+                sections: &sections,
+                children: vec![vec![1], vec![2], Vec::new()],
+                within,
+                frame: Frame::default(),
+                names: vec![None; along.len()],
+                ends: Vec::new(),
+                size: 1.0,
+            };
+            naming.chain(1, Family::Arm, "L");
+            naming.names[2].clone()
+        };
+        assert_eq!(name(0.007).as_deref(), Some("thumb.L"));
+        assert_eq!(name(0.025).as_deref(), Some("forearm.L"));
     }
 
     #[test]

@@ -61,7 +61,8 @@
 //! 5. **Anatomy.** A mirror plane, up (given, or found from how the limbs hang), front and
 //!    left, and names by role: `neck`, `head`, `arm.L`, `forearm.L`, `hand.L`, `thumb.L`…
 //!    (a hand not cut at its wrist: of two parts at an arm's end, the one carrying
-//!    fingers, beside a bare one, its thumb),
+//!    fingers, beside a bare one, its thumb; an arm's or a leg's one part with none of its
+//!    own, at most `SLENDER` as thick, its `thumb` or `toe`),
 //!    `leg.R`, `shin.R`, `foot.R`, `tail` (`abdomen` when it ends as thick as the head),
 //!    `ear.L` (on a head, or, on a biped whose head is not cut from its body, a raised
 //!    part above its side's arm and smaller), `horn.L` (of two parts on a head's side,
