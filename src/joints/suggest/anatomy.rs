@@ -1067,29 +1067,29 @@ mod tests {
         );
     }
 
-    /// A forearm ending in two parts, one carrying fingers (a hand not cut at its wrist)
-    /// and one carrying none (Homer's): the first is the hand, the other its thumb, and
-    /// the hand's parts are fingers.
-    #[test]
-    fn a_part_carrying_fingers_beside_a_bare_one_is_a_hand_and_its_thumb() {
-        // Sections: 0 the body, 1 the forearm, 2 the palm, 3 the thumb, 4–6 fingers; each
-        // a short row of vertices from its pivot along its direction.
-        let along = [
-            (DVec3::ZERO, DVec3::Y),
-            (DVec3::new(0.3, 0.0, 0.0), DVec3::X),
-            (DVec3::new(0.6, 0.0, 0.0), DVec3::X),
-            (DVec3::new(0.55, 0.0, 0.05), DVec3::new(0.6, 0.0, 0.8)),
-            (DVec3::new(0.7, 0.0, -0.03), DVec3::X),
-            (DVec3::new(0.7, 0.0, 0.0), DVec3::X),
-            (DVec3::new(0.7, 0.0, 0.03), DVec3::X),
-        ];
-        let parent = [None, Some(0), Some(1), Some(1), Some(2), Some(2), Some(2)];
+    /// A section tree for naming: section `s` a row of `count` vertices from its pivot
+    /// along its direction (`along[s]`), under `parent[s]`, each vertex of skeletal distance
+    /// `radius(s)`; a section's `within` holds what hangs from it too. Named by `name`.
+    fn named<T>(
+        along: &[(DVec3, DVec3)],
+        parent: &[Option<usize>],
+        count: usize,
+        radius: impl Fn(usize) -> f64,
+        name: impl FnOnce(&mut Naming) -> T,
+    ) -> T {
         let mut positions = Vec::new();
+        let mut radii = Vec::new();
         let mut within = vec![Vec::new(); along.len()];
         for (s, &(pivot, dir)) in along.iter().enumerate() {
-            for k in 0..5 {
-                within[s].push(positions.len());
+            for k in 0..count {
+                // Into this section and every one it hangs from.
+                let mut at = Some(s);
+                while let Some(a) = at {
+                    within[a].push(positions.len());
+                    at = parent[a];
+                }
                 positions.push(pivot + dir * (0.02 * k as f64));
+                radii.push(radius(s));
             }
         }
         let sections: Vec<crate::joints::Section> = (0..along.len())
@@ -1097,7 +1097,7 @@ mod tests {
                 name: format!("s{s}"),
                 parent: parent[s],
                 pivot: along[s].0,
-                vertices: 5,
+                vertices: count,
             })
             .collect();
         let mut children = vec![Vec::new(); along.len()];
@@ -1110,10 +1110,9 @@ mod tests {
             positions,
             triangles: Vec::new(),
         };
-        let radius = vec![0.01; mesh.positions.len()];
         let mut naming = Naming {
             mesh: &mesh,
-            radius: &radius,
+            radius: &radii,
             sections: &sections,
             children,
             within,
@@ -1122,8 +1121,36 @@ mod tests {
             ends: Vec::new(),
             size: 1.0,
         };
-        naming.digits(1, "L");
-        let names: Vec<Option<&str>> = naming.names.iter().map(|n| n.as_deref()).collect();
+        name(&mut naming)
+    }
+
+    /// A forearm ending in two parts, one carrying fingers (a hand not cut at its wrist)
+    /// and one carrying none (Homer's): the first is the hand, the other its thumb, and
+    /// the hand's parts are fingers.
+    #[test]
+    fn a_part_carrying_fingers_beside_a_bare_one_is_a_hand_and_its_thumb() {
+        // Sections: 0 the body, 1 the forearm, 2 the palm, 3 the thumb, 4–6 fingers.
+        let along = [
+            (DVec3::ZERO, DVec3::Y),
+            (DVec3::new(0.3, 0.0, 0.0), DVec3::X),
+            (DVec3::new(0.6, 0.0, 0.0), DVec3::X),
+            (DVec3::new(0.55, 0.0, 0.05), DVec3::new(0.6, 0.0, 0.8)),
+            (DVec3::new(0.7, 0.0, -0.03), DVec3::X),
+            (DVec3::new(0.7, 0.0, 0.0), DVec3::X),
+            (DVec3::new(0.7, 0.0, 0.03), DVec3::X),
+        ];
+        let parent = [None, Some(0), Some(1), Some(1), Some(2), Some(2), Some(2)];
+        let names = named(
+            &along,
+            &parent,
+            5,
+            |_| 0.01,
+            |naming| {
+                naming.digits(1, "L");
+                naming.names.clone()
+            },
+        );
+        let names: Vec<Option<&str>> = names.iter().map(|n| n.as_deref()).collect();
         assert_eq!(names[2], Some("hand.L"), "{names:?}");
         assert_eq!(names[3], Some("thumb.L"), "{names:?}");
         for s in 4..7 {
@@ -1140,51 +1167,17 @@ mod tests {
     #[test]
     fn an_arm_s_lone_thin_part_is_its_thumb() {
         let name = |thumb_radius: f64| {
-            // Sections: 0 the body, 1 the arm, 2 its one part; a row of vertices each.
+            // Sections: 0 the body, 1 the arm, 2 its one part.
             let along = [
                 (DVec3::ZERO, DVec3::Y),
                 (DVec3::new(0.3, 0.0, 0.0), DVec3::X),
-                (DVec3::new(0.45, 0.0, 0.02), DVec3::new(0.0, 0.0, 1.0)),
+                (DVec3::new(0.45, 0.0, 0.02), DVec3::Z),
             ];
-            let parent = [None, Some(0), Some(1)];
-            let mut positions = Vec::new();
-            let mut radius = Vec::new();
-            let mut within = vec![Vec::new(); along.len()];
-            for (s, &(pivot, dir)) in along.iter().enumerate() {
-                for k in 0..8 {
-                    within[s].push(positions.len());
-                    positions.push(pivot + dir * (0.03 * k as f64));
-                    radius.push(if s == 2 { thumb_radius } else { 0.03 });
-                }
-            }
-            // What hangs from the arm is within it too.
-            let thumb = within[2].clone();
-            within[1].extend(thumb);
-            let sections: Vec<crate::joints::Section> = (0..along.len())
-                .map(|s| crate::joints::Section {
-                    name: format!("s{s}"),
-                    parent: parent[s],
-                    pivot: along[s].0,
-                    vertices: 8,
-                })
-                .collect();
-            let mesh = Mesh {
-                positions,
-                triangles: Vec::new(),
-            };
-            let mut naming = Naming {
-                mesh: &mesh,
-                radius: &radius,
-                sections: &sections,
-                children: vec![vec![1], vec![2], Vec::new()],
-                within,
-                frame: Frame::default(),
-                names: vec![None; along.len()],
-                ends: Vec::new(),
-                size: 1.0,
-            };
-            naming.chain(1, Family::Arm, "L");
-            naming.names[2].clone()
+            let radius = |s: usize| if s == 2 { thumb_radius } else { 0.03 };
+            named(&along, &[None, Some(0), Some(1)], 8, radius, |naming| {
+                naming.chain(1, Family::Arm, "L");
+                naming.names[2].clone()
+            })
         };
         assert_eq!(name(0.007).as_deref(), Some("thumb.L"));
         assert_eq!(name(0.025).as_deref(), Some("forearm.L"));
