@@ -80,7 +80,7 @@
 //! # Where things are
 //! * `rules`: the thresholds named above (`CORE`, `THINNER`, …), in one place;
 //! * `graph`: the mesh's edges in local radii, shortest paths;
-//! * `union_find`: the sweep's sets;
+//! * `union_find`: the sweep's sets, a slice's loops;
 //! * `tree`: the root, the core, `g` and the join tree (steps 1–2);
 //! * `trunk`: the cut across the core at a neck (step 3);
 //! * `cuts`: which segments are limbs and where they are cut (step 3);

@@ -272,7 +272,6 @@ pub fn suggest(
         let depth = super::anatomy::other_side(&cut.name)
             .and_then(|o| ball.get(&o))
             .map_or(own, |&(o, _)| 0.5 * (own + o));
-
         *cut = Cut {
             pivot: cut.pivot.map(|p| p - cut.normal * depth),
             ..cut.clone()

@@ -3,6 +3,7 @@
 //! docs: a shoulder or a hip).
 
 use super::rules::ROUND;
+use super::union_find::UnionFind;
 use crate::mesh::Mesh;
 use glam::DVec3;
 use std::collections::HashMap;
@@ -18,17 +19,10 @@ pub(super) fn loop_reach(
     let positions = &mesh.positions;
     let side = |v: u32| (positions[v as usize] - point).dot(normal);
     // Each edge the plane crosses is a point of the slice; the two a triangle holds are
-    // joined (a union-find over them).
+    // joined.
     let mut ids: HashMap<(u32, u32), usize> = HashMap::new();
     let mut at: Vec<DVec3> = Vec::new();
-    let mut sets: Vec<usize> = Vec::new();
-    fn find(sets: &mut [usize], mut a: usize) -> usize {
-        while sets[a] != a {
-            sets[a] = sets[sets[a]];
-            a = sets[a];
-        }
-        a
-    }
+    let mut joined: Vec<(usize, usize)> = Vec::new();
     for t in triangles {
         let mut crossing = [0usize; 2];
         let mut k = 0;
@@ -41,21 +35,23 @@ pub(super) fn loop_reach(
             crossing[k] = *ids.entry((a.min(b), a.max(b))).or_insert_with(|| {
                 let (pa, pb) = (positions[a as usize], positions[b as usize]);
                 at.push(pa + (pb - pa) * (sa / (sa - sb)));
-                sets.push(sets.len());
-                sets.len() - 1
+                at.len() - 1
             });
             k += 1;
         }
         if k == 2 {
-            let (a, b) = (find(&mut sets, crossing[0]), find(&mut sets, crossing[1]));
-            sets[a] = b;
+            joined.push((crossing[0], crossing[1]));
         }
+    }
+    let mut loops = UnionFind::new(at.len());
+    for (a, b) in joined {
+        loops.union(a, b);
     }
     let nearest =
         (0..at.len()).min_by(|&a, &b| at[a].distance(point).total_cmp(&at[b].distance(point)))?;
-    let own = find(&mut sets, nearest);
+    let own = loops.find(nearest);
     (0..at.len())
-        .filter(|&i| find(&mut sets, i) == own)
+        .filter(|&i| loops.find(i) == own)
         .map(|i| at[i].distance(point))
         .reduce(f64::max)
 }

@@ -1,4 +1,4 @@
-//! Union-find, for the sweep that builds the join tree.
+//! Union-find, for the sweep that builds the join tree and the loops of a slice.
 
 /// Union-find with path halving.
 pub(super) struct UnionFind(Vec<u32>);
