@@ -85,21 +85,30 @@ impl<'a> Slicer<'a> {
             return 0.0;
         }
         let reach = ROUND * width;
-        // (A loop that leaves `reach` crosses a triangle within a width past it.)
+        let (step, steps) = (0.1 * width, 40);
+        // Only the triangles near the cut's path: a loop that leaves `reach` crosses a
+        // triangle within a width past it.
+        let near: Vec<usize> = (0..self.balls.len())
+            .filter(|&i| {
+                let (c, r) = self.balls[i];
+                let along = (point - c).dot(normal).clamp(0.0, steps as f64 * step);
+                c.distance(point - normal * along) - r <= reach + width
+            })
+            .collect();
         let within = |t: f64| {
             let at = point - normal * t;
-            let near: Vec<[u32; 3]> = (0..self.balls.len())
-                .filter(|&i| self.balls[i].0.distance(at) - self.balls[i].1 <= reach + width)
-                .map(|i| self.mesh.triangles[i])
+            let near: Vec<[u32; 3]> = near
+                .iter()
+                .filter(|&&i| self.balls[i].0.distance(at) - self.balls[i].1 <= reach + width)
+                .map(|&i| self.mesh.triangles[i])
                 .collect();
             loop_reach(self.mesh, &near, at, normal).is_some_and(|r| r <= reach)
         };
         if !within(0.0) {
             return 0.0;
         }
-        let step = 0.1 * width;
         let mut best = 0.0;
-        for i in 1..=40 {
+        for i in 1..=steps {
             let t = i as f64 * step;
             if !within(t) {
                 break;
