@@ -118,3 +118,54 @@ impl<'a> Slicer<'a> {
         best
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A cube of side `s` with its lowest corner at `at`, as twelve triangles.
+    fn cube(mesh: &mut Mesh, at: DVec3, s: f64) {
+        let base = mesh.positions.len() as u32;
+        for k in 0..8 {
+            let corner = DVec3::new((k & 1) as f64, ((k >> 1) & 1) as f64, ((k >> 2) & 1) as f64);
+            mesh.positions.push(at + corner * s);
+        }
+        let faces = [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ];
+        for f in faces {
+            mesh.triangles.push([base + f[0], base + f[1], base + f[2]]);
+            mesh.triangles.push([base + f[0], base + f[2], base + f[3]]);
+        }
+    }
+
+    #[test]
+    fn a_slice_s_loop_is_the_one_around_the_point() {
+        let mut mesh = Mesh {
+            positions: Vec::new(),
+            triangles: Vec::new(),
+        };
+        cube(&mut mesh, DVec3::ZERO, 1.0);
+        // A second, bigger cube beside it: its loop is another one.
+        cube(&mut mesh, DVec3::new(3.0, 0.0, 0.0), 2.0);
+        let all = mesh.triangles.clone();
+        let centre = DVec3::new(0.5, 0.5, 0.5);
+        let reach = loop_reach(&mesh, &all, centre, DVec3::Z).unwrap();
+        assert!((reach - 0.5f64.sqrt()).abs() < 1e-9, "{reach}");
+        // Past the cubes, nothing is sliced.
+        assert_eq!(
+            loop_reach(&mesh, &all, DVec3::new(0.5, 0.5, 5.0), DVec3::Z),
+            None
+        );
+        // The cut moves down the small cube's side until it leaves it (a tenth of the
+        // width at a time): the loop's reach stays the same to its bottom.
+        let slicer = Slicer::new(&mesh);
+        let moved = slicer.toward_body(DVec3::new(0.5, 0.5, 0.93), DVec3::Z, 0.5);
+        assert!((moved - 0.9).abs() < 1e-9, "{moved}");
+    }
+}
