@@ -187,6 +187,13 @@ fn names(p: &Puppet) -> Vec<String> {
     p.joints.cuts().iter().map(|c| c.name.clone()).collect()
 }
 
+/// The section named `name`, which the suggestion must have made.
+fn section(p: &Puppet, name: &str) -> usize {
+    p.joints
+        .find(name)
+        .unwrap_or_else(|| panic!("{name} in {:?}", names(p)))
+}
+
 /// What `puppet bench suggest` reports over the labelled set, held: recall of the required
 /// joints, spurious cuts, and up found as each labels file says.
 #[test]
@@ -233,10 +240,7 @@ fn thighs_that_touch_are_cut_at_the_hip() {
     let tolerance = TOLERANCE * p.mesh.longest_side();
     for side in ["L", "R"] {
         let name = format!("leg.{side}");
-        let k = p
-            .joints
-            .find(&name)
-            .unwrap_or_else(|| panic!("{:?}", names(&p)));
+        let k = section(&p, &name);
         let sign = if side == "L" { 1.0 } else { -1.0 };
         let thigh: Vec<usize> = (0..p.mesh.positions.len())
             .filter(|&v| {
@@ -571,10 +575,7 @@ fn an_ant_s_head_and_abdomen_turn_at_their_neck_and_waist() {
     let (labels, p) = labelled("ant");
     let sections = p.joints.sections();
     for role in ["head", "abdomen"] {
-        let s = p
-            .joints
-            .find(role)
-            .unwrap_or_else(|| panic!("{role} in {:?}", names(&p)));
+        let s = section(&p, role);
         assert_eq!(sections[s].parent, Some(0), "{role}");
         let label = glam::DVec3::from(labels.joints.iter().find(|j| j.role == role).unwrap().at);
         let off = sections[s].pivot.distance(label) / p.mesh.longest_side();
@@ -589,19 +590,13 @@ fn an_ant_s_head_and_abdomen_turn_at_their_neck_and_waist() {
     // Its feelers are antennae (long and round), not ears (a big flat ear can be as long
     // against its thickness, Cheburashka's nine times, but is wide across).
     for role in ["antenna.L", "antenna.R"] {
-        let s = p
-            .joints
-            .find(role)
-            .unwrap_or_else(|| panic!("{role} in {:?}", names(&p)));
+        let s = section(&p, role);
         assert_eq!(sections[s].parent, Some(head), "{role}");
     }
     for k in 1..=3 {
         for side in ["L", "R"] {
             let leg = format!("leg{k}.{side}");
-            let s = p
-                .joints
-                .find(&leg)
-                .unwrap_or_else(|| panic!("{leg} in {:?}", names(&p)));
+            let s = section(&p, &leg);
             assert_eq!(sections[s].parent, Some(0), "{leg}");
         }
     }
@@ -624,10 +619,7 @@ fn a_head_bigger_than_the_body_turns_on_the_body() {
         ("leg.L", 0),
         ("leg.R", 0),
     ] {
-        let s = p
-            .joints
-            .find(role)
-            .unwrap_or_else(|| panic!("{role} in {:?}", names(&p)));
+        let s = section(&p, role);
         assert_eq!(sections[s].parent, Some(parent), "{role}");
     }
     // The top of the head turns with the head, the belly with the root.
@@ -664,10 +656,7 @@ fn an_arm_close_to_the_body_is_cut_as_its_mirror_image() {
     let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
     p.suggest_joints().unwrap();
     let size = |role: &str| {
-        let s = p
-            .joints
-            .find(role)
-            .unwrap_or_else(|| panic!("{role} in {:?}", names(&p)));
+        let s = section(&p, role);
         p.joints.sections()[s].vertices as f64
     };
     let (left, right) = (size("arm.L"), size("arm.R"));
