@@ -222,8 +222,45 @@ fn the_labelled_set_scores_as_benchmarks_says() {
     }
     let recall = found as f64 / required as f64;
     let share = spurious as f64 / cuts as f64;
-    assert!(recall >= 0.87, "recall {found}/{required}");
-    assert!(share <= 0.10, "spurious {spurious}/{cuts}");
+    assert!(recall >= 0.88, "recall {found}/{required}");
+    assert!(share <= 0.07, "spurious {spurious}/{cuts}");
+}
+
+/// A body's arms and legs are no digits, though four or more hang from it: a digit (a
+/// finger of a palm, about as thick as the palm) is cut at 45 % and 72 % of its length, an
+/// arm in the middle of its bone. The robot (generated with its bones, CC0) has no narrowing
+/// at its left elbow; cut as a finger, that arm got a cut past its elbow and one before
+/// its wrist. Each arm now turns at its shoulder, its elbow and its wrist, each within the
+/// labelled set's tolerance, and every required joint of the robot is found. The hand's
+/// fingers keep their two joints (`the_hand_gets_each_finger_and_its_joints`).
+#[test]
+fn a_body_s_arms_are_not_its_digits() {
+    use glam::DVec3;
+    use puppet::joints::suggest::labels::TOLERANCE;
+    let (labels, p) = labelled("robot");
+    let tolerance = TOLERANCE * p.mesh.longest_side();
+    for side in ["L", "R"] {
+        for role in ["arm", "forearm", "hand"] {
+            let name = format!("{role}.{side}");
+            let label = labels.joints.iter().find(|j| j.role == name).unwrap();
+            let cut = p.joints.cuts().iter().find(|c| c.name == name);
+            let pivot = cut
+                .and_then(|c| c.pivot)
+                .unwrap_or_else(|| panic!("{name} in {:?}", names(&p)));
+            let off = pivot.distance(DVec3::from(label.at));
+            assert!(off <= tolerance, "{name}: {off} > {tolerance}");
+        }
+        let hand = section(&p, &format!("hand.{side}"));
+        let below = p
+            .joints
+            .sections()
+            .iter()
+            .filter(|s| s.parent == Some(hand))
+            .count();
+        assert_eq!(below, 0, "{:?}", names(&p));
+    }
+    let score = labels.score(&p.joints.cut_pivots(), p.mesh.longest_side());
+    assert_eq!(score.found, score.required, "{:?}", names(&p));
 }
 
 /// Thighs that touch below the crotch (the human's, from 0.63 up to the fork at 0.726) tilt
@@ -326,7 +363,8 @@ fn a_big_round_ear_is_cut_once() {
 }
 
 /// A snout (the dog's, the lizard's, the horse's) is the end of the head, not a jaw: it
-/// gets no cut, and its tip turns with the head.
+/// gets no cut, and its tip turns with the head (with the neck, where the head has no cut
+/// of its own: the lizard's turns at its neck only, as its labels have it).
 #[test]
 fn a_snout_is_the_end_of_the_head() {
     for name in ["dog", "lizard", "horse"] {
@@ -340,8 +378,13 @@ fn a_snout_is_the_end_of_the_head() {
                 along(a).total_cmp(&along(b))
             })
             .unwrap();
-        let section = p.joints.section_of()[tip] as usize;
-        assert_eq!(p.joints.sections()[section].name, "head", "{name}: {n:?}");
+        let section = &p.joints.sections()[p.joints.section_of()[tip] as usize].name;
+        let head = if n.iter().any(|x| x == "head") {
+            "head"
+        } else {
+            "neck"
+        };
+        assert_eq!(section, head, "{name}: {n:?}");
     }
 }
 

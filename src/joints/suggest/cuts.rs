@@ -100,12 +100,22 @@ impl Tree<'_> {
                 tips_from[o] += 1;
             }
         }
+        // The root is a palm when the tips hanging from it are about as thick as its core
+        // (a hand's fingers): they are its digits. A body's arms and legs are slenderer.
+        let mut tip_radii: Vec<f64> = hanging
+            .iter()
+            .filter(|&&(k, o)| o == root && limbs_from[k] == 0)
+            .map(|&(k, _)| self.radius(&self.segments[k].vertices))
+            .collect();
+        let palm = !tip_radii.is_empty()
+            && super::anatomy::median_of(&mut tip_radii) > SLENDER * self.core.1;
         let shape = Shape {
             children,
             base: &base,
             owner: &owner,
             limbs_from: &limbs_from,
             tips_from: &tips_from,
+            palm,
             root,
         };
         self.walk(root, None, &shape, &mut out);
@@ -175,8 +185,8 @@ impl Tree<'_> {
             current = Some(out.len() - 1);
         }
         // An extremity: two or more limbs grow from it (a hand, a foot: cut where it
-        // widens). A digit: a tip among three or more that grow from one extremity (not
-        // from the body).
+        // widens). A digit: a tip among four or more that grow from one extremity, not
+        // from the body unless the body is a palm (a hand on its own).
         // A part of the body that is no limb (a thick neck and head) may still narrow
         // (at the neck): only narrowings there.
         let limb = shape.base[k].is_some();
@@ -184,7 +194,10 @@ impl Tree<'_> {
             .parent
             .map_or(shape.root, |p| shape.owner[p]);
         let extremity = limb && shape.limbs_from[k] >= 2;
-        let digit = limb && shape.limbs_from[k] == 0 && shape.tips_from[parent] >= 4;
+        let digit = limb
+            && shape.limbs_from[k] == 0
+            && shape.tips_from[parent] >= 4
+            && (parent != shape.root || shape.palm);
         let part = limb
             || (self.segments[k].vertices.len() >= 16
                 && self.segments[k]
@@ -551,6 +564,8 @@ pub(super) struct Shape<'a> {
     /// Per owner: limbs that hang from it, and those of them no limb grows from.
     pub(super) limbs_from: &'a [usize],
     pub(super) tips_from: &'a [usize],
+    /// The root is a palm: the tips hanging from it are digits.
+    pub(super) palm: bool,
     /// The root's segment.
     pub(super) root: usize,
 }
@@ -701,8 +716,13 @@ impl Profile {
                     median(&self.size[a..b.min(bins)]) > FLAT * median(&self.d[a..b.min(bins)]);
                 let to_wrist = b < bins && b as f64 >= WRIST * bins as f64;
                 if !flat && (len >= LONG || (to_wrist && len >= LONG_TO_WRIST)) {
-                    let half = 0.5 * (along[a] + along[b.min(bins - 1)]);
-                    let mid = (a..b.min(bins))
+                    // (The middle of the bone, from the ball of the limb's root: [`SOCKET`]
+                    // of the radius at the cut behind the base ring, where a shoulder's or
+                    // a hip's pivot goes. A thigh whose top hides in the trunk is counted
+                    // whole, and its knee is not placed low.)
+                    let ball = along[0] - SOCKET * self.d[1];
+                    let half = 0.5 * (ball + along[b.min(bins - 1)]);
+                    let mid = (0..b.min(bins))
                         .find(|&m| along[m] >= half)
                         .unwrap_or((a + b) / 2);
                     if free(&at, mid) {

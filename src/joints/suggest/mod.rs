@@ -44,9 +44,10 @@
 //!    a bent knee, an ankle, a hock; not within those three radii of another cut; a short
 //!    limb ending at an extremity over as much as it has, down to 1.5 radii); where a
 //!    limb widens into an extremity that limbs grow from (a wrist); along a digit (a tip
-//!    among four or more of one extremity) at 45 % and 72 % of its length; and halfway, in
-//!    metres, along a limb's first stretch, from its base to its first joint, when that is
-//!    longer than `LONG` radii (an elbow or a knee that neither narrows nor bends; a shin
+//!    among four or more of one extremity, or of a root whose tips are more than `SLENDER`
+//!    of its thickness: a palm, not a body) at 45 % and 72 % of its length; and halfway, in
+//!    metres, along a limb's first stretch, from the ball of its root (`SOCKET` of a radius
+//!    in from its base) to its first joint, when that is longer than `LONG` radii (an elbow or a knee that neither narrows nor bends; a shin
 //!    between a knee and an ankle already found is not cut again; nor is a flat part,
 //!    `FLAT`: a big thin ear's length in radii of its thickness says nothing).
 //!    The core itself is cut only at a clear narrowing along its long axis (`NARROW`): a

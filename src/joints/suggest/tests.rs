@@ -2,7 +2,7 @@
 //! what they do together on the shipped meshes.
 
 use super::cuts::{fill, is_limb, smooth, Profile};
-use super::rules::{DIP, LONG};
+use super::rules::{DIP, LONG, SOCKET};
 
 /// A profile of `d` (the skeletal distance per bin) with the ring sizes the same shape,
 /// along a straight axis a unit per bin.
@@ -26,7 +26,8 @@ fn a_limb_bends_where_its_axis_turns_and_a_long_stretch_is_halved_in_metres() {
     let cuts = p.cut_bins(true, false, false);
     assert!(cuts.contains(&20), "{cuts:?}");
     // A long straight stretch whose bins grow apart (a taper: the thin end is longer in
-    // radii): the middle cut falls at half the metres.
+    // radii): the middle cut falls at half the metres, from the ball of the limb's root
+    // (SOCKET of a radius behind its base ring) to its end.
     let mut p = profile(&[1.0; 30]);
     let mut x = 0.0;
     for b in 0..30 {
@@ -34,7 +35,7 @@ fn a_limb_bends_where_its_axis_turns_and_a_long_stretch_is_halved_in_metres() {
         x += if b < 15 { 1.0 } else { 0.25 };
     }
     let cuts = p.cut_bins(true, false, false);
-    let half = 0.5 * (p.centre[2].x + p.centre[29].x);
+    let half = 0.5 * (p.centre[0].x - SOCKET * p.d[1] + p.centre[29].x);
     assert!(
         cuts.iter().any(|&b| (p.centre[b].x - half).abs() <= 1.0),
         "{cuts:?} near {half}"
