@@ -750,10 +750,11 @@ fn bench_suggest_scores_rough_copies_by_seed() {
 mod mesher;
 
 /// A cartoon man whose head is a cylinder as wide as the top of his body, sitting on his
-/// shoulders (as the cartoon man's: no narrowing to cut a neck at, so the head is
-/// the body's), with small ears on its sides pointing out (generated with the labelled
-/// set's mesher): the ears are `ear.L` and `ear.R`, raised limbs above the arms, smaller
-/// than them, not numbered joints.
+/// shoulders (as the cartoon man's: no narrowing to cut a neck at), with small ears
+/// on its sides pointing out (generated with the labelled set's mesher): the ears are
+/// `ear.L` and `ear.R`, raised limbs above the arms, smaller than them, not numbered
+/// joints. His head turns at the top of his shoulders (the arms' rings reach 0.66), and
+/// the ears turn with it.
 #[test]
 fn ears_on_a_head_not_cut_from_the_body_are_ears() {
     use glam::DVec3;
@@ -790,4 +791,12 @@ fn ears_on_a_head_not_cut_from_the_body_are_ears() {
         assert!(names.contains(&want), "{want} in {names:?}");
     }
     assert!(!names.iter().any(|n| n.starts_with("joint")), "{names:?}");
+    let head = section(&p, "head");
+    let pivot = p.joints.sections()[head].pivot;
+    assert!((0.64..0.7).contains(&pivot.y), "{pivot}");
+    assert!(pivot.x.abs() < 0.01, "{pivot}");
+    for ear in ["ear.L", "ear.R"] {
+        let k = section(&p, ear);
+        assert_eq!(p.joints.sections()[k].parent, Some(head), "{names:?}");
+    }
 }

@@ -73,7 +73,11 @@
 //!    snout, a muzzle, a nose: `SNOUT`) is the head's end, and its cut is taken back. See `anatomy`. A left and a right cut that nearly mirror
 //!    each other (`PAIRED`) are made to mirror each other exactly: at their mean, or, where
 //!    that leaves a side empty, one as the other's image; a pair that cannot keeps its
-//!    places, and the others are still mirrored.
+//!    places, and the others are still mirrored. A biped (arms hanging well above its
+//!    legs) whose head nothing cuts, a head as wide as the chest it sits on (Homer's), is
+//!    cut across up at the top of its shoulders, when what lies above is at least as tall
+//!    as the slice there is wide and no taller than the character below it; the ears on
+//!    it turn with it (`head`).
 //!
 //! `puppet bench suggest` scores it against the labelled characters of
 //! `tests/data/characters` (`labels`).
@@ -88,11 +92,13 @@
 //! * `sections`: numbering and applying the cuts (step 4);
 //! * `slice`: the mesh's slice by a plane, how far a shoulder's or a hip's cut moves in;
 //! * `anatomy`: the mirror plane, up, front and left, and the names by role (step 5);
+//! * `head`: a biped's head with no neck to cut at turns at the top of its shoulders;
 //! * `labels`: a labelled character's joints, and a suggestion's score against them.
 
 mod anatomy;
 mod cuts;
 mod graph;
+mod head;
 pub mod labels;
 mod rules;
 mod sections;

@@ -278,6 +278,9 @@ pub fn suggest(
         }
         .rounded();
     }
+    // A biped's head on its body with no neck to cut at turns at the top of its shoulders.
+    let cuts =
+        super::head::on_the_shoulders(mesh, &skeleton.points, &hosts, root, cuts, frame.up, &ball);
     (cuts, frame)
 }
 

@@ -1,0 +1,158 @@
+//! A biped's head that sits on its body with no neck to cut at (Homer's, as wide as his
+//! chest; a cartoon's cylinder of a head) turns at the top of its shoulders.
+
+use std::collections::HashMap;
+
+use glam::DVec3;
+
+use super::rules::SMALLEST;
+use crate::joints::{Cut, Joints, Shape};
+use crate::mesh::Mesh;
+
+/// How far a biped's arms hang above its legs, at least, in widths of its arms: a
+/// quadruped's forelegs stand beside its hind legs, a biped's arms hang from its shoulders.
+const RAISED: f64 = 3.0;
+
+/// `cuts` (named by role, parent-first) with a cut across the body at the top of a biped's
+/// shoulders when no cut turns its head: where `arm.L`, `arm.R`, `leg.L` and `leg.R` hang
+/// from the root, the arms [`RAISED`] widths above the legs, and none is named `neck` or
+/// `head`. The plane lies across `up` at the top of the higher arm's ring (its cut's point
+/// plus its width, from `width` by name), its pivot at the centre of the body's slice
+/// there. The part above must be at least as tall as the slice is wide (a head, not the
+/// top of a chest the arms leave from), and no taller than the character below it (the
+/// shoulders of one standing lie above its middle).
+/// The root's cuts above the plane (ears) hang from the head; with two or more it is the
+/// `head`, else the `neck` (as for a head cut where it narrows). `points` are the skeletal
+/// points, `hosts` the riders' hosts.
+pub(super) fn on_the_shoulders(
+    mesh: &Mesh,
+    points: &[DVec3],
+    hosts: &[Option<u32>],
+    root: &str,
+    cuts: Vec<Cut>,
+    up: DVec3,
+    width: &HashMap<String, (f64, f64)>,
+) -> Vec<Cut> {
+    let smallest = (SMALLEST * points.len() as f64).max(12.0) as usize;
+    let find = |name: &str| cuts.iter().find(|c| c.name == name && c.section == root);
+    let (Some(arm_l), Some(arm_r), Some(leg_l), Some(leg_r)) =
+        (find("arm.L"), find("arm.R"), find("leg.L"), find("leg.R"))
+    else {
+        return cuts;
+    };
+    if cuts.iter().any(|c| {
+        let base = c.name.split('.').next().unwrap_or("");
+        base == "neck" || base == "head"
+    }) {
+        return cuts;
+    }
+    let height = |c: &Cut| c.pivot.unwrap_or(c.point).dot(up);
+    let arm_width = |c: &Cut| width.get(&c.name).map_or(0.0, |&(_, w)| w);
+    let arms = 0.5 * (arm_width(arm_l) + arm_width(arm_r));
+    if arms <= 0.0
+        || 0.5 * (height(arm_l) + height(arm_r) - height(leg_l) - height(leg_r)) < RAISED * arms
+    {
+        return cuts;
+    }
+    let top_of = |c: &Cut| c.point.dot(up) + arm_width(c);
+    let at = top_of(arm_l).max(top_of(arm_r));
+    let mut joints = Joints::with_mesh(points, &mesh.triangles, hosts, root);
+    if joints.add_cuts(cuts.iter().cloned()).is_err() {
+        return cuts;
+    }
+    let Some(body) = joints.find(root) else {
+        return cuts;
+    };
+    let section_of = joints.section_of();
+    let of_body: Vec<DVec3> = (0..mesh.positions.len())
+        .filter(|&v| section_of[v] as usize == body)
+        .map(|v| mesh.positions[v])
+        .collect();
+    // The body's slice at the top of the shoulders: its centre, and its mean distance
+    // from it across `up` (half its width).
+    let ring: Vec<DVec3> = of_body
+        .iter()
+        .copied()
+        .filter(|p| (at..=at + arms).contains(&p.dot(up)))
+        .collect();
+    if ring.len() < 3 {
+        return cuts;
+    }
+    let centre = ring.iter().copied().sum::<DVec3>() / ring.len() as f64;
+    let centre = centre + up * (at - centre.dot(up));
+    let half = ring
+        .iter()
+        .map(|&p| {
+            let d = p - centre;
+            (d - up * d.dot(up)).length()
+        })
+        .sum::<f64>()
+        / ring.len() as f64;
+    let top = of_body
+        .iter()
+        .map(|p| p.dot(up))
+        .fold(f64::NEG_INFINITY, f64::max);
+    let bottom = mesh
+        .positions
+        .iter()
+        .map(|p| p.dot(up))
+        .fold(f64::INFINITY, f64::min);
+    if top - at < 2.0 * half || top - at > at - bottom {
+        return cuts;
+    }
+    // The root's cuts above the plane (ears on the head) hang from it, and so does what
+    // hangs from them.
+    let above: Vec<bool> = cuts
+        .iter()
+        .map(|c| c.section == root && c.point.dot(up) > at && !c.name.starts_with("arm"))
+        .collect();
+    let name = if above.iter().filter(|&&a| a).count() >= 2 {
+        "head"
+    } else {
+        "neck"
+    };
+    let neck = Cut {
+        name: name.to_string(),
+        section: root.to_string(),
+        shape: Shape::Plane,
+        point: centre,
+        normal: up,
+        pivot: Some(centre),
+        connected: true,
+        band: None,
+        shared_pivot: false,
+    }
+    .rounded();
+    let taken = joints.preview(body, &neck).iter().filter(|&&t| t).count();
+    let rest = joints.sections()[body].vertices - taken;
+    if taken < smallest || rest < smallest {
+        return cuts;
+    }
+    // Parent-first: what does not hang from the head, the head, then what does.
+    let mut on_head: Vec<String> = Vec::new();
+    let (mut before, mut after) = (Vec::new(), Vec::new());
+    for (c, &up_there) in cuts.iter().zip(&above) {
+        if up_there {
+            on_head.push(c.name.clone());
+            after.push(Cut {
+                section: name.to_string(),
+                ..c.clone()
+            });
+        } else if on_head.contains(&c.section) {
+            on_head.push(c.name.clone());
+            after.push(c.clone());
+        } else {
+            before.push(c.clone());
+        }
+    }
+    let out: Vec<Cut> = before
+        .into_iter()
+        .chain(std::iter::once(neck))
+        .chain(after)
+        .collect();
+    let mut check = Joints::with_mesh(points, &mesh.triangles, hosts, root);
+    if check.add_cuts(out.iter().cloned()).is_err() {
+        return cuts;
+    }
+    out
+}
