@@ -6,9 +6,12 @@
 //!   curled tail or a raised arm moves few vertices).
 //! * **Up.** Given (`--up`, the rig file's `up`), or found: of the axis directions along
 //!   the mirror plane, the one opposite to where the tips of the root's limbs off the
-//!   plane lie from the mesh's centre, the legs hanging down. Without a mirror plane, when +y does nearly as well, or when
-//!   the limbs do not clearly hang along it (sprawled legs), +y (the OBJ and glTF
-//!   convention).
+//!   plane lie from the mesh's centre, the legs hanging down. Without a mirror plane, when
+//!   +y does nearly as well, or when the limbs do not clearly hang along it, +y (the OBJ
+//!   and glTF convention). Clearly: the root's limbs off the plane on the whole, or those
+//!   that point that way at all when one of them reaches the mesh's far end that way (a
+//!   biped's legs stand on the ground while its arms are held out and its ears raised; a
+//!   lizard's sprawled hind legs reach no farther back than its tail).
 //! * **Front.** Across up and the mirror plane: the way the head leans, else the way the
 //!   feet point, else the convention (+z for y up, −y for z up). **Left** = up × front: a
 //!   character's own left, as `.L` in Blender's names.
@@ -330,13 +333,32 @@ pub fn frame(
                 .filter(|a| a.dot(n).abs() < 0.5)
                 .max_by(|a, b| down(*a).total_cmp(&down(*b)))
                 .unwrap_or(DVec3::NEG_Y);
-            let count = limbs
+            let off: Vec<&Reach> = limbs
                 .iter()
                 .filter(|l| (l.pivot.dot(n) - o).abs() >= OFF_PLANE * size)
-                .count();
-            // (Only limbs that clearly hang along it move up off +y: sprawled legs and
-            // a root holding ears and arms say little.)
-            if down(DVec3::NEG_Y) >= 0.67 * down(best) || down(best) < 0.5 * count as f64 {
+                .collect();
+            // Those that point that way at all (legs hanging; not arms held out, nor ears).
+            let hanging: Vec<&&Reach> = off
+                .iter()
+                .filter(|l| (l.tip - centre).dot(best) > 0.0)
+                .collect();
+            // ... of which one reaches the mesh's far end that way (stands on the ground,
+            // [`GROUND`]): sprawled legs hang back no farther than a tail.
+            let (near, far) = positions
+                .iter()
+                .map(|p| p.dot(best))
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                    (a.min(x), b.max(x))
+                });
+            let stands = hanging
+                .iter()
+                .any(|l| far - l.tip.dot(best) <= GROUND * (far - near));
+            // (Only limbs that clearly hang along it move up off +y: sprawled legs say
+            // little; all the root's limbs doing so, or those that point that way at all
+            // and stand on the ground (a biped's legs, its arms held out).)
+            let clearly = down(best) >= 0.5 * off.len() as f64
+                || (stands && down(best) >= 0.5 * hanging.len() as f64);
+            if down(DVec3::NEG_Y) >= 0.67 * down(best) || !clearly {
                 DVec3::Y
             } else {
                 -best
