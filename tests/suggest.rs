@@ -226,40 +226,47 @@ fn the_labelled_set_scores_as_benchmarks_says() {
     assert!(share <= 0.07, "spurious {spurious}/{cuts}");
 }
 
-/// A humanoid in T-pose modelled with any axis up (Blender's and CAD's +z, or lying on
-/// its side) is found standing: only its legs hang, its arms are held out and its ears
-/// raised, and its legs reach the far end of the mesh the way they hang (they stand on the
-/// ground; a lizard's sprawled hind legs reach no farther back than its tail). It was
-/// found lying (+y) whatever its axis, with its legs named arms. Upside down (−y) the
-/// convention (+y) stays.
+/// A character modelled with any axis up (Blender's and CAD's +z, lying on its side, or
+/// upside down) is found standing. The human in T-pose: only her legs hang (her arms are
+/// held out), and they reach the far end of the mesh the way they hang (stand on the
+/// ground; a lizard's sprawled hind legs reach no farther back than its tail). She was
+/// found lying (+y) whatever her axis, her legs named arms. The dino: its arms and head
+/// reach forward about as far as its legs hang down, but only its legs stand; modelled +z
+/// (its front down) it was found with its front as up.
 #[test]
-fn a_t_pose_modelled_with_any_axis_up_is_found_standing() {
+fn a_character_modelled_with_any_axis_up_is_found_standing() {
     use glam::DVec3;
-    let (m, _) = mesh::load(&test_mesh("human.obj")).unwrap();
     type Turn = fn(DVec3) -> DVec3;
-    let turns: [(DVec3, Turn); 5] = [
+    let turns: [(DVec3, Turn); 6] = [
         (DVec3::Y, |p| p),
         (DVec3::Z, |p| DVec3::new(p.x, -p.z, p.y)),
         (DVec3::NEG_Z, |p| DVec3::new(p.x, p.z, -p.y)),
         (DVec3::X, |p| DVec3::new(p.y, -p.x, p.z)),
         (DVec3::NEG_X, |p| DVec3::new(-p.y, p.x, p.z)),
+        (DVec3::NEG_Y, |p| DVec3::new(p.x, -p.y, -p.z)),
     ];
-    for (up, turn) in turns {
-        let turned = mesh::Mesh {
-            positions: m.positions.iter().map(|&p| turn(p)).collect(),
-            triangles: m.triangles.clone(),
-        };
-        let mut p = Puppet::build(turned, RigFile::default(), puppet::progress::silent()).unwrap();
-        p.suggest_joints().unwrap();
-        assert!(p.up().distance(up) < 1e-9, "{up}: found {}", p.up());
-        let s = p.joints.sections();
-        for side in ["L", "R"] {
-            let arm = section(&p, &format!("arm.{side}"));
-            let leg = section(&p, &format!("leg.{side}"));
-            assert!(
-                s[arm].pivot.dot(up) > s[leg].pivot.dot(up) + 0.3,
-                "{up}: arm.{side} above leg.{side}"
-            );
+    let dino = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/characters/dino.obj");
+    for file in [test_mesh("human.obj"), dino] {
+        let (m, _) = mesh::load(&file).unwrap();
+        for (up, turn) in turns {
+            let turned = mesh::Mesh {
+                positions: m.positions.iter().map(|&p| turn(p)).collect(),
+                triangles: m.triangles.clone(),
+            };
+            let mut p =
+                Puppet::build(turned, RigFile::default(), puppet::progress::silent()).unwrap();
+            p.suggest_joints().unwrap();
+            let what = format!("{} {up}", file.display());
+            assert!(p.up().distance(up) < 1e-9, "{what}: found {}", p.up());
+            let s = p.joints.sections();
+            for side in ["L", "R"] {
+                let arm = section(&p, &format!("arm.{side}"));
+                let leg = section(&p, &format!("leg.{side}"));
+                assert!(
+                    s[arm].pivot.dot(up) > s[leg].pivot.dot(up),
+                    "{what}: arm.{side} above leg.{side}"
+                );
+            }
         }
     }
 }

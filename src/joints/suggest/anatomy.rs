@@ -337,28 +337,36 @@ pub fn frame(
                 .iter()
                 .filter(|l| (l.pivot.dot(n) - o).abs() >= OFF_PLANE * size)
                 .collect();
-            // Those that point that way at all (legs hanging; not arms held out, nor ears).
-            let hanging: Vec<&&Reach> = off
-                .iter()
-                .filter(|l| (l.tip - centre).dot(best) > 0.0)
-                .collect();
-            // ... of which one reaches the mesh's far end that way (stands on the ground,
-            // [`GROUND`]): sprawled legs hang back no farther than a tail.
-            let (near, far) = positions
-                .iter()
-                .map(|p| p.dot(best))
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-                    (a.min(x), b.max(x))
-                });
-            let stands = hanging
-                .iter()
-                .any(|l| far - l.tip.dot(best) <= GROUND * (far - near));
+            // Those that point way `d` at all (legs hanging; not arms held out, nor ears),
+            // and whether one of them reaches the mesh's far end that way (stands on the
+            // ground, [`GROUND`]: sprawled legs hang back no farther than a tail).
+            let hanging = |d: DVec3| -> Vec<&Reach> {
+                off.iter()
+                    .copied()
+                    .filter(|l| (l.tip - centre).dot(d) > 0.0)
+                    .collect()
+            };
+            let stands = |d: DVec3| {
+                let (near, far) = positions
+                    .iter()
+                    .map(|p| p.dot(d))
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                        (a.min(x), b.max(x))
+                    });
+                hanging(d)
+                    .iter()
+                    .any(|l| far - l.tip.dot(d) <= GROUND * (far - near))
+            };
             // (Only limbs that clearly hang along it move up off +y: sprawled legs say
             // little; all the root's limbs doing so, or those that point that way at all
             // and stand on the ground (a biped's legs, its arms held out).)
             let clearly = down(best) >= 0.5 * off.len() as f64
-                || (stands && down(best) >= 0.5 * hanging.len() as f64);
-            if down(DVec3::NEG_Y) >= 0.67 * down(best) || !clearly {
+                || (stands(best) && down(best) >= 0.5 * hanging(best).len() as f64);
+            // (+y does nearly as well, unless only the other stands on the ground: a
+            // sitting animal's forelegs reach forward as far as its legs hang.)
+            let y_as_well =
+                down(DVec3::NEG_Y) >= 0.67 * down(best) && (stands(DVec3::NEG_Y) || !stands(best));
+            if y_as_well || !clearly {
                 DVec3::Y
             } else {
                 -best
