@@ -271,6 +271,75 @@ fn a_character_modelled_with_any_axis_up_is_found_standing() {
     }
 }
 
+/// Two characters side by side in one file (the robot and a copy of it 1.5 to its left)
+/// each get their own cuts, mirror plane and names: the copy's are the robot's, moved
+/// with it, named `.001` as Blender names a copy. The mirror plane of the whole lay
+/// between them, and the limbs were `leg1`…`leg4`, the copy's only the mirror images of
+/// the robot's limb roots.
+#[test]
+fn two_characters_in_one_file_each_get_their_own_joints() {
+    use glam::DVec3;
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/characters/robot.obj");
+    let (m, _) = mesh::load(&file).unwrap();
+    let shift = DVec3::new(1.5, 0.0, 0.0);
+    let n = m.positions.len() as u32;
+    let both = mesh::Mesh {
+        positions: m
+            .positions
+            .iter()
+            .copied()
+            .chain(m.positions.iter().map(|&p| p + shift))
+            .collect(),
+        triangles: m
+            .triangles
+            .iter()
+            .copied()
+            .chain(m.triangles.iter().map(|t| t.map(|v| v + n)))
+            .collect(),
+    };
+    let single = {
+        let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
+        p.suggest_joints().unwrap();
+        p
+    };
+    let mut p = Puppet::build(both, RigFile::default(), puppet::progress::silent()).unwrap();
+    p.suggest_joints().unwrap();
+    let cuts = p.joints.cuts();
+    assert_eq!(
+        cuts.len(),
+        2 * single.joints.cuts().len(),
+        "{:?}",
+        names(&p)
+    );
+    for cut in single.joints.cuts() {
+        let pivot = cut.pivot.unwrap();
+        let copy = format!("{}.001", cut.name);
+        for (name, at) in [(&cut.name, pivot), (&copy, pivot + shift)] {
+            let c = cuts.iter().find(|c| &c.name == name);
+            let c = c.unwrap_or_else(|| panic!("{name} in {:?}", names(&p)));
+            assert!(c.pivot.unwrap().distance(at) < 1e-6, "{name}");
+        }
+    }
+    assert!(names(&p).contains(&"arm.L".to_string()));
+    // `--json` gives the copy's cuts their role and the character they are of.
+    let dir = scratch("two_characters");
+    let file = dir.join("two.obj");
+    let mut obj = String::new();
+    for q in &p.mesh.positions {
+        obj += &format!("v {} {} {}\n", q.x, q.y, q.z);
+    }
+    for t in &p.mesh.triangles {
+        obj += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    std::fs::write(&file, obj).unwrap();
+    let json = suggest_json(&[file.to_str().unwrap()]);
+    let cuts = json["cuts"].as_array().unwrap();
+    let arm = |name: &str| cuts.iter().find(|c| c["name"] == name).unwrap().clone();
+    assert_eq!(arm("arm.L")["character"], 0);
+    assert_eq!(arm("arm.L.001")["role"], "arm.L");
+    assert_eq!(arm("arm.L.001")["character"], 1);
+}
+
 /// A body's arms and legs are no digits, though four or more hang from it: a digit (a
 /// finger of a palm, about as thick as the palm) is cut at 45 % and 72 % of its length, an
 /// arm in the middle of its bone. The robot (generated with its bones, CC0) has no narrowing

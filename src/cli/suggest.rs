@@ -49,6 +49,9 @@ struct CutRow {
     name: String,
     /// The role the name gives (`arm.L`, `thumb.R`, `tail`…), none for a numbered cut.
     role: Option<String>,
+    /// The character it is of, where the file holds several (0 the largest; its names
+    /// end in `.001` from the second on).
+    character: usize,
     parent: String,
     vertices: usize,
     pivot: [f64; 3],
@@ -81,9 +84,11 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         .enumerate()
         .map(|(k, c)| {
             let s = &sections[k + 1];
+            let (role, character) = puppet::joints::suggest::characters::role(&c.name);
             CutRow {
                 name: c.name.clone(),
-                role: (!c.name.starts_with("joint ")).then(|| c.name.clone()),
+                role: (!c.name.starts_with("joint ")).then(|| role.to_string()),
+                character,
                 parent: s.parent.map_or(String::new(), |p| sections[p].name.clone()),
                 vertices: s.vertices,
                 pivot: s.pivot.to_array(),

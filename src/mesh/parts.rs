@@ -166,6 +166,15 @@ impl Parts {
         })
     }
 
+    /// The parts whose flag in `keep` (one per part) is set, as one mesh, and the index in
+    /// `mesh` of each of its vertices.
+    ///
+    /// # Panics
+    /// If `keep` has fewer flags than there are parts.
+    pub fn select_parts(&self, mesh: &Mesh, keep: &[bool]) -> (Mesh, Vec<u32>) {
+        self.select(mesh, |k| keep[k])
+    }
+
     /// The parts `keep` says yes to, as one mesh, and the index in `mesh` of each vertex.
     fn select(&self, mesh: &Mesh, keep: impl Fn(usize) -> bool) -> (Mesh, Vec<u32>) {
         let kept = |v: usize| keep(self.part_of[v] as usize);

@@ -93,9 +93,11 @@
 //! * `slice`: the mesh's slice by a plane, how far a shoulder's or a hip's cut moves in;
 //! * `anatomy`: the mirror plane, up, front and left, and the names by role (step 5);
 //! * `head`: a biped's head with no neck to cut at turns at the top of its shoulders;
+//! * `characters`: two or more characters in one file, each suggested on its own;
 //! * `labels`: a labelled character's joints, and a suggestion's score against them.
 
 mod anatomy;
+pub mod characters;
 mod cuts;
 mod graph;
 mod head;

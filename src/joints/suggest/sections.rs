@@ -78,8 +78,38 @@ fn partner<'a>(
 /// Cuts where the protrusions of `mesh` narrow, organised parent-first as a section tree
 /// under the root section `root`, named by role where one fits, and the frame (up, front,
 /// left) they were named in: `up` when given, else found. Every cut applies, in order, to
-/// joints without cuts.
+/// joints without cuts. Two or more characters in the file (body parts apart from each
+/// other) each get their own cuts, the largest's names as they are and the others' with
+/// `.001`, `.002`… (see `characters`); the frame is the largest's.
 pub fn suggest(
+    mesh: &Mesh,
+    skeleton: &Skeleton,
+    root: &str,
+    up: Option<DVec3>,
+) -> (Vec<Cut>, Frame) {
+    let Some(characters) = super::characters::of(mesh, skeleton) else {
+        return suggest_one(mesh, skeleton, root, up);
+    };
+    let mut all = Vec::new();
+    let mut first = None;
+    for (k, c) in characters.iter().enumerate() {
+        let (cuts, frame) = suggest_one(&c.mesh, &c.skeleton, root, up);
+        first.get_or_insert(frame);
+        let named = |n: &str| super::characters::name(n, k, root);
+        all.extend(cuts.into_iter().map(|cut| Cut {
+            name: named(&cut.name),
+            section: named(&cut.section),
+            ..cut
+        }));
+    }
+    match first {
+        Some(frame) => (all, frame),
+        None => suggest_one(mesh, skeleton, root, up),
+    }
+}
+
+/// [`suggest`] for one character.
+fn suggest_one(
     mesh: &Mesh,
     skeleton: &Skeleton,
     root: &str,
