@@ -124,7 +124,7 @@ pub(super) fn on_the_shoulders(
     }
     .rounded();
     let taken = joints.preview(body, &neck).iter().filter(|&&t| t).count();
-    let rest = joints.sections()[body].vertices - taken;
+    let rest = joints.sections()[body].vertices.saturating_sub(taken);
     if taken < smallest || rest < smallest {
         return cuts;
     }
