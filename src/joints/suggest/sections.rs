@@ -116,11 +116,14 @@ fn suggest_one(
     up: Option<DVec3>,
 ) -> (Vec<Cut>, Frame) {
     // The mirror plane, once: the cuts copy across it, and the names take their sides
-    // from it.
-    let mirror = super::anatomy::mirror_plane(&mesh.positions);
+    // from it. (The body's: a prop riding apart from it says nothing of its symmetry.)
+    let parts = (skeleton.riders > 0).then(|| crate::mesh::Parts::of(mesh));
+    let mirror = match &parts {
+        Some(parts) => super::anatomy::mirror_plane(&parts.body(mesh).0.positions),
+        None => super::anatomy::mirror_plane(&mesh.positions),
+    };
     // Riders have no skeleton: the limbs are the body's, and riders go with their hosts.
-    let (limbs, hosts) = if skeleton.riders > 0 {
-        let parts = crate::mesh::Parts::of(mesh);
+    let (limbs, hosts) = if let Some(parts) = parts {
         let (body, old) = parts.body(mesh);
         let body_skeleton = Skeleton {
             distance: old.iter().map(|&v| skeleton.distance[v as usize]).collect(),
@@ -133,6 +136,19 @@ fn suggest_one(
     } else {
         (limbs_of(mesh, skeleton, mirror), Vec::new())
     };
+    // The character's shape for naming: each rider where its host is (a prop lying apart
+    // from the body would stretch its size and move its centre).
+    let character = if hosts.iter().any(Option::is_some) {
+        std::borrow::Cow::Owned(Mesh {
+            positions: (0..mesh.positions.len())
+                .map(|v| mesh.positions[hosts[v].map_or(v, |h| h as usize)])
+                .collect(),
+            triangles: mesh.triangles.clone(),
+        })
+    } else {
+        std::borrow::Cow::Borrowed(mesh)
+    };
+    let character: &Mesh = &character;
     // Apply them in order; one that cannot apply (a side left empty) is dropped and what
     // hangs from it hangs from its parent instead.
     let mut joints = Joints::with_mesh(&skeleton.points, &mesh.triangles, &hosts, root);
@@ -221,7 +237,7 @@ fn suggest_one(
         }
     }
     // Names by role; a name taken twice, and a cut no role fits, keep their numbers.
-    let roles = super::anatomy::roles(mesh, &skeleton.distance, &joints, up, mirror);
+    let roles = super::anatomy::roles(character, &skeleton.distance, &joints, up, mirror);
     let frame = roles.frame;
     let mut renamed: HashMap<String, String> = HashMap::new();
     let mut taken: std::collections::HashSet<String> = Default::default();
@@ -262,7 +278,7 @@ fn suggest_one(
     // leaves a side empty, the right as the left's image, or the left as the right's; else
     // each keeps its own place. (A cut that fails was moved, or a moved cut before it moved
     // its section: the nearest moved one tries its pair's next way.)
-    let pairs = mirror_pairs(&cuts, &frame, mesh);
+    let pairs = mirror_pairs(&cuts, &frame, character);
     let mut way = vec![0usize; pairs.len()];
     loop {
         let mut trial = cuts.clone();
@@ -309,8 +325,15 @@ fn suggest_one(
         .rounded();
     }
     // A biped's head on its body with no neck to cut at turns at the top of its shoulders.
-    let cuts =
-        super::head::on_the_shoulders(mesh, &skeleton.points, &hosts, root, cuts, frame.up, &ball);
+    let cuts = super::head::on_the_shoulders(
+        character,
+        &skeleton.points,
+        &hosts,
+        root,
+        cuts,
+        frame.up,
+        &ball,
+    );
     (cuts, frame)
 }
 
