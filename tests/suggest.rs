@@ -340,8 +340,8 @@ fn two_characters_in_one_file_each_get_their_own_joints() {
     assert_eq!(arm("arm.L.001")["character"], 1);
 }
 
-/// A small part lying apart from the body (a prop, a stray piece of a scan: a cube 2 % of
-/// the robot's height, 3 to its left) rides along with it and changes none of its cuts or
+/// A small part lying apart from the body (a prop, a stray piece of a scan: a ball 2 % of
+/// the robot's height across, 3 to its left) rides along with it and changes none of its cuts or
 /// names. It stretched the mesh's size and moved its centre and mirror plane: the robot's
 /// legs and an arm were numbered joints, the other arm its `tail`.
 #[test]
@@ -349,36 +349,19 @@ fn a_small_part_lying_apart_changes_no_name() {
     let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/characters/robot.obj");
     let (m, _) = mesh::load(&file).unwrap();
     let n = m.positions.len() as u32;
-    let corner = |k: u32| {
-        let bit = |b: u32| f64::from((k >> b) & 1) * 0.04;
-        glam::DVec3::new(3.0 + bit(0), bit(1), bit(2))
-    };
-    let cube: [[u32; 3]; 12] = [
-        [0, 2, 1],
-        [1, 2, 3],
-        [4, 5, 6],
-        [5, 7, 6],
-        [0, 1, 4],
-        [1, 5, 4],
-        [2, 6, 3],
-        [3, 6, 7],
-        [0, 4, 2],
-        [2, 4, 6],
-        [1, 3, 5],
-        [3, 7, 5],
-    ];
-    let with_cube = mesh::Mesh {
+    let ball = mesh::shapes::icosphere(0.02, 1);
+    let with_ball = mesh::Mesh {
         positions: m
             .positions
             .iter()
             .copied()
-            .chain((0..8).map(corner))
+            .chain(ball.positions.iter().map(|&p| p + glam::DVec3::X * 3.0))
             .collect(),
         triangles: m
             .triangles
             .iter()
             .copied()
-            .chain(cube.iter().map(|t| t.map(|v| v + n)))
+            .chain(ball.triangles.iter().map(|t| t.map(|v| v + n)))
             .collect(),
     };
     let named = |m: mesh::Mesh| {
@@ -386,7 +369,7 @@ fn a_small_part_lying_apart_changes_no_name() {
         p.suggest_joints().unwrap();
         names(&p)
     };
-    assert_eq!(named(with_cube), named(m));
+    assert_eq!(named(with_ball), named(m));
 }
 
 /// A body's arms and legs are no digits, though four or more hang from it: a digit (a
