@@ -117,14 +117,18 @@ fn suggest_one(
 ) -> (Vec<Cut>, Frame) {
     // The mirror plane, once: the cuts copy across it, and the names take their sides
     // from it. (The body's: a prop riding apart from it says nothing of its symmetry.)
-    let parts = (skeleton.riders > 0).then(|| crate::mesh::Parts::of(mesh));
-    let mirror = match &parts {
-        Some(parts) => super::anatomy::mirror_plane(&parts.body(mesh).0.positions),
-        None => super::anatomy::mirror_plane(&mesh.positions),
-    };
-    // Riders have no skeleton: the limbs are the body's, and riders go with their hosts.
-    let (limbs, hosts) = if let Some(parts) = parts {
+    let riders = (skeleton.riders > 0).then(|| {
+        let parts = crate::mesh::Parts::of(mesh);
         let (body, old) = parts.body(mesh);
+        (parts, body, old)
+    });
+    let mirror = super::anatomy::mirror_plane(
+        riders
+            .as_ref()
+            .map_or(&mesh.positions, |(_, body, _)| &body.positions),
+    );
+    // Riders have no skeleton: the limbs are the body's, and riders go with their hosts.
+    let (limbs, hosts) = if let Some((parts, body, old)) = riders {
         let body_skeleton = Skeleton {
             distance: old.iter().map(|&v| skeleton.distance[v as usize]).collect(),
             points: old.iter().map(|&v| skeleton.points[v as usize]).collect(),
