@@ -324,14 +324,7 @@ fn two_characters_in_one_file_each_get_their_own_joints() {
     // `--json` gives the copy's cuts their role and the character they are of.
     let dir = scratch("two_characters");
     let file = dir.join("two.obj");
-    let mut obj = String::new();
-    for q in &p.mesh.positions {
-        obj += &format!("v {} {} {}\n", q.x, q.y, q.z);
-    }
-    for t in &p.mesh.triangles {
-        obj += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
-    }
-    std::fs::write(&file, obj).unwrap();
+    std::fs::write(&file, common::obj(&p.mesh)).unwrap();
     let json = suggest_json(&[file.to_str().unwrap()]);
     let cuts = json["cuts"].as_array().unwrap();
     let arm = |name: &str| cuts.iter().find(|c| c["name"] == name).unwrap().clone();

@@ -360,12 +360,13 @@ pub fn frame(
             // (Only limbs that clearly hang along it move up off +y: sprawled legs say
             // little; all the root's limbs doing so, or those that point that way at all
             // and stand on the ground (a biped's legs, its arms held out).)
+            let best_stands = stands(best);
             let clearly = down(best) >= 0.5 * off.len() as f64
-                || (stands(best) && down(best) >= 0.5 * hanging(best).len() as f64);
+                || (best_stands && down(best) >= 0.5 * hanging(best).len() as f64);
             // (+y does nearly as well, unless only the other stands on the ground: a
             // sitting animal's forelegs reach forward as far as its legs hang.)
             let y_as_well =
-                down(DVec3::NEG_Y) >= 0.67 * down(best) && (stands(DVec3::NEG_Y) || !stands(best));
+                down(DVec3::NEG_Y) >= 0.67 * down(best) && (stands(DVec3::NEG_Y) || !best_stands);
             if y_as_well || !clearly {
                 DVec3::Y
             } else {

@@ -6,11 +6,9 @@ use crate::mesh::{Mesh, Parts};
 use crate::skeleton::Skeleton;
 use glam::DVec3;
 
-/// One character of a mesh in pieces: its mesh, the index in the whole mesh of each of its
-/// vertices, and its skeleton.
+/// One character of a mesh in pieces: its mesh and its skeleton.
 pub(super) struct Character {
     pub(super) mesh: Mesh,
-    pub(super) old: Vec<u32>,
     pub(super) skeleton: Skeleton,
 }
 
@@ -76,12 +74,11 @@ pub(super) fn of(mesh: &Mesh, skeleton: &Skeleton) -> Option<Vec<Character>> {
             };
             Character {
                 mesh: sub,
-                old,
                 skeleton,
             }
         })
         .collect();
-    out.sort_by_key(|c| std::cmp::Reverse(c.old.len()));
+    out.sort_by_key(|c| std::cmp::Reverse(c.mesh.positions.len()));
     Some(out)
 }
 

@@ -5,13 +5,9 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-use super::rules::SMALLEST;
+use super::rules::{RAISED, SMALLEST};
 use crate::joints::{Cut, Joints, Shape};
 use crate::mesh::Mesh;
-
-/// How far a biped's arms hang above its legs, at least, in widths of its arms: a
-/// quadruped's forelegs stand beside its hind legs, a biped's arms hang from its shoulders.
-const RAISED: f64 = 3.0;
 
 /// `cuts` (named by role, parent-first) with a cut across the body at the top of a biped's
 /// shoulders when no cut turns its head: where `arm.L`, `arm.R`, `leg.L` and `leg.R` hang

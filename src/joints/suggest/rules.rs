@@ -77,5 +77,9 @@ pub(super) const PAIRED: f64 = 0.02;
 /// A cut with no cut within this share of the mesh's size of its mirror image is copied
 /// there (on a limb whose mirror image is cut).
 pub(super) const MATCHED: f64 = 0.05;
+/// A biped's arms hang at least this many of their widths above its legs (a quadruped's
+/// forelegs stand beside its hind legs): its head, when nothing cuts it, turns at the top of
+/// its shoulders.
+pub(super) const RAISED: f64 = 3.0;
 /// Sections smaller than this share of the vertices (or 12 vertices) are not suggested.
 pub(super) const SMALLEST: f64 = 0.002;
