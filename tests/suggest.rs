@@ -999,3 +999,104 @@ fn ears_on_a_head_not_cut_from_the_body_are_ears() {
         assert_eq!(p.joints.sections()[k].parent, Some(head), "{names:?}");
     }
 }
+
+/// A creature in the armadillo's pose (generated with the labelled set's mesher): a head
+/// on its shoulders with no neck, a short snout in front of it, ears pointing up, its right
+/// arm raised high, its left held out, and a tail behind. The raised arm is `arm.R` (it
+/// points up from above the body's centre as an ear does, but its mirror image lies by the
+/// left arm); the snout is no joint and not a `neck` (a head ends in a bulb as thick as
+/// the limbs); the tail, as thin as the snout, is a `tail`, not an `abdomen`.
+#[test]
+fn a_raised_arm_is_an_arm_and_a_snout_is_no_neck() {
+    use glam::DVec3;
+    use mesher::{Body, Bone};
+    let mut bones = Vec::new();
+    let mut bone = |a: [f64; 3], b: [f64; 3], ra: f64, rb: f64| {
+        let group = bones.len();
+        bones.push(Bone {
+            a: DVec3::from_array(a),
+            b: DVec3::from_array(b),
+            ra,
+            rb,
+            group,
+        });
+    };
+    bone([0.0, 0.4, 0.0], [0.0, 0.62, 0.0], 0.13, 0.1);
+    bone([0.0, 0.66, 0.0], [0.0, 0.95, 0.0], 0.1, 0.1);
+    bone([0.0, 0.8, 0.1], [0.0, 0.8, 0.15], 0.03, 0.028);
+    bone([0.0, 0.42, -0.12], [0.0, 0.25, -0.45], 0.035, 0.02);
+    for s in [1.0, -1.0] {
+        bone([0.06 * s, 0.93, 0.0], [0.12 * s, 1.05, 0.0], 0.025, 0.02);
+        bone([0.07 * s, 0.36, 0.0], [0.07 * s, 0.05, 0.0], 0.05, 0.045);
+    }
+    // Left arm held out; right arm raised steeply.
+    bone([0.1, 0.62, 0.0], [0.24, 0.6, 0.0], 0.04, 0.035);
+    bone([0.24, 0.6, 0.0], [0.25, 0.6, 0.14], 0.035, 0.03);
+    bone([-0.1, 0.64, 0.0], [-0.2, 0.8, 0.0], 0.04, 0.035);
+    bone([-0.2, 0.8, 0.0], [-0.22, 0.98, 0.05], 0.035, 0.03);
+    let body = Body { bones, blend: 0.03 };
+    let (positions, triangles) = body.mesh(0.01, 0.37);
+    let m = mesh::Mesh {
+        positions,
+        triangles,
+    };
+    let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
+    p.suggest_joints().unwrap();
+    let names = names(&p);
+    for want in ["arm.L", "arm.R", "leg.L", "leg.R", "tail"] {
+        assert!(names.iter().any(|n| n == want), "{want} in {names:?}");
+    }
+    for never in ["neck", "abdomen", "joint"] {
+        assert!(
+            !names.iter().any(|n| n.starts_with(never)),
+            "{never} in {names:?}"
+        );
+    }
+    let arm = section(&p, "arm.R");
+    assert!(p.joints.sections()[arm].pivot.x < -0.05);
+    let snout = DVec3::new(0.0, 0.8, 0.13);
+    for c in p.joints.cuts() {
+        let at = c.pivot.unwrap_or(c.point);
+        assert!(at.distance(snout) > 0.05, "{} at {at}", c.name);
+    }
+}
+
+/// Which way a character faces, from where its head and tail grow, on two public meshes
+/// (`tests/data/meshes`): a penguin (flat feet pointing forward, arms hanging, a short tail
+/// behind) faces +z, the way its beak points, its tail is a `tail` and its left arm on its
+/// left; a cat stretching (its head raised and looking back, its forelegs reaching forward
+/// together, its tail straight up) faces -x: the tail is the raised one at the back, not
+/// the forelegs, and the legs' sides follow.
+#[test]
+fn a_character_faces_away_from_its_tail() {
+    let build = |name: &str| {
+        let (m, _) = mesh::load(&test_mesh(name)).unwrap();
+        let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
+        p.suggest_joints().unwrap();
+        p
+    };
+    let pivot = |p: &Puppet, name: &str| p.joints.sections()[section(p, name)].pivot;
+
+    let penguin = build("penguin.obj");
+    let frame = penguin.frame().unwrap();
+    assert!(
+        frame.front.distance(glam::DVec3::Z) < 1e-9,
+        "{}",
+        frame.front
+    );
+    assert!(pivot(&penguin, "tail").z < -0.3);
+    assert!(pivot(&penguin, "arm.L").x > pivot(&penguin, "arm.R").x);
+    assert!(pivot(&penguin, "leg.L").x > pivot(&penguin, "leg.R").x);
+
+    let cat = build("cat.obj");
+    let frame = cat.frame().unwrap();
+    assert!(
+        frame.front.distance(glam::DVec3::NEG_X) < 1e-9,
+        "{}",
+        frame.front
+    );
+    let tail = pivot(&cat, "tail");
+    assert!(tail.x > 1.0 && tail.y > 1.5, "{tail}");
+    // Facing -x with +y up, her left is +z.
+    assert!(pivot(&cat, "leg.L").z > pivot(&cat, "leg.R").z);
+}

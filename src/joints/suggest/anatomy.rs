@@ -12,18 +12,23 @@
 //!   that point that way at all when one of them reaches the mesh's far end that way (a
 //!   biped's legs stand on the ground while its arms are held out and its ears raised; a
 //!   lizard's sprawled hind legs reach no farther back than its tail).
-//! * **Front.** Across up and the mirror plane: the way the head leans, else the way the
-//!   feet point, else the convention (+z for y up, −y for z up). **Left** = up × front: a
-//!   character's own left, as `.L` in Blender's names.
+//! * **Front.** Across up and the mirror plane: the end of the body the head grows from,
+//!   away from another part on the plane, a tail ([`FRONT_END`]: a cat stretching looks up
+//!   and back), else the way the head leans, else
+//!   the way the feet that stand on the ground point, else the convention (+z for y up, −y
+//!   for z up). **Left** = up × front: a character's own left, as `.L` in Blender's names.
 //! * **Roles.** The root's limbs off the mirror plane: pointing up from above the root's
-//!   centre, ears; of the others, when one pair stands on the ground ([`GROUND`]) and the
+//!   centre, ears, unless its mirror image lies by an arm or a leg, at most half as far as
+//!   by another ear (an arm raised higher than the other); of the others, when one pair stands on the ground ([`GROUND`]) and the
 //!   rest do not, a biped: the standing pair are legs and the largest raised limb on each
 //!   side an arm (arms held out or hanging down); when all stand, pairs from the front:
-//!   arms (forelegs) and legs, numbered legs from three pairs on; on the plane, the one whose
+//!   arms (forelegs) and legs, numbered legs from three pairs on; on the plane, of those
+//!   off the ground ending no thinner than any limb off the plane, the one whose
 //!   far half is thickest (a head ends in a bulb, a tail in a point), leaning up and front,
 //!   counted twice when it carries parts off the plane (ears, antennae), is the neck (or
-//!   the head if nothing follows it), one pointing back the tail, or the abdomen when it
-//!   ends as thick as the head. Down a limb the names go on: `arm`, `forearm`, `hand`;
+//!   the head if nothing follows it); one pointing back or growing from the back end the
+//!   tail, or the abdomen when it ends as thick as the head; with no head, a short one (a
+//!   snout on a head not cut from the body) no joint. Down a limb the names go on: `arm`, `forearm`, `hand`;
 //!   `leg`, `shin`, `foot`; `neck`, `head`; four or five digits of a hand are `thumb`,
 //!   `index`, `middle`, `ring`, `little` (the thumb the one turned most from the others),
 //!   of a foot `toe1`….
@@ -42,6 +47,10 @@ const OFF_PLANE: f64 = 0.03;
 /// A limb that reaches this share of the height above the mesh's lowest point stands on
 /// the ground.
 const GROUND: f64 = 0.1;
+/// A head whose root lies this share of the mesh's size ahead of another part's on the
+/// mirror plane (a tail's) marks the front; a part on the plane whose root lies as far
+/// behind the centre is a tail.
+const FRONT_END: f64 = 0.15;
 
 /// An axis direction a mesh is modelled with as up: `+y` (OBJ's and glTF's convention),
 /// `+z` (CAD's and Blender's)…, written `x`, `+x` or `-x`.
@@ -285,6 +294,12 @@ impl Reach {
         (self.tip - self.pivot).normalize_or_zero()
     }
 
+    /// It reaches at most [`SNOUT`] times its far half's thickness: a snout, a muzzle, a
+    /// nose, not a limb's length.
+    fn short(&self) -> bool {
+        self.tip.distance(self.pivot) <= SNOUT * self.end
+    }
+
     /// How much it looks like a head, leaning along `towards`: its far half's thickness,
     /// more when it leans that way, twice that when it carries parts of its own off the
     /// mirror plane (an ant's head with its antennae, not the thicker abdomen).
@@ -386,19 +401,30 @@ pub fn frame(
     };
     let on_plane =
         |l: &Reach| mirror.is_none_or(|(n, o)| (l.pivot.dot(n) - o).abs() < OFF_PLANE * size);
-    // The head (of the limbs on the plane, the one ending widest, leaning up) leans
-    // forward on a quadruped; else the feet point forward.
-    let head = limbs
-        .iter()
-        .filter(|l| on_plane(l))
-        .max_by(|a, b| a.head_score(up).total_cmp(&b.head_score(up)));
+    // The part on the plane most like a head ([`head_of`]) grows from the other end of the
+    // body than the tail (a cat stretching looks up and back; a penguin), or leans forward;
+    // else the feet point forward.
+    let midline: Vec<&Reach> = limbs.iter().filter(|l| on_plane(l)).collect();
+    let head = head_of(&midline, 0.0, up).map(|h| midline[h]);
+    // (With no other part on the plane there is nothing to tell a head from a tail by:
+    // a scorpion's raised tail.)
+    let placed = head.map_or(0.0, |h| {
+        let along = |l: &Reach| (h.pivot - l.pivot).dot(axis);
+        midline
+            .iter()
+            .map(|l| along(l))
+            .max_by(|a, b| a.abs().total_cmp(&b.abs()))
+            .unwrap_or(0.0)
+    });
     let lean = head.map_or(0.0, |h| h.direction().dot(axis));
     let feet: f64 = limbs
         .iter()
         .filter(|l| l.direction().dot(up) < -0.5)
         .map(|l| (l.tip - l.pivot).dot(axis))
         .sum();
-    let sign = if lean.abs() > 0.3 {
+    let sign = if placed.abs() > FRONT_END * size {
+        placed.signum()
+    } else if lean.abs() > 0.3 {
         lean.signum()
     } else if feet.abs() > 1e-9 {
         feet.signum()
@@ -414,6 +440,18 @@ pub fn frame(
         left: up.cross(front),
         mirror,
     }
+}
+
+/// Which of the parts on the mirror plane `midline` is most like a head (or the neck it
+/// ends): of those ending at least `thickest` thick, the one ending widest, leaning up.
+fn head_of(midline: &[&Reach], thickest: f64, up: DVec3) -> Option<usize> {
+    (0..midline.len())
+        .filter(|&m| midline[m].end >= thickest)
+        .max_by(|&a, &b| {
+            midline[a]
+                .head_score(up)
+                .total_cmp(&midline[b].head_score(up))
+        })
 }
 
 /// The sections of a suggestion as [`roles`] reads them.
@@ -586,25 +624,51 @@ impl Naming<'_> {
                 legs.push((s, r));
             }
         }
-        // Midline: the neck (or head) ends widest, leaning up and forward; the tail points
-        // back.
-        let towards = frame.up + frame.front;
-        let head = midline
-            .iter()
-            .max_by(|a, b| a.1.head_score(towards).total_cmp(&b.1.head_score(towards)));
+        // A limb pointing up whose root's mirror image lies by an arm's or a leg's, at most
+        // half as far from it as from another ear's, is that limb's pair (an arm raised
+        // higher than the other), not an ear.
+        if let Some(plane) = frame.mirror {
+            let nearest = |p: DVec3, of: &[(usize, Reach)]| {
+                of.iter()
+                    .map(|l| l.1.pivot.distance(p))
+                    .fold(f64::INFINITY, f64::min)
+            };
+            let (raised, kept): (Vec<_>, Vec<_>) = ears.iter().partition(|(s, r)| {
+                let image = image(plane, r.pivot);
+                let others: Vec<(usize, Reach)> =
+                    ears.iter().copied().filter(|e| e.0 != *s).collect();
+                !others.is_empty() && nearest(image, &legs) < 0.5 * nearest(image, &others)
+            });
+            legs.extend(raised);
+            ears = kept;
+        }
+        // Midline: the head ([`head_of`]), ending no thinner than any part off the plane (a
+        // head ends in a bulb; a snout on a head not cut from the body does not, nor does a
+        // tail); the tail points back, or grows from the back end.
+        let head = {
+            let on: Vec<&Reach> = midline.iter().map(|l| &l.1).collect();
+            let thickest = legs
+                .iter()
+                .chain(&ears)
+                .map(|l| l.1.end)
+                .fold(0.0, f64::max);
+            head_of(&on, thickest, frame.up).map(|h| midline[h])
+        };
         for &(s, r) in &midline {
+            let behind = (r.pivot - centre).dot(frame.front) < -FRONT_END * self.size;
             if Some(s) == head.map(|h| h.0) {
                 self.chain(s, Family::Neck, "");
-            } else if r.direction().dot(frame.front) < -0.3 {
+            } else if head.is_none() && r.short() && self.children[s].is_empty() && !behind {
+                // A short bump on the plane (a snout on a head not cut from the body) is
+                // no joint.
+                self.ends.push(s);
+            } else if r.direction().dot(frame.front) < -0.3 || behind {
                 // Ending as thick as the head: an abdomen; thinner, a tail.
                 let thick = head.is_some_and(|h| r.end >= h.1.end);
                 let family = if thick { Family::Abdomen } else { Family::Tail };
                 self.chain(s, family, "");
             }
         }
-        // A biped: one pair stands on the ground and the rest do not (arms hanging down
-        // or held out), legs and arms; of the raised limbs, one per side (the largest) is
-        // an arm, and the others keep their numbers.
         let height = |p: DVec3| p.dot(frame.up);
         let lowest = |s: usize| {
             self.within[s]
@@ -619,6 +683,9 @@ impl Naming<'_> {
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &p| {
                 (lo.min(height(p)), hi.max(height(p)))
             });
+        // A biped: one pair stands on the ground and the rest do not (arms hanging down
+        // or held out), legs and arms; of the raised limbs, one per side (the largest) is
+        // an arm, and the others keep their numbers.
         let stands: Vec<bool> = legs
             .iter()
             .map(|l| lowest(l.0) <= floor + GROUND * (top - floor))
@@ -788,9 +855,7 @@ impl Naming<'_> {
                 Some(lr) if self.feeler(c) => self.chain(c, Family::Antenna, lr),
                 Some(lr) => self.chain(c, Family::Ear, lr),
                 None => {
-                    let r = self.reach(c);
-                    let short = r.tip.distance(r.pivot) <= SNOUT * r.end;
-                    if on_plane.len() == 1 && short && self.children[c].is_empty() {
+                    if on_plane.len() == 1 && self.reach(c).short() && self.children[c].is_empty() {
                         self.ends.push(c);
                         continue;
                     }
