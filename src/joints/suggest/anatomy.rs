@@ -6,9 +6,10 @@
 //!   curled tail or a raised arm moves few vertices).
 //! * **Up.** Given (`--up`, the rig file's `up`), or found: of the axis directions along
 //!   the mirror plane, the one opposite to where the tips of the root's limbs off the
-//!   plane lie from the mesh's centre, the legs hanging down. Without a mirror plane, when
-//!   +y does nearly as well, or when the limbs do not clearly hang along it, +y (the OBJ
-//!   and glTF convention). Clearly: the root's limbs off the plane on the whole, or those
+//!   plane lie from the mesh's centre, the legs hanging down, each limb counted as much as
+//!   it is thick (legs carry the body; an armadillo's ears and raised arm say less).
+//!   Without a mirror plane, when +y does nearly as well, or when the limbs do not clearly
+//!   hang along it, +y (the OBJ and glTF convention), unless +y is across the plane. Clearly: the root's limbs off the plane on the whole, or those
 //!   that point that way at all when one of them reaches the mesh's far end that way (a
 //!   biped's legs stand on the ground while its arms are held out and its ears raised; a
 //!   lizard's sprawled hind legs reach no farther back than its tail).
@@ -334,12 +335,26 @@ pub fn frame(
             // of the limbs off the plane lie from the mesh's centre (legs and arms; a tail
             // or a neck says nothing about up). From the centre, not from the limb's own
             // cut: a stubby leg cut at its ankle is a foot pointing forward.
+            // Each limb says as much as it is thick (the legs carry the body; ears and a
+            // raised arm's thin hand say less).
             let centre = positions.iter().sum::<DVec3>() / positions.len().max(1) as f64;
+            let off: Vec<&Reach> = limbs
+                .iter()
+                .filter(|l| (l.pivot.dot(n) - o).abs() >= OFF_PLANE * size)
+                .collect();
+            let thickest = off.iter().map(|l| l.end).fold(0.0, f64::max);
+            let weight = |l: &Reach| {
+                if thickest > 0.0 {
+                    l.end / thickest
+                } else {
+                    1.0
+                }
+            };
             let down = |d: DVec3| -> f64 {
-                limbs
-                    .iter()
-                    .filter(|l| (l.pivot.dot(n) - o).abs() >= OFF_PLANE * size)
-                    .map(|l| (l.tip - centre).normalize_or_zero().dot(d).max(0.0).powi(2))
+                off.iter()
+                    .map(|l| {
+                        weight(l) * (l.tip - centre).normalize_or_zero().dot(d).max(0.0).powi(2)
+                    })
                     .sum()
             };
             let best = axes
@@ -348,10 +363,6 @@ pub fn frame(
                 .filter(|a| a.dot(n).abs() < 0.5)
                 .max_by(|a, b| down(*a).total_cmp(&down(*b)))
                 .unwrap_or(DVec3::NEG_Y);
-            let off: Vec<&Reach> = limbs
-                .iter()
-                .filter(|l| (l.pivot.dot(n) - o).abs() >= OFF_PLANE * size)
-                .collect();
             // Those that point way `d` at all (legs hanging; not arms held out, nor ears),
             // and whether one of them reaches the mesh's far end that way (stands on the
             // ground, [`GROUND`]: sprawled legs hang back no farther than a tail).
@@ -376,13 +387,17 @@ pub fn frame(
             // little; all the root's limbs doing so, or those that point that way at all
             // and stand on the ground (a biped's legs, its arms held out).)
             let best_stands = stands(best);
-            let clearly = down(best) >= 0.5 * off.len() as f64
-                || (best_stands && down(best) >= 0.5 * hanging(best).len() as f64);
+            let votes = |of: &[&Reach]| of.iter().map(|l| weight(l)).sum::<f64>();
+            let clearly = down(best) >= 0.5 * votes(&off)
+                || (best_stands && down(best) >= 0.5 * votes(&hanging(best)));
             // (+y does nearly as well, unless only the other stands on the ground: a
             // sitting animal's forelegs reach forward as far as its legs hang.)
             let y_as_well =
                 down(DVec3::NEG_Y) >= 0.67 * down(best) && (stands(DVec3::NEG_Y) || !best_stands);
-            if y_as_well || !clearly {
+            // (+y across the mirror plane cannot be up: a character lying on its side, or
+            // modelled with x or z up, has only its limbs to say.)
+            let y_along = DVec3::Y.dot(n).abs() < 0.5;
+            if y_along && (y_as_well || !clearly) {
                 DVec3::Y
             } else {
                 -best
