@@ -1077,7 +1077,8 @@ fn a_raised_arm_is_an_arm_and_a_snout_is_no_neck() {
 /// Which way a character faces, from where its head and tail grow, on two public meshes
 /// (`tests/data/meshes`): a penguin (flat feet pointing forward, arms hanging, a short tail
 /// behind) faces +z, the way its beak points, its tail is a `tail` and its left arm on its
-/// left; a cat stretching (its head raised and looking back, its forelegs reaching forward
+/// left; its beak, turned aside off the mirror plane, is its head's end, no joint, and the
+/// part cut at its neck is its `head`; a cat stretching (its head raised and looking back, its forelegs reaching forward
 /// together, its tail straight up) faces -x: the tail is the raised one at the back, not
 /// the forelegs, and the legs' sides follow.
 #[test]
@@ -1100,6 +1101,13 @@ fn a_character_faces_away_from_its_tail() {
     assert!(pivot(&penguin, "tail").z < -0.3);
     assert!(pivot(&penguin, "arm.L").x > pivot(&penguin, "arm.R").x);
     assert!(pivot(&penguin, "leg.L").x > pivot(&penguin, "leg.R").x);
+    assert!(pivot(&penguin, "head").y < 0.8);
+    let beak = glam::DVec3::new(-0.15, 0.86, 0.32);
+    assert!(penguin
+        .joints
+        .cuts()
+        .iter()
+        .all(|c| c.point.distance(beak) > 0.1));
 
     let cat = build("cat.obj");
     let frame = cat.frame().unwrap();

@@ -33,6 +33,8 @@
 //!   `leg`, `shin`, `foot`; `neck`, `head`; four or five digits of a hand are `thumb`,
 //!   `index`, `middle`, `ring`, `little` (the thumb the one turned most from the others),
 //!   of a foot `toe1`….
+//!   A neck's one short part with none of its own, thin beside it (a snout, a beak turned
+//!   aside), is the head's end, no joint, and the neck is the `head`.
 //!   A head's parts off the plane are ears; with two on a side, the one pointing most up
 //!   is a horn; one long and round (`ANTENNA`) is an antenna.
 //!   Side suffixes come from the side of the mirror plane; what fits no role keeps a
@@ -818,6 +820,19 @@ impl Naming<'_> {
                         "toe"
                     };
                     self.names[*only] = Some(tagged(digit, tag));
+                    return;
+                }
+                // A neck's one short part with none of its own, at most SLENDER as thick as
+                // the neck (a snout, a beak turned aside, not a head), is the head's end,
+                // no joint: the neck is the head.
+                [only]
+                    if family == Family::Neck
+                        && self.children[*only].is_empty()
+                        && self.reach(*only).short()
+                        && self.reach(*only).end <= SLENDER * self.reach(at).end =>
+                {
+                    self.ends.push(*only);
+                    self.names[at] = Some(tagged("head", tag));
                     return;
                 }
                 [only] if !(family == Family::Neck && k + 1 >= list.len()) => {
