@@ -1121,3 +1121,23 @@ fn a_character_faces_away_from_its_tail() {
     // Facing -x with +y up, her left is +z.
     assert!(pivot(&cat, "leg.L").z > pivot(&cat, "leg.R").z);
 }
+
+/// The scorpion's tail, raised and curled over its back from the back end of its body
+/// (its head is the front of its body, with no cut of its own), is a `tail` down its six
+/// sections, not a neck, a head and a jaw.
+#[test]
+fn a_tail_raised_over_the_back_is_a_tail() {
+    let (m, _) = mesh::load(&test_mesh("scorpion.obj")).unwrap();
+    let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
+    p.suggest_joints().unwrap();
+    let names = names(&p);
+    for never in ["neck", "head", "jaw"] {
+        assert!(!names.iter().any(|n| n == never), "{never} in {names:?}");
+    }
+    let tail = p.joints.sections()[section(&p, "tail")].pivot;
+    assert!(tail.z < -1.0, "{tail}");
+    assert!(
+        names.iter().filter(|n| n.starts_with("tail")).count() >= 4,
+        "{names:?}"
+    );
+}

@@ -9,30 +9,32 @@
 //!   plane lie from the mesh's centre, the legs hanging down, each limb counted as much as
 //!   it is thick (legs carry the body; an armadillo's ears and raised arm say less).
 //!   Without a mirror plane, when +y does nearly as well, or when the limbs do not clearly
-//!   hang along it, +y (the OBJ and glTF convention), unless +y is across the plane. Clearly: the root's limbs off the plane on the whole, or those
-//!   that point that way at all when one of them reaches the mesh's far end that way (a
-//!   biped's legs stand on the ground while its arms are held out and its ears raised; a
-//!   lizard's sprawled hind legs reach no farther back than its tail).
-//! * **Front.** Across up and the mirror plane: the end of the body the head grows from,
-//!   away from another part on the plane, a tail ([`FRONT_END`]: a cat stretching looks up
-//!   and back), else the way the head leans, else
-//!   the way the feet that stand on the ground point, else the convention (+z for y up, −y
-//!   for z up). **Left** = up × front: a character's own left, as `.L` in Blender's names.
+//!   hang along it, +y (the OBJ and glTF convention), unless +y is across the plane.
+//!   Clearly: the root's limbs off the plane on the whole, or those that point that way at
+//!   all when one of them reaches the mesh's far end that way (a biped's legs stand on the
+//!   ground while its arms are held out and its ears raised; a lizard's sprawled hind legs
+//!   reach no farther back than its tail).
+//! * **Front.** Across up and the mirror plane: the end of the body that the part on the
+//!   plane most like a head grows from, away from another part on the plane, a tail
+//!   ([`FRONT_END`]: a cat stretching looks up and back); else the way that part leans,
+//!   else the way the feet point, else the convention (+z for y up, −y for z up).
+//!   **Left** = up × front: a character's own left, as `.L` in Blender's names.
 //! * **Roles.** The root's limbs off the mirror plane: pointing up from above the root's
-//!   centre, ears, unless its mirror image lies by an arm or a leg, at most half as far as
-//!   by another ear (an arm raised higher than the other); of the others, when one pair stands on the ground ([`GROUND`]) and the
-//!   rest do not, a biped: the standing pair are legs and the largest raised limb on each
-//!   side an arm (arms held out or hanging down); when all stand, pairs from the front:
-//!   arms (forelegs) and legs, numbered legs from three pairs on; on the plane, of those
-//!   off the ground ending no thinner than any limb off the plane, the one whose
-//!   far half is thickest (a head ends in a bulb, a tail in a point), leaning up and front,
-//!   counted twice when it carries parts off the plane (ears, antennae), is the neck (or
-//!   the head if nothing follows it); one pointing back or growing from the back end the
-//!   tail, or the abdomen when it ends as thick as the head; with no head, a short one (a
-//!   snout on a head not cut from the body) no joint. Down a limb the names go on: `arm`, `forearm`, `hand`;
-//!   `leg`, `shin`, `foot`; `neck`, `head`; four or five digits of a hand are `thumb`,
-//!   `index`, `middle`, `ring`, `little` (the thumb the one turned most from the others),
-//!   of a foot `toe1`….
+//!   centre, ears, unless its root's mirror image lies by an arm's or a leg's, at most half
+//!   as far as by another ear's (an arm raised higher than the other); of the others, when
+//!   one pair stands on the ground ([`GROUND`]) and the rest do not, a biped: the standing
+//!   pair are legs and the largest raised limb on each side an arm (arms held out or
+//!   hanging down); when all stand, pairs from the front: arms (forelegs) and legs,
+//!   numbered legs from three pairs on. On the plane, of those not growing from the back
+//!   end and ending no thinner than any limb off the plane, the one whose far half is
+//!   thickest (a head ends in a bulb, a tail in a point), leaning up, counted twice when it
+//!   carries parts off the plane (ears, antennae), is the neck (or the head if nothing
+//!   follows it); one pointing back or growing from the back end is the tail (a
+//!   scorpion's, raised over its back), or the abdomen when it ends as thick as the head;
+//!   with no head, a short one (a snout on a head not cut from the body) is no joint.
+//!   Down a limb the names go on: `arm`, `forearm`, `hand`; `leg`, `shin`, `foot`; `neck`,
+//!   `head`; four or five digits of a hand are `thumb`, `index`, `middle`, `ring`,
+//!   `little` (the thumb the one turned most from the others), of a foot `toe1`….
 //!   A neck's one short part with none of its own, thin beside it (a snout, a beak turned
 //!   aside), is the head's end, no joint, and the neck is the `head`.
 //!   A head's parts off the plane are ears; with two on a side, the one pointing most up
@@ -659,20 +661,25 @@ impl Naming<'_> {
             legs.extend(raised);
             ears = kept;
         }
-        // Midline: the head ([`head_of`]), ending no thinner than any part off the plane (a
-        // head ends in a bulb; a snout on a head not cut from the body does not, nor does a
-        // tail); the tail points back, or grows from the back end.
+        // Midline: the head ([`head_of`]), not growing from the back end, ending no thinner
+        // than any part off the plane (a head ends in a bulb; a snout on a head not cut from
+        // the body does not, nor does a tail); the tail points back, or grows from the back
+        // end (a scorpion's, raised over its back).
+        let back = -FRONT_END * self.size;
+        let behind = |r: &Reach| (r.pivot - centre).dot(frame.front) < back;
         let head = {
-            let on: Vec<&Reach> = midline.iter().map(|l| &l.1).collect();
+            let ahead: Vec<(usize, Reach)> =
+                midline.iter().copied().filter(|l| !behind(&l.1)).collect();
+            let on: Vec<&Reach> = ahead.iter().map(|l| &l.1).collect();
             let thickest = legs
                 .iter()
                 .chain(&ears)
                 .map(|l| l.1.end)
                 .fold(0.0, f64::max);
-            head_of(&on, thickest, frame.up).map(|h| midline[h])
+            head_of(&on, thickest, frame.up).map(|h| ahead[h])
         };
         for &(s, r) in &midline {
-            let behind = (r.pivot - centre).dot(frame.front) < -FRONT_END * self.size;
+            let behind = behind(&r);
             if Some(s) == head.map(|h| h.0) {
                 self.chain(s, Family::Neck, "");
             } else if head.is_none() && r.short() && self.children[s].is_empty() && !behind {
@@ -889,8 +896,7 @@ impl Naming<'_> {
                         self.ends.push(c);
                         continue;
                     }
-                    self.chain(c, Family::Tail, "");
-                    self.names[c] = Some("jaw".into());
+                    self.chain(c, Family::Jaw, "");
                 }
             }
         }
@@ -1046,6 +1052,8 @@ enum Family {
     Numbered(usize),
     Neck,
     Tail,
+    /// A head's part on the mirror plane below it, one of two (an open mouth).
+    Jaw,
     /// A part pointing back that ends as thick as the head (an insect's).
     Abdomen,
     Ear,
@@ -1063,6 +1071,7 @@ impl Family {
             Family::Numbered(k) => vec![format!("leg{k}"), format!("shin{k}"), format!("foot{k}")],
             Family::Neck => vec!["neck".into(), "head".into()],
             Family::Tail => vec!["tail".into()],
+            Family::Jaw => vec!["jaw".into()],
             Family::Abdomen => vec!["abdomen".into()],
             Family::Ear => vec!["ear".into()],
             Family::Horn => vec!["horn".into()],
