@@ -1141,3 +1141,53 @@ fn a_tail_raised_over_the_back_is_a_tail() {
         "{names:?}"
     );
 }
+
+/// A biped whose legs hang from a pelvis cut from the body at a narrow waist (as an ogre's
+/// hang from a loincloth cut as one part; generated with the labelled set's mesher): the
+/// pelvis is the `hips`, its two parts the `leg.L` and `leg.R`, and the arms hanging down
+/// beside it `arm.L` and `arm.R`, not legs (they do not reach the ground).
+#[test]
+fn legs_hanging_from_a_pelvis_are_legs() {
+    use glam::DVec3;
+    use mesher::{Body, Bone};
+    let mut bones = Vec::new();
+    let mut bone = |a: [f64; 3], b: [f64; 3], ra: f64, rb: f64| {
+        let group = bones.len();
+        bones.push(Bone {
+            a: DVec3::from_array(a),
+            b: DVec3::from_array(b),
+            ra,
+            rb,
+            group,
+        });
+    };
+    bone([0.0, 0.8, 0.0], [0.0, 1.1, 0.0], 0.15, 0.16);
+    bone([0.0, 0.66, 0.0], [0.0, 0.74, 0.0], 0.08, 0.08);
+    bone([0.0, 0.52, 0.0], [0.0, 0.6, 0.0], 0.15, 0.14);
+    bone([0.0, 1.22, 0.0], [0.0, 1.26, 0.02], 0.05, 0.05);
+    bone([0.0, 1.36, 0.02], [0.0, 1.42, 0.02], 0.1, 0.1);
+    for s in [1.0, -1.0] {
+        bone([0.08 * s, 0.48, 0.0], [0.09 * s, 0.05, 0.02], 0.06, 0.05);
+        bone([0.17 * s, 1.05, 0.0], [0.3 * s, 0.62, 0.02], 0.05, 0.04);
+    }
+    let body = Body { bones, blend: 0.02 };
+    let (positions, triangles) = body.mesh(0.012, 0.37);
+    let m = mesh::Mesh {
+        positions,
+        triangles,
+    };
+    let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
+    p.suggest_joints().unwrap();
+    let names = names(&p);
+    for want in ["hips", "leg.L", "leg.R", "arm.L", "arm.R"] {
+        assert!(names.iter().any(|n| n == want), "{want} in {names:?}");
+    }
+    let s = p.joints.sections();
+    let hips = section(&p, "hips");
+    for side in ["L", "R"] {
+        let leg = section(&p, &format!("leg.{side}"));
+        assert_eq!(s[leg].parent, Some(hips), "{names:?}");
+        let arm = section(&p, &format!("arm.{side}"));
+        assert!(s[arm].pivot.y > s[leg].pivot.y);
+    }
+}

@@ -25,7 +25,9 @@
 //!   one pair stands on the ground ([`GROUND`]) and the rest do not, a biped: the standing
 //!   pair are legs and the largest raised limb on each side an arm (arms held out or
 //!   hanging down); when all stand, pairs from the front: arms (forelegs) and legs,
-//!   numbered legs from three pairs on. On the plane, of those not growing from the back
+//!   numbered legs from three pairs on. A part on the plane hanging down with two or more
+//!   off it (a pelvis the legs hang from, cut at a waist) is the `hips`, and those parts
+//!   count as the root's limbs. On the plane, of those not growing from the back
 //!   end and ending no thinner than any limb off the plane, the one whose far half is
 //!   thickest (a head ends in a bulb, a tail in a point), leaning up, counted twice when it
 //!   carries parts off the plane (ears, antennae), is the neck (or the head if nothing
@@ -634,7 +636,27 @@ impl Naming<'_> {
         let mut midline: Vec<(usize, Reach)> = Vec::new();
         let mut ears: Vec<(usize, Reach)> = Vec::new();
         let mut legs: Vec<(usize, Reach)> = Vec::new();
+        // A part on the plane hanging down with two or more parts off it (a pelvis both
+        // legs hang from, cut as one with a loincloth) is the hips: its parts are the
+        // body's limbs.
+        let mut parts: Vec<(usize, Reach)> = Vec::new();
         for &(s, r) in limbs {
+            let carried: Vec<usize> = self.children[s]
+                .iter()
+                .copied()
+                .filter(|&c| self.side(self.sections[c].pivot).is_some())
+                .collect();
+            if self.side(r.pivot).is_none()
+                && r.direction().dot(frame.up) < -0.5
+                && carried.len() >= 2
+            {
+                self.names[s] = Some("hips".into());
+                parts.extend(carried.into_iter().map(|c| (c, self.reach(c))));
+            } else {
+                parts.push((s, r));
+            }
+        }
+        for &(s, r) in &parts {
             if self.side(r.pivot).is_none() {
                 midline.push((s, r));
             } else if r.direction().dot(frame.up) > 0.5 && (r.pivot - centre).dot(frame.up) > 0.0 {
