@@ -961,6 +961,31 @@ fn bench_suggest_scores_rough_copies_by_seed() {
 #[allow(dead_code)]
 mod mesher;
 
+/// A character generated with the labelled set's mesher from `bones` (each from `a` to `b`,
+/// its radius `ra` to `rb`, blended with the others by `blend`), meshed at `cell`, with
+/// its suggested joints.
+fn generated(bones: &[([f64; 3], [f64; 3], f64, f64)], blend: f64, cell: f64) -> Puppet {
+    let bones = bones
+        .iter()
+        .enumerate()
+        .map(|(group, &(a, b, ra, rb))| mesher::Bone {
+            a: a.into(),
+            b: b.into(),
+            ra,
+            rb,
+            group,
+        })
+        .collect();
+    let (positions, triangles) = mesher::Body { bones, blend }.mesh(cell, 0.37);
+    let m = mesh::Mesh {
+        positions,
+        triangles,
+    };
+    let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
+    p.suggest_joints().unwrap();
+    p
+}
+
 /// A cartoon man whose head is a cylinder as wide as the top of his body, sitting on his
 /// shoulders (as the cartoon man's: no narrowing to cut a neck at), with small ears
 /// on its sides pointing out (generated with the labelled set's mesher): the ears are
@@ -969,19 +994,8 @@ mod mesher;
 /// the ears turn with it.
 #[test]
 fn ears_on_a_head_not_cut_from_the_body_are_ears() {
-    use glam::DVec3;
-    use mesher::{Body, Bone};
     let mut bones = Vec::new();
-    let mut bone = |a: [f64; 3], b: [f64; 3], ra: f64, rb: f64| {
-        let group = bones.len();
-        bones.push(Bone {
-            a: DVec3::from_array(a),
-            b: DVec3::from_array(b),
-            ra,
-            rb,
-            group,
-        });
-    };
+    let mut bone = |a: [f64; 3], b: [f64; 3], ra: f64, rb: f64| bones.push((a, b, ra, rb));
     bone([0.0, 0.4, 0.0], [0.0, 0.62, 0.0], 0.13, 0.1);
     bone([0.0, 0.66, 0.0], [0.0, 0.95, 0.0], 0.1, 0.1);
     for s in [1.0, -1.0] {
@@ -990,14 +1004,7 @@ fn ears_on_a_head_not_cut_from_the_body_are_ears() {
         bone([0.24 * s, 0.6, 0.0], [0.25 * s, 0.6, 0.14], 0.035, 0.03);
         bone([0.07 * s, 0.36, 0.0], [0.07 * s, 0.05, 0.0], 0.05, 0.045);
     }
-    let body = Body { bones, blend: 0.03 };
-    let (positions, triangles) = body.mesh(0.01, 0.37);
-    let m = mesh::Mesh {
-        positions,
-        triangles,
-    };
-    let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
-    p.suggest_joints().unwrap();
+    let p = generated(&bones, 0.03, 0.01);
     let names: Vec<&str> = p.joints.cuts().iter().map(|c| c.name.as_str()).collect();
     for want in ["arm.L", "arm.R", "leg.L", "leg.R", "ear.L", "ear.R"] {
         assert!(names.contains(&want), "{want} in {names:?}");
@@ -1022,18 +1029,8 @@ fn ears_on_a_head_not_cut_from_the_body_are_ears() {
 #[test]
 fn a_raised_arm_is_an_arm_and_a_snout_is_no_neck() {
     use glam::DVec3;
-    use mesher::{Body, Bone};
     let mut bones = Vec::new();
-    let mut bone = |a: [f64; 3], b: [f64; 3], ra: f64, rb: f64| {
-        let group = bones.len();
-        bones.push(Bone {
-            a: DVec3::from_array(a),
-            b: DVec3::from_array(b),
-            ra,
-            rb,
-            group,
-        });
-    };
+    let mut bone = |a: [f64; 3], b: [f64; 3], ra: f64, rb: f64| bones.push((a, b, ra, rb));
     bone([0.0, 0.4, 0.0], [0.0, 0.62, 0.0], 0.13, 0.1);
     bone([0.0, 0.66, 0.0], [0.0, 0.95, 0.0], 0.1, 0.1);
     bone([0.0, 0.8, 0.1], [0.0, 0.8, 0.15], 0.03, 0.028);
@@ -1047,14 +1044,7 @@ fn a_raised_arm_is_an_arm_and_a_snout_is_no_neck() {
     bone([0.24, 0.6, 0.0], [0.25, 0.6, 0.14], 0.035, 0.03);
     bone([-0.1, 0.64, 0.0], [-0.2, 0.8, 0.0], 0.04, 0.035);
     bone([-0.2, 0.8, 0.0], [-0.22, 0.98, 0.05], 0.035, 0.03);
-    let body = Body { bones, blend: 0.03 };
-    let (positions, triangles) = body.mesh(0.01, 0.37);
-    let m = mesh::Mesh {
-        positions,
-        triangles,
-    };
-    let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
-    p.suggest_joints().unwrap();
+    let p = generated(&bones, 0.03, 0.01);
     let names = names(&p);
     for want in ["arm.L", "arm.R", "leg.L", "leg.R", "tail"] {
         assert!(names.iter().any(|n| n == want), "{want} in {names:?}");
@@ -1148,19 +1138,8 @@ fn a_tail_raised_over_the_back_is_a_tail() {
 /// beside it `arm.L` and `arm.R`, not legs (they do not reach the ground).
 #[test]
 fn legs_hanging_from_a_pelvis_are_legs() {
-    use glam::DVec3;
-    use mesher::{Body, Bone};
     let mut bones = Vec::new();
-    let mut bone = |a: [f64; 3], b: [f64; 3], ra: f64, rb: f64| {
-        let group = bones.len();
-        bones.push(Bone {
-            a: DVec3::from_array(a),
-            b: DVec3::from_array(b),
-            ra,
-            rb,
-            group,
-        });
-    };
+    let mut bone = |a: [f64; 3], b: [f64; 3], ra: f64, rb: f64| bones.push((a, b, ra, rb));
     bone([0.0, 0.8, 0.0], [0.0, 1.1, 0.0], 0.15, 0.16);
     bone([0.0, 0.66, 0.0], [0.0, 0.74, 0.0], 0.08, 0.08);
     bone([0.0, 0.52, 0.0], [0.0, 0.6, 0.0], 0.15, 0.14);
@@ -1170,14 +1149,7 @@ fn legs_hanging_from_a_pelvis_are_legs() {
         bone([0.08 * s, 0.48, 0.0], [0.09 * s, 0.05, 0.02], 0.06, 0.05);
         bone([0.17 * s, 1.05, 0.0], [0.3 * s, 0.62, 0.02], 0.05, 0.04);
     }
-    let body = Body { bones, blend: 0.02 };
-    let (positions, triangles) = body.mesh(0.012, 0.37);
-    let m = mesh::Mesh {
-        positions,
-        triangles,
-    };
-    let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
-    p.suggest_joints().unwrap();
+    let p = generated(&bones, 0.02, 0.012);
     let names = names(&p);
     for want in ["hips", "leg.L", "leg.R", "arm.L", "arm.R"] {
         assert!(names.iter().any(|n| n == want), "{want} in {names:?}");
