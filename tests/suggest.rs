@@ -1068,9 +1068,11 @@ fn a_raised_arm_is_an_arm_and_a_snout_is_no_neck() {
 /// (`tests/data/meshes`): a penguin (flat feet pointing forward, arms hanging, a short tail
 /// behind) faces +z, the way its beak points, its tail is a `tail` and its left arm on its
 /// left; its beak, turned aside off the mirror plane, is its head's end, no joint, and the
-/// part cut at its neck is its `head`; a cat stretching (its head raised and looking back, its forelegs reaching forward
-/// together, its tail straight up) faces -x: the tail is the raised one at the back, not
-/// the forelegs, and the legs' sides follow.
+/// part cut at its neck is its `head`. A cat stretching (her head raised and looking back,
+/// her forelegs reaching forward together, her tail straight up) faces -x: the tail is the
+/// raised one at the back, not the forelegs, and the legs' sides follow; roughened, her
+/// head is cut otherwise, and her ears (on her body) tell its part on the plane from her
+/// raised tail.
 #[test]
 fn a_character_faces_away_from_its_tail() {
     let build = |name: &str| {
@@ -1110,6 +1112,20 @@ fn a_character_faces_away_from_its_tail() {
     assert!(tail.x > 1.0 && tail.y > 1.5, "{tail}");
     // Facing -x with +y up, her left is +z.
     assert!(pivot(&cat, "leg.L").z > pivot(&cat, "leg.R").z);
+
+    let (m, _) = mesh::load(&test_mesh("cat.obj")).unwrap();
+    for seed in 1..=3 {
+        let rough = mesh::shapes::roughen(&m, 0.1, seed);
+        let mut cat = Puppet::build(rough, RigFile::default(), puppet::progress::silent()).unwrap();
+        cat.suggest_joints().unwrap();
+        let front = cat.frame().unwrap().front;
+        assert!(
+            front.distance(glam::DVec3::NEG_X) < 1e-9,
+            "seed {seed}: {front}"
+        );
+        let tail = pivot(&cat, "tail");
+        assert!(tail.x > 1.0, "seed {seed}: {tail}");
+    }
 }
 
 /// The scorpion's tail, raised and curled over its back from the back end of its body

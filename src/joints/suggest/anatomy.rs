@@ -15,9 +15,10 @@
 //!   ground while its arms are held out and its ears raised; a lizard's sprawled hind legs
 //!   reach no farther back than its tail).
 //! * **Front.** Across up and the mirror plane: the end of the body that the part on the
-//!   plane most like a head grows from, away from another part on the plane, a tail
-//!   ([`FRONT_END`]: a cat stretching looks up and back); else the way that part leans,
-//!   else the way the feet point, else the convention (+z for y up, −y for z up).
+//!   plane most like a head grows from (with ears on the body, the one nearest them), away
+//!   from another part on the plane, a tail ([`FRONT_END`]: a cat stretching looks up and
+//!   back); else the way that part leans, else the way the feet point, else the convention
+//!   (+z for y up, −y for z up).
 //!   **Left** = up × front: a character's own left, as `.L` in Blender's names.
 //! * **Roles.** The root's limbs off the mirror plane: pointing up from above the root's
 //!   centre, ears, unless its root's mirror image lies by an arm's or a leg's, at most half
@@ -425,8 +426,24 @@ pub fn frame(
     // The part on the plane most like a head ([`head_of`]) grows from the other end of the
     // body than the tail (a cat stretching looks up and back; a penguin), or leans forward;
     // else the feet point forward.
+    // With ears on the body (a head not cut from it: limbs off the plane pointing up from
+    // above the centre), of two or more parts on the plane the one nearest them.
     let midline: Vec<&Reach> = limbs.iter().filter(|l| on_plane(l)).collect();
-    let head = head_of(&midline, 0.0, up).map(|h| midline[h]);
+    let centre = positions.iter().sum::<DVec3>() / positions.len().max(1) as f64;
+    let ears: Vec<DVec3> = limbs
+        .iter()
+        .filter(|l| !on_plane(l) && l.direction().dot(up) > 0.5 && (l.pivot - centre).dot(up) > 0.0)
+        .map(|l| l.pivot)
+        .collect();
+    let head = if ears.is_empty() || midline.len() < 2 {
+        head_of(&midline, 0.0, up).map(|h| midline[h])
+    } else {
+        let at = ears.iter().sum::<DVec3>() / ears.len() as f64;
+        midline
+            .iter()
+            .copied()
+            .min_by(|a, b| a.pivot.distance(at).total_cmp(&b.pivot.distance(at)))
+    };
     // (With no other part on the plane there is nothing to tell a head from a tail by:
     // a scorpion's raised tail.)
     let placed = head.map_or(0.0, |h| {
