@@ -11,6 +11,8 @@
 //!   mesh's;
 //! * the crease: the largest rise of one edge's dihedral angle over its own rest angle,
 //!   of the surface and of the band's targets alone (the bone motion).
+//!
+//! [`intersecting_faces`]: crate::geom::intersect::intersecting_faces
 
 use super::{BuildError, Puppet, RigFile};
 use crate::geom::intersect::new_crossings;

@@ -13,6 +13,8 @@
 //!   inside where its bones hold it (its target, along the target surface's inward
 //!   normal), in % of the diagonal: soft flesh dents the body, hard flesh squashes the
 //!   part.
+//!
+//! [`intersecting_faces`]: crate::geom::intersect::intersecting_faces
 
 use super::{BuildError, Puppet, RigFile};
 use crate::geom::intersect::new_crossings;
