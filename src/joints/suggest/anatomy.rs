@@ -302,6 +302,11 @@ impl Reach {
         (self.tip - self.pivot).normalize_or_zero()
     }
 
+    /// It points up (along `up`) from above `centre`: an ear, when off the mirror plane.
+    fn raised(&self, up: DVec3, centre: DVec3) -> bool {
+        self.direction().dot(up) > 0.5 && (self.pivot - centre).dot(up) > 0.0
+    }
+
     /// It reaches at most [`SNOUT`] times its far half's thickness: a snout, a muzzle, a
     /// nose, not a limb's length.
     fn short(&self) -> bool {
@@ -326,6 +331,7 @@ pub fn frame(
     up: Option<DVec3>,
 ) -> Frame {
     let size = crate::mesh::longest_side(positions);
+    let centre = positions.iter().sum::<DVec3>() / positions.len().max(1) as f64;
     let axes = [
         DVec3::X,
         DVec3::NEG_X,
@@ -344,7 +350,6 @@ pub fn frame(
             // cut: a stubby leg cut at its ankle is a foot pointing forward.
             // Each limb says as much as it is thick (the legs carry the body; ears and a
             // raised arm's thin hand say less).
-            let centre = positions.iter().sum::<DVec3>() / positions.len().max(1) as f64;
             let off: Vec<&Reach> = limbs
                 .iter()
                 .filter(|l| (l.pivot.dot(n) - o).abs() >= OFF_PLANE * size)
@@ -423,16 +428,14 @@ pub fn frame(
     };
     let on_plane =
         |l: &Reach| mirror.is_none_or(|(n, o)| (l.pivot.dot(n) - o).abs() < OFF_PLANE * size);
-    // The part on the plane most like a head ([`head_of`]) grows from the other end of the
-    // body than the tail (a cat stretching looks up and back; a penguin), or leans forward;
-    // else the feet point forward.
-    // With ears on the body (a head not cut from it: limbs off the plane pointing up from
-    // above the centre), of two or more parts on the plane the one nearest them.
+    // The part on the plane most like a head grows from the other end of the body than the
+    // tail (a cat stretching looks up and back; a penguin), or leans forward; else the feet
+    // point forward. Most like a head: with ears on the body (a head not cut from it), of
+    // two or more parts on the plane the one nearest them; else [`head_of`].
     let midline: Vec<&Reach> = limbs.iter().filter(|l| on_plane(l)).collect();
-    let centre = positions.iter().sum::<DVec3>() / positions.len().max(1) as f64;
     let ears: Vec<DVec3> = limbs
         .iter()
-        .filter(|l| !on_plane(l) && l.direction().dot(up) > 0.5 && (l.pivot - centre).dot(up) > 0.0)
+        .filter(|l| !on_plane(l) && l.raised(up, centre))
         .map(|l| l.pivot)
         .collect();
     let head = if ears.is_empty() || midline.len() < 2 {
@@ -676,7 +679,7 @@ impl Naming<'_> {
         for &(s, r) in &parts {
             if self.side(r.pivot).is_none() {
                 midline.push((s, r));
-            } else if r.direction().dot(frame.up) > 0.5 && (r.pivot - centre).dot(frame.up) > 0.0 {
+            } else if r.raised(frame.up, centre) {
                 ears.push((s, r));
             } else {
                 legs.push((s, r));
