@@ -104,6 +104,75 @@ pub fn cone_volume(
         .sum()
 }
 
+/// The volume the faces in `region` enclose once each of the region's boundary loops is
+/// closed by a fan from its vertices' centroid (signed, positive for outward faces). Unlike
+/// [`cone_volume`] it depends on no apex: any rigid motion of the region leaves it
+/// unchanged, so it measures a region whose parts move apart (a limb whose far part turns
+/// about a point the bend moves). Over every face of a closed mesh it is the enclosed
+/// volume.
+///
+/// # Panics
+/// If `region` is not one flag per triangle, or a triangle names a vertex beyond
+/// `positions`.
+pub fn capped_volume(positions: &[DVec3], triangles: &[[u32; 3]], region: &[bool]) -> f64 {
+    assert_eq!(region.len(), triangles.len(), "one flag per triangle");
+    let faces: Vec<[u32; 3]> = triangles
+        .iter()
+        .zip(region)
+        .filter(|(_, &r)| r)
+        .map(|(t, _)| *t)
+        .collect();
+    // Directed edges with no face across them run along the boundary.
+    let edges: std::collections::HashSet<(u32, u32)> = faces
+        .iter()
+        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+        .collect();
+    let boundary: Vec<(u32, u32)> = edges
+        .iter()
+        .copied()
+        .filter(|&(a, b)| !edges.contains(&(b, a)))
+        .collect();
+    // Loops: the boundary's vertices joined along its edges.
+    let mut index = std::collections::HashMap::new();
+    for &(a, b) in &boundary {
+        for v in [a, b] {
+            let next = index.len() as u32;
+            index.entry(v).or_insert(next);
+        }
+    }
+    let edges: Vec<[u32; 3]> = boundary
+        .iter()
+        .map(|&(a, b)| [index[&a], index[&b], index[&b]])
+        .collect();
+    let loop_of = super::parts::components(index.len(), &edges);
+    let mut centroid = vec![(DVec3::ZERO, 0usize); index.len()];
+    for (&v, &i) in &index {
+        let c = &mut centroid[loop_of[i as usize] as usize];
+        c.0 += positions[v as usize];
+        c.1 += 1;
+    }
+    let apex = faces
+        .first()
+        .map_or(DVec3::ZERO, |t| positions[t[0] as usize]);
+    let cone = |a: DVec3, b: DVec3, c: DVec3| (a - apex).dot((b - apex).cross(c - apex)) / 6.0;
+    let surface: f64 = faces
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| positions[i as usize]);
+            cone(a, b, c)
+        })
+        .sum();
+    let caps: f64 = boundary
+        .iter()
+        .map(|&(a, b)| {
+            let (sum, count) = centroid[loop_of[index[&a] as usize] as usize];
+            let centre = sum / count as f64;
+            cone(positions[b as usize], positions[a as usize], centre)
+        })
+        .sum();
+    surface + caps
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -15,9 +15,9 @@
 //! [`intersecting_faces`]: crate::geom::intersect::intersecting_faces
 
 use super::{BuildError, Puppet, RigFile};
-use crate::geom::intersect::new_crossings;
+use crate::geom::intersect::intersecting_faces;
 use crate::joints::{Cut, Local, Shape};
-use crate::mesh::measure::{cone_volume, largest_crease, largest_dihedral};
+use crate::mesh::measure::{capped_volume, cone_volume, largest_crease, largest_dihedral};
 use crate::mesh::Mesh;
 use crate::sim::Params;
 use glam::DVec3;
@@ -189,12 +189,14 @@ pub fn measure(p: &Puppet, degrees: f64) -> Bent {
             .collect(),
         None => vec![false; triangles.len()],
     };
-    let crossing = new_crossings(rest, &now, triangles);
+    let (before, after) = (
+        intersecting_faces(rest, triangles),
+        intersecting_faces(&now, triangles),
+    );
+    let crossing = (0..triangles.len())
+        .filter(|&f| region_faces[f] && after[f] && !before[f])
+        .count();
     let all = vec![true; triangles.len()];
-    let pivot = p
-        .joints
-        .find(CUT)
-        .map_or(DVec3::ZERO, |s| p.joints.sections()[s].pivot);
     let change = |a: f64, b: f64| if a != 0.0 { b / a - 1.0 } else { 0.0 };
     Bent {
         degrees,
@@ -205,8 +207,8 @@ pub fn measure(p: &Puppet, degrees: f64) -> Bent {
             cone_volume(&now, triangles, &all, DVec3::ZERO),
         ),
         region_volume: change(
-            cone_volume(rest, triangles, &region_faces, pivot),
-            cone_volume(&now, triangles, &region_faces, pivot),
+            capped_volume(rest, triangles, &region_faces),
+            capped_volume(&now, triangles, &region_faces),
         ),
         dihedral: largest_dihedral(&now, triangles, &region_faces),
         rest_dihedral: largest_dihedral(rest, triangles, &region_faces),
