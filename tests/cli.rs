@@ -244,6 +244,7 @@ fn the_torus_needs_a_spring_count_and_no_mesh() {
 
 #[test]
 fn short_stress_run_passes() {
+    let mut bands = [0, 0];
     for seed in ["1", "2"] {
         let report = ok_json(&[
             "bench", "stress", "--seed", seed, "--steps", "15000", "--json",
@@ -252,7 +253,11 @@ fn short_stress_run_passes() {
         assert!(report["scenarios"].as_u64().unwrap() >= 5);
         assert!(report["worst_constraint_excess"].as_f64().unwrap() <= 1e-5);
         assert!(report["worst_motion_share"].as_f64().unwrap() <= 1.0);
+        bands[0] += report["arcs"].as_u64().unwrap();
+        bands[1] += report["fans"].as_u64().unwrap();
     }
+    // Joint bands of both kinds were bent (`joints::band`).
+    assert!(bands[0] >= 1 && bands[1] >= 1, "{bands:?}");
 }
 
 #[test]

@@ -479,8 +479,9 @@ fn the_elbow_bent_90_degrees_keeps_its_skin_whole_its_volume_and_a_smooth_bend()
     assert!(b.volume.abs() <= 0.03, "{b:?}");
     assert!(b.region_volume.abs() <= 0.03, "{b:?}");
     assert!(b.dihedral <= b.rest_dihedral + 30.0, "{b:?}");
-    // Edge by edge the crease rises more (+34° today; BENCHMARKS.md): held where it is.
-    assert!(b.crease <= 45.0, "{b:?}");
+    // Edge by edge too, within 30° of its rest angle (the band bends as an arc; +17°
+    // today, BENCHMARKS.md).
+    assert!(b.crease <= 30.0, "{b:?}");
     // A hinge folds: faces cross and the skin makes a corner.
     let h = elbow.bend(&m, Some(0.0), 90.0, Params::default()).unwrap();
     assert!(h.crossing >= 10, "{h:?}");
@@ -488,7 +489,8 @@ fn the_elbow_bent_90_degrees_keeps_its_skin_whole_its_volume_and_a_smooth_bend()
 }
 
 /// The knee and the two finger joints of `bench joints` hold the elbow's targets at 90°
-/// too: no face crossing, volumes within 3 %, the sharpest crease within 30° of rest.
+/// too: no face crossing, volumes within 3 %, the sharpest crease within 30° of rest, and
+/// no edge's crease more than 30° over its own rest angle.
 #[test]
 fn the_knee_and_two_finger_joints_bent_90_degrees_hold_the_same_targets() {
     use puppet::puppet::bend::JOINTS;
@@ -503,7 +505,7 @@ fn the_knee_and_two_finger_joints_bent_90_degrees_hold_the_same_targets() {
         assert!(b.volume.abs() <= 0.03, "{name}: {b:?}");
         assert!(b.region_volume.abs() <= 0.03, "{name}: {b:?}");
         assert!(b.dihedral <= b.rest_dihedral + 30.0, "{name}: {b:?}");
-        assert!(b.crease <= 45.0, "{name}: {b:?}");
+        assert!(b.crease <= 30.0, "{name}: {b:?}");
     }
 }
 
@@ -631,4 +633,50 @@ fn cuts_applied_together_give_the_joints_applied_one_by_one() {
     let mut rest = cuts.clone();
     rest.remove(leaf);
     assert_eq!(together, one_by_one(&rest));
+}
+
+/// An elbow bent 90° bends as an arc: its forearm moves out along the bent limb (it does
+/// not turn about the pivot alone), and its cut's pivot is drawn at the middle of the
+/// bent skin about the cut, not where the forearm's own frame puts it (off the limb).
+#[test]
+fn a_bent_elbow_carries_its_pivot_along_the_arc() {
+    use puppet::puppet::bend::{CUT, JOINTS};
+    let elbow = JOINTS[0];
+    let p = elbow.bent(&human(), None, 90.0, Params::default()).unwrap();
+    let child = p.joints.find(CUT).unwrap();
+    let band = p.joints.bands()[0].clone().expect("a band");
+    assert!(band.arc, "the upper arm is a limb: {band:?}");
+    let mut local = vec![Local::default(); p.joints.sections().len()];
+    local[child] = elbow.rotation(90.0);
+    let world = p.joints.world(&local);
+    let pivot = p.joints.sections()[child].pivot;
+    let carried = p
+        .joints
+        .cut_carrier(child, &world, &local)
+        .expect("an arc band carries its cut")
+        .transform_point3(pivot);
+    // The skin about the cut (vertices within half a radius of its plane at rest).
+    let ring: Vec<usize> = (0..p.mesh.positions.len())
+        .filter(|&i| {
+            let d = (p.mesh.positions[i] - band.pivot).dot(band.normal);
+            d.abs() < 0.5 * band.radius
+                && (p.mesh.positions[i] - band.pivot).length() < 3.0 * band.radius
+        })
+        .collect();
+    assert!(ring.len() > 10, "{}", ring.len());
+    let centre = ring
+        .iter()
+        .map(|&i| p.sim.positions().get(i).as_dvec3())
+        .sum::<DVec3>()
+        / ring.len() as f64;
+    let r = band.radius;
+    assert!(
+        carried.distance(centre) < 0.5 * r,
+        "{carried} against {centre}"
+    );
+    let own = world[child].transform_point3(pivot);
+    assert!(own.distance(centre) > r, "{own} against {centre}");
+    // The shift: about 1.5 radii for a band of ±4 radii at 90°.
+    let shift = band.shift(local[child].rotation).length() / r;
+    assert!((1.3..1.7).contains(&shift), "{shift}");
 }

@@ -160,7 +160,11 @@ fn the_readme_s_pictures_of_the_bent_elbow() {
         let p = elbow
             .bent(&mesh, band, 90.0, puppet::sim::Params::default())
             .unwrap();
-        let session = Session::new(p, "elbow");
+        let mut session = Session::new(p, "elbow");
+        // The pose the puppet was bent to, so its pivot is drawn where the bend carries it.
+        if let Some(child) = session.puppet.joints.find(puppet::puppet::bend::CUT) {
+            session.local[child] = elbow.rotation(90.0);
+        }
         let mut cam = Camera {
             yaw: 0.6,
             pitch: 1.0,

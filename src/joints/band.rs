@@ -16,16 +16,43 @@
 //! head bent into a shoulder).
 //! A vertex of the child or the parent whose skeletal point lies at signed distance `d`
 //! from the plane (positive into the child), `−W < d < W_c` (`W_c ≤ W` the child's side),
-//! moves with the weight `w = weight((d + W) / (W + W_c))` of the child's own motion (see
-//! [`weight`]): its transform is
+//! lies at `x = (d + W) / (W + W_c)` across the band and moves with a share `w` of the
+//! child's motion, in one of two ways.
 //!
-//! `W(parent) · T(pivot + w·t) · slerp(I, R, w) · T(−pivot)`
+//! **An arc, where two limbs meet** (an elbow, a knee, a finger's joint): the parent is
+//! a limb too, its skeleton a line along its axis (at most [`ARC_SPREAD`] of its
+//! skeletal points on the band's parent side lie more than `r` from the pivot's line; a
+//! trunk's skeleton is a sheet across it), and the child turns about its own cut's pivot
+//! (a part that shares a hinge, a jaw and its head, stays on the hinge). The band bends like a bent tube:
+//! `w = x`, and the bone points at `w` turn by `Q(w) = slerp(I, R, w)` (`R` the child's
+//! local rotation) about the point of a bent centre line,
 //!
-//! (`R`, `t` the child's local rotation and translation, `pivot` the point it turns
-//! about): a rotation about the pivot by a fraction of the child's angle. Interpolating the
-//! rotation, not the matrices, keeps every blended bone point at its distance from the
-//! pivot, so the limb does not shrink through the bend. Nested cuts compose because each band blends a child with its own
-//! parent's world transform.
+//! `T(c(w)) · Q(w) · T(−(s + n·w·L))`, with `c(w) = s + L ∫₀ʷ Q(u) n du + w·e`
+//!
+//! (`s` the band's parent end on the cut's normal `n` through the pivot, `L = W + W_c`,
+//! `e` what the arc does not give: the child's translation). Each level stays square to
+//! the centre line, which turns at the same rate all along it and keeps its length: a
+//! 90° bend of a band `±4 r` is a quarter circle of radius `5.1 r`, its inner side `4.1 r`
+//! from the centre. So the child does not turn about its pivot alone: it also moves by
+//! [`Band::shift`], where the bent centre line takes its end (at 90°, about `1.5 r`
+//! towards the inside of the bend and along the limb). Pinned at the pivot instead, the
+//! centre line must either shorten (a quarter circle of radius `W` loses a fifth of the
+//! band's length at 90°, and the compressed skin buckles: `bench joints` read +52° to
+//! +170° at 90°) or turn twice as fast at the pivot as on average (the fan below).
+//!
+//! **A fan, where a limb leaves a trunk** (a shoulder, a neck on a body, a finger on a
+//! palm): the trunk does not bend with the limb, and a shoulder's arc would slide the
+//! chest's skin beside the armpit (`bench collide`: 17 faces crossing with the arms
+//! down 95°, against none). `w = weight(x)` ([`weight`]) and the transform is
+//!
+//! `T(pivot + w·t) · slerp(I, R, w) · T(−pivot)`
+//!
+//! (`t` the child's local translation, `pivot` the point it turns about): a rotation about
+//! the pivot by a share of the child's angle, so every blended bone point keeps its
+//! distance from the pivot.
+//!
+//! Either way the transform is relative to the parent's world transform, so nested cuts
+//! compose.
 //!
 //! A parent vertex joins the band only on the parent's side of the plane and near the
 //! pivot (within the child's cross-section, `2.5 r` from the pivot across the normal of the
@@ -34,7 +61,8 @@
 //!
 //! # Volume
 //! Turning part of the bone points by part of the angle keeps a symmetric cross-section's
-//! volume to first order (the inner side is compressed as much as the outer is stretched),
+//! volume to first order (the inner side is compressed as much as the outer is stretched,
+//! and an arc keeps its centre line's length),
 //! but the simulated skin does not: the stretched outer side pulls in like a rubber band
 //! over a bend. So a bent band also swells across the cut's normal, away from the pivot's
 //! line, by `BULGE · φ · 4w(1 − w)` of each vertex's distance from it (`φ` the bend angle in
@@ -46,9 +74,11 @@
 //!
 //! # Contacts
 //! Bent far enough, the inner sides of the two parts of a limb meet (at 135° a limb of
-//! radius `r` overlaps itself up to `2.4 r` from the pivot). The two sides then meet on the
-//! *contact plane*: through the pivot, halfway between the cut's plane and the child's
-//! turned one. Every vertex of the band's parent, child or levels within
+//! radius `r` overlaps itself up to `2.4 r` from the pivot in a fan; an arc's inner side
+//! folds only where the band is shorter than the limb is thick). The two sides then meet
+//! on the *contact plane*: for a fan, through the pivot, halfway between the cut's plane
+//! and the child's turned one; for an arc, the cut's surface where the band's motion
+//! takes it. Every vertex of the band's parent, child or levels within
 //! [`CONTACT_REACH`] radii of the plane (at least the band's width) has a transform of its
 //! own: its band motion, plus, when it is on the inner side of the bend and its posed rest
 //! position crosses the contact plane, the push back onto it. The bone points move with
@@ -64,7 +94,7 @@
 //! bends without them.
 
 use super::{Cut, Joints};
-use glam::DVec3;
+use glam::{DAffine3, DQuat, DVec3};
 
 /// Band half-width in local medial radii when a cut does not say, chosen by
 /// `puppet bench joints` (no face crossing at 45–135° on the measured joints; the widest
@@ -90,6 +120,13 @@ pub const BULB: f64 = 1.5;
 /// module docs).
 pub const BULGE: f64 = 0.0125;
 
+/// A band bends as an arc when at most this share of its parent's skeletal points on its
+/// side of the band lie off the limb's line (see the module docs and `Joints::spread`):
+/// measured, a limb's parent side has 0–14 % (the human's upper arms and thighs, finger
+/// bones), a trunk's 33–100 % (a chest beside a shoulder, a pelvis, a palm, a body under
+/// a neck).
+pub const ARC_SPREAD: f64 = 0.25;
+
 /// Most transforms the simulation can index (it stores a `u16` per vertex).
 const MAX_TRANSFORMS: usize = u16::MAX as usize + 1;
 
@@ -114,6 +151,9 @@ pub struct Band {
     pub normal: DVec3,
     /// Index of its first level's transform in the pose.
     pub first_level: usize,
+    /// It bends as an arc (both sides are limbs), not as a fan about the pivot (see the
+    /// module docs).
+    pub arc: bool,
     /// The vertices that may touch the other side when the joint bends (see the module
     /// docs), each with the next transform from `first_contact` on.
     pub contacts: Vec<Contact>,
@@ -156,6 +196,88 @@ impl Cut {
 fn weight(x: f64) -> f64 {
     let x = x.clamp(0.0, 1.0);
     0.5 * (x * x * (3.0 - 2.0 * x) + x)
+}
+
+impl Band {
+    /// The band's parent end and child end on its centre line at rest, and its length.
+    fn ends(&self) -> (DVec3, DVec3, f64) {
+        (
+            self.pivot - self.normal * self.width,
+            self.pivot + self.normal * self.child_width,
+            self.width + self.child_width,
+        )
+    }
+
+    /// The share of the band at the cut's surface (its parent side's share of its
+    /// length).
+    pub(super) fn cut_share(&self) -> f64 {
+        self.width / (self.width + self.child_width)
+    }
+
+    /// Where the bent centre line takes its point at share `w` of the band, relative to
+    /// the parent end, for the child's `rotation` (before the child's translation): the
+    /// band's length times `∫₀ʷ Q(u) n du`, `Q(u)` the rotation by share `u` of the angle
+    /// (see the module docs).
+    fn arc(&self, rotation: DQuat, w: f64) -> DVec3 {
+        let (axis, angle) = axis_angle(rotation);
+        let along = axis * axis.dot(self.normal);
+        let across = self.normal - along;
+        let (sin, versin) = if angle < 1e-9 {
+            (w, 0.5 * w * w * angle)
+        } else {
+            let half = 0.5 * w * angle;
+            (
+                (w * angle).sin() / angle,
+                2.0 * half.sin() * half.sin() / angle,
+            )
+        };
+        (along * w + across * sin + axis.cross(across) * versin) * (self.width + self.child_width)
+    }
+
+    /// How far the child moves beyond a turn by `rotation` about the cut's pivot: the
+    /// bent centre line keeps its length, so it reaches past the corner a turn about the
+    /// pivot would make (see the module docs). Zero at rest and for a twist.
+    pub fn shift(&self, rotation: DQuat) -> DVec3 {
+        let (start, end, _) = self.ends();
+        if !self.arc {
+            return DVec3::ZERO;
+        }
+        start + self.arc(rotation, 1.0) - (self.pivot + rotation * (end - self.pivot))
+    }
+
+    /// The motion, relative to the parent, of the bone points at share `w` of the band
+    /// (0: the parent end, 1: the child end), `child` the child's own motion and
+    /// `rotation` its rotation: turned by share `w` of the rotation, about the point of
+    /// the bent centre line at `w` (see the module docs).
+    pub(super) fn motion(&self, rotation: DQuat, child: &DAffine3, w: f64) -> DAffine3 {
+        let (start, end, length) = self.ends();
+        // What the arc does not give: the child's translation, or a turn about a
+        // shared pivot elsewhere. Spread evenly along the band.
+        let chord = self.arc(rotation, 1.0);
+        let rest = child.transform_point3(end) - start - chord;
+        // The part along the arc's chord scales the arc (a shorter bend of the same
+        // shape); the rest is spread evenly.
+        let scale = if chord.length_squared() > 0.0 {
+            rest.dot(chord) / chord.length_squared()
+        } else {
+            0.0
+        };
+        let rest = rest - chord * scale;
+        let (axis, angle) = axis_angle(rotation);
+        DAffine3::from_translation(start + self.arc(rotation, w) * (1.0 + scale) + rest * w)
+            * DAffine3::from_axis_angle(axis, angle * w)
+            * DAffine3::from_translation(-(start + self.normal * (w * length)))
+    }
+}
+
+/// The axis and angle (`0..=π`) of the shortest turn a rotation makes.
+fn axis_angle(rotation: DQuat) -> (DVec3, f64) {
+    let q = if rotation.w < 0.0 {
+        -rotation
+    } else {
+        rotation
+    };
+    q.normalize().to_axis_angle()
 }
 
 impl Joints {
@@ -288,6 +410,35 @@ impl Joints {
         f64::INFINITY
     }
 
+    /// The share of `parent`'s skeletal points on the parent's side of cut `k`'s band
+    /// (`−width < d ≤ 0`, within `2.5 r` of the pivot across the normal) that lie more
+    /// than `r` from the pivot's line: near 0 where the parent is a limb (its skeleton a
+    /// line along its axis), high where it is a trunk (a sheet across it).
+    fn spread(&self, k: usize, parent: usize, radius: f64, width: f64) -> f64 {
+        let cut = &self.cuts[k];
+        let normal = cut.normal.normalize_or_zero();
+        let (pivot, along) = self.cut_frame(k);
+        let (mut all, mut off) = (0usize, 0usize);
+        for i in 0..self.section_of.len() {
+            if self.body.is_rider(i) || self.section_of[i] as usize != parent {
+                continue;
+            }
+            let d = cut.signed(self.body.points[i], normal);
+            let v = self.body.points[i] - pivot;
+            let across = (v - along * v.dot(along)).length();
+            if d > 0.0 || d <= -width || across > 2.5 * radius {
+                continue;
+            }
+            all += 1;
+            off += usize::from(across > radius);
+        }
+        if all == 0 {
+            1.0
+        } else {
+            off as f64 / all as f64
+        }
+    }
+
     /// Cut `k`'s pivot and the unit normal of its surface there (into the child): where a
     /// band bends and along what.
     pub(super) fn cut_frame(&self, k: usize) -> (DVec3, DVec3) {
@@ -408,12 +559,20 @@ impl Joints {
             }
             // The child's side: no farther than the child stays a limb.
             let reach = self.tube(k, child, radius).clamp(0.5 * width, width);
+            // Two limbs bend as an arc; a limb on a trunk turns as a fan, and so does a
+            // part that turns about a hinge it shares (a jaw and its head, which must stay
+            // at the hinge).
+            let (pivot, normal) = self.cut_frame(k);
+            let arc = !self.cuts[k].shared_pivot
+                && self.sections[child].pivot == pivot
+                && self.spread(k, parent, radius, width) <= ARC_SPREAD;
             for (i, d) in self.near_cut(k, radius, width) {
                 let side = if d > 0.0 { reach } else { width };
                 if d >= reach || d.abs() / side >= depth[i] {
                     continue;
                 }
-                let w = weight((d + width) / (width + reach));
+                let x = ((d + width) / (width + reach)).clamp(0.0, 1.0);
+                let w = if arc { x } else { weight(x) };
                 let level = (w * LEVELS as f64).round() as usize;
                 depth[i] = d.abs() / side;
                 self.transform_of[i] = match level {
@@ -422,7 +581,6 @@ impl Joints {
                     l => (first + l - 1) as u16,
                 };
             }
-            let (pivot, normal) = self.cut_frame(k);
             self.bands[k] = Some(Band {
                 child,
                 parent,
@@ -432,10 +590,17 @@ impl Joints {
                 pivot,
                 normal,
                 first_level: first,
+                arc,
                 contacts: Vec::new(),
                 first_contact: 0,
             });
             slot += 1;
+        }
+        self.band_of = vec![None; sections];
+        for (k, band) in self.bands.iter().enumerate() {
+            if let Some(slot) = band.as_ref().and_then(|b| self.band_of.get_mut(b.child)) {
+                *slot = Some(k);
+            }
         }
         // Contacts, once every vertex has its level: a vertex moving with this band's
         // parent, child or one of its levels, within reach of the plane, gets a transform

@@ -272,6 +272,8 @@ pub struct Joints {
     order: Vec<usize>,
     /// Per cut, its joint band (see [`band`]).
     bands: Vec<Option<Band>>,
+    /// Per section, the cut whose band ends in it (the section it made), if any.
+    band_of: Vec<Option<usize>>,
     /// Per vertex, the transform the simulation moves it with (its section's or a band
     /// level's).
     transform_of: Vec<u16>,
@@ -349,6 +351,7 @@ impl Joints {
             section_of: vec![0; n],
             order: vec![0],
             bands: Vec::new(),
+            band_of: vec![None],
             transform_of: vec![0; n],
             flesh: Vec::new(),
         }
@@ -392,6 +395,7 @@ impl Joints {
             section_of: vec![0; self.section_of.len()],
             order: vec![0],
             bands: Vec::new(),
+            band_of: vec![None],
             transform_of: vec![0; self.section_of.len()],
             flesh: Vec::new(),
         };

@@ -1,6 +1,6 @@
 //! Composing a pose down the section tree: `W(s) = W(parent) · T(pivot + t) · R · T(−pivot)`.
 
-use super::band::{BULGE, LEVELS};
+use super::band::{Band, BULGE, LEVELS};
 use super::{Joints, Local, Section};
 use crate::sim::Pose;
 use glam::{Affine3A, DAffine3, DQuat, DVec3};
@@ -20,10 +20,7 @@ impl Joints {
         world.resize(self.sections.len(), DAffine3::IDENTITY);
         for &s in &self.order {
             let l = local.get(s).copied().unwrap_or_default();
-            let pivot = self.sections[s].pivot;
-            let own = DAffine3::from_translation(pivot + l.translation)
-                * DAffine3::from_quat(l.rotation)
-                * DAffine3::from_translation(-pivot);
+            let own = self.own_motion(s, &l);
             world[s] = match self.sections[s].parent {
                 Some(p) => world[p] * own,
                 None => own,
@@ -52,8 +49,9 @@ impl Joints {
         for band in self.bands.iter().flatten() {
             let l = local.get(band.child).copied().unwrap_or_default();
             let parent = scratch.world[band.parent];
+            let child = self.own_motion(band.child, &l);
             for level in 0..=LEVELS {
-                let own = self.band_motion(band, &l, level as f64 / LEVELS as f64);
+                let own = self.band_motion(band, &l, &child, level as f64 / LEVELS as f64);
                 if (1..LEVELS).contains(&level) {
                     transforms.push(to_f32(&(parent * own)));
                 }
@@ -63,8 +61,20 @@ impl Joints {
         for (b, band) in self.bands.iter().flatten().enumerate() {
             let l = local.get(band.child).copied().unwrap_or_default();
             let parent = scratch.world[band.parent];
-            let turned = motions[b * (LEVELS + 1) + LEVELS];
-            let plane = contact_plane(band, &l, &turned);
+            let plane = if band.arc {
+                let child = self.own_motion(band.child, &l);
+                let at_cut = band.motion(l.rotation, &child, band.cut_share());
+                contact_plane(
+                    band,
+                    &l,
+                    at_cut.transform_point3(band.pivot),
+                    at_cut.matrix3 * band.normal,
+                )
+            } else {
+                let turned = motions[b * (LEVELS + 1) + LEVELS];
+                let point = (band.pivot + turned.transform_point3(band.pivot)) * 0.5;
+                contact_plane(band, &l, point, band.normal + l.rotation * band.normal)
+            };
             let swell = BULGE * bend_angle(band.normal, l.rotation);
             let pivot = band.pivot;
             for c in &band.contacts {
@@ -97,34 +107,68 @@ impl Joints {
 }
 
 impl Joints {
+    /// Section `s`'s motion relative to its parent in its local pose `l`: the turn about
+    /// its pivot and its translation, and, at the end of a band, the band's
+    /// [`Band::shift`].
+    fn own_motion(&self, s: usize, l: &Local) -> DAffine3 {
+        let pivot = self.sections[s].pivot;
+        let own = DAffine3::from_translation(pivot + l.translation)
+            * DAffine3::from_quat(l.rotation)
+            * DAffine3::from_translation(-pivot);
+        match self.band_ending_in(s) {
+            Some(band) => DAffine3::from_translation(band.shift(l.rotation)) * own,
+            None => own,
+        }
+    }
+
     /// The motion, relative to the parent, of the bone points a band moves with weight
-    /// `w` of the child's `local` pose: `T(pivot + w t) · slerp(I, R, w) · T(−pivot)`,
+    /// `w` of the child's `local` pose, `child` its own motion: along the arc
+    /// ([`Band::motion`]), or for a fan `T(pivot + w t) · slerp(I, R, w) · T(−pivot)`,
     /// `pivot` the point the child turns about.
-    fn band_motion(&self, band: &super::Band, local: &Local, w: f64) -> DAffine3 {
+    fn band_motion(&self, band: &Band, local: &Local, child: &DAffine3, w: f64) -> DAffine3 {
+        if band.arc {
+            return band.motion(local.rotation, child, w);
+        }
         let pivot = self.sections[band.child].pivot;
         DAffine3::from_translation(pivot + local.translation * w)
             * DAffine3::from_quat(DQuat::IDENTITY.slerp(local.rotation, w))
             * DAffine3::from_translation(-pivot)
     }
+
+    /// Where a bent arc band carries the cut that made section `s`, in the pose `local`
+    /// whose world transforms are `world`: the parent's world transform times the band's
+    /// motion at the cut ([`Band::motion`]); `None` for a section at the end of a fan, a
+    /// hinge, or no cut (its own world transform carries its pivot). Where its pivot is
+    /// drawn and dragged: the child's own frame puts it off the bent centre line.
+    pub fn cut_carrier(&self, s: usize, world: &[DAffine3], local: &[Local]) -> Option<DAffine3> {
+        let band = self.band_ending_in(s).filter(|b| b.arc)?;
+        let l = local.get(s).copied().unwrap_or_default();
+        let at_cut = band.motion(l.rotation, &self.own_motion(s, &l), band.cut_share());
+        Some(*world.get(band.parent)? * at_cut)
+    }
+
+    /// The band that ends in section `s` (the band of the cut that made it), if any.
+    fn band_ending_in(&self, s: usize) -> Option<&Band> {
+        let k = (*self.band_of.get(s)?)?;
+        self.bands.get(k)?.as_ref().filter(|b| b.child == s)
+    }
 }
 
-/// The plane the two sides of a bent band meet on, in the parent's frame: through the
-/// cut's pivot, halfway between it and where the child's motion `turned` takes it, and
-/// halfway between the cut's surface and the child's turned one; `None` when the joint
-/// does not bend (a twist about the normal, or nothing).
-fn contact_plane(band: &super::Band, local: &Local, turned: &DAffine3) -> Option<ContactPlane> {
+/// The plane the two sides of a bent band meet on, in the parent's frame, through
+/// `point` with `normal` (see [`super::band`]); `None` when the joint does not bend (a
+/// twist about the normal, or nothing).
+fn contact_plane(band: &Band, local: &Local, point: DVec3, normal: DVec3) -> Option<ContactPlane> {
     let n = band.normal;
     let bent = local.rotation * n;
     let inner = bent - n * n.dot(bent);
-    let normal = (n + bent).normalize_or_zero();
+    let normal = normal.normalize_or_zero();
     if inner.length() < 1e-9 || normal == DVec3::ZERO {
         return None;
     }
-    let pivot = band.pivot;
     Some(ContactPlane {
-        point: (pivot + turned.transform_point3(pivot)) * 0.5,
+        point,
         normal,
-        pivot,
+        pivot: band.pivot,
         inner: inner.normalize(),
     })
 }

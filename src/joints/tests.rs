@@ -306,3 +306,60 @@ fn removing_a_cut_keeps_one_shared_pivot_per_section() {
     assert_eq!(shared, ["hand"]);
     assert_eq!(j.sections()[0].pivot, j.cuts()[0].pivot.unwrap());
 }
+
+/// A band along +y, `±4` about the origin, bent as an arc.
+fn arc_band() -> Band {
+    Band {
+        child: 1,
+        parent: 0,
+        width: 4.0,
+        child_width: 4.0,
+        radius: 1.0,
+        pivot: DVec3::ZERO,
+        normal: DVec3::Y,
+        first_level: 2,
+        arc: true,
+        contacts: Vec::new(),
+        first_contact: 0,
+    }
+}
+
+#[test]
+fn an_arc_band_bends_its_centre_line_without_shortening_it() {
+    use glam::{DAffine3, DQuat};
+    let band = arc_band();
+    // At rest and twisted about its own axis nothing moves but the twist.
+    assert!(close(band.shift(DQuat::IDENTITY), DVec3::ZERO));
+    assert!(close(band.shift(DQuat::from_rotation_y(1.0)), DVec3::ZERO));
+    let rest = DAffine3::IDENTITY;
+    for k in 0..=8 {
+        let m = band.motion(DQuat::IDENTITY, &rest, k as f64 / 8.0);
+        assert!(m.abs_diff_eq(DAffine3::IDENTITY, 1e-12), "{m:?}");
+    }
+    // Bent 90° about z: the child turns about the pivot and moves by the shift.
+    let turn = DQuat::from_rotation_z(std::f64::consts::FRAC_PI_2);
+    let child = DAffine3::from_translation(band.shift(turn)) * DAffine3::from_quat(turn);
+    let steps = 256;
+    let centre = |k: usize| {
+        let w = k as f64 / steps as f64;
+        band.motion(turn, &child, w)
+            .transform_point3(DVec3::new(0.0, -4.0 + 8.0 * w, 0.0))
+    };
+    let mut length = 0.0;
+    for k in 1..=steps {
+        let w = (k as f64 - 0.5) / steps as f64;
+        let step = centre(k) - centre(k - 1);
+        length += step.length();
+        // Each level stays square to the centre line.
+        let tangent = DQuat::from_rotation_z(std::f64::consts::FRAC_PI_2 * w) * DVec3::Y;
+        assert!(step.normalize().dot(tangent) > 1.0 - 1e-6, "{k}");
+    }
+    // (Chords of 256 steps fall short of the arc by about 1e-5.)
+    assert!((length - 8.0).abs() < 1e-4, "{length}");
+    // A quarter circle of radius 8 / (π/2) from (0, −4) turning towards −x.
+    let r = 8.0 / std::f64::consts::FRAC_PI_2;
+    assert!(close(centre(steps), DVec3::new(-r, -4.0 + r, 0.0)));
+    // The band's child end is where the child's own motion takes it.
+    let end = band.motion(turn, &child, 1.0);
+    assert!(end.abs_diff_eq(child, 1e-12), "{end:?} against {child:?}");
+}

@@ -177,7 +177,9 @@ impl Session {
         let Some(pivot) = cut.pivot else {
             return;
         };
-        let frame = joints.world(&self.local)[parent];
+        let world = joints.world(&self.local);
+        let carrier = joints.cut_carrier(section, &world, &self.local);
+        let frame = carrier.unwrap_or(world[parent]);
         let to_rest = frame.inverse();
         let (o, d) = (
             to_rest.transform_point3(origin),
@@ -210,7 +212,11 @@ impl Session {
         (1..joints.sections().len())
             .filter_map(|section| {
                 let pivot = joints.cuts()[section - 1].pivot?;
-                let at = world[section].transform_point3(pivot).as_vec3();
+                let carrier = joints.cut_carrier(section, &world, &self.local);
+                let at = carrier
+                    .unwrap_or(world[section])
+                    .transform_point3(pivot)
+                    .as_vec3();
                 Some((section, camera.project(at, viewport)?))
             })
             .collect()

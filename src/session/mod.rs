@@ -258,11 +258,13 @@ impl Session {
         self.wake();
     }
 
-    /// World position of the point a section turns about, in the current pose.
+    /// World position of the point a section turns about, in the current pose (at the end
+    /// of an arc band, where the bent band carries its cut's pivot).
     pub fn pivot_world(&self, section: usize) -> DVec3 {
         let world = self.puppet.joints.world(&self.local);
         let p = self.puppet.joints.sections()[section].pivot;
-        world[section].transform_point3(p)
+        let carrier = self.puppet.joints.cut_carrier(section, &world, &self.local);
+        carrier.unwrap_or(world[section]).transform_point3(p)
     }
 
     /// Sets simulation parameters from the panel (sanitized: a slider cannot break it).

@@ -64,6 +64,18 @@ fn selection_replaces_toggles_and_clears() {
 #[test]
 fn a_world_rotation_turns_the_section_about_its_current_pivot() {
     let mut s = session();
+    // A hinge turns about its pivot; a joint band also carries the section along the
+    // bent limb (below).
+    let names: Vec<String> = s
+        .puppet
+        .joints
+        .cuts()
+        .iter()
+        .map(|c| c.name.clone())
+        .collect();
+    for name in &names {
+        s.puppet.joints.set_band(name, Some(0.0));
+    }
     s.select(Some(1), false);
     s.rotate_selected(DQuat::from_rotation_z(0.7));
     s.select(Some(2), false);
@@ -75,6 +87,20 @@ fn a_world_rotation_turns_the_section_about_its_current_pivot() {
     let p = DVec3::new(0.1, 1.2, 0.05);
     let expected = pivot + q * (before.transform_point3(p) - pivot);
     assert!((after.transform_point3(p) - expected).length() < 1e-12);
+}
+
+#[test]
+fn a_world_rotation_turns_a_section_at_a_joint_band_by_it() {
+    let mut s = session();
+    assert!(s.puppet.joints.bands().iter().any(Option::is_some));
+    s.select(Some(2), false);
+    s.rotate_selected(DQuat::from_rotation_z(0.3));
+    let before = s.puppet.joints.world(&s.local)[2];
+    let q = DQuat::from_rotation_x(0.4);
+    s.rotate_selected(q);
+    let after = s.puppet.joints.world(&s.local)[2];
+    let turned = DQuat::from_mat3(&after.matrix3) * DQuat::from_mat3(&before.matrix3).inverse();
+    assert!(turned.dot(q).abs() > 1.0 - 1e-12, "{turned:?}");
 }
 
 #[test]

@@ -343,7 +343,11 @@ impl View<'_> {
                 let Some(pivot) = cut.pivot else {
                     continue;
                 };
-                let c = world[k].transform_point3(pivot).as_vec3();
+                let carrier = p.joints.cut_carrier(k, &world, &s.local);
+                let c = carrier
+                    .unwrap_or(world[k])
+                    .transform_point3(pivot)
+                    .as_vec3();
                 let color = if s.selection.contains(&k) {
                     [1.0, 0.5, 0.1, 1.0]
                 } else {

@@ -76,6 +76,9 @@ struct Report {
     worst_motion_share: f64,
     /// Largest constraint excess seen, relative to the model size (≤ 1e-5 by the checks).
     worst_constraint_excess: f64,
+    /// Joint bands drawn that bend as an arc and as a fan (see `joints::band`).
+    arcs: usize,
+    fans: usize,
     seconds: f64,
 }
 
@@ -177,8 +180,8 @@ pub fn run(args: &Args) -> Result<()> {
         println!("{}", serde_json::to_string(&report)?);
     } else {
         println!(
-            "stress (seed {}): {} scenarios, {} steps, {} vertex-steps in {:.1} s: no NaN, every point inside its constraint, motion bounded",
-            report.seed, report.scenarios, report.steps, report.vertex_steps, report.seconds
+            "stress (seed {}): {} scenarios ({} joint bands bent as arcs, {} as fans), {} steps, {} vertex-steps in {:.1} s: no NaN, every point inside its constraint, motion bounded",
+            report.seed, report.scenarios, report.arcs, report.fans, report.steps, report.vertex_steps, report.seconds
         );
         println!(
             "worst surface-spring strain {:.3} ({}); worst motion {:.3} of its bound; worst constraint excess {:.1e} of the model size",
@@ -325,6 +328,13 @@ fn run_scenario(
             },
             shared_pivot: rng.below(3) == 0,
         });
+    }
+    for band in joints.bands().iter().flatten() {
+        if band.arc {
+            report.arcs += 1;
+        } else {
+            report.fans += 1;
+        }
     }
     let mut sim = Simulation::new(scenario.rig(params.material.bone_distance), params);
     sim.set_sections(joints.transform_of().to_vec());
