@@ -139,7 +139,19 @@ pub(super) fn cut_section(
                     session.set_shared_pivot(&name, shared);
                 }
             }
-            let cut = session.puppet.joints.cuts().iter().find(|c| c.name == name);
+            let joints = &session.puppet.joints;
+            let k = joints.cuts().iter().position(|c| c.name == name);
+            let kind = match k
+                .and_then(|k| joints.bands().get(k))
+                .and_then(Option::as_ref)
+            {
+                Some(b) if b.arc => {
+                    "\nBends as an arc (two limbs meet): the part also moves out along the bend"
+                }
+                Some(_) => "\nTurns about the pivot (a limb on a trunk, or a shared hinge)",
+                None => "",
+            };
+            let cut = k.map(|k| &joints.cuts()[k]);
             if let Some(mut band) = cut.map(|c| c.band_factor()) {
                 let r = ui
                     .add(
@@ -148,10 +160,10 @@ pub(super) fn cut_section(
                             .speed(0.02)
                             .prefix("band "),
                     )
-                    .on_hover_text(
+                    .on_hover_text(format!(
                         "joint band half-width in local medial radii: the bone points \
-                         this near the cut turn by part of the angle (0: a hinge)",
-                    );
+                         this near the cut turn by part of the angle (0: a hinge){kind}"
+                    ));
                 if r.changed() {
                     let first = r.drag_started() || !r.dragged();
                     session.set_band(&name, band, first);
