@@ -66,15 +66,9 @@ fn a_world_rotation_turns_the_section_about_its_current_pivot() {
     let mut s = session();
     // A hinge turns about its pivot; a joint band also carries the section along the
     // bent limb (below).
-    let names: Vec<String> = s
-        .puppet
-        .joints
-        .cuts()
-        .iter()
-        .map(|c| c.name.clone())
-        .collect();
-    for name in &names {
-        s.puppet.joints.set_band(name, Some(0.0));
+    for k in 0..s.puppet.joints.cuts().len() {
+        let name = s.puppet.joints.cuts()[k].name.clone();
+        s.puppet.joints.set_band(&name, Some(0.0));
     }
     s.select(Some(1), false);
     s.rotate_selected(DQuat::from_rotation_z(0.7));
