@@ -574,3 +574,58 @@ fn an_arm_dragged_into_the_body_stops_at_it() {
         "with collision the arm stopped at {stopped}°, without it turned {free}°"
     );
 }
+
+/// An elbow bent with the mouse: the forearm, cut from the upper arm, turns, its band
+/// bends as an arc (two limbs meet, `joints::band`), and the puppet settles to sleep.
+#[test]
+fn an_elbow_bent_with_the_mouse_bends_and_settles() {
+    let dir = common::scratch("window-elbow");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("tests/data/human-arms.rig.toml")).unwrap();
+    let mesh = root.join("tests/data/meshes/human.obj");
+    let elbow = puppet::puppet::bend::JOINTS[0];
+    let rig = dir.join("human-elbow.rig.toml");
+    std::fs::write(
+        &rig,
+        format!(
+            "{}\n[[cut]]\nname = \"right forearm\"\nsection = \"right arm\"\npoint = [{}, {}, {}]\nnormal = [{}, {}, {}]\nconnected = true\n",
+            text.replace("meshes/human.obj", mesh.to_str().unwrap()),
+            elbow.point.x,
+            elbow.point.y,
+            elbow.point.z,
+            elbow.normal.x,
+            elbow.normal.y,
+            elbow.normal.z,
+        ),
+    )
+    .unwrap();
+    let spec = puppet::puppet::RigFile::load(&rig).unwrap();
+    let (m, _) = puppet::mesh::load(&mesh).unwrap();
+    let p = puppet::Puppet::build(m, spec, puppet::progress::silent()).unwrap();
+    let k = p
+        .joints
+        .cuts()
+        .iter()
+        .position(|c| c.name == "right forearm");
+    let band = k.and_then(|k| p.joints.bands()[k].clone()).expect("a band");
+    assert!(band.arc, "{band:?}");
+
+    let mut w = common::Window::open(&dir, &["--rig", rig.to_str().unwrap()]);
+    let r = w.state().unwrap();
+    let angle = |r: &serde_json::Value| -> f64 {
+        r["turned"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(|t| t.as_str()?.strip_prefix("right forearm:")?.parse().ok())
+            .next()
+            .unwrap_or(0.0)
+    };
+    let t = &r["targets"]["right forearm"];
+    let at = [t[0].as_f64().unwrap(), t[1].as_f64().unwrap()];
+    w.drag(at, [0.0, 200.0]);
+    w.wait(|r| angle(r) > 20.0, "the drag to bend the elbow");
+    let settled = w.wait(|r| r["state"] == "settled", "the bent puppet to settle");
+    assert!(angle(&settled) > 20.0, "{settled}");
+    assert!(w.quit().success());
+}
