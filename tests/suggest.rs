@@ -1128,6 +1128,25 @@ fn a_character_faces_away_from_its_tail() {
     }
 }
 
+/// The cat looks up and back with her head turned aside: her far ear's section reaches
+/// down the side of her head, so from its pivot it points down like a limb. Its root's
+/// mirror image lies by her near ear's: both are ears, and nothing is an arm.
+#[test]
+fn a_head_turned_aside_keeps_both_ears() {
+    let (m, _) = mesh::load(&test_mesh("cat.obj")).unwrap();
+    let mut cat = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
+    cat.suggest_joints().unwrap();
+    let names = names(&cat);
+    for ear in ["ear.L", "ear.R"] {
+        assert!(names.iter().any(|n| n == ear), "{ear} in {names:?}");
+    }
+    assert!(!names.iter().any(|n| n.starts_with("arm")), "{names:?}");
+    let (l, r) = (section(&cat, "ear.L"), section(&cat, "ear.R"));
+    let pivots = cat.joints.sections();
+    // Facing -x with +y up, her left is +z.
+    assert!(pivots[l].pivot.z > pivots[r].pivot.z);
+}
+
 /// The scorpion's tail, raised and curled over its back from the back end of its body
 /// (its head is the front of its body, with no cut of its own), is a `tail` down its six
 /// sections, not a neck, a head and a jaw.

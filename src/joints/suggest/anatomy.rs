@@ -22,7 +22,9 @@
 //!   **Left** = up × front: a character's own left, as `.L` in Blender's names.
 //! * **Roles.** The root's limbs off the mirror plane: pointing up from above the root's
 //!   centre, ears, unless its root's mirror image lies by an arm's or a leg's, at most half
-//!   as far as by another ear's (an arm raised higher than the other); of the others, when
+//!   as far as by another ear's (an arm raised higher than the other), and one above the
+//!   centre whose root's mirror image lies by an ear's, at most half as far as by another
+//!   limb's, is an ear too (the far ear of a head turned aside); of the others, when
 //!   one pair stands on the ground ([`GROUND`]) and the rest do not, a biped: the standing
 //!   pair are legs and the largest raised limb on each side an arm (arms held out or
 //!   hanging down); when all stand, pairs from the front: arms (forelegs) and legs,
@@ -702,6 +704,19 @@ impl Naming<'_> {
             });
             legs.extend(raised);
             ears = kept;
+            // And the other way: a limb above the centre whose root's mirror image lies by
+            // an ear's, at most half as far from it as from any other limb's, is that
+            // ear's pair (the far ear of a head turned aside, its section reaching down the
+            // side of the head).
+            let (turned, kept): (Vec<_>, Vec<_>) = legs.iter().partition(|(s, r)| {
+                let image = image(plane, r.pivot);
+                let others: Vec<(usize, Reach)> =
+                    legs.iter().copied().filter(|l| l.0 != *s).collect();
+                (r.pivot - centre).dot(frame.up) > 0.0
+                    && nearest(image, &ears) < 0.5 * nearest(image, &others)
+            });
+            ears.extend(turned);
+            legs = kept;
         }
         // Midline: the head ([`head_of`]), not growing from the back end, ending no thinner
         // than any part off the plane (a head ends in a bulb; a snout on a head not cut from
