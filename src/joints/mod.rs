@@ -25,7 +25,9 @@
 //!
 //! so rotating the upper arm carries the forearm and the hand with it, and the forearm's own
 //! rotation is about its elbow *as carried by the upper arm*. Every section can be posed at
-//! once.
+//! once. A section at the end of a joint band that bends as an arc (two limbs meeting: an
+//! elbow, a knee) also moves by the band's shift, `T(shift(R_s))` on the left of its own
+//! motion: the bent limb keeps its length ([`band`]).
 //!
 //! # Shared pivots
 //! The paper's pivot is "the rotation center for the two generated joint sections". A

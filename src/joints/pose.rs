@@ -1,4 +1,6 @@
-//! Composing a pose down the section tree: `W(s) = W(parent) · T(pivot + t) · R · T(−pivot)`.
+//! Composing a pose down the section tree: `W(s) = W(parent) · T(pivot + t) · R · T(−pivot)`
+//! (at the end of an arc band, moved by its [`Band::shift`] too), then the joint bands'
+//! levels and contacts.
 
 use super::band::{Band, BULGE, LEVELS};
 use super::{Joints, Local, Section};
@@ -62,7 +64,7 @@ impl Joints {
             let l = local.get(band.child).copied().unwrap_or_default();
             let parent = scratch.world[band.parent];
             let plane = if band.arc {
-                let child = self.own_motion(band.child, &l);
+                let child = motions[b * (LEVELS + 1) + LEVELS];
                 let at_cut = band.motion(l.rotation, &child, band.cut_share());
                 contact_plane(
                     band,
