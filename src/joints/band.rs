@@ -238,10 +238,10 @@ impl Band {
     /// bent centre line keeps its length, so it reaches past the corner a turn about the
     /// pivot would make (see the module docs). Zero at rest and for a twist.
     pub fn shift(&self, rotation: DQuat) -> DVec3 {
-        let (start, end, _) = self.ends();
         if !self.arc {
             return DVec3::ZERO;
         }
+        let (start, end, _) = self.ends();
         start + self.arc(rotation, 1.0) - (self.pivot + rotation * (end - self.pivot))
     }
 
@@ -251,20 +251,10 @@ impl Band {
     /// the bent centre line at `w` (see the module docs).
     pub(super) fn motion(&self, rotation: DQuat, child: &DAffine3, w: f64) -> DAffine3 {
         let (start, end, length) = self.ends();
-        // What the arc does not give: the child's translation, or a turn about a
-        // shared pivot elsewhere. Spread evenly along the band.
-        let chord = self.arc(rotation, 1.0);
-        let rest = child.transform_point3(end) - start - chord;
-        // The part along the arc's chord scales the arc (a shorter bend of the same
-        // shape); the rest is spread evenly.
-        let scale = if chord.length_squared() > 0.0 {
-            rest.dot(chord) / chord.length_squared()
-        } else {
-            0.0
-        };
-        let rest = rest - chord * scale;
+        // What the arc does not give (the child's translation), spread evenly along it.
+        let rest = child.transform_point3(end) - start - self.arc(rotation, 1.0);
         let (axis, angle) = axis_angle(rotation);
-        DAffine3::from_translation(start + self.arc(rotation, w) * (1.0 + scale) + rest * w)
+        DAffine3::from_translation(start + self.arc(rotation, w) + rest * w)
             * DAffine3::from_axis_angle(axis, angle * w)
             * DAffine3::from_translation(-(start + self.normal * (w * length)))
     }
