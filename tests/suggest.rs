@@ -1075,12 +1075,7 @@ fn a_raised_arm_is_an_arm_and_a_snout_is_no_neck() {
 /// raised tail.
 #[test]
 fn a_character_faces_away_from_its_tail() {
-    let build = |name: &str| {
-        let (m, _) = mesh::load(&test_mesh(name)).unwrap();
-        let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
-        p.suggest_joints().unwrap();
-        p
-    };
+    let build = suggested;
     let pivot = |p: &Puppet, name: &str| p.joints.sections()[section(p, name)].pivot;
 
     let penguin = build("penguin.obj");
@@ -1133,9 +1128,7 @@ fn a_character_faces_away_from_its_tail() {
 /// mirror image lies by her near ear's: both are ears, and nothing is an arm.
 #[test]
 fn a_head_turned_aside_keeps_both_ears() {
-    let (m, _) = mesh::load(&test_mesh("cat.obj")).unwrap();
-    let mut cat = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
-    cat.suggest_joints().unwrap();
+    let cat = suggested("cat.obj");
     let names = names(&cat);
     for ear in ["ear.L", "ear.R"] {
         assert!(names.iter().any(|n| n == ear), "{ear} in {names:?}");

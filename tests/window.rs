@@ -9,6 +9,24 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+/// How far the section `name` is turned in the app's report (degrees; 0 when it is not).
+fn turned(r: &serde_json::Value, name: &str) -> f64 {
+    let prefix = format!("{name}:");
+    r["turned"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|t| t.as_str()?.strip_prefix(&prefix)?.parse().ok())
+        .next()
+        .unwrap_or(0.0)
+}
+
+/// Where the section `name` is drawn on screen, in the app's report (pixels).
+fn target(r: &serde_json::Value, name: &str) -> [f64; 2] {
+    let t = &r["targets"][name];
+    [t[0].as_f64().unwrap(), t[1].as_f64().unwrap()]
+}
+
 #[test]
 fn the_window_shows_the_puppet_and_panels_and_a_drag_turns_a_section() {
     let dir = common::scratch("window");
@@ -383,15 +401,7 @@ fn a_glove_over_osc_curls_the_fingers_and_records_a_take() {
     let send = |address: &str, values: &[f32]| {
         socket.send(&osc::encode(address, values)).unwrap();
     };
-    let angle = |r: &serde_json::Value, name: &str| -> f64 {
-        r["turned"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .filter_map(|t| t.as_str()?.strip_prefix(&format!("{name}:"))?.parse().ok())
-            .next()
-            .unwrap_or(0.0)
-    };
+    let angle = turned;
     // Every finger curled, then hostile packets: garbage, an unknown address, NaN.
     for _ in 0..30 {
         send("/glove/flex", &[1.0; 5]);
@@ -502,15 +512,7 @@ fn learn_maps_the_control_that_moved_to_the_part_clicked() {
         "L to stop learning",
     );
     // The knob turned all the way is the part turned 90°.
-    let angle = |r: &serde_json::Value| -> f64 {
-        r["turned"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .filter_map(|t| t.as_str()?.strip_prefix(&format!("{name}:"))?.parse().ok())
-            .next()
-            .unwrap_or(0.0)
-    };
+    let angle = |r: &serde_json::Value| turned(r, &name);
     for _ in 0..30 {
         send(&[0.5, 1.0]);
         std::thread::sleep(Duration::from_millis(10));
@@ -539,17 +541,8 @@ fn an_arm_dragged_into_the_body_stops_at_it() {
     let drag = |rig: &Path, name: &str| -> f64 {
         let mut w = common::Window::open(&dir.join(name), &["--rig", rig.to_str().unwrap()]);
         let r = w.state().unwrap();
-        let angle = |r: &serde_json::Value| -> f64 {
-            r["turned"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .filter_map(|t| t.as_str()?.strip_prefix("right arm:")?.parse().ok())
-                .next()
-                .unwrap_or(0.0)
-        };
-        let t = &r["targets"]["right arm"];
-        let at = [t[0].as_f64().unwrap(), t[1].as_f64().unwrap()];
+        let angle = |r: &serde_json::Value| turned(r, "right arm");
+        let at = target(&r, "right arm");
         // A sideways drag swings the arm about the vertical through the shoulder: forward,
         // then across the chest (650 pixels of an 800-pixel view: about 146°).
         w.drag(at, [650.0, 0.0]);
@@ -612,17 +605,8 @@ fn an_elbow_bent_with_the_mouse_bends_and_settles() {
 
     let mut w = common::Window::open(&dir, &["--rig", rig.to_str().unwrap()]);
     let r = w.state().unwrap();
-    let angle = |r: &serde_json::Value| -> f64 {
-        r["turned"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .filter_map(|t| t.as_str()?.strip_prefix("right forearm:")?.parse().ok())
-            .next()
-            .unwrap_or(0.0)
-    };
-    let t = &r["targets"]["right forearm"];
-    let at = [t[0].as_f64().unwrap(), t[1].as_f64().unwrap()];
+    let angle = |r: &serde_json::Value| turned(r, "right forearm");
+    let at = target(&r, "right forearm");
     w.drag(at, [0.0, 200.0]);
     w.wait(|r| angle(r) > 20.0, "the drag to bend the elbow");
     let settled = w.wait(|r| r["state"] == "settled", "the bent puppet to settle");
