@@ -156,6 +156,8 @@ fn suggest_one(
     // Apply them in order; one that cannot apply (a side left empty) is dropped and what
     // hangs from it hangs from its parent instead.
     let mut joints = Joints::with_mesh(&skeleton.points, &mesh.triangles, &hosts, root);
+    // The joints before any cut, to try sets of cuts on (its mesh's edges found once).
+    let blank = joints.clone();
     let mut applied: Vec<Option<String>> = Vec::with_capacity(limbs.len());
     let mut count: HashMap<String, usize> = Default::default();
     let mut cuts = Vec::new();
@@ -295,7 +297,7 @@ fn suggest_one(
         if trial == cuts {
             break;
         }
-        let mut check = Joints::with_mesh(&skeleton.points, &mesh.triangles, &hosts, root);
+        let mut check = blank.clone();
         let Some(bad) = trial.iter().position(|c| check.add_cut(c.clone()).is_err()) else {
             cuts = trial;
             break;
@@ -312,7 +314,7 @@ fn suggest_one(
     // A shoulder's or a hip's cut moves toward the body up to where the limb meets the
     // trunk; a left and a right one by the same distance.
     let smallest = (SMALLEST * skeleton.points.len() as f64).max(12.0) as usize;
-    cuts = to_the_body(mesh, skeleton, &hosts, root, cuts, &ball, smallest);
+    cuts = to_the_body(mesh, &blank, cuts, &ball, smallest);
     // A shoulder or a hip turns about the ball inside the trunk, past the cut; a left and a
     // right one by the same depth, so that a mirrored pair stays mirrored.
     for cut in &mut cuts {
@@ -344,12 +346,11 @@ fn suggest_one(
 /// `cuts` with each shoulder's and hip's (`ball`: its socket and width, by name) moved
 /// toward the body along its normal as far as [`super::slice::Slicer::toward_body`] allows, a left
 /// and a right one by the lesser of their two distances; one that then takes more than
-/// twice its section's vertices (it slipped into the body) or cannot apply stays.
+/// twice its section's vertices (it slipped into the body) or cannot apply stays. `blank`:
+/// the mesh's joints before any cut, which the cuts are tried on.
 fn to_the_body(
     mesh: &Mesh,
-    skeleton: &Skeleton,
-    hosts: &[Option<u32>],
-    root: &str,
+    blank: &Joints,
     cuts: Vec<Cut>,
     ball: &HashMap<String, (f64, f64)>,
     smallest: usize,
@@ -371,7 +372,7 @@ fn to_the_body(
     }
     // Each cut's section's vertices, once all apply.
     let sizes = |cuts: &[Cut]| -> Option<Vec<usize>> {
-        let mut joints = Joints::with_mesh(&skeleton.points, &mesh.triangles, hosts, root);
+        let mut joints = blank.clone();
         joints.add_cuts(cuts.iter().cloned()).ok()?;
         cuts.iter()
             .map(|c| Some(joints.sections()[joints.find(&c.name)?].vertices))
