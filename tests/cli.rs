@@ -378,3 +378,27 @@ fn suggest_bench_draws_into_a_new_folder() {
         "{err}"
     );
 }
+
+/// Each target flag of `bench suggest` fails the bench with one error line, exit 2, when
+/// its target is missed (here, targets no character can meet), and passes when met.
+#[test]
+fn suggest_bench_fails_below_its_targets() {
+    for (flag, missed, met, says) in [
+        ("--min-recall", "101", "0", "below --min-recall"),
+        ("--max-spurious", "-1", "100", "above --max-spurious"),
+        ("--max-time-share", "0", "1e9", "above --max-time-share"),
+    ] {
+        let run = |v: &str| {
+            let arg = format!("{flag}={v}");
+            puppet(&["bench", "suggest", "--only", "bunny", &arg])
+        };
+        let out = run(missed);
+        assert_eq!(out.status.code(), Some(2), "{flag} {missed}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.starts_with("error: ") && err.contains(says) && err.lines().count() == 1,
+            "{err}"
+        );
+        common::ok(&run(met));
+    }
+}

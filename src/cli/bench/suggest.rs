@@ -28,6 +28,10 @@ pub struct Args {
     /// Fail when the share of spurious cuts over the set is above this (%).
     #[arg(long)]
     max_spurious: Option<f64>,
+    /// Fail when a character's suggestion takes longer than this share (%) of the time its
+    /// skeleton and rig take.
+    #[arg(long)]
+    max_time_share: Option<f64>,
     /// Roughen each mesh first: every vertex moved by up to this share of the mean edge
     /// length, in a random direction (`--seed`), as a scan's surface is rough.
     #[arg(long, value_name = "SHARE", value_parser = share)]
@@ -38,6 +42,20 @@ pub struct Args {
     /// Print JSON instead of a Markdown table.
     #[arg(long)]
     json: bool,
+}
+
+/// `run` three times: the last result, and the median time in milliseconds.
+fn median_of_three<T>(mut run: impl FnMut() -> Result<T>) -> Result<(T, f64)> {
+    let mut times = Vec::with_capacity(3);
+    let mut last = None;
+    for _ in 0..3 {
+        let t = Instant::now();
+        last = Some(run()?);
+        times.push(t.elapsed().as_secs_f64() * 1e3);
+    }
+    times.sort_by(f64::total_cmp);
+    let last = last.ok_or_else(|| anyhow!("nothing ran"))?;
+    Ok((last, times[1]))
 }
 
 /// A `--jitter` share: finite, from 0 to 10 edge lengths.
@@ -94,6 +112,8 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             mesh = puppet::mesh::shapes::roughen(&mesh, share, args.seed);
         }
         let height = mesh.longest_side();
+        // The skeleton and rig's time, once (a second build would find the skeleton in
+        // `skeleton::cache`), then the suggestion's, the median of three.
         let t = Instant::now();
         let built = Puppet::build_loaded(
             mesh,
@@ -103,18 +123,13 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         )
         .map_err(|e| anyhow!("{shown}: {e}"))?;
         let ms_skeleton = t.elapsed().as_secs_f64() * 1e3;
-        // The suggestion's time: the median of three.
-        let mut times = Vec::new();
-        let mut puppet = built.clone();
-        for _ in 0..3 {
-            puppet = built.clone();
-            let t = Instant::now();
+        let (puppet, ms_suggest) = median_of_three(|| {
+            let mut puppet = built.clone();
             puppet
                 .suggest_joints()
                 .map_err(|e| anyhow!("{shown}: {e}"))?;
-            times.push(t.elapsed().as_secs_f64() * 1e3);
-        }
-        times.sort_by(f64::total_cmp);
+            Ok(puppet)
+        })?;
         let score = labels.score(&puppet.joints.cut_pivots(), height);
         let found = Up::nearest(puppet.up());
         let up_right = labels.up.is_none_or(|u| u == found);
@@ -131,7 +146,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             up_right,
             score,
             ms_skeleton,
-            ms_suggest: times[1],
+            ms_suggest,
         };
         if !args.json {
             print_row(&row, rows.is_empty());
@@ -168,6 +183,19 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     if let Some(max) = args.max_spurious {
         if spurious_share > max {
             bail!("{spurious_share:.1} % spurious cuts is above --max-spurious {max}");
+        }
+    }
+    if let Some(max) = args.max_time_share {
+        if let Some(r) = rows
+            .iter()
+            .find(|r| r.ms_suggest > 0.01 * max * r.ms_skeleton)
+        {
+            bail!(
+                "{}: the suggestion takes {:.1} ms, above --max-time-share {max} % of the skeleton and rig's {:.1} ms",
+                r.character,
+                r.ms_suggest,
+                r.ms_skeleton
+            );
         }
     }
     Ok(())
