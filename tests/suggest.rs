@@ -344,6 +344,27 @@ fn a_character_modelled_with_any_axis_up_is_found_standing() {
     }
 }
 
+/// A bust (a ball cut flat below, as a statue's base) is found standing on its base
+/// whichever axis it was modelled with up: no limb says which way is down.
+#[test]
+fn a_bust_stands_on_its_flat_base() {
+    use glam::DVec3;
+    let ball = puppet::mesh::shapes::icosphere(1.0, 3);
+    for up in [DVec3::Z, DVec3::NEG_Y, DVec3::X] {
+        let bust = mesh::Mesh {
+            positions: ball
+                .positions
+                .iter()
+                .map(|&p| p - up * (p.dot(up) + 0.6).min(0.0))
+                .collect(),
+            triangles: ball.triangles.clone(),
+        };
+        let mut p = Puppet::build(bust, RigFile::default(), puppet::progress::silent()).unwrap();
+        p.suggest_joints().unwrap();
+        assert!(p.up().distance(up) < 1e-9, "{up}: found {}", p.up());
+    }
+}
+
 /// Two characters side by side in one file (the robot and a copy of it 1.5 to its left)
 /// each get their own cuts, mirror plane and names: the copy's are the robot's, moved
 /// with it, named `.001` as Blender names a copy. The mirror plane of the whole lay

@@ -59,7 +59,8 @@
 //!    than twice what lies past it in the join tree (it slipped past the limb into the
 //!    body), is dropped; a limb's root plane that slips so first tries the mirror image of
 //!    its partner's on the other side (an arm hanging closer to the body on one side).
-//! 5. **Anatomy.** A mirror plane, up (given, or found from how the limbs hang), front and
+//! 5. **Anatomy.** A mirror plane, up (given, or found from how the limbs hang, or from a
+//!    bust's flat base), front and
 //!    left, and names by role: `neck`, `head`, `arm.L`, `forearm.L`, `hand.L`, `thumb.L`…
 //!    (a hand not cut at its wrist: of two parts at an arm's end, the one carrying
 //!    fingers, beside a bare one, its thumb; an arm's or a leg's one part with none of its
