@@ -418,7 +418,8 @@ impl Reach {
 }
 
 /// The frame of a mesh with the mirror plane `mirror` ([`mirror_plane`]) whose root has
-/// `limbs` (see the module docs); `up` when given.
+/// `limbs` (see the module docs); `up` when given; `base`, the outward normal of its flat
+/// base if it has one ([`flat_base`]).
 pub fn frame(
     positions: &[DVec3],
     mirror: Option<(DVec3, f64)>,
