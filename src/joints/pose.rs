@@ -149,6 +149,16 @@ impl Joints {
         Some(*world.get(band.parent)? * at_cut)
     }
 
+    /// The transform that carries section `s`'s pivot in the pose `local` whose world
+    /// transforms are `world`: [`Joints::cut_carrier`] at the end of an arc band, else the
+    /// section's own world transform.
+    ///
+    /// # Panics
+    /// If `s` is not a section of `world`.
+    pub fn pivot_carrier(&self, s: usize, world: &[DAffine3], local: &[Local]) -> DAffine3 {
+        self.cut_carrier(s, world, local).unwrap_or(world[s])
+    }
+
     /// The band that ends in section `s` (the band of the cut that made it), if any.
     fn band_ending_in(&self, s: usize) -> Option<&Band> {
         let k = (*self.band_of.get(s)?)?;

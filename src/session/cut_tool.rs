@@ -212,9 +212,8 @@ impl Session {
         (1..joints.sections().len())
             .filter_map(|section| {
                 let pivot = joints.cuts()[section - 1].pivot?;
-                let carrier = joints.cut_carrier(section, &world, &self.local);
-                let at = carrier
-                    .unwrap_or(world[section])
+                let at = joints
+                    .pivot_carrier(section, &world, &self.local)
                     .transform_point3(pivot)
                     .as_vec3();
                 Some((section, camera.project(at, viewport)?))

@@ -263,8 +263,11 @@ impl Session {
     pub fn pivot_world(&self, section: usize) -> DVec3 {
         let world = self.puppet.joints.world(&self.local);
         let p = self.puppet.joints.sections()[section].pivot;
-        let carrier = self.puppet.joints.cut_carrier(section, &world, &self.local);
-        carrier.unwrap_or(world[section]).transform_point3(p)
+        let carrier = self
+            .puppet
+            .joints
+            .pivot_carrier(section, &world, &self.local);
+        carrier.transform_point3(p)
     }
 
     /// Sets simulation parameters from the panel (sanitized: a slider cannot break it).

@@ -343,9 +343,9 @@ impl View<'_> {
                 let Some(pivot) = cut.pivot else {
                     continue;
                 };
-                let carrier = p.joints.cut_carrier(k, &world, &s.local);
-                let c = carrier
-                    .unwrap_or(world[k])
+                let c = p
+                    .joints
+                    .pivot_carrier(k, &world, &s.local)
                     .transform_point3(pivot)
                     .as_vec3();
                 let color = if s.selection.contains(&k) {

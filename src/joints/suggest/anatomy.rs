@@ -323,15 +323,6 @@ impl Grid {
     }
 }
 
-/// Whether any of `limbs` lies off the mirror plane (by [`OFF_PLANE`] of the mesh's `size`).
-fn limbs_off_the_plane(limbs: &[Reach], mirror: Option<(DVec3, f64)>, size: f64) -> bool {
-    mirror.is_some_and(|(n, o)| {
-        limbs
-            .iter()
-            .any(|l| (l.pivot.dot(n) - o).abs() >= OFF_PLANE * size)
-    })
-}
-
 /// The outward normal of the mesh's flat base, if it has one: of the six axis directions,
 /// the one whose flat faces at the mesh's far end that way cover the most area, when that
 /// is at least [`BASE`] of the whole.
@@ -430,6 +421,10 @@ pub fn frame(
     let size = crate::mesh::longest_side(positions);
     let centre = positions.iter().sum::<DVec3>() / positions.len().max(1) as f64;
     let axes = AXES;
+    // The root's limbs off the mirror plane (none without one).
+    let off_plane =
+        |l: &Reach| mirror.is_some_and(|(n, o)| (l.pivot.dot(n) - o).abs() >= OFF_PLANE * size);
+    let off: Vec<&Reach> = limbs.iter().filter(|l| off_plane(l)).collect();
     // Up from a flat base, along the mirror plane.
     let base_up = base
         .map(|b| -b)
@@ -437,20 +432,14 @@ pub fn frame(
     let up = match (up, mirror) {
         (Some(u), _) => u.normalize_or(DVec3::Y),
         (None, None) => base_up.unwrap_or(DVec3::Y),
-        (None, Some(_)) if base_up.is_some() && !limbs_off_the_plane(limbs, mirror, size) => {
-            base_up.unwrap_or(DVec3::Y)
-        }
-        (None, Some((n, o))) => {
+        (None, Some(_)) if base_up.is_some() && off.is_empty() => base_up.unwrap_or(DVec3::Y),
+        (None, Some((n, _))) => {
             // How well each direction across the plane does as down, by where the tips
             // of the limbs off the plane lie from the mesh's centre (legs and arms; a tail
             // or a neck says nothing about up). From the centre, not from the limb's own
             // cut: a stubby leg cut at its ankle is a foot pointing forward.
             // Each limb says as much as it is thick (the legs carry the body; ears and a
             // raised arm's thin hand say less).
-            let off: Vec<&Reach> = limbs
-                .iter()
-                .filter(|l| (l.pivot.dot(n) - o).abs() >= OFF_PLANE * size)
-                .collect();
             let thickest = off.iter().map(|l| l.end).fold(0.0, f64::max);
             let weight = |l: &Reach| {
                 if thickest > 0.0 {
@@ -523,8 +512,7 @@ pub fn frame(
         Some((n, _)) => up.cross(n).normalize_or(convention),
         None => (convention - up * convention.dot(up)).normalize_or(DVec3::Z),
     };
-    let on_plane =
-        |l: &Reach| mirror.is_none_or(|(n, o)| (l.pivot.dot(n) - o).abs() < OFF_PLANE * size);
+    let on_plane = |l: &Reach| !off_plane(l);
     // The part on the plane most like a head grows from the other end of the body than the
     // tail (a cat stretching looks up and back; a penguin), or leans forward; else the feet
     // point forward. Most like a head: with ears on the body (a head not cut from it), of
