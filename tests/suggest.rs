@@ -621,6 +621,21 @@ fn a_snout_is_the_end_of_the_head() {
     }
 }
 
+/// A head modelled on its own (the labelled monkey, the kind of Blender's Suzanne): its
+/// flat ears, held out level, are `ear.L` and `ear.R` on the head itself (they were named
+/// `arm.L` and `arm.R`: a lone pair of limbs that does not hang down), and its long face
+/// hanging below the skull is no `neck` (it was cut across the cheeks).
+#[test]
+fn a_head_on_its_own_has_ears_and_no_neck() {
+    let (_, p) = labelled("monkey");
+    let mut n = names(&p);
+    n.sort();
+    assert_eq!(n, ["ear.L", "ear.R"]);
+    for ear in ["ear.L", "ear.R"] {
+        assert_eq!(p.joints.sections()[section(&p, ear)].parent, Some(0));
+    }
+}
+
 /// A dog's straight front leg, cut at its shoulder and its wrist, bends at its elbow too:
 /// the stretch down to a wrist is cut in the middle from fewer radii than any stretch.
 #[test]

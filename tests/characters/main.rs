@@ -648,6 +648,38 @@ fn bigears() -> Character {
     c
 }
 
+/// A monkey's head modelled on its own (the kind of Blender's Suzanne): a skull, a muzzle
+/// and eyes in front, and flat ears out to the sides. The ears are its only limbs, so
+/// finding them is required; the face is no neck.
+fn monkey() -> Character {
+    let mut c = Character {
+        name: "monkey",
+        kind: "head",
+        what: "a monkey's head on its own, with a muzzle, eyes and flat ears",
+        cell: 0.014,
+        blend: 0.04,
+        ..Default::default()
+    };
+    c.bone([0.0, 1.0, -0.05], [0.0, 1.06, -0.05], 0.3, 0.28);
+    c.bone([0.0, 0.88, 0.14], [0.0, 0.62, 0.2], 0.19, 0.15);
+    for s in [1.0, -1.0] {
+        c.bone([0.11 * s, 1.05, 0.2], [0.11 * s, 1.05, 0.23], 0.07, 0.07);
+    }
+    c.both(|c, s, lr| {
+        // A flat ear: capsules fanning out from the side of the skull to one round rim.
+        let group = c.bones.len();
+        for dy in [-0.06, -0.03, 0.0, 0.03, 0.06] {
+            let (base, rim) = (
+                [0.26 * s, 1.0 + 0.5 * dy, -0.05],
+                [0.42 * s, 1.01 + dy, -0.1],
+            );
+            c.grouped(base, rim, 0.04, 0.06, group);
+        }
+        c.joint(&format!("ear.{lr}"), [0.3 * s, 1.0, -0.05], true);
+    });
+    c
+}
+
 fn characters() -> Vec<Character> {
     vec![
         robot(),
@@ -659,6 +691,7 @@ fn characters() -> Vec<Character> {
         lizard(),
         dino(),
         ant(),
+        monkey(),
     ]
 }
 

@@ -801,6 +801,22 @@ impl Naming<'_> {
             ears.extend(turned);
             legs = kept;
         }
+        // A lone pair that does not hang down, from above the centre, and short (an ear's
+        // flap, not an arm's length) is a head's ears: the root is the head (a monkey's
+        // head modelled on its own), and a part on the plane is its face, no neck.
+        let flaps = |l: &(usize, Reach)| {
+            l.1.direction().dot(frame.up) > -0.5
+                && (l.1.pivot - centre).dot(frame.up) > 0.0
+                && l.1.short()
+        };
+        if ears.is_empty()
+            && legs.len() == 2
+            && legs.iter().all(flaps)
+            && self.side(legs[0].1.pivot) != self.side(legs[1].1.pivot)
+        {
+            ears.append(&mut legs);
+        }
+        let only_a_head = legs.is_empty() && !ears.is_empty();
         // Midline: the head ([`head_of`]), not growing from the back end, ending no thinner
         // than any part off the plane (a head ends in a bulb; a snout on a head not cut from
         // the body does not, nor does a tail); the tail points back, or grows from the back
@@ -816,7 +832,9 @@ impl Naming<'_> {
                 .chain(&ears)
                 .map(|l| l.1.end)
                 .fold(0.0, f64::max);
-            head_of(&on, thickest, frame.up).map(|h| ahead[h])
+            head_of(&on, thickest, frame.up)
+                .map(|h| ahead[h])
+                .filter(|_| !only_a_head)
         };
         for &(s, r) in &midline {
             let behind = behind(&r);
