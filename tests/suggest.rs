@@ -1001,6 +1001,14 @@ mod mesher;
 /// its radius `ra` to `rb`, blended with the others by `blend`), meshed at `cell`, with
 /// its suggested joints.
 fn generated(bones: &[([f64; 3], [f64; 3], f64, f64)], blend: f64, cell: f64) -> Puppet {
+    let m = generated_mesh(bones, blend, cell);
+    let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
+    p.suggest_joints().unwrap();
+    p
+}
+
+/// The mesh of [`generated`].
+fn generated_mesh(bones: &[([f64; 3], [f64; 3], f64, f64)], blend: f64, cell: f64) -> mesh::Mesh {
     let bones = bones
         .iter()
         .enumerate()
@@ -1013,13 +1021,60 @@ fn generated(bones: &[([f64; 3], [f64; 3], f64, f64)], blend: f64, cell: f64) ->
         })
         .collect();
     let (positions, triangles) = mesher::Body { bones, blend }.mesh(cell, 0.37);
-    let m = mesh::Mesh {
+    mesh::Mesh {
         positions,
         triangles,
-    };
-    let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
-    p.suggest_joints().unwrap();
-    p
+    }
+}
+
+/// A bust (shoulders, a neck and a head, generated with the labelled set's mesher and cut
+/// flat below, as a sculpture's base) is rooted in what stands on its base: its head turns
+/// at its neck, named `neck`, and nothing else is cut. Rooted in its head, as Nefertiti's
+/// was, its shoulders were cut off as a `neck` and its base as a `head`. Its head tilted
+/// to one side (no mirror plane, as Bruce Wick's sculpt) is still its `neck`, not a
+/// numbered joint.
+#[test]
+fn a_bust_turns_its_head_on_its_shoulders() {
+    for tilt in [0.0, 0.12] {
+        let bones = [
+            ([-0.16, 0.12, 0.0], [0.16, 0.12, 0.0], 0.2, 0.2),
+            ([0.0, 0.3, 0.0], [0.3 * tilt, 0.5, 0.0], 0.075, 0.07),
+            ([tilt, 0.66, 0.02], [tilt, 0.7, 0.02], 0.16, 0.15),
+            ([tilt, 0.76, -0.04], [tilt, 0.92, -0.14], 0.17, 0.2),
+            ([tilt, 0.64, 0.17], [tilt, 0.62, 0.2], 0.04, 0.04),
+        ];
+        let m = generated_mesh(&bones, 0.04, 0.015);
+        let bust = mesh::Mesh {
+            positions: m
+                .positions
+                .iter()
+                .map(|&p| {
+                    // Below 0.05, squashed fifty times: a flat base.
+                    let y = if p.y < 0.05 {
+                        0.05 + 0.02 * (p.y - 0.05)
+                    } else {
+                        p.y
+                    };
+                    glam::DVec3::new(p.x, y, p.z)
+                })
+                .collect(),
+            triangles: m.triangles,
+        };
+        let mut p = Puppet::build(bust, RigFile::default(), puppet::progress::silent()).unwrap();
+        p.suggest_joints().unwrap();
+        assert_eq!(names(&p), ["neck"], "tilt {tilt}");
+        let neck = &p.joints.sections()[section(&p, "neck")];
+        assert!(
+            (0.25..0.5).contains(&neck.pivot.y),
+            "tilt {tilt}: {}",
+            neck.pivot
+        );
+        assert!(
+            p.up().distance(glam::DVec3::Y) < 1e-9,
+            "tilt {tilt}: {}",
+            p.up()
+        );
+    }
 }
 
 /// A cartoon man whose head is a cylinder as wide as the top of his body, sitting on his

@@ -632,13 +632,15 @@ pub fn roles(
         names: vec![None; n],
         ends: Vec::new(),
         size: mesh.longest_side().max(1e-12),
+        base: None,
     };
     let limbs: Vec<(usize, Reach)> = naming.children[0]
         .iter()
         .map(|&s| (s, naming.reach(s)))
         .collect();
     let reaches: Vec<Reach> = limbs.iter().map(|l| l.1).collect();
-    naming.frame = frame(&mesh.positions, mirror, &reaches, up, flat_base(mesh));
+    naming.base = flat_base(mesh);
+    naming.frame = frame(&mesh.positions, mirror, &reaches, up, naming.base);
     naming.root(&limbs);
     Roles {
         names: naming.names,
@@ -661,6 +663,8 @@ struct Naming<'a> {
     ends: Vec<usize>,
     /// The mesh's size (the longest side of its bounding box).
     size: f64,
+    /// The outward normal of its flat base ([`flat_base`]), if it has one.
+    base: Option<DVec3>,
 }
 
 impl Naming<'_> {
@@ -708,6 +712,21 @@ impl Naming<'_> {
         }
     }
 
+    /// On a flat base (a bust), the root's part that holds the mesh's top: its head on its
+    /// neck, whichever way it faces.
+    fn on_the_bust(&self) -> Option<usize> {
+        self.base?;
+        let up = self.frame.up;
+        let top = (0..self.mesh.positions.len()).max_by(|&a, &b| {
+            let height = |v: usize| self.mesh.positions[v].dot(up);
+            height(a).total_cmp(&height(b))
+        })?;
+        self.children[0]
+            .iter()
+            .copied()
+            .find(|&c| self.within[c].contains(&top))
+    }
+
     /// The side of the mirror plane `p` is on (`None` on the plane, or with no plane).
     fn side(&self, p: DVec3) -> Option<&'static str> {
         let (n, o) = self.frame.mirror?;
@@ -726,8 +745,13 @@ impl Naming<'_> {
     fn root(&mut self, limbs: &[(usize, Reach)]) {
         let frame = self.frame;
         if frame.mirror.is_none() {
-            // No mirror plane: a hand on its own, or a creature posed off its symmetry.
+            // No mirror plane: a hand on its own, or a creature posed off its symmetry;
+            // on a flat base, a bust sculpted off its symmetry, whose one part holding its
+            // top is its head on its neck.
             self.digits(0, "");
+            if let Some(head) = self.on_the_bust() {
+                self.chain(head, Family::Neck, "");
+            }
             return;
         }
         let within = &self.within[0];
@@ -832,8 +856,10 @@ impl Naming<'_> {
                 .chain(&ears)
                 .map(|l| l.1.end)
                 .fold(0.0, f64::max);
-            head_of(&on, thickest, frame.up)
-                .map(|h| ahead[h])
+            let bust = self
+                .on_the_bust()
+                .and_then(|b| midline.iter().copied().find(|l| l.0 == b));
+            bust.or_else(|| head_of(&on, thickest, frame.up).map(|h| ahead[h]))
                 .filter(|_| !only_a_head)
         };
         for &(s, r) in &midline {
@@ -1481,6 +1507,7 @@ mod tests {
             names: vec![None; along.len()],
             ends: Vec::new(),
             size: 1.0,
+            base: None,
         };
         name(&mut naming)
     }

@@ -15,7 +15,9 @@
 //!    When a limb of that root has more tips than all the root's other limbs and is as
 //!    thick inside (`BODY_TIPS`, `BODY_THICK`: a body hanging by its neck from a head
 //!    bigger than it, with the arms and legs), the tree is built again from that limb's
-//!    thickest point, and the head turns at the neck cut the other way round.
+//!    thickest point, and the head turns at the neck cut the other way round. A mesh with
+//!    a flat base (a bust) is rooted at its thickest point within `STANDING` of its height
+//!    above the base: the head on it turns at its neck.
 //! 2. **Protrusions.** The vertices are added from the largest `g` down, joined by mesh
 //!    edges (a union-find sweep: the join tree of `g`). Every local maximum (a tip) starts a
 //!    component; where two or more reaching `ELONGATED` radii meet (a fork) a new segment
@@ -67,7 +69,9 @@
 //!    own, at most `SLENDER` as thick, its `thumb` or `toe`),
 //!    `leg.R`, `shin.R`, `foot.R`, `tail` (`abdomen` when it ends as thick as the head),
 //!    `ear.L` (on a head, or, on a biped whose head is not cut from its body, a raised
-//!    part above its side's arm and smaller), `horn.L` (of two parts on a head's side,
+//!    part above its side's arm and smaller, or a lone pair not hanging down, short, from
+//!    above the centre: a head modelled on its own, whose face is then no neck), a bust's
+//!    part holding its top is its `neck`, `horn.L` (of two parts on a head's side,
 //!    the one pointing most up),
 //!    `antenna.L` (a head's part long and round: `ANTENNA`), `jaw`; a cut no role fits keeps its
 //!    place in the tree (`joint 2.1`). A head's one short part on the mirror plane (a

@@ -4,7 +4,7 @@
 
 use super::anatomy::Frame;
 use super::cuts::Limb;
-use super::rules::{PAIRED, SMALLEST};
+use super::rules::{PAIRED, SMALLEST, STANDING};
 use super::tree::Tree;
 use crate::joints::{Cut, Joints, Shape};
 use crate::mesh::Mesh;
@@ -12,9 +12,12 @@ use crate::skeleton::Skeleton;
 use glam::DVec3;
 use std::collections::HashMap;
 
-/// The cuts' places, from the root found, or from the body when that root is a big head on
-/// it ([`Tree::body_elsewhere`]).
+/// The cuts' places, from what stands on a flat base ([`STANDING`]), else from the root
+/// found, or from the body when that root is a big head on it ([`Tree::body_elsewhere`]).
 fn limbs_of(mesh: &Mesh, skeleton: &Skeleton, mirror: Option<(DVec3, f64)>) -> Vec<Limb> {
+    if let Some(root) = on_the_base(mesh, &skeleton.distance) {
+        return Tree::rooted(mesh, skeleton, Some(root)).limbs(mirror);
+    }
     let tree = Tree::new(mesh, skeleton);
     let limbs = tree.limbs(mirror);
     let Some((root, body)) = tree.body_elsewhere(&limbs) else {
@@ -45,6 +48,21 @@ fn limbs_of(mesh: &Mesh, skeleton: &Skeleton, mirror: Option<(DVec3, f64)>) -> V
     };
     super::cuts::put_first(&mut out, neck);
     out
+}
+
+/// The vertex with the largest skeletal distance `radius` within [`STANDING`] of the mesh's
+/// height above its flat base; `None` without a base.
+fn on_the_base(mesh: &Mesh, radius: &[f64]) -> Option<usize> {
+    let down = super::anatomy::flat_base(mesh)?;
+    let height = |v: usize| -mesh.positions[v].dot(down);
+    let (low, high) = (0..mesh.positions.len())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(height(v)), hi.max(height(v)))
+        });
+    let top = low + STANDING * (high - low);
+    (0..radius.len().min(mesh.positions.len()))
+        .filter(|&v| height(v) <= top)
+        .max_by(|&a, &b| radius[a].total_cmp(&radius[b]))
 }
 
 /// The root limb whose pivot's mirror image (through `mirror`) lies nearest root limb
