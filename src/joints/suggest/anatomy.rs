@@ -10,9 +10,11 @@
 //!   it is thick (legs carry the body; an armadillo's ears and raised arm say less).
 //!   With no mirror plane or no limb off it, a flat base at the mesh's far end along an
 //!   axis ([`BASE`] of its area: a bust's, a statue's) faces down, if that axis lies along
-//!   the plane. Else, without a plane, when +y does nearly as well, or when the limbs do
-//!   not clearly hang along it, +y (the OBJ and glTF convention), unless +y is across the
-//!   plane.
+//!   the plane. Else, when the limbs do not clearly hang, and two pairs or more all end
+//!   within [`FEET`] of the mesh's far end along one axis only, that way is down (a
+//!   lizard's, an insect's sprawled feet on the ground). Else, without a plane, when +y
+//!   does nearly as well, or when the limbs do not clearly hang along it, +y (the OBJ and
+//!   glTF convention), unless +y is across the plane.
 //!   Clearly: the root's limbs off the plane on the whole, or those that point that way at
 //!   all when one of them reaches the mesh's far end that way (a biped's legs stand on the
 //!   ground while its arms are held out and its ears raised; a lizard's sprawled hind legs
@@ -60,6 +62,10 @@ const OFF_PLANE: f64 = 0.03;
 /// A limb that reaches this share of the height above the mesh's lowest point stands on
 /// the ground.
 const GROUND: f64 = 0.1;
+/// Two pairs of limbs or more that all end within this share of the height above the mesh's
+/// lowest point are feet on the ground (a lizard's, an insect's sprawled legs), when they do
+/// so along one axis only.
+const FEET: f64 = 0.2;
 /// A head whose root lies this share of the mesh's size ahead of another part's on the
 /// mirror plane (a tail's) marks the front; a part on the plane whose root lies as far
 /// behind the centre is a tail.
@@ -470,13 +476,17 @@ pub fn frame(
                     .filter(|l| (l.tip - centre).dot(d) > 0.0)
                     .collect()
             };
-            let stands = |d: DVec3| {
-                let (near, far) = positions
+            // The mesh's extent along `d`, near end and far end.
+            let span = |d: DVec3| {
+                positions
                     .iter()
                     .map(|p| p.dot(d))
                     .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
                         (a.min(x), b.max(x))
-                    });
+                    })
+            };
+            let stands = |d: DVec3| {
+                let (near, far) = span(d);
                 hanging(d)
                     .iter()
                     .any(|l| far - l.tip.dot(d) <= GROUND * (far - near))
@@ -492,10 +502,26 @@ pub fn frame(
             // sitting animal's forelegs reach forward as far as its legs hang.)
             let y_as_well =
                 down(DVec3::NEG_Y) >= 0.67 * down(best) && (stands(DVec3::NEG_Y) || !best_stands);
+            // (Sprawled legs that say little of up still all end on the ground, one way
+            // only: a lizard, an insect or a scorpion modelled with any axis up.)
+            let grounded = |d: DVec3| {
+                let (near, far) = span(d);
+                off.len() >= 4
+                    && off
+                        .iter()
+                        .all(|l| far - l.tip.dot(d) <= FEET * (far - near))
+            };
+            let on_the_ground: Vec<DVec3> = axes
+                .iter()
+                .copied()
+                .filter(|a| a.dot(n).abs() < 0.5 && grounded(*a))
+                .collect();
             // (+y across the mirror plane cannot be up: a character lying on its side, or
             // modelled with x or z up, has only its limbs to say.)
             let y_along = DVec3::Y.dot(n).abs() < 0.5;
-            if y_along && (y_as_well || !clearly) {
+            if let (false, [down]) = (clearly, on_the_ground.as_slice()) {
+                -*down
+            } else if y_along && (y_as_well || !clearly) {
                 DVec3::Y
             } else {
                 -best
@@ -560,10 +586,11 @@ pub fn frame(
         1.0
     };
     let front = axis * sign;
+    // (Plus zero: an axis turned over is written `0`, not `-0`, in `--json`.)
     Frame {
-        up,
-        front,
-        left: up.cross(front),
+        up: up + DVec3::ZERO,
+        front: front + DVec3::ZERO,
+        left: up.cross(front) + DVec3::ZERO,
         mirror,
     }
 }
