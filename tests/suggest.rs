@@ -286,6 +286,33 @@ fn spot_s_leg_labels_lie_on_her_legs_axes() {
     }
 }
 
+/// A turn of a point.
+type Turn = fn(glam::DVec3) -> glam::DVec3;
+
+/// The six turns that take +y to each axis (the first to itself), with that axis.
+fn turns() -> [(glam::DVec3, Turn); 6] {
+    use glam::DVec3;
+    [
+        (DVec3::Y, |p| p),
+        (DVec3::Z, |p| DVec3::new(p.x, -p.z, p.y)),
+        (DVec3::NEG_Z, |p| DVec3::new(p.x, p.z, -p.y)),
+        (DVec3::X, |p| DVec3::new(p.y, -p.x, p.z)),
+        (DVec3::NEG_X, |p| DVec3::new(-p.y, p.x, p.z)),
+        (DVec3::NEG_Y, |p| DVec3::new(p.x, -p.y, -p.z)),
+    ]
+}
+
+/// Mesh `m` turned by `turn`, with its suggested joints.
+fn turned(m: &mesh::Mesh, turn: Turn) -> Puppet {
+    let turned = mesh::Mesh {
+        positions: m.positions.iter().map(|&p| turn(p)).collect(),
+        triangles: m.triangles.clone(),
+    };
+    let mut p = Puppet::build(turned, RigFile::default(), puppet::progress::silent()).unwrap();
+    p.suggest_joints().unwrap();
+    p
+}
+
 /// A character modelled with any axis up (Blender's and CAD's +z, lying on its side, or
 /// upside down) is found standing. The human in T-pose: only her legs hang (her arms are
 /// held out), and they reach the far end of the mesh the way they hang (stand on the
@@ -299,26 +326,12 @@ fn spot_s_leg_labels_lie_on_her_legs_axes() {
 #[test]
 fn a_character_modelled_with_any_axis_up_is_found_standing() {
     use glam::DVec3;
-    type Turn = fn(DVec3) -> DVec3;
-    let turns: [(DVec3, Turn); 6] = [
-        (DVec3::Y, |p| p),
-        (DVec3::Z, |p| DVec3::new(p.x, -p.z, p.y)),
-        (DVec3::NEG_Z, |p| DVec3::new(p.x, p.z, -p.y)),
-        (DVec3::X, |p| DVec3::new(p.y, -p.x, p.z)),
-        (DVec3::NEG_X, |p| DVec3::new(-p.y, p.x, p.z)),
-        (DVec3::NEG_Y, |p| DVec3::new(p.x, -p.y, -p.z)),
-    ];
+    let turns = turns();
     let dino = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/characters/dino.obj");
     for file in [test_mesh("human.obj"), dino, test_mesh("cat.obj")] {
         let (m, _) = mesh::load(&file).unwrap();
         for (up, turn) in turns {
-            let turned = mesh::Mesh {
-                positions: m.positions.iter().map(|&p| turn(p)).collect(),
-                triangles: m.triangles.clone(),
-            };
-            let mut p =
-                Puppet::build(turned, RigFile::default(), puppet::progress::silent()).unwrap();
-            p.suggest_joints().unwrap();
+            let p = turned(&m, turn);
             let what = format!("{} {up}", file.display());
             assert!(p.up().distance(up) < 1e-9, "{what}: found {}", p.up());
             let s = p.joints.sections();
@@ -352,15 +365,7 @@ fn a_character_modelled_with_any_axis_up_is_found_standing() {
 #[test]
 fn a_sprawled_creature_modelled_with_any_axis_up_is_found_standing() {
     use glam::DVec3;
-    type Turn = fn(DVec3) -> DVec3;
-    let turns: [(DVec3, Turn); 6] = [
-        (DVec3::Y, |p| p),
-        (DVec3::Z, |p| DVec3::new(p.x, -p.z, p.y)),
-        (DVec3::NEG_Z, |p| DVec3::new(p.x, p.z, -p.y)),
-        (DVec3::X, |p| DVec3::new(p.y, -p.x, p.z)),
-        (DVec3::NEG_X, |p| DVec3::new(-p.y, p.x, p.z)),
-        (DVec3::NEG_Y, |p| DVec3::new(p.x, -p.y, -p.z)),
-    ];
+    let turns = turns();
     let set = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/characters");
     for file in [
         set.join("lizard.obj"),
@@ -370,13 +375,7 @@ fn a_sprawled_creature_modelled_with_any_axis_up_is_found_standing() {
         let (m, _) = mesh::load(&file).unwrap();
         let mut upright = Vec::new();
         for (up, turn) in turns {
-            let turned = mesh::Mesh {
-                positions: m.positions.iter().map(|&p| turn(p)).collect(),
-                triangles: m.triangles.clone(),
-            };
-            let mut p =
-                Puppet::build(turned, RigFile::default(), puppet::progress::silent()).unwrap();
-            p.suggest_joints().unwrap();
+            let p = turned(&m, turn);
             let what = format!("{} {up}", file.display());
             assert!(p.up().distance(up) < 1e-9, "{what}: found {}", p.up());
             // (The limbs' roots: the skeleton turned is not the skeleton exactly, and the
