@@ -326,11 +326,10 @@ fn turned(m: &mesh::Mesh, turn: Turn) -> Puppet {
 #[test]
 fn a_character_modelled_with_any_axis_up_is_found_standing() {
     use glam::DVec3;
-    let turns = turns();
     let dino = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/characters/dino.obj");
     for file in [test_mesh("human.obj"), dino, test_mesh("cat.obj")] {
         let (m, _) = mesh::load(&file).unwrap();
-        for (up, turn) in turns {
+        for (up, turn) in turns() {
             let p = turned(&m, turn);
             let what = format!("{} {up}", file.display());
             assert!(p.up().distance(up) < 1e-9, "{what}: found {}", p.up());
@@ -365,7 +364,6 @@ fn a_character_modelled_with_any_axis_up_is_found_standing() {
 #[test]
 fn a_sprawled_creature_modelled_with_any_axis_up_is_found_standing() {
     use glam::DVec3;
-    let turns = turns();
     let set = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/characters");
     for file in [
         set.join("lizard.obj"),
@@ -374,7 +372,7 @@ fn a_sprawled_creature_modelled_with_any_axis_up_is_found_standing() {
     ] {
         let (m, _) = mesh::load(&file).unwrap();
         let mut upright = Vec::new();
-        for (up, turn) in turns {
+        for (up, turn) in turns() {
             let p = turned(&m, turn);
             let what = format!("{} {up}", file.display());
             assert!(p.up().distance(up) < 1e-9, "{what}: found {}", p.up());
