@@ -620,13 +620,15 @@ pub struct Roles {
 }
 
 /// Role names for the sections of `joints`, in the frame found for them. `radius` is each
-/// vertex's skeletal distance, `mirror` the mesh's mirror plane ([`mirror_plane`]).
+/// vertex's skeletal distance, `mirror` the mesh's mirror plane ([`mirror_plane`]) and
+/// `base` the outward normal of its flat base ([`flat_base`]).
 pub fn roles(
     mesh: &Mesh,
     radius: &[f64],
     joints: &Joints,
     up: Option<DVec3>,
     mirror: Option<(DVec3, f64)>,
+    base: Option<DVec3>,
 ) -> Roles {
     let sections = joints.sections();
     let n = sections.len();
@@ -659,15 +661,14 @@ pub fn roles(
         names: vec![None; n],
         ends: Vec::new(),
         size: mesh.longest_side().max(1e-12),
-        base: None,
+        base,
     };
     let limbs: Vec<(usize, Reach)> = naming.children[0]
         .iter()
         .map(|&s| (s, naming.reach(s)))
         .collect();
     let reaches: Vec<Reach> = limbs.iter().map(|l| l.1).collect();
-    naming.base = flat_base(mesh);
-    naming.frame = frame(&mesh.positions, mirror, &reaches, up, naming.base);
+    naming.frame = frame(&mesh.positions, mirror, &reaches, up, base);
     naming.root(&limbs);
     Roles {
         names: naming.names,

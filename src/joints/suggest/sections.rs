@@ -14,8 +14,13 @@ use std::collections::HashMap;
 
 /// The cuts' places, from what stands on a flat base ([`STANDING`]), else from the root
 /// found, or from the body when that root is a big head on it ([`Tree::body_elsewhere`]).
-fn limbs_of(mesh: &Mesh, skeleton: &Skeleton, mirror: Option<(DVec3, f64)>) -> Vec<Limb> {
-    if let Some(root) = on_the_base(mesh, &skeleton.distance) {
+fn limbs_of(
+    mesh: &Mesh,
+    skeleton: &Skeleton,
+    mirror: Option<(DVec3, f64)>,
+    base: Option<DVec3>,
+) -> Vec<Limb> {
+    if let Some(root) = base.and_then(|down| on_the_base(mesh, &skeleton.distance, down)) {
         return Tree::rooted(mesh, skeleton, Some(root)).limbs(mirror);
     }
     let tree = Tree::new(mesh, skeleton);
@@ -51,9 +56,8 @@ fn limbs_of(mesh: &Mesh, skeleton: &Skeleton, mirror: Option<(DVec3, f64)>) -> V
 }
 
 /// The vertex with the largest skeletal distance `radius` within [`STANDING`] of the mesh's
-/// height above its flat base; `None` without a base.
-fn on_the_base(mesh: &Mesh, radius: &[f64]) -> Option<usize> {
-    let down = super::anatomy::flat_base(mesh)?;
+/// height above its flat base, whose outward normal is `down`.
+fn on_the_base(mesh: &Mesh, radius: &[f64], down: DVec3) -> Option<usize> {
     let height = |v: usize| -mesh.positions[v].dot(down);
     let (low, high) = (0..mesh.positions.len())
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
@@ -133,18 +137,17 @@ fn suggest_one(
     root: &str,
     up: Option<DVec3>,
 ) -> (Vec<Cut>, Frame) {
-    // The mirror plane, once: the cuts copy across it, and the names take their sides
-    // from it. (The body's: a prop riding apart from it says nothing of its symmetry.)
+    // The mirror plane and the flat base, once: the cuts copy across the plane, the tree
+    // stands on the base, and the names take their sides and up from both. (The body's: a
+    // prop riding apart from it says nothing of its symmetry.)
     let riders = (skeleton.riders > 0).then(|| {
         let parts = crate::mesh::Parts::of(mesh);
         let (body, old) = parts.body(mesh);
         (parts, body, old)
     });
-    let mirror = super::anatomy::mirror_plane(
-        riders
-            .as_ref()
-            .map_or(&mesh.positions, |(_, body, _)| &body.positions),
-    );
+    let shape = riders.as_ref().map_or(mesh, |(_, body, _)| body);
+    let mirror = super::anatomy::mirror_plane(&shape.positions);
+    let base = super::anatomy::flat_base(shape);
     // Riders have no skeleton: the limbs are the body's, and riders go with their hosts.
     let (limbs, hosts) = if let Some((parts, body, old)) = riders {
         let body_skeleton = Skeleton {
@@ -153,10 +156,10 @@ fn suggest_one(
             riders: 0,
             ..skeleton.clone()
         };
-        let limbs = limbs_of(&body, &body_skeleton, mirror);
+        let limbs = limbs_of(&body, &body_skeleton, mirror, base);
         (limbs, parts.hosts(&mesh.positions))
     } else {
-        (limbs_of(mesh, skeleton, mirror), Vec::new())
+        (limbs_of(mesh, skeleton, mirror, base), Vec::new())
     };
     // The character's shape for naming: each rider where its host is (a prop lying apart
     // from the body would stretch its size and move its centre).
@@ -261,7 +264,7 @@ fn suggest_one(
         }
     }
     // Names by role; a name taken twice, and a cut no role fits, keep their numbers.
-    let roles = super::anatomy::roles(character, &skeleton.distance, &joints, up, mirror);
+    let roles = super::anatomy::roles(character, &skeleton.distance, &joints, up, mirror, base);
     let frame = roles.frame;
     let mut renamed: HashMap<String, String> = HashMap::new();
     let mut taken: std::collections::HashSet<String> = Default::default();
