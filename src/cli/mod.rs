@@ -80,7 +80,7 @@ pub enum Command {
     /// Stream a synthetic glove performance as OSC (try `--controls` without a glove).
     SendOsc(send_osc::Args),
     /// Measure (every figure in BENCHMARKS.md): throughput, accuracy, stress, skip, sag,
-    /// export, joints, collide, suggest, skeleton, skeleton-speed, skeleton-change, machine,
+    /// export, joints, collide, poses, suggest, skeleton, skeleton-speed, skeleton-change, machine,
     /// controls.
     #[command(arg_required_else_help = false)]
     Bench {

@@ -4,6 +4,7 @@
 pub mod bake;
 pub mod bend;
 pub mod paint;
+pub mod poses;
 pub mod press;
 mod rig_file;
 

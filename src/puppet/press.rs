@@ -243,7 +243,7 @@ impl Press {
             local,
         } = self.posed(mesh, params)?;
         times.sort_by(f64::total_cmp);
-        let mut out = measure(&puppet);
+        let mut out = measure(&puppet, &local);
         out.step_ms = times.get(times.len() / 2).copied().unwrap_or(0.0);
         out.reached = local
             .iter()
@@ -265,7 +265,7 @@ pub struct Posed {
 }
 
 /// Measures a posed puppet's surface (see the module's list).
-pub fn measure(p: &Puppet) -> Pressed {
+pub fn measure(p: &Puppet, local: &[Local]) -> Pressed {
     let rest = &p.mesh.positions;
     let now: Vec<DVec3> = (0..rest.len())
         .map(|i| p.sim.positions().get(i).as_dvec3())
@@ -343,23 +343,7 @@ pub fn measure(p: &Puppet) -> Pressed {
         let part = usize::from(section_of[v] != 0);
         dent[part] = dent[part].max((t - x).dot(n));
     }
-    let mut volume = [f64::INFINITY, f64::NEG_INFINITY];
-    // A small section's cone from a pivot outside it is near zero, and a ratio to it says
-    // nothing: a section is measured against at least SMALL_SECTION of the whole volume.
-    let whole = cone_volume(rest, triangles, &vec![true; triangles.len()], DVec3::ZERO).abs();
-    for (s, section) in p.joints.sections().iter().enumerate() {
-        let faces: Vec<bool> = triangles
-            .iter()
-            .map(|t| t.iter().all(|&i| usize::from(section_of[i as usize]) == s))
-            .collect();
-        let a = cone_volume(rest, triangles, &faces, section.pivot);
-        let against = a.abs().max(SMALL_SECTION * whole);
-        if against < 1e-12 {
-            continue;
-        }
-        let change = (cone_volume(&now, triangles, &faces, section.pivot) - a) / against;
-        volume = [volume[0].min(change), volume[1].max(change)];
-    }
+    let volume = section_volumes(p, &now, local);
     Pressed {
         crossing,
         faces: triangles.len(),
@@ -375,6 +359,36 @@ pub fn measure(p: &Puppet) -> Pressed {
         reached: 0.0,
         dent: dent.map(|d| 100.0 * d / diagonal),
     }
+}
+
+/// The smallest and largest relative volume change of a section of `p` whose surface is at
+/// `now` in the pose `local`: each section's cone volume from its pivot, at rest and as the
+/// pose carries it (which a rigid motion does not change), against that volume or
+/// [`SMALL_SECTION`] of the whole mesh's, whichever is larger.
+pub fn section_volumes(p: &Puppet, now: &[DVec3], local: &[Local]) -> [f64; 2] {
+    let world = p.joints.world(local);
+    let rest = &p.mesh.positions;
+    let triangles = &p.mesh.triangles;
+    let section_of = p.joints.section_of();
+    let mut volume = [f64::INFINITY, f64::NEG_INFINITY];
+    // A small section's cone from a pivot outside it is near zero, and a ratio to it says
+    // nothing: a section is measured against at least SMALL_SECTION of the whole volume.
+    let whole = cone_volume(rest, triangles, &vec![true; triangles.len()], DVec3::ZERO).abs();
+    for (s, section) in p.joints.sections().iter().enumerate() {
+        let faces: Vec<bool> = triangles
+            .iter()
+            .map(|t| t.iter().all(|&i| usize::from(section_of[i as usize]) == s))
+            .collect();
+        let a = cone_volume(rest, triangles, &faces, section.pivot);
+        let against = a.abs().max(SMALL_SECTION * whole);
+        if against < 1e-12 {
+            continue;
+        }
+        let moved = world[s].transform_point3(section.pivot);
+        let change = (cone_volume(now, triangles, &faces, moved) - a) / against;
+        volume = [volume[0].min(change), volume[1].max(change)];
+    }
+    volume
 }
 
 /// The distance from `p` to the triangle `t`.

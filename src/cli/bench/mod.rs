@@ -13,6 +13,8 @@
 //! * `export`: time and size of a take in each export format ([`export`]);
 //! * `joints`: a bent joint's surface, hinge against bands ([`joints`]);
 //! * `collide`: parts pressed into the body, collision off and on ([`collide`]);
+//! * `poses`: a population of characters in seeded random poses: skin stretch, crossings,
+//!   volumes ([`poses`]);
 //! * `suggest`: suggested joints against the labelled characters' references ([`suggest`]);
 //! * `skeleton`, `skeleton-speed`, `skeleton-change`: the skeleton's accuracy, its speed,
 //!   and how far real meshes' points move between methods ([`skeleton`]);
@@ -24,6 +26,7 @@ mod controls;
 mod export;
 mod joints;
 mod machine;
+mod poses;
 mod sag;
 mod skeleton;
 mod skip;
@@ -58,6 +61,9 @@ pub enum Bench {
     /// Parts pressed into the body (arms down, legs crossed…), collision off and on:
     /// crossing faces, deepest penetration, section volumes, step cost.
     Collide(collide::Args),
+    /// A population of characters in seeded random poses, each with its suggested joints:
+    /// edge stretch, crossing faces, section volumes, NaN, time.
+    Poses(poses::Args),
     /// Suggested joints against the labelled set's references: recall, spurious cuts,
     /// names, joint-to-joint distance, time.
     Suggest(suggest::Args),
@@ -92,6 +98,7 @@ pub fn run(bench: &Bench, load: &LoadArgs) -> Result<()> {
         Bench::Export(args) => export::run(args, load),
         Bench::Joints(args) => joints::run(args),
         Bench::Collide(args) => collide::run(args, load),
+        Bench::Poses(args) => poses::run(args, load),
         Bench::Suggest(args) => suggest::run(args, load),
         Bench::Skeleton(args) => skeleton::accuracy(args),
         Bench::SkeletonSpeed(args) => skeleton::speed(args, load),

@@ -1,0 +1,297 @@
+//! `puppet bench poses`: a population of characters, each with its suggested joints, put in
+//! seeded random poses (see `puppet::puppet::poses`), settled, and the surface measured
+//! against its rest shape: the worst edge stretch, the shares of edges over 1.5× and 2×,
+//! new crossing faces, each section's volume change, NaN, and the time. Fails when a pose
+//! misses a target given on the command line.
+
+use crate::cli::LoadArgs;
+use anyhow::{anyhow, bail, Result};
+use puppet::puppet::poses::{self, Spread, Surface};
+use puppet::random::SplitMix;
+use puppet::{Puppet, RigFile};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// `puppet bench poses`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Meshes, or folders whose meshes (`.obj`, `.ply`, `.stl`, `.gltf`, `.glb`) to pose;
+    /// the shipped ones when omitted (the embedded cow, `tests/data/meshes`,
+    /// `tests/data/characters`, `tests/data/poses`).
+    paths: Vec<PathBuf>,
+    /// Only the characters whose name contains this.
+    #[arg(long)]
+    only: Option<String>,
+    /// Random poses per character.
+    #[arg(long, default_value_t = 20)]
+    poses: usize,
+    /// The seed of the first pose (pose k of every character uses seed + k).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Largest turn of a joint whose parent is not the root (degrees either way).
+    #[arg(long, default_value_t = Spread::default().limb)]
+    limb: f64,
+    /// Largest turn of a joint hanging from the root (degrees either way).
+    #[arg(long, default_value_t = Spread::default().root)]
+    root: f64,
+    /// Pose with collision on.
+    #[arg(long)]
+    collision: bool,
+    /// Fail when a pose's worst edge stretch is above this.
+    #[arg(long)]
+    max_stretch: Option<f64>,
+    /// Fail when a pose has more than this share (%) of its edges stretched over 1.5×.
+    #[arg(long)]
+    max_over: Option<f64>,
+    /// Fail when a section's volume changes by more than this (%) in a pose.
+    #[arg(long)]
+    max_volume: Option<f64>,
+    /// Measure where the bones hold the surface (the rig's targets) instead of settling
+    /// the simulation: fast, and the rig's own share of the stretch.
+    #[arg(long)]
+    targets: bool,
+    /// Print one JSON record per pose instead of a Markdown table per character.
+    #[arg(long)]
+    json: bool,
+}
+
+/// One pose of one character, measured.
+#[derive(serde::Serialize)]
+struct Row {
+    character: String,
+    seed: u64,
+    joints: usize,
+    #[serde(flatten)]
+    surface: Surface,
+    /// Median step time while settling (ms).
+    step_ms: f64,
+}
+
+/// The extensions read from a folder.
+const MESH_FILES: [&str; 5] = ["obj", "ply", "stl", "gltf", "glb"];
+
+/// The population: `(name, path)`, `None` for the embedded cow.
+fn population(paths: &[PathBuf]) -> Result<Vec<(String, Option<PathBuf>)>> {
+    let defaults = [
+        PathBuf::from("tests/data/meshes"),
+        PathBuf::from("tests/data/characters"),
+        PathBuf::from("tests/data/poses"),
+    ];
+    let mut out = Vec::new();
+    if paths.is_empty() {
+        out.push(("cow".to_string(), None));
+    }
+    for path in if paths.is_empty() {
+        &defaults[..]
+    } else {
+        paths
+    } {
+        if path.is_dir() {
+            let mut files: Vec<PathBuf> = std::fs::read_dir(path)
+                .map_err(|e| anyhow!("{}: {e}", path.display()))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| {
+                    p.extension()
+                        .and_then(|e| e.to_str())
+                        .is_some_and(|e| MESH_FILES.contains(&e.to_ascii_lowercase().as_str()))
+                })
+                .collect();
+            files.sort();
+            out.extend(files.into_iter().map(|p| (stem(&p), Some(p))));
+        } else if path.is_file() {
+            out.push((stem(path), Some(path.clone())));
+        } else {
+            bail!("{}: no such file or folder", path.display());
+        }
+    }
+    Ok(out)
+}
+
+fn stem(path: &Path) -> String {
+    path.file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| path.display().to_string())
+}
+
+pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
+    for (name, v) in [("--limb", args.limb), ("--root", args.root)] {
+        if !(v.is_finite() && (0.0..=180.0).contains(&v)) {
+            bail!("{name}: {v} is outside 0..180");
+        }
+    }
+    for (name, v) in [
+        ("--max-stretch", args.max_stretch),
+        ("--max-over", args.max_over),
+        ("--max-volume", args.max_volume),
+    ] {
+        if let Some(v) = v.filter(|v| !(v.is_finite() && *v >= 0.0)) {
+            bail!("{name}: {v} is not a number of at least 0");
+        }
+    }
+    let spread = Spread {
+        limb: args.limb,
+        root: args.root,
+    };
+    let mut rows = Vec::new();
+    let mut failures = Vec::new();
+    if !args.json {
+        println!("| character | joints | poses | worst stretch (median … max) | p99 stretch (max) | edges over 1.5× (max %) | edges over 2× (max %) | new crossing faces (median … max) | section volume (% min … max) | whole volume (% min … max) | NaN | step (ms) | pose (s) |");
+        println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    }
+    for (name, path) in population(&args.paths)? {
+        if args
+            .only
+            .as_ref()
+            .is_some_and(|o| !name.contains(o.as_str()))
+        {
+            continue;
+        }
+        let (mesh, report, file) = crate::cli::load_mesh(path.as_deref(), load)?;
+        let mut params = puppet::sim::Params::default();
+        params.world.collision = args.collision;
+        let rig = RigFile {
+            params,
+            ..RigFile::default()
+        };
+        let mut base = Puppet::build_loaded(mesh, Some(&report), rig, puppet::progress::silent())
+            .map_err(|e| anyhow!("{file}: {e}"))?;
+        base.suggest_joints().map_err(|e| anyhow!("{file}: {e}"))?;
+        let joints = base.joints.cuts().len();
+        let mut mine = Vec::new();
+        for k in 0..args.poses as u64 {
+            let seed = args.seed + k;
+            let target = poses::random_pose(&base.joints, spread, &mut SplitMix(seed));
+            let start = Instant::now();
+            let (mut times, surface) = if args.targets {
+                let now = poses::targets(&base, &target);
+                (Vec::new(), poses::measure_at(&base, &now, &target))
+            } else {
+                let mut p = base.clone();
+                let times = poses::settle(&mut p, &target);
+                (times, poses::measure(&p, &target))
+            };
+            let seconds = start.elapsed().as_secs_f64();
+            times.sort_by(f64::total_cmp);
+            let row = Row {
+                character: name.clone(),
+                seed,
+                joints,
+                surface,
+                step_ms: times.get(times.len() / 2).copied().unwrap_or(0.0),
+            };
+            let s = &row.surface;
+            let mut missed = Vec::new();
+            if s.nan {
+                missed.push("NaN".to_string());
+            }
+            if let Some(m) = args.max_stretch.filter(|&m| beyond(s.worst, m)) {
+                missed.push(format!("worst stretch {:.2} > {m}", s.worst));
+            }
+            if let Some(m) = args.max_over.filter(|&m| beyond(100.0 * s.over_1_5, m)) {
+                missed.push(format!(
+                    "{:.2} % of edges over 1.5× > {m} %",
+                    100.0 * s.over_1_5
+                ));
+            }
+            if let Some(m) = args
+                .max_volume
+                .filter(|&m| beyond(100.0 * s.volume[0].abs().max(s.volume[1].abs()), m))
+            {
+                missed.push(format!(
+                    "a section's volume {:+.1} … {:+.1} % beyond ±{m} %",
+                    100.0 * s.volume[0],
+                    100.0 * s.volume[1]
+                ));
+            }
+            if !missed.is_empty() {
+                failures.push(format!("{name} seed {seed}: {}", missed.join(", ")));
+            }
+            if args.json {
+                println!("{}", serde_json::to_string(&row)?);
+            }
+            mine.push((row, seconds));
+        }
+        if !args.json && !mine.is_empty() {
+            print_character(&name, joints, &mine);
+        }
+        rows.extend(mine.into_iter().map(|(r, _)| r));
+    }
+    if !args.json && rows.len() > 1 {
+        let mut worst: Vec<f64> = rows.iter().map(|r| r.surface.worst).collect();
+        worst.sort_by(f64::total_cmp);
+        println!(
+            "\n{} poses of {} characters: worst stretch median {:.2}, 90th percentile {:.2}, max {:.2}",
+            rows.len(),
+            {
+                let mut c: Vec<&str> = rows.iter().map(|r| r.character.as_str()).collect();
+                c.dedup();
+                c.len()
+            },
+            worst[worst.len() / 2],
+            worst[worst.len() * 9 / 10],
+            worst[worst.len() - 1]
+        );
+    }
+    if !failures.is_empty() {
+        bail!(
+            "{} of {} poses missed a target:\n  {}",
+            failures.len(),
+            rows.len(),
+            failures.join("\n  ")
+        );
+    }
+    Ok(())
+}
+
+/// `value` misses the bound `limit` (above it, or not a number).
+fn beyond(value: f64, limit: f64) -> bool {
+    value.is_nan() || value > limit
+}
+
+fn print_character(name: &str, joints: usize, rows: &[(Row, f64)]) {
+    let sorted = |f: &dyn Fn(&Row) -> f64| {
+        let mut v: Vec<f64> = rows.iter().map(|(r, _)| f(r)).collect();
+        v.sort_by(f64::total_cmp);
+        v
+    };
+    let worst = sorted(&|r| r.surface.worst);
+    let crossing = sorted(&|r| r.surface.crossing as f64);
+    let max = |f: &dyn Fn(&Row) -> f64| rows.iter().map(|(r, _)| f(r)).fold(0.0, f64::max);
+    let lo = rows
+        .iter()
+        .map(|(r, _)| r.surface.volume[0])
+        .fold(f64::INFINITY, f64::min);
+    let hi = rows
+        .iter()
+        .map(|(r, _)| r.surface.volume[1])
+        .fold(f64::NEG_INFINITY, f64::max);
+    let step = sorted(&|r| r.step_ms);
+    let mut secs: Vec<f64> = rows.iter().map(|(_, s)| *s).collect();
+    secs.sort_by(f64::total_cmp);
+    println!(
+        "| {name} | {joints} | {} | {:.2} … {:.2} | {:.2} | {:.2} | {:.2} | {:.0} … {:.0} | {:+.1} … {:+.1} | {:+.1} … {:+.1} | {} | {:.3} | {:.2} |",
+        rows.len(),
+        worst[worst.len() / 2],
+        worst[worst.len() - 1],
+        max(&|r| r.surface.p99),
+        100.0 * max(&|r| r.surface.over_1_5),
+        100.0 * max(&|r| r.surface.over_2),
+        crossing[crossing.len() / 2],
+        crossing[crossing.len() - 1],
+        100.0 * lo,
+        100.0 * hi,
+        100.0
+            * rows
+                .iter()
+                .map(|(r, _)| r.surface.whole)
+                .fold(f64::INFINITY, f64::min),
+        100.0
+            * rows
+                .iter()
+                .map(|(r, _)| r.surface.whole)
+                .fold(f64::NEG_INFINITY, f64::max),
+        rows.iter().filter(|(r, _)| r.surface.nan).count(),
+        step[step.len() / 2],
+        secs[secs.len() / 2],
+    );
+}

@@ -1,0 +1,291 @@
+//! Random poses of a puppet's joints, settled, and the surface measured against its rest
+//! shape (`puppet bench poses`, the pose tests, the stress test): what a puppeteer does
+//! first to a character, turning every joint at once.
+//!
+//! A pose ([`random_pose`]) turns every section but the root about a random axis across
+//! its cut (square to the cut's normal), by an angle drawn evenly within
+//! ±[`Spread::limb`] degrees, or ±[`Spread::root`] for a section hanging from the root (a
+//! head, a hip, a shoulder). [`settle`] reaches it over [`RAMP`] seconds and holds it
+//! [`HOLD`] seconds; [`measure`] then reads:
+//! * every edge's **stretch**, its posed length over its rest length: the worst, the 99th
+//!   percentile, and the shares over 1.5× and 2× (a torn skin is an edge many times its
+//!   length);
+//! * the **faces crossing** another face that did not at rest (exact);
+//! * each **section's volume** change ([`super::press::section_volumes`]), and the whole
+//!   surface's;
+//! * whether any position is not finite.
+
+use super::press::section_volumes;
+use super::Puppet;
+use crate::geom::intersect::new_crossings;
+use crate::joints::{Joints, Local, PoseScratch};
+use crate::mesh::measure::cone_volume;
+use crate::random::SplitMix;
+use glam::{DQuat, DVec3};
+
+/// Seconds over which a pose is reached (a smooth ramp from rest).
+pub const RAMP: f64 = 0.5;
+
+/// Seconds a pose is held before the surface is measured.
+pub const HOLD: f64 = 1.0;
+
+/// How far the joints of a random pose turn (degrees either way).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Spread {
+    /// A section whose parent is not the root (an elbow, a knee, a finger's joint).
+    pub limb: f64,
+    /// A section hanging from the root (a head, a hip, a shoulder).
+    pub root: f64,
+}
+
+impl Default for Spread {
+    /// The pose issue's population: ±60° on limbs, ±90° at the root.
+    fn default() -> Self {
+        Spread {
+            limb: 60.0,
+            root: 90.0,
+        }
+    }
+}
+
+/// A random pose of `joints` (one [`Local`] per section, the root at rest), drawn from
+/// `rng` (see the module docs).
+pub fn random_pose(joints: &Joints, spread: Spread, rng: &mut SplitMix) -> Vec<Local> {
+    let sections = joints.sections();
+    let mut local = vec![Local::default(); sections.len()];
+    for cut in joints.cuts() {
+        let Some(s) = joints.find(&cut.name) else {
+            continue;
+        };
+        let normal = cut.normal.normalize_or(DVec3::Y);
+        let (a, b) = normal.any_orthonormal_pair();
+        let turn = std::f64::consts::TAU * unit(rng);
+        let axis = a * turn.cos() + b * turn.sin();
+        let limit = if sections[s].parent == Some(0) {
+            spread.root
+        } else {
+            spread.limb
+        };
+        local[s] = Local::axis_angle(axis, limit * (2.0 * unit(rng) - 1.0));
+    }
+    local
+}
+
+/// A number in `0..1` from `rng`.
+fn unit(rng: &mut SplitMix) -> f64 {
+    (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// Brings `puppet` from its present pose (at rest) to `target` over [`RAMP`] seconds, each
+/// section slerped from rest, and holds it [`HOLD`] seconds. Returns each step's time
+/// (ms).
+pub fn settle(puppet: &mut Puppet, target: &[Local]) -> Vec<f64> {
+    let dt = f64::from(puppet.sim.params().solver.time_step);
+    let steps = ((RAMP + HOLD) / dt).ceil() as usize;
+    let mut local = vec![Local::default(); target.len()];
+    let mut scratch = PoseScratch::default();
+    let mut times = Vec::with_capacity(steps);
+    for k in 1..=steps {
+        let s = (k as f64 * dt / RAMP).min(1.0);
+        let s = s * s * (3.0 - 2.0 * s);
+        for (l, t) in local.iter_mut().zip(target) {
+            *l = Local {
+                rotation: DQuat::IDENTITY.slerp(t.rotation, s),
+                translation: t.translation * s,
+            };
+        }
+        let start = std::time::Instant::now();
+        puppet
+            .sim
+            .step(puppet.joints.pose_into(&local, &mut scratch));
+        times.push(start.elapsed().as_secs_f64() * 1e3);
+    }
+    times
+}
+
+/// What [`measure`] read off a posed surface.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Surface {
+    /// The largest edge stretch (posed length over rest length).
+    pub worst: f64,
+    /// The 99th percentile of the edges' stretch.
+    pub p99: f64,
+    /// The share of edges stretched more than 1.5×.
+    pub over_1_5: f64,
+    /// The share of edges stretched more than 2×.
+    pub over_2: f64,
+    /// Faces crossing another face that did not at rest.
+    pub crossing: usize,
+    /// The smallest and largest relative volume change of a section (an open piece of
+    /// the surface, closed by a cone from its pivot: where a band blends a section's skin
+    /// with its neighbour's, part of its volume moves across the seam).
+    pub volume: [f64; 2],
+    /// The relative volume change of the whole surface.
+    pub whole: f64,
+    /// Some position is not finite.
+    pub nan: bool,
+}
+
+/// The surface of `puppet` as its simulation holds it now in the pose `local`, against its
+/// rest mesh (see the module docs).
+pub fn measure(puppet: &Puppet, local: &[Local]) -> Surface {
+    let x = puppet.sim.positions();
+    let now: Vec<DVec3> = (0..x.len()).map(|i| x.get(i).as_dvec3()).collect();
+    measure_at(puppet, &now, local)
+}
+
+/// Where the bones of `puppet` hold its surface in the pose `local` (each vertex's rest
+/// position moved by its transform, before the simulation): the rig's own share of a
+/// pose's stretch, without settling.
+pub fn targets(puppet: &Puppet, local: &[Local]) -> Vec<DVec3> {
+    let pose = puppet.joints.pose(local);
+    let transform_of = puppet.joints.transform_of();
+    puppet
+        .mesh
+        .positions
+        .iter()
+        .zip(transform_of)
+        .map(|(&x, &t)| {
+            pose.transforms
+                .get(usize::from(t))
+                .map_or(x, |m| m.transform_point3(x.as_vec3()).as_dvec3())
+        })
+        .collect()
+}
+
+/// [`measure`] for the surface at `now` (one position per vertex of the rest mesh).
+pub fn measure_at(puppet: &Puppet, now: &[DVec3], local: &[Local]) -> Surface {
+    let rest = &puppet.mesh.positions;
+    if now.iter().any(|p| !p.is_finite()) {
+        return Surface {
+            worst: f64::INFINITY,
+            p99: f64::INFINITY,
+            over_1_5: 1.0,
+            over_2: 1.0,
+            nan: true,
+            ..Surface::default()
+        };
+    }
+    let mut stretch: Vec<f64> = edges(&puppet.mesh.triangles)
+        .into_iter()
+        .filter_map(|(a, b)| {
+            let (a, b) = (a as usize, b as usize);
+            let r = rest[a].distance(rest[b]);
+            (r > 0.0).then(|| now[a].distance(now[b]) / r)
+        })
+        .collect();
+    stretch.sort_by(f64::total_cmp);
+    let n = stretch.len().max(1) as f64;
+    let share = |limit: f64| stretch.iter().filter(|&&s| s > limit).count() as f64 / n;
+    Surface {
+        worst: stretch.last().copied().unwrap_or(1.0),
+        p99: stretch
+            .get(((stretch.len() as f64 * 0.99) as usize).min(stretch.len().saturating_sub(1)))
+            .copied()
+            .unwrap_or(1.0),
+        over_1_5: share(1.5),
+        over_2: share(2.0),
+        crossing: new_crossings(rest, now, &puppet.mesh.triangles),
+        volume: section_volumes(puppet, now, local),
+        whole: {
+            let all = vec![true; puppet.mesh.triangles.len()];
+            let at_rest = cone_volume(rest, &puppet.mesh.triangles, &all, DVec3::ZERO);
+            let posed = cone_volume(now, &puppet.mesh.triangles, &all, DVec3::ZERO);
+            if at_rest.abs() > 0.0 {
+                posed / at_rest - 1.0
+            } else {
+                0.0
+            }
+        },
+        nan: false,
+    }
+}
+
+/// The largest edge stretch (posed length over rest length) of `puppet`'s surface as its
+/// simulation holds it now (infinite where a position is not finite).
+pub fn worst_stretch(puppet: &Puppet) -> f64 {
+    let rest = &puppet.mesh.positions;
+    let x = puppet.sim.positions();
+    let mut worst = 1.0f64;
+    for t in &puppet.mesh.triangles {
+        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+            let (a, b) = (a as usize, b as usize);
+            let r = rest[a].distance(rest[b]);
+            let now = x.get(a).as_dvec3().distance(x.get(b).as_dvec3());
+            if r > 0.0 {
+                let s = now / r;
+                worst = if s.is_finite() {
+                    worst.max(s)
+                } else {
+                    f64::INFINITY
+                };
+            }
+        }
+    }
+    worst
+}
+
+/// Each edge of `triangles` once (smaller index first).
+fn edges(triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
+    let mut out: Vec<(u32, u32)> = triangles
+        .iter()
+        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+        .map(|(a, b)| (a.min(b), a.max(b)))
+        .collect();
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_random_pose_turns_across_each_cut_within_its_spread() {
+        // A line of skeletal points cut at y = 1 (from the root) and y = 2 (from that).
+        let points: Vec<DVec3> = (0..=30)
+            .map(|k| DVec3::new(0.0, k as f64 * 0.1, 0.0))
+            .collect();
+        let mut joints = Joints::new(&points, crate::joints::ROOT);
+        for (name, section, y) in [("arm", crate::joints::ROOT, 1.0), ("forearm", "arm", 2.0)] {
+            joints
+                .add_cut(crate::joints::Cut {
+                    name: name.into(),
+                    section: section.into(),
+                    point: DVec3::new(0.0, y, 0.0),
+                    normal: DVec3::Y,
+                    pivot: None,
+                    connected: false,
+                    band: None,
+                    shape: crate::joints::Shape::Plane,
+                    shared_pivot: false,
+                })
+                .expect("a cut");
+        }
+        let mut rng = SplitMix(7);
+        let spread = Spread::default();
+        for _ in 0..50 {
+            let pose = random_pose(&joints, spread, &mut rng);
+            assert_eq!(pose[0], Local::default());
+            for cut in joints.cuts() {
+                let s = joints.find(&cut.name).expect("section");
+                let (axis, angle) = pose[s].rotation.to_axis_angle();
+                let limit = if joints.sections()[s].parent == Some(0) {
+                    spread.root
+                } else {
+                    spread.limb
+                };
+                assert!(angle.to_degrees() <= limit + 1e-9);
+                if angle > 1e-6 {
+                    assert!(axis.dot(cut.normal.normalize()).abs() < 1e-9);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn edges_are_listed_once() {
+        assert_eq!(edges(&[[0, 1, 2], [2, 1, 3]]).len(), 5);
+    }
+}
