@@ -402,3 +402,53 @@ fn suggest_bench_fails_below_its_targets() {
         common::ok(&run(met));
     }
 }
+
+/// `bench poses` measures seeded random poses of a character with its suggested joints,
+/// one JSON record per pose, and fails (exit 2, naming the pose) when one misses a bound;
+/// a bound that is not a number is refused.
+#[test]
+fn pose_bench_passes_and_fails_on_its_bounds() {
+    let hand = common::test_mesh("hand.obj");
+    let hand = hand.to_str().unwrap();
+    let out = puppet(&[
+        "bench",
+        "poses",
+        hand,
+        "--poses",
+        "2",
+        "--max-stretch",
+        "3",
+        "--max-over",
+        "2",
+        "--json",
+    ]);
+    common::ok(&out);
+    let rows: Vec<serde_json::Value> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(rows.len(), 2);
+    for r in &rows {
+        assert_eq!(r["character"], "hand");
+        assert!(r["joints"].as_u64().unwrap() >= 10, "{r}");
+        let worst = r["worst"].as_f64().unwrap();
+        assert!((1.0..=3.0).contains(&worst), "{r}");
+        assert_eq!(r["nan"], false);
+    }
+    let out = puppet(&[
+        "bench",
+        "poses",
+        hand,
+        "--poses",
+        "1",
+        "--max-stretch",
+        "1.01",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("hand seed 1: worst stretch"), "{err}");
+    for bound in ["--max-stretch", "--max-over", "--max-volume"] {
+        let out = puppet(&["bench", "poses", hand, bound, "nan"]);
+        assert_eq!(out.status.code(), Some(2), "{bound}");
+    }
+}

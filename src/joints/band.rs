@@ -16,7 +16,10 @@
 //! head bent into a shoulder).
 //! A vertex of the child or the parent whose skeletal point lies at signed distance `d`
 //! from the plane (positive into the child), `−W < d < W_c` (`W_c ≤ W` the child's side),
-//! lies at `x = (d + W) / (W + W_c)` across the band and moves with a share `w` of the
+//! lies at `x = (d + W) / (W + W_c)` across the band. That is the first guess; the share
+//! `x` each vertex gets is then blended over the surface around the cut's seam
+//! ([`super::blend`]: across a face or a thick trunk neighbouring skeletal points lie far
+//! apart, and the skin between them tore), and the vertex moves with a share `w` of the
 //! child's motion, in one of two ways.
 //!
 //! **An arc, where two limbs meet** (an elbow, a knee, a finger's joint): the parent is
@@ -78,21 +81,29 @@
 //! folds only where the band is shorter than the limb is thick). The two sides then meet
 //! on the *contact plane*: for a fan, through the pivot, halfway between the cut's plane
 //! and the child's turned one; for an arc, the cut's surface where the band's motion
-//! takes it. Every vertex of the band's parent, child or levels within
-//! [`CONTACT_REACH`] radii of the plane (at least the band's width) has a transform of its
-//! own: its band motion, plus, when it is on the inner side of the bend and its posed rest
-//! position crosses the contact plane, the push back onto it. The bone points move with
-//! it, so the simulated skin is held on its side like any other target; nothing changes in
-//! the step's kernel, and the transforms stay those of the band while nothing crosses.
+//! takes it. Every vertex moving with the band's parent, child or levels whose rest
+//! position lies within [`CONTACT_REACH`] radii of the cut (at least the band's width)
+//! and within 2.5 radii of the pivot's line has a transform of its own: its band motion
+//! (and swelling), plus, in an arc, when it is on the inner side of the bend and its posed
+//! rest position crosses the contact plane, the push back onto it. Its side is its
+//! weight's (past the weight at the cut: the child's), and the push fades out towards the
+//! limb's middle, beyond its sides, towards the reach's end and where the side changes,
+//! so the pushed skin stays whole. A fan is not pushed: a trunk beside a limb is not the
+//! limb's other side, and pushing it tore the skin (`puppet bench poses`). The bone
+//! points move with it, so the simulated skin is held on its side like any other target;
+//! nothing changes in the step's kernel, and the transforms stay those of the band while
+//! nothing crosses.
 //!
 //! # Transforms
 //! The weight is quantised to [`LEVELS`] steps: the simulation gets one transform per
-//! level and band (after the sections' own), then one per contact, and each vertex the
+//! level and band (after the sections' own), then one per vertex where bands overlap
+//! ([`Blend`]: the bands' motions composed), then one per contact, and each vertex the
 //! index of its transform, so the step's kernel is unchanged and a joint that does not
 //! bend wakes nothing. The simulation indexes transforms with a `u16`: a band whose
 //! contacts would pass 65,536 transforms in all (a limb of tens of thousands of vertices)
 //! bends without them.
 
+use super::blend::{Guess, Hold};
 use super::{Cut, Joints};
 use glam::{DAffine3, DQuat, DVec3};
 
@@ -127,8 +138,30 @@ pub const BULGE: f64 = 0.0125;
 /// a neck).
 pub const ARC_SPREAD: f64 = 0.25;
 
+/// Over how many local medial radii a band's weight is smoothed where its first guess
+/// jumps between neighbouring vertices (see `blend`).
+const SMOOTH: f64 = 1.0;
+
 /// Most transforms the simulation can index (it stores a `u16` per vertex).
 const MAX_TRANSFORMS: usize = u16::MAX as usize + 1;
+
+/// A vertex where two or more bands overlap (a short thigh between the hip's band and the
+/// knee's, the body between a neck's band and a shoulder's): it moves with the bands
+/// composed, `W(base) · M_above(w) · Π M_below(w)`, each band's motion at its level there
+/// (see [`Joints::assign_levels`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Blend {
+    /// The section whose world transform the motions compose on.
+    pub base: u16,
+    /// The bands (by slot: their order among the bands that exist) and levels, the band
+    /// that made the vertex's section first; `count` of them are used.
+    pub parts: [(u16, u16); MAX_BLEND],
+    /// How many of `parts` are used.
+    pub count: u8,
+}
+
+/// Most bands a vertex blends.
+pub const MAX_BLEND: usize = 8;
 
 /// One cut's band.
 #[derive(Clone, Debug, PartialEq)]
@@ -208,6 +241,15 @@ impl Band {
         )
     }
 
+    /// The weight at the cut's surface: where a vertex's side of the bend changes.
+    pub(super) fn weight_at_cut(&self) -> f64 {
+        if self.arc {
+            self.cut_share()
+        } else {
+            weight(self.cut_share())
+        }
+    }
+
     /// The share of the band at the cut's surface (its parent side's share of its
     /// length).
     pub(super) fn cut_share(&self) -> f64 {
@@ -271,6 +313,108 @@ fn axis_angle(rotation: DQuat) -> (DVec3, f64) {
 }
 
 impl Joints {
+    /// Gives every vertex its transform from the levels the bands give it (`entries`:
+    /// vertex, band slot, level; `slots`: each slot's cut): its section's where no band
+    /// moves it, a band's level where one does, and where several do, a [`Blend`] of its
+    /// own (numbered from `next` on, which it advances; where the simulation's transforms
+    /// would run out, the band that moves it farthest alone).
+    ///
+    /// A band moves a vertex of its child (*above* it: the band that made its section), of
+    /// its parent (*below*), or of one of the parent's other children near the seam
+    /// (*beside*: an arm beside a wide head's band moves with the shoulder it hangs from).
+    /// The motions compose on the vertex's parent section's world transform, the bands of
+    /// that parent first (above and beside, in slot order), then those of its own section
+    /// (below, in slot order): the same order at every vertex, so neighbours agree.
+    fn assign_levels(
+        &mut self,
+        entries: &mut [(u32, u16, u16)],
+        slots: &[usize],
+        next: &mut usize,
+    ) {
+        self.blends.clear();
+        entries.sort_unstable();
+        let levels = LEVELS as u16;
+        // The slot of the band that made each section.
+        let mut made = vec![None; self.sections.len()];
+        for (slot, &k) in slots.iter().enumerate() {
+            if let Some(band) = &self.bands[k] {
+                made[band.child] = Some(slot as u16);
+            }
+        }
+        let mut at = 0;
+        while at < entries.len() {
+            let i = entries[at].0 as usize;
+            let mut end = at;
+            while end < entries.len() && entries[end].0 as usize == i {
+                end += 1;
+            }
+            let s = usize::from(self.section_of[i]);
+            // Each band that moves the vertex away from its own section: how far, whether
+            // it is a band of the section's parent (above or beside), slot and level.
+            let mut parts: Vec<(u16, bool, u16, u16)> = Vec::new();
+            for &(_, slot, level) in &entries[at..end] {
+                let Some(band) = self.bands[slots[usize::from(slot)]].as_ref() else {
+                    continue;
+                };
+                let (away, upper) = if band.child == s {
+                    (levels - level.min(levels), true)
+                } else if band.parent == s {
+                    (level, false)
+                } else if Some(band.parent) == self.sections[s].parent && made[s].is_some() {
+                    (level, true)
+                } else {
+                    continue;
+                };
+                if away > 0 {
+                    parts.push((away, upper, slot, level));
+                }
+            }
+            at = end;
+            parts.sort_by(|a, b| b.0.cmp(&a.0).then(a.2.cmp(&b.2)));
+            parts.truncate(MAX_BLEND - 1);
+            // A band beside carries the vertex's own section on it: its own band, whole
+            // where it does not move the vertex.
+            let beside = parts.iter().any(|p| p.1 && Some(p.2) != made[s]);
+            if beside && !parts.iter().any(|p| Some(p.2) == made[s]) {
+                if let Some(own) = made[s] {
+                    parts.push((0, true, own, levels));
+                }
+            }
+            let Some(&(_, _, slot, level)) = parts.first() else {
+                continue;
+            };
+            if parts.len() == 1 || *next >= MAX_TRANSFORMS {
+                let band = self.bands[slots[usize::from(slot)]]
+                    .as_ref()
+                    .expect("a band");
+                self.transform_of[i] = match level {
+                    0 => band.parent as u16,
+                    l if l >= levels => band.child as u16,
+                    l => (band.first_level + usize::from(l) - 1) as u16,
+                };
+                continue;
+            }
+            // The parent's bands first, then the section's own; each in slot order.
+            parts.sort_by_key(|p| (!p.1, p.2));
+            let base = if parts[0].1 {
+                self.sections[s].parent.unwrap_or(s)
+            } else {
+                s
+            };
+            let mut blend = Blend {
+                base: base as u16,
+                parts: [(0, 0); MAX_BLEND],
+                count: parts.len() as u8,
+            };
+            for (k, p) in parts.iter().enumerate() {
+                blend.parts[k] = (p.2, p.3);
+            }
+            self.transform_of[i] = *next as u16;
+            self.blends.push(blend);
+            *next += 1;
+        }
+    }
+
     /// The bands of the cuts, in cut order (`None` for a hinge: band 0, or no radii).
     pub fn bands(&self) -> &[Option<Band>] {
         &self.bands
@@ -348,6 +492,22 @@ impl Joints {
                 let member = (s == child && d < width)
                     || (Some(s) == parent && d <= 0.0 && d > -width && in_plane <= reach);
                 member.then_some((i, d))
+            })
+            .collect()
+    }
+
+    /// The body's vertices whose rest position lies within `reach` of band `band`'s cut
+    /// along its normal and within [`super::pose::PUSH_FADE`]'s outer radius of its
+    /// pivot's line: where a contact may push (its push fades to nothing at the edge, so
+    /// the surface stays whole).
+    fn near_surface(&self, band: &Band, reach: f64) -> Vec<usize> {
+        let side = super::pose::PUSH_FADE[1] * band.radius;
+        (0..self.section_of.len())
+            .filter(|&i| !self.body.is_rider(i))
+            .filter(|&i| {
+                let v = self.body.rest[i] - band.pivot;
+                let along = v.dot(band.normal);
+                along.abs() < reach && (v - band.normal * along).length() < side
             })
             .collect()
     }
@@ -525,8 +685,10 @@ impl Joints {
         self.transform_of.clone_from(&self.section_of);
         self.bands = vec![None; self.cuts.len()];
         let sections = self.sections.len();
-        // Per vertex, how deep inside its band it is (|d| / W); the nearest plane wins.
-        let mut depth = vec![f64::INFINITY; n];
+        // Each band's level at each of its vertices: (vertex, band slot, level).
+        let mut entries: Vec<(u32, u16, u16)> = Vec::new();
+        // The cut of each band slot.
+        let mut slots: Vec<usize> = Vec::new();
         let mut slot = 0;
         // Each cut's local radius, once: for its band and its flesh.
         let radii: Vec<Option<(f64, usize, usize)>> =
@@ -556,21 +718,41 @@ impl Joints {
             let arc = !self.cuts[k].shared_pivot
                 && self.sections[child].pivot == pivot
                 && self.spread(k, parent, radius, width) <= ARC_SPREAD;
-            for (i, d) in self.near_cut(k, radius, width) {
-                let side = if d > 0.0 { reach } else { width };
-                if d >= reach || d.abs() / side >= depth[i] {
-                    continue;
-                }
-                let x = ((d + width) / (width + reach)).clamp(0.0, 1.0);
+            // The band's vertices by their skeletal points, then blended over the surface
+            // around the seam (`blend`).
+            let guess: Vec<Guess> = self
+                .near_cut(k, radius, width)
+                .into_iter()
+                .filter(|&(_, d)| d < reach)
+                .map(|(vertex, d)| Guess {
+                    vertex,
+                    x: ((d + width) / (width + reach)).clamp(0.0, 1.0),
+                })
+                .collect();
+            // An arc's levels are places along its bent centre line, which a vertex's
+            // weight must match (on a limb its skeletal point does, and is continuous);
+            // a fan's blend over the surface.
+            let weights = if arc {
+                self.blend(child, parent, pivot, normal, Hold::Exact, &guess)
+            } else {
+                self.blend(
+                    child,
+                    parent,
+                    pivot,
+                    normal,
+                    Hold::Soft {
+                        reach,
+                        smooth: SMOOTH * radius,
+                    },
+                    &guess,
+                )
+            };
+            for (i, x) in weights {
                 let w = if arc { x } else { weight(x) };
-                let level = (w * LEVELS as f64).round() as usize;
-                depth[i] = d.abs() / side;
-                self.transform_of[i] = match level {
-                    0 => parent as u16,
-                    l if l >= LEVELS => child as u16,
-                    l => (first + l - 1) as u16,
-                };
+                let level = (w * LEVELS as f64).round() as u16;
+                entries.push((i as u32, slot as u16, level));
             }
+            slots.push(k);
             self.bands[k] = Some(Band {
                 child,
                 parent,
@@ -586,6 +768,8 @@ impl Joints {
             });
             slot += 1;
         }
+        let mut next = sections + slot * (LEVELS - 1);
+        self.assign_levels(&mut entries, &slots, &mut next);
         self.band_of = vec![None; sections];
         for (k, band) in self.bands.iter().enumerate() {
             if let Some(slot) = band.as_ref().and_then(|b| self.band_of.get_mut(b.child)) {
@@ -595,7 +779,6 @@ impl Joints {
         // Contacts, once every vertex has its level: a vertex moving with this band's
         // parent, child or one of its levels, within reach of the plane, gets a transform
         // of its own (the first band to reach it keeps it).
-        let mut next = sections + slot * (LEVELS - 1);
         let mut taken = vec![false; n];
         for k in 0..self.cuts.len() {
             let Some(band) = &self.bands[k] else {
@@ -603,8 +786,9 @@ impl Joints {
             };
             let (child, parent, first) = (band.child as u16, band.parent as u16, band.first_level);
             let reach = band.width.max(CONTACT_REACH * band.radius);
+            let at_cut = band.weight_at_cut();
             let mut contacts = Vec::new();
-            for (i, d) in self.near_cut(k, band.radius, reach) {
+            for i in self.near_surface(band, reach) {
                 let t = self.transform_of[i];
                 let level = match t {
                     _ if taken[i] => continue,
@@ -615,7 +799,9 @@ impl Joints {
                     }
                     _ => continue,
                 };
-                contacts.push((i, level, d > 0.0));
+                // Its side by its weight, which is continuous over the surface (its
+                // skeletal point's side is not, across a face).
+                contacts.push((i, level, level as f64 / LEVELS as f64 >= at_cut));
             }
             if next + contacts.len() > MAX_TRANSFORMS {
                 continue;

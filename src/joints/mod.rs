@@ -53,6 +53,8 @@
 //! * this file: the types, and the joints of one puppet;
 //! * `cut`: applying and removing cuts, pivots, connected pieces;
 //! * `shape`: planes, spheres and boxes, as signed distances;
+//! * `band`: joint bands, their levels, contacts and where they overlap;
+//! * `blend`: a band's weight blended over the surface around its seam;
 //! * `pose`: composing a pose down the section tree;
 //! * `suggest`: joints suggested from the skeleton.
 //!
@@ -62,6 +64,7 @@
 //! remaining cuts (O(vertices × cuts)); the skeleton is never recomputed.
 
 pub mod band;
+mod blend;
 pub mod collide;
 mod cut;
 mod pose;
@@ -282,6 +285,9 @@ pub struct Joints {
     /// Per vertex, the joint whose flesh it is ([`Joints::joint_flesh`]), kept with the
     /// bands.
     flesh: Vec<u16>,
+    /// The vertices where bands overlap, each with a transform of its own after the
+    /// levels' ([`band::Blend`]).
+    blends: Vec<band::Blend>,
 }
 
 impl Joints {
@@ -356,6 +362,7 @@ impl Joints {
             band_of: vec![None],
             transform_of: vec![0; n],
             flesh: Vec::new(),
+            blends: Vec::new(),
         }
     }
 
@@ -400,6 +407,7 @@ impl Joints {
             band_of: vec![None],
             transform_of: vec![0; self.section_of.len()],
             flesh: Vec::new(),
+            blends: Vec::new(),
         };
         // (No cuts: no bands, and no joint has flesh.)
         j.refresh_bands();

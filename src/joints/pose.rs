@@ -60,6 +60,14 @@ impl Joints {
                 motions.push(own);
             }
         }
+        // Where bands overlap, the bands composed (see `band::Blend`).
+        for blend in &self.blends {
+            let mut t = scratch.world[usize::from(blend.base)];
+            for &(slot, level) in &blend.parts[..usize::from(blend.count)] {
+                t *= motions[usize::from(slot) * (LEVELS + 1) + usize::from(level)];
+            }
+            transforms.push(to_f32(&t));
+        }
         for (b, band) in self.bands.iter().flatten().enumerate() {
             let l = local.get(band.child).copied().unwrap_or_default();
             let parent = scratch.world[band.parent];
@@ -96,7 +104,10 @@ impl Joints {
                     let away = (v - band.normal * v.dot(band.normal)) * swelling;
                     own = DAffine3::from_translation(own.matrix3 * away) * own;
                 }
-                let push = plane.and_then(|plane| plane.push(&own, rest, c));
+                // Only an arc's two limbs meet on its plane; a fan's trunk is not pushed.
+                let push = plane
+                    .filter(|_| band.arc)
+                    .and_then(|plane| plane.push(&own, rest, c));
                 transforms.push(match push {
                     Some(v) => to_f32(&(parent * DAffine3::from_translation(v) * own)),
                     None if swelling <= 0.0 => transforms[base],
@@ -182,6 +193,10 @@ fn contact_plane(band: &Band, local: &Local, point: DVec3, normal: DVec3) -> Opt
         normal,
         pivot: band.pivot,
         inner: inner.normalize(),
+        axis: n,
+        radius: band.radius,
+        reach: band.width.max(super::band::CONTACT_REACH * band.radius),
+        at_cut: band.weight_at_cut(),
     })
 }
 
@@ -193,20 +208,55 @@ struct ContactPlane {
     /// The cut's pivot at rest, and the side of the limb the child turns towards.
     pivot: DVec3,
     inner: DVec3,
+    /// The cut's normal at rest, and the band's local medial radius: how far from the
+    /// pivot's line the limb's sides are.
+    axis: DVec3,
+    radius: f64,
+    /// How far from the cut the band's contacts reach, and the weight at the cut (where a
+    /// vertex's side changes).
+    reach: f64,
+    at_cut: f64,
 }
 
 impl ContactPlane {
     /// The push that brings contact `c` (rest position `rest`, moved by `own`) back onto
     /// its side of the plane, if it is on the inner side of the bend and across.
+    ///
+    /// The push fades to nothing towards the limb's middle on the inner side and beyond
+    /// the limb's sides ([`PUSH_FADE`]): the plane is where a limb's two inner sides meet,
+    /// and a vertex beside it (a trunk's, a face's) is not pushed, so the push is
+    /// continuous over the surface.
     fn push(&self, own: &DAffine3, rest: DVec3, c: &super::band::Contact) -> Option<DVec3> {
-        if (rest - self.pivot).dot(self.inner) <= 0.0 {
+        let v = rest - self.pivot;
+        let inner = v.dot(self.inner);
+        if inner <= 0.0 {
             return None;
         }
         let s = (own.transform_point3(rest) - self.point).dot(self.normal);
         let across = if c.child_side { s < 0.0 } else { s > 0.0 };
-        across.then_some(-s * self.normal)
+        if !across {
+            return None;
+        }
+        let r = self.radius.max(1e-12);
+        let along = v.dot(self.axis);
+        let side = (v - self.axis * along).length() / r;
+        let along = along.abs();
+        let w = c.level as f64 / super::band::LEVELS as f64;
+        let fade = (inner / (0.5 * r)).min(1.0)
+            * (1.0 - ((side - PUSH_FADE[0]) / (PUSH_FADE[1] - PUSH_FADE[0])).clamp(0.0, 1.0))
+            * (2.0 * (1.0 - along / self.reach)).clamp(0.0, 1.0)
+            * ((w - self.at_cut).abs() / FLIP_FADE).min(1.0);
+        (fade > 0.0).then_some(-s * fade * self.normal)
     }
 }
+
+/// Across the cut's normal, in local medial radii, where a contact's push starts to fade
+/// and where it is gone (see [`ContactPlane::push`]).
+pub(super) const PUSH_FADE: [f64; 2] = [1.5, 2.5];
+
+/// Within this much weight of the cut's, where a contact's side changes, its push fades
+/// to nothing (see [`ContactPlane::push`]).
+const FLIP_FADE: f64 = 0.125;
 
 /// The angle (radians) between `n` and `rotation · n`: how far a rotation bends a limb
 /// along `n` (a twist about it does not count).

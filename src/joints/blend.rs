@@ -1,0 +1,344 @@
+//! A band's weight over the surface: continuous across the seam, however the skeleton
+//! runs under it.
+//!
+//! A band's first guess weights each vertex by where its skeletal point lies across the
+//! band ([`super::band`]). That is a continuous deformation only where the skeleton is a
+//! line under the skin (a limb): across a face, or a thick trunk, two neighbouring
+//! vertices can have skeletal points far apart (the lips of a mouth), or lie on either
+//! side of the band's reach (a body vertex just beyond `2.5 r` of a wide neck beside one
+//! inside it), and the skin between them tears when the joint turns (the pose issue
+//! measured 44× on the human's face, 65× on the koala's neck).
+//!
+//! So the weight is the **harmonic** extension of the sections' labels (1 on the child's
+//! subtree, 0 elsewhere) over a free region around the seam, the mesh edges where the
+//! labels change: each free vertex's share is the average of its neighbours' (weighted by
+//! inverse edge length), and a vertex outside the region keeps its label. The free region
+//! is
+//! * the band itself (the vertices its first guess moves), and
+//! * the parent's vertices within [`SEAM_REACH`] × the seam's radius (how far the seam
+//!   lies from the pivot's line, across the cut's normal) of the seam, along the surface:
+//!   a thick joint (a head on a body, a hip) bends over a strip as wide as it is thick, so
+//!   a turn by `θ` stretches the skin by about `1 + θ / (2 SEAM_REACH)` at most.
+//!
+//! The child's vertices beyond the band stay 1 (a head beyond its neck turns whole), and
+//! every vertex of another section keeps its label, so only this band's two sections
+//! blend. On a limb the harmonic weight is the first guess again (linear along a tube).
+//! The system is solved by conjugate gradients, from the first guess.
+
+use super::Joints;
+use glam::DVec3;
+use std::collections::BinaryHeap;
+
+/// How far along the surface, in seam radii, the parent's side of a band reaches from the
+/// seam (see the module docs).
+pub const SEAM_REACH: f64 = 0.75;
+
+/// Conjugate-gradient steps at most, and the residual (relative to the first) at which
+/// the weights are taken as solved.
+const MAX_ITERATIONS: usize = 400;
+const TOLERANCE: f64 = 1e-6;
+
+/// How a band's own vertices keep their first guess.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Hold {
+    /// Exactly: an arc's levels are places along its bent centre line, which a vertex's
+    /// weight must match (on a limb its skeletal point gives it, continuously); only the
+    /// parent's side around it is blended.
+    Exact,
+    /// Softly, a fan's: the child's within about `smooth` of a jump, the parent's not at
+    /// all, and the child's vertices within `reach` of the seam blend too.
+    Soft {
+        /// How far into the child the seam's neighbourhood blends.
+        reach: f64,
+        /// Over what distance a jump in the first guess is smoothed.
+        smooth: f64,
+    },
+}
+
+/// A band's vertex with its weight's first guess.
+pub(super) struct Guess {
+    /// The vertex.
+    pub vertex: usize,
+    /// Its position across the band (0: the parent's end, 1: the child's).
+    pub x: f64,
+}
+
+impl Joints {
+    /// Band `k`'s free vertices with their position across it (`0..=1`, see the module
+    /// docs), from `guess` (the band's own vertices, by their skeletal points), `child`
+    /// and `parent` its sections and `pivot`, `normal` its frame.
+    pub(super) fn blend(
+        &self,
+        child: usize,
+        parent: usize,
+        pivot: DVec3,
+        normal: DVec3,
+        hold: Hold,
+        guess: &[Guess],
+    ) -> Vec<(usize, f64)> {
+        let (exact, width, smooth) = match hold {
+            Hold::Exact => (true, 0.0, 0.0),
+            Hold::Soft { reach, smooth } => (false, reach, smooth),
+        };
+        let n = self.section_of.len();
+        let body = &self.body;
+        if body.start.len() != n + 1 || body.rest.len() != n {
+            return guess.iter().map(|g| (g.vertex, g.x)).collect();
+        }
+        // Which sections move with the child.
+        let mut moves = vec![false; self.sections.len()];
+        for &s in &self.order {
+            moves[s] = s == child || self.sections[s].parent.is_some_and(|p| moves[p]);
+        }
+        let label = |i: usize| f64::from(u8::from(moves[usize::from(self.section_of[i])]));
+        let ours = |i: usize| {
+            let s = usize::from(self.section_of[i]);
+            !self.body.is_rider(i) && (s == child || s == parent)
+        };
+        // The parent's other children: near the seam they move with the parent's side.
+        let beside = |i: usize| {
+            let s = usize::from(self.section_of[i]);
+            !self.body.is_rider(i) && s != child && self.sections[s].parent == Some(parent)
+        };
+        // The seam, and how far it lies from the pivot's line.
+        let mut seam = Vec::new();
+        let mut radii = Vec::new();
+        for i in (0..n).filter(|&i| ours(i) || beside(i)) {
+            let l = label(i);
+            if self
+                .body
+                .neighbours(i)
+                .iter()
+                .any(|&j| !self.body.is_rider(j as usize) && label(j as usize) != l)
+            {
+                seam.push(i);
+                let v = body.rest[i] - pivot;
+                radii.push((v - normal * v.dot(normal)).length());
+            }
+        }
+        if seam.is_empty() {
+            return guess.iter().map(|g| (g.vertex, g.x)).collect();
+        }
+        radii.sort_by(f64::total_cmp);
+        let reach = SEAM_REACH * radii[radii.len() / 2];
+        // Free: the band, and the parent's vertices within `reach` of the seam.
+        const NOT: u32 = u32::MAX;
+        let mut index = vec![NOT; n];
+        let mut free: Vec<usize> = Vec::new();
+        let mut x: Vec<f64> = Vec::new();
+        // A fixed vertex's weight: its label, or (held exactly) its first guess.
+        let mut fixed: Vec<f64> = (0..n).map(label).collect();
+        let mut kept: Vec<(usize, f64)> = Vec::new();
+        for g in guess {
+            if exact {
+                fixed[g.vertex] = g.x;
+                kept.push((g.vertex, g.x));
+                index[g.vertex] = u32::MAX - 1;
+            } else if index[g.vertex] == NOT && ours(g.vertex) {
+                index[g.vertex] = free.len() as u32;
+                free.push(g.vertex);
+                x.push(g.x);
+            }
+        }
+        const KEPT: u32 = u32::MAX - 1;
+        // The parent's side within `reach` of the seam; the child's within the band's
+        // width of it (across a face, a lip whose skeletal point lies deep in the head),
+        // unless that frees the whole child (it must keep vertices that turn whole).
+        let parent_side = |i: usize| usize::from(self.section_of[i]) == parent || beside(i);
+        let mut from = seam.clone();
+        from.extend(guess.iter().map(|g| g.vertex).filter(|&i| parent_side(i)));
+        for (i, _) in self.within(&from, reach, |i| (ours(i) || beside(i)) && parent_side(i)) {
+            if index[i] == NOT && parent_side(i) {
+                index[i] = free.len() as u32;
+                free.push(i);
+                x.push(0.0);
+            }
+        }
+        let child_side = |i: usize| usize::from(self.section_of[i]) == child;
+        let near: Vec<usize> = self
+            .within(&seam, width, |i| ours(i) && child_side(i))
+            .into_iter()
+            .map(|(i, _)| i)
+            .filter(|&i| index[i] == NOT && child_side(i))
+            .collect();
+        let whole = (0..n).any(|i| child_side(i) && index[i] == NOT && !near.contains(&i));
+        if whole && width > 0.0 {
+            for i in near {
+                index[i] = free.len() as u32;
+                free.push(i);
+                x.push(1.0);
+            }
+        }
+        // The system: for each free vertex, Σ a_ij (x_i − x_j) = 0 over its neighbours,
+        // a_ij = 1 / |e_ij|, the fixed neighbours' labels on the right.
+        let m = free.len();
+        // The band's own vertices are held to their first guess, softly: it gives the
+        // weight's shape along a limb, and the smoothing its continuity over the surface
+        // within about `smooth` of a jump.
+        let held = if exact {
+            0
+        } else {
+            guess.iter().filter(|g| index[g.vertex] != NOT).count()
+        };
+        let mut diagonal = vec![0.0; m];
+        let mut rhs = vec![0.0; m];
+        let mut start = Vec::with_capacity(m + 1);
+        let mut columns: Vec<u32> = Vec::new();
+        let mut values: Vec<f64> = Vec::new();
+        start.push(0u32);
+        for (r, &i) in free.iter().enumerate() {
+            for &j in self.body.neighbours(i) {
+                let j = j as usize;
+                if self.body.is_rider(j) {
+                    continue;
+                }
+                let a = 1.0 / body.rest[i].distance(body.rest[j]).max(1e-12);
+                diagonal[r] += a;
+                if index[j] == NOT || index[j] == KEPT {
+                    rhs[r] += a * fixed[j];
+                } else {
+                    columns.push(index[j]);
+                    values.push(a);
+                }
+            }
+            start.push(columns.len() as u32);
+            if r < held && usize::from(self.section_of[i]) == child {
+                let e = self
+                    .body
+                    .neighbours(i)
+                    .iter()
+                    .map(|&j| body.rest[i].distance(body.rest[j as usize]))
+                    .sum::<f64>()
+                    / self.body.neighbours(i).len().max(1) as f64;
+                let hold = diagonal[r] * (e / smooth).powi(2);
+                diagonal[r] += hold;
+                rhs[r] += hold * x[r];
+            }
+        }
+        let multiply = |v: &[f64], out: &mut [f64]| {
+            for r in 0..m {
+                let mut s = diagonal[r] * v[r];
+                for e in start[r] as usize..start[r + 1] as usize {
+                    s -= values[e] * v[columns[e] as usize];
+                }
+                out[r] = s;
+            }
+        };
+        conjugate_gradient(&multiply, &diagonal, &rhs, &mut x);
+        free.into_iter()
+            .zip(x)
+            .map(|(i, x)| (i, x.clamp(0.0, 1.0)))
+            .chain(kept)
+            .collect()
+    }
+
+    /// The vertices (where `pass` holds) within `reach` of `from` along mesh edges, with
+    /// their distance (Dijkstra).
+    fn within(
+        &self,
+        from: &[usize],
+        reach: f64,
+        pass: impl Fn(usize) -> bool,
+    ) -> Vec<(usize, f64)> {
+        let n = self.section_of.len();
+        let mut best = vec![f64::INFINITY; n];
+        let mut heap = BinaryHeap::new();
+        for &i in from {
+            best[i] = 0.0;
+            heap.push(Near(0.0, i));
+        }
+        let mut out = Vec::new();
+        while let Some(Near(d, i)) = heap.pop() {
+            if d > best[i] {
+                continue;
+            }
+            out.push((i, d));
+            for &j in self.body.neighbours(i) {
+                let j = j as usize;
+                if !pass(j) {
+                    continue;
+                }
+                let e = d + self.body.rest[i].distance(self.body.rest[j]);
+                if e <= reach && e < best[j] {
+                    best[j] = e;
+                    heap.push(Near(e, j));
+                }
+            }
+        }
+        out
+    }
+}
+
+/// A vertex and its distance, nearest first in a max-heap.
+#[derive(PartialEq)]
+struct Near(f64, usize);
+
+impl Eq for Near {}
+
+impl PartialOrd for Near {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Near {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        other.0.total_cmp(&self.0).then(other.1.cmp(&self.1))
+    }
+}
+
+/// Solves `A x = b` for a symmetric positive semi-definite `A` (given by `multiply`, with
+/// its `diagonal` as the preconditioner) from the `x` given.
+fn conjugate_gradient(
+    multiply: &dyn Fn(&[f64], &mut [f64]),
+    diagonal: &[f64],
+    b: &[f64],
+    x: &mut [f64],
+) {
+    let m = b.len();
+    if m == 0 {
+        return;
+    }
+    let mut r = vec![0.0; m];
+    multiply(x, &mut r);
+    for k in 0..m {
+        r[k] = b[k] - r[k];
+    }
+    let precondition = |r: &[f64], z: &mut [f64]| {
+        for k in 0..m {
+            z[k] = if diagonal[k] > 0.0 {
+                r[k] / diagonal[k]
+            } else {
+                0.0
+            };
+        }
+    };
+    let mut z = vec![0.0; m];
+    precondition(&r, &mut z);
+    let mut p = z.clone();
+    let mut rz: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
+    let first = rz.abs().sqrt().max(f64::MIN_POSITIVE);
+    let mut ap = vec![0.0; m];
+    for _ in 0..MAX_ITERATIONS {
+        if rz.abs().sqrt().is_nan() || rz.abs().sqrt() <= TOLERANCE * first {
+            break;
+        }
+        multiply(&p, &mut ap);
+        let pap: f64 = p.iter().zip(&ap).map(|(a, b)| a * b).sum();
+        if pap.is_nan() || pap <= 0.0 {
+            break;
+        }
+        let alpha = rz / pap;
+        for k in 0..m {
+            x[k] += alpha * p[k];
+            r[k] -= alpha * ap[k];
+        }
+        precondition(&r, &mut z);
+        let next: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
+        let beta = next / rz;
+        rz = next;
+        for k in 0..m {
+            p[k] = z[k] + beta * p[k];
+        }
+    }
+}
