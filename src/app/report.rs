@@ -49,6 +49,8 @@ pub struct Report {
     pub pinned: usize,
     /// `running`, `settled` or `paused`.
     pub state: String,
+    /// The largest edge stretch of the surface now (its length over its rest length).
+    pub stretch: f64,
     /// The first-run hint is shown.
     pub hint: bool,
     /// The panel's message line, if any.
@@ -130,6 +132,7 @@ impl WindowState {
         report.pinned = (0..s.puppet.mesh.positions.len())
             .filter(|&i| regions.pin_of(i) > 0.0)
             .count();
+        report.stretch = crate::puppet::poses::worst_stretch(&s.puppet);
         report.state = if s.paused {
             "paused"
         } else if s.is_settled() {

@@ -6,7 +6,8 @@
 //! allows, `d_B` 0..1, `sl_max` 1..3, `f_min` 0..1, 1..64 reduction iterations, either
 //! constraint), a fixed step from 1/240 to 1/60 s and frames from 1/240 to 1/10 s long (a
 //! long frame runs several fixed steps, as the window does), and poses that jump by up to
-//! 180° (and up to half the model size) in one frame. After every step it checks: every
+//! 180° (and up to half the model size) in one frame, or to a random pose of every joint at
+//! once (`puppet::puppet::poses`: ±60°, ±90° at the root), the bands blended over the mesh. After every step it checks: every
 //! coordinate finite, every mass point inside its constraint region (within 1e-5 of the
 //! model size), and bounded motion: no mass point moves farther in one step than its
 //! target moved plus the diameter of its region. It reports the worst surface-spring strain
@@ -303,7 +304,8 @@ fn run_scenario(
         .zip(&scenario.distance)
         .map(|((p, n), d)| *p - *d * *n)
         .collect();
-    let mut joints = Joints::new(&points, ROOT);
+    // With the mesh, so the bands blend over the surface (`joints::blend`).
+    let mut joints = Joints::with_mesh(&points, &scenario.mesh.triangles, &[], ROOT);
     joints.set_surface(&scenario.mesh.positions, &scenario.distance);
     for c in 0..rng.below(3) {
         let point = lo + (hi - lo) * DVec3::new(rng.unit(), rng.unit(), rng.unit());
@@ -374,7 +376,15 @@ fn run_scenario(
             sim.set_joint_sections(joints.joint_sections());
             pose = joints.pose(&local);
         }
-        if rng.below(3) == 0 {
+        if rng.below(12) == 0 {
+            // A puppeteer's pose: every joint at once (`puppet::poses`).
+            local = puppet::puppet::poses::random_pose(
+                &joints,
+                puppet::puppet::poses::Spread::default(),
+                &mut rng.0,
+            );
+            pose = joints.pose(&local);
+        } else if rng.below(3) == 0 {
             let s = rng.below(local.len());
             local[s] = Local {
                 rotation: DQuat::from_axis_angle(
