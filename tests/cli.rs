@@ -245,6 +245,7 @@ fn the_torus_needs_a_spring_count_and_no_mesh() {
 #[test]
 fn short_stress_run_passes() {
     let mut bands = [0, 0];
+    let mut poses = 0;
     for seed in ["1", "2"] {
         let report = ok_json(&[
             "bench", "stress", "--seed", seed, "--steps", "15000", "--json",
@@ -255,7 +256,10 @@ fn short_stress_run_passes() {
         assert!(report["worst_motion_share"].as_f64().unwrap() <= 1.0);
         bands[0] += report["arcs"].as_u64().unwrap();
         bands[1] += report["fans"].as_u64().unwrap();
+        poses += report["poses"].as_u64().unwrap();
     }
+    // Puppeteers' poses of every joint at once were drawn (`puppet::poses`).
+    assert!(poses >= 2, "{poses}");
     // Joint bands of both kinds were bent (`joints::band`).
     assert!(bands[0] >= 1 && bands[1] >= 1, "{bands:?}");
 }

@@ -80,6 +80,8 @@ struct Report {
     /// Joint bands drawn that bend as an arc and as a fan (see `joints::band`).
     arcs: usize,
     fans: usize,
+    /// Random poses of every joint at once drawn (`puppet::puppet::poses`).
+    poses: usize,
     seconds: f64,
 }
 
@@ -384,6 +386,7 @@ fn run_scenario(
                 &mut rng.0,
             );
             pose = joints.pose(&local);
+            report.poses += 1;
         } else if rng.below(3) == 0 {
             let s = rng.below(local.len());
             local[s] = Local {
