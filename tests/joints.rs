@@ -5,7 +5,7 @@ mod common;
 
 use glam::{DVec3, Vec3};
 use puppet::files::Format;
-use puppet::joints::{Cut, Local, Shape};
+use puppet::joints::{Cut, Local};
 use puppet::mesh::{self, shapes};
 use puppet::sim::{Constraint, Material, Params};
 use puppet::{Puppet, RigFile};
@@ -15,15 +15,8 @@ use std::path::Path;
 /// joint bands are tested below.
 fn cut(name: &str, section: &str, y: f64) -> Cut {
     Cut {
-        name: name.into(),
-        section: section.into(),
-        point: DVec3::new(0.0, y, 0.0),
-        normal: DVec3::Y,
-        pivot: None,
-        connected: false,
         band: Some(0.0),
-        shape: Shape::Plane,
-        shared_pivot: false,
+        ..Cut::plane(name, section, DVec3::new(0.0, y, 0.0), DVec3::Y)
     }
 }
 

@@ -155,18 +155,22 @@ impl Joints {
             }
         }
         let child_side = |i: usize| usize::from(self.section_of[i]) == child;
-        let near: Vec<usize> = self
-            .within(&seam, width, |i| ours(i) && child_side(i))
-            .into_iter()
-            .map(|(i, _)| i)
-            .filter(|&i| index[i] == NOT && child_side(i))
-            .collect();
-        let whole = (0..n).any(|i| child_side(i) && index[i] == NOT && !near.contains(&i));
-        if whole && width > 0.0 {
-            for i in near {
-                index[i] = free.len() as u32;
-                free.push(i);
-                x.push(1.0);
+        if width > 0.0 {
+            let near: Vec<usize> = self
+                .within(&seam, width, |i| ours(i) && child_side(i))
+                .into_iter()
+                .map(|(i, _)| i)
+                .filter(|&i| index[i] == NOT && child_side(i))
+                .collect();
+            // (`near` holds distinct fixed vertices of the child: some stays fixed when
+            // there are more.)
+            let fixed_child = (0..n).filter(|&i| child_side(i) && index[i] == NOT).count();
+            if fixed_child > near.len() {
+                for i in near {
+                    index[i] = free.len() as u32;
+                    free.push(i);
+                    x.push(1.0);
+                }
             }
         }
         // The system: for each free vertex, Σ a_ij (x_i − x_j) = 0 over its neighbours,

@@ -110,6 +110,22 @@ pub struct Cut {
 }
 
 impl Cut {
+    /// A plain plane cut of `section` through `point` with `normal` into the new section
+    /// `name`: the default pivot and band, not connected, no shared pivot.
+    pub fn plane(name: &str, section: &str, point: DVec3, normal: DVec3) -> Cut {
+        Cut {
+            name: name.into(),
+            section: section.into(),
+            shape: Shape::Plane,
+            point,
+            normal,
+            pivot: None,
+            connected: false,
+            band: None,
+            shared_pivot: false,
+        }
+    }
+
     /// The cut with its numbers at the precision files write them ([`crate::files::shortest`]):
     /// a cut made by the suggestion or the cut tool is then the cut its rig file holds,
     /// written in short numbers (`0.45`, not `0.45000000298023224`) and read back the same.

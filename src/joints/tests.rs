@@ -8,17 +8,7 @@ fn line() -> Vec<DVec3> {
 }
 
 fn cut(name: &str, section: &str, y: f64) -> Cut {
-    Cut {
-        name: name.into(),
-        section: section.into(),
-        point: DVec3::new(0.0, y, 0.0),
-        normal: DVec3::Y,
-        pivot: None,
-        connected: false,
-        band: None,
-        shape: Shape::Plane,
-        shared_pivot: false,
-    }
+    Cut::plane(name, section, DVec3::new(0.0, y, 0.0), DVec3::Y)
 }
 
 fn close(a: DVec3, b: DVec3) -> bool {

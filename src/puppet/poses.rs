@@ -250,17 +250,12 @@ mod tests {
         let mut joints = Joints::new(&points, crate::joints::ROOT);
         for (name, section, y) in [("arm", crate::joints::ROOT, 1.0), ("forearm", "arm", 2.0)] {
             joints
-                .add_cut(crate::joints::Cut {
-                    name: name.into(),
-                    section: section.into(),
-                    point: DVec3::new(0.0, y, 0.0),
-                    normal: DVec3::Y,
-                    pivot: None,
-                    connected: false,
-                    band: None,
-                    shape: crate::joints::Shape::Plane,
-                    shared_pivot: false,
-                })
+                .add_cut(crate::joints::Cut::plane(
+                    name,
+                    section,
+                    DVec3::new(0.0, y, 0.0),
+                    DVec3::Y,
+                ))
                 .expect("a cut");
         }
         let mut rng = SplitMix(7);
