@@ -132,13 +132,14 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         limb: args.limb,
         root: args.root,
     };
+    let characters = population(&args.paths)?;
     let mut rows = Vec::new();
     let mut failures = Vec::new();
     if !args.json {
         println!("| character | joints | poses | worst stretch (median … max) | p99 stretch (max) | edges over 1.5× (max %) | edges over 2× (max %) | new crossing faces (median … max) | section volume (% min … max) | whole volume (% min … max) | NaN | step (ms) | pose (s) |");
         println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     }
-    for (name, path) in population(&args.paths)? {
+    for (name, path) in characters {
         if args
             .only
             .as_ref()
