@@ -5,7 +5,7 @@
 mod common;
 
 use glam::DQuat;
-use puppet::puppet::press::{Press, Turn, PRESSES};
+use puppet::puppet::press::{Drive, Press, Turn, PRESSES};
 use puppet::session::Session;
 use puppet::sim::Params;
 use puppet::{Puppet, RigFile};
@@ -61,6 +61,9 @@ fn pressed_parts_stop_at_the_body_without_crossing() {
         // armpit's fold now crosses 4 faces; `BENCHMARKS.md`).
         ("arms down 95", &human, 4),
         ("arms down 105", &human, 10),
+        // Cut square across x at ±0.2, as a user cuts by eye.
+        ("arms down 95°, cut at x", &human, 0),
+        ("arms down 105°, cut at x", &human, 10),
         ("legs crossed", &human, 10),
         ("head into a shoulder", &human, 10),
         ("index curled", &hand, 10),
@@ -79,6 +82,14 @@ fn pressed_parts_stop_at_the_body_without_crossing() {
         assert!(
             on.volume[0] > -0.05 && on.volume[1] < 0.05,
             "{name}: no part squashed: {on:?}"
+        );
+        // An animation file that turns the parts alike stops them alike (it once played
+        // as written, and the contacts fought it: three times the crossings of off).
+        let played = p.press_by(mesh, colliding(), Drive::Animation).unwrap();
+        assert_eq!(
+            (played.crossing, played.reached, played.inside),
+            (on.crossing, on.reached, on.inside),
+            "{name}: an animation stops where a hand does"
         );
     }
 }
@@ -401,5 +412,57 @@ fn a_small_section_s_volume_is_measured_against_the_whole() {
     assert!(
         (got[0] - want[0]).abs() < 1e-9 && (got[1] - want[1]).abs() < 1e-9,
         "{got:?} against {want:?}"
+    );
+}
+
+/// Every path that poses a part stops it at the body alike: an animation played in the
+/// window, a take recorded by hand with collision on and played back. The human's arms,
+/// cut square at x = ±0.2 and swung 105° down into the torso by an animation, stop where
+/// a hand stops them; the take replays the pose that was seen while recording.
+#[test]
+fn an_animation_and_a_take_stop_a_part_where_a_hand_does() {
+    let human = mesh("human.obj");
+    let p = press("arms down 105°, cut at x");
+    let puppet = Puppet::build(
+        human.clone(),
+        p.rig(colliding()),
+        puppet::progress::silent(),
+    )
+    .unwrap();
+    let hand = p.posed_by(&human, colliding(), Drive::Hand).unwrap().local;
+    let mut s = Session::new(puppet.clone(), "human");
+    s.set_animation(p.animation()).unwrap();
+    s.scrub(puppet::puppet::press::RAMP + 0.5);
+    let played = s.animated_pose().unwrap();
+    let arm = s.puppet.joints.find("part 1").unwrap();
+    let deg = |l: &puppet::joints::Local| l.rotation.angle_between(DQuat::IDENTITY).to_degrees();
+    assert!(
+        deg(&played[arm]) < 90.0,
+        "the swing stopped: {}°",
+        deg(&played[arm])
+    );
+    assert!(
+        (deg(&played[arm]) - deg(&hand[arm])).abs() < 1e-6,
+        "{}° played, {}° by hand",
+        deg(&played[arm]),
+        deg(&hand[arm])
+    );
+    // A take: the arm dragged 150° into the body while recording, then played back.
+    let mut s = Session::new(puppet, "human");
+    s.select(Some(arm), false);
+    s.start_recording();
+    for _ in 0..30 {
+        s.rotate_selected(DQuat::from_rotation_z(5f64.to_radians()));
+        s.advance(1.0 / 60.0, 8);
+    }
+    let seen = deg(&s.local[arm]);
+    s.advance(0.25, 100);
+    s.stop_recording().unwrap();
+    s.scrub(s.playback_time().unwrap().1);
+    let replayed = deg(&s.animated_pose().unwrap()[arm]);
+    assert!(seen < 90.0, "the drag stopped: {seen}°");
+    assert!(
+        (replayed - seen).abs() < 1.0,
+        "{replayed}° replayed, {seen}° seen"
     );
 }

@@ -4,6 +4,7 @@
 
 pub mod balls;
 pub mod bvh;
+pub mod cells;
 pub mod exact;
 pub mod hilbert;
 pub mod inside;

@@ -20,8 +20,8 @@
 
 use super::{Joints, Local};
 use crate::geom::balls;
+use crate::geom::cells::Cells;
 use glam::{DAffine3, DVec3};
-use std::collections::HashMap;
 
 /// How far two parts may overlap, as a share of the smaller ball's radius.
 pub const SQUASH: f64 = 0.25;
@@ -220,11 +220,14 @@ struct Still<'a> {
     /// Per pair of sections (`a * n + b`): their relative transform changes in the move.
     apart: Vec<bool>,
     sections: usize,
-    /// Balls of moving sections.
+    /// Balls of moving sections, by section, and the runs of one section in it.
     movers: Vec<usize>,
+    runs: Vec<std::ops::Range<usize>>,
     /// The others, posed: small ones by grid cell, big ones (over a cell) apart.
     posed: Vec<DVec3>,
-    grid: HashMap<[i64; 3], Vec<u32>>,
+    grid: Cells<[i64; 3], Vec<u32>>,
+    /// The lowest and highest cell holding a ball.
+    extent: ([i64; 3], [i64; 3]),
     big: Vec<u32>,
     /// Per ball: in the grid.
     gridded: Vec<bool>,
@@ -238,8 +241,10 @@ impl<'a> Still<'a> {
             apart: vec![true; sections * sections],
             sections,
             movers: Vec::new(),
+            runs: Vec::new(),
             posed: vec![DVec3::ZERO; balls.len()],
-            grid: HashMap::new(),
+            grid: Cells::default(),
+            extent: ([i64::MAX; 3], [i64::MIN; 3]),
             big: Vec::new(),
             gridded: vec![false; balls.len()],
         };
@@ -256,8 +261,21 @@ impl<'a> Still<'a> {
             if balls.radius[b] > balls.cell || !p.is_finite() {
                 out.big.push(b as u32);
             } else {
-                out.grid.entry(out.key(p)).or_default().push(b as u32);
+                let k = out.key(p);
+                for (d, &kd) in k.iter().enumerate() {
+                    out.extent.0[d] = out.extent.0[d].min(kd);
+                    out.extent.1[d] = out.extent.1[d].max(kd);
+                }
+                out.grid.entry(k).or_default().push(b as u32);
                 out.gridded[b] = true;
+            }
+        }
+        out.movers.sort_by_key(|&b| (balls.section[b], b));
+        for i in 0..out.movers.len() {
+            let s = balls.section[out.movers[i]];
+            match out.runs.last_mut() {
+                Some(r) if balls.section[out.movers[r.start]] == s => r.end = i + 1,
+                _ => out.runs.push(i..i + 1),
             }
         }
         out
@@ -291,21 +309,45 @@ impl<'a> Still<'a> {
         };
         let movers: Vec<DVec3> = self.movers.iter().map(|&b| posed(b)).collect();
         let mut deepest = 0.0f64;
-        for (i, &a) in self.movers.iter().enumerate() {
-            let pa = movers[i];
-            // Moving balls of sections moving apart from it (two arms turned into each
-            // other).
-            let row = balls.section[a] * self.sections;
-            for (j, &b) in self.movers.iter().enumerate().skip(i + 1) {
-                if self
+        // Moving balls of sections moving apart from each other (two arms turned into
+        // each other), a pair of sections at a time where their balls' boxes meet (a ball
+        // presses only one it overlaps).
+        let boxes: Vec<(DVec3, DVec3)> = self
+            .runs
+            .iter()
+            .map(|r| {
+                (r.clone()).fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), i| {
+                    let reach = DVec3::splat(balls.radius[self.movers[i]]);
+                    (lo.min(movers[i] - reach), hi.max(movers[i] + reach))
+                })
+            })
+            .collect();
+        for (g, run) in self.runs.iter().enumerate() {
+            let row = balls.section[self.movers[run.start]] * self.sections;
+            for (h, other) in self.runs.iter().enumerate().skip(g + 1) {
+                let apart = self
                     .apart
-                    .get(row + balls.section[b])
+                    .get(row + balls.section[self.movers[other.start]])
                     .copied()
-                    .unwrap_or(true)
-                {
-                    deepest = deepest.max(balls.press(a, b, pa, movers[j]));
+                    .unwrap_or(true);
+                let (a, b) = (boxes[g], boxes[h]);
+                if !apart || a.0.cmpgt(b.1).any() || b.0.cmpgt(a.1).any() {
+                    continue;
+                }
+                for i in run.clone() {
+                    for j in other.clone() {
+                        deepest = deepest.max(balls.press(
+                            self.movers[i],
+                            self.movers[j],
+                            movers[i],
+                            movers[j],
+                        ));
+                    }
                 }
             }
+        }
+        for (i, &a) in self.movers.iter().enumerate() {
+            let pa = movers[i];
             for &b in &self.big {
                 let b = b as usize;
                 deepest = deepest.max(balls.press(a, b, pa, self.posed[b]));
@@ -321,11 +363,14 @@ impl<'a> Still<'a> {
                 }
                 continue;
             }
+            // The cells about it that hold any ball.
             let k = self.key(pa);
-            for dx in -reach..=reach {
-                for dy in -reach..=reach {
-                    for dz in -reach..=reach {
-                        if let Some(list) = self.grid.get(&[k[0] + dx, k[1] + dy, k[2] + dz]) {
+            let (lo, hi) = self.extent;
+            let span = |d: usize| (k[d] - reach).max(lo[d])..=(k[d] + reach).min(hi[d]);
+            for x in span(0) {
+                for y in span(1) {
+                    for z in span(2) {
+                        if let Some(list) = self.grid.get(&[x, y, z]) {
                             for &b in list {
                                 let b = b as usize;
                                 deepest = deepest.max(balls.press(a, b, pa, self.posed[b]));

@@ -63,6 +63,10 @@ pub struct Puppet {
     /// The sections' balls for the pose limit, built when first needed (and again after
     /// the cuts change).
     balls: Option<std::sync::Arc<crate::joints::collide::Balls>>,
+    /// Where the last move [`Puppet::hold_back`] stopped short ended, and the pose it was
+    /// going to: the same move asked again (a pose held against the body, step after
+    /// step) stays where it is without being tested again.
+    stopped: Option<(Vec<Local>, Vec<Local>)>,
     /// Up, front and left, as the last suggestion found them.
     frame: Option<crate::joints::suggest::Frame>,
 }
@@ -122,6 +126,7 @@ impl Puppet {
             rig_file,
             groups,
             balls: None,
+            stopped: None,
             frame: None,
         };
         let regions = puppet.regions(true).map_err(BuildError::Regions)?;
@@ -169,6 +174,7 @@ impl Puppet {
     /// them ([`Puppet::sync_regions`]). Call after any change of cuts.
     pub fn sync_sections(&mut self) {
         self.balls = None;
+        self.stopped = None;
         self.sim.set_sections(self.joints.transform_of().to_vec());
         self.sim.set_joint_sections(self.joints.joint_sections());
         self.sync_regions();
@@ -220,10 +226,54 @@ impl Puppet {
         }
     }
 
-    /// Step `step` (1-based) of an animation: the pose at `step × h` into `local`, then one
-    /// simulation step. `simulate` and the window's playback both play animations through
-    /// this, so a take previewed in the window and baked by `simulate` give the same
-    /// positions bit for bit (same fixed step, same pose sampling).
+    /// With collision on, takes the move from the pose `before` to the pose in `local`
+    /// only as far as no part presses into another ([`Puppet::limit_pose`]): `local`
+    /// becomes the pose reached. Every path that poses a section goes through it (a drag,
+    /// a glove, an animation, a recorded take, `simulate`), so a part stops at the body
+    /// the same way whatever moves it. A `before` shorter than `local` is at rest beyond
+    /// its end.
+    pub fn hold_back(&mut self, before: &[Local], local: &mut Vec<Local>) {
+        if !self.sim.params().world.collision {
+            return;
+        }
+        if let Some((at, wanted)) = &self.stopped {
+            if at.as_slice() == before && wanted == local {
+                local.clear();
+                local.extend_from_slice(before);
+                return;
+            }
+        }
+        let s = self.limit_pose(before, local);
+        if s < 1.0 {
+            let wanted =
+                std::mem::replace(local, crate::joints::collide::between(before, local, s));
+            self.stopped = Some((local.clone(), wanted));
+        } else {
+            self.stopped = None;
+        }
+    }
+
+    /// One step toward the pose `wanted`: the move from the pose played last (`local`,
+    /// empty at rest) held back where parts meet ([`Puppet::hold_back`]), then one
+    /// simulation step in the pose reached, which `local` becomes.
+    pub fn step_toward(
+        &mut self,
+        wanted: &[Local],
+        local: &mut Vec<Local>,
+        scratch: &mut PoseScratch,
+    ) {
+        let before = std::mem::replace(local, wanted.to_vec());
+        self.hold_back(&before, local);
+        let pose = self.joints.pose_into(local, scratch);
+        self.sim.step(pose);
+    }
+
+    /// Step `step` (1-based) of an animation: the pose at `step × h`, reached from the
+    /// pose played last (`local`) as [`Puppet::step_toward`] does, then one simulation
+    /// step. `simulate` and the window's playback both play animations through this, so a
+    /// take previewed in the window and baked by `simulate` give the same positions bit
+    /// for bit (same fixed step, same pose sampling); and an animation that swings a limb
+    /// into the body stops it there, as a drag does.
     pub fn step_animated(
         &mut self,
         animation: &Bound,
@@ -232,9 +282,9 @@ impl Puppet {
         scratch: &mut PoseScratch,
     ) {
         let h = self.sim.params().solver.time_step as f64;
-        animation.sample(step as f64 * h, local);
-        let pose = self.joints.pose_into(local, scratch);
-        self.sim.step(pose);
+        let mut wanted = Vec::with_capacity(local.len());
+        animation.sample(step as f64 * h, &mut wanted);
+        self.step_toward(&wanted, local, scratch);
     }
 
     /// The rig file of the puppet as it is now (parameters, and cuts with resolved pivots).

@@ -77,30 +77,30 @@ fn unit(rng: &mut SplitMix) -> f64 {
 }
 
 /// Brings `puppet` from its present pose (at rest) to `target` over [`RAMP`] seconds, each
-/// section slerped from rest, and holds it [`HOLD`] seconds. Returns each step's time
-/// (ms).
-pub fn settle(puppet: &mut Puppet, target: &[Local]) -> Vec<f64> {
+/// section slerped from rest, and holds it [`HOLD`] seconds, each step through
+/// [`Puppet::step_toward`] (with collision on, a part stops where it meets another).
+/// Returns each step's time (ms) and the pose reached.
+pub fn settle(puppet: &mut Puppet, target: &[Local]) -> (Vec<f64>, Vec<Local>) {
     let dt = f64::from(puppet.sim.params().solver.time_step);
     let steps = ((RAMP + HOLD) / dt).ceil() as usize;
     let mut local = vec![Local::default(); target.len()];
+    let mut wanted = local.clone();
     let mut scratch = PoseScratch::default();
     let mut times = Vec::with_capacity(steps);
     for k in 1..=steps {
         let s = (k as f64 * dt / RAMP).min(1.0);
         let s = s * s * (3.0 - 2.0 * s);
-        for (l, t) in local.iter_mut().zip(target) {
+        for (l, t) in wanted.iter_mut().zip(target) {
             *l = Local {
                 rotation: DQuat::IDENTITY.slerp(t.rotation, s),
                 translation: t.translation * s,
             };
         }
         let start = std::time::Instant::now();
-        puppet
-            .sim
-            .step(puppet.joints.pose_into(&local, &mut scratch));
+        puppet.step_toward(&wanted, &mut local, &mut scratch);
         times.push(start.elapsed().as_secs_f64() * 1e3);
     }
-    times
+    (times, local)
 }
 
 /// What [`measure`] read off a posed surface.

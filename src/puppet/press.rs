@@ -17,6 +17,7 @@
 //! [`intersecting_faces`]: crate::geom::intersect::intersecting_faces
 
 use super::{BuildError, Puppet, RigFile};
+use crate::anim::{Animation, Ease, Key, Track};
 use crate::geom::intersect::new_crossings;
 use crate::geom::winding::Winding;
 use crate::joints::{Cut, Local, Shape};
@@ -85,6 +86,18 @@ const fn arms(d: f64) -> [Turn; 2] {
 
 const ARMS_95: [Turn; 2] = arms(95.0);
 const ARMS_105: [Turn; 2] = arms(105.0);
+
+/// The human's shoulders cut as a user cuts them by eye: planes across x at ±0.2, turned
+/// down by `d` degrees.
+const fn square_arms(d: f64) -> [Turn; 2] {
+    [
+        turn([-0.2, 1.336, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0], d),
+        turn([0.2, 1.336, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0], -d),
+    ]
+}
+
+const SQUARE_95: [Turn; 2] = square_arms(95.0);
+const SQUARE_105: [Turn; 2] = square_arms(105.0);
 const LEGS: [Turn; 1] = [turn(
     [0.069, 0.610, 0.011],
     [0.109, -0.989, -0.099],
@@ -111,7 +124,7 @@ const COW: [Turn; 1] = [turn(
 )];
 
 /// The presses `puppet bench collide` measures.
-pub const PRESSES: [Press; 6] = [
+pub const PRESSES: [Press; 8] = [
     Press {
         name: "human arms down 95°",
         mesh: "human.obj",
@@ -121,6 +134,16 @@ pub const PRESSES: [Press; 6] = [
         name: "human arms down 105°",
         mesh: "human.obj",
         turns: &ARMS_105,
+    },
+    Press {
+        name: "human arms down 95°, cut at x = ±0.2",
+        mesh: "human.obj",
+        turns: &SQUARE_95,
+    },
+    Press {
+        name: "human arms down 105°, cut at x = ±0.2",
+        mesh: "human.obj",
+        turns: &SQUARE_105,
     },
     Press {
         name: "human legs crossed",
@@ -199,31 +222,68 @@ impl Press {
         }
     }
 
-    /// The puppet of `mesh` posed over [`RAMP`] seconds (each step's pose held back where
-    /// parts meet, with collision on, as a drag in the window is) and held [`HOLD`]
-    /// seconds.
+    /// The puppet of `mesh` posed by a hand (see [`Press::posed_by`]).
     pub fn posed(&self, mesh: &Mesh, params: Params) -> Result<Posed, BuildError> {
+        self.posed_by(mesh, params, Drive::Hand)
+    }
+
+    /// The animation that turns the parts as the press does: a smooth ramp to the angle
+    /// over [`RAMP`] seconds, held to [`HOLD`] seconds after it.
+    pub fn animation(&self) -> Animation {
+        Animation {
+            duration: RAMP + HOLD,
+            looping: false,
+            track: self
+                .turns
+                .iter()
+                .enumerate()
+                .map(|(n, t)| {
+                    let key = |time: f64, angle: f64| Key {
+                        time,
+                        axis: t.axis.to_array(),
+                        angle,
+                        translation: None,
+                    };
+                    Track {
+                        section: format!("part {}", n + 1),
+                        ease: Ease::Smooth,
+                        key: vec![key(0.0, 0.0), key(RAMP, t.degrees)],
+                    }
+                })
+                .collect(),
+        }
+    }
+
+    /// The puppet of `mesh` posed over [`RAMP`] seconds and held [`HOLD`] seconds, by a
+    /// hand or by an animation; both go through [`Puppet::step_toward`], so with collision
+    /// on each step's pose is held back where parts meet.
+    pub fn posed_by(&self, mesh: &Mesh, params: Params, drive: Drive) -> Result<Posed, BuildError> {
         let mut p = Puppet::build(mesh.clone(), self.rig(params), crate::progress::silent())?;
         let dt = f64::from(p.sim.params().solver.time_step);
         let steps = ((RAMP + HOLD) / dt).ceil() as usize;
         let mut local = vec![Local::default(); p.joints.sections().len()];
         let mut scratch = crate::joints::PoseScratch::default();
+        let bound = self
+            .animation()
+            .bind(&p.joints)
+            .map_err(|e| BuildError::Regions(e.to_string()))?;
         let mut times = Vec::new();
         for k in 1..=steps {
-            let s = (k as f64 * dt / RAMP).min(1.0);
-            let s = s * s * (3.0 - 2.0 * s);
-            let before = local.clone();
-            for (n, t) in self.turns.iter().enumerate() {
-                if let Some(section) = p.joints.find(&format!("part {}", n + 1)) {
-                    local[section] = Local::axis_angle(t.axis, t.degrees * s);
-                }
-            }
-            let allowed = p.limit_pose(&before, &local);
-            if allowed < 1.0 {
-                local = crate::joints::collide::between(&before, &local, allowed);
-            }
             let start = std::time::Instant::now();
-            p.sim.step(p.joints.pose_into(&local, &mut scratch));
+            match drive {
+                Drive::Hand => {
+                    let s = (k as f64 * dt / RAMP).min(1.0);
+                    let s = s * s * (3.0 - 2.0 * s);
+                    let mut wanted = local.clone();
+                    for (n, t) in self.turns.iter().enumerate() {
+                        if let Some(section) = p.joints.find(&format!("part {}", n + 1)) {
+                            wanted[section] = Local::axis_angle(t.axis, t.degrees * s);
+                        }
+                    }
+                    p.step_toward(&wanted, &mut local, &mut scratch);
+                }
+                Drive::Animation => p.step_animated(&bound, k as u64, &mut local, &mut scratch),
+            }
             if k as f64 * dt > RAMP {
                 times.push(start.elapsed().as_secs_f64() * 1e3);
             }
@@ -235,13 +295,23 @@ impl Press {
         })
     }
 
-    /// Poses `mesh`, settles it and measures it.
+    /// Poses `mesh` by a hand, settles it and measures it.
     pub fn press(&self, mesh: &Mesh, params: Params) -> Result<Pressed, BuildError> {
+        self.press_by(mesh, params, Drive::Hand)
+    }
+
+    /// Poses `mesh` by a hand or an animation, settles it and measures it.
+    pub fn press_by(
+        &self,
+        mesh: &Mesh,
+        params: Params,
+        drive: Drive,
+    ) -> Result<Pressed, BuildError> {
         let Posed {
             puppet,
             mut times,
             local,
-        } = self.posed(mesh, params)?;
+        } = self.posed_by(mesh, params, drive)?;
         times.sort_by(f64::total_cmp);
         let mut out = measure(&puppet, &local);
         out.step_ms = times.get(times.len() / 2).copied().unwrap_or(0.0);
@@ -252,6 +322,18 @@ impl Press {
             .fold(f64::INFINITY, f64::min);
         Ok(out)
     }
+}
+
+/// What turns the parts of a press.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Drive {
+    /// A hand (a drag or a glove): each step's pose set from the ramp, as the window sets
+    /// it.
+    Hand,
+    /// The same ramp written as an animation file ([`Press::animation`]), played as
+    /// `simulate --anim` and the window play one.
+    Animation,
 }
 
 /// A press's puppet at its end, the step times of its hold (ms) and the pose it holds.

@@ -245,10 +245,7 @@ impl Session {
     /// far as no part presses into another (see [`crate::joints::collide`]): a limb
     /// dragged into the body stops at it, however fast the drag.
     pub fn hold_back(&mut self, before: &[Local]) {
-        let s = self.puppet.limit_pose(before, &self.local);
-        if s < 1.0 {
-            self.local = crate::joints::collide::between(before, &self.local, s);
-        }
+        self.puppet.hold_back(before, &mut self.local);
     }
 
     /// Every section back to rest.

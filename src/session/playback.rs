@@ -112,13 +112,11 @@ impl Session {
         self.playback.as_ref().is_some_and(|p| p.playing)
     }
 
-    /// The pose the animation holds now (what a turn by hand starts from).
+    /// The pose the animation holds now, as played (with collision on, held back where a
+    /// part met another): what a turn by hand starts from.
     pub fn animated_pose(&self) -> Option<Vec<Local>> {
-        let p = self.playback.as_ref()?;
-        let mut local = Vec::new();
-        let h = self.puppet.sim.params().solver.time_step as f64;
-        p.bound.sample(p.steps as f64 * h, &mut local);
-        Some(local)
+        self.playback.as_ref()?;
+        Some(self.local.clone())
     }
 }
 

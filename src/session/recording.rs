@@ -173,11 +173,13 @@ impl Session {
             let t = self.recorder.take.as_ref().map_or(0, |t| t.times.len()) as f64 * h;
             if let Some(over) = &self.recorder.over {
                 over.bound.sample(over.start + t, &mut played);
+                let before = self.local.clone();
                 for (s, l) in self.local.iter_mut().enumerate() {
                     if !over.touched.get(s).copied().unwrap_or(true) {
                         *l = played.get(s).copied().unwrap_or_default();
                     }
                 }
+                self.puppet.hold_back(&before, &mut self.local);
             }
             let pose = self.puppet.joints.pose_into(&self.local, &mut self.scratch);
             self.puppet.sim.step(pose);

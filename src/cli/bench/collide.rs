@@ -1,10 +1,10 @@
 //! `puppet bench collide`: parts pressed into the body (see `puppet::puppet::press`), with
-//! collision off and on: faces crossing, the deepest penetration, section volumes, and the
-//! step's cost.
+//! collision off and on, turned by a hand and by an animation: faces crossing, the deepest
+//! penetration, section volumes, and the step's cost.
 
 use crate::cli::LoadArgs;
 use anyhow::{anyhow, Result};
-use puppet::puppet::press::{Pressed, PRESSES};
+use puppet::puppet::press::{Drive, Pressed, PRESSES};
 use std::path::PathBuf;
 
 /// `puppet bench collide`.
@@ -35,6 +35,7 @@ struct Row {
     press: &'static str,
     collision: bool,
     flesh: f32,
+    drive: Drive,
     #[serde(flatten)]
     pressed: Pressed,
 }
@@ -59,19 +60,24 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         // The cow is the embedded one.
         let path = (press.mesh != "spot.obj").then(|| args.meshes.join(press.mesh));
         let (mesh, _, name) = crate::cli::load_mesh(path.as_deref(), load)?;
-        let mut runs = vec![(false, 0.0), (true, 0.0)];
+        // Off, a hand and an animation play alike; on, both are measured.
+        let mut runs = vec![
+            (false, 0.0, Drive::Hand),
+            (true, 0.0, Drive::Hand),
+            (true, 0.0, Drive::Animation),
+        ];
         if args.flesh > 0.0 {
-            runs.push((true, args.flesh));
+            runs.push((true, args.flesh, Drive::Hand));
         }
-        for (collision, flesh) in runs {
+        for (collision, flesh, drive) in runs {
             let mut params = puppet::sim::Params::default();
             params.world.collision = collision;
             params.world.collision_margin = args.margin;
             params.world.flesh = flesh;
             let pressed = press
-                .press(&mesh, params)
+                .press_by(&mesh, params, drive)
                 .map_err(|e| anyhow!("{name}: {e}"))?;
-            if let Some(dir) = &args.images {
+            if let Some(dir) = args.images.as_ref().filter(|_| drive == Drive::Hand) {
                 let p = press
                     .posed(&mesh, params)
                     .map_err(|e| anyhow!("{name}: {e}"))?
@@ -92,6 +98,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                 press: press.name,
                 collision,
                 flesh,
+                drive,
                 pressed,
             };
             if !args.json {
@@ -108,17 +115,21 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
 
 fn print_row(r: &Row, header: bool) {
     if header {
-        println!("| pose | collision | reached | new crossing faces | deepest (% diagonal) | vertices inside | body dent / part squashed (% diagonal) | section volumes | step (ms) | awake tiles at the end |");
-        println!("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+        println!("| pose | collision | turned by | reached | new crossing faces | deepest (% diagonal) | vertices inside | body dent / part squashed (% diagonal) | section volumes | step (ms) | awake tiles at the end |");
+        println!("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     }
     let p = &r.pressed;
     println!(
-        "| {} | {} | {:.0}° | {} of {} | {:.2} | {} | {:.2} / {:.2} | {:+.1} % … {:+.1} % | {:.2} | {} of {} |",
+        "| {} | {} | {} | {:.0}° | {} of {} | {:.2} | {} | {:.2} / {:.2} | {:+.1} % … {:+.1} % | {:.2} | {} of {} |",
         r.press,
         match (r.collision, r.flesh > 0.0) {
             (false, _) => "off".to_string(),
             (true, false) => "on".to_string(),
             (true, true) => format!("on, flesh {}", r.flesh),
+        },
+        match r.drive {
+            Drive::Hand => "hand",
+            Drive::Animation => "animation",
         },
         p.reached,
         p.crossing,

@@ -168,8 +168,8 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                 (Vec::new(), poses::measure_at(&base, &now, &target))
             } else {
                 let mut p = base.clone();
-                let times = poses::settle(&mut p, &target);
-                (times, poses::measure(&p, &target))
+                let (times, reached) = poses::settle(&mut p, &target);
+                (times, poses::measure(&p, &reached))
             };
             let seconds = start.elapsed().as_secs_f64();
             times.sort_by(f64::total_cmp);

@@ -1,33 +1,8 @@
 //! The contacts' broad phase: balls by grid cell, one grid per set of balls that move
 //! together (see [`super::Colliders`]).
 
+use crate::geom::cells::Cells;
 use glam::Vec3;
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
-
-/// A grid cell's hash: its three coordinates mixed by multiplication (the standard
-/// library's SipHash, made for untrusted keys, took a third of the stage).
-#[derive(Default)]
-pub(super) struct CellHasher(u64);
-
-impl Hasher for CellHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.0 = (self.0.rotate_left(5) ^ u64::from(b)).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-        }
-    }
-
-    fn write_i32(&mut self, i: i32) {
-        self.0 =
-            (self.0.rotate_left(5) ^ (i as u32 as u64)).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-    }
-
-    fn write_usize(&mut self, _: usize) {}
-}
 
 /// A set of balls, posed and gridded together.
 #[derive(Clone, Debug)]
@@ -40,7 +15,7 @@ pub(super) struct Set {
     /// Posed again in the last step (its `before` is not its `posed`).
     pub(super) moved: bool,
     /// The others by grid cell.
-    grid: HashMap<[i32; 3], Vec<u32>, BuildHasherDefault<CellHasher>>,
+    grid: Cells<[i32; 3], Vec<u32>>,
 }
 
 impl Set {
@@ -52,7 +27,7 @@ impl Set {
             transforms,
             big,
             moved: false,
-            grid: HashMap::default(),
+            grid: Cells::default(),
         }
     }
 
