@@ -132,9 +132,10 @@ fn collision_cost_check_passes_and_fails_on_its_bound() {
     assert_eq!(out.status.code(), Some(0));
     let table = String::from_utf8_lossy(&out.stdout);
     assert!(
-        table.contains("| human legs crossed | on |")
-            && table.contains("| human legs crossed | on, flesh 0.25 |")
-            && table.lines().count() == 5,
+        table.contains("| human legs crossed | on | hand |")
+            && table.contains("| human legs crossed | on | animation |")
+            && table.contains("| human legs crossed | on, flesh 0.25 | hand |")
+            && table.lines().count() == 6,
         "{table}"
     );
 }
@@ -455,4 +456,31 @@ fn pose_bench_passes_and_fails_on_its_bounds() {
         let out = puppet(&["bench", "poses", hand, bound, "nan"]);
         assert_eq!(out.status.code(), Some(2), "{bound}");
     }
+    // `--compare`: each pose with collision off, then on; on is no worse here.
+    let out = puppet(&[
+        "bench",
+        "poses",
+        hand,
+        "--poses",
+        "2",
+        "--compare",
+        "--never-worse",
+        "--json",
+    ]);
+    common::ok(&out);
+    let rows: Vec<serde_json::Value> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(rows.len(), 4);
+    for (k, r) in rows.iter().enumerate() {
+        assert_eq!(r["collision"], k % 2 == 1, "{r}");
+        assert!(r["behind"].as_f64().unwrap() >= 0.0, "{r}");
+        assert!(r["limit_ms"][1].as_f64().unwrap() >= 0.0, "{r}");
+    }
+    let (off, on) = (&rows[0], &rows[1]);
+    assert!(
+        on["crossing"].as_u64() <= off["crossing"].as_u64(),
+        "{off}\n{on}"
+    );
 }

@@ -29,8 +29,12 @@ pub const SQUASH: f64 = 0.25;
 /// Samples at most along a move (beyond them the move's sampling is coarser).
 const MAX_SAMPLES: usize = 64;
 
+/// The smallest ball the sampling of a move heeds, as a share of the grid's cell (twice
+/// the 90th percentile radius).
+const SMALLEST: f64 = 0.125;
+
 /// Bisection steps between the last allowed sample and the first that is not.
-const BISECTIONS: usize = 8;
+const BISECTIONS: usize = 4;
 
 /// The balls of a puppet's sections.
 #[derive(Clone, Debug, Default)]
@@ -103,7 +107,7 @@ impl Balls {
     /// How much the deepest pair of balls presses in the pose whose world transforms are
     /// `world` (see the module docs), among pairs with a ball of a section in `moving`.
     pub fn pressing(&self, world: &[DAffine3], moving: &[bool]) -> f64 {
-        Still::new(self, world, moving).pressing(world)
+        Still::new(self, world, moving).pressing(world, f64::INFINITY)
     }
 
     /// The deepest press of pair `a`, `b` at `pa`, `pb` (0 when they do not press or
@@ -171,32 +175,39 @@ impl Balls {
         }
         let mut still = Still::new(self, &start, &moving);
         still.relative(&start, &end);
-        let pressing = |s: f64| still.pressing(&joints.world(&between(from, to, s)));
-        let already = pressing(0.0).max(SQUASH);
+        let pressing =
+            |s: f64, stop: f64| still.pressing(&joints.world(&between(from, to, s)), stop);
+        let already = pressing(0.0, f64::INFINITY).max(SQUASH);
         let allowed = |p: f64| p <= already + 1e-9;
-        // Samples close enough that no ball jumps more than half the smallest moving one.
-        let (mut far, mut smallest) = (0.0f64, f64::INFINITY);
+        // Samples close enough that no ball jumps more than half its radius: two balls
+        // then move less than half their radii together between samples, and neither
+        // passes through the other. Balls under [`SMALLEST`] of the grid's cell count as
+        // that big (a crumb of a ball, at a crease, would ask for thousands of samples;
+        // the contacts keep such crumbs apart).
+        let floor = SMALLEST * self.cell;
+        let (mut far, mut smallest, mut jumps) = (0.0f64, f64::INFINITY, 0.0f64);
         for &b in &still.movers {
             let (s, c) = (self.section[b], self.center[b]);
-            far = far.max(
-                start[s]
-                    .transform_point3(c)
-                    .distance(end[s].transform_point3(c)),
-            );
-            smallest = smallest.min(self.radius[b]);
+            let moved = start[s]
+                .transform_point3(c)
+                .distance(end[s].transform_point3(c));
+            let r = self.radius[b].max(floor);
+            far = far.max(moved);
+            smallest = smallest.min(r);
+            jumps = jumps.max(moved / (0.5 * r));
         }
-        let samples = ((far / (0.5 * smallest)).ceil() as usize).clamp(1, MAX_SAMPLES);
+        let samples = (jumps.ceil() as usize).clamp(1, MAX_SAMPLES);
         let mut good = 0.0;
         for k in 1..=samples {
             let s = k as f64 / samples as f64;
-            if allowed(pressing(s)) {
+            if allowed(pressing(s, already + 1e-9)) {
                 good = s;
                 continue;
             }
             let mut bad = s;
             for _ in 0..BISECTIONS {
                 let mid = 0.5 * (good + bad);
-                if allowed(pressing(mid)) {
+                if allowed(pressing(mid, already + 1e-9)) {
                     good = mid;
                 } else {
                     bad = mid;
@@ -220,9 +231,8 @@ struct Still<'a> {
     /// Per pair of sections (`a * n + b`): their relative transform changes in the move.
     apart: Vec<bool>,
     sections: usize,
-    /// Balls of moving sections, by section, and the runs of one section in it.
+    /// Balls of moving sections.
     movers: Vec<usize>,
-    runs: Vec<std::ops::Range<usize>>,
     /// The others, posed: small ones by grid cell, big ones (over a cell) apart.
     posed: Vec<DVec3>,
     grid: Cells<[i64; 3], Vec<u32>>,
@@ -241,7 +251,6 @@ impl<'a> Still<'a> {
             apart: vec![true; sections * sections],
             sections,
             movers: Vec::new(),
-            runs: Vec::new(),
             posed: vec![DVec3::ZERO; balls.len()],
             grid: Cells::default(),
             extent: ([i64::MAX; 3], [i64::MIN; 3]),
@@ -270,14 +279,6 @@ impl<'a> Still<'a> {
                 out.gridded[b] = true;
             }
         }
-        out.movers.sort_by_key(|&b| (balls.section[b], b));
-        for i in 0..out.movers.len() {
-            let s = balls.section[out.movers[i]];
-            match out.runs.last_mut() {
-                Some(r) if balls.section[out.movers[r.start]] == s => r.end = i + 1,
-                _ => out.runs.push(i..i + 1),
-            }
-        }
         out
     }
 
@@ -299,8 +300,9 @@ impl<'a> Still<'a> {
         [k.x as i64, k.y as i64, k.z as i64]
     }
 
-    /// The deepest press of a moving ball in the pose `world`.
-    fn pressing(&self, world: &[DAffine3]) -> f64 {
+    /// The deepest press of a moving ball in the pose `world`, or the first found deeper
+    /// than `stop` (a move is refused as soon as one pair presses too much).
+    fn pressing(&self, world: &[DAffine3], stop: f64) -> f64 {
         let balls = self.balls;
         let posed = |b: usize| {
             world
@@ -310,38 +312,59 @@ impl<'a> Still<'a> {
         let movers: Vec<DVec3> = self.movers.iter().map(|&b| posed(b)).collect();
         let mut deepest = 0.0f64;
         // Moving balls of sections moving apart from each other (two arms turned into
-        // each other), a pair of sections at a time where their balls' boxes meet (a ball
-        // presses only one it overlaps).
-        let boxes: Vec<(DVec3, DVec3)> = self
-            .runs
-            .iter()
-            .map(|r| {
-                (r.clone()).fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), i| {
-                    let reach = DVec3::splat(balls.radius[self.movers[i]]);
-                    (lo.min(movers[i] - reach), hi.max(movers[i] + reach))
-                })
-            })
-            .collect();
-        for (g, run) in self.runs.iter().enumerate() {
-            let row = balls.section[self.movers[run.start]] * self.sections;
-            for (h, other) in self.runs.iter().enumerate().skip(g + 1) {
-                let apart = self
-                    .apart
-                    .get(row + balls.section[self.movers[other.start]])
-                    .copied()
-                    .unwrap_or(true);
-                let (a, b) = (boxes[g], boxes[h]);
-                if !apart || a.0.cmpgt(b.1).any() || b.0.cmpgt(a.1).any() {
-                    continue;
+        // each other): small ones by grid cell, each pair once.
+        let sections = self.sections;
+        let apart = |a: usize, b: usize| {
+            self.apart
+                .get(balls.section[a] * sections + balls.section[b])
+                .copied()
+                .unwrap_or(true)
+        };
+        // Cells twice the still grid's: two small balls (at most a cell across each) that
+        // overlap lie in neighbouring cells.
+        let wide = 2.0 * balls.cell;
+        let key = |p: DVec3| {
+            let k = (p / wide).floor();
+            [k.x as i64, k.y as i64, k.z as i64]
+        };
+        let mut grid: Cells<[i64; 3], Vec<u32>> = Cells::default();
+        let mut big = Vec::new();
+        for (i, &a) in self.movers.iter().enumerate() {
+            if balls.radius[a] > balls.cell || !movers[i].is_finite() {
+                big.push(i);
+            } else {
+                grid.entry(key(movers[i])).or_default().push(i as u32);
+            }
+        }
+        for (i, &a) in self.movers.iter().enumerate() {
+            if balls.radius[a] > balls.cell || !movers[i].is_finite() {
+                continue;
+            }
+            let k = key(movers[i]);
+            for x in k[0] - 1..=k[0] + 1 {
+                for y in k[1] - 1..=k[1] + 1 {
+                    for z in k[2] - 1..=k[2] + 1 {
+                        for &j in grid.get(&[x, y, z]).map_or(&[][..], |v| v.as_slice()) {
+                            let (j, b) = (j as usize, self.movers[j as usize]);
+                            if j > i && apart(a, b) {
+                                deepest = deepest.max(balls.press(a, b, movers[i], movers[j]));
+                                if deepest > stop {
+                                    return deepest;
+                                }
+                            }
+                        }
+                    }
                 }
-                for i in run.clone() {
-                    for j in other.clone() {
-                        deepest = deepest.max(balls.press(
-                            self.movers[i],
-                            self.movers[j],
-                            movers[i],
-                            movers[j],
-                        ));
+            }
+        }
+        for &i in &big {
+            let a = self.movers[i];
+            for (j, &b) in self.movers.iter().enumerate() {
+                let other_big = balls.radius[b] > balls.cell || !movers[j].is_finite();
+                if (!other_big || j > i) && apart(a, b) {
+                    deepest = deepest.max(balls.press(a, b, movers[i], movers[j]));
+                    if deepest > stop {
+                        return deepest;
                     }
                 }
             }
@@ -351,6 +374,9 @@ impl<'a> Still<'a> {
             for &b in &self.big {
                 let b = b as usize;
                 deepest = deepest.max(balls.press(a, b, pa, self.posed[b]));
+                if deepest > stop {
+                    return deepest;
+                }
             }
             // Small still balls within reach: the cells about it (a small ball's radius is
             // at most one cell).
@@ -359,6 +385,9 @@ impl<'a> Still<'a> {
                 for b in 0..balls.len() {
                     if self.gridded[b] {
                         deepest = deepest.max(balls.press(a, b, pa, self.posed[b]));
+                        if deepest > stop {
+                            return deepest;
+                        }
                     }
                 }
                 continue;
@@ -374,6 +403,9 @@ impl<'a> Still<'a> {
                             for &b in list {
                                 let b = b as usize;
                                 deepest = deepest.max(balls.press(a, b, pa, self.posed[b]));
+                                if deepest > stop {
+                                    return deepest;
+                                }
                             }
                         }
                     }

@@ -79,8 +79,9 @@ fn unit(rng: &mut SplitMix) -> f64 {
 /// Brings `puppet` from its present pose (at rest) to `target` over [`RAMP`] seconds, each
 /// section slerped from rest, and holds it [`HOLD`] seconds, each step through
 /// [`Puppet::step_toward`] (with collision on, a part stops where it meets another).
-/// Returns each step's time (ms) and the pose reached.
-pub fn settle(puppet: &mut Puppet, target: &[Local]) -> (Vec<f64>, Vec<Local>) {
+/// Returns each step's time and its pose limit's ([`Puppet::hold_back`]), in ms, and the
+/// pose reached.
+pub fn settle(puppet: &mut Puppet, target: &[Local]) -> (Vec<[f64; 2]>, Vec<Local>) {
     let dt = f64::from(puppet.sim.params().solver.time_step);
     let steps = ((RAMP + HOLD) / dt).ceil() as usize;
     let mut local = vec![Local::default(); target.len()];
@@ -96,9 +97,16 @@ pub fn settle(puppet: &mut Puppet, target: &[Local]) -> (Vec<f64>, Vec<Local>) {
                 translation: t.translation * s,
             };
         }
+        // Timed apart: the pose limit, then the step (what `step_toward` does).
         let start = std::time::Instant::now();
-        puppet.step_toward(&wanted, &mut local, &mut scratch);
-        times.push(start.elapsed().as_secs_f64() * 1e3);
+        let before = std::mem::replace(&mut local, wanted.clone());
+        puppet.hold_back(&before, &mut local);
+        let held = start.elapsed().as_secs_f64() * 1e3;
+        let start = std::time::Instant::now();
+        puppet
+            .sim
+            .step(puppet.joints.pose_into(&local, &mut scratch));
+        times.push([start.elapsed().as_secs_f64() * 1e3, held]);
     }
     (times, local)
 }
@@ -122,6 +130,10 @@ pub struct Surface {
     pub volume: [f64; 2],
     /// The relative volume change of the whole surface.
     pub whole: f64,
+    /// How far the vertex farthest from where its bones hold it lies from there, in its
+    /// own medial radii (its skeletal distance): flesh squashed by a contact moves a share
+    /// of a radius; a vertex left behind, or caught on another part, more.
+    pub behind: f64,
     /// Some position is not finite.
     pub nan: bool,
 }
@@ -197,6 +209,12 @@ pub fn measure_at(puppet: &Puppet, now: &[DVec3], local: &[Local]) -> Surface {
                 0.0
             }
         },
+        behind: targets(puppet, local)
+            .iter()
+            .zip(now)
+            .zip(&puppet.skeleton.distance)
+            .map(|((t, x), &d)| t.distance(*x) / d.max(f64::MIN_POSITIVE))
+            .fold(0.0, f64::max),
         nan: false,
     }
 }

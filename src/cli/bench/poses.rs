@@ -37,6 +37,14 @@ pub struct Args {
     /// Pose with collision on.
     #[arg(long)]
     collision: bool,
+    /// Pose each character with collision off and on, and compare: the poses where on
+    /// crosses more faces than off, stretches an edge more, or leaves a vertex farther
+    /// behind.
+    #[arg(long, conflicts_with_all = ["collision", "targets"])]
+    compare: bool,
+    /// With `--compare`: fail when collision on is worse than off on some pose.
+    #[arg(long, requires = "compare")]
+    never_worse: bool,
     /// Fail when a pose's worst edge stretch is above this.
     #[arg(long)]
     max_stretch: Option<f64>,
@@ -61,10 +69,48 @@ struct Row {
     character: String,
     seed: u64,
     joints: usize,
+    collision: bool,
     #[serde(flatten)]
     surface: Surface,
     /// Median step time while settling (ms).
     step_ms: f64,
+    /// Median and largest time of the pose limit in a step while settling (ms).
+    limit_ms: [f64; 2],
+}
+
+/// When collision on counts as worse than off on a pose: more new crossing faces; an edge
+/// stretched over [`TORN`] and more than [`WORSE_STRETCH`] times off's worst (the held pose
+/// is another pose, its edges a little other lengths); a vertex farther than [`BEHIND`] of
+/// its medial radius from where its bones hold it, and farther than off's.
+const TORN: f64 = 1.5;
+const WORSE_STRETCH: f64 = 1.1;
+const BEHIND: f64 = 1.0;
+
+/// Collision on is worse than off on this pose: what is worse, in words.
+fn worse(off: &Surface, on: &Surface) -> Vec<String> {
+    let mut out = Vec::new();
+    if on.nan && !off.nan {
+        out.push("NaN".into());
+    }
+    if on.crossing > off.crossing {
+        out.push(format!(
+            "{} crossing faces against {}",
+            on.crossing, off.crossing
+        ));
+    }
+    if on.worst > TORN && on.worst > off.worst * WORSE_STRETCH {
+        out.push(format!(
+            "worst stretch {:.2} against {:.2}",
+            on.worst, off.worst
+        ));
+    }
+    if on.behind > BEHIND && on.behind > off.behind {
+        out.push(format!(
+            "a vertex {:.2} of its radii behind against {:.2}",
+            on.behind, off.behind
+        ));
+    }
+    out
 }
 
 /// The extensions read from a folder.
@@ -135,7 +181,10 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     let characters = population(&args.paths)?;
     let mut rows = Vec::new();
     let mut failures = Vec::new();
-    if !args.json {
+    if !args.json && args.compare {
+        println!("| character | joints | poses | new crossing faces off → on (median; max) | worst stretch off → on (max) | farthest behind off → on (max, medial radii) | poses worse on | step off → on (median ms) | pose limit (median; max ms) |");
+        println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+    } else if !args.json {
         println!("| character | joints | poses | worst stretch (median … max) | p99 stretch (max) | edges over 1.5× (max %) | edges over 2× (max %) | new crossing faces (median … max) | section volume (% min … max) | whole volume (% min … max) | NaN | step (ms) | pose (s) |");
         println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     }
@@ -159,61 +208,92 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         base.suggest_joints().map_err(|e| anyhow!("{file}: {e}"))?;
         let joints = base.joints.cuts().len();
         let mut mine = Vec::new();
+        let runs: &[bool] = if args.compare {
+            &[false, true]
+        } else {
+            &[args.collision]
+        };
         for k in 0..args.poses as u64 {
             let seed = args.seed + k;
             let target = poses::random_pose(&base.joints, spread, &mut SplitMix(seed));
-            let start = Instant::now();
-            let (mut times, surface) = if args.targets {
-                let now = poses::targets(&base, &target);
-                (Vec::new(), poses::measure_at(&base, &now, &target))
-            } else {
-                let mut p = base.clone();
-                let (times, reached) = poses::settle(&mut p, &target);
-                (times, poses::measure(&p, &reached))
-            };
-            let seconds = start.elapsed().as_secs_f64();
-            times.sort_by(f64::total_cmp);
-            let row = Row {
-                character: name.clone(),
-                seed,
-                joints,
-                surface,
-                step_ms: times.get(times.len() / 2).copied().unwrap_or(0.0),
-            };
-            let s = &row.surface;
-            let mut missed = Vec::new();
-            if s.nan {
-                missed.push("NaN".to_string());
+            let mut pair: Vec<Surface> = Vec::new();
+            for &collision in runs {
+                let start = Instant::now();
+                let (times, surface) = if args.targets {
+                    let now = poses::targets(&base, &target);
+                    (Vec::new(), poses::measure_at(&base, &now, &target))
+                } else {
+                    let mut p = base.clone();
+                    let mut params = *p.sim.params();
+                    params.world.collision = collision;
+                    p.sim.set_params(params);
+                    let (times, reached) = poses::settle(&mut p, &target);
+                    (times, poses::measure(&p, &reached))
+                };
+                let seconds = start.elapsed().as_secs_f64();
+                let median = |k: usize| {
+                    let mut v: Vec<f64> = times.iter().map(|t| t[k]).collect();
+                    v.sort_by(f64::total_cmp);
+                    v.get(v.len() / 2).copied().unwrap_or(0.0)
+                };
+                let row = Row {
+                    character: name.clone(),
+                    seed,
+                    joints,
+                    collision,
+                    surface,
+                    step_ms: median(0),
+                    limit_ms: [median(1), times.iter().map(|t| t[1]).fold(0.0, f64::max)],
+                };
+                pair.push(surface);
+                if let [off, on] = pair[..] {
+                    let w = worse(&off, &on);
+                    if args.never_worse && !w.is_empty() {
+                        failures.push(format!(
+                            "{name} seed {seed}: collision on: {}",
+                            w.join(", ")
+                        ));
+                    }
+                }
+                let s = &row.surface;
+                let mut missed = Vec::new();
+                if s.nan {
+                    missed.push("NaN".to_string());
+                }
+                if let Some(m) = args.max_stretch.filter(|&m| beyond(s.worst, m)) {
+                    missed.push(format!("worst stretch {:.2} > {m}", s.worst));
+                }
+                if let Some(m) = args.max_over.filter(|&m| beyond(100.0 * s.over_1_5, m)) {
+                    missed.push(format!(
+                        "{:.2} % of edges over 1.5× > {m} %",
+                        100.0 * s.over_1_5
+                    ));
+                }
+                if let Some(m) = args
+                    .max_volume
+                    .filter(|&m| beyond(100.0 * s.volume[0].abs().max(s.volume[1].abs()), m))
+                {
+                    missed.push(format!(
+                        "a section's volume {:+.1} … {:+.1} % beyond ±{m} %",
+                        100.0 * s.volume[0],
+                        100.0 * s.volume[1]
+                    ));
+                }
+                if !missed.is_empty() {
+                    failures.push(format!("{name} seed {seed}: {}", missed.join(", ")));
+                }
+                if args.json {
+                    println!("{}", serde_json::to_string(&row)?);
+                }
+                mine.push((row, seconds));
             }
-            if let Some(m) = args.max_stretch.filter(|&m| beyond(s.worst, m)) {
-                missed.push(format!("worst stretch {:.2} > {m}", s.worst));
-            }
-            if let Some(m) = args.max_over.filter(|&m| beyond(100.0 * s.over_1_5, m)) {
-                missed.push(format!(
-                    "{:.2} % of edges over 1.5× > {m} %",
-                    100.0 * s.over_1_5
-                ));
-            }
-            if let Some(m) = args
-                .max_volume
-                .filter(|&m| beyond(100.0 * s.volume[0].abs().max(s.volume[1].abs()), m))
-            {
-                missed.push(format!(
-                    "a section's volume {:+.1} … {:+.1} % beyond ±{m} %",
-                    100.0 * s.volume[0],
-                    100.0 * s.volume[1]
-                ));
-            }
-            if !missed.is_empty() {
-                failures.push(format!("{name} seed {seed}: {}", missed.join(", ")));
-            }
-            if args.json {
-                println!("{}", serde_json::to_string(&row)?);
-            }
-            mine.push((row, seconds));
         }
         if !args.json && !mine.is_empty() {
-            print_character(&name, joints, &mine);
+            if args.compare {
+                print_comparison(&name, joints, &mine);
+            } else {
+                print_character(&name, joints, &mine);
+            }
         }
         rows.extend(mine.into_iter().map(|(r, _)| r));
     }
@@ -295,4 +375,73 @@ fn print_character(name: &str, joints: usize, rows: &[(Row, f64)]) {
         step[step.len() / 2],
         secs[secs.len() / 2],
     );
+}
+
+/// A character's poses with collision off and on (rows alternate: off, on).
+fn print_comparison(name: &str, joints: usize, rows: &[(Row, f64)]) {
+    let side = |on: bool| -> Vec<&Row> {
+        rows.iter()
+            .map(|(r, _)| r)
+            .filter(|r| r.collision == on)
+            .collect()
+    };
+    let (off, on) = (side(false), side(true));
+    let median = |rows: &[&Row], f: &dyn Fn(&Row) -> f64| {
+        let mut v: Vec<f64> = rows.iter().map(|r| f(r)).collect();
+        v.sort_by(f64::total_cmp);
+        v.get(v.len() / 2).copied().unwrap_or(0.0)
+    };
+    let max =
+        |rows: &[&Row], f: &dyn Fn(&Row) -> f64| rows.iter().map(|r| f(r)).fold(0.0, f64::max);
+    let crossing = |r: &Row| r.surface.crossing as f64;
+    let worse_poses = off
+        .iter()
+        .zip(&on)
+        .filter(|(a, b)| !worse(&a.surface, &b.surface).is_empty())
+        .count();
+    println!(
+        "| {name} | {joints} | {} | {:.0} → {:.0}; {:.0} → {:.0} | {:.2} → {:.2} | {:.2} → {:.2} | {worse_poses} | {:.3} → {:.3} | {:.3}; {:.2} |",
+        off.len(),
+        median(&off, &crossing),
+        median(&on, &crossing),
+        max(&off, &crossing),
+        max(&on, &crossing),
+        max(&off, &|r| r.surface.worst),
+        max(&on, &|r| r.surface.worst),
+        max(&off, &|r| r.surface.behind),
+        max(&on, &|r| r.surface.behind),
+        median(&off, &|r| r.step_ms),
+        median(&on, &|r| r.step_ms),
+        median(&on, &|r| r.limit_ms[0]),
+        max(&on, &|r| r.limit_ms[1]),
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What counts as collision on being worse than off, each bound on its own.
+    #[test]
+    fn worse_names_each_way_collision_on_can_be_worse() {
+        let off = Surface {
+            worst: 1.4,
+            crossing: 3,
+            behind: 0.2,
+            ..Surface::default()
+        };
+        assert!(worse(&off, &off).is_empty());
+        let more = |f: &dyn Fn(&mut Surface)| {
+            let mut on = off;
+            f(&mut on);
+            worse(&off, &on)
+        };
+        assert_eq!(more(&|s| s.crossing = 4).len(), 1);
+        // Stretch: worse only past a tear and past a tenth more than off.
+        assert!(more(&|s| s.worst = 1.49).is_empty());
+        assert_eq!(more(&|s| s.worst = 1.6).len(), 1);
+        assert!(more(&|s| s.behind = 0.9).is_empty());
+        assert_eq!(more(&|s| s.behind = 1.2).len(), 1);
+        assert_eq!(more(&|s| s.nan = true).len(), 1);
+    }
 }
