@@ -247,6 +247,8 @@ fn the_torus_needs_a_spring_count_and_no_mesh() {
 fn short_stress_run_passes() {
     let mut bands = [0, 0];
     let mut poses = 0;
+    let mut held = 0;
+    let mut ups = [0; 6];
     for seed in ["1", "2"] {
         let report = ok_json(&[
             "bench", "stress", "--seed", seed, "--steps", "15000", "--json",
@@ -258,7 +260,14 @@ fn short_stress_run_passes() {
         bands[0] += report["arcs"].as_u64().unwrap();
         bands[1] += report["fans"].as_u64().unwrap();
         poses += report["poses"].as_u64().unwrap();
+        held += report["held"].as_u64().unwrap();
+        for (k, n) in ups.iter_mut().enumerate() {
+            *n += report["up"][k].as_u64().unwrap();
+        }
     }
+    // Poses held back by collision, and up along several axis directions, were drawn.
+    assert!(held >= 1, "{held}");
+    assert!(ups.iter().filter(|&&n| n > 0).count() >= 3, "{ups:?}");
     // Puppeteers' poses of every joint at once were drawn (`puppet::poses`).
     assert!(poses >= 2, "{poses}");
     // Joint bands of both kinds were bent (`joints::band`).

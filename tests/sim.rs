@@ -59,7 +59,7 @@ fn assert_constraint(sim: &Simulation, step: usize) {
     for i in 0..rig.len() {
         let x = sim.positions().get(i);
         assert!(x.is_finite(), "step {step}: vertex {i} is not finite");
-        if let Some(y) = sim.floor_y() {
+        if let Some(y) = sim.floor_height() {
             // The floor wins over the constraint.
             assert!(x.y >= y, "step {step}: vertex {i} below the floor");
             if x.y == y {

@@ -141,7 +141,7 @@ fn gravity_does_not_depend_on_the_step() {
 #[test]
 fn a_section_posed_into_the_floor_squashes_against_it() {
     let mut p = arm("[params]\nfloor = true\nfloor_height = 0.5\nfloor_friction = 1.0\n").unwrap();
-    let floor = p.sim.floor_y().unwrap();
+    let floor = p.sim.floor_height().unwrap();
     assert_eq!(floor, -1.8 + 0.5, "0.5 above the lowest rest point");
     // Push the arm down into the floor by a third of its length.
     let pose = Pose {
@@ -319,4 +319,54 @@ fn uniform_regions_change_nothing() {
         pin: vec![0.0; n],
     };
     assert_eq!(run(None), run(Some(zero)));
+}
+
+/// A character modelled z-up (the cow turned so its up is +z, `up = "+z"` in its rig):
+/// `--gravity` pulls it along −z, and the floor lies across z under its lowest point; no
+/// vertex passes it.
+#[test]
+fn gravity_and_the_floor_follow_the_character_s_up() {
+    let dir = scratch("z_up");
+    let (cow, _) =
+        puppet::mesh::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/spot.obj")).unwrap();
+    let turned: Vec<glam::DVec3> = cow
+        .positions
+        .iter()
+        .map(|p| glam::DVec3::new(p.x, -p.z, p.y))
+        .collect();
+    let mesh = dir.join("cow-z-up.obj");
+    let mut file = std::fs::File::create(&mesh).unwrap();
+    puppet::mesh::write_obj(&mut file, &turned, &cow.triangles, "").unwrap();
+    drop(file);
+    let rig = dir.join("rig.toml");
+    std::fs::write(&rig, "up = \"+z\"\n").unwrap();
+    let out_obj = dir.join("final.obj");
+    let out = puppet(&[
+        "simulate",
+        mesh.to_str().unwrap(),
+        "--rig",
+        rig.to_str().unwrap(),
+        "--frames",
+        "30",
+        "--gravity",
+        "3",
+        "--floor",
+        "0",
+        "--out",
+        out_obj.to_str().unwrap(),
+    ]);
+    ok(&out);
+    let (now, _) = puppet::mesh::load(&out_obj).unwrap();
+    let lowest = turned.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
+    let mean = |v: &[glam::DVec3]| v.iter().copied().sum::<glam::DVec3>() / v.len() as f64;
+    let moved = mean(&now.positions) - mean(&turned);
+    let size = 1.0; // The cow is about a unit across.
+    assert!(moved.z < -1e-3 * size, "it sags along −z: {moved}");
+    assert!(moved.y.abs() < 0.2 * moved.z.abs(), "not along y: {moved}");
+    let below = now
+        .positions
+        .iter()
+        .map(|p| lowest - p.z)
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert!(below <= 1e-5, "a vertex {below} below the floor");
 }

@@ -60,7 +60,7 @@ pub struct Args {
     /// for their names).
     #[arg(long)]
     pub suggest_joints: bool,
-    /// Gravity in g pulling down (−y), over the rig's `gravity` (see `World::gravity`:
+    /// Gravity in g pulling down (against the rig's `up`, or the one `--suggest-joints` finds; −y by default), over the rig's `gravity` (see `World::gravity`:
     /// 1 is 9.81 m/s² on a puppet one metre across).
     #[arg(long, allow_negative_numbers = true)]
     pub gravity: Option<f32>,
@@ -203,9 +203,15 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         e => FileError::new(&mesh_name, e),
     })?;
     bar.finish();
+    if args.suggest_joints {
+        puppet
+            .suggest_joints()
+            .map_err(|e| FileError::new(&mesh_name, e))?;
+    }
     let mut params = *puppet.sim.params();
     if let Some(g) = args.gravity {
-        params.world.gravity = [0.0, -g, 0.0];
+        // Down is against the puppet's up (the rig's, or as the suggestion found it).
+        params.world.gravity = (-g * puppet.sim.up().vector()).to_array();
     }
     if let Some(h) = args.floor {
         params.world.floor = true;
@@ -225,11 +231,6 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         .check()
         .map_err(|e| anyhow::anyhow!("--gravity/--floor/--friction/--flesh: {e}"))?;
     puppet.sim.set_params(params);
-    if args.suggest_joints {
-        puppet
-            .suggest_joints()
-            .map_err(|e| FileError::new(&mesh_name, e))?;
-    }
     let seconds_skeleton = t_skeleton.elapsed().as_secs_f64();
     let bound: Option<Bound> = match (&anim, &args.anim) {
         (Some(a), Some(path)) => Some(

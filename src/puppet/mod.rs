@@ -131,6 +131,7 @@ impl Puppet {
         };
         let regions = puppet.regions(true).map_err(BuildError::Regions)?;
         puppet.sim.set_regions(regions);
+        puppet.sim.set_up(puppet.up().as_vec3());
         Ok(puppet)
     }
 
@@ -205,6 +206,8 @@ impl Puppet {
         let up = self.rig_file.up.map(|u| u.vector());
         let (cuts, frame) = crate::joints::suggest::suggest(&self.mesh, &self.skeleton, &root, up);
         self.frame = Some(frame);
+        // The floor lies across the up the suggestion found (unless the rig gives one).
+        self.sim.set_up(self.up().as_vec3());
         let mut joints = self.joints.without_cuts(&root);
         joints.add_cuts(cuts.iter().cloned())?;
         self.joints = joints;

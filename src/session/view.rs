@@ -164,12 +164,10 @@ impl View<'_> {
         }
         overlays.add(s.cut_tool.active as u64);
         overlays.add(s.cut_tool.move_pivots as u64);
-        overlays.add(
-            s.puppet
-                .sim
-                .floor_y()
-                .map_or(u64::MAX, |y| y.to_bits() as u64),
-        );
+        overlays.add(s.puppet.sim.floor_height().map_or(u64::MAX, |y| {
+            let up = s.puppet.sim.up();
+            (y.to_bits() as u64) ^ ((up.axis as u64) << 33) ^ ((up.sign < 0.0) as u64) << 35
+        }));
         if self.overlays.any()
             || s.draft.is_some()
             || !s.selection.is_empty()
@@ -323,15 +321,23 @@ impl View<'_> {
                 push_cross(top, c, size * 0.025, [0.1, 0.8, 1.0, 1.0]);
             }
         }
-        if let Some(y) = p.sim.floor_y() {
-            // The floor: a grid under the model, centred below it.
+        if let Some(height) = p.sim.floor_height() {
+            // The floor: a grid under the model across its up, centred below it.
             let (lo, hi) = p.mesh.bounds();
-            let c = ((lo + hi) * 0.5).as_vec3();
+            let up = p.sim.up();
+            let mut c = ((lo + hi) * 0.5).as_vec3();
+            c[up.axis] = height * up.sign;
+            let (a, b) = ((up.axis + 1) % 3, (up.axis + 2) % 3);
             let half = size * 0.75;
             let color = [0.55, 0.55, 0.5, 0.6];
             for k in -8..=8 {
                 let t = half * k as f32 / 8.0;
-                let at = |a: f32, b: f32| Vec3::new(c.x + a, y, c.z + b);
+                let at = |u: f32, v: f32| {
+                    let mut p = c;
+                    p[a] += u;
+                    p[b] += v;
+                    p
+                };
                 push_line(lines, at(t, -half), at(t, half), color);
                 push_line(lines, at(-half, t), at(half, t), color);
             }

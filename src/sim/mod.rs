@@ -171,7 +171,9 @@ pub struct Simulation {
     /// The sleep threshold as a squared distance.
     sleep_threshold2: f32,
     diagonal: f32,
-    /// The rest mesh's lowest `y` (the floor's origin).
+    /// Which way is up (the floor's normal), and the rest mesh's lowest height along it
+    /// (the floor's origin).
+    up: contact::Up,
     lowest: f32,
     /// What the last step did.
     awake_tiles: usize,
@@ -226,6 +228,7 @@ impl Simulation {
             all_static: params.is_static(),
             sleep_threshold2: 0.0,
             diagonal,
+            up: contact::Up::default(),
             lowest: if n > 0 { lo.y } else { 0.0 },
             awake_tiles: tiles,
             largest_motion: 0.0,
@@ -302,6 +305,31 @@ impl Simulation {
             self.all_static = self.params.is_static();
         }
         self.state.wake_all = true;
+    }
+
+    /// Sets which way is up: the axis direction nearest `up` (the puppet's, found or
+    /// given). The floor lies across it, under the rest mesh's lowest point along it.
+    pub fn set_up(&mut self, up: Vec3) {
+        let up = contact::Up::nearest(up);
+        if up == self.up {
+            return;
+        }
+        self.up = up;
+        self.lowest = self
+            .rig
+            .rest
+            .iter()
+            .map(|&p| up.height(p))
+            .fold(f32::INFINITY, f32::min);
+        if !self.lowest.is_finite() {
+            self.lowest = 0.0;
+        }
+        self.state.wake_all = true;
+    }
+
+    /// Which way is up (see [`Simulation::set_up`]).
+    pub fn up(&self) -> contact::Up {
+        self.up
     }
 
     /// Gives vertices their own materials and pin weights (see [`Regions`]); every tile

@@ -287,8 +287,8 @@ impl Simulation {
         Some(p.world.gravity.map(|g| g * scale))
     }
 
-    /// The floor's `y` when there is one.
-    pub fn floor_y(&self) -> Option<f32> {
+    /// The floor's height along up ([`Simulation::up`]) when there is one.
+    pub fn floor_height(&self) -> Option<f32> {
         self.floor().map(|f| f.height)
     }
 
@@ -296,6 +296,7 @@ impl Simulation {
     pub(super) fn floor(&self) -> Option<Floor> {
         let p = &self.params;
         p.world.floor.then(|| Floor {
+            up: self.up,
             height: self.lowest + p.world.floor_height,
             keep: self.keep(),
         })

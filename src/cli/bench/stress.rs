@@ -13,9 +13,11 @@
 //! target moved plus the diameter of its region. It reports the worst surface-spring strain
 //! seen.
 //!
-//! Half the scenarios have gravity in a random direction up to 10 g, a third a floor
-//! (anywhere from below the puppet to its middle, friction 0..1: points on it may leave
-//! their constraint, none may be below it), a third one to three material layers (by
+//! Half the scenarios have gravity in a random direction up to 10 g, up along any of the
+//! six axis directions, a third a floor across it (anywhere from below the puppet to its
+//! middle, friction 0..1: points on it may leave their constraint, none may be below it),
+//! half collision between sections (each new pose held back by the pose limit where parts
+//! meet, as every path that poses a part is), a third one to three material layers (by
 //! section or painted per vertex with weights 0, 1 or random, each material drawn like the
 //! parameters), a third pin weights (0, 1 or random), and the bone-spring stiffening
 //! exponent is drawn from 0 to 4.
@@ -82,6 +84,10 @@ struct Report {
     fans: usize,
     /// Random poses of every joint at once drawn (`puppet::puppet::poses`).
     poses: usize,
+    /// New poses the pose limit held back where parts meet (collision on).
+    held: usize,
+    /// Scenarios with up along each axis direction (+x, −x, +y, −y, +z, −z).
+    up: [usize; 6],
     seconds: f64,
 }
 
@@ -345,13 +351,17 @@ fn run_scenario(
     sim.set_joint_sections(joints.joint_sections());
     sim.set_regions(random_regions(rng, joints.section_of()));
     let p = *sim.params();
+    // Up along any of the six axis directions (the floor lies across it).
+    sim.set_up(rng.direction().as_vec3());
+    let up = sim.up();
+    report.up[2 * up.axis + usize::from(up.sign < 0.0)] += 1;
     // The floor somewhere between a little below the puppet and its middle.
     let floor = p.world.floor.then(|| {
-        let height = rng.range(-0.1, 0.5) * (hi.y - lo.y);
+        let height = rng.range(-0.1, 0.5) * (hi - lo)[up.axis];
         let mut q = p;
         q.world.floor_height = height as f32;
         sim.set_params(q);
-        sim.floor_y().map_or(f64::NEG_INFINITY, f64::from)
+        sim.floor_height().map_or(f64::NEG_INFINITY, f64::from)
     });
     let p = *sim.params();
     let n = sim.rig().len();
@@ -378,6 +388,7 @@ fn run_scenario(
             sim.set_joint_sections(joints.joint_sections());
             pose = joints.pose(&local);
         }
+        let was = local.clone();
         if rng.below(12) == 0 {
             // A puppeteer's pose: every joint at once (`puppet::poses`).
             local = puppet::puppet::poses::random_pose(
@@ -397,6 +408,16 @@ fn run_scenario(
                 translation: rng.direction() * rng.range(0.0, 0.5) * size,
             };
             pose = joints.pose(&local);
+        }
+        // With collision on, a new pose is held back where parts meet, as every path that
+        // poses a part does (`Puppet::hold_back`).
+        if p.world.collision && local != was {
+            let s = joints.balls().limit(&joints, &was, &local);
+            if s < 1.0 {
+                local = puppet::joints::collide::between(&was, &local, s);
+                pose = joints.pose(&local);
+                report.held += 1;
+            }
         }
         debt += rng.range(1.0 / 240.0, 0.1);
         let mut k = 0;
@@ -444,6 +465,7 @@ fn check(
     name: &str,
     report: &mut Report,
 ) -> Result<()> {
+    let up = sim.up();
     let x = sim.positions();
     let rig = sim.rig();
     let step = sim.steps();
@@ -488,12 +510,12 @@ fn check(
         // below it.
         let (on_floor, lift) = match floor {
             Some(height) => {
-                let below = height - y.y as f64;
+                let below = height - up.height(y) as f64;
                 if below > tolerance {
                     bail!("stress scenario {name}, step {step}: vertex {i} is {below:e} below the floor with {p:?}");
                 }
                 // How far the floor reaches into the region now and at the last step.
-                let lift = |t: Vec3| (height - (t.y as f64 - radius)).max(0.0);
+                let lift = |t: Vec3| (height - (up.height(t) as f64 - radius)).max(0.0);
                 (below >= -tolerance, lift(target) + lift(targets[i]))
             }
             None => (false, 0.0),

@@ -44,7 +44,7 @@
 mod floor;
 mod grid;
 
-pub use floor::Floor;
+pub use floor::{Floor, Up};
 
 use super::layout::{Layout, Packed};
 use crate::geom::balls;
