@@ -640,3 +640,51 @@ fn a_head_nodded_with_the_mouse_keeps_its_skin_whole() {
     );
     assert!(w.quit().success());
 }
+
+/// An animation that swings the right arm 120° down through the body: with collision on it
+/// plays with the arm stopping at the body's side, as a drag does; off, it turns the whole
+/// way.
+#[test]
+fn an_animation_that_swings_an_arm_through_the_body_stops_it_there() {
+    let dir = common::scratch("window-anim-collide");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let on = root.join("tests/data/human-arms.rig.toml");
+    let text = std::fs::read_to_string(&on).unwrap();
+    let mesh = root.join("tests/data/meshes/human.obj");
+    let off = dir.join("human-arms-off.rig.toml");
+    std::fs::write(
+        &off,
+        text.replace("collision = true", "collision = false")
+            .replace("meshes/human.obj", mesh.to_str().unwrap()),
+    )
+    .unwrap();
+    let anim = dir.join("swing.anim.toml");
+    std::fs::write(
+        &anim,
+        "duration = 1.5\n[[track]]\nsection = \"right arm\"\nease = \"smooth\"\nkey = [ { time = 0.0, axis = [0, 0, 1], angle = 0 }, { time = 1.0, axis = [0, 0, 1], angle = 120 } ]\n",
+    )
+    .unwrap();
+    let play = |rig: &Path, name: &str| -> f64 {
+        let mut w = common::Window::open(
+            &dir.join(name),
+            &[
+                "--rig",
+                rig.to_str().unwrap(),
+                "--anim",
+                anim.to_str().unwrap(),
+            ],
+        );
+        let r = w.wait(
+            |r| r["animation_time"].as_f64().is_some_and(|t| t >= 1.2),
+            "the swing to end",
+        );
+        assert!(w.quit().success());
+        turned(&r, "right arm")
+    };
+    let stopped = play(&on, "on");
+    let free = play(&off, "off");
+    assert!(
+        stopped < 100.0 && free > 115.0,
+        "with collision the arm stopped at {stopped}°, without it turned {free}°"
+    );
+}
