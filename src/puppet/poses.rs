@@ -130,9 +130,9 @@ pub struct Surface {
     pub volume: [f64; 2],
     /// The relative volume change of the whole surface.
     pub whole: f64,
-    /// How far the vertex farthest from where its bones hold it lies from there, in its
-    /// own medial radii (its skeletal distance): flesh squashed by a contact moves a share
-    /// of a radius; a vertex left behind, or caught on another part, more.
+    /// How far the vertex farthest from where its bones hold it lies from there, in the
+    /// mesh's median medial radius (skeletal distance): flesh squashed by a contact moves
+    /// a share of one; a piece left behind, or caught on another part, more.
     pub behind: f64,
     /// Some position is not finite.
     pub nan: bool,
@@ -209,12 +209,18 @@ pub fn measure_at(puppet: &Puppet, now: &[DVec3], local: &[Local]) -> Surface {
                 0.0
             }
         },
-        behind: targets(puppet, local)
-            .iter()
-            .zip(now)
-            .zip(&puppet.skeleton.distance)
-            .map(|((t, x), &d)| t.distance(*x) / d.max(f64::MIN_POSITIVE))
-            .fold(0.0, f64::max),
+        behind: {
+            // In the mesh's median medial radius: a crease's or a tip's own radius is a
+            // crumb, and the flesh a contact squashes moves about one typical radius.
+            let mut d: Vec<f64> = puppet.skeleton.distance.clone();
+            d.sort_by(f64::total_cmp);
+            let unit = d.get(d.len() / 2).copied().unwrap_or(1.0).max(f64::MIN_POSITIVE);
+            targets(puppet, local)
+                .iter()
+                .zip(now)
+                .map(|(t, x)| t.distance(*x) / unit)
+                .fold(0.0, f64::max)
+        },
         nan: false,
     }
 }

@@ -80,8 +80,8 @@ struct Row {
 
 /// When collision on counts as worse than off on a pose: more new crossing faces; an edge
 /// stretched over [`TORN`] and more than [`WORSE_STRETCH`] times off's worst (the held pose
-/// is another pose, its edges a little other lengths); a vertex farther than [`BEHIND`] of
-/// its medial radius from where its bones hold it, and farther than off's.
+/// is another pose, its edges a little other lengths); a vertex farther than [`BEHIND`]
+/// median medial radii from where its bones hold it, and farther than off's.
 const TORN: f64 = 1.5;
 const WORSE_STRETCH: f64 = 1.1;
 const BEHIND: f64 = 1.0;
@@ -106,7 +106,7 @@ fn worse(off: &Surface, on: &Surface) -> Vec<String> {
     }
     if on.behind > BEHIND && on.behind > off.behind {
         out.push(format!(
-            "a vertex {:.2} of its radii behind against {:.2}",
+            "a vertex {:.2} medial radii behind against {:.2}",
             on.behind, off.behind
         ));
     }
