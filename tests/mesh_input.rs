@@ -152,9 +152,16 @@ fn what_cannot_be_repaired_is_refused() {
             .ends_with("3 boundary edges (e.g. 2-3); 1 hole (hole filling is off)"),
         "{err}"
     );
-    // A third face on edge 1-2.
-    let fin = format!("{TETRA}v 0.5 -1 0.3\nf 1 2 5\n");
-    assert_refused("fin.obj", fin.as_bytes(), "non-manifold edges");
+    // Three equal sheets on one edge (a book of three single-face pages): no piece is
+    // the surface a fin hangs off, so nothing is dropped; the message says what to look
+    // for. (A fin off a closed surface is dropped: `tests/data/defects/fin.obj`.)
+    let book = "v 0 0 0\nv 0 1 0\nv 1 0 0\nv 0 0 1\nv -1 0 0\nf 1 2 3\nf 2 1 4\nf 1 2 5\n";
+    assert_refused("book.obj", book.as_bytes(), "non-manifold edges");
+    assert_refused(
+        "book.obj",
+        book.as_bytes(),
+        "Select > All by Trait > Non Manifold",
+    );
     // A Möbius-like twist cannot be oriented: a strip of quads closed with a half turn.
     let mut mobius = String::new();
     let n = 12;

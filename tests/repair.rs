@@ -951,6 +951,49 @@ fn regenerate_the_defect_corpus() {
         spot_src,
         &["removed 2 duplicate faces", "removed 1 unused vertices"],
     );
+    // An old Blender's PLY: its comment line written bare, with no `comment` keyword.
+    let bare = String::from_utf8(ply_ascii(&spot)).unwrap().replacen(
+        "format ascii 1.0\n",
+        "format ascii 1.0\nCreated by Blender 2.49 - www.blender.org, source file: ''\n",
+        1,
+    );
+    add(
+        "bare-comment.ply",
+        bare.into_bytes(),
+        "the cow as ASCII PLY whose header has a comment line without the `comment` keyword, as an old Blender wrote it",
+        spot_src,
+        &["read 1 line of the PLY header without a keyword as comments"],
+    );
+    // A fin: one triangle hanging off an edge of the surface (three faces on that edge),
+    // and a flap of two such triangles, as a modeller's leftover.
+    let mut fin = spot.clone();
+    fin.positions.push(tip);
+    let t = (fin.positions.len() - 1) as u32;
+    fin.triangles.push([fb, fa, t]);
+    add(
+        "fin.obj",
+        obj(&fin),
+        "the cow with a fin (one triangle hanging off an edge of its surface)",
+        spot_src,
+        &[
+            "dropped 1 fin face hanging off an edge",
+            "removed 1 unused vertices",
+        ],
+    );
+    let mut fins = fin.clone();
+    fins.positions
+        .push(tip + (spot.positions[fa as usize] - spot.positions[fb as usize]));
+    fins.triangles.push([fa, t + 1, t]);
+    add(
+        "fin-flap.obj",
+        obj(&fins),
+        "the cow with a flap of two triangles hanging off an edge of its surface",
+        spot_src,
+        &[
+            "dropped 2 fin faces hanging off an edge",
+            "removed 2 unused vertices",
+        ],
+    );
     let mut soup = Mesh {
         positions: Vec::new(),
         triangles: Vec::new(),

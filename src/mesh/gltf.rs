@@ -106,6 +106,7 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
         buffers.push(data);
     }
     let mut soup = Soup {
+        loose_comments: 0,
         objects: 0,
         ..Soup::default()
     };

@@ -5,7 +5,7 @@
 use super::edges::HalfEdges;
 use super::groups::Groups;
 use super::parts::Parts;
-use super::repair::{drop_duplicate_faces, fill_holes, orient, weld_seams, Holes};
+use super::repair::{drop_duplicate_faces, drop_fins, fill_holes, orient, weld_seams, Holes};
 use super::soup::Soup;
 use super::split::split_sheets;
 use super::validate::validate_with;
@@ -137,6 +137,10 @@ pub struct LoadReport {
     pub flipped_parts: usize,
     /// Faces over the same three vertices as an earlier one, dropped.
     pub duplicate_faces: usize,
+    /// Faces of fins dropped: open pieces hanging off an edge a larger piece shares.
+    pub fins: usize,
+    /// PLY header lines read as comments though they lack the `comment` keyword.
+    pub loose_comments: usize,
     /// Connected parts of the loaded mesh.
     pub parts: usize,
     /// Seconds per stage (read, parse, weld, repair, check), in order.
@@ -187,6 +191,8 @@ impl LoadReport {
             zero_area: 0,
             flipped_parts: 0,
             duplicate_faces: 0,
+            fins: 0,
+            loose_comments: 0,
             parts: 0,
             seconds: Vec::new(),
             groups: Groups::default(),
@@ -218,6 +224,19 @@ impl LoadReport {
             w.push(format!(
                 "removed {} over the same corners as another",
                 plural(self.duplicate_faces, "duplicate face")
+            ));
+        }
+        if self.loose_comments > 0 {
+            w.push(format!(
+                "read {} of the PLY header without a keyword as comments",
+                plural(self.loose_comments, "line")
+            ));
+        }
+        if self.fins > 0 {
+            w.push(format!(
+                "dropped {} hanging off an edge the surface shares with {}",
+                plural(self.fins, "fin face"),
+                if self.fins == 1 { "it" } else { "them" }
             ));
         }
         if self.seams_welded > 0 {
@@ -388,6 +407,7 @@ pub fn parse(
     progress("parsing", 0.0);
     let mut soup = read_soup(bytes, format)?;
     report.objects = soup.objects;
+    report.loose_comments = soup.loose_comments;
     report.file_vertices = soup.positions.len();
     report.file_triangles = soup.triangles.len();
     // The groups are carried by position once the repairs are done (a copy only where the
@@ -421,7 +441,8 @@ pub fn parse(
         // A face written twice makes its edges look shared by more than two faces.
         if c.nonmanifold > 0 {
             report.duplicate_faces = drop_duplicate_faces(&mut mesh);
-            if report.duplicate_faces > 0 {
+            report.fins = drop_fins(&mut mesh);
+            if report.duplicate_faces + report.fins > 0 {
                 // A dropped flap can leave a vertex no face uses.
                 let identity: Vec<u32> = (0..mesh.positions.len() as u32).collect();
                 report.unreferenced += super::weld::remap(&mut mesh, &identity).removed_vertices;

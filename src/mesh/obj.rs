@@ -104,6 +104,7 @@ fn face_groups(parts: &[Chunk]) -> Option<FaceGroups> {
 fn assemble(parts: &[Chunk], offsets: &[usize], vertices: usize) -> Result<Soup, MeshError> {
     let triangles: usize = parts.iter().map(|p| p.triangles.len()).sum();
     let mut soup = Soup {
+        loose_comments: 0,
         positions: vec![DVec3::ZERO; vertices],
         triangles: vec![[0; 3]; triangles],
         objects: parts.iter().map(|p| p.objects).sum::<usize>().max(1),

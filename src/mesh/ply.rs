@@ -82,6 +82,45 @@ fn strip_triangles(strip: &[i64], out: &mut Vec<[u32; 3]>) {
     }
 }
 
+/// The words a PLY header line may start with.
+const HEADER_WORDS: [&str; 7] = [
+    "ply",
+    "format",
+    "element",
+    "property",
+    "comment",
+    "obj_info",
+    "end_header",
+];
+
+/// The file with each header line that starts with no keyword made a comment (an old
+/// Blender wrote its comment lines bare; other readers take them), and how many; `None`
+/// when there is none.
+fn loose_comments(bytes: &[u8]) -> (Option<Vec<u8>>, usize) {
+    let Some(end) = bytes.windows(10).position(|w| w == b"end_header") else {
+        return (None, 0);
+    };
+    let Ok(header) = std::str::from_utf8(&bytes[..end]) else {
+        return (None, 0);
+    };
+    let mut loose = 0;
+    let mut out = String::with_capacity(header.len() + 64);
+    for line in header.split_inclusive('\n') {
+        let word = line.split_whitespace().next();
+        if word.is_some_and(|w| !HEADER_WORDS.contains(&w)) {
+            loose += 1;
+            out.push_str("comment ");
+        }
+        out.push_str(line);
+    }
+    if loose == 0 {
+        return (None, 0);
+    }
+    let mut fixed = out.into_bytes();
+    fixed.extend_from_slice(&bytes[end..]);
+    (Some(fixed), loose)
+}
+
 /// Parses a PLY file held in memory.
 ///
 /// # Errors
@@ -90,7 +129,8 @@ fn strip_triangles(strip: &[i64], out: &mut Vec<[u32; 3]>) {
 /// exist.
 pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
     let parser = Parser::<Element>::new();
-    let mut reader = std::io::Cursor::new(bytes);
+    let (fixed, loose_comments) = loose_comments(bytes);
+    let mut reader = std::io::Cursor::new(fixed.as_deref().unwrap_or(bytes));
     let ply = parser
         .read_ply(&mut reader)
         .map_err(|e| MeshError::Parse(format!("PLY: {}", super::one_line(&e.to_string()))))?;
@@ -109,6 +149,7 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
         triangles: Vec::with_capacity(faces.len()),
         objects: 1,
         groups: None,
+        loose_comments,
     };
     for (s, strip) in strips.iter().enumerate() {
         if let Some(&bad) = strip.corners.iter().find(|&&c| c < -1 || c >= n) {
@@ -174,5 +215,20 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("no face or tristrips element"));
+    }
+
+    /// A header line with no keyword (an old Blender's comment) is read as a comment and
+    /// counted; the same file with `comment` reads the same.
+    #[test]
+    fn a_bare_header_line_is_a_comment() {
+        let body = "element vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+        let bare = format!("ply\nformat ascii 1.0\nCreated by Blender 2.49\n{body}");
+        let marked = format!("ply\nformat ascii 1.0\ncomment Created by Blender 2.49\n{body}");
+        let (a, b) = (
+            parse(bare.as_bytes()).unwrap(),
+            parse(marked.as_bytes()).unwrap(),
+        );
+        assert_eq!((a.loose_comments, b.loose_comments), (1, 0));
+        assert_eq!((a.positions, a.triangles), (b.positions, b.triangles));
     }
 }

@@ -4,6 +4,8 @@
 //! * **duplicate faces**: a face over the same three vertices as an earlier one is dropped;
 //!   a two-sided flap (a face written both ways round, hanging off the surface by an edge
 //!   no other face uses) goes whole;
+//! * **fins**: a piece of open surface hanging off an edge that three or more faces share
+//!   (a fin, a flap left by a modeller) is dropped when a larger piece shares that edge;
 //! * **open seams**: boundary vertices almost on top of another boundary vertex (closer
 //!   than a tenth of their shortest edge: a gap no modeller meant) are welded;
 //! * **inconsistent orientation**: faces are turned to agree with their neighbours, part by
@@ -54,6 +56,80 @@ pub(super) fn drop_duplicate_faces(mesh: &mut Mesh) -> usize {
     mesh.triangles.retain(|t| {
         let k = key(t);
         copies.get(&k).is_some_and(|&n| !flap(&k, n)) && kept.insert(k)
+    });
+    before - mesh.triangles.len()
+}
+
+/// Drops the *fins*: the faces of a piece that hangs off an edge shared by an odd number
+/// of faces (three or more), when the piece is open (it has an edge of one face) and a
+/// larger piece shares that edge. Pieces are faces joined across edges of exactly two
+/// faces. Returns how many faces were dropped (0 leaves the mesh untouched).
+pub(super) fn drop_fins(mesh: &mut Mesh) -> usize {
+    use std::collections::HashMap;
+    let n = mesh.triangles.len();
+    let mut on_edge: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            on_edge
+                .entry((a.min(b), a.max(b)))
+                .or_default()
+                .push(f as u32);
+        }
+    }
+    if !on_edge.values().any(|f| f.len() > 2 && f.len() % 2 == 1) {
+        return 0;
+    }
+    // Pieces: faces joined across edges of two faces.
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    fn find(parent: &mut [u32], mut x: u32) -> u32 {
+        while parent[x as usize] != x {
+            parent[x as usize] = parent[parent[x as usize] as usize];
+            x = parent[x as usize];
+        }
+        x
+    }
+    for faces in on_edge.values() {
+        if let [f, g] = faces[..] {
+            let (a, b) = (find(&mut parent, f), find(&mut parent, g));
+            parent[a.max(b) as usize] = a.min(b);
+        }
+    }
+    let roots: Vec<u32> = (0..n as u32).map(|f| find(&mut parent, f)).collect();
+    let mut size: HashMap<u32, usize> = HashMap::new();
+    for &r in &roots {
+        *size.entry(r).or_default() += 1;
+    }
+    let mut open: std::collections::HashSet<u32> = std::collections::HashSet::new();
+    for faces in on_edge.values() {
+        if let [f] = faces[..] {
+            open.insert(roots[f as usize]);
+        }
+    }
+    let mut drop: std::collections::HashSet<u32> = std::collections::HashSet::new();
+    let mut edges: Vec<&Vec<u32>> = on_edge
+        .values()
+        .filter(|f| f.len() > 2 && f.len() % 2 == 1)
+        .collect();
+    edges.sort_unstable();
+    for faces in edges {
+        let largest = faces
+            .iter()
+            .map(|&f| size[&roots[f as usize]])
+            .max()
+            .unwrap_or(0);
+        for &f in faces {
+            let r = roots[f as usize];
+            if open.contains(&r) && size[&r] < largest {
+                drop.insert(r);
+            }
+        }
+    }
+    let before = n;
+    let mut f = 0;
+    mesh.triangles.retain(|_| {
+        f += 1;
+        !drop.contains(&roots[f - 1])
     });
     before - mesh.triangles.len()
 }
@@ -358,5 +434,43 @@ mod tests {
         let half = HalfEdges::new(m.positions.len(), &m.triangles);
         assert_eq!(weld_seams(&mut m, &half), 1);
         assert!(census(&m).is_clean());
+    }
+
+    /// A fin (one face hanging off an edge of a closed sphere) and a flap of two faces go;
+    /// the sphere is whole again. Three equal open sheets meeting along an edge (a book)
+    /// have no larger piece to keep: nothing goes, and the check names the edge.
+    #[test]
+    fn fins_are_dropped_and_the_surface_kept() {
+        let sphere = shapes::uv_sphere(1.0, 12, 8);
+        let t = sphere.triangles[5];
+        let mut m = sphere.clone();
+        let tip = m.positions.len() as u32;
+        m.positions.push(DVec3::new(3.0, 0.0, 0.0));
+        m.triangles.push([t[1], t[0], tip]);
+        assert_eq!(census(&m).nonmanifold, 1);
+        assert_eq!(drop_fins(&mut m), 1);
+        assert_eq!(m.triangles, sphere.triangles);
+        // A flap of two faces off one edge.
+        let mut m = sphere.clone();
+        let far = m.positions.len() as u32;
+        m.positions.push(DVec3::new(3.0, 0.0, 0.0));
+        m.positions.push(DVec3::new(3.0, 1.0, 0.0));
+        m.triangles.push([t[1], t[0], far]);
+        m.triangles.push([t[0], far + 1, far]);
+        assert_eq!(drop_fins(&mut m), 2);
+        assert!(census(&m).is_clean() || census(&m).boundary == 0);
+        // A book: three single-face pages on one spine.
+        let mut book = Mesh {
+            positions: vec![
+                DVec3::ZERO,
+                DVec3::Y,
+                DVec3::X,
+                DVec3::Z,
+                DVec3::new(-1.0, 0.0, 0.0),
+            ],
+            triangles: vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]],
+        };
+        assert_eq!(drop_fins(&mut book), 0);
+        assert_eq!(book.triangles.len(), 3);
     }
 }

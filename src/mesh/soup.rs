@@ -17,6 +17,9 @@ pub struct Soup {
     pub objects: usize,
     /// The faces' named groups, where the file has two or more.
     pub groups: Option<FaceGroups>,
+    /// Header lines read as comments though they lack the `comment` keyword (PLY files
+    /// some exporters write).
+    pub loose_comments: usize,
 }
 
 impl Soup {

@@ -21,6 +21,7 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
     })?;
     let n = mesh.vertices.len();
     let mut soup = Soup {
+        loose_comments: 0,
         positions: mesh
             .vertices
             .iter()

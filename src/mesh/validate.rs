@@ -133,7 +133,7 @@ fn problems(census: &EdgeCensus) -> Result<(), MeshError> {
     }
     if census.nonmanifold > 0 {
         problems.push(format!(
-            "{} non-manifold edges shared by more than two faces{}",
+            "{} non-manifold edges shared by more than two faces{} (fins, or sheets meeting along an edge: delete the extra faces in a modeller, e.g. Blender's Select > All by Trait > Non Manifold)",
             census.nonmanifold,
             eg(census.examples[1])
         ));

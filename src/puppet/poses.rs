@@ -214,7 +214,11 @@ pub fn measure_at(puppet: &Puppet, now: &[DVec3], local: &[Local]) -> Surface {
             // crumb, and the flesh a contact squashes moves about one typical radius.
             let mut d: Vec<f64> = puppet.skeleton.distance.clone();
             d.sort_by(f64::total_cmp);
-            let unit = d.get(d.len() / 2).copied().unwrap_or(1.0).max(f64::MIN_POSITIVE);
+            let unit = d
+                .get(d.len() / 2)
+                .copied()
+                .unwrap_or(1.0)
+                .max(f64::MIN_POSITIVE);
             targets(puppet, local)
                 .iter()
                 .zip(now)
