@@ -493,3 +493,26 @@ fn pose_bench_passes_and_fails_on_its_bounds() {
         "{off}\n{on}"
     );
 }
+
+/// A successful headless render prints no `error:` line, even where the session has no
+/// `XDG_RUNTIME_DIR` (a container, CI, `ssh`): Mesa's complaint about it once came out on
+/// every `suggest --image`, which exited 0. Only warnings may reach stderr.
+#[test]
+fn a_successful_render_without_a_runtime_dir_prints_no_error() {
+    let dir = common::scratch("no-runtime-dir");
+    let image = dir.join("suggested.png");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_puppet"))
+        .args(["suggest", "--image", image.to_str().unwrap()])
+        .env_remove("XDG_RUNTIME_DIR")
+        .env("RUST_LOG", "warn")
+        .output()
+        .unwrap();
+    common::ok(&out);
+    assert!(image.exists());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.lines()
+            .all(|l| l.trim().is_empty() || l.starts_with("warn")),
+        "{err}"
+    );
+}

@@ -75,7 +75,7 @@ pub enum Command {
     /// Suggest joints: print the cuts where the mesh's protrusions narrow, and write them
     /// as a rig file.
     Suggest(suggest::Args),
-    /// Play an animation file through the simulation and write OBJ frames (headless).
+    /// Play an animation file through the simulation and write the take: OBJ frames, a glb, a PC2 point cache (headless).
     Simulate(simulate::Args),
     /// Stream a synthetic glove performance as OSC (try `--controls` without a glove).
     SendOsc(send_osc::Args),

@@ -21,7 +21,7 @@ use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Mesh (OBJ); by default the rig's `mesh`, else the embedded Spot.
+    /// Mesh (OBJ, PLY, STL, glTF or glb); by default the rig's `mesh`, else the embedded Spot.
     pub mesh: Option<PathBuf>,
     /// Rig file (TOML or JSON): material, constraint, cuts. Default: skin, no cuts.
     #[arg(long)]

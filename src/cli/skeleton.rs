@@ -9,7 +9,7 @@ use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Mesh (OBJ); the embedded Spot when omitted.
+    /// Mesh (OBJ, PLY, STL, glTF or glb); the embedded Spot when omitted.
     pub mesh: Option<PathBuf>,
     /// How the skeletal distance is taken (default: fitted-ball).
     #[arg(long, value_enum)]
@@ -74,12 +74,22 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         seconds.insert((*stage).into(), (*s).into());
     }
     seconds.insert("normals".into(), t_normals.into());
+    // `total` is the whole run, from reading the file (its repairs too) to writing the
+    // skeleton; the skeleton's own stages sum to `skeleton`.
+    let mut total = report.total_seconds() + t_normals;
     for (stage, s) in &sk.seconds {
-        seconds.insert((*stage).into(), (*s).into());
+        if *stage == "total" {
+            seconds.insert("skeleton".into(), (*s).into());
+            total += s;
+        } else {
+            seconds.insert((*stage).into(), (*s).into());
+        }
     }
     if let Some(w) = t_written {
         seconds.insert("write".into(), w.into());
+        total += w;
     }
+    seconds.insert("total".into(), total.into());
     let summary = Summary {
         file: &name,
         vertices: mesh.positions.len(),
