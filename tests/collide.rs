@@ -47,27 +47,29 @@ fn colliding() -> Params {
     p
 }
 
-/// The figures `puppet bench collide` reports for BENCHMARKS.md, held: arms turned down
-/// 95° and 105° past the body's sides, a leg crossed over the other, the head bent into a
-/// shoulder, a finger curled into the palm, the cow's head turned into its flank. Without collision each presses a
-/// hundred faces or more through others.
+/// The figures `puppet bench collide` reports for BENCHMARKS.md, held as the table gives
+/// them: arms turned down 95° and 105° past the body's sides (and with square shoulder
+/// cuts), a leg crossed over the other, the head bent into a shoulder, a finger curled into
+/// the palm, the cow's head turned into its flank: the crossing faces at most the table's,
+/// and the angle reached within 3° of the table's (a part frozen at rest fails). Without
+/// collision each presses fifty faces or more through others.
 #[test]
 fn pressed_parts_stop_at_the_body_without_crossing() {
     let human = mesh("human.obj");
     let hand = mesh("hand.obj");
     let spot = spot();
-    for (name, mesh, most) in [
+    for (name, mesh, most, reached) in [
         // 0 before the joint bands blended the trunk's skin around the shoulder (the
         // armpit's fold now crosses 4 faces; `BENCHMARKS.md`).
-        ("arms down 95", &human, 4),
-        ("arms down 105", &human, 10),
+        ("arms down 95", &human, 4, 87.0),
+        ("arms down 105", &human, 4, 87.0),
         // Cut square across x at ±0.2, as a user cuts by eye.
-        ("arms down 95°, cut at x", &human, 0),
-        ("arms down 105°, cut at x", &human, 10),
-        ("legs crossed", &human, 10),
-        ("head into a shoulder", &human, 10),
-        ("index curled", &hand, 10),
-        ("cow head", &spot, 10),
+        ("arms down 95°, cut at x", &human, 0, 61.0),
+        ("arms down 105°, cut at x", &human, 0, 61.0),
+        ("legs crossed", &human, 10, 13.0),
+        ("head into a shoulder", &human, 0, 76.0),
+        ("index curled", &hand, 0, 120.0),
+        ("cow head", &spot, 2, 106.0),
     ] {
         let p = press(name);
         let off = p.press(mesh, Params::default()).unwrap();
@@ -76,8 +78,9 @@ fn pressed_parts_stop_at_the_body_without_crossing() {
         assert!(on.crossing <= most, "{name}: {on:?}");
         assert!(on.deepest <= 0.5, "{name}: {on:?}");
         assert!(
-            on.reached < p.turns.iter().map(|t| t.degrees.abs()).fold(0.0, f64::max),
-            "{name}: the part stopped early: {on:?}"
+            (on.reached - reached).abs() <= 3.0,
+            "{name}: stopped at {:.1}°, the table says {reached}°: {on:?}",
+            on.reached
         );
         assert!(
             on.volume[0] > -0.05 && on.volume[1] < 0.05,
@@ -85,11 +88,12 @@ fn pressed_parts_stop_at_the_body_without_crossing() {
         );
         // An animation file that turns the parts alike stops them alike (it once played
         // as written, and the contacts fought it: three times the crossings of off).
+        // (The two ramps' angles agree to rounding, not bit for bit.)
         let played = p.press_by(mesh, colliding(), Drive::Animation).unwrap();
-        assert_eq!(
-            (played.crossing, played.reached, played.inside),
-            (on.crossing, on.reached, on.inside),
-            "{name}: an animation stops where a hand does"
+        assert!(
+            (played.crossing, played.inside) == (on.crossing, on.inside)
+                && (played.reached - on.reached).abs() < 0.01,
+            "{name}: an animation stops where a hand does: {played:?} against {on:?}"
         );
     }
 }

@@ -723,9 +723,11 @@ impl Colliders {
             return None;
         }
         // The floor, a half-space contact with the same response, wins.
-        if let Some(lifted) = stage.floor.and_then(|f| f.lift(x)) {
-            x = lifted;
-            n = Vec3::Y;
+        if let Some(floor) = stage.floor {
+            if let Some(lifted) = floor.lift(x) {
+                x = lifted;
+                n = floor.up.vector();
+            }
         }
         // Response: the motion into the ball is dropped, the sliding motion keeps `keep`.
         let v = x - p;
