@@ -424,23 +424,18 @@ fn suggest_bench_fails_below_its_targets() {
 fn pose_bench_passes_and_fails_on_its_bounds() {
     let hand = common::test_mesh("hand.obj");
     let hand = hand.to_str().unwrap();
-    let out = puppet(&[
-        "bench",
-        "poses",
-        hand,
-        "--poses",
-        "2",
-        "--max-stretch",
-        "3",
-        "--max-over",
-        "2",
-        "--json",
-    ]);
-    common::ok(&out);
-    let rows: Vec<serde_json::Value> = String::from_utf8_lossy(&out.stdout)
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
+    // One JSON record a line, from a run that succeeds.
+    let records = |args: &[&str]| -> Vec<serde_json::Value> {
+        let mut all = vec!["bench", "poses", hand, "--poses", "2", "--json"];
+        all.extend_from_slice(args);
+        let out = puppet(&all);
+        common::ok(&out);
+        String::from_utf8_lossy(&out.stdout)
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect()
+    };
+    let rows = records(&["--max-stretch", "3", "--max-over", "2"]);
     assert_eq!(rows.len(), 2);
     for r in &rows {
         assert_eq!(r["character"], "hand");
@@ -466,21 +461,7 @@ fn pose_bench_passes_and_fails_on_its_bounds() {
         assert_eq!(out.status.code(), Some(2), "{bound}");
     }
     // `--compare`: each pose with collision off, then on; on is no worse here.
-    let out = puppet(&[
-        "bench",
-        "poses",
-        hand,
-        "--poses",
-        "2",
-        "--compare",
-        "--never-worse",
-        "--json",
-    ]);
-    common::ok(&out);
-    let rows: Vec<serde_json::Value> = String::from_utf8_lossy(&out.stdout)
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
+    let rows = records(&["--compare", "--never-worse"]);
     assert_eq!(rows.len(), 4);
     for (k, r) in rows.iter().enumerate() {
         assert_eq!(r["collision"], k % 2 == 1, "{r}");

@@ -524,9 +524,9 @@ fn learn_maps_the_control_that_moved_to_the_part_clicked() {
 /// With collision on, an arm dragged into the body stops at it: the human's right arm,
 /// dragged sideways so that it swings forward and across the chest, turns no further than
 /// where it meets the body; the same drag with collision off swings it on through.
-#[test]
-fn an_arm_dragged_into_the_body_stops_at_it() {
-    let dir = common::scratch("window-collide");
+/// The human with its arms cut at the shoulders (`tests/data/human-arms.rig.toml`, collision
+/// on), and the same rig with collision off written into `dir`.
+fn human_arms(dir: &Path) -> (std::path::PathBuf, std::path::PathBuf) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let on = root.join("tests/data/human-arms.rig.toml");
     let text = std::fs::read_to_string(&on).unwrap();
@@ -538,6 +538,13 @@ fn an_arm_dragged_into_the_body_stops_at_it() {
             .replace("meshes/human.obj", mesh.to_str().unwrap()),
     )
     .unwrap();
+    (on, off)
+}
+
+#[test]
+fn an_arm_dragged_into_the_body_stops_at_it() {
+    let dir = common::scratch("window-collide");
+    let (on, off) = human_arms(&dir);
     let drag = |rig: &Path, name: &str| -> f64 {
         let mut w = common::Window::open(&dir.join(name), &["--rig", rig.to_str().unwrap()]);
         let r = w.state().unwrap();
@@ -647,17 +654,7 @@ fn a_head_nodded_with_the_mouse_keeps_its_skin_whole() {
 #[test]
 fn an_animation_that_swings_an_arm_through_the_body_stops_it_there() {
     let dir = common::scratch("window-anim-collide");
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let on = root.join("tests/data/human-arms.rig.toml");
-    let text = std::fs::read_to_string(&on).unwrap();
-    let mesh = root.join("tests/data/meshes/human.obj");
-    let off = dir.join("human-arms-off.rig.toml");
-    std::fs::write(
-        &off,
-        text.replace("collision = true", "collision = false")
-            .replace("meshes/human.obj", mesh.to_str().unwrap()),
-    )
-    .unwrap();
+    let (on, off) = human_arms(&dir);
     let anim = dir.join("swing.anim.toml");
     std::fs::write(
         &anim,
