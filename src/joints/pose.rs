@@ -271,6 +271,8 @@ pub struct PoseScratch {
     /// Per band, its motion at each of the `LEVELS + 1` weight steps.
     motions: Vec<DAffine3>,
     pose: Pose,
+    /// The pose asked for in a step, before the pose limit (`Puppet::step_animated`).
+    pub(crate) wanted: Vec<Local>,
 }
 
 impl Default for PoseScratch {
@@ -279,6 +281,7 @@ impl Default for PoseScratch {
             world: Vec::new(),
             motions: Vec::new(),
             pose: Pose::rest(1),
+            wanted: Vec::new(),
         }
     }
 }

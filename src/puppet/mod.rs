@@ -265,8 +265,14 @@ impl Puppet {
         local: &mut Vec<Local>,
         scratch: &mut PoseScratch,
     ) {
-        let before = std::mem::replace(local, wanted.to_vec());
-        self.hold_back(&before, local);
+        if self.sim.params().world.collision {
+            let before = std::mem::replace(local, wanted.to_vec());
+            self.hold_back(&before, local);
+        } else {
+            // Nothing to hold back: no allocation in the step.
+            local.clear();
+            local.extend_from_slice(wanted);
+        }
         let pose = self.joints.pose_into(local, scratch);
         self.sim.step(pose);
     }
@@ -285,9 +291,11 @@ impl Puppet {
         scratch: &mut PoseScratch,
     ) {
         let h = self.sim.params().solver.time_step as f64;
-        let mut wanted = Vec::with_capacity(local.len());
+        // The sample goes into the scratch's buffer (kept from step to step).
+        let mut wanted = std::mem::take(&mut scratch.wanted);
         animation.sample(step as f64 * h, &mut wanted);
         self.step_toward(&wanted, local, scratch);
+        scratch.wanted = wanted;
     }
 
     /// The rig file of the puppet as it is now (parameters, and cuts with resolved pivots).
