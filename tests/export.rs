@@ -377,7 +377,8 @@ fn pc2_follows_the_files_vertex_order_when_welding_merged_duplicates() {
 
 /// `--quantize`: 16-bit positions and targets (KHR_mesh_quantization) that decode, through
 /// the node's transform, to the float take within half a grid step, in a smaller file the
-/// validator accepts.
+/// validator accepts, and that puppet reads back: the float take's rest surface, face for
+/// face, within a grid step.
 #[test]
 fn a_quantized_glb_decodes_to_the_take_and_is_smaller() {
     let dir = scratch("export_glb_quantized");
@@ -390,6 +391,19 @@ fn a_quantized_glb_decodes_to_the_take_and_is_smaller() {
     );
     assert!(b * 10 < a * 8, "{b} bytes quantized vs {a}");
     validate(&small);
+    let (ours, _) = puppet::mesh::load(&small).unwrap();
+    let (float, _) = puppet::mesh::load(&full).unwrap();
+    assert_eq!(ours.triangles, float.triangles);
+    let extent = float
+        .positions
+        .iter()
+        .fold(0.0f64, |e, p| e.max(p.abs().max_element()));
+    for (a, b) in ours.positions.iter().zip(&float.positions) {
+        assert!(
+            a.distance(*b) <= 2.0 * extent / 32766.0,
+            "{a} read back as {b}"
+        );
+    }
     // The gltf crate does not implement the extension: read it without its checks.
     let gltf = gltf::Gltf::from_slice_without_validation(&std::fs::read(&small).unwrap()).unwrap();
     assert!(gltf

@@ -141,7 +141,7 @@ fn survive(
                 "{name}: mutation {k}: {e:?}"
             );
             // A crate bug the guard had to catch: check for it in the reader instead
-            // (src/mesh/gltf.rs has the two known ones), so the message can say what is wrong.
+            // (src/mesh/gltf/mod.rs has the two known ones), so the message can say what is wrong.
             assert!(
                 !e.contains("the reader failed"),
                 "{name}: mutation {k}: a crate panicked: {e}"
@@ -175,6 +175,12 @@ fn mesh_readers_never_panic() {
         ("stl-ascii", stl_ascii(&m), Format::Stl),
         ("stl-binary", stl_binary(&m), Format::Stl),
         ("glb", glb(&m), Format::Gltf),
+        (
+            "glb-quantized",
+            gltf_file("spot-quantized.glb"),
+            Format::Gltf,
+        ),
+        ("glb-meshopt", gltf_file("spot-meshopt.glb"), Format::Gltf),
     ]
     .into_iter()
     .enumerate()
@@ -183,16 +189,39 @@ fn mesh_readers_never_panic() {
         assert!(refused > 0, "{name}: some mutations must be refused");
     }
     // The glb's JSON, where its indices, counts and offsets are: digits changed in place
-    // (the chunk keeps its length), so the crate gets past the container to them.
-    let good = glb(&m);
+    // (the chunk keeps its length), so the crate gets past the container to them. The
+    // compressed file's digits include its meshopt strides, counts and lengths.
+    for (seed, good) in [
+        (99, glb(&m)),
+        (100, gltf_file("spot-quantized.glb")),
+        (101, gltf_file("spot-meshopt.glb")),
+    ] {
+        survive_json_digits(&good, seed);
+    }
+}
+
+/// A glTF file of `tests/data/gltf`.
+fn gltf_file(name: &str) -> Vec<u8> {
+    std::fs::read(
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/gltf")
+            .join(name),
+    )
+    .unwrap()
+}
+
+/// `MUTATIONS` copies of the glb `good` with one or two digits of its JSON changed: none
+/// panics (nor aborts: a meshopt decoder asserting its sizes would end the process), and
+/// a tenth at least are refused with one line.
+fn survive_json_digits(good: &[u8], seed: u64) {
     let json_len = u32::from_le_bytes(good[12..16].try_into().unwrap()) as usize;
     let json = 20..20 + json_len;
     let digits: Vec<usize> = json.filter(|&i| good[i].is_ascii_digit()).collect();
-    let mut rng = SplitMix(99);
+    let mut rng = SplitMix(seed);
     let read = read_mesh(Format::Gltf);
     let mut refused = 0;
     for k in 0..MUTATIONS {
-        let mut bad = good.clone();
+        let mut bad = good.to_vec();
         for _ in 0..1 + rng.next_u64() % 2 {
             let at = digits[(rng.next_u64() % digits.len() as u64) as usize];
             bad[at] = b'0' + (rng.next_u64() % 10) as u8;
@@ -216,6 +245,63 @@ fn mesh_readers_never_panic() {
         }
     }
     assert!(refused > MUTATIONS / 10, "only {refused} refused");
+}
+
+/// What gltfpack (1.3, npm) writes, quantized (`KHR_mesh_quantization`) and compressed
+/// (`EXT_meshopt_compression`, `-c`), reads as the OBJ it was made from: the same faces
+/// on the same vertices, each within the 14-bit grid gltfpack rounds positions to. It
+/// reorders vertices and faces, so they are matched by position.
+#[test]
+fn gltfpack_output_reads_as_the_mesh_it_was_made_from() {
+    let source = spot();
+    let (lo, hi) = source.positions.iter().fold(
+        (glam::DVec3::splat(f64::MAX), glam::DVec3::splat(f64::MIN)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let step = (hi - lo).max_element() / 16383.0;
+    for name in ["spot-quantized.glb", "spot-meshopt.glb"] {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/gltf")
+            .join(name);
+        let (packed, _) = mesh::load(&path).unwrap();
+        assert_eq!(packed.positions.len(), source.positions.len(), "{name}");
+        assert_eq!(packed.triangles.len(), source.triangles.len(), "{name}");
+        // Each source vertex's nearest packed vertex, within the grid.
+        let to: Vec<u32> = source
+            .positions
+            .iter()
+            .map(|p| {
+                let (k, d) = packed
+                    .positions
+                    .iter()
+                    .map(|q| q.distance(*p))
+                    .enumerate()
+                    .min_by(|a, b| a.1.total_cmp(&b.1))
+                    .unwrap();
+                assert!(
+                    d <= step,
+                    "{name}: a vertex {d} from its source, grid {step}"
+                );
+                k as u32
+            })
+            .collect();
+        let key = |t: [u32; 3]| {
+            let k = t
+                .iter()
+                .position(|&v| v == *t.iter().min().unwrap())
+                .unwrap();
+            [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
+        };
+        let mut mapped: Vec<[u32; 3]> = source
+            .triangles
+            .iter()
+            .map(|t| key([to[t[0] as usize], to[t[1] as usize], to[t[2] as usize]]))
+            .collect();
+        let mut theirs: Vec<[u32; 3]> = packed.triangles.iter().map(|&t| key(t)).collect();
+        mapped.sort_unstable();
+        theirs.sort_unstable();
+        assert_eq!(mapped, theirs, "{name}: the same faces, the same way round");
+    }
 }
 
 #[test]
@@ -252,7 +338,7 @@ fn rig_animation_controls_and_osc_readers_never_panic() {
 }
 
 /// gltf-json 1.4.1 panics validating a primitive whose POSITION names a missing accessor
-/// (`src/mesh/gltf.rs` says where); the reader refuses it with one line instead.
+/// (`src/mesh/gltf/mod.rs` says where); the reader refuses it with one line instead.
 #[test]
 fn a_glb_naming_a_missing_position_accessor_is_an_error() {
     let good = glb(&spot());
@@ -291,7 +377,7 @@ fn a_glb_naming_a_missing_position_accessor_is_an_error() {
 }
 
 /// gltf 1.4.1 reaches `unreachable!()` reading indices whose accessor is not of unsigned
-/// integers (`src/mesh/gltf.rs` says where); the reader refuses them with one line instead.
+/// integers (`src/mesh/gltf/mod.rs` says where); the reader refuses them with one line instead.
 #[test]
 fn a_glb_with_float_indices_is_an_error() {
     let good = glb(&spot());

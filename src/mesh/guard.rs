@@ -3,7 +3,7 @@
 //! and becomes a [`MeshError::Parse`] naming the format; while a reader runs under
 //! [`contained`], the panic's own message is not printed (every other panic still is).
 //! Where a crate's bug is known, the reader checks its input before handing it over
-//! (`gltf.rs`), and this is the net below.
+//! (`gltf/mod.rs`), and this is the net below.
 
 use super::MeshError;
 use std::cell::Cell;

@@ -3,6 +3,18 @@
 //! placed by its node's transform, becomes part of one soup (then welded and validated like
 //! any other file). The vertex order is the order primitives and their vertices appear.
 //! Primitives with different materials are the mesh's groups ([`super::groups`]).
+//!
+//! Besides plain files it reads quantized ones (`KHR_mesh_quantization`: integer positions,
+//! as puppet's own `--quantize` takes write them) and compressed ones
+//! (`EXT_meshopt_compression`, as gltfpack writes them).
+//!
+//! # Files
+//! * this file: the document, its scene and its primitives;
+//! * `accessor`: an accessor's elements, whatever their component type;
+//! * `meshopt`: decoding compressed buffer views.
+
+mod accessor;
+mod meshopt;
 
 use super::groups::FaceGroups;
 use super::soup::Soup;
@@ -74,13 +86,33 @@ fn check_accessors(root: &gltf::json::Root) -> Result<(), MeshError> {
 /// reader takes `.glb` and `.gltf` with embedded buffers).
 pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
     let raw = gltf::Gltf::from_slice_without_validation(bytes).map_err(bad)?;
-    check_accessors(raw.document.as_json())?;
+    let mut json = raw.document.into_json();
+    check_accessors(&json)?;
+    // The extensions this reader handles itself, which the crate's validation refuses.
+    let compressed = json.extensions_used.iter().any(|e| e == meshopt::EXTENSION);
+    json.extensions_required
+        .retain(|e| e != "KHR_mesh_quantization" && e != meshopt::EXTENSION);
+    // The crate drops extensions it does not know: the compressed views' descriptions are
+    // read from the raw JSON, only in a file that uses them.
+    let raw_json: serde_json::Value = if compressed {
+        let text = match gltf::Glb::from_slice(bytes) {
+            Ok(glb) => glb.json.into_owned(),
+            Err(_) => bytes.to_vec(),
+        };
+        serde_json::from_slice(&text).map_err(bad)?
+    } else {
+        serde_json::Value::Null
+    };
     let gltf = gltf::Gltf {
-        document: gltf::Document::from_json(raw.document.into_json()).map_err(bad)?,
+        document: gltf::Document::from_json(json).map_err(bad)?,
         blob: raw.blob,
     };
     let mut buffers: Vec<Vec<u8>> = Vec::new();
     for b in gltf.buffers() {
+        if compressed && meshopt::is_fallback(&raw_json, b.index()) {
+            buffers.push(Vec::new());
+            continue;
+        }
         let data = match b.source() {
             gltf::buffer::Source::Bin => gltf
                 .blob
@@ -105,6 +137,12 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
         }
         buffers.push(data);
     }
+    let decoded = if compressed {
+        meshopt::decode_views(&raw_json, &buffers)?
+    } else {
+        Vec::new()
+    };
+    let data = accessor::Data { buffers, decoded };
     let mut soup = Soup {
         loose_comments: 0,
         objects: 0,
@@ -132,17 +170,19 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
                 if prim.mode() != gltf::mesh::Mode::Triangles {
                     continue;
                 }
-                let reader = prim.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
-                let Some(positions) = reader.read_positions() else {
+                let Some(positions) = prim.get(&gltf::Semantic::Positions) else {
                     continue;
                 };
+                let positions = accessor::floats(&positions, &data, 3)?;
                 let base = soup.positions.len() as u32;
-                let count = positions.len();
+                let count = positions.len() / 3;
                 soup.positions.extend(
-                    positions.map(|p| world.transform_point3(glam::Vec3::from(p).as_dvec3())),
+                    positions
+                        .chunks_exact(3)
+                        .map(|p| world.transform_point3(glam::Vec3::from_slice(p).as_dvec3())),
                 );
-                let indices: Vec<u32> = match reader.read_indices() {
-                    Some(i) => i.into_u32().collect(),
+                let indices: Vec<u32> = match prim.indices() {
+                    Some(i) => accessor::unsigned(&i, &data, 1)?,
                     None => (0..count as u32).collect(),
                 };
                 if indices.iter().any(|&i| i as usize >= count) {
