@@ -181,6 +181,7 @@ fn mesh_readers_never_panic() {
             Format::Gltf,
         ),
         ("glb-meshopt", gltf_file("spot-meshopt.glb"), Format::Gltf),
+        ("glb-skinned", gltf_file("skinned-figure.glb"), Format::Gltf),
     ]
     .into_iter()
     .enumerate()
@@ -195,6 +196,7 @@ fn mesh_readers_never_panic() {
         (99, glb(&m)),
         (100, gltf_file("spot-quantized.glb")),
         (101, gltf_file("spot-meshopt.glb")),
+        (102, gltf_file("skinned-figure.glb")),
     ] {
         survive_json_digits(&good, seed);
     }

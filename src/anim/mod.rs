@@ -18,6 +18,7 @@
 //! the file asks for beyond it (0° → 270° turns three quarters, not a quarter back).
 //! Translations are interpolated linearly. Before the first key the first holds.
 
+pub mod clip;
 pub mod record;
 
 use crate::files::{self, Format};

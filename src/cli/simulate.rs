@@ -29,6 +29,14 @@ pub struct Args {
     /// Animation file (TOML or JSON). Default: the rest pose.
     #[arg(long)]
     pub anim: Option<PathBuf>,
+    /// Play this clip of a skinned glTF (`puppet suggest` lists them) through the puppet:
+    /// the skin's joints move as the clip moves them, the flesh follows elastically.
+    /// Without cuts in the rig, the skin's joints are used.
+    #[arg(long, conflicts_with = "anim")]
+    pub clip: Option<String>,
+    /// Suggest joints from the skeleton even when the file has a skin.
+    #[arg(long)]
+    pub ignore_skin: bool,
     /// Frames to play (default: the animation's duration, or 1 s without one).
     #[arg(long)]
     pub frames: Option<u64>,
@@ -133,15 +141,43 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         }
         None => None,
     };
-    let frames = match (args.frames, &anim) {
+    let out = Out::of(args.out.as_deref())?;
+    let mesh_path = args.mesh.clone().or_else(|| spec.mesh.clone());
+    let (mesh, report, mesh_name) = load_mesh(mesh_path.as_deref(), load)?;
+    // The skin's clip, named by `--clip`.
+    let clip = match &args.clip {
+        Some(name) => {
+            let skin = report.skin.clone().ok_or_else(|| {
+                FileError::new(&mesh_name, "--clip: the file has no skin, so no clips")
+            })?;
+            let k = skin
+                .clips
+                .iter()
+                .position(|c| &c.name == name)
+                .ok_or_else(|| {
+                    let known: Vec<&str> = skin.clips.iter().map(|c| c.name.as_str()).collect();
+                    FileError::new(
+                        &mesh_name,
+                        format!("no clip named '{name}' (clips: {})", known.join(", ")),
+                    )
+                })?;
+            Some((skin, k))
+        }
+        None => None,
+    };
+    let duration = match (&anim, &clip) {
+        (Some(a), _) => Some(a.duration),
+        (None, Some((skin, k))) => Some(skin.clips[*k].duration.max(1.0 / args.fps)),
+        (None, None) => None,
+    };
+    let frames = match (args.frames, duration) {
         (Some(n), _) => n,
-        (None, Some(a)) => (a.duration * args.fps).ceil().max(1.0) as u64,
+        (None, Some(d)) => (d * args.fps).ceil().max(1.0) as u64,
         (None, None) => args.fps.ceil() as u64,
     };
     if frames == 0 || frames > MAX_FRAMES {
         bail!("--frames {frames} must be in 1..={MAX_FRAMES}");
     }
-    let out = Out::of(args.out.as_deref())?;
     let range = FrameRange {
         first: args.first_frame,
         last: frames,
@@ -151,8 +187,6 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     range
         .check()
         .map_err(|e| anyhow::anyhow!("--first-frame/--frames: {e}"))?;
-    let mesh_path = args.mesh.clone().or_else(|| spec.mesh.clone());
-    let (mesh, report, mesh_name) = load_mesh(mesh_path.as_deref(), load)?;
     // Bad output paths fail now, not after the skeleton and the simulation.
     let mut take = match &out {
         Out::Take(path, kind) => {
@@ -203,7 +237,8 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         e => FileError::new(&mesh_name, e),
     })?;
     bar.finish();
-    if args.suggest_joints {
+    puppet.ignore_skin = args.ignore_skin;
+    if args.suggest_joints || (clip.is_some() && puppet.joints.cuts().is_empty()) {
         puppet
             .suggest_joints()
             .map_err(|e| FileError::new(&mesh_name, e))?;
@@ -232,10 +267,15 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         .map_err(|e| anyhow::anyhow!("--gravity/--floor/--friction/--flesh: {e}"))?;
     puppet.sim.set_params(params);
     let seconds_skeleton = t_skeleton.elapsed().as_secs_f64();
-    let bound: Option<Bound> = match (&anim, &args.anim) {
-        (Some(a), Some(path)) => Some(
+    let bound: Option<Bound> = match (&anim, &args.anim, &clip) {
+        (Some(a), Some(path), _) => Some(
             a.bind(&puppet.joints)
                 .map_err(|e| FileError::new(path.display().to_string(), e))?,
+        ),
+        (_, _, Some((skin, k))) => Some(
+            puppet::anim::clip::animation(&skin.clips[*k], skin, &puppet.joints)
+                .bind(&puppet.joints)
+                .map_err(|e| FileError::new(&mesh_name, e))?,
         ),
         _ => None,
     };

@@ -1,5 +1,6 @@
-//! `puppet suggest MESH [-o RIG.toml] [--json]`: the joints the skeleton suggests, printed
-//! as a section tree and written as a rig file.
+//! `puppet suggest MESH [-o RIG.toml] [--json]`: the joints the skeleton suggests (or, for
+//! a skinned glTF, the joints of its skin), printed as a section tree and written as a rig
+//! file, with the file's clips.
 
 use super::progress_bar::ProgressBar;
 use super::{load_mesh, FileError};
@@ -28,6 +29,10 @@ pub struct Args {
     /// from its shape; written into the rig file when given).
     #[arg(long, value_name = "AXIS", allow_hyphen_values = true)]
     pub up: Option<puppet::joints::suggest::Up>,
+    /// Suggest joints from the skeleton even when the file has a skin (a skinned glTF's
+    /// joints are used by default).
+    #[arg(long)]
+    pub ignore_skin: bool,
 }
 
 /// What the command prints (`--json` prints exactly these fields).
@@ -38,10 +43,28 @@ struct Summary {
     /// Up, as given or found, and the way the character faces.
     up: [f64; 3],
     front: [f64; 3],
+    /// Where the joints come from: `skin` (the file's) or `suggestion`.
+    joints_from: &'static str,
     cuts: Vec<CutRow>,
+    /// The file's skin: its joint count and its clips (none without a skin).
+    skin: Option<SkinRow>,
     seconds_skeleton: f64,
     seconds_suggest: f64,
     output: Option<String>,
+}
+
+#[derive(serde::Serialize)]
+struct SkinRow {
+    joints: usize,
+    clips: Vec<ClipRow>,
+}
+
+#[derive(serde::Serialize)]
+struct ClipRow {
+    name: String,
+    seconds: f64,
+    /// Channels that drive morph-target weights, which are not played.
+    morph_channels: usize,
 }
 
 #[derive(serde::Serialize)]
@@ -69,6 +92,8 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     rig.up = args.up;
     let mut puppet = Puppet::build_loaded(mesh, Some(&report), rig, &|s, f| bar.update(s, f))
         .map_err(|e| FileError::new(&name, e))?;
+    puppet.ignore_skin = args.ignore_skin;
+    let from_skin = puppet.skin_joints().is_some();
     bar.finish();
     let seconds_skeleton = t.elapsed().as_secs_f64();
     let t = Instant::now();
@@ -85,9 +110,16 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         .map(|(k, c)| {
             let s = &sections[k + 1];
             let (role, character) = puppet::joints::suggest::characters::role(&c.name);
+            let (role, character) = match c.shape {
+                puppet::joints::Shape::Skin => (puppet::mesh::skin::role(&c.name), 0),
+                _ => (
+                    (!c.name.starts_with("joint ")).then(|| role.to_string()),
+                    character,
+                ),
+            };
             CutRow {
                 name: c.name.clone(),
-                role: (!c.name.starts_with("joint ")).then(|| role.to_string()),
+                role,
                 character,
                 parent: s.parent.map_or(String::new(), |p| sections[p].name.clone()),
                 vertices: s.vertices,
@@ -112,12 +144,26 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     if let Some(path) = &args.image {
         picture(puppet, path)?;
     }
+    let skin = report.skin.as_ref().map(|s| SkinRow {
+        joints: s.joints.len(),
+        clips: s
+            .clips
+            .iter()
+            .map(|c| ClipRow {
+                name: c.name.clone(),
+                seconds: c.duration,
+                morph_channels: c.morph_channels,
+            })
+            .collect(),
+    });
     let summary = Summary {
         mesh: name,
         vertices,
         up: frame.up.to_array(),
         front: frame.front.to_array(),
+        joints_from: if from_skin { "skin" } else { "suggestion" },
         cuts,
+        skin,
         seconds_skeleton,
         seconds_suggest,
         output: args.output.as_ref().map(|p| p.display().to_string()),
@@ -127,13 +173,28 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         return Ok(());
     }
     println!(
-        "{}: {} vertices, {} suggested joints (skeleton {:.0} ms, suggestion {:.1} ms)",
+        "{}: {} vertices, {} {} (skeleton {:.0} ms, suggestion {:.1} ms)",
         summary.mesh,
         summary.vertices,
         summary.cuts.len(),
+        if from_skin {
+            "joints from the file's skin"
+        } else {
+            "suggested joints"
+        },
         summary.seconds_skeleton * 1e3,
         summary.seconds_suggest * 1e3
     );
+    if let Some(skin) = &summary.skin {
+        println!("skin: {} joints", skin.joints);
+        for c in &skin.clips {
+            let morph = match c.morph_channels {
+                0 => String::new(),
+                k => format!(" ({k} morph-weight channels not played)"),
+            };
+            println!("clip '{}': {:.2} s{morph}", c.name, c.seconds);
+        }
+    }
     print_tree(&summary.cuts, &sections[0].name, 1);
     if let Some(o) = &summary.output {
         println!("wrote {o}");

@@ -69,6 +69,9 @@ impl Joints {
         if !cut.shape.is_valid() {
             return Err(JointError::BadSize(name, cut.shape.name()));
         }
+        if cut.shape == Shape::Skin && self.skin_joint(&name).is_none() {
+            return Err(JointError::NoSkinJoint(name));
+        }
         let taken = self.taken(parent, &cut, normal);
         let inside = taken.iter().filter(|&&t| t).count();
         let outside = (0..self.section_of.len())
@@ -220,6 +223,22 @@ impl Joints {
         let body = &self.body;
         let n = self.section_of.len();
         let point = cut.point;
+        if cut.shape == Shape::Skin {
+            // The vertices of the section whose joint is this one or one below it.
+            let (Some(skin), Some(joint)) = (&body.skin, self.skin_joint(&cut.name)) else {
+                return vec![false; n];
+            };
+            return (0..n)
+                .map(|i| {
+                    !body.is_rider(i)
+                        && self.section_of[i] as usize == parent
+                        && skin
+                            .vertex_joint
+                            .get(i)
+                            .is_some_and(|&j| j != u32::MAX && skin.is_within(j as usize, joint))
+                })
+                .collect();
+        }
         let candidate: Vec<bool> = (0..n)
             .map(|i| {
                 !body.is_rider(i)

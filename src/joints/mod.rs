@@ -56,7 +56,8 @@
 //! * `band`: joint bands, their levels, contacts and where they overlap;
 //! * `blend`: a band's weight blended over the surface around its seam;
 //! * `pose`: composing a pose down the section tree;
-//! * `suggest`: joints suggested from the skeleton.
+//! * `suggest`: joints suggested from the skeleton;
+//! * `skin`: joints from the skeleton the mesh file came with (a glTF skin).
 //!
 //! # Removing cuts
 //! Removing a cut merges its section back into the section it was cut from; its children
@@ -69,6 +70,7 @@ pub mod collide;
 mod cut;
 mod pose;
 mod shape;
+pub mod skin;
 pub mod suggest;
 
 pub use band::{Band, DEFAULT_BAND, MAX_BAND};
@@ -134,6 +136,7 @@ impl Cut {
         Cut {
             shape: match self.shape {
                 Shape::Plane => Shape::Plane,
+                Shape::Skin => Shape::Skin,
                 Shape::Sphere { radius } => Shape::Sphere {
                     radius: shortest(radius),
                 },
@@ -256,6 +259,9 @@ pub enum JointError {
     /// No cut of that name to remove.
     #[error("no cut named '{0}'")]
     NoSuchCut(String),
+    /// A skin cut whose name is no joint of the mesh's skin (or the mesh has none).
+    #[error("cut '{0}': a skin cut takes the mesh's skin joint of its name, and the mesh has no such joint")]
+    NoSkinJoint(String),
 }
 
 /// What the joints know of the body, shared by every copy of them (undo keeps copies).
@@ -274,6 +280,9 @@ struct Body {
     radius: Vec<f64>,
     /// Rest position of each surface vertex (with `radius`; empty when unknown).
     rest: Vec<DVec3>,
+    /// The skeleton the mesh file came with, its `vertex_joint` one per vertex (skin cuts
+    /// take their vertices from it).
+    skin: Option<Arc<crate::mesh::Skin>>,
 }
 
 /// No host: a vertex of the body.
@@ -350,6 +359,7 @@ impl Joints {
                 host,
                 radius: Vec::new(),
                 rest: Vec::new(),
+                skin: None,
             },
             root,
         )
@@ -398,6 +408,23 @@ impl Joints {
         self.refresh_bands();
     }
 
+    /// Gives the joints the skeleton the mesh file came with, for skin cuts
+    /// ([`Shape::Skin`]). A skin whose `vertex_joint` is not one per vertex is ignored.
+    pub fn set_skin(&mut self, skin: Option<Arc<crate::mesh::Skin>>) {
+        let n = self.body.points.len();
+        Arc::make_mut(&mut self.body).skin = skin.filter(|s| s.vertex_joint.len() == n);
+    }
+
+    /// The skin the joints were given, if any.
+    pub fn skin(&self) -> Option<&Arc<crate::mesh::Skin>> {
+        self.body.skin.as_ref()
+    }
+
+    /// The skin's joint named `name`.
+    fn skin_joint(&self, name: &str) -> Option<usize> {
+        self.body.skin.as_ref()?.find(name)
+    }
+
     /// The same body with no cuts and the root named `root` (its pivot kept).
     pub fn without_cuts(&self, root: &str) -> Joints {
         let mut j = self.uncut();
@@ -438,6 +465,11 @@ impl Joints {
     /// The sections; index 0 is the root.
     pub fn sections(&self) -> &[Section] {
         &self.sections
+    }
+
+    /// Section indices, parents before children.
+    pub fn parents_first(&self) -> &[usize] {
+        &self.order
     }
 
     /// The cuts in the order applied, with their pivots resolved.

@@ -123,6 +123,22 @@ impl Joints {
     /// Section `s`'s motion relative to its parent in its local pose `l`: the turn about
     /// its pivot and its translation, and, at the end of a band, the band's
     /// [`Band::shift`].
+    /// The local pose of section `s` whose motion relative to its parent is `motion` (its
+    /// rotation part; a scale in it is dropped): the inverse of the composition above, the
+    /// arc band's shift included.
+    pub fn local_for(&self, s: usize, motion: &DAffine3) -> Local {
+        let (_, rotation, translation) = motion.to_scale_rotation_translation();
+        let rotation = rotation.normalize();
+        let pivot = self.sections[s].pivot;
+        let shift = self
+            .band_ending_in(s)
+            .map_or(DVec3::ZERO, |band| band.shift(rotation));
+        Local {
+            rotation,
+            translation: translation - shift - pivot + rotation * pivot,
+        }
+    }
+
     fn own_motion(&self, s: usize, l: &Local) -> DAffine3 {
         let pivot = self.sections[s].pivot;
         let own = DAffine3::from_translation(pivot + l.translation)

@@ -11,6 +11,9 @@
 //!   section is inside. Its third axis is the cut's normal, its first the world's x made
 //!   perpendicular to it (the world's y when the normal is along x), so a box with normal
 //!   `+z` is axis-aligned.
+//! * **skin**: the vertices the file's skin gives most to the joint the cut is named after,
+//!   or to a joint below it ([`crate::mesh::Skin`]); its point and normal (the joint's rest
+//!   place and its bone's direction) act as a plane's for the band and the pivot.
 
 use super::Cut;
 use glam::{DMat3, DVec3};
@@ -32,6 +35,8 @@ pub enum Shape {
         /// Full extents (mesh units, each > 0).
         size: DVec3,
     },
+    /// The skin's joint of the cut's name and the joints below it (see the module docs).
+    Skin,
 }
 
 impl Shape {
@@ -41,13 +46,14 @@ impl Shape {
             Shape::Plane => "plane",
             Shape::Sphere { .. } => "sphere",
             Shape::Box { .. } => "box",
+            Shape::Skin => "skin",
         }
     }
 
     /// Is every size finite and positive?
     pub fn is_valid(&self) -> bool {
         match *self {
-            Shape::Plane => true,
+            Shape::Plane | Shape::Skin => true,
             Shape::Sphere { radius } => radius.is_finite() && radius > 0.0,
             Shape::Box { size } => size.is_finite() && size.min_element() > 0.0,
         }
@@ -77,7 +83,7 @@ impl Cut {
     pub(super) fn signed(&self, p: DVec3, normal: DVec3) -> f64 {
         let v = p - self.point;
         match self.shape {
-            Shape::Plane => v.dot(normal),
+            Shape::Plane | Shape::Skin => v.dot(normal),
             Shape::Sphere { radius } => radius - v.length(),
             Shape::Box { size } => {
                 let local = Cut::box_axes(normal).transpose() * v;
@@ -95,7 +101,7 @@ impl Cut {
         let normal = self.normal.normalize_or_zero();
         let v = p - self.point;
         match self.shape {
-            Shape::Plane => normal,
+            Shape::Plane | Shape::Skin => normal,
             Shape::Sphere { .. } => (-v).normalize_or(normal),
             Shape::Box { size } => {
                 let axes = Cut::box_axes(normal);

@@ -151,6 +151,9 @@ pub struct LoadReport {
     /// Where the repairs are on the loaded mesh (the window's overlay shows them).
     #[serde(skip)]
     pub marks: RepairMarks,
+    /// The skeleton and clips the file comes with (a glTF skin), shared by every copy.
+    #[serde(skip)]
+    pub skin: Option<std::sync::Arc<super::Skin>>,
 }
 
 /// Where repairs changed the loaded mesh, by vertex and face number.
@@ -197,6 +200,7 @@ impl LoadReport {
             seconds: Vec::new(),
             groups: Groups::default(),
             marks: RepairMarks::default(),
+            skin: None,
         }
     }
 
@@ -408,6 +412,8 @@ pub fn parse(
     let mut soup = read_soup(bytes, format)?;
     report.objects = soup.objects;
     report.loose_comments = soup.loose_comments;
+    // The skin's vertices are carried by position too, once the repairs are done.
+    let skinned = soup.skin.take().map(|s| (s, soup.positions.clone()));
     report.file_vertices = soup.positions.len();
     report.file_triangles = soup.triangles.len();
     // The groups are carried by position once the repairs are done (a copy only where the
@@ -513,6 +519,10 @@ pub fn parse(
     report.riders = topo.riders;
     if let Some((faces, positions, triangles)) = grouped {
         report.groups = Groups::carry(&faces, &positions, &triangles, &mesh);
+    }
+    if let Some((mut skin, positions)) = skinned {
+        skin.carry(&positions, &mesh);
+        report.skin = Some(std::sync::Arc::new(skin));
     }
     lap(&mut report, "check", "checked");
     Ok((mesh, report))

@@ -19,6 +19,7 @@
 //! * `load`: the pipeline, its options and its report;
 //! * `normals`, `fit`: angle-weighted vertex normals, and the local surface fit that
 //!   sharpens them for the skeleton;
+//! * `skin`: the skeleton and clips a file comes with (a glTF skin);
 //! * `shapes`, `subdivide`: test shapes, refinement.
 
 mod decimate;
@@ -36,6 +37,7 @@ mod parts;
 mod ply;
 mod repair;
 pub mod shapes;
+pub mod skin;
 mod soup;
 mod split;
 mod stl;
@@ -53,6 +55,7 @@ pub use load::{
 pub use normals::vertex_normals;
 pub use obj::write as write_obj;
 pub use parts::{Parts, RIDER_AREA};
+pub use skin::Skin;
 pub use subdivide::{subdivide_loop, subdivide_loop_values, subdivide_midpoint};
 pub use validate::{validate, Topology};
 pub use weld::weld;

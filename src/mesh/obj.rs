@@ -109,6 +109,7 @@ fn assemble(parts: &[Chunk], offsets: &[usize], vertices: usize) -> Result<Soup,
         triangles: vec![[0; 3]; triangles],
         objects: parts.iter().map(|p| p.objects).sum::<usize>().max(1),
         groups: None,
+        skin: None,
     };
     let mut jobs = Vec::with_capacity(parts.len());
     let (mut ps, mut ts) = (&mut soup.positions[..], &mut soup.triangles[..]);

@@ -149,6 +149,7 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
         triangles: Vec::with_capacity(faces.len()),
         objects: 1,
         groups: None,
+        skin: None,
         loose_comments,
     };
     for (s, strip) in strips.iter().enumerate() {

@@ -20,6 +20,8 @@ pub struct Soup {
     /// Header lines read as comments though they lack the `comment` keyword (PLY files
     /// some exporters write).
     pub loose_comments: usize,
+    /// The skeleton the file comes with (a glTF skin), joints and clips.
+    pub skin: Option<super::Skin>,
 }
 
 impl Soup {

@@ -30,6 +30,7 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
         triangles: Vec::with_capacity(mesh.faces.len()),
         objects: 1,
         groups: None,
+        skin: None,
     };
     for f in &mesh.faces {
         if f.vertices.iter().any(|&v| v >= n) {

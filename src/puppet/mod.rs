@@ -69,6 +69,8 @@ pub struct Puppet {
     stopped: Option<(Vec<Local>, Vec<Local>)>,
     /// Up, front and left, as the last suggestion found them.
     frame: Option<crate::joints::suggest::Frame>,
+    /// Suggest joints from the skeleton even when the mesh file has a skin.
+    pub ignore_skin: bool,
 }
 
 impl Puppet {
@@ -108,6 +110,7 @@ impl Puppet {
         let mut uncut =
             Joints::with_mesh(&skeleton.points, &mesh.triangles, &hosts, &rig_file.root);
         uncut.set_surface(&mesh.positions, &skeleton.distance);
+        uncut.set_skin(report.and_then(|r| r.skin.clone()));
         let joints = rig_file.joints(uncut)?;
         let rig = Rig::new(
             &mesh,
@@ -128,6 +131,7 @@ impl Puppet {
             balls: None,
             stopped: None,
             frame: None,
+            ignore_skin: false,
         };
         let regions = puppet.regions(true).map_err(BuildError::Regions)?;
         puppet.sim.set_regions(regions);
@@ -200,12 +204,19 @@ impl Puppet {
     }
 
     /// Replaces the cuts with the joints suggested by the skeleton
-    /// ([`crate::joints::suggest`]); returns how many. On error nothing changes.
+    /// ([`crate::joints::suggest`]), or, when the mesh file came with a skin (and
+    /// [`Puppet::ignore_skin`] is off), the skin's joints ([`crate::joints::skin`]);
+    /// returns how many. On error nothing changes.
     pub fn suggest_joints(&mut self) -> Result<usize, JointError> {
-        let root = self.joints.sections()[0].name.clone();
+        let mut root = self.joints.sections()[0].name.clone();
         let up = self.rig_file.up.map(|u| u.vector());
-        let (cuts, frame) = crate::joints::suggest::suggest(&self.mesh, &self.skeleton, &root, up);
+        let (mut cuts, frame) =
+            crate::joints::suggest::suggest(&self.mesh, &self.skeleton, &root, up);
         self.frame = Some(frame);
+        if let Some(skin) = self.skin_joints() {
+            root = skin.root;
+            cuts = skin.cuts;
+        }
         // The floor lies across the up the suggestion found (unless the rig gives one).
         self.sim.set_up(self.up().as_vec3());
         let mut joints = self.joints.without_cuts(&root);
@@ -213,6 +224,14 @@ impl Puppet {
         self.joints = joints;
         self.sync_sections();
         Ok(cuts.len())
+    }
+
+    /// The joints the mesh file's skin gives, unless [`Puppet::ignore_skin`] is on.
+    pub fn skin_joints(&self) -> Option<crate::joints::skin::SkinJoints> {
+        if self.ignore_skin {
+            return None;
+        }
+        crate::joints::skin::joints(self.joints.skin()?)
     }
 
     /// Up, front and left as the last suggestion found them (`None` before one).

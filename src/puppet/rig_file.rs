@@ -22,7 +22,8 @@
 //! [[cut]]
 //! name = "jaw"
 //! section = "head"
-//! shape = "box"                  # plane (default) | sphere | box: the section is inside
+//! shape = "box"                  # plane (default) | sphere | box: the section is inside;
+//!                                # skin: the skin joint of the cut's name and those below it
 //! point = [0.0, -0.05, 0.6]      # the centre
 //! size = [0.2, 0.1, 0.15]        # a box's extents along its axes (a sphere: radius = 0.1)
 //! normal = [0.0, 0.0, 1.0]       # a box's third axis (default +z; see `joints::Shape`)
@@ -61,6 +62,7 @@ enum ShapeName {
     Plane,
     Sphere,
     Box,
+    Skin,
 }
 
 /// A cut as written in a rig file.
@@ -105,6 +107,8 @@ impl CutEntry {
             (ShapeName::Plane, None, None) => Shape::Plane,
             (ShapeName::Sphere, Some(radius), None) => Shape::Sphere { radius },
             (ShapeName::Box, None, Some(size)) => Shape::Box { size: size.into() },
+            (ShapeName::Skin, None, None) => Shape::Skin,
+            (ShapeName::Skin, ..) => return fail("a skin cut has no radius or size"),
             (ShapeName::Plane, ..) => return fail("a plane has no radius or size"),
             (ShapeName::Sphere, _, Some(_)) => return fail("a sphere has a radius, not a size"),
             (ShapeName::Sphere, None, _) => return fail("a sphere needs a radius"),
@@ -114,6 +118,7 @@ impl CutEntry {
         let normal = match (self.normal, shape) {
             (Some(n), _) => DVec3::from(n),
             (None, Shape::Plane) => return fail("a plane needs a normal"),
+            (None, Shape::Skin) => return fail("a skin cut needs a normal"),
             (None, _) => DVec3::Z,
         };
         let cut = Cut {
@@ -426,6 +431,7 @@ impl RigFile {
                         Shape::Plane => ShapeName::Plane,
                         Shape::Sphere { .. } => ShapeName::Sphere,
                         Shape::Box { .. } => ShapeName::Box,
+                        Shape::Skin => ShapeName::Skin,
                     },
                     point: c.point.into(),
                     normal: Some(c.normal.into()),

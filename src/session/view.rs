@@ -104,7 +104,7 @@ impl Session {
             key.add(d.section as u64);
             key.add(d.connected as u64);
             let extent = match d.shape {
-                Shape::Plane => DVec3::ZERO,
+                Shape::Plane | Shape::Skin => DVec3::ZERO,
                 Shape::Sphere { radius } => DVec3::splat(radius),
                 Shape::Box { size } => size,
             };
@@ -112,6 +112,7 @@ impl Session {
                 Shape::Plane => 0,
                 Shape::Sphere { .. } => 1,
                 Shape::Box { .. } => 2,
+                Shape::Skin => 3,
             });
             for v in [d.point, d.normal, d.pivot.unwrap_or(DVec3::NAN), extent] {
                 for c in v.to_array() {
@@ -390,7 +391,7 @@ fn push_cut(out: &mut Vec<Line>, w: &DAffine3, cut: &Cut, half: f64, color: [f32
     let at = |p: DVec3| w.transform_point3(p).as_vec3();
     let axes = cut.axes();
     match cut.shape {
-        Shape::Plane => {
+        Shape::Plane | Shape::Skin => {
             let centre = w.transform_point3(cut.pivot.unwrap_or(cut.point));
             push_plane(out, centre, w.transform_vector3(cut.normal), half, color);
         }

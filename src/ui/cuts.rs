@@ -179,7 +179,7 @@ fn draft_editor(ui: &mut egui::Ui, d: &mut CutDraft, size: f64) {
         ui.text_edit_singleline(&mut d.name);
     });
     match &mut d.shape {
-        Shape::Plane => {}
+        Shape::Plane | Shape::Skin => {}
         Shape::Sphere { radius } => {
             ui.add(
                 egui::DragValue::new(radius)

@@ -129,8 +129,11 @@ fn elements<T: Default + Clone>(
     let count = accessor.count();
     let kind = accessor.data_type();
     let size = kind.size();
-    // Without a buffer view the elements are zeros.
+    // Without a buffer view the elements are zeros (as many as a file could hold).
     let Some(view) = accessor.view() else {
+        if count > 1 << 26 {
+            return Err(bad(format!("accessor {index} claims {count} elements")));
+        }
         return Ok(vec![T::default(); count * dims]);
     };
     let bytes = data.view(&view)?;

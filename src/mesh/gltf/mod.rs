@@ -11,10 +11,12 @@
 //! # Files
 //! * this file: the document, its scene and its primitives;
 //! * `accessor`: an accessor's elements, whatever their component type;
-//! * `meshopt`: decoding compressed buffer views.
+//! * `meshopt`: decoding compressed buffer views;
+//! * `skin`: skins and clips (a skinned primitive is placed at rest by its skinning).
 
 mod accessor;
 mod meshopt;
+mod skin;
 
 use super::groups::FaceGroups;
 use super::soup::Soup;
@@ -25,8 +27,9 @@ fn bad(what: impl std::fmt::Display) -> MeshError {
     MeshError::Parse(format!("glTF: {}", super::one_line(&what.to_string())))
 }
 
-/// Every primitive's `POSITION` names an accessor the file has, and its indices, if any,
-/// are unsigned integers: two bugs of the crates, checked here before they run.
+/// Every primitive's `POSITION` names an accessor the file has, its indices, if any, are
+/// unsigned integers, and every animation channel names a sampler and a node the file
+/// has: three bugs of the crates, checked here before they run.
 ///
 /// 1. gltf-json 1.4.1 (`mesh.rs:151`, `primitive_validate_hook`) indexes `root.accessors`
 ///    with a primitive's `POSITION` before that index is validated, so `Gltf::from_slice`
@@ -73,6 +76,33 @@ fn check_accessors(root: &gltf::json::Root) -> Result<(), MeshError> {
                         "mesh {m} primitive {p}: the indices are not unsigned integers"
                     )));
                 }
+            }
+        }
+    }
+    // 3. gltf 1.4.1 (`animation/mod.rs:157`, `:211`, `:217`, `:257`) unwraps a channel's
+    //    sampler, target node and path, and a sampler's interpolation, none of which its
+    //    validation checks: a bad one panics (`tests/readers.rs` met it mutating a
+    //    skinned glb).
+    for (a, animation) in root.animations.iter().enumerate() {
+        for (c, channel) in animation.channels.iter().enumerate() {
+            if channel.sampler.value() >= animation.samplers.len()
+                || channel.target.node.value() >= root.nodes.len()
+            {
+                return Err(bad(format!(
+                    "animation {a} channel {c} names a sampler or node the file does not have"
+                )));
+            }
+            if !matches!(channel.target.path, Checked::Valid(_)) {
+                return Err(bad(format!(
+                    "animation {a} channel {c}: an unknown target path"
+                )));
+            }
+        }
+        for (k, sampler) in animation.samplers.iter().enumerate() {
+            if !matches!(sampler.interpolation, Checked::Valid(_)) {
+                return Err(bad(format!(
+                    "animation {a} sampler {k}: an unknown interpolation"
+                )));
             }
         }
     }
@@ -143,6 +173,7 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
         Vec::new()
     };
     let data = accessor::Data { buffers, decoded };
+    let mut skinning = skin::Skinning::of(&gltf)?;
     let mut soup = Soup {
         loose_comments: 0,
         objects: 0,
@@ -176,11 +207,28 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
                 let positions = accessor::floats(&positions, &data, 3)?;
                 let base = soup.positions.len() as u32;
                 let count = positions.len() / 3;
-                soup.positions.extend(
-                    positions
-                        .chunks_exact(3)
-                        .map(|p| world.transform_point3(glam::Vec3::from_slice(p).as_dvec3())),
-                );
+                let skinned = match (&mut skinning, node.skin()) {
+                    (Some(s), Some(skin)) => s.place(&skin, &prim, &data, &positions)?,
+                    _ => None,
+                };
+                match skinned {
+                    Some(at_rest) => soup.positions.extend(at_rest),
+                    None if skinning.is_some() => {
+                        if let Some(s) = &mut skinning {
+                            s.unskinned(count);
+                        }
+                        soup.positions.extend(
+                            positions.chunks_exact(3).map(|p| {
+                                world.transform_point3(glam::Vec3::from_slice(p).as_dvec3())
+                            }),
+                        )
+                    }
+                    None => soup.positions.extend(
+                        positions
+                            .chunks_exact(3)
+                            .map(|p| world.transform_point3(glam::Vec3::from_slice(p).as_dvec3())),
+                    ),
+                }
                 let indices: Vec<u32> = match prim.indices() {
                     Some(i) => accessor::unsigned(&i, &data, 1)?,
                     None => (0..count as u32).collect(),
@@ -207,6 +255,9 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
         stack.extend(node.children().map(|c| (c, world)));
     }
     soup.objects = soup.objects.max(1);
+    if let Some(s) = skinning {
+        soup.skin = Some(s.finish(&gltf, &data)?);
+    }
     soup.groups = FaceGroups::from_names(
         materials
             .iter()
@@ -292,6 +343,101 @@ mod tests {
             {{"bufferView":1,"componentType":5123,"count":12,"type":"SCALAR"}}]}}"#,
             len = bin.len()
         )
+    }
+
+    /// Standard base64 of `bin`.
+    fn encode(bin: &[u8]) -> String {
+        const A: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        let mut b64 = String::new();
+        for chunk in bin.chunks(3) {
+            let n = chunk.iter().fold(0u32, |a, &b| a << 8 | b as u32) << (8 * (3 - chunk.len()));
+            for k in 0..=chunk.len() {
+                b64.push(A[(n >> (18 - 6 * k) & 63) as usize] as char);
+            }
+        }
+        b64
+    }
+
+    /// A tetrahedron skinned to two joints (node 1, and node 2 below it moved by +1 in
+    /// x): vertex 1 all on joint `joint1`, the rest on joint 0, vertex 3's weights
+    /// `w3`; `children` the joints' children lists.
+    fn skinned(joint1: u8, w3: [f32; 2], children: (&str, &str)) -> String {
+        let positions: [[f32; 3]; 4] = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
+        let indices: [u16; 12] = [0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3];
+        let joints: [[u8; 4]; 4] = [[0; 4], [joint1, 0, 0, 0], [0; 4], [0, 1, 0, 0]];
+        let weights: [[f32; 4]; 4] = [
+            [1., 0., 0., 0.],
+            [1., 0., 0., 0.],
+            [1., 0., 0., 0.],
+            [w3[0], w3[1], 0., 0.],
+        ];
+        let mut bin = Vec::new();
+        positions
+            .iter()
+            .flatten()
+            .for_each(|c| bin.extend_from_slice(&c.to_le_bytes()));
+        indices
+            .iter()
+            .for_each(|i| bin.extend_from_slice(&i.to_le_bytes()));
+        joints.iter().flatten().for_each(|&j| bin.push(j));
+        weights
+            .iter()
+            .flatten()
+            .for_each(|c| bin.extend_from_slice(&c.to_le_bytes()));
+        format!(
+            r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0,1]}}],
+            "nodes":[{{"mesh":0,"skin":0}},{{"name":"hip","children":{c1}}},
+                     {{"name":"knee","translation":[1,0,0],"children":{c2}}}],
+            "skins":[{{"joints":[1,2]}}],
+            "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"JOINTS_0":2,"WEIGHTS_0":3}},"indices":1}}]}}],
+            "buffers":[{{"byteLength":{len},"uri":"data:application/octet-stream;base64,{b64}"}}],
+            "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":48}},{{"buffer":0,"byteOffset":48,"byteLength":24}},
+                           {{"buffer":0,"byteOffset":72,"byteLength":16}},{{"buffer":0,"byteOffset":88,"byteLength":64}}],
+            "accessors":[{{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[0,0,0],"max":[1,1,1]}},
+            {{"bufferView":1,"componentType":5123,"count":12,"type":"SCALAR"}},
+            {{"bufferView":2,"componentType":5121,"count":4,"type":"VEC4"}},
+            {{"bufferView":3,"componentType":5126,"count":4,"type":"VEC4"}}]}}"#,
+            len = bin.len(),
+            b64 = encode(&bin),
+            c1 = children.0,
+            c2 = children.1,
+        )
+    }
+
+    /// A skinned primitive is placed at rest by its skinning, and its joints read with
+    /// their hierarchy, names and weights.
+    #[test]
+    fn a_skinned_primitive_is_placed_by_its_joints() {
+        let soup = parse(skinned(1, [0.5, 0.5], ("[2]", "[]")).as_bytes()).unwrap();
+        // Vertex 1 rides joint 1 (moved +1 in x, no inverse bind): at 2; vertex 3 half.
+        assert_eq!(soup.positions[1], DVec3::new(2.0, 0.0, 0.0));
+        assert_eq!(soup.positions[3], DVec3::new(0.5, 0.0, 1.0));
+        let skin = soup.skin.unwrap();
+        let names: Vec<&str> = skin.joints.iter().map(|j| j.name.as_str()).collect();
+        assert_eq!(names, ["hip", "knee"]);
+        assert_eq!(skin.joints[1].parent, Some(0));
+        assert_eq!(skin.joints[1].weight, 1.5);
+        assert_eq!(skin.vertex_joint, [0, 1, 0, 0]);
+    }
+
+    /// Bad skins are one error line each: weights that do not sum to 1, a joint number
+    /// past the skin's joints, a joint that is its own ancestor.
+    #[test]
+    fn bad_skins_say_what() {
+        for (text, says) in [
+            (skinned(1, [0.5, 0.3], ("[2]", "[]")), "weights sum to 0.8"),
+            (
+                skinned(7, [0.5, 0.5], ("[2]", "[]")),
+                "names joint 7, but the skin has 2",
+            ),
+            (
+                skinned(1, [0.5, 0.5], ("[2]", "[1]")),
+                "is its own ancestor",
+            ),
+        ] {
+            let e = parse(text.as_bytes()).unwrap_err().to_string();
+            assert!(e.contains(says) && !e.contains('\n'), "{e}");
+        }
     }
 
     #[test]

@@ -1,0 +1,266 @@
+//! Skinned glTF: the file's skin becomes the puppet's joints (its names, its hierarchy,
+//! our roles beside them), its clips play through the puppet, and the puppet's surface
+//! while a clip plays is held to the file's own linear-blend skinning, computed here
+//! independently with the `gltf` crate's readers.
+
+mod common;
+
+use common::{ok, puppet, scratch};
+use glam::{DMat4, DQuat, DVec3};
+use std::path::{Path, PathBuf};
+
+fn figure() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gltf/skinned-figure.glb")
+}
+
+fn json(args: &[&str]) -> serde_json::Value {
+    let out = puppet(args);
+    ok(&out);
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+/// `suggest` takes the skin's joints: the file's names and hierarchy, pivots at the
+/// joints, our roles beside the names, the clips listed; `--ignore-skin` gives our own
+/// suggestion instead.
+#[test]
+fn a_skinned_figure_is_rigged_by_its_skin() {
+    let path = figure();
+    let path = path.to_str().unwrap();
+    let s = json(&["suggest", path, "--json"]);
+    assert_eq!(s["joints_from"], "skin");
+    let cuts = s["cuts"].as_array().unwrap();
+    // 16 joints, the root one the root section: 15 cuts.
+    assert_eq!(cuts.len(), 15, "{cuts:?}");
+    let cut = |name: &str| cuts.iter().find(|c| c["name"] == name).unwrap();
+    assert_eq!(cut("forearm.L")["parent"], "upper_arm.L");
+    assert_eq!(cut("forearm.L")["role"], "forearm.L");
+    assert_eq!(cut("thigh.R")["role"], "leg.R");
+    assert_eq!(cut("thigh.R")["parent"], "spine");
+    // The elbow's pivot where Blender's bone has it (z-up there, y-up in glTF).
+    let pivot: Vec<f64> = cut("forearm.L")["pivot"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert!((DVec3::from_slice(&pivot) - DVec3::new(0.48, 1.40, 0.0)).length() < 1e-4);
+    for c in cuts {
+        assert!(c["vertices"].as_u64().unwrap() > 20, "{c}");
+    }
+    let clips: Vec<&str> = s["skin"]["clips"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(clips, ["walk", "wave"]);
+    let ours = json(&["suggest", path, "--json", "--ignore-skin"]);
+    assert_eq!(ours["joints_from"], "suggestion");
+    assert!(ours["skin"]["joints"] == 16);
+}
+
+/// The rig file `suggest -o` writes from the skin loads back to the same sections.
+#[test]
+fn a_rig_written_from_a_skin_loads_back_the_same() {
+    let dir = scratch("skin_rig");
+    let rig = dir.join("figure.rig.toml");
+    let path = figure();
+    let first = json(&[
+        "suggest",
+        path.to_str().unwrap(),
+        "--json",
+        "-o",
+        rig.to_str().unwrap(),
+    ]);
+    let text = std::fs::read_to_string(&rig).unwrap();
+    assert!(text.contains("shape = \"skin\""), "{text}");
+    let file = puppet::RigFile::load(&rig).unwrap();
+    let (mesh, report) = puppet::mesh::load(&path).unwrap();
+    let built = puppet::Puppet::build_loaded(mesh, Some(&report), file, puppet::progress::silent())
+        .unwrap();
+    let sections = built.joints.sections();
+    for c in first["cuts"].as_array().unwrap() {
+        let s = built.joints.find(c["name"].as_str().unwrap()).unwrap();
+        assert_eq!(sections[s].vertices as u64, c["vertices"].as_u64().unwrap());
+    }
+}
+
+/// A node's rest transform as translation, rotation, scale.
+type Trs = (DVec3, DQuat, DVec3);
+
+/// The file's own skinning of every vertex at time `t` of `clip`, computed with the
+/// `gltf` crate's readers: node transforms (the clip's channels over the rest ones,
+/// linear, rotations by slerp), `global · inverse bind` per joint, weights.
+fn file_skinning(bytes: &[u8], clip: &str, t: f64) -> Vec<DVec3> {
+    let gltf = gltf::Gltf::from_slice(bytes).unwrap();
+    let blob = gltf.blob.clone().unwrap();
+    let data = |_: gltf::Buffer| Some(blob.as_slice());
+    let mut locals: Vec<Trs> = gltf
+        .nodes()
+        .map(|n| {
+            let (t, r, s) = n.transform().decomposed();
+            (
+                glam::Vec3::from(t).as_dvec3(),
+                glam::Quat::from_array(r).as_dquat(),
+                glam::Vec3::from(s).as_dvec3(),
+            )
+        })
+        .collect();
+    let animation = gltf.animations().find(|a| a.name() == Some(clip)).unwrap();
+    for channel in animation.channels() {
+        let reader = channel.reader(data);
+        let times: Vec<f32> = reader.read_inputs().unwrap().collect();
+        let k = times
+            .partition_point(|&x| (x as f64) <= t)
+            .clamp(1, times.len() - 1);
+        let s = ((t - times[k - 1] as f64) / (times[k] - times[k - 1]) as f64).clamp(0.0, 1.0);
+        let node = channel.target().node().index();
+        use gltf::animation::util::ReadOutputs;
+        match reader.read_outputs().unwrap() {
+            ReadOutputs::Translations(v) => {
+                let v: Vec<DVec3> = v.map(|x| glam::Vec3::from(x).as_dvec3()).collect();
+                locals[node].0 = v[k - 1].lerp(v[k], s);
+            }
+            ReadOutputs::Rotations(r) => {
+                let r: Vec<DQuat> = r
+                    .into_f32()
+                    .map(|x| glam::Quat::from_array(x).as_dquat())
+                    .collect();
+                locals[node].1 = r[k - 1].slerp(r[k], s);
+            }
+            ReadOutputs::Scales(v) => {
+                let v: Vec<DVec3> = v.map(|x| glam::Vec3::from(x).as_dvec3()).collect();
+                locals[node].2 = v[k - 1].lerp(v[k], s);
+            }
+            ReadOutputs::MorphTargetWeights(_) => {}
+        }
+    }
+    let mut parent = vec![None; locals.len()];
+    for n in gltf.nodes() {
+        for c in n.children() {
+            parent[c.index()] = Some(n.index());
+        }
+    }
+    let global = |mut n: usize| {
+        let mut m = DMat4::IDENTITY;
+        loop {
+            let (t, r, s) = locals[n];
+            m = DMat4::from_scale_rotation_translation(s, r, t) * m;
+            match parent[n] {
+                Some(p) => n = p,
+                None => return m,
+            }
+        }
+    };
+    let mut out = Vec::new();
+    for node in gltf.nodes() {
+        let (Some(mesh), Some(skin)) = (node.mesh(), node.skin()) else {
+            continue;
+        };
+        let ibm: Vec<DMat4> = skin
+            .reader(data)
+            .read_inverse_bind_matrices()
+            .unwrap()
+            .map(|m| glam::Mat4::from_cols_array_2d(&m).as_dmat4())
+            .collect();
+        let joints: Vec<DMat4> = skin
+            .joints()
+            .zip(&ibm)
+            .map(|(j, ibm)| global(j.index()) * *ibm)
+            .collect();
+        for prim in mesh.primitives() {
+            let reader = prim.reader(data);
+            let positions = reader.read_positions().unwrap();
+            let js = reader.read_joints(0).unwrap().into_u16();
+            let ws = reader.read_weights(0).unwrap().into_f32();
+            for ((p, j), w) in positions.zip(js).zip(ws) {
+                let p = glam::Vec3::from(p).as_dvec3();
+                out.push(
+                    (0..4)
+                        .map(|c| w[c] as f64 * joints[j[c] as usize].transform_point3(p))
+                        .sum(),
+                );
+            }
+        }
+    }
+    out
+}
+
+/// Each OBJ frame's vertices.
+fn frame(path: &Path) -> Vec<DVec3> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|l| {
+            let v: Vec<f64> = l.split_whitespace().map(|c| c.parse().unwrap()).collect();
+            DVec3::new(v[0], v[1], v[2])
+        })
+        .collect()
+}
+
+/// While each clip plays, the puppet's surface stays within 2 % of the figure's height
+/// (RMS) of the file's own skinning at the same time, and equals it at rest: the flesh
+/// lags and sways, the motion is the clip's.
+#[test]
+fn a_clip_plays_through_the_puppet_as_the_file_skins_it() {
+    let path = figure();
+    let bytes = std::fs::read(&path).unwrap();
+    let (mesh, _) = puppet::mesh::load(&path).unwrap();
+    // The file's vertex of each of ours, by rest position (welding merges duplicates).
+    let rest = file_skinning(&bytes, "walk", 0.0);
+    let of: Vec<usize> = mesh
+        .positions
+        .iter()
+        .map(|p| {
+            (0..rest.len())
+                .min_by(|&a, &b| rest[a].distance(*p).total_cmp(&rest[b].distance(*p)))
+                .unwrap()
+        })
+        .collect();
+    for (v, &f) in of.iter().enumerate() {
+        assert!(
+            rest[f].distance(mesh.positions[v]) < 1e-5,
+            "rest differs at {v}"
+        );
+    }
+    let height = mesh.positions.iter().map(|p| p.y).fold(f64::MIN, f64::max)
+        - mesh.positions.iter().map(|p| p.y).fold(f64::MAX, f64::min);
+    for clip in ["walk", "wave"] {
+        let dir = scratch(&format!("skin_clip_{clip}"));
+        let frames = dir.join("frames");
+        ok(&puppet(&[
+            "simulate",
+            path.to_str().unwrap(),
+            "--clip",
+            clip,
+            "--out-dir",
+            &format!("{}/", frames.display()),
+        ]));
+        let mut worst: f64 = 0.0;
+        for k in (5..=45).step_by(5) {
+            let ours = frame(&frames.join(format!("frame_{k:05}.obj")));
+            let theirs = file_skinning(&bytes, clip, k as f64 / 30.0);
+            let sum: f64 = ours
+                .iter()
+                .zip(&of)
+                .map(|(p, &f)| p.distance_squared(theirs[f]))
+                .sum();
+            let rms = (sum / ours.len() as f64).sqrt() / height;
+            worst = worst.max(rms);
+        }
+        eprintln!("{clip}: worst RMS {:.3} % of the height", worst * 100.0);
+        assert!(worst <= 0.02, "{clip}: RMS {:.3} of the height", worst);
+        // And the clip moves the figure (a still puppet would pass the bound above only
+        // if the clip hardly moved).
+        let moved = frame(&frames.join("frame_00020.obj"))
+            .iter()
+            .zip(&mesh.positions)
+            .map(|(a, b)| a.distance(*b))
+            .fold(0.0, f64::max);
+        assert!(
+            moved > 0.1 * height,
+            "{clip}: the figure moved only {moved}"
+        );
+    }
+}
