@@ -685,3 +685,36 @@ fn an_animation_that_swings_an_arm_through_the_body_stops_it_there() {
         "with collision the arm stopped at {stopped}°, without it turned {free}°"
     );
 }
+
+/// A skinned glTF opens rigged by its skin (the file's joint names), lists its clips, and
+/// plays one through the puppet: the arm the clip swings turns, and holds at the end.
+#[test]
+fn a_skinned_file_opens_with_its_joints_and_plays_a_clip() {
+    let dir = common::scratch("window-skin");
+    let figure = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gltf/skinned-figure.glb");
+    let mut w = common::Window::open(&dir, &[figure.to_str().unwrap(), "--clip", "raise"]);
+    let r = w.wait(
+        |r| r["animation_time"].as_f64().is_some_and(|t| t >= 1.0),
+        "the arm to be raised",
+    );
+    assert!(w.quit().success());
+    let sections: Vec<&str> = r["sections"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s.as_str().unwrap())
+        .collect();
+    assert_eq!(sections[0], "spine");
+    for name in ["upper_arm.R", "forearm.R", "hand.R", "thigh.L", "head"] {
+        assert!(sections.contains(&name), "{name} in {sections:?}");
+    }
+    assert_eq!(r["clips"], serde_json::json!(["raise", "walk", "wave"]));
+    assert!(
+        r["tracks"].as_array().unwrap().len() >= 15,
+        "{}",
+        r["tracks"]
+    );
+    // The clip swings the right arm 70° forward and holds it there.
+    let raised = turned(&r, "upper_arm.R");
+    assert!((raised - 70.0).abs() < 5.0, "the arm turned {raised}°: {r}");
+}

@@ -43,6 +43,8 @@ pub struct Report {
     pub recording: bool,
     /// Sections the loaded animation has tracks for.
     pub tracks: Vec<String>,
+    /// The clips of the mesh file's skin, as the panel lists them.
+    pub clips: Vec<String>,
     /// Vertices the brush's target (a region, or the pinning) has painted.
     pub painted: usize,
     /// Vertices the simulation pins (weight above 0).
@@ -127,6 +129,7 @@ impl WindowState {
                 .map(|t| t.section.clone())
                 .collect()
         });
+        report.clips = s.clips().into_iter().map(|(name, _)| name).collect();
         report.painted = s.painted();
         let regions = s.puppet.sim.regions();
         report.pinned = (0..s.puppet.mesh.positions.len())

@@ -42,6 +42,12 @@ pub struct Cli {
     /// Animation file to play in the window (the format `simulate --anim` reads).
     #[arg(long)]
     pub anim: Option<PathBuf>,
+    /// Play this clip of a skinned glTF (`puppet suggest` lists them) in the window.
+    #[arg(long, conflicts_with = "anim")]
+    pub clip: Option<String>,
+    /// Suggest joints from the skeleton even when the file has a skin.
+    #[arg(long)]
+    pub ignore_skin: bool,
     /// Save a screenshot of the window (PNG) after --frames frames, then exit.
     #[arg(long)]
     pub screenshot: Option<PathBuf>,
@@ -228,7 +234,25 @@ fn open(cli: &Cli) -> Result<()> {
         (None, None) => None,
     };
     let mesh_path = cli.mesh.clone().or_else(|| rig_file.mesh.clone());
-    let (mesh, load_report, _) = load_mesh(mesh_path.as_deref(), &cli.load)?;
+    let (mesh, mut load_report, mesh_name) = load_mesh(mesh_path.as_deref(), &cli.load)?;
+    if let Some(name) = &cli.clip {
+        let clips: Vec<&str> = load_report
+            .skin
+            .iter()
+            .flat_map(|s| s.clips.iter().map(|c| c.name.as_str()))
+            .collect();
+        if !clips.contains(&name.as_str()) {
+            return Err(FileError::new(
+                &mesh_name,
+                format!("no clip named '{name}' (clips: {})", clips.join(", ")),
+            )
+            .into());
+        }
+    }
+    if cli.ignore_skin {
+        // The window then knows nothing of the skin: our own suggestion, no clips.
+        load_report.skin = None;
+    }
     // The embedded cow opens ready to play: with its suggested joints.
     let suggest = cli.suggest_joints || (mesh_path.is_none() && cli.rig.is_none());
     let report = puppet::app::run(puppet::app::Options {
@@ -238,7 +262,11 @@ fn open(cli: &Cli) -> Result<()> {
         name: display_name(mesh_path.as_deref()),
         source: mesh_path.map(|p| p.canonicalize().unwrap_or(p)),
         rig_file,
-        after: puppet::session::loader::AfterLoad { suggest, animation },
+        after: puppet::session::loader::AfterLoad {
+            suggest,
+            animation,
+            clip: cli.clip.clone(),
+        },
         hooks: puppet::app::TestHooks::new(
             cli.screenshot.clone(),
             cli.frames,

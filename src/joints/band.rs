@@ -695,6 +695,10 @@ impl Joints {
             (0..self.cuts.len()).map(|k| self.local_radius(k)).collect();
         self.flesh = self.flesh_of(&radii);
         for (k, &radius) in radii.iter().enumerate() {
+            // A skin cut's vertices blend by the file's weights instead ([`super::skin`]).
+            if self.cuts[k].shape == super::Shape::Skin && self.body.skin.is_some() {
+                continue;
+            }
             let factor = self.cuts[k].band_factor();
             let first = sections + slot * (LEVELS - 1);
             if factor <= 0.0 || first + LEVELS - 1 > MAX_TRANSFORMS {
@@ -819,6 +823,7 @@ impl Joints {
             }
             next += contacts.len();
         }
+        self.refresh_mixes(next, MAX_TRANSFORMS);
         // Riders move with their host.
         for i in 0..n {
             if let Some(&h) = self.body.host.get(i).filter(|&&h| h != super::NO_HOST) {

@@ -313,6 +313,9 @@ pub struct Joints {
     /// The vertices where bands overlap, each with a transform of its own after the
     /// levels' ([`band::Blend`]).
     blends: Vec<band::Blend>,
+    /// Blends of sections by the skin's weights, their transforms after the contacts'
+    /// ([`skin::Mix`]).
+    mixes: Vec<skin::Mix>,
 }
 
 impl Joints {
@@ -389,6 +392,7 @@ impl Joints {
             transform_of: vec![0; n],
             flesh: Vec::new(),
             blends: Vec::new(),
+            mixes: Vec::new(),
         }
     }
 
@@ -451,6 +455,7 @@ impl Joints {
             transform_of: vec![0; self.section_of.len()],
             flesh: Vec::new(),
             blends: Vec::new(),
+            mixes: Vec::new(),
         };
         // (No cuts: no bands, and no joint has flesh.)
         j.refresh_bands();

@@ -2,10 +2,113 @@
 //! joint that is the largest weight of some vertex, hinged at the joint's rest place, with
 //! the file's hierarchy and names. A joint that is no vertex's largest weight merges into
 //! the nearest joint above it that is.
+//!
+//! # Mixes: the file's weights instead of bands
+//! Skin cuts have no joint band. A vertex whose weights spread over several sections moves
+//! with their transforms blended by its weights, `Σ wᵢ W(sᵢ)` (linear blend skinning, as the
+//! file's own skinning moves it): a [`Mix`]. Weights are rounded to 1/64, so vertices with
+//! the same sections and weights share one transform.
 
-use super::{Cut, Shape};
+use super::{Cut, Joints, Shape};
 use crate::mesh::Skin;
 use glam::DVec3;
+use std::collections::HashMap;
+
+/// Steps a mix's weights are rounded to.
+const MIX_STEPS: f32 = 64.0;
+
+/// A blend of up to four sections' transforms by weight (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mix {
+    /// (section, weight), the weights summing to 1; `count` of them are used.
+    pub parts: [(u16, f32); 4],
+    /// How many of `parts` are used.
+    pub count: u8,
+}
+
+impl Joints {
+    /// Gives every vertex whose skin weights spread over several sections a mix's
+    /// transform, numbered from `next`; returns the next free transform. Nothing without
+    /// a skin cut, or when the mixes would not fit under `max` transforms.
+    pub(super) fn refresh_mixes(&mut self, next: usize, max: usize) -> usize {
+        self.mixes.clear();
+        let Some(skin) = self.body.skin.clone() else {
+            return next;
+        };
+        if !self.cuts.iter().any(|c| c.shape == Shape::Skin) {
+            return next;
+        }
+        // Each joint's section: its own, or that of the nearest joint above it with one.
+        let section_of_joint: Vec<Option<u16>> = (0..skin.joints.len())
+            .map(|j| {
+                let mut at = Some(j);
+                for _ in 0..=skin.joints.len() {
+                    let a = at?;
+                    if let Some(s) = self.find(&skin.joints[a].name) {
+                        return Some(s as u16);
+                    }
+                    at = skin.joints[a].parent;
+                }
+                None
+            })
+            .collect();
+        let mut index: HashMap<[(u16, u16); 4], usize> = HashMap::new();
+        let mut mixes = Vec::new();
+        let mut assigned = Vec::new();
+        for (v, weights) in skin.weights.iter().enumerate() {
+            if self.body.is_rider(v) {
+                continue;
+            }
+            // The weights by section, rounded.
+            let mut parts: Vec<(u16, u16)> = Vec::with_capacity(4);
+            for &(j, w) in weights {
+                let Some(&Some(s)) = section_of_joint.get(j as usize) else {
+                    continue;
+                };
+                let q = (w * MIX_STEPS).round() as u16;
+                match parts.iter_mut().find(|p| p.0 == s) {
+                    Some(p) => p.1 += q,
+                    None => parts.push((s, q)),
+                }
+            }
+            parts.retain(|p| p.1 > 0);
+            let own = self.section_of[v];
+            if parts.len() < 2 || !parts.iter().any(|p| p.0 == own) {
+                continue;
+            }
+            parts.sort_unstable();
+            let mut key = [(u16::MAX, 0u16); 4];
+            key[..parts.len()].copy_from_slice(&parts);
+            let k = *index.entry(key).or_insert_with(|| {
+                let total: u16 = parts.iter().map(|p| p.1).sum();
+                let mut mix = Mix {
+                    parts: [(0, 0.0); 4],
+                    count: parts.len() as u8,
+                };
+                for (slot, p) in mix.parts.iter_mut().zip(&parts) {
+                    *slot = (p.0, p.1 as f32 / total as f32);
+                }
+                mixes.push(mix);
+                mixes.len() - 1
+            });
+            assigned.push((v, k));
+        }
+        if next + mixes.len() > max {
+            return next;
+        }
+        for (v, k) in assigned {
+            self.transform_of[v] = (next + k) as u16;
+        }
+        let end = next + mixes.len();
+        self.mixes = mixes;
+        end
+    }
+
+    /// The mixes (see the module docs), their transforms numbered after every other.
+    pub fn mixes(&self) -> &[Mix] {
+        &self.mixes
+    }
+}
 
 /// The joints a skin gives: the root section's name (the topmost joint that holds
 /// vertices) and a skin cut per other joint that holds vertices, parents first.

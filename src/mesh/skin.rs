@@ -8,6 +8,13 @@
 use glam::{DMat4, DVec3};
 use std::collections::HashMap;
 
+/// A vertex's four largest weights as (joint, weight), largest first, summing to 1;
+/// `(u32::MAX, 0)` where it has fewer.
+pub type Weights = [(u32, f32); 4];
+
+/// The weights of a vertex no skin moves.
+pub const NO_WEIGHTS: Weights = [(u32::MAX, 0.0); 4];
+
 /// One joint of a skin.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SkinJoint {
@@ -47,38 +54,43 @@ pub struct Skin {
     /// Per vertex, the joint with its largest weight (`u32::MAX` for a vertex no skin
     /// moves): per vertex of the file as read, then of the loaded mesh ([`Skin::carry`]).
     pub vertex_joint: Vec<u32>,
+    /// Per vertex, its four largest weights (as `vertex_joint`, per vertex of the file,
+    /// then of the loaded mesh).
+    pub weights: Vec<Weights>,
 }
 
 impl Skin {
-    /// `vertex_joint` of the file's vertices (at `positions`) carried to the loaded mesh's
-    /// vertices by position, as the repairs left them: a vertex at the place of a file's
-    /// vertex takes its joint, and one the repairs added (a hole's fill) the joint most of
-    /// its neighbours have, ring by ring.
+    /// `weights` (and `vertex_joint`) of the file's vertices (at `positions`) carried to
+    /// the loaded mesh's vertices by position, as the repairs left them: a vertex at the
+    /// place of a file's vertex takes its weights, and one the repairs added (a hole's
+    /// fill) those of a neighbour that has some, ring by ring.
     pub fn carry(&mut self, positions: &[DVec3], mesh: &super::Mesh) {
         let key = |p: DVec3| p.to_array().map(f64::to_bits);
-        let at: HashMap<[u64; 3], u32> = positions
+        let at: HashMap<[u64; 3], Weights> = positions
             .iter()
-            .zip(&self.vertex_joint)
-            .map(|(p, &j)| (key(*p), j))
+            .zip(&self.weights)
+            .map(|(p, &w)| (key(*p), w))
             .collect();
-        let mut joint: Vec<u32> = mesh
+        let mut weights: Vec<Weights> = mesh
             .positions
             .iter()
-            .map(|p| at.get(&key(*p)).copied().unwrap_or(u32::MAX))
+            .map(|p| at.get(&key(*p)).copied().unwrap_or(NO_WEIGHTS))
             .collect();
         let (start, neighbours) =
-            super::neighbours(joint.len(), &super::unique_edges(&mesh.triangles));
+            super::neighbours(weights.len(), &super::unique_edges(&mesh.triangles));
         loop {
             let mut changed = false;
-            let before = joint.clone();
-            for (v, j) in joint
-                .iter_mut()
-                .enumerate()
-                .filter(|(_, j)| **j == u32::MAX)
-            {
+            let before = weights.clone();
+            for (v, w) in weights.iter_mut().enumerate() {
+                if w[0].0 != u32::MAX {
+                    continue;
+                }
                 let around = &neighbours[start[v] as usize..start[v + 1] as usize];
-                if let Some(&w) = around.iter().find(|&&w| before[w as usize] != u32::MAX) {
-                    *j = before[w as usize];
+                if let Some(&n) = around
+                    .iter()
+                    .find(|&&n| before[n as usize][0].0 != u32::MAX)
+                {
+                    *w = before[n as usize];
                     changed = true;
                 }
             }
@@ -86,7 +98,8 @@ impl Skin {
                 break;
             }
         }
-        self.vertex_joint = joint;
+        self.vertex_joint = weights.iter().map(|w| w[0].0).collect();
+        self.weights = weights;
     }
 
     /// Is joint `j` joint `ancestor` or below it?

@@ -42,6 +42,8 @@ pub struct AfterLoad {
     pub suggest: bool,
     /// Play this animation ([`Session::set_animation`]).
     pub animation: Option<Animation>,
+    /// Play this clip of the mesh file's skin ([`Session::play_clip`]).
+    pub clip: Option<String>,
 }
 
 /// A session on a puppet built by a [`Loader`].
@@ -71,6 +73,11 @@ impl Opened {
         if let Some(animation) = after.animation {
             if let Err(e) = self.session.set_animation(animation) {
                 self.problems.push(format!("animation: {e}"));
+            }
+        }
+        if let Some(clip) = after.clip {
+            if let Err(e) = self.session.play_clip(&clip) {
+                self.problems.push(format!("clip: {e}"));
             }
         }
         self
@@ -217,9 +224,17 @@ fn build(
 ) -> Loaded {
     let start = std::time::Instant::now();
     match Puppet::build_loaded(mesh, report, rig_file, progress) {
-        Ok(puppet) => Ok(Opened {
+        Ok(mut puppet) => Ok(Opened {
+            // A skinned file without cuts in its rig opens with its skin's joints.
+            session: {
+                if puppet.joints.cuts().is_empty() && puppet.skin_joints().is_some() {
+                    if let Err(e) = puppet.suggest_joints() {
+                        log::warn!("{name}: the skin's joints: {e}");
+                    }
+                }
+                Box::new(Session::new(puppet, name))
+            },
             seconds: start.elapsed().as_secs_f64(),
-            session: Box::new(Session::new(puppet, name)),
             source: None,
             report: None,
             problems: Vec::new(),
@@ -288,6 +303,7 @@ mod tests {
         let after = AfterLoad {
             suggest: true,
             animation: Some(animation),
+            clip: None,
         };
         let opened = wait(Loader::build(
             mesh,

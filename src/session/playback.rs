@@ -52,6 +52,38 @@ impl Session {
         Ok(())
     }
 
+    /// The clips of the mesh file's skin, with their lengths in seconds (none without one).
+    pub fn clips(&self) -> Vec<(String, f64)> {
+        self.puppet
+            .joints
+            .skin()
+            .map(|s| {
+                s.clips
+                    .iter()
+                    .map(|c| (c.name.clone(), c.duration))
+                    .collect()
+            })
+            .unwrap_or_default()
+    }
+
+    /// Plays the skin's clip `name` as the animation ([`crate::anim::clip`]): the sections
+    /// named after its joints move as the clip moves them. On error nothing changes.
+    pub fn play_clip(&mut self, name: &str) -> Result<(), AnimError> {
+        let skin = self
+            .puppet
+            .joints
+            .skin()
+            .cloned()
+            .ok_or_else(|| AnimError("the mesh file has no skin, so no clips".into()))?;
+        let clip = skin
+            .clips
+            .iter()
+            .find(|c| c.name == name)
+            .ok_or_else(|| AnimError(format!("no clip named '{name}'")))?;
+        let animation = crate::anim::clip::animation(clip, &skin, &self.puppet.joints);
+        self.set_animation(animation)
+    }
+
     /// Back to the start of the animation, the puppet at rest.
     pub fn restart(&mut self) {
         if let Some(p) = &mut self.playback {

@@ -82,6 +82,40 @@ pub(super) fn file_section(
     });
 }
 
+/// The clips of a skinned file: choosing one plays it (the sections named after its
+/// joints move as it moves them; record over it like any animation).
+pub(super) fn clip_row(
+    ui: &mut egui::Ui,
+    session: &mut crate::session::Session,
+    state: &mut PanelState,
+) {
+    let clips = session.clips();
+    if clips.is_empty() {
+        return;
+    }
+    ui.horizontal_wrapped(|ui| {
+        egui::ComboBox::from_id_salt("clips")
+            .selected_text(format!("Clips ({})", clips.len()))
+            .show_ui(ui, |ui| {
+                for (name, seconds) in &clips {
+                    if ui
+                        .selectable_label(false, format!("{name}  {seconds:.2} s"))
+                        .clicked()
+                    {
+                        state.message = Some(match session.play_clip(name) {
+                            Ok(()) => (format!("playing clip '{name}'"), false),
+                            Err(e) => (format!("clip '{name}': {e}"), true),
+                        });
+                    }
+                }
+            })
+            .response
+            .on_hover_text(
+                "the clips of the file's skin: choose one to play it through the puppet",
+            );
+    });
+}
+
 /// A path as the panel shows it: its file name (never a `..` path).
 pub fn file_name(path: &Path) -> String {
     path.file_name()

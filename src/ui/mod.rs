@@ -138,6 +138,9 @@ pub fn side_panel(
             egui::ScrollArea::vertical().show(ui, |ui| {
                 ui.heading("puppet");
                 file::file_section(ui, state, shown.as_deref(), &mut actions);
+                if let Some(s) = session.as_deref_mut() {
+                    file::clip_row(ui, s, state);
+                }
                 if let Some((stage, fraction)) = &state.loading {
                     ui.add(
                         egui::ProgressBar::new(*fraction)

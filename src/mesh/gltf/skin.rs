@@ -4,7 +4,7 @@
 
 use super::accessor::{self, Data};
 use super::{bad, MeshError};
-use crate::mesh::skin::{Clip, Skin, SkinJoint};
+use crate::mesh::skin::{Clip, Skin, SkinJoint, Weights, NO_WEIGHTS};
 use glam::{DMat4, DQuat, DVec3};
 
 /// Frames per second clips are sampled at.
@@ -44,9 +44,9 @@ pub(super) struct Skinning {
     /// Per node, whether some skin has it as a joint, and the weight it carries.
     joint: Vec<bool>,
     weight: Vec<f64>,
-    /// Per vertex of the soup so far, the node of the joint with its largest weight
-    /// (`u32::MAX` for a vertex no skin moves).
-    dominant: Vec<u32>,
+    /// Per vertex of the soup so far, its four largest weights by node, largest first
+    /// (`(u32::MAX, 0)` where it has fewer; all so for a vertex no skin moves).
+    weights: Vec<Weights>,
 }
 
 impl Skinning {
@@ -105,7 +105,7 @@ impl Skinning {
             globals: vec![DMat4::IDENTITY; n],
             joint,
             weight: vec![0.0; n],
-            dominant: Vec::new(),
+            weights: Vec::new(),
         };
         skinning.globals = skinning.pose(&skinning.rest);
         Ok(Some(skinning))
@@ -126,7 +126,7 @@ impl Skinning {
 
     /// Notes `count` vertices that no skin moves (a primitive placed by its node).
     pub fn unskinned(&mut self, count: usize) {
-        self.dominant.extend(std::iter::repeat_n(u32::MAX, count));
+        self.weights.extend(std::iter::repeat_n(NO_WEIGHTS, count));
     }
 
     /// The rest positions of a primitive skinned by `skin`: each vertex by its joints' rest
@@ -192,7 +192,7 @@ impl Skinning {
         for v in 0..count {
             let p = glam::Vec3::from_slice(&positions[3 * v..3 * v + 3]).as_dvec3();
             let (mut at, mut sum) = (DVec3::ZERO, 0.0);
-            let mut top = (0.0, u32::MAX);
+            let mut top = NO_WEIGHTS;
             for (joints, weights) in &sets {
                 for c in 0..4 {
                     let w = weights[4 * v + c] as f64;
@@ -210,9 +210,14 @@ impl Skinning {
                     at += w * m.transform_point3(p);
                     sum += w;
                     self.weight[nodes[j]] += w;
-                    if w > top.0 {
-                        top = (w, nodes[j] as u32);
+                    // Into the four largest, in order (a joint named twice adds up).
+                    let node = nodes[j] as u32;
+                    match top.iter().position(|t| t.0 == node) {
+                        Some(k) => top[k].1 += w as f32,
+                        None if (w as f32) > top[3].1 => top[3] = (node, w as f32),
+                        None => {}
                     }
+                    top.sort_by(|a, b| b.1.total_cmp(&a.1));
                 }
             }
             if !sum.is_finite() || (sum - 1.0).abs() > WEIGHT_SUM_TOLERANCE {
@@ -222,7 +227,10 @@ impl Skinning {
                 )));
             }
             out.push(at / sum);
-            self.dominant.push(top.1);
+            for t in &mut top {
+                t.1 /= sum as f32;
+            }
+            self.weights.push(top);
         }
         Ok(Some(out))
     }
@@ -268,18 +276,21 @@ impl Skinning {
             .animations()
             .map(|a| self.clip(&a, data, &nodes))
             .collect::<Result<Vec<_>, _>>()?;
-        let vertex_joint = self
-            .dominant
+        let weights: Vec<Weights> = self
+            .weights
             .iter()
-            .map(|&node| match node {
-                u32::MAX => u32::MAX,
-                node => index[node as usize] as u32,
+            .map(|w| {
+                w.map(|(node, x)| match node {
+                    u32::MAX => (u32::MAX, 0.0),
+                    node => (index[node as usize] as u32, x),
+                })
             })
             .collect();
         Ok(Skin {
             joints,
             clips,
-            vertex_joint,
+            vertex_joint: weights.iter().map(|w| w[0].0).collect(),
+            weights,
         })
     }
 

@@ -1,6 +1,6 @@
 # Makes `skinned-figure.glb`: a closed figure (metaballs turned into a mesh), an armature
 # with the bone names Blender's metarig uses, weights from Blender's automatic weights
-# (bone heat), and two clips. Run: blender --background --python make-skinned.py -- OUT.glb
+# (bone heat), and three clips. Run: blender --background --python make-skinned.py -- OUT.glb
 import sys
 import math
 import numpy
@@ -125,6 +125,11 @@ key("wave", [
     (25, {"upper_arm.R": ((0, 0, 1), 60), "forearm.R": ((0, 0, 1), 80),
           "hand.R": ((1, 0, 0), -30)}),
     (37, {}),
+])
+# A clip that ends away from rest: the right arm raised and held.
+key("raise", [
+    (1, {}),
+    (25, {"upper_arm.R": ((0, 0, 1), 70), "forearm.R": ((0, 0, 1), 30)}),
 ])
 for pb in rig.pose.bones:
     pb.rotation_quaternion = Quaternion()
