@@ -4,7 +4,7 @@
 //! gives the same positions as the OBJ frames.
 
 mod common;
-use common::{example, ok, puppet, scratch};
+use common::{example, ok, puppet, scratch, validate};
 use std::path::{Path, PathBuf};
 
 /// The example take (45 frames at 30 fps) written to `out`.
@@ -88,30 +88,6 @@ fn glb_reads_back_with_one_target_per_frame_and_the_frames_positions() {
     let (spot, _) =
         puppet::mesh::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/spot.obj")).unwrap();
     assert_eq!(mesh.triangles, spot.triangles);
-}
-
-/// The Khronos validator, when Node and the validator (`scripts/setup.sh`) are here.
-fn validate(glb: &Path) {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let modules = root.join("target/npm/node_modules");
-    let node = std::process::Command::new("node").arg("--version").output();
-    if node.is_err() || !modules.join("gltf-validator").exists() {
-        eprintln!("gltf-validator not installed (scripts/setup.sh installs it): not run");
-        return;
-    }
-    let out = std::process::Command::new("node")
-        .arg(root.join("tests/data/gltf-validate.js"))
-        .arg(glb)
-        .env("NODE_PATH", &modules)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    assert_eq!(report["errors"], 0, "{report}");
 }
 
 /// The key times of a `.glb`'s animation and each key's weights, read back with the `gltf`

@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{ok, puppet, scratch};
+use common::{ok, puppet, scratch, validate};
 use glam::{DMat4, DQuat, DVec3};
 use std::path::{Path, PathBuf};
 
@@ -329,4 +329,96 @@ fn a_session_plays_a_clip_and_holds_its_last_pose() {
         .angle_between(DQuat::IDENTITY)
         .to_degrees();
     assert!((degrees - 70.0).abs() < 5.0, "the arm turned {degrees}°");
+}
+
+/// A take baked from a clip is a glb the Khronos validator passes, with a morph target per
+/// frame of the clip.
+#[test]
+fn a_take_baked_from_a_clip_is_valid_gltf() {
+    let dir = scratch("skin_take");
+    let take = dir.join("walk.glb");
+    let path = figure();
+    let out = json(&[
+        "simulate",
+        path.to_str().unwrap(),
+        "--clip",
+        "walk",
+        "--out",
+        take.to_str().unwrap(),
+        "--json",
+    ]);
+    // 1.54 s at 30 fps.
+    assert_eq!(out["exported_frames"], 47, "{out}");
+    validate(&take);
+    let gltf = gltf::Gltf::open(&take).unwrap();
+    let targets = gltf.meshes().next().unwrap().primitives().next().unwrap();
+    assert_eq!(targets.morph_targets().count(), 47);
+}
+
+/// Blender's glTF importer shows the baked take in time: at each of its frames the mesh is
+/// our frames interpolated at that time (when Blender is installed; else not run).
+#[test]
+fn blender_shows_a_take_baked_from_a_clip_in_time() {
+    if std::process::Command::new("blender")
+        .arg("--version")
+        .output()
+        .is_err()
+    {
+        eprintln!("blender not installed: not run");
+        return;
+    }
+    let dir = scratch("skin_take_blender");
+    let (take, frames) = (dir.join("walk.glb"), dir.join("frames"));
+    let path = figure();
+    for out in [take.display().to_string(), format!("{}/", frames.display())] {
+        ok(&puppet(&[
+            "simulate",
+            path.to_str().unwrap(),
+            "--clip",
+            "walk",
+            "--out",
+            &out,
+        ]));
+    }
+    let shown = dir.join("shown.json");
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/blender-take.py");
+    let run = std::process::Command::new("blender")
+        .args(["--background", "--factory-startup", "--python"])
+        .arg(&script)
+        .arg("--")
+        .args([&take, &shown])
+        .args(["13", "25", "37"])
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let shown: serde_json::Value = serde_json::from_slice(&std::fs::read(&shown).unwrap()).unwrap();
+    let fps = shown["fps"].as_f64().unwrap();
+    for f in [13, 25, 37] {
+        // Blender's frame f is f / fps seconds; our frame k is k / 30 s.
+        let t = f as f64 / fps * 30.0;
+        let k = t.floor() as usize;
+        let w = t - k as f64;
+        let (a, b) = (
+            frame(&frames.join(format!("frame_{k:05}.obj"))),
+            frame(&frames.join(format!("frame_{:05}.obj", k + 1))),
+        );
+        let blender = shown[f.to_string()].as_array().unwrap();
+        assert_eq!(blender.len(), a.len());
+        for (v, p) in blender.iter().enumerate() {
+            let p = DVec3::new(
+                p[0].as_f64().unwrap(),
+                p[1].as_f64().unwrap(),
+                p[2].as_f64().unwrap(),
+            );
+            let ours = a[v].lerp(b[v], w);
+            assert!(
+                p.distance(ours) < 1e-5,
+                "frame {f}, vertex {v}: {p} in Blender, {ours} ours"
+            );
+        }
+    }
 }

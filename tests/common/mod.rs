@@ -381,3 +381,27 @@ pub fn free_port() -> String {
         .port()
         .to_string()
 }
+
+/// The Khronos validator, when Node and the validator (`scripts/setup.sh`) are here.
+pub fn validate(glb: &Path) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let modules = root.join("target/npm/node_modules");
+    let node = std::process::Command::new("node").arg("--version").output();
+    if node.is_err() || !modules.join("gltf-validator").exists() {
+        eprintln!("gltf-validator not installed (scripts/setup.sh installs it): not run");
+        return;
+    }
+    let out = std::process::Command::new("node")
+        .arg(root.join("tests/data/gltf-validate.js"))
+        .arg(glb)
+        .env("NODE_PATH", &modules)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(report["errors"], 0, "{report}");
+}
