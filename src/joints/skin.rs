@@ -104,6 +104,11 @@ impl Joints {
         end
     }
 
+    /// The joints of the skin the joints were given ([`joints`]), riders not counted.
+    pub fn skin_joints(&self) -> Option<SkinJoints> {
+        joints(self.body.skin.as_ref()?, |v| !self.body.is_rider(v))
+    }
+
     /// The mixes (see the module docs), their transforms numbered after every other.
     pub fn mixes(&self) -> &[Mix] {
         &self.mixes
@@ -120,12 +125,13 @@ pub struct SkinJoints {
     pub cuts: Vec<Cut>,
 }
 
-/// The joints of `skin`; `None` when no joint holds a vertex.
-pub fn joints(skin: &Skin) -> Option<SkinJoints> {
+/// The joints of `skin`; `None` when no joint holds a vertex. Only vertices for which
+/// `counts` is true are held (riders, which go with their host, are not).
+pub fn joints(skin: &Skin, counts: impl Fn(usize) -> bool) -> Option<SkinJoints> {
     let n = skin.joints.len();
     let mut holds = vec![0usize; n];
-    for &j in &skin.vertex_joint {
-        if let Some(h) = holds.get_mut(j as usize) {
+    for (v, &j) in skin.vertex_joint.iter().enumerate() {
+        if let Some(h) = holds.get_mut(j as usize).filter(|_| counts(v)) {
             *h += 1;
         }
     }

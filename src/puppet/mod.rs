@@ -231,7 +231,7 @@ impl Puppet {
         if self.ignore_skin {
             return None;
         }
-        crate::joints::skin::joints(self.joints.skin()?)
+        self.joints.skin_joints()
     }
 
     /// Up, front and left as the last suggestion found them (`None` before one).
