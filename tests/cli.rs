@@ -249,6 +249,7 @@ fn short_stress_run_passes() {
     let mut poses = 0;
     let mut held = 0;
     let mut ups = [0; 6];
+    let (mut skins, mut mixes) = (0, 0);
     for seed in ["1", "2"] {
         let report = ok_json(&[
             "bench", "stress", "--seed", seed, "--steps", "15000", "--json",
@@ -261,10 +262,14 @@ fn short_stress_run_passes() {
         bands[1] += report["fans"].as_u64().unwrap();
         poses += report["poses"].as_u64().unwrap();
         held += report["held"].as_u64().unwrap();
+        skins += report["skins"].as_u64().unwrap();
+        mixes += report["mixes"].as_u64().unwrap();
         for (k, n) in ups.iter_mut().enumerate() {
             *n += report["up"][k].as_u64().unwrap();
         }
     }
+    // Scenarios rigged by a random skin, its weights mixing sections, were drawn.
+    assert!(skins >= 1 && mixes >= 1, "{skins} skins, {mixes} mixes");
     // Poses held back by collision, and up along several axis directions, were drawn.
     assert!(held >= 1, "{held}");
     assert!(ups.iter().filter(|&&n| n > 0).count() >= 3, "{ups:?}");

@@ -115,18 +115,13 @@ impl Joints {
                 });
             }
         }
-        // The skin's mixes: the sections' transforms blended by weight.
+        // The skin's mixes: the sections' motions blended by weight, as dual quaternions so
+        // the blend stays rigid (see `skin`).
         for mix in &self.mixes {
-            let mut t = DAffine3 {
-                matrix3: glam::DMat3::ZERO,
-                translation: DVec3::ZERO,
-            };
-            for &(s, w) in &mix.parts[..usize::from(mix.count)] {
-                let x = &scratch.world[usize::from(s)];
-                t.matrix3 += x.matrix3 * w as f64;
-                t.translation += x.translation * w as f64;
-            }
-            transforms.push(to_f32(&t));
+            let parts = mix.parts[..usize::from(mix.count)]
+                .iter()
+                .map(|&(s, w)| (&scratch.world[usize::from(s)], w as f64));
+            transforms.push(to_f32(&super::skin::blend_rigid(parts)));
         }
         &scratch.pose
     }

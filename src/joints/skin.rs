@@ -5,14 +5,44 @@
 //!
 //! # Mixes: the file's weights instead of bands
 //! Skin cuts have no joint band. A vertex whose weights spread over several sections moves
-//! with their transforms blended by its weights, `Σ wᵢ W(sᵢ)` (linear blend skinning, as the
-//! file's own skinning moves it): a [`Mix`]. Weights are rounded to 1/64, so vertices with
-//! the same sections and weights share one transform.
+//! with their transforms blended by its weights: a [`Mix`]. Weights are rounded to 1/64, so
+//! vertices with the same sections and weights share one transform. The blend is of dual
+//! quaternions ([`blend_rigid`]), not of matrices as the file's own linear blend skinning
+//! is: a vertex's bone points must keep their spacing (the simulation's springs and
+//! constraints hang on them), and a matrix blend shrinks where the sections turn apart (the
+//! stress test found vertices whose constraint could not be met).
 
 use super::{Cut, Joints, Shape};
 use crate::mesh::Skin;
-use glam::DVec3;
+use glam::{DAffine3, DQuat, DVec3};
 use std::collections::HashMap;
+
+/// The rigid motions `parts` (each with its weight) blended as dual quaternions: rigid
+/// whatever the weights (the identity when they sum to nothing).
+pub fn blend_rigid<'a>(parts: impl Iterator<Item = (&'a DAffine3, f64)>) -> DAffine3 {
+    let (mut real, mut dual) = (
+        DQuat::from_xyzw(0.0, 0.0, 0.0, 0.0),
+        DQuat::from_xyzw(0.0, 0.0, 0.0, 0.0),
+    );
+    let mut first: Option<DQuat> = None;
+    for (m, w) in parts {
+        let r = DQuat::from_mat3(&m.matrix3).normalize();
+        // The same turn both ways round: on the side of the first.
+        let pivot = *first.get_or_insert(r);
+        let w = if r.dot(pivot) < 0.0 { -w } else { w };
+        let t = m.translation;
+        let d = DQuat::from_xyzw(t.x, t.y, t.z, 0.0) * r * 0.5;
+        real += r * w;
+        dual += d * w;
+    }
+    let norm = real.length();
+    if norm.is_nan() || norm <= 1e-12 {
+        return DAffine3::IDENTITY;
+    }
+    let (real, dual) = (real * (1.0 / norm), dual * (1.0 / norm));
+    let t = dual * real.conjugate() * 2.0;
+    DAffine3::from_rotation_translation(real, DVec3::new(t.x, t.y, t.z))
+}
 
 /// Steps a mix's weights are rounded to.
 const MIX_STEPS: f32 = 64.0;

@@ -20,7 +20,9 @@
 //! meet, as every path that poses a part is), a third one to three material layers (by
 //! section or painted per vertex with weights 0, 1 or random, each material drawn like the
 //! parameters), a third pin weights (0, 1 or random), and the bone-spring stiffening
-//! exponent is drawn from 0 to 4.
+//! exponent is drawn from 0 to 4. A quarter of the scenarios are rigged by a random skin
+//! (2 to 6 joints, every vertex weighted to its four nearest) instead of random cuts: its
+//! joints as skin cuts, its weights mixing the sections (`joints::skin`).
 
 use anyhow::{bail, Result};
 use glam::{DQuat, DVec3, Vec3};
@@ -88,6 +90,10 @@ struct Report {
     held: usize,
     /// Scenarios with up along each axis direction (+x, −x, +y, −y, +z, −z).
     up: [usize; 6],
+    /// Scenarios rigged by a random skin (its joints as skin cuts, its weights mixing
+    /// the sections: `joints::skin`), and the mixes they had.
+    skins: usize,
+    mixes: usize,
     seconds: f64,
 }
 
@@ -189,8 +195,8 @@ pub fn run(args: &Args) -> Result<()> {
         println!("{}", serde_json::to_string(&report)?);
     } else {
         println!(
-            "stress (seed {}): {} scenarios ({} joint bands bent as arcs, {} as fans), {} steps, {} vertex-steps in {:.1} s: no NaN, every point inside its constraint, motion bounded",
-            report.seed, report.scenarios, report.arcs, report.fans, report.steps, report.vertex_steps, report.seconds
+            "stress (seed {}): {} scenarios ({} joint bands bent as arcs, {} as fans, {} rigged by a skin), {} steps, {} vertex-steps in {:.1} s: no NaN, every point inside its constraint, motion bounded",
+            report.seed, report.scenarios, report.arcs, report.fans, report.skins, report.steps, report.vertex_steps, report.seconds
         );
         println!(
             "worst surface-spring strain {:.3} ({}); worst motion {:.3} of its bound; worst constraint excess {:.1e} of the model size",
@@ -260,6 +266,47 @@ fn random_params(rng: &mut Rng) -> Params {
 
 /// Material layers (by section, or painted at random with soft weights) and pin weights at
 /// extreme values, each in a third of the scenarios.
+/// A skin of 2 to 6 joints at the skeletal points of random vertices, each below the
+/// nearest joint drawn before it, every vertex weighted to its four nearest joints by
+/// inverse squared distance.
+fn random_skin(rng: &mut Rng, points: &[DVec3]) -> puppet::mesh::Skin {
+    use puppet::mesh::skin::{SkinJoint, Weights, NO_WEIGHTS};
+    let k = 2 + rng.below(5);
+    let at: Vec<DVec3> = (0..k).map(|_| points[rng.below(points.len())]).collect();
+    let joints: Vec<SkinJoint> = (0..k)
+        .map(|j| SkinJoint {
+            name: format!("joint{j}"),
+            parent: (0..j).min_by(|&a, &b| at[a].distance(at[j]).total_cmp(&at[b].distance(at[j]))),
+            rest: glam::DMat4::from_translation(at[j]),
+            weight: 0.0,
+        })
+        .collect();
+    let weights: Vec<Weights> = points
+        .iter()
+        .map(|p| {
+            let mut near: Vec<(u32, f64)> = at
+                .iter()
+                .enumerate()
+                .map(|(j, a)| (j as u32, 1.0 / (a.distance_squared(*p) + 1e-12)))
+                .collect();
+            near.sort_by(|a, b| b.1.total_cmp(&a.1));
+            near.truncate(4);
+            let total: f64 = near.iter().map(|n| n.1).sum();
+            let mut w = NO_WEIGHTS;
+            for (slot, n) in w.iter_mut().zip(&near) {
+                *slot = (n.0, (n.1 / total) as f32);
+            }
+            w
+        })
+        .collect();
+    puppet::mesh::Skin {
+        joints,
+        clips: Vec::new(),
+        vertex_joint: weights.iter().map(|w| w[0].0).collect(),
+        weights,
+    }
+}
+
 fn random_regions(rng: &mut Rng, section_of: &[u16]) -> Regions {
     let n = section_of.len();
     let mut regions = Regions::default();
@@ -315,7 +362,25 @@ fn run_scenario(
     // With the mesh, so the bands blend over the surface (`joints::blend`).
     let mut joints = Joints::with_mesh(&points, &scenario.mesh.triangles, &[], ROOT);
     joints.set_surface(&scenario.mesh.positions, &scenario.distance);
-    for c in 0..rng.below(3) {
+    // A quarter of the scenarios are rigged by a random skin instead of random cuts.
+    let skinned = rng.below(4) == 0;
+    if skinned {
+        joints.set_skin(Some(std::sync::Arc::new(random_skin(rng, &points))));
+        if let Some(skin) = joints.skin_joints() {
+            joints = joints.without_cuts(&skin.root);
+            for cut in skin.cuts {
+                let _ = joints.add_cut(cut);
+            }
+        }
+        report.skins += 1;
+        report.mixes += joints.mixes().len();
+    }
+    let name = &if skinned {
+        format!("{name}, rigged by a random skin")
+    } else {
+        name.to_string()
+    };
+    for c in 0..if skinned { 0 } else { rng.below(3) } {
         let point = lo + (hi - lo) * DVec3::new(rng.unit(), rng.unit(), rng.unit());
         let sections: Vec<String> = joints.sections().iter().map(|s| s.name.clone()).collect();
         let _ = joints.add_cut(Cut {
