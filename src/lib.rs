@@ -1,6 +1,6 @@
 //! # puppet
 //!
-//! Any closed triangle mesh as an elastic puppet: the medial-surface mass-spring method of
+//! A character mesh as an elastic puppet: the medial-surface mass-spring method of
 //! Pfaff & Wüthrich ("Medial Surface-Based Real Time Simulation of Elastic Objects").
 //!
 //! Data flows one way through the core:

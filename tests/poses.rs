@@ -53,7 +53,7 @@ fn worst(p: &Puppet, seeds: u64) -> (f64, f64, f64) {
     (stretch, over, bones)
 }
 
-/// The README's claim: on the shipped cow, hand and human, no edge of a settled random
+/// The guide's claim: on the shipped cow, hand and human, no edge of a settled random
 /// pose stretches past 3× (before the joint bands blended over the surface: 8.5–16× on
 /// the cow, 3–6× on the hand, 36–44× on the human), and at most 2 % of the edges past
 /// 1.5×.

@@ -145,7 +145,7 @@ fn a_turned_section_shows_in_the_image() {
 }
 
 /// The human's elbow bent 90°, seen from above, as a hinge and with the default joint band:
-/// the README's before/after pictures (`docs/images/elbow-90-hinge.png`,
+/// the guide's before/after pictures (`docs/images/elbow-90-hinge.png`,
 /// `docs/images/elbow-90-band.png`), regenerated with `PUPPET_BLESS=1`.
 #[test]
 fn the_readme_s_pictures_of_the_bent_elbow() {
@@ -189,11 +189,11 @@ fn the_readme_s_pictures_of_the_bent_elbow() {
         if std::env::var_os("PUPPET_BLESS").is_some() {
             image.save_png(&reference).unwrap();
         }
-        let expected = Image::load_png(&reference).expect("the README's picture");
+        let expected = Image::load_png(&reference).expect("the guide's picture");
         let d = image.mean_abs_diff(&expected).expect("same size");
         assert!(
             d < 2.0,
-            "{name}: differs from the README's picture by {d:.2}"
+            "{name}: differs from the guide's picture by {d:.2}"
         );
         shots.push(image);
     }
@@ -201,7 +201,7 @@ fn the_readme_s_pictures_of_the_bent_elbow() {
     assert!(shots[0].mean_abs_diff(&shots[1]).unwrap() > 1.0);
 }
 
-/// The README's picture of Spot's mouth opened about one hinge (`spot-mouth.rig.toml`: the
+/// The guide's picture of Spot's mouth opened about one hinge (`spot-mouth.rig.toml`: the
 /// jaw a box cut whose pivot the head shares, the tail's tip a sphere cut), with the cuts
 /// and pivots shown: `docs/images/spot-mouth.png`, regenerated with `PUPPET_BLESS=1`.
 #[test]
@@ -245,7 +245,7 @@ fn the_readme_s_picture_of_a_mouth_opened_about_one_hinge() {
     if std::env::var_os("PUPPET_BLESS").is_some() {
         image.save_png(&reference).unwrap();
     }
-    let expected = Image::load_png(&reference).expect("the README's picture");
+    let expected = Image::load_png(&reference).expect("the guide's picture");
     let d = image.mean_abs_diff(&expected).expect("same size");
-    assert!(d < 2.0, "differs from the README's picture by {d:.2}");
+    assert!(d < 2.0, "differs from the guide's picture by {d:.2}");
 }

@@ -349,9 +349,12 @@ fn changing_bone_distance_is_cheap_and_consistent() {
 }
 
 #[test]
-fn readme_material_example_parses() {
-    let readme = include_str!("../README.md");
-    let start = readme.find("```toml\n").expect("README has a TOML example") + 8;
+fn the_guides_material_example_parses() {
+    let readme = include_str!("../docs/guide.md");
+    let start = readme
+        .find("```toml\n")
+        .expect("the guide has a TOML example")
+        + 8;
     let len = readme[start..].find("```").unwrap();
     let materials = puppet::sim::parse_materials(&readme[start..start + len]).unwrap();
     assert_eq!(materials[0].name, "jelly");

@@ -1,7 +1,7 @@
 //! Docs that cannot drift from the code: every command and bench mode is named in README,
-//! CONTRIBUTING and `--help`; every command README and BENCHMARKS quote parses with the
-//! current arguments (parse only: nothing runs); ARCHITECTURE lists the files that hold
-//! `unsafe`.
+//! CONTRIBUTING and `--help`; every command README, the guide and BENCHMARKS quote parses
+//! with the current arguments (parse only: nothing runs); ARCHITECTURE lists the files that
+//! hold `unsafe`.
 
 use super::Cli;
 use clap::{CommandFactory, Parser};
@@ -9,6 +9,7 @@ use clap::{CommandFactory, Parser};
 const README: &str = include_str!("../../README.md");
 const BENCHMARKS: &str = include_str!("../../BENCHMARKS.md");
 const CONTRIBUTING: &str = include_str!("../../CONTRIBUTING.md");
+const GUIDE: &str = include_str!("../../docs/guide.md");
 
 /// The commands (`skeleton`, …) and the bench modes (`throughput`, …) as clap knows them.
 fn commands_and_modes() -> (Vec<String>, Vec<String>) {
@@ -109,7 +110,11 @@ fn quoted_commands(text: &str) -> Vec<String> {
 fn every_quoted_command_parses() {
     let mut checked = 0;
     let mut failed = Vec::new();
-    for (doc, text) in [("README.md", README), ("BENCHMARKS.md", BENCHMARKS)] {
+    for (doc, text) in [
+        ("README.md", README),
+        ("docs/guide.md", GUIDE),
+        ("BENCHMARKS.md", BENCHMARKS),
+    ] {
         for quoted in quoted_commands(text) {
             let args = arguments(&quoted);
             if let Err(e) = Cli::try_parse_from(&args) {

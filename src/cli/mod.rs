@@ -26,7 +26,7 @@ pub const DEFAULT_MESH_NAME: &str = "spot.obj (embedded)";
 #[command(
     name = "puppet",
     version,
-    about = "Any closed triangle mesh as an elastic puppet"
+    about = "A character mesh as an elastic puppet, in real time, with no rigging by hand"
 )]
 pub struct Cli {
     #[command(subcommand)]
