@@ -17,6 +17,9 @@
 //! interpolated instead, which is the same path for turns under 180° and keeps the turn
 //! the file asks for beyond it (0° → 270° turns three quarters, not a quarter back).
 //! Translations are interpolated linearly. Before the first key the first holds.
+//!
+//! Files: this one (the format, checking, binding to sections, sampling); `record`
+//! (a take thinned to keys); `clip` (a skinned glTF's clip as an animation).
 
 pub mod clip;
 pub mod record;

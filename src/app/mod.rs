@@ -9,7 +9,9 @@
 //! * `actions`: keys and panel actions (open, save, export, undo);
 //! * `screenshot`, `report`: `--screenshot`, and what the window shows as data (`--report`);
 //! * `settings`: what the app remembers between runs (recent files, the first-run hint);
-//! * `hooks`, `drive`: what tests ask of the window ([`TestHooks`]), the synthetic drag.
+//! * `hooks`, `drive`: what tests ask of the window ([`TestHooks`]), the synthetic drag;
+//! * `dialog`: the system's file dialog, on a thread;
+//! * `live`: live input devices (OSC, MIDI, gamepads) feeding the session.
 //!
 //! The window decides nothing about the puppet: what follows a load (suggested joints, an
 //! animation) is the core's [`crate::session::loader`], what a key or a panel does is a

@@ -198,3 +198,49 @@ fn unsafe_is_where_architecture_says() {
     found.sort();
     assert_eq!(found, listed, "files with `unsafe` against ARCHITECTURE.md");
 }
+
+/// Each folder's `mod.rs` is its map: its module docs name every file the folder has
+/// (in backticks or as a link), tests aside.
+#[test]
+fn every_mod_rs_names_its_files() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut stack = vec![root.clone()];
+    let mut missing = Vec::new();
+    while let Some(dir) = stack.pop() {
+        let Ok(entries) = std::fs::read_dir(&dir) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                stack.push(path.clone());
+                let map = std::fs::read_to_string(path.join("mod.rs")).unwrap_or_default();
+                let docs: String = map
+                    .lines()
+                    .filter(|l| l.starts_with("//!"))
+                    .collect::<Vec<_>>()
+                    .join(" ");
+                for file in std::fs::read_dir(&path).into_iter().flatten().flatten() {
+                    let name = file.file_name().to_string_lossy().into_owned();
+                    let stem = name.trim_end_matches(".rs");
+                    let is_module = name.ends_with(".rs") || file.path().is_dir();
+                    if !is_module || stem == "mod" || stem == "tests" {
+                        continue;
+                    }
+                    if !docs.contains(&format!("`{stem}`"))
+                        && !docs.contains(&format!("[`{stem}`]"))
+                    {
+                        let rel = path
+                            .strip_prefix(&root)
+                            .unwrap_or(&path)
+                            .display()
+                            .to_string();
+                        missing.push(format!("src/{rel}/mod.rs does not name `{stem}`"));
+                    }
+                }
+            }
+        }
+    }
+    missing.sort();
+    assert!(missing.is_empty(), "{}", missing.join("\n"));
+}

@@ -1,5 +1,7 @@
 //! The command line: argument parsing, the `error: <file>: <problem>` convention (exit
-//! status 2), progress bars and the commands (`skeleton`, `suggest`, `simulate`, `bench`).
+//! status 2), and a file per command: `skeleton`, `suggest`, `simulate`, `send_osc` (a
+//! synthetic glove), `bench` (a folder, a file per mode); `progress_bar` draws progress on
+//! a terminal, and `docs` tests that the docs name and quote the commands as they are.
 //! Only this module and `main.rs` print.
 
 pub mod bench;

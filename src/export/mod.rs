@@ -7,6 +7,9 @@
 //! cache can be written in the file's own vertex order ([`FileOrder`]), which is what
 //! Blender's Mesh Cache modifier needs on the mesh the user imported. [`TakeFiles`]
 //! creates the files before a take is simulated and writes them at its end.
+//!
+//! Files: `glb`, `pc2` (the formats), `order` (the file's vertex order), `take` (a take's
+//! output files, fed frame by frame).
 
 pub mod glb;
 mod order;

@@ -1,6 +1,13 @@
 //! Geometry kernel shared by the skeleton: exact predicates, spatial orders, ray casting and
 //! inside/outside classification (exact on closed surfaces, the generalized winding number on
 //! open ones). Everything here is `f64` and deterministic.
+//!
+//! * `predicates`, `exact`: orientation and in-sphere tests, exact arithmetic;
+//! * `hilbert`: Hilbert keys and the randomized insertion order;
+//! * `bvh`: a bounding volume hierarchy over triangles for ray casts;
+//! * `inside`, `winding`: inside or outside, exact or by winding number;
+//! * `intersect`: faces crossing other faces;
+//! * `balls`, `cells`: medial balls as colliders, and the grid their maps hash.
 
 pub mod balls;
 pub mod bvh;

@@ -57,7 +57,8 @@
 //! * `blend`: a band's weight blended over the surface around its seam;
 //! * `pose`: composing a pose down the section tree;
 //! * `suggest`: joints suggested from the skeleton;
-//! * `skin`: joints from the skeleton the mesh file came with (a glTF skin).
+//! * `skin`: joints from the skeleton the mesh file came with (a glTF skin);
+//! * `collide`: the pose limit, which stops a part where it meets another.
 //!
 //! # Removing cuts
 //! Removing a cut merges its section back into the section it was cut from; its children

@@ -20,7 +20,10 @@
 //! * `normals`, `fit`: angle-weighted vertex normals, and the local surface fit that
 //!   sharpens them for the skeleton;
 //! * `skin`: the skeleton and clips a file comes with (a glTF skin);
-//! * `shapes`, `subdivide`: test shapes, refinement.
+//! * `shapes`, `subdivide`: test shapes, refinement;
+//! * `groups`: the file's named groups (materials), carried to the loaded vertices;
+//! * `measure`: areas, volumes and extents of a surface;
+//! * `decimate`: quadric edge collapse, for the rough copies the benchmarks make.
 
 mod decimate;
 mod edges;

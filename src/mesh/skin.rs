@@ -3,7 +3,7 @@
 //!
 //! A skinned file's surface is read at rest as the file's skinning puts it (each vertex by
 //! its joints' rest transforms and its weights), and its skin becomes the puppet's joints
-//! ([`crate::joints::from_skin`]) instead of a suggestion.
+//! ([`crate::joints::skin`]) instead of a suggestion.
 
 use glam::{DMat4, DVec3};
 use std::collections::HashMap;

@@ -1,5 +1,12 @@
 //! A puppet put together: mesh → skeleton → rig → simulation, with its joints, as a
 //! [`RigFile`] describes it.
+//!
+//! * this file: building it, suggesting joints, holding a pose back where parts meet;
+//! * `rig_file`: the rig file, TOML or JSON;
+//! * `paint`: painted weights of material regions and the pinning;
+//! * `bake`: playing an animation on the fixed step and keeping chosen frames;
+//! * `bend`, `press`, `poses`: measured bends, presses and random poses (what the benches
+//!   and tests hold the puppet to).
 
 pub mod bake;
 pub mod bend;

@@ -13,7 +13,8 @@
 //! * [`recording`]: recording a take from the puppeteer's hands;
 //! * [`export`]: baking the animation to `.glb`, `.pc2` or OBJ files on a thread;
 //! * [`view`]: what a renderer draws (surface colours, overlay lines) and when it changed;
-//! * [`loader`]: reading a mesh and building its puppet on a background thread.
+//! * [`loader`]: reading a mesh and building its puppet on a background thread;
+//! * [`live`]: live controls (a glove, MIDI, a gamepad) turning sections.
 
 pub mod camera;
 pub mod cut_tool;

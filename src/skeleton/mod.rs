@@ -35,6 +35,11 @@
 //! claim packets from one counter). Stage 4 does the rest. Stages 2 and 3
 //! (for the methods that classify) and 4 use both cores. No result depends on the thread
 //! count or on how far the overlap got (tested).
+//!
+//! Files: `build` (the stages, run together), `shrinking_ball` (the balls on the
+//! tetrahedralization's edge hook), `voronoi` (stages 2–3 for the classifying methods),
+//! `thickness` (stage 4), `cache` (skeletons cached by mesh content), `truth` (analytic
+//! shapes with known medial radii, for the accuracy report).
 
 mod build;
 pub mod cache;

@@ -1,6 +1,8 @@
-//! The puppeteer's panels (egui): file, material, world (gravity, floor), regions (other
-//! materials, pinning, the brush), pose, cuts, overlays, live controls and stats, one file each. They edit the core's [`Session`] directly and hand what needs the window (opening
-//! files, framing) back as [`Action`]s.
+//! The puppeteer's panels (egui), one file each: `file` (and a skinned file's clips),
+//! `export` (a take), `material`, `world` (gravity, floor), `regions` (other materials,
+//! pinning, the brush), `pose`, `cuts`, `overlays`, `controls` (live input), `stats`, and
+//! `timeline` (the animation's, at the bottom). They edit the core's [`Session`] and hand
+//! what needs the window (opening files, framing) back as [`Action`]s.
 
 mod controls;
 mod cuts;

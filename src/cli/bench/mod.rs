@@ -18,7 +18,8 @@
 //! * `suggest`: suggested joints against the labelled characters' references ([`suggest`]);
 //! * `skeleton`, `skeleton-speed`, `skeleton-change`: the skeleton's accuracy, its speed,
 //!   and how far real meshes' points move between methods ([`skeleton`]);
-//! * `machine`: copy bandwidth and a plain scalar spring loop, as yardsticks ([`machine`]).
+//! * `machine`: copy bandwidth and a plain scalar spring loop, as yardsticks ([`machine`]);
+//! * `controls`: live input latency, an OSC packet to the step that shows it ([`controls`]).
 
 mod accuracy;
 mod collide;

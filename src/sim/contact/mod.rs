@@ -30,7 +30,7 @@
 //!   line from the centre; its motion into the ball is dropped and its sliding motion
 //!   keeps `1 − friction` (the floor's friction). It is a projection, so a limb posed deep
 //!   into the body squashes against it and nothing gains energy: no explosion.
-//! * **The floor** ([`Floor`], `floor.rs`) is a half-space contact with the same response.
+//! * **The floor** ([`Floor`], `floor`) is a half-space contact with the same response.
 //!   Every point may touch it, so the kernel runs it in its fused pass (stages 3b and 4b);
 //!   a point a ball pushed goes through the same code here, and ends above it.
 //! * **No tunnelling.** A point tests the segment it moved along in the step, taken in the
@@ -40,6 +40,8 @@
 //!   it moved near its box, and wakes when a contact moves one of its points or lets go
 //!   of one it held (that point may lie outside its constraint: it must come back); a settled pose with contacts
 //!   settles (the contact puts a point back where it was, so the tile's motion is zero).
+//! * **Broad phase** (`grid`): balls by grid cell, one grid per set of balls that move
+//!   together.
 
 mod floor;
 mod grid;
