@@ -244,3 +244,59 @@ fn every_mod_rs_names_its_files() {
     missing.sort();
     assert!(missing.is_empty(), "{}", missing.join("\n"));
 }
+
+/// CONTRIBUTING names every top-level module, core or shell, and ARCHITECTURE counts the
+/// labelled characters there are.
+#[test]
+fn contributing_names_every_module_and_architecture_counts_the_characters() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut missing = Vec::new();
+    for entry in std::fs::read_dir(root.join("src")).expect("src").flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let stem = name.trim_end_matches(".rs");
+        if stem == "lib" || stem == "main" {
+            continue;
+        }
+        if !CONTRIBUTING.contains(&format!("`{stem}`")) {
+            missing.push(stem.to_string());
+        }
+    }
+    assert!(missing.is_empty(), "CONTRIBUTING does not name {missing:?}");
+    let characters = std::fs::read_dir(root.join("tests/data/characters"))
+        .expect("the labelled characters")
+        .flatten()
+        .filter(|e| e.path().extension().is_some_and(|x| x == "toml"))
+        .count();
+    let words = [
+        "",
+        "One",
+        "Two",
+        "Three",
+        "Four",
+        "Five",
+        "Six",
+        "Seven",
+        "Eight",
+        "Nine",
+        "Ten",
+        "Eleven",
+        "Twelve",
+        "Thirteen",
+        "Fourteen",
+        "Fifteen",
+        "Sixteen",
+        "Seventeen",
+        "Eighteen",
+        "Nineteen",
+        "Twenty",
+    ];
+    let said = format!(
+        "{} characters in",
+        words.get(characters).copied().unwrap_or("Many")
+    );
+    let architecture = include_str!("../../ARCHITECTURE.md");
+    assert!(
+        architecture.contains(&said),
+        "ARCHITECTURE should say \"{said}\""
+    );
+}
