@@ -325,12 +325,15 @@ impl RigFile {
             }
             let name = r.material.unwrap_or_else(|| "custom".into());
             let material = preset(&name).map_err(|e| RigError(format!("{at}: {e}")))?;
-            // Over a whole set of parameters, as files have always been read: only the
-            // material's fields count (the solver and the world are the rig's).
-            let mut params = Params::from(material);
-            if let Some(overrides) = r.params {
-                params = overlay(params, overrides).map_err(|e| RigError(format!("{at}: {e}")))?;
-            }
+            // Over the material alone: a region has no solver or world of its own, so a
+            // `time_step` or `gravity` there is an error, not a value silently dropped.
+            let material = match r.params {
+                Some(overrides) => {
+                    overlay(material, overrides).map_err(|e| RigError(format!("{at}: {e}")))?
+                }
+                None => material,
+            };
+            let params = Params::from(material);
             params
                 .check()
                 .map_err(|e| RigError(format!("{at}: params: {e}")))?;
@@ -530,7 +533,10 @@ fn written(weights: &[f32]) -> Option<String> {
 }
 
 /// `base` with the fields of `overrides` replaced; unknown fields are errors.
-fn overlay(base: Params, overrides: toml::Table) -> Result<Params, RigError> {
+fn overlay<T: serde::Serialize + serde::de::DeserializeOwned>(
+    base: T,
+    overrides: toml::Table,
+) -> Result<T, RigError> {
     let mut table = toml::Table::try_from(base).map_err(|e| RigError(e.to_string()))?;
     for (k, v) in overrides {
         if !table.contains_key(&k) {
@@ -571,6 +577,22 @@ mod tests {
         assert!(bad("material = \"rubber\"").contains("not a preset"));
         assert!(bad("[params]\ndamping = 2.0\n").contains("damping = 2 is outside 0..1"));
         assert!(bad("[params]\ndampnig = 0.5\n").contains("unknown field `dampnig`"));
+        // A region has only a material: its solver's and world's fields are refused, not
+        // dropped.
+        for field in [
+            "time_step = 0.01",
+            "gravity = [0.0, -1.0, 0.0]",
+            "floor = true",
+        ] {
+            let text = format!("[[region]]\nname = \"belly\"\n[region.params]\n{field}\n");
+            let e = bad(&text);
+            let key = field.split(' ').next().unwrap();
+            assert!(e.contains(&format!("unknown field `{key}`")), "{e}");
+            assert!(
+                e.contains("region 1 ('belly')") && e.contains("damping"),
+                "{e}"
+            );
+        }
         assert!(bad("[params]\ndamping = \"x\"\n").starts_with("params:"));
         assert!(
             bad("[[cut]]\nname = \"a\"\npoint = [0, 0, 0]\nnormal = [0, 0, 0]\n")
