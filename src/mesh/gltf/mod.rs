@@ -325,14 +325,7 @@ mod tests {
         for i in indices {
             bin.extend_from_slice(&i.to_le_bytes());
         }
-        const A: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-        let mut b64 = String::new();
-        for chunk in bin.chunks(3) {
-            let n = chunk.iter().fold(0u32, |a, &b| a << 8 | b as u32) << (8 * (3 - chunk.len()));
-            for k in 0..=chunk.len() {
-                b64.push(A[(n >> (18 - 6 * k) & 63) as usize] as char);
-            }
-        }
+        let b64 = encode(&bin);
         format!(
             r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],
             "nodes":[{{"mesh":0,"translation":[10,0,0]}}],
