@@ -213,7 +213,8 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
                 };
                 match skinned {
                     Some(at_rest) => soup.positions.extend(at_rest),
-                    None if skinning.is_some() => {
+                    None => {
+                        // Placed by its node; in a skinned file, noted as moved by no joint.
                         if let Some(s) = &mut skinning {
                             s.unskinned(count);
                         }
@@ -223,11 +224,6 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
                             }),
                         )
                     }
-                    None => soup.positions.extend(
-                        positions
-                            .chunks_exact(3)
-                            .map(|p| world.transform_point3(glam::Vec3::from_slice(p).as_dvec3())),
-                    ),
                 }
                 let indices: Vec<u32> = match prim.indices() {
                     Some(i) => accessor::unsigned(&i, &data, 1)?,
