@@ -453,7 +453,7 @@ impl Joints {
         let mut near: Vec<(f64, f64)> = (0..n)
             .filter(|&i| !self.body.is_rider(i) && self.section_of[i] as usize == child)
             .map(|i| {
-                let d = cut.signed(self.body.points[i], normal);
+                let d = cut.signed(self.point(i), normal);
                 (d.abs(), self.body.radius[i])
             })
             .collect();
@@ -466,6 +466,13 @@ impl Joints {
         radii.sort_by(f64::total_cmp);
         let radius = radii[radii.len() / 2];
         (radius.is_finite() && radius > 0.0).then_some((radius, child, parent))
+    }
+
+    /// Where vertex `i` lies for the bands: its skeletal point, or, for a vertex of a piece
+    /// moved to make its section whole, the skeletal point of the nearest vertex around
+    /// the piece ([`super::whole`]).
+    fn point(&self, i: usize) -> DVec3 {
+        self.body.points[self.borrowed.get(i).map_or(i, |&j| j as usize)]
     }
 
     /// The body's vertices (riders excluded) near cut `k`, with the signed distance `d` of
@@ -484,7 +491,7 @@ impl Joints {
         (0..self.section_of.len())
             .filter(|&i| !self.body.is_rider(i))
             .filter_map(|i| {
-                let p = self.body.points[i];
+                let p = self.point(i);
                 let d = cut.signed(p, normal);
                 let s = self.section_of[i] as usize;
                 let v = p - pivot;
@@ -519,7 +526,7 @@ impl Joints {
         let normal = cut.normal.normalize_or_zero();
         (0..self.section_of.len())
             .filter(|&i| !self.body.is_rider(i) && self.section_of[i] as usize == child)
-            .map(|i| cut.signed(self.body.points[i], normal))
+            .map(|i| cut.signed(self.point(i), normal))
             .fold(0.0, f64::max)
     }
 
@@ -535,7 +542,7 @@ impl Joints {
             if self.body.is_rider(i) || self.section_of[i] as usize != child {
                 continue;
             }
-            let d = cut.signed(self.body.points[i], normal);
+            let d = cut.signed(self.point(i), normal);
             if !(d >= 0.0 && d.is_finite()) {
                 continue;
             }
@@ -573,8 +580,8 @@ impl Joints {
             if self.body.is_rider(i) || self.section_of[i] as usize != parent {
                 continue;
             }
-            let d = cut.signed(self.body.points[i], normal);
-            let v = self.body.points[i] - pivot;
+            let d = cut.signed(self.point(i), normal);
+            let v = self.point(i) - pivot;
             let across = (v - along * v.dot(along)).length();
             if d > 0.0 || d <= -width || across > 2.5 * radius {
                 continue;
@@ -658,12 +665,12 @@ impl Joints {
                 // (The body's side below an armpit, its skeletal points deep in the chest,
                 // collides with the arm.)
                 if s != child {
-                    let v = self.body.points[i] - pivot;
+                    let v = self.point(i) - pivot;
                     if (v - along * v.dot(along)).length() > CONTACT_REACH * radius {
                         continue;
                     }
                 }
-                let d = cut.signed(self.body.points[i], normal);
+                let d = cut.signed(self.point(i), normal);
                 let depth = d.abs() / radius;
                 if depth < CONTACT_REACH && depth < nearest[i] {
                     nearest[i] = depth;

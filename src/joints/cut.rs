@@ -10,6 +10,7 @@ impl Joints {
     /// Applies a cut; returns the new section's index. On error nothing changes.
     pub fn add_cut(&mut self, cut: Cut) -> Result<usize, JointError> {
         let index = self.insert_cut(cut)?;
+        self.assign_sections(true);
         self.refresh_bands();
         Ok(index)
     }
@@ -22,6 +23,7 @@ impl Joints {
         let added = cuts
             .into_iter()
             .try_for_each(|cut| self.insert_cut(cut).map(|_| ()));
+        self.assign_sections(true);
         self.refresh_bands();
         added
     }
@@ -74,8 +76,8 @@ impl Joints {
         }
         let taken = self.taken(parent, &cut, normal);
         let inside = taken.iter().filter(|&&t| t).count();
-        let outside = (0..self.section_of.len())
-            .filter(|&i| !self.body.is_rider(i) && self.section_of[i] as usize == parent)
+        let outside = (0..self.skeletal_of.len())
+            .filter(|&i| !self.body.is_rider(i) && self.skeletal_of[i] as usize == parent)
             .count()
             - inside;
         for (count, side) in [
@@ -97,8 +99,8 @@ impl Joints {
             // the piece it takes (the section near a hip holds the other leg too).
             None if cut.connected => self.default_pivot(&taken, &cut, normal),
             None => {
-                let section: Vec<bool> = (0..self.section_of.len())
-                    .map(|i| !self.body.is_rider(i) && self.section_of[i] as usize == parent)
+                let section: Vec<bool> = (0..self.skeletal_of.len())
+                    .map(|i| !self.body.is_rider(i) && self.skeletal_of[i] as usize == parent)
                     .collect();
                 self.default_pivot(&section, &cut, normal)
             }
@@ -123,7 +125,7 @@ impl Joints {
             }
         }
         let index = self.sections.len();
-        for (s, &t) in self.section_of.iter_mut().zip(&taken) {
+        for (s, &t) in self.skeletal_of.iter_mut().zip(&taken) {
             if t {
                 *s = index as u16;
             }
@@ -143,7 +145,7 @@ impl Joints {
             pivot: Some(pivot),
             ..cut
         });
-        self.place_riders();
+        self.assign_sections(false);
         self.order = parents_first(&self.sections);
         self.refresh_pivots();
         Ok(index)
@@ -221,7 +223,7 @@ impl Joints {
     /// taken directly (they follow their hosts).
     fn taken(&self, parent: usize, cut: &Cut, normal: DVec3) -> Vec<bool> {
         let body = &self.body;
-        let n = self.section_of.len();
+        let n = self.skeletal_of.len();
         let point = cut.point;
         if cut.shape == Shape::Skin {
             // The vertices of the section whose joint is this one or one below it.
@@ -231,7 +233,7 @@ impl Joints {
             return (0..n)
                 .map(|i| {
                     !body.is_rider(i)
-                        && self.section_of[i] as usize == parent
+                        && self.skeletal_of[i] as usize == parent
                         && skin
                             .vertex_joint
                             .get(i)
@@ -242,7 +244,7 @@ impl Joints {
         let candidate: Vec<bool> = (0..n)
             .map(|i| {
                 !body.is_rider(i)
-                    && self.section_of[i] as usize == parent
+                    && self.skeletal_of[i] as usize == parent
                     && cut.signed(body.points[i], normal) > 0.0
             })
             .collect();
@@ -275,15 +277,22 @@ impl Joints {
 
     /// Does section `k` have a vertex joined by a mesh edge to one of `taken`?
     fn touches(&self, k: usize, taken: &[bool]) -> bool {
-        (0..self.section_of.len()).any(|i| {
-            self.section_of[i] as usize == k
+        (0..self.skeletal_of.len()).any(|i| {
+            self.skeletal_of[i] as usize == k
                 && self.body.neighbours(i).iter().any(|&w| taken[w as usize])
         })
     }
 
-    /// Riders take their hosts' sections; every section's vertex count is brought up to
-    /// date.
-    fn place_riders(&mut self) {
+    /// Each vertex's section from the cuts' (by skeletal points), made `whole` over the
+    /// surface when the joints have one ([`super::whole`]; once a batch of cuts is in,
+    /// not after each); riders take their hosts' sections; every section's vertex count
+    /// is brought up to date.
+    pub(super) fn assign_sections(&mut self, whole: bool) {
+        self.section_of.clone_from(&self.skeletal_of);
+        self.borrowed.clear();
+        if whole && !self.body.rest.is_empty() && self.make_whole() > 0 {
+            self.borrow_points();
+        }
         let host = &self.body.host;
         if !host.is_empty() {
             for i in 0..self.section_of.len() {
@@ -327,6 +336,7 @@ impl Joints {
                 r => r?,
             };
         }
+        rebuilt.assign_sections(true);
         rebuilt.refresh_bands();
         *self = rebuilt;
         Ok(())
@@ -357,7 +367,7 @@ impl Joints {
                 taken[i]
                     && body.neighbours(i).iter().any(|&w| {
                         let w = w as usize;
-                        !taken[w] && !body.is_rider(w) && self.section_of[w] as usize == parent
+                        !taken[w] && !body.is_rider(w) && self.skeletal_of[w] as usize == parent
                     })
             })
             .map(|i| body.points[i])

@@ -58,6 +58,7 @@
 //! * `pose`: composing a pose down the section tree;
 //! * `suggest`: joints suggested from the skeleton;
 //! * `skin`: joints from the skeleton the mesh file came with (a glTF skin);
+//! * `whole`: whole sections, a stray piece of one joining the section around it;
 //! * `collide`: the pose limit, which stops a part where it meets another.
 //!
 //! # Removing cuts
@@ -73,6 +74,7 @@ mod pose;
 mod shape;
 pub mod skin;
 pub mod suggest;
+mod whole;
 
 pub use band::{Band, DEFAULT_BAND, MAX_BAND};
 pub use pose::{to_f32, PoseScratch};
@@ -299,6 +301,12 @@ pub struct Joints {
     /// The root's own pivot (its section's turns about a shared one when a cut says so).
     root_pivot: DVec3,
     section_of: Vec<u16>,
+    /// Each vertex's section by its skeletal point alone, which cuts split
+    /// (`section_of` is this made whole over the surface, see [`whole`]).
+    skeletal_of: Vec<u16>,
+    /// Per vertex, the vertex whose skeletal point places it across the bands: itself,
+    /// or one around the piece it was moved with (empty when none moved, see [`whole`]).
+    borrowed: Vec<u32>,
     /// Sections parents-first (for composing transforms).
     order: Vec<usize>,
     /// Per cut, its joint band (see [`band`]).
@@ -387,6 +395,8 @@ impl Joints {
             }],
             root_pivot: centroid,
             section_of: vec![0; n],
+            skeletal_of: vec![0; n],
+            borrowed: Vec::new(),
             order: vec![0],
             bands: Vec::new(),
             band_of: vec![None],
@@ -410,6 +420,7 @@ impl Joints {
         let body = Arc::make_mut(&mut self.body);
         body.rest = positions.to_vec();
         body.radius = radii.to_vec();
+        self.assign_sections(true);
         self.refresh_bands();
     }
 
@@ -450,6 +461,8 @@ impl Joints {
             }],
             root_pivot: self.root_pivot,
             section_of: vec![0; self.section_of.len()],
+            skeletal_of: vec![0; self.section_of.len()],
+            borrowed: Vec::new(),
             order: vec![0],
             bands: Vec::new(),
             band_of: vec![None],

@@ -353,3 +353,93 @@ fn an_arc_band_bends_its_centre_line_without_shortening_it() {
     let end = band.motion(turn, &child, 1.0);
     assert!(end.abs_diff_eq(child, 1e-12), "{end:?} against {child:?}");
 }
+
+/// A flat strip of `w × 31` vertices 0.1 apart (row `r`, column `c` at `(0.1 c, 0.1 r)`,
+/// index `31 … w`), each vertex's skeletal point on the y axis at its own height unless
+/// `point` says otherwise; the joints have its surface.
+fn strip(w: usize, point: impl Fn(usize, usize) -> f64) -> Joints {
+    let rows = 31;
+    let at = |r: usize, c: usize| (r * w + c) as u32;
+    let mut points = Vec::new();
+    let mut positions = Vec::new();
+    for r in 0..rows {
+        for c in 0..w {
+            points.push(DVec3::new(0.0, point(r, c), 0.0));
+            positions.push(DVec3::new(0.1 * c as f64, 0.1 * r as f64, 0.0));
+        }
+    }
+    let mut triangles = Vec::new();
+    for r in 0..rows - 1 {
+        for c in 0..w - 1 {
+            triangles.push([at(r, c), at(r, c + 1), at(r + 1, c + 1)]);
+            triangles.push([at(r, c), at(r + 1, c + 1), at(r + 1, c)]);
+        }
+    }
+    let mut j = Joints::with_mesh(&points, &triangles, &[], ROOT);
+    j.set_surface(&positions, &vec![0.05; positions.len()]);
+    j
+}
+
+#[test]
+fn a_patch_of_the_parent_inside_a_child_turns_with_the_child() {
+    // Rows 20–21 of columns 1–2 have skeletal points down at the body's (y = 0.5): by
+    // its skeletal points, an island of the root inside the arm.
+    let island = |r: usize, c: usize| (20..=21).contains(&r) && (1..=2).contains(&c);
+    let point = |r: usize, c: usize| if island(r, c) { 0.5 } else { 0.1 * r as f64 };
+    let mut j = strip(5, point);
+    let arm = j.add_cut(cut("arm", ROOT, 1.05)).unwrap();
+    for r in 0..31 {
+        for c in 0..5 {
+            let want = usize::from(r > 10);
+            assert_eq!(
+                usize::from(j.section_of()[r * 5 + c]),
+                want,
+                "row {r} column {c}"
+            );
+        }
+    }
+    assert_eq!(j.sections()[arm].vertices, 20 * 5);
+    // Turning the arm carries the patch: no edge of it stays behind.
+    let mut local = vec![Local::default(); 2];
+    local[arm] = Local::axis_angle(DVec3::Z, 60.0);
+    let pose = j.pose(&local);
+    let moved = |i: usize| {
+        let t = pose.transforms[usize::from(j.transform_of()[i])];
+        t.transform_point3(DVec3::new(0.1 * (i % 5) as f64, 0.1 * (i / 5) as f64, 0.0).as_vec3())
+    };
+    assert!(moved(20 * 5 + 1).distance(moved(20 * 5)) < 0.11);
+    // Joints without a surface (the suggestion's) keep the skeleton's sections.
+    let mut bare = Joints::with_mesh(
+        &(0..31 * 5)
+            .map(|i| DVec3::new(0.0, point(i / 5, i % 5), 0.0))
+            .collect::<Vec<_>>(),
+        &[],
+        &[],
+        ROOT,
+    );
+    bare.add_cut(cut("arm", ROOT, 1.05)).unwrap();
+    assert_eq!(bare.section_of()[20 * 5 + 1], 0);
+}
+
+#[test]
+fn two_pieces_that_each_hang_from_the_parent_stay_one_section() {
+    // Column 2 above row 20 has skeletal points at the bottom: one plane at y = 2.05
+    // takes two legs, columns 0–1 and 3–4, each on the root.
+    let mut j = strip(5, |r, c| {
+        if c == 2 && r > 20 {
+            0.0
+        } else {
+            0.1 * r as f64
+        }
+    });
+    let legs = j.add_cut(cut("legs", ROOT, 2.05)).unwrap();
+    for r in 21..31 {
+        for c in 0..5 {
+            assert_eq!(
+                usize::from(j.section_of()[r * 5 + c]),
+                if c == 2 { 0 } else { legs },
+                "row {r} column {c}"
+            );
+        }
+    }
+}
