@@ -188,6 +188,16 @@ fn median_p95(v: Vec<f64>) -> (f64, f64) {
     puppet::skeleton::truth::median_p95(v)
 }
 
+/// A bound a bench fails beyond (`--max-…`, `--min-…`): a finite number. A NaN would
+/// compare false with every figure, and the bench could never fail; one no figure can meet
+/// (a cost below −100 %) is allowed, and fails.
+fn bound(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => Err(format!("{s} is not a finite number")),
+    }
+}
+
 /// Makes the folder `--images` names, if it does not exist yet.
 fn image_folder(dir: Option<&PathBuf>) -> Result<()> {
     if let Some(dir) = dir {
@@ -196,4 +206,47 @@ fn image_folder(dir: Option<&PathBuf>) -> Result<()> {
         })?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    /// Every bound flag of every bench mode (`--max-…`, `--min-…`) refuses what could
+    /// never fail or never pass: NaN, infinity.
+    #[test]
+    fn every_bound_flag_refuses_nan() {
+        let cli = crate::cli::Cli::command();
+        let bench = cli.find_subcommand("bench").expect("bench");
+        let mut checked = 0;
+        for mode in bench.get_subcommands() {
+            for arg in mode.get_arguments() {
+                let Some(long) = arg.get_long() else {
+                    continue;
+                };
+                if !(long.starts_with("max-") || long.starts_with("min-")) {
+                    continue;
+                }
+                for bad in ["nan", "inf", "-inf"] {
+                    let flag = format!("--{long}={bad}");
+                    let parsed = crate::cli::Cli::command().try_get_matches_from([
+                        "puppet",
+                        "bench",
+                        mode.get_name(),
+                        flag.as_str(),
+                    ]);
+                    let err = parsed
+                        .err()
+                        .unwrap_or_else(|| panic!("bench {} {flag} was accepted", mode.get_name()));
+                    assert!(
+                        err.to_string().contains("is not a finite number"),
+                        "bench {} {flag}: {err}",
+                        mode.get_name()
+                    );
+                }
+                checked += 1;
+            }
+        }
+        assert!(checked >= 10, "{checked} bound flags");
+    }
 }

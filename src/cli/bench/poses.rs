@@ -46,13 +46,13 @@ pub struct Args {
     #[arg(long, requires = "compare")]
     never_worse: bool,
     /// Fail when a pose's worst edge stretch is above this.
-    #[arg(long)]
+    #[arg(long, value_parser = super::bound)]
     max_stretch: Option<f64>,
     /// Fail when a pose has more than this share (%) of its edges stretched over 1.5×.
-    #[arg(long)]
+    #[arg(long, value_parser = super::bound)]
     max_over: Option<f64>,
     /// Fail when a section's volume changes by more than this (%) in a pose.
-    #[arg(long)]
+    #[arg(long, value_parser = super::bound)]
     max_volume: Option<f64>,
     /// Measure where the bones hold the surface (the rig's targets) instead of settling
     /// the simulation: fast, and the rig's own share of the stretch.
@@ -163,15 +163,6 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     for (name, v) in [("--limb", args.limb), ("--root", args.root)] {
         if !(v.is_finite() && (0.0..=180.0).contains(&v)) {
             bail!("{name}: {v} is outside 0..180");
-        }
-    }
-    for (name, v) in [
-        ("--max-stretch", args.max_stretch),
-        ("--max-over", args.max_over),
-        ("--max-volume", args.max_volume),
-    ] {
-        if let Some(v) = v.filter(|v| !(v.is_finite() && *v >= 0.0)) {
-            bail!("{name}: {v} is not a number of at least 0");
         }
     }
     let spread = Spread {

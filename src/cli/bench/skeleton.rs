@@ -32,11 +32,11 @@ pub struct SpeedArgs {
     runs: usize,
     /// Fail (exit status 2) when reading a file of 100k vertices or more (read, parse,
     /// weld, repair, check) takes longer than this fraction of its skeleton.
-    #[arg(long)]
+    #[arg(long, value_parser = super::bound)]
     max_load_ratio: Option<f64>,
     /// Fail when writing the skeletal OBJ is slower than this fraction of writing the same
     /// number of bytes straight to the same disk.
-    #[arg(long)]
+    #[arg(long, value_parser = super::bound)]
     min_write_speed: Option<f64>,
     /// Print JSON instead of a Markdown table.
     #[arg(long)]

@@ -23,14 +23,14 @@ pub struct Args {
     #[arg(long)]
     images: Option<PathBuf>,
     /// Fail when the recall of required joints over the set is below this (%).
-    #[arg(long)]
+    #[arg(long, value_parser = super::bound)]
     min_recall: Option<f64>,
     /// Fail when the share of spurious cuts over the set is above this (%).
-    #[arg(long)]
+    #[arg(long, value_parser = super::bound)]
     max_spurious: Option<f64>,
     /// Fail when a character's suggestion takes longer than this share (%) of the time its
     /// skeleton and rig take.
-    #[arg(long)]
+    #[arg(long, value_parser = super::bound)]
     max_time_share: Option<f64>,
     /// Roughen each mesh first: every vertex moved by up to this share of the mean edge
     /// length, in a random direction (`--seed`), as a scan's surface is rough.

@@ -160,7 +160,7 @@ pub struct Args {
     /// Measure the first size with collision on and off, alternating, ROUNDS times each,
     /// and fail when the step with collision costs more than PERCENT % above the one
     /// without.
-    #[arg(long, value_name = "PERCENT", conflicts_with = "max_band_cost")]
+    #[arg(long, value_name = "PERCENT", conflicts_with = "max_band_cost", value_parser = super::bound)]
     max_collision_cost: Option<f64>,
     /// Painted materials: the half of the surface with `x` above the middle is "thick skin",
     /// with stiffening exponent 2, and every tenth vertex is pinned with weight 0.5.
@@ -173,7 +173,7 @@ pub struct Args {
     /// With --band: measure the first size with that band and as a hinge (band 0),
     /// alternating, ROUNDS times each, and fail when the band's median step costs more than
     /// PERCENT % above the hinge's.
-    #[arg(long, requires = "band", value_name = "PERCENT")]
+    #[arg(long, requires = "band", value_name = "PERCENT", value_parser = super::bound)]
     max_band_cost: Option<f64>,
     /// Rounds of --max-band-cost.
     #[arg(long, default_value_t = 3, value_name = "ROUNDS")]
