@@ -502,3 +502,25 @@ fn a_successful_render_without_a_runtime_dir_prints_no_error() {
         "{err}"
     );
 }
+
+/// `bench controls` holds live input to one frame plus one step at the 95th percentile of
+/// the packets sent: it passes on localhost, and fails when packets are lost (a lost packet
+/// is never shown; before, only the packets that arrived were counted, and losing 599 of
+/// 600 passed).
+#[test]
+fn controls_bench_passes_and_fails_when_packets_are_lost() {
+    let out = puppet(&["bench", "controls", "--packets", "30", "--json"]);
+    common::ok(&out);
+    let r: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON record");
+    assert_eq!(r["packets"], 30, "{r}");
+    assert_eq!(r["received"], 30, "{r}");
+    let out = puppet(&["bench", "controls", "--packets", "30", "--lose", "50"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.starts_with("error: ") && err.contains("15 of 30 packets arrived"),
+        "{err}"
+    );
+    let out = puppet(&["bench", "controls", "--lose", "nan"]);
+    assert_eq!(out.status.code(), Some(2));
+}
