@@ -246,22 +246,33 @@ fn the_bake_equals_the_preview_bit_for_bit() {
     let text = std::fs::read_to_string(example("spot-jaw.anim.toml")).unwrap();
     let anim = puppet::anim::Animation::parse(&text, puppet::files::Format::Toml).unwrap();
     session.set_animation(anim).unwrap();
-    // Frame 45 at 30 fps is step 90 at 60 steps/s; window frames of uneven length.
+    // Frame `f` of the cache (30 fps) is step `2 (f + 1)` at 60 steps/s: every frame is
+    // compared, reached in window frames of uneven length.
+    let samples = i32::from_le_bytes(b[28..32].try_into().unwrap()) as usize;
+    assert_eq!(samples, 45);
     let frames = [1.0 / 37.0, 1.0 / 90.0, 0.1, 1.0 / 60.0, 0.031];
     let mut k = 0;
-    while session.puppet.sim.steps() < 90 {
-        let left = 90 - session.puppet.sim.steps() as u32;
-        session.advance(frames[k % frames.len()], left.min(8));
-        k += 1;
-    }
-    assert_eq!(session.puppet.sim.steps(), 90);
-    let x = session.puppet.sim.positions().to_vec();
-    assert_eq!(x.len(), points);
-    for (v, p) in x.iter().enumerate() {
-        let at = 32 + (44 * points + v) * 12;
-        for c in 0..3 {
-            let baked = f32::from_le_bytes(b[at + 4 * c..at + 4 * c + 4].try_into().unwrap());
-            assert_eq!(p[c].to_bits(), baked.to_bits(), "vertex {v} axis {c}");
+    let mut x = Vec::new();
+    for f in 0..samples {
+        let step = 2 * (f as u64 + 1);
+        while (session.puppet.sim.steps() as u64) < step {
+            let left = (step - session.puppet.sim.steps() as u64) as u32;
+            session.advance(frames[k % frames.len()], left.min(8));
+            k += 1;
+        }
+        assert_eq!(session.puppet.sim.steps() as u64, step);
+        x = session.puppet.sim.positions().to_vec();
+        assert_eq!(x.len(), points);
+        for (v, p) in x.iter().enumerate() {
+            let at = 32 + (f * points + v) * 12;
+            for c in 0..3 {
+                let baked = f32::from_le_bytes(b[at + 4 * c..at + 4 * c + 4].try_into().unwrap());
+                assert_eq!(
+                    p[c].to_bits(),
+                    baked.to_bits(),
+                    "frame {f} vertex {v} axis {c}"
+                );
+            }
         }
     }
     // Restart and a scrub back to the same time give the same surface again.
