@@ -554,14 +554,19 @@ fn an_arm_dragged_into_the_body_stops_at_it() {
         // then across the chest (650 pixels of an 800-pixel view: about 146°).
         w.drag(at, [650.0, 0.0]);
         w.wait(|r| angle(r) > 30.0, "the drag to turn the arm");
-        // Until it stops turning.
+        // Until it stops turning (an arm still turning after a minute fails).
         let mut last = -1.0;
+        let start = Instant::now();
         loop {
             std::thread::sleep(Duration::from_millis(400));
             let now = angle(&w.state().unwrap());
             if (now - last).abs() < 0.05 {
                 break;
             }
+            assert!(
+                start.elapsed() < Duration::from_secs(60),
+                "the arm still turns after 60 s: {last}° then {now}°"
+            );
             last = now;
         }
         assert!(w.quit().success());
