@@ -164,9 +164,36 @@ fn skeleton_command_writes_s_with_the_mesh_connectivity() {
     let input = std::str::from_utf8(include_bytes!("../assets/spot.obj")).unwrap();
     let in_faces: Vec<&str> = input.lines().filter(|l| l.starts_with("f ")).collect();
     assert_eq!(faces, in_faces);
-    // M = S + dN: every skeletal point is p - d n with the printed distances' range.
+    // M = S + dN, vertex by vertex in the input's order: the file's i-th point is the
+    // skeleton's i-th, at its distance d_i from the mesh's i-th vertex, within the printed
+    // range.
     let d_max = v["d_max"].as_f64().unwrap();
     assert!(d_max > 0.1 && d_max < 1.0);
+    let (m, _) = parse_obj(include_bytes!("../assets/spot.obj")).unwrap();
+    let n = vertex_normals(&m).unwrap();
+    let skeleton = build(&m, &n, &SkeletonParams::default(), silent()).unwrap();
+    let written: Vec<glam::DVec3> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|l| {
+            let c: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
+            glam::DVec3::new(c[0], c[1], c[2])
+        })
+        .collect();
+    assert_eq!(written.len(), m.positions.len());
+    for (i, s) in written.iter().enumerate() {
+        let d = skeleton.distance[i];
+        assert!(
+            s.distance(skeleton.points[i]) <= 1e-5 * (1.0 + d),
+            "vertex {i}: written {s}, skeleton {}",
+            skeleton.points[i]
+        );
+        assert!(
+            (m.positions[i].distance(*s) - d).abs() <= 1e-5 * (1.0 + d) && d <= d_max + 1e-9,
+            "vertex {i}: |M - S| = {} against d = {d}",
+            m.positions[i].distance(*s)
+        );
+    }
 }
 
 #[test]
@@ -198,6 +225,7 @@ fn every_test_meshs_skeletal_points_stay_inside_with_the_default_method() {
     let rows = rows.as_array().unwrap();
     assert_eq!(rows.len(), meshes.len());
     for r in rows {
+        assert_eq!(r["outside"], 0, "{r}");
         assert_eq!(r["newly_outside"], 0, "{r}");
         // The normals change, so points move; by a small share of the local distance (the
         // most on the coarse 441-vertex Spot, 15 %).
