@@ -504,22 +504,24 @@ fn the_knee_and_two_finger_joints_bent_90_degrees_hold_the_same_targets() {
     }
 }
 
+/// At 135° every joint `bench joints` measures (the elbow, the knee, two fingers) bends
+/// with no face crossing another, as BENCHMARKS shows, where the hinge crosses 53–82; the
+/// region around the joint keeps its volume within 3 %.
 #[test]
-fn at_135_degrees_the_elbow_s_two_sides_meet_without_passing_through() {
+fn at_135_degrees_no_joint_passes_through_itself() {
     use puppet::puppet::bend::JOINTS;
-    let m = human();
-    let b = JOINTS[0].bend(&m, None, 135.0, Params::default()).unwrap();
-    let h = JOINTS[0]
-        .bend(&m, Some(0.0), 135.0, Params::default())
-        .unwrap();
-    assert!(h.crossing >= 10, "{h:?}");
-    assert!(
-        b.crossing * 10 <= h.crossing,
-        "{} against {}",
-        b.crossing,
-        h.crossing
-    );
-    assert!(b.region_volume.abs() <= 0.03, "{b:?}");
+    for joint in &JOINTS {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/meshes")
+            .join(joint.mesh);
+        let m = mesh::load(&path).expect("a test mesh").0;
+        let name = joint.name;
+        let b = joint.bend(&m, None, 135.0, Params::default()).unwrap();
+        let h = joint.bend(&m, Some(0.0), 135.0, Params::default()).unwrap();
+        assert!(h.crossing >= 10, "{name}: the hinge presses: {h:?}");
+        assert_eq!(b.crossing, 0, "{name}: {b:?}");
+        assert!(b.region_volume.abs() <= 0.03, "{name}: {b:?}");
+    }
 }
 
 #[test]
