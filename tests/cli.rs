@@ -524,3 +524,25 @@ fn controls_bench_passes_and_fails_when_packets_are_lost() {
     let out = puppet(&["bench", "controls", "--lose", "nan"]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// The guide's and BENCHMARKS' figures for rough surfaces: with every vertex moved by up
+/// to a tenth of an edge (`bench suggest --jitter 0.1`, seeds 1–3), 78–82 of the 97
+/// required joints are found.
+#[test]
+fn rough_surfaces_find_the_documented_share_of_joints() {
+    for seed in ["1", "2", "3"] {
+        let out = puppet(&[
+            "bench", "suggest", "--jitter", "0.1", "--seed", seed, "--json",
+        ]);
+        common::ok(&out);
+        let rows: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+        let rows = rows.as_array().expect("one record per character");
+        let sum = |key: &str| rows.iter().map(|r| r[key].as_u64().unwrap()).sum::<u64>();
+        assert_eq!(sum("required"), 97, "seed {seed}");
+        let found = sum("found");
+        assert!(
+            (78..=82).contains(&found),
+            "seed {seed}: {found} of 97 found"
+        );
+    }
+}

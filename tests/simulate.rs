@@ -204,3 +204,41 @@ fn missing_files_are_errors_too() {
         "{err}"
     );
 }
+
+/// The guide's claim: the pose is sampled at every fixed step, so the result does not
+/// depend on `--fps`: half a second as 12 frames at 24 fps, 15 at 30 and 30 at 60 ends in
+/// the same surface, byte for byte (below the first line, which names the frame).
+#[test]
+fn the_result_does_not_depend_on_the_frame_rate() {
+    let dir = scratch("simulate_fps");
+    let finals: Vec<Vec<u8>> = [("12", "24"), ("15", "30"), ("30", "60")]
+        .iter()
+        .map(|(frames, fps)| {
+            let path = dir.join(format!("final-{fps}.obj"));
+            ok(&puppet(&[
+                "simulate",
+                "--rig",
+                &example("spot-jaw.rig.toml"),
+                "--anim",
+                &example("spot-jaw.anim.toml"),
+                "--frames",
+                frames,
+                "--fps",
+                fps,
+                "--out",
+                path.to_str().unwrap(),
+            ]));
+            let text = std::fs::read_to_string(&path).expect("the final surface");
+            assert!(
+                text.starts_with("# puppet simulate: final frame "),
+                "{path:?}"
+            );
+            text.lines()
+                .skip(1)
+                .collect::<Vec<_>>()
+                .join("\n")
+                .into_bytes()
+        })
+        .collect();
+    assert!(finals[0] == finals[1] && finals[1] == finals[2]);
+}
