@@ -8,7 +8,7 @@
 //! nothing else. The solver and the world are not part of a material, so no preset can
 //! change them.
 
-use super::params::{clamp, first_failure, ParamError};
+use super::range::{clamp, first_failure, ParamError};
 use super::MAX_STIFFNESS;
 
 /// Largest bone-spring stiffening exponent.

@@ -31,6 +31,7 @@
 //!   [`Constraint`];
 //! * [`material`]: [`Material`] (what a region may change), Table 1's presets and materials
 //!   files;
+//! * `range`: a parameter's range, its clamp and its [`ParamError`];
 //! * [`regions`]: several materials on one puppet (layers with a weight per vertex) and
 //!   pinning;
 //! * [`pose`]: the [`Pose`] a step takes and the [`Positions`] it leaves;
@@ -48,6 +49,7 @@ pub mod material;
 pub mod options;
 pub mod params;
 pub mod pose;
+mod range;
 pub mod regions;
 mod step;
 
