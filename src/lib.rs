@@ -32,6 +32,7 @@ pub mod scenario;
 pub mod session;
 pub mod sim;
 pub mod skeleton;
+pub mod stats;
 
 #[cfg(feature = "gui")]
 pub mod app;

@@ -14,7 +14,7 @@ use puppet::anim::{Animation, Bound};
 use puppet::export::{FileOrder, Kind, TakeFiles, TakeOptions};
 use puppet::files::{self, Format};
 use puppet::puppet::bake::{FrameRange, Player, MAX_FRAMES};
-use puppet::skeleton::truth::median_p95;
+use puppet::stats::median_p95;
 use puppet::{Puppet, RigFile};
 use std::path::{Path, PathBuf};
 use std::time::Instant;

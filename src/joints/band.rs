@@ -463,8 +463,7 @@ impl Joints {
         let m = (near.len() / 50).max(8).min(near.len());
         near.select_nth_unstable_by(m - 1, |a, b| a.0.total_cmp(&b.0));
         let mut radii: Vec<f64> = near[..m].iter().map(|x| x.1).collect();
-        radii.sort_by(f64::total_cmp);
-        let radius = radii[radii.len() / 2];
+        let radius = crate::stats::median(&mut radii)?;
         (radius.is_finite() && radius > 0.0).then_some((radius, child, parent))
     }
 

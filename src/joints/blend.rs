@@ -116,11 +116,10 @@ impl Joints {
                 radii.push((v - normal * v.dot(normal)).length());
             }
         }
-        if seam.is_empty() {
+        let Some(radius) = crate::stats::median(&mut radii) else {
             return guess.iter().map(|g| (g.vertex, g.x)).collect();
-        }
-        radii.sort_by(f64::total_cmp);
-        let reach = SEAM_REACH * radii[radii.len() / 2];
+        };
+        let reach = SEAM_REACH * radius;
         // Free: the band, and the parent's vertices within `reach` of the seam.
         const NOT: u32 = u32::MAX;
         let mut index = vec![NOT; n];

@@ -213,10 +213,7 @@ pub fn measure_at(puppet: &Puppet, now: &[DVec3], local: &[Local]) -> Surface {
             // In the mesh's median medial radius: a crease's or a tip's own radius is a
             // crumb, and the flesh a contact squashes moves about one typical radius.
             let mut d: Vec<f64> = puppet.skeleton.distance.clone();
-            d.sort_by(f64::total_cmp);
-            let unit = d
-                .get(d.len() / 2)
-                .copied()
+            let unit = crate::stats::median(&mut d)
                 .unwrap_or(1.0)
                 .max(f64::MIN_POSITIVE);
             targets(puppet, local)

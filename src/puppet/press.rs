@@ -312,9 +312,8 @@ impl Press {
             mut times,
             local,
         } = self.posed_by(mesh, params, drive)?;
-        times.sort_by(f64::total_cmp);
         let mut out = measure(&puppet, &local);
-        out.step_ms = times.get(times.len() / 2).copied().unwrap_or(0.0);
+        out.step_ms = crate::stats::median(&mut times).unwrap_or(0.0);
         out.reached = local
             .iter()
             .skip(1)

@@ -258,16 +258,6 @@ pub struct AccuracyRow {
     pub seconds: f64,
 }
 
-/// Median and 95th percentile of a sample (NaN-free).
-pub fn median_p95(mut v: Vec<f64>) -> (f64, f64) {
-    if v.is_empty() {
-        return (f64::NAN, f64::NAN);
-    }
-    v.sort_by(f64::total_cmp);
-    let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
-    (at(0.5), at(0.95))
-}
-
 /// Runs every method on every case.
 pub fn accuracy(cases: &[Case], methods: &[Method], sliver_ratio: f64) -> Vec<AccuracyRow> {
     let mut rows = Vec::new();
@@ -297,7 +287,7 @@ pub fn accuracy(cases: &[Case], methods: &[Method], sliver_ratio: f64) -> Vec<Ac
                 .zip(&truth)
                 .map(|(d, r)| (d - r).abs() / r)
                 .collect();
-            let (median_rel_error, p95_rel_error) = median_p95(errors);
+            let (median_rel_error, p95_rel_error) = crate::stats::median_p95(errors);
             rows.push(AccuracyRow {
                 shape: case.shape.name(),
                 resolution: case.resolution.clone(),

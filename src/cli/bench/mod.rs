@@ -183,10 +183,7 @@ impl Base {
     }
 }
 
-/// Median and 95th percentile.
-fn median_p95(v: Vec<f64>) -> (f64, f64) {
-    puppet::skeleton::truth::median_p95(v)
-}
+use puppet::stats::median_p95;
 
 /// A bound a bench fails beyond (`--max-…`, `--min-…`): a finite number. A NaN would
 /// compare false with every figure, and the bench could never fail; one no figure can meet

@@ -8,6 +8,7 @@ use crate::cli::LoadArgs;
 use anyhow::{anyhow, bail, Result};
 use puppet::puppet::poses::{self, Spread, Surface};
 use puppet::random::SplitMix;
+use puppet::stats::{median, quantile};
 use puppet::{Puppet, RigFile};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -224,8 +225,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                 let seconds = start.elapsed().as_secs_f64();
                 let median = |k: usize| {
                     let mut v: Vec<f64> = times.iter().map(|t| t[k]).collect();
-                    v.sort_by(f64::total_cmp);
-                    v.get(v.len() / 2).copied().unwrap_or(0.0)
+                    median(&mut v).unwrap_or(0.0)
                 };
                 let row = Row {
                     character: name.clone(),
@@ -290,7 +290,6 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     }
     if !args.json && rows.len() > 1 {
         let mut worst: Vec<f64> = rows.iter().map(|r| r.surface.worst).collect();
-        worst.sort_by(f64::total_cmp);
         println!(
             "\n{} poses of {} characters: worst stretch median {:.2}, 90th percentile {:.2}, max {:.2}",
             rows.len(),
@@ -299,9 +298,9 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                 c.dedup();
                 c.len()
             },
-            worst[worst.len() / 2],
-            worst[worst.len() * 9 / 10],
-            worst[worst.len() - 1]
+            median(&mut worst).unwrap_or(f64::NAN),
+            quantile(&mut worst, 0.9).unwrap_or(f64::NAN),
+            quantile(&mut worst, 1.0).unwrap_or(f64::NAN)
         );
     }
     if !failures.is_empty() {
@@ -321,13 +320,12 @@ fn beyond(value: f64, limit: f64) -> bool {
 }
 
 fn print_character(name: &str, joints: usize, rows: &[(Row, f64)]) {
-    let sorted = |f: &dyn Fn(&Row) -> f64| {
+    let at = |q: f64, f: &dyn Fn(&Row) -> f64| {
         let mut v: Vec<f64> = rows.iter().map(|(r, _)| f(r)).collect();
-        v.sort_by(f64::total_cmp);
-        v
+        quantile(&mut v, q).unwrap_or(f64::NAN)
     };
-    let worst = sorted(&|r| r.surface.worst);
-    let crossing = sorted(&|r| r.surface.crossing as f64);
+    let worst = |r: &Row| r.surface.worst;
+    let crossing = |r: &Row| r.surface.crossing as f64;
     let max = |f: &dyn Fn(&Row) -> f64| rows.iter().map(|(r, _)| f(r)).fold(0.0, f64::max);
     let lo = rows
         .iter()
@@ -337,19 +335,17 @@ fn print_character(name: &str, joints: usize, rows: &[(Row, f64)]) {
         .iter()
         .map(|(r, _)| r.surface.volume[1])
         .fold(f64::NEG_INFINITY, f64::max);
-    let step = sorted(&|r| r.step_ms);
     let mut secs: Vec<f64> = rows.iter().map(|(_, s)| *s).collect();
-    secs.sort_by(f64::total_cmp);
     println!(
         "| {name} | {joints} | {} | {:.2} … {:.2} | {:.2} | {:.2} | {:.2} | {:.0} … {:.0} | {:+.1} … {:+.1} | {:+.1} … {:+.1} | {} | {:.3} | {:.2} |",
         rows.len(),
-        worst[worst.len() / 2],
-        worst[worst.len() - 1],
+        at(0.5, &worst),
+        at(1.0, &worst),
         max(&|r| r.surface.p99),
         100.0 * max(&|r| r.surface.over_1_5),
         100.0 * max(&|r| r.surface.over_2),
-        crossing[crossing.len() / 2],
-        crossing[crossing.len() - 1],
+        at(0.5, &crossing),
+        at(1.0, &crossing),
         100.0 * lo,
         100.0 * hi,
         100.0
@@ -363,8 +359,8 @@ fn print_character(name: &str, joints: usize, rows: &[(Row, f64)]) {
                 .map(|(r, _)| r.surface.whole)
                 .fold(f64::NEG_INFINITY, f64::max),
         rows.iter().filter(|(r, _)| r.surface.nan).count(),
-        step[step.len() / 2],
-        secs[secs.len() / 2],
+        at(0.5, &|r| r.step_ms),
+        median(&mut secs).unwrap_or(f64::NAN),
     );
 }
 
@@ -379,8 +375,7 @@ fn print_comparison(name: &str, joints: usize, rows: &[(Row, f64)]) {
     let (off, on) = (side(false), side(true));
     let median = |rows: &[&Row], f: &dyn Fn(&Row) -> f64| {
         let mut v: Vec<f64> = rows.iter().map(|r| f(r)).collect();
-        v.sort_by(f64::total_cmp);
-        v.get(v.len() / 2).copied().unwrap_or(0.0)
+        median(&mut v).unwrap_or(0.0)
     };
     let max =
         |rows: &[&Row], f: &dyn Fn(&Row) -> f64| rows.iter().map(|r| f(r)).fold(0.0, f64::max);

@@ -6,6 +6,7 @@ use crate::cli::{load_mesh, FileError, LoadArgs};
 use anyhow::{bail, Result};
 use puppet::mesh::{self, subdivide_loop, vertex_normals, write_obj};
 use puppet::skeleton::{self, truth, Method, SkeletonParams};
+use puppet::stats::median;
 use std::time::Instant;
 
 /// `puppet bench skeleton`.
@@ -101,11 +102,11 @@ fn stage_medians(runs: &[Vec<(String, f64)>]) -> Vec<(String, f64)> {
     runs[0]
         .iter()
         .map(|(stage, _)| {
-            let values = runs
+            let mut values: Vec<f64> = runs
                 .iter()
                 .filter_map(|r| r.iter().find(|(s, _)| s == stage).map(|x| x.1))
                 .collect();
-            (stage.clone(), truth::median_p95(values).0)
+            (stage.clone(), median(&mut values).unwrap_or(f64::NAN))
         })
         .collect()
 }
@@ -192,20 +193,20 @@ pub fn speed(args: &SpeedArgs, load: &LoadArgs) -> Result<()> {
             raw_writes.push(t.elapsed().as_secs_f64());
             (vertices, faces) = (m.positions.len(), m.triangles.len());
         }
-        let load_median = truth::median_p95(loads).0;
-        let skeleton_median = truth::median_p95(skeletons).0;
+        let load_median = median(&mut loads).unwrap_or(f64::NAN);
+        let skeleton_median = median(&mut skeletons).unwrap_or(f64::NAN);
         rows.push(SpeedRow {
             vertices,
             faces,
             file_mib: file_bytes as f64 / (1024.0 * 1024.0),
             runs,
-            seconds_median: truth::median_p95(totals).0,
+            seconds_median: median(&mut totals).unwrap_or(f64::NAN),
             load_median,
             skeleton_median,
             load_ratio: load_median / skeleton_median.max(1e-12),
             stages_median: stage_medians(&stages),
-            write_median: truth::median_p95(writes).0,
-            raw_write_median: truth::median_p95(raw_writes).0,
+            write_median: median(&mut writes).unwrap_or(f64::NAN),
+            raw_write_median: median(&mut raw_writes).unwrap_or(f64::NAN),
             peak_rss_mib: peak_rss_mib(),
         });
     }

@@ -232,8 +232,8 @@ pub fn mirror_plane(positions: &[DVec3]) -> Option<(DVec3, f64)> {
                 gaps.push(d);
                 shifts.push((q - m).dot(n));
             }
-            median = median_of(&mut gaps);
-            offset += 0.5 * median_of(&mut shifts);
+            median = crate::stats::median(&mut gaps).unwrap_or(f64::INFINITY);
+            offset += 0.5 * crate::stats::median(&mut shifts).unwrap_or(f64::INFINITY);
         }
         if best.is_none_or(|b| median < b.0) {
             best = Some((median, n, offset));
@@ -241,15 +241,6 @@ pub fn mirror_plane(positions: &[DVec3]) -> Option<(DVec3, f64)> {
     }
     let (median, n, offset) = best?;
     (median <= MIRRORED * size).then_some((n, offset))
-}
-
-/// The median of `v` (infinite for none), reordering it.
-pub(super) fn median_of(v: &mut [f64]) -> f64 {
-    if v.is_empty() {
-        return f64::INFINITY;
-    }
-    let mid = v.len() / 2;
-    *v.select_nth_unstable_by(mid, f64::total_cmp).1
 }
 
 /// A grid of vertices for nearest-vertex queries within a cell or two: the vertices of

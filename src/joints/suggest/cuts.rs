@@ -108,7 +108,8 @@ impl Tree<'_> {
             .map(|&(k, _)| self.radius(&self.segments[k].vertices))
             .collect();
         let palm = !tip_radii.is_empty()
-            && super::anatomy::median_of(&mut tip_radii) > SLENDER * self.core.1;
+            && crate::stats::median(&mut tip_radii).unwrap_or(f64::INFINITY)
+                > SLENDER * self.core.1;
         let shape = Shape {
             children,
             base: &base,
@@ -711,7 +712,8 @@ impl Profile {
                 let len = (b - a) as f64 * self.step;
                 // (None in a flat part: its length in radii of its thickness says nothing
                 // of an elbow.)
-                let median = |v: &[f64]| super::anatomy::median_of(&mut v.to_vec());
+                let median =
+                    |v: &[f64]| crate::stats::median(&mut v.to_vec()).unwrap_or(f64::INFINITY);
                 let flat =
                     median(&self.size[a..b.min(bins)]) > FLAT * median(&self.d[a..b.min(bins)]);
                 let to_wrist = b < bins && b as f64 >= WRIST * bins as f64;

@@ -18,9 +18,8 @@ impl Graph {
     /// ends: a step of one is about one local radius, across a fat body or a thin finger.
     pub(super) fn new(mesh: &Mesh, points: &[DVec3], distance: &[f64]) -> Graph {
         let n = points.len();
-        let mut sorted: Vec<f64> = distance.iter().copied().filter(|d| *d > 0.0).collect();
-        sorted.sort_by(f64::total_cmp);
-        let floor = 1e-3 * sorted.get(sorted.len() / 2).copied().unwrap_or(1.0);
+        let mut positive: Vec<f64> = distance.iter().copied().filter(|d| *d > 0.0).collect();
+        let floor = 1e-3 * crate::stats::median(&mut positive).unwrap_or(1.0);
         let (start, to) = crate::mesh::neighbours(n, &crate::mesh::unique_edges(&mesh.triangles));
         let mut len = vec![0.0; to.len()];
         for a in 0..n {

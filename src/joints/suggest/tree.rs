@@ -277,11 +277,7 @@ impl<'a> Tree<'a> {
             .iter()
             .map(|&v| self.skeleton.distance[v as usize])
             .collect();
-        if d.is_empty() {
-            return 0.0;
-        }
-        let mid = d.len() / 2;
-        *d.select_nth_unstable_by(mid, f64::total_cmp).1
+        crate::stats::median(&mut d).unwrap_or(0.0)
     }
 
     /// The size of a ring: the mean distance of its surface points from their centre.
