@@ -130,9 +130,10 @@ pub struct Surface {
     pub volume: [f64; 2],
     /// The relative volume change of the whole surface.
     pub whole: f64,
-    /// How far the vertex farthest from where its bones hold it lies from there, in the
-    /// mesh's median medial radius (skeletal distance): flesh squashed by a contact moves
-    /// a share of one; a piece left behind, or caught on another part, more.
+    /// How far the vertex farthest from where its bones hold it lies from there, in its
+    /// own medial radius (skeletal distance; at least the mesh's median, as a crease's or
+    /// a tip's own is a crumb): flesh squashed by a contact moves a share of its own
+    /// radius; a piece left behind, or caught on another part, more.
     pub behind: f64,
     /// Some position is not finite.
     pub nan: bool,
@@ -210,16 +211,21 @@ pub fn measure_at(puppet: &Puppet, now: &[DVec3], local: &[Local]) -> Surface {
             }
         },
         behind: {
-            // In the mesh's median medial radius: a crease's or a tip's own radius is a
-            // crumb, and the flesh a contact squashes moves about one typical radius.
-            let mut d: Vec<f64> = puppet.skeleton.distance.clone();
-            let unit = crate::stats::median(&mut d)
+            // In the vertex's own medial radius, at least the median: flesh a contact
+            // squashes moves a share of its own radius (a thigh pressed by the other
+            // thigh, a few centimetres), a piece caught or left behind more.
+            let distance = &puppet.skeleton.distance;
+            let mut d: Vec<f64> = distance.clone();
+            let floor = crate::stats::median(&mut d)
                 .unwrap_or(1.0)
                 .max(f64::MIN_POSITIVE);
             targets(puppet, local)
                 .iter()
                 .zip(now)
-                .map(|(t, x)| t.distance(*x) / unit)
+                .enumerate()
+                .map(|(i, (t, x))| {
+                    t.distance(*x) / distance.get(i).map_or(floor, |&r| r.max(floor))
+                })
                 .fold(0.0, f64::max)
         },
         nan: false,

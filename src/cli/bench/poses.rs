@@ -82,7 +82,8 @@ struct Row {
 /// When collision on counts as worse than off on a pose: more new crossing faces; an edge
 /// stretched over [`TORN`] and more than [`WORSE_STRETCH`] times off's worst (the held pose
 /// is another pose, its edges a little other lengths); a vertex farther than [`BEHIND`]
-/// median medial radii from where its bones hold it, and farther than off's.
+/// of its own medial radii (at least the median) from where its bones hold it, and
+/// farther than off's.
 const TORN: f64 = 1.5;
 const WORSE_STRETCH: f64 = 1.1;
 const BEHIND: f64 = 1.0;
