@@ -53,15 +53,18 @@ fn simulate_hash(test: &str, extra: &str) -> u64 {
 #[test]
 fn rigs_written_before_gravity_behave_exactly_as_before() {
     // The hashes were taken with the code before gravity, floors, materials, pinning and
-    // stiffening existed (commit ffd865a): the same rig files give the same surface, bit
-    // for bit, on both constraints.
+    // stiffening existed (commit ffd865a): the same rig files gave the same surface, bit
+    // for bit, on both constraints, until whole sections (`joints::whole`): the plain
+    // plane at Spot's neck left a piece of 9 body vertices inside the head, which now
+    // turns with it (the final surface moves by up to 1.8 % of the diagonal). Taken
+    // again then; nothing since may change them.
     assert_eq!(
         simulate_hash("before_circumsphere", ""),
-        0x3302_6a98_a7c6_45b3
+        0xbfb7_872f_293a_cbe1
     );
     let water = "\n[params]\ndamping = 0.99\nbone_distance = 1.0\nmax_length = 1.4\n";
     let reduction = water.replace("[params]\n", "[params]\nmin_length = 0.7\n");
-    assert_eq!(simulate_hash("before_water", water), 0x0ce7_bb88_ef08_1876);
+    assert_eq!(simulate_hash("before_water", water), 0x0fc0_b932_2daf_83f1);
     let text = format!("{reduction}reduction_iterations = 3\n");
     let hash = simulate_hash(
         "before_reduction",
@@ -70,7 +73,7 @@ fn rigs_written_before_gravity_behave_exactly_as_before() {
             "\n[params]\nconstraint = \"spring-reduction\"",
         ),
     );
-    assert_eq!(hash, 0x43ef_0004_b973_2b33);
+    assert_eq!(hash, 0x042c_263f_0808_c325);
 }
 
 /// A capsule along y from −1.8 to 1.8 (an arm), radius 0.3, cut at y = 0 into "root" and
