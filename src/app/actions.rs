@@ -70,18 +70,12 @@ impl WindowState {
                 ("w", false) => self.panel.overlays.wireframe ^= true,
                 ("p", false) => {
                     if let Some(s) = &mut self.session {
-                        s.cut_tool.move_pivots ^= true;
-                        s.revision += 1;
+                        s.set_move_pivots(!s.cut_tool.move_pivots);
                     }
                 }
                 ("c", false) => {
                     if let Some(s) = &mut self.session {
-                        s.cut_tool.active ^= true;
-                        s.paint_tool.active = false;
-                        if !s.cut_tool.active {
-                            s.draft = None;
-                        }
-                        s.revision += 1;
+                        s.set_cut_tool(!s.cut_tool.active);
                     }
                 }
                 ("b", false) => {
@@ -147,10 +141,7 @@ impl WindowState {
             }
             Key::Named(NamedKey::Escape) => {
                 if let Some(s) = &mut self.session {
-                    s.cut_tool.active = false;
-                    s.paint_tool.active = false;
-                    s.draft = None;
-                    s.select(None, false);
+                    s.escape();
                 }
             }
             _ => {}

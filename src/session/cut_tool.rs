@@ -109,6 +109,59 @@ impl CutDraft {
 }
 
 impl Session {
+    /// Turns the cut tool on or off. On, the brush goes off (one tool at a time); off,
+    /// a draft not applied goes away.
+    pub fn set_cut_tool(&mut self, on: bool) {
+        self.cut_tool.active = on;
+        if on {
+            self.paint_tool.active = false;
+        } else {
+            self.draft = None;
+        }
+        self.revision += 1;
+    }
+
+    /// Shows the cuts' pivots for dragging, or hides them.
+    pub fn set_move_pivots(&mut self, on: bool) {
+        self.cut_tool.move_pivots = on;
+        self.revision += 1;
+    }
+
+    /// Orients new cut planes along `axis`; a draft on the model turns to it (`View` keeps
+    /// the draft's normal: the view's right is the window's to know).
+    pub fn set_cut_axis(&mut self, axis: CutAxis) {
+        self.cut_tool.axis = axis;
+        if let Some(d) = &mut self.draft {
+            if axis != CutAxis::View {
+                d.normal = axis.normal(d.normal);
+            }
+        }
+        self.revision += 1;
+    }
+
+    /// Makes new cuts `kind`; a draft on the model takes the shape, at a tenth of the
+    /// model's diagonal.
+    pub fn set_cut_shape(&mut self, kind: ShapeKind) {
+        self.cut_tool.shape = kind;
+        let size = self.puppet.mesh.diagonal();
+        if let Some(d) = &mut self.draft {
+            d.shape = kind.shape(size);
+        }
+        self.revision += 1;
+    }
+
+    /// Drops the draft and turns the cut tool off.
+    pub fn cancel_draft(&mut self) {
+        self.set_cut_tool(false);
+    }
+
+    /// What Escape does: every tool off, the draft dropped, nothing selected.
+    pub fn escape(&mut self) {
+        self.set_cut_tool(false);
+        self.paint_tool.active = false;
+        self.select(None, false);
+    }
+
     /// Places the cut tool's shape at `point` on `section`, oriented by `normal`.
     pub fn place_draft(&mut self, section: usize, point: DVec3, normal: DVec3) {
         self.draft = Some(CutDraft {

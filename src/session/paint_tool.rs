@@ -76,6 +76,17 @@ impl RegionsState {
 }
 
 impl Session {
+    /// Points the brush at `target` (a region, or `None` for pinning) and turns it on or
+    /// off (as [`Session::toggle_brush`]).
+    pub fn set_brush(&mut self, target: Option<usize>, on: bool) {
+        self.paint_tool.target = target;
+        if on != self.paint_tool.active {
+            self.toggle_brush();
+        } else {
+            self.revision += 1;
+        }
+    }
+
     /// Turns the brush on or off (on: the cut tool goes off, and a brush that never had a
     /// size gets a tenth of the model). It paints what it painted last (the pinning at
     /// first).

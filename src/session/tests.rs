@@ -735,3 +735,39 @@ fn a_take_survives_its_device_going_away() {
         "{said}"
     );
 }
+
+/// The cut tool and the brush are one at a time, a draft goes with the cut tool, and
+/// the axis and shape buttons reshape a draft on the model: the session keeps these, so
+/// a key, a panel or a test all get the same.
+#[test]
+fn tools_keep_their_rules_whoever_switches_them() {
+    use super::cut_tool::{CutAxis, ShapeKind};
+    let mut s = session();
+    let revision = s.revision;
+    s.set_cut_tool(true);
+    assert!(s.cut_tool.active && s.revision > revision);
+    s.place_draft(0, DVec3::ZERO, DVec3::Y);
+    s.set_cut_axis(CutAxis::X);
+    assert_eq!(s.draft.as_ref().map(|d| d.normal), Some(DVec3::X));
+    s.set_cut_axis(CutAxis::View);
+    assert_eq!(s.draft.as_ref().map(|d| d.normal), Some(DVec3::X));
+    s.set_cut_shape(ShapeKind::Sphere);
+    assert!(matches!(
+        s.draft.as_ref().map(|d| d.shape),
+        Some(crate::joints::Shape::Sphere { .. })
+    ));
+    // The brush turns the cut tool off and drops the draft; the cut tool the brush.
+    s.set_brush(None, true);
+    assert!(s.paint_tool.active && !s.cut_tool.active && s.draft.is_none());
+    s.set_cut_tool(true);
+    assert!(s.cut_tool.active && !s.paint_tool.active);
+    s.place_draft(0, DVec3::ZERO, DVec3::Y);
+    s.cancel_draft();
+    assert!(!s.cut_tool.active && s.draft.is_none());
+    s.set_move_pivots(true);
+    assert!(s.cut_tool.move_pivots);
+    s.select(Some(1), false);
+    s.set_cut_tool(true);
+    s.escape();
+    assert!(!s.cut_tool.active && !s.paint_tool.active && s.selection.is_empty());
+}

@@ -21,9 +21,19 @@ pub(super) fn cut_section(
         actions.push(Action::SuggestJoints);
     }
     ui.horizontal(|ui| {
-        ui.toggle_value(&mut session.cut_tool.active, "Cut tool (C)");
-        ui.toggle_value(&mut session.cut_tool.move_pivots, "Move pivots (P)")
-            .on_hover_text("drag a cut's pivot to move it on the cut's plane (with Shift: anywhere, facing the view); Ctrl+Z puts it back");
+        if ui
+            .selectable_label(session.cut_tool.active, "Cut tool (C)")
+            .clicked()
+        {
+            session.set_cut_tool(!session.cut_tool.active);
+        }
+        if ui
+            .selectable_label(session.cut_tool.move_pivots, "Move pivots (P)")
+            .on_hover_text("drag a cut's pivot to move it on the cut's plane (with Shift: anywhere, facing the view); Ctrl+Z puts it back")
+            .clicked()
+        {
+            session.set_move_pivots(!session.cut_tool.move_pivots);
+        }
         for (axis, label) in [
             (CutAxis::X, "X"),
             (CutAxis::Y, "Y"),
@@ -31,17 +41,10 @@ pub(super) fn cut_section(
             (CutAxis::View, "view"),
         ] {
             if ui
-                .selectable_value(&mut session.cut_tool.axis, axis, label)
+                .selectable_label(session.cut_tool.axis == axis, label)
                 .clicked()
             {
-                if let Some(d) = &mut session.draft {
-                    d.normal = match axis {
-                        CutAxis::X => DVec3::X,
-                        CutAxis::Y => DVec3::Y,
-                        CutAxis::Z => DVec3::Z,
-                        CutAxis::View => d.normal,
-                    };
-                }
+                session.set_cut_axis(axis);
             }
         }
     });
@@ -65,14 +68,11 @@ pub(super) fn cut_section(
             ),
         ] {
             if ui
-                .selectable_value(&mut session.cut_tool.shape, kind, label)
+                .selectable_label(session.cut_tool.shape == kind, label)
                 .on_hover_text(hint)
                 .clicked()
             {
-                let size = session.puppet.mesh.diagonal();
-                if let Some(d) = &mut session.draft {
-                    d.shape = kind.shape(size);
-                }
+                session.set_cut_shape(kind);
             }
         }
     });
@@ -92,14 +92,13 @@ pub(super) fn cut_section(
         match session.apply_draft() {
             Ok(()) => {
                 state.message = None;
-                session.cut_tool.active = false;
+                session.set_cut_tool(false);
             }
             Err(e) => state.message = Some((e.to_string(), true)),
         }
     }
     if cancel {
-        session.draft = None;
-        session.cut_tool.active = false;
+        session.cancel_draft();
     }
     let cuts: Vec<String> = session
         .puppet

@@ -46,10 +46,7 @@ pub(super) fn regions_section(ui: &mut egui::Ui, session: &mut Session) {
                 .on_hover_text("paint this region with the brush")
                 .changed()
             {
-                session.paint_tool.target = Some(k);
-                if painting != session.paint_tool.active {
-                    session.toggle_brush();
-                }
+                session.set_brush(Some(k), painting);
             }
             if let Some(name) = super::material::preset_menu(ui, ("region material", k), &r.preset)
             {
@@ -76,8 +73,7 @@ pub(super) fn regions_section(ui: &mut egui::Ui, session: &mut Session) {
     }
     if let Some(k) = remove {
         regions.remove(k);
-        session.paint_tool.target = None;
-        session.paint_tool.active = false;
+        session.set_brush(None, false);
     }
     if ui
         .button("New region")
@@ -124,10 +120,7 @@ pub(super) fn regions_section(ui: &mut egui::Ui, session: &mut Session) {
             .on_hover_text("paint where the surface is glued to its bones")
             .changed()
         {
-            session.paint_tool.target = None;
-            if painting != session.paint_tool.active {
-                session.toggle_brush();
-            }
+            session.set_brush(None, painting);
         }
         if ui.small_button("+ selected").clicked() {
             add_selected(&mut pin, session);
