@@ -250,7 +250,8 @@ fn short_stress_run_passes() {
     let mut held = 0;
     let mut ups = [0; 6];
     let (mut skins, mut mixes) = (0, 0);
-    for seed in ["1", "2"] {
+    let mut drawn: std::collections::BTreeMap<String, u64> = Default::default();
+    for seed in ["1", "2", "3"] {
         let report = ok_json(&[
             "bench", "stress", "--seed", seed, "--steps", "15000", "--json",
         ]);
@@ -267,7 +268,14 @@ fn short_stress_run_passes() {
         for (k, n) in ups.iter_mut().enumerate() {
             *n += report["up"][k].as_u64().unwrap();
         }
+        for (option, n) in report["drawn"].as_object().expect("the options drawn") {
+            *drawn.entry(option.clone()).or_default() += n.as_u64().unwrap();
+        }
     }
+    // Every option of a scenario (constraint, gravity, floor, collision, soft flesh,
+    // stiffening, material layers, pins) was drawn several times.
+    assert_eq!(drawn.len(), 9, "{drawn:?}");
+    assert!(drawn.values().all(|&n| n >= 3), "{drawn:?}");
     // Scenarios rigged by a random skin, its weights mixing sections, were drawn.
     assert!(skins >= 1 && mixes >= 1, "{skins} skins, {mixes} mixes");
     // Poses held back by collision, and up along several axis directions, were drawn.
@@ -276,7 +284,7 @@ fn short_stress_run_passes() {
     // Puppeteers' poses of every joint at once were drawn (`puppet::poses`).
     assert!(poses >= 2, "{poses}");
     // Joint bands of both kinds were bent (`joints::band`).
-    assert!(bands[0] >= 1 && bands[1] >= 1, "{bands:?}");
+    assert!(bands[0] >= 2 && bands[1] >= 2, "{bands:?}");
 }
 
 #[test]

@@ -94,7 +94,24 @@ struct Report {
     /// the sections: `joints::skin`), and the mixes they had.
     skins: usize,
     mixes: usize,
+    /// How many scenarios drew each option (so a run can show every one was tried).
+    drawn: Drawn,
     seconds: f64,
+}
+
+/// Scenarios that drew each option of [`random_params`] and [`random_regions`].
+#[derive(serde::Serialize, Default)]
+struct Drawn {
+    circumsphere: usize,
+    spring_reduction: usize,
+    gravity: usize,
+    floor: usize,
+    collision: usize,
+    /// Collision with the body's flesh giving (`flesh` > 0).
+    soft_flesh: usize,
+    stiffening: usize,
+    layers: usize,
+    pins: usize,
 }
 
 /// One base mesh with its skeletal distances.
@@ -414,8 +431,21 @@ fn run_scenario(
     let mut sim = Simulation::new(scenario.rig(params.material.bone_distance), params);
     sim.set_sections(joints.transform_of().to_vec());
     sim.set_joint_sections(joints.joint_sections());
-    sim.set_regions(random_regions(rng, joints.section_of()));
+    let regions = random_regions(rng, joints.section_of());
+    let drawn = &mut report.drawn;
+    drawn.layers += usize::from(!regions.layers.is_empty());
+    drawn.pins += usize::from(!regions.pin.is_empty());
+    sim.set_regions(regions);
     let p = *sim.params();
+    match p.solver.constraint {
+        Constraint::Circumsphere => drawn.circumsphere += 1,
+        Constraint::SpringReduction => drawn.spring_reduction += 1,
+    }
+    drawn.gravity += usize::from(p.world.gravity != [0.0; 3]);
+    drawn.floor += usize::from(p.world.floor);
+    drawn.collision += usize::from(p.world.collision);
+    drawn.soft_flesh += usize::from(p.world.collision && p.world.flesh > 0.0);
+    drawn.stiffening += usize::from(p.material.stiffening > 0);
     // Up along any of the six axis directions (the floor lies across it).
     sim.set_up(rng.direction().as_vec3());
     let up = sim.up();
