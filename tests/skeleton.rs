@@ -14,6 +14,30 @@ fn params(method: Method) -> SkeletonParams {
     }
 }
 
+/// BENCHMARKS' claim for the default method: within 1 % median and 3 % at the 95th
+/// percentile on every shape and every resolution `bench accuracy` prints (three levels;
+/// the test of every method below takes two).
+#[test]
+fn the_fitted_ball_is_within_its_bounds_at_every_resolution() {
+    let cases = truth::cases(3);
+    let rows = truth::accuracy(
+        &cases,
+        &[Method::FittedBall],
+        SkeletonParams::default().sliver_ratio,
+    );
+    assert_eq!(rows.len(), cases.len());
+    for r in &rows {
+        assert!(
+            r.median_rel_error <= 0.01 && r.p95_rel_error <= 0.03,
+            "{} {}: median {:.4} p95 {:.4}",
+            r.shape,
+            r.resolution,
+            r.median_rel_error,
+            r.p95_rel_error
+        );
+    }
+}
+
 /// Error bounds per method, from the measured table in BENCHMARKS.md (with headroom): they
 /// fail if a change makes the skeleton measurably worse. The fitted ball is held to the
 /// targets (median 1 %, 95th percentile 3 %) on every shape and resolution, tidy and
