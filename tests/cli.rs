@@ -554,3 +554,40 @@ fn rough_surfaces_find_the_documented_share_of_joints() {
         );
     }
 }
+
+/// `bench skeleton-speed` fails on its bounds (exit 2, one line) for a file of 100k
+/// vertices or more, and passes where they are met: reading against the skeleton's time,
+/// writing the skeletal OBJ against the disk's speed.
+#[test]
+fn skeleton_speed_passes_and_fails_on_its_bounds() {
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "bench",
+            "skeleton-speed",
+            "--subdivisions",
+            "3",
+            "--runs",
+            "1",
+        ];
+        args.extend(extra);
+        puppet(&args)
+    };
+    common::ok(&run(&["--max-load-ratio", "1e9", "--min-write-speed", "0"]));
+    for (flag, missed, says) in [
+        (
+            "--max-load-ratio",
+            "0",
+            "error: reading 187394 vertices took",
+        ),
+        (
+            "--min-write-speed",
+            "1e9",
+            "error: writing the skeletal OBJ of 187394 vertices",
+        ),
+    ] {
+        let out = run(&[flag, missed]);
+        assert_eq!(out.status.code(), Some(2), "{flag} {missed}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.starts_with(says) && err.lines().count() == 1, "{err}");
+    }
+}
