@@ -36,27 +36,33 @@ const CUT: &str =
 const ANIM: &str =
     "duration = 1\n[[track]]\nsection = \"head\"\nkey = [{ time = 0.5, axis = [1, 0, 0], angle = 30 }]\n";
 
+/// The example rig and animation through `puppet simulate`, `frames` at `fps`, with
+/// `extra` arguments.
+fn example_take(frames: &str, fps: &str, extra: &[&str]) -> std::process::Output {
+    let (rig, anim) = (example("spot-jaw.rig.toml"), example("spot-jaw.anim.toml"));
+    let mut args = vec![
+        "simulate", "--rig", &rig, "--anim", &anim, "--frames", frames, "--fps", fps,
+    ];
+    args.extend(extra);
+    puppet(&args)
+}
+
 #[test]
 fn the_example_plays_and_writes_frames_in_input_order() {
     let dir = scratch("simulate_example");
     let out_dir = dir.join("frames");
     let final_obj = dir.join("final.obj");
-    let out = puppet(&[
-        "simulate",
-        "--rig",
-        &example("spot-jaw.rig.toml"),
-        "--anim",
-        &example("spot-jaw.anim.toml"),
-        "--frames",
+    let out = example_take(
         "12",
-        "--fps",
         "24",
-        "--out-dir",
-        out_dir.to_str().unwrap(),
-        "--out",
-        final_obj.to_str().unwrap(),
-        "--json",
-    ]);
+        &[
+            "--out-dir",
+            out_dir.to_str().unwrap(),
+            "--out",
+            final_obj.to_str().unwrap(),
+            "--json",
+        ],
+    );
     ok(&out);
     let s: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     for key in [
@@ -215,19 +221,11 @@ fn the_result_does_not_depend_on_the_frame_rate() {
         .iter()
         .map(|(frames, fps)| {
             let path = dir.join(format!("final-{fps}.obj"));
-            ok(&puppet(&[
-                "simulate",
-                "--rig",
-                &example("spot-jaw.rig.toml"),
-                "--anim",
-                &example("spot-jaw.anim.toml"),
-                "--frames",
+            ok(&example_take(
                 frames,
-                "--fps",
                 fps,
-                "--out",
-                path.to_str().unwrap(),
-            ]));
+                &["--out", path.to_str().unwrap()],
+            ));
             let text = std::fs::read_to_string(&path).expect("the final surface");
             assert!(
                 text.starts_with("# puppet simulate: final frame "),
