@@ -3,10 +3,10 @@
 //! A cut sorts vertices by their **skeletal points**, which keeps a thin limb whole but can
 //! leave a patch of the surface with the wrong section where the medial skeleton runs
 //! elsewhere than the skin: a patch of the body's skin lying inside a claw folded against
-//! it (its skeletal points are the body's), the underside of a penguin's beak, a lip. Such a
-//! patch is an island: every mesh edge leaving it goes into other sections. When those turn,
-//! the island stays with its own section and the skin around it tears (the pose issue
-//! measured 14× on the scorpion's claws, 93× on a lion statue's mane).
+//! it (its skeletal points are the body's), a patch of a penguin's body inside its head.
+//! Such a patch is an island: every mesh edge leaving it goes into other sections. When
+//! those turn, the island stays with its own section and the skin around it tears (8–15×
+//! on the scorpion's claws in `puppet bench poses`).
 //!
 //! So once the joints have a surface ([`Joints::set_surface`]: a puppet's do), each
 //! section keeps
@@ -16,17 +16,20 @@
 //! * every piece that borders no other section (a separate part of the mesh);
 //!
 //! and any other piece joins the section it shares the most mesh edges with, until no
-//! piece moves ([`Joints::make_whole`]). Riders are left to their hosts.
+//! piece moves ([`Joints::make_whole`]), once a batch of cuts is in. Riders are left to
+//! their hosts. A moved vertex lies across the bands where the nearest unmoved vertex of
+//! its new section does ([`Joints::borrow_points`]): its own skeletal point, in another
+//! section, would put it at the wrong end of them.
 //!
 //! Cuts still split the sections by skeletal points (each vertex's is kept apart from its
-//! whole section), so a section is the same whatever order its cuts were made in, and the
-//! suggestion, which reasons on the skeleton and has no surface, sees the skeleton's
-//! sections.
+//! whole section), so what a cut takes does not depend on which pieces moved before it,
+//! and the suggestion, which reasons on the skeleton and has no surface, sees the
+//! skeleton's sections.
 
 use super::Joints;
 
-/// Passes at most: a piece that moves can make its new section's pieces whole, which a
-/// second pass sees; a third finds nothing on every mesh measured.
+/// Passes at most: a piece that moves can leave pieces of its new section to move in the
+/// next pass.
 const MAX_PASSES: usize = 4;
 
 impl Joints {
