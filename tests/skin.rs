@@ -420,11 +420,7 @@ fn blender_shows_a_take_baked_from_a_clip_in_time() {
         .args(["13", "25", "37"])
         .output()
         .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    common::ok(&run);
     let shown: serde_json::Value = serde_json::from_slice(&std::fs::read(&shown).unwrap()).unwrap();
     let fps = shown["fps"].as_f64().unwrap();
     for f in [13, 25, 37] {
