@@ -135,7 +135,7 @@ impl Tree<'_> {
     /// whose mirror image is cut (or on the body), is copied there: a knee found on one leg
     /// only.
     fn copy_to_the_other_side(&self, out: &mut Vec<Limb>, (n, o): (DVec3, f64)) {
-        let image = |p: DVec3| super::anatomy::image((n, o), p);
+        let image = |p: DVec3| super::frame::image((n, o), p);
         let size = self.size_of_mesh;
         let partner: Vec<Option<usize>> = out
             .iter()
@@ -166,7 +166,7 @@ impl Tree<'_> {
             copies.push(Limb {
                 parent,
                 point: image(l.point),
-                normal: super::anatomy::reflect(n, l.normal),
+                normal: super::frame::reflect(n, l.normal),
                 pivot: image(l.pivot),
                 ..*l
             });

@@ -96,7 +96,8 @@
 //! * `cuts`: which segments are limbs and where they are cut (step 3);
 //! * `sections`: numbering and applying the cuts (step 4);
 //! * `slice`: the mesh's slice by a plane, how far a shoulder's or a hip's cut moves in;
-//! * `anatomy`: the mirror plane, up, front and left, and the names by role (step 5);
+//! * `frame`: the mirror plane, up, front and left (step 5, first half);
+//! * `anatomy`: the names by role within that frame (step 5, second half);
 //! * `head`: a biped's head with no neck to cut at turns at the top of its shoulders;
 //! * `characters`: two or more characters in one file, each suggested on its own;
 //! * `labels`: a labelled character's joints, and a suggestion's score against them.
@@ -104,6 +105,7 @@
 mod anatomy;
 pub mod characters;
 mod cuts;
+mod frame;
 mod graph;
 mod head;
 pub mod labels;
@@ -117,5 +119,6 @@ mod union_find;
 #[cfg(test)]
 mod tests;
 
-pub use anatomy::{image, mirror_plane, other_side, Frame, Up};
+pub use anatomy::other_side;
+pub use frame::{image, mirror_plane, Frame, Up};
 pub use sections::suggest;

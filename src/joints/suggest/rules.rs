@@ -81,7 +81,7 @@ pub(super) const MATCHED: f64 = 0.05;
 /// forelegs stand beside its hind legs): its head, when nothing cuts it, turns at the top of
 /// its shoulders.
 pub(super) const RAISED: f64 = 3.0;
-/// A mesh with a flat base (a bust, a statue cut square below: [`super::anatomy::flat_base`])
+/// A mesh with a flat base (a bust, a statue cut square below: [`super::frame::flat_base`])
 /// is rooted at its thickest point within this share of its height above the base: what
 /// stands on the base is the body, and a head on it turns at its neck (a root in the head
 /// cut the shoulders off as a `neck`, and the base's corners off as limbs).

@@ -2,8 +2,8 @@
 //! applied parent-first; one that leaves too small a section, or slips past its limb, is
 //! dropped. Then (step 5, `anatomy`) they are named by role.
 
-use super::anatomy::Frame;
 use super::cuts::Limb;
+use super::frame::Frame;
 use super::rules::{PAIRED, SMALLEST, STANDING};
 use super::tree::Tree;
 use crate::joints::{Cut, Joints, Shape};
@@ -84,12 +84,7 @@ fn partner<'a>(
     limbs
         .iter()
         .filter(|o| o.parent.is_none())
-        .map(|o| {
-            (
-                o,
-                super::anatomy::image(mirror, o.pivot).distance(limb.pivot),
-            )
-        })
+        .map(|o| (o, super::frame::image(mirror, o.pivot).distance(limb.pivot)))
         .filter(|&(_, d)| d <= PAIRED * size)
         .min_by(|a, b| a.1.total_cmp(&b.1))
         .map(|(o, _)| o)
@@ -146,8 +141,8 @@ fn suggest_one(
         (parts, body, old)
     });
     let shape = riders.as_ref().map_or(mesh, |(_, body, _)| body);
-    let mirror = super::anatomy::mirror_plane(&shape.positions);
-    let base = super::anatomy::flat_base(shape);
+    let mirror = super::frame::mirror_plane(&shape.positions);
+    let base = super::frame::flat_base(shape);
     // Riders have no skeleton: the limbs are the body's, and riders go with their hosts.
     let (limbs, hosts) = if let Some((parts, body, old)) = riders {
         let body_skeleton = Skeleton {
@@ -233,10 +228,10 @@ fn suggest_one(
         let mut big_enough = big_enough_for(&cut, limb.expected);
         if let (false, Some(m)) = (big_enough, mirror) {
             if let Some(o) = partner(&limbs, limb, m, mesh.longest_side()) {
-                let image = |p: DVec3| super::anatomy::image(m, p);
+                let image = |p: DVec3| super::frame::image(m, p);
                 let mirrored = plane(
                     image(o.point),
-                    super::anatomy::reflect(m.0, o.normal),
+                    super::frame::reflect(m.0, o.normal),
                     image(o.pivot),
                 );
                 if big_enough_for(&mirrored, o.expected) {
@@ -462,8 +457,8 @@ fn mirror_pairs(cuts: &[Cut], frame: &Frame, mesh: &Mesh) -> Vec<Pair> {
     let Some((n, o)) = frame.mirror else {
         return Vec::new();
     };
-    let point = |p: DVec3| super::anatomy::image((n, o), p);
-    let vector = |v: DVec3| super::anatomy::reflect(n, v);
+    let point = |p: DVec3| super::frame::image((n, o), p);
+    let vector = |v: DVec3| super::frame::reflect(n, v);
     let size = mesh.longest_side();
     let index: HashMap<&str, usize> = cuts
         .iter()

@@ -1,0 +1,642 @@
+//! Step 5 of the module docs, its first half: the mirror plane, which way is up, front and
+//! left (the [`Frame`]); `anatomy` names the parts by role within it.
+//!
+//! * **Mirror plane.** The mesh is mirrored through the plane across each axis through its
+//!   centroid; the plane is kept where the mirrored vertices land, at the median, within
+//!   [`MIRRORED`] of the mesh's size of a vertex (a character in T-pose or on all fours; a
+//!   curled tail or a raised arm moves few vertices).
+//! * **Up.** Given (`--up`, the rig file's `up`), or found: of the axis directions along
+//!   the mirror plane, the one opposite to where the tips of the root's limbs off the
+//!   plane lie from the mesh's centre, the legs hanging down, each limb counted as much as
+//!   it is thick (legs carry the body; an armadillo's ears and raised arm say less).
+//!   With no mirror plane or no limb off it, a flat base at the mesh's far end along an
+//!   axis ([`BASE`] of its area: a bust's, a statue's) faces down, if that axis lies along
+//!   the plane. Else, when the limbs do not clearly hang, and two pairs or more all end
+//!   within [`FEET`] of the mesh's far end along one axis only, that way is down (a
+//!   lizard's, an insect's sprawled feet on the ground). Else, without a plane, when +y
+//!   does nearly as well, or when the limbs do not clearly hang along it, +y (the OBJ and
+//!   glTF convention), unless +y is across the plane.
+//!   Clearly: the root's limbs off the plane on the whole, or those that point that way at
+//!   all when one of them reaches the mesh's far end that way (a biped's legs stand on the
+//!   ground while its arms are held out and its ears raised; a lizard's sprawled hind legs
+//!   reach no farther back than its tail).
+//! * **Front.** Across up and the mirror plane: the end of the body that the part on the
+//!   plane most like a head grows from (with ears on the body, the one nearest them), away
+//!   from another part on the plane, a tail ([`FRONT_END`]: a cat stretching looks up and
+//!   back); else the way that part leans, else the way the feet point, else the convention
+//!   (+z for y up, −y for z up).
+//!   **Left** = up × front: a character's own left, as `.L` in Blender's names.
+use super::rules::SNOUT;
+use crate::mesh::Mesh;
+use glam::DVec3;
+
+/// A cut's pivot this share of the mesh's size from the mirror plane is on one side.
+pub(super) const OFF_PLANE: f64 = 0.03;
+/// A limb that reaches this share of the height above the mesh's lowest point stands on
+/// the ground.
+pub(super) const GROUND: f64 = 0.1;
+/// Two pairs of limbs or more that all end within this share of the height above the mesh's
+/// lowest point are feet on the ground (a lizard's, an insect's sprawled legs), when they do
+/// so along one axis only.
+const FEET: f64 = 0.2;
+/// A head whose root lies this share of the mesh's size ahead of another part's on the
+/// mirror plane (a tail's) marks the front; a part on the plane whose root lies as far
+/// behind the centre is a tail.
+pub(super) const FRONT_END: f64 = 0.15;
+/// A flat face of the mesh at its far end along an axis (faces within 5° of the axis and
+/// within 1 % of the mesh's size of that end) covering at least this share of its area is
+/// a base it stands on (a bust's, a statue's): where no limb off the mirror plane says
+/// which way is down, that way is. (Characters measured: at most 1.3 %, a flank's or a
+/// sole's flat patch; busts 6–11 %.)
+const BASE: f64 = 0.04;
+
+/// An axis direction a mesh is modelled with as up: `+y` (OBJ's and glTF's convention),
+/// `+z` (CAD's and Blender's)…, written `x`, `+x` or `-x`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+#[serde(try_from = "String")]
+pub enum Up {
+    /// `+x`.
+    PosX,
+    /// `-x`.
+    NegX,
+    /// `+y`.
+    PosY,
+    /// `-y`.
+    NegY,
+    /// `+z`.
+    PosZ,
+    /// `-z`.
+    NegZ,
+}
+
+impl Up {
+    /// The axis direction nearest `v`.
+    pub fn nearest(v: DVec3) -> Up {
+        let a = v.abs();
+        if a.x >= a.y && a.x >= a.z {
+            if v.x < 0.0 {
+                Up::NegX
+            } else {
+                Up::PosX
+            }
+        } else if a.y >= a.z {
+            if v.y < 0.0 {
+                Up::NegY
+            } else {
+                Up::PosY
+            }
+        } else if v.z < 0.0 {
+            Up::NegZ
+        } else {
+            Up::PosZ
+        }
+    }
+
+    /// The unit vector.
+    pub fn vector(self) -> DVec3 {
+        match self {
+            Up::PosX => DVec3::X,
+            Up::NegX => DVec3::NEG_X,
+            Up::PosY => DVec3::Y,
+            Up::NegY => DVec3::NEG_Y,
+            Up::PosZ => DVec3::Z,
+            Up::NegZ => DVec3::NEG_Z,
+        }
+    }
+}
+
+impl std::str::FromStr for Up {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Up, String> {
+        Ok(match s.trim().to_ascii_lowercase().as_str() {
+            "x" | "+x" => Up::PosX,
+            "-x" => Up::NegX,
+            "y" | "+y" => Up::PosY,
+            "-y" => Up::NegY,
+            "z" | "+z" => Up::PosZ,
+            "-z" => Up::NegZ,
+            _ => return Err(format!("'{s}' is not one of +x, -x, +y, -y, +z, -z")),
+        })
+    }
+}
+
+impl TryFrom<String> for Up {
+    type Error = String;
+    fn try_from(s: String) -> Result<Up, String> {
+        s.parse()
+    }
+}
+
+impl std::fmt::Display for Up {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Up::PosX => "+x",
+            Up::NegX => "-x",
+            Up::PosY => "+y",
+            Up::NegY => "-y",
+            Up::PosZ => "+z",
+            Up::NegZ => "-z",
+        })
+    }
+}
+
+/// The mirrored vertices lie within this share of the mesh's size of a vertex (median).
+const MIRRORED: f64 = 0.012;
+
+/// A character's directions.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frame {
+    /// Up (unit).
+    pub up: DVec3,
+    /// The way the character faces (unit, across up).
+    pub front: DVec3,
+    /// The character's own left: up × front.
+    pub left: DVec3,
+    /// The mirror plane (unit normal, offset along it), if the mesh has one.
+    pub mirror: Option<(DVec3, f64)>,
+}
+
+impl Default for Frame {
+    fn default() -> Self {
+        Frame {
+            up: DVec3::Y,
+            front: DVec3::Z,
+            left: DVec3::X,
+            mirror: None,
+        }
+    }
+}
+
+/// The mirror image of the point `p` in the plane of unit normal `n` and offset `o`
+/// (the points `q` with `q·n = o`).
+pub fn image((n, o): (DVec3, f64), p: DVec3) -> DVec3 {
+    p - n * 2.0 * (p.dot(n) - o)
+}
+
+/// The mirror image of the direction `v` in a plane of unit normal `n`.
+pub fn reflect(n: DVec3, v: DVec3) -> DVec3 {
+    v - n * 2.0 * v.dot(n)
+}
+
+/// The mirror plane across one of the axes, if the mesh has one (see the module docs).
+pub fn mirror_plane(positions: &[DVec3]) -> Option<(DVec3, f64)> {
+    if positions.len() < 8 {
+        return None;
+    }
+    let (lo, hi) = crate::mesh::bounds(positions);
+    let size = (hi - lo).max_element();
+    if size <= 0.0 || !size.is_finite() {
+        return None;
+    }
+    let centroid = positions.iter().sum::<DVec3>() / positions.len() as f64;
+    let grid = Grid::new(positions, lo, size / 48.0);
+    let step = (positions.len() / 1500).max(1);
+    let mut best: Option<(f64, DVec3, f64)> = None;
+    for n in [DVec3::X, DVec3::Y, DVec3::Z] {
+        let mut offset = centroid.dot(n);
+        let mut median = f64::INFINITY;
+        // Twice: the second time through the plane the first pairs put halfway.
+        for _ in 0..2 {
+            let mut gaps = Vec::new();
+            let mut shifts = Vec::new();
+            for p in positions.iter().step_by(step) {
+                let m = image((n, offset), *p);
+                let (q, d) = grid.nearest(positions, m);
+                gaps.push(d);
+                shifts.push((q - m).dot(n));
+            }
+            median = crate::stats::median(&mut gaps).unwrap_or(f64::INFINITY);
+            offset += 0.5 * crate::stats::median(&mut shifts).unwrap_or(f64::INFINITY);
+        }
+        if best.is_none_or(|b| median < b.0) {
+            best = Some((median, n, offset));
+        }
+    }
+    let (median, n, offset) = best?;
+    (median <= MIRRORED * size).then_some((n, offset))
+}
+
+/// A grid of vertices for nearest-vertex queries within a cell or two: the vertices of
+/// each cell, in index order, as one flat list indexed by cell, so a query reads 27 slices
+/// and hashes nothing.
+struct Grid {
+    lo: DVec3,
+    cell: f64,
+    /// Cells along each axis.
+    dims: [i64; 3],
+    /// The vertices of cell `c` are `vertices[start[c]..start[c + 1]]`.
+    start: Vec<u32>,
+    vertices: Vec<u32>,
+}
+
+impl Grid {
+    /// (`cell` is a 48th of the bounds' longest side: at most 49³ cells.)
+    fn new(positions: &[DVec3], lo: DVec3, cell: f64) -> Grid {
+        let (_, hi) = crate::mesh::bounds(positions);
+        let dims = (((hi - lo) / cell).floor().as_i64vec3() + 1).to_array();
+        let mut grid = Grid {
+            lo,
+            cell,
+            dims,
+            start: vec![0; (dims[0] * dims[1] * dims[2]) as usize + 1],
+            vertices: vec![0; positions.len()],
+        };
+        let cells: Vec<usize> = positions
+            .iter()
+            .map(|&p| grid.index(grid.key(p)).unwrap_or(0))
+            .collect();
+        for &c in &cells {
+            grid.start[c + 1] += 1;
+        }
+        for c in 1..grid.start.len() {
+            grid.start[c] += grid.start[c - 1];
+        }
+        let mut fill = grid.start.clone();
+        for (i, &c) in cells.iter().enumerate() {
+            grid.vertices[fill[c] as usize] = i as u32;
+            fill[c] += 1;
+        }
+        grid
+    }
+
+    fn key(&self, p: DVec3) -> [i64; 3] {
+        ((p - self.lo) / self.cell).floor().as_i64vec3().to_array()
+    }
+
+    /// The cell's place in `start`, if it is in the grid.
+    fn index(&self, k: [i64; 3]) -> Option<usize> {
+        let inside = (0..3).all(|a| (0..self.dims[a]).contains(&k[a]));
+        inside.then(|| ((k[2] * self.dims[1] + k[1]) * self.dims[0] + k[0]) as usize)
+    }
+
+    /// The nearest vertex within about two cells, and its distance (two cells when none).
+    fn nearest(&self, positions: &[DVec3], p: DVec3) -> (DVec3, f64) {
+        let k = self.key(p);
+        let mut best = (p, 2.0 * self.cell);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let Some(c) = self.index([k[0] + dx, k[1] + dy, k[2] + dz]) else {
+                        continue;
+                    };
+                    let list = &self.vertices[self.start[c] as usize..self.start[c + 1] as usize];
+                    for &i in list {
+                        let d = positions[i as usize].distance(p);
+                        if d < best.1 {
+                            best = (positions[i as usize], d);
+                        }
+                    }
+                }
+            }
+        }
+        best
+    }
+}
+
+/// The outward normal of the mesh's flat base, if it has one: of the six axis directions,
+/// the one whose flat faces at the mesh's far end that way cover the most area, when that
+/// is at least [`BASE`] of the whole.
+pub(super) fn flat_base(mesh: &Mesh) -> Option<DVec3> {
+    let (lo, hi) = crate::mesh::bounds(&mesh.positions);
+    let size = (hi - lo).max_element();
+    if !(size > 0.0 && size.is_finite()) {
+        return None;
+    }
+    let cos = 5f64.to_radians().cos();
+    let mut area = [0.0; 6];
+    let mut total = 0.0;
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|v| mesh.positions[v as usize]);
+        let cross = (b - a).cross(c - a);
+        let twice = cross.length();
+        if !(twice > 0.0 && twice.is_finite()) {
+            continue;
+        }
+        total += 0.5 * twice;
+        let (normal, centre) = (cross / twice, (a + b + c) / 3.0);
+        for (k, d) in AXES.iter().enumerate() {
+            let end = if d.max_element() > 0.0 {
+                hi.dot(*d)
+            } else {
+                lo.dot(*d)
+            };
+            if normal.dot(*d) > cos && (end - centre.dot(*d)).abs() < 0.01 * size {
+                area[k] += 0.5 * twice;
+            }
+        }
+    }
+    let k = (0..6).max_by(|&a, &b| area[a].total_cmp(&area[b]))?;
+    (total > 0.0 && area[k] >= BASE * total).then_some(AXES[k])
+}
+
+/// The six axis directions.
+const AXES: [DVec3; 6] = [
+    DVec3::X,
+    DVec3::NEG_X,
+    DVec3::Y,
+    DVec3::NEG_Y,
+    DVec3::Z,
+    DVec3::NEG_Z,
+];
+
+/// One of the root's limbs: where it is cut, and its tip.
+#[derive(Clone, Copy, Debug)]
+pub struct Reach {
+    /// Its cut's pivot.
+    pub pivot: DVec3,
+    /// Its point farthest from the pivot.
+    pub tip: DVec3,
+    /// How thick its far half is: the largest skeletal distance there (a head ends in a
+    /// bulb, a tail in a point).
+    pub end: f64,
+    /// It carries a part of its own off the mirror plane (a head's ears, horns, antennae).
+    pub paired: bool,
+}
+
+impl Reach {
+    pub(super) fn direction(&self) -> DVec3 {
+        (self.tip - self.pivot).normalize_or_zero()
+    }
+
+    /// It points up (along `up`) from above `centre`: an ear, when off the mirror plane.
+    pub(super) fn raised(&self, up: DVec3, centre: DVec3) -> bool {
+        self.direction().dot(up) > 0.5 && (self.pivot - centre).dot(up) > 0.0
+    }
+
+    /// It reaches at most [`SNOUT`] times its far half's thickness: a snout, a muzzle, a
+    /// nose, not a limb's length.
+    pub(super) fn short(&self) -> bool {
+        self.tip.distance(self.pivot) <= SNOUT * self.end
+    }
+
+    /// How much it looks like a head, leaning along `towards`: its far half's thickness,
+    /// more when it leans that way, twice that when it carries parts of its own off the
+    /// mirror plane (an ant's head with its antennae, not the thicker abdomen).
+    fn head_score(&self, towards: DVec3) -> f64 {
+        let pair = if self.paired { 2.0 } else { 1.0 };
+        pair * self.end * (1.0 + self.direction().dot(towards))
+    }
+}
+
+/// The frame of a mesh with the mirror plane `mirror` ([`mirror_plane`]) whose root has
+/// `limbs` (see the module docs); `up` when given; `base`, the outward normal of its flat
+/// base if it has one ([`flat_base`]).
+pub fn frame(
+    positions: &[DVec3],
+    mirror: Option<(DVec3, f64)>,
+    limbs: &[Reach],
+    up: Option<DVec3>,
+    base: Option<DVec3>,
+) -> Frame {
+    let size = crate::mesh::longest_side(positions);
+    let centre = positions.iter().sum::<DVec3>() / positions.len().max(1) as f64;
+    let axes = AXES;
+    // The root's limbs off the mirror plane (none without one).
+    let off_plane =
+        |l: &Reach| mirror.is_some_and(|(n, o)| (l.pivot.dot(n) - o).abs() >= OFF_PLANE * size);
+    let off: Vec<&Reach> = limbs.iter().filter(|l| off_plane(l)).collect();
+    // Up from a flat base, along the mirror plane.
+    let base_up = base
+        .map(|b| -b)
+        .filter(|u| mirror.is_none_or(|(n, _)| u.dot(n).abs() < 0.5));
+    let up = match (up, mirror) {
+        (Some(u), _) => u.normalize_or(DVec3::Y),
+        (None, None) => base_up.unwrap_or(DVec3::Y),
+        (None, Some(_)) if base_up.is_some() && off.is_empty() => base_up.unwrap_or(DVec3::Y),
+        (None, Some((n, _))) => {
+            // How well each direction across the plane does as down, by where the tips
+            // of the limbs off the plane lie from the mesh's centre (legs and arms; a tail
+            // or a neck says nothing about up). From the centre, not from the limb's own
+            // cut: a stubby leg cut at its ankle is a foot pointing forward.
+            // Each limb says as much as it is thick (the legs carry the body; ears and a
+            // raised arm's thin hand say less).
+            let thickest = off.iter().map(|l| l.end).fold(0.0, f64::max);
+            let weight = |l: &Reach| {
+                if thickest > 0.0 {
+                    l.end / thickest
+                } else {
+                    1.0
+                }
+            };
+            let down = |d: DVec3| -> f64 {
+                off.iter()
+                    .map(|l| {
+                        weight(l) * (l.tip - centre).normalize_or_zero().dot(d).max(0.0).powi(2)
+                    })
+                    .sum()
+            };
+            let best = axes
+                .iter()
+                .copied()
+                .filter(|a| a.dot(n).abs() < 0.5)
+                .max_by(|a, b| down(*a).total_cmp(&down(*b)))
+                .unwrap_or(DVec3::NEG_Y);
+            // Those that point way `d` at all (legs hanging; not arms held out, nor ears),
+            // and whether one of them reaches the mesh's far end that way (stands on the
+            // ground, [`GROUND`]: sprawled legs hang back no farther than a tail).
+            let hanging = |d: DVec3| -> Vec<&Reach> {
+                off.iter()
+                    .copied()
+                    .filter(|l| (l.tip - centre).dot(d) > 0.0)
+                    .collect()
+            };
+            // The mesh's extent along `d`, near end and far end.
+            let span = |d: DVec3| {
+                positions
+                    .iter()
+                    .map(|p| p.dot(d))
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                        (a.min(x), b.max(x))
+                    })
+            };
+            let stands = |d: DVec3| {
+                let (near, far) = span(d);
+                hanging(d)
+                    .iter()
+                    .any(|l| far - l.tip.dot(d) <= GROUND * (far - near))
+            };
+            // (Only limbs that clearly hang along it move up off +y: sprawled legs say
+            // little; all the root's limbs doing so, or those that point that way at all
+            // and stand on the ground (a biped's legs, its arms held out).)
+            let best_stands = stands(best);
+            let votes = |of: &[&Reach]| of.iter().map(|l| weight(l)).sum::<f64>();
+            let clearly = down(best) >= 0.5 * votes(&off)
+                || (best_stands && down(best) >= 0.5 * votes(&hanging(best)));
+            // (+y does nearly as well, unless only the other stands on the ground: a
+            // sitting animal's forelegs reach forward as far as its legs hang.)
+            let y_as_well =
+                down(DVec3::NEG_Y) >= 0.67 * down(best) && (stands(DVec3::NEG_Y) || !best_stands);
+            // (Sprawled legs that say little of up still all end on the ground, one way
+            // only: a lizard, an insect or a scorpion modelled with any axis up.)
+            let grounded = |d: DVec3| {
+                let (near, far) = span(d);
+                off.len() >= 4
+                    && off
+                        .iter()
+                        .all(|l| far - l.tip.dot(d) <= FEET * (far - near))
+            };
+            let on_the_ground: Vec<DVec3> = axes
+                .iter()
+                .copied()
+                .filter(|a| a.dot(n).abs() < 0.5 && grounded(*a))
+                .collect();
+            // (+y across the mirror plane cannot be up: a character lying on its side, or
+            // modelled with x or z up, has only its limbs to say.)
+            let y_along = DVec3::Y.dot(n).abs() < 0.5;
+            if let (false, [down]) = (clearly, on_the_ground.as_slice()) {
+                -*down
+            } else if y_along && (y_as_well || !clearly) {
+                DVec3::Y
+            } else {
+                -best
+            }
+        }
+    };
+    // Front: across up and the plane's normal (or the convention without a plane).
+    let convention = if up.y.abs() >= 0.5 {
+        DVec3::Z
+    } else {
+        DVec3::NEG_Y
+    };
+    let axis = match mirror {
+        Some((n, _)) => up.cross(n).normalize_or(convention),
+        None => (convention - up * convention.dot(up)).normalize_or(DVec3::Z),
+    };
+    let on_plane = |l: &Reach| !off_plane(l);
+    // The part on the plane most like a head grows from the other end of the body than the
+    // tail (a cat stretching looks up and back; a penguin), or leans forward; else the feet
+    // point forward. Most like a head: with ears on the body (a head not cut from it), of
+    // two or more parts on the plane the one nearest them; else [`head_of`].
+    let midline: Vec<&Reach> = limbs.iter().filter(|l| on_plane(l)).collect();
+    let ears: Vec<DVec3> = limbs
+        .iter()
+        .filter(|l| !on_plane(l) && l.raised(up, centre))
+        .map(|l| l.pivot)
+        .collect();
+    let head = if ears.is_empty() || midline.len() < 2 {
+        head_of(&midline, 0.0, up).map(|h| midline[h])
+    } else {
+        let at = ears.iter().sum::<DVec3>() / ears.len() as f64;
+        midline
+            .iter()
+            .copied()
+            .min_by(|a, b| a.pivot.distance(at).total_cmp(&b.pivot.distance(at)))
+    };
+    // (With no other part on the plane there is nothing to tell a head from a tail by:
+    // a scorpion's raised tail.)
+    let placed = head.map_or(0.0, |h| {
+        let along = |l: &Reach| (h.pivot - l.pivot).dot(axis);
+        midline
+            .iter()
+            .map(|l| along(l))
+            .max_by(|a, b| a.abs().total_cmp(&b.abs()))
+            .unwrap_or(0.0)
+    });
+    let lean = head.map_or(0.0, |h| h.direction().dot(axis));
+    let feet: f64 = limbs
+        .iter()
+        .filter(|l| l.direction().dot(up) < -0.5)
+        .map(|l| (l.tip - l.pivot).dot(axis))
+        .sum();
+    let sign = if placed.abs() > FRONT_END * size {
+        placed.signum()
+    } else if lean.abs() > 0.3 {
+        lean.signum()
+    } else if feet.abs() > 1e-9 {
+        feet.signum()
+    } else if axis.dot(convention) < 0.0 {
+        -1.0
+    } else {
+        1.0
+    };
+    let front = axis * sign;
+    // (Plus zero: an axis turned over is written `0`, not `-0`, in `--json`.)
+    Frame {
+        up: up + DVec3::ZERO,
+        front: front + DVec3::ZERO,
+        left: up.cross(front) + DVec3::ZERO,
+        mirror,
+    }
+}
+
+/// Which of the parts on the mirror plane `midline` is most like a head (or the neck it
+/// ends): of those ending at least `thickest` thick, the one ending widest, leaning up.
+pub(super) fn head_of(midline: &[&Reach], thickest: f64, up: DVec3) -> Option<usize> {
+    (0..midline.len())
+        .filter(|&m| midline[m].end >= thickest)
+        .max_by(|&a, &b| {
+            midline[a]
+                .head_score(up)
+                .total_cmp(&midline[b].head_score(up))
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::anatomy::{is_ball_joint, other_side};
+    use super::*;
+
+    #[test]
+    fn the_grid_finds_the_nearest_vertex_within_its_reach() {
+        let points: Vec<DVec3> = (0..2000)
+            .map(|i| {
+                let t = i as f64;
+                DVec3::new((t * 0.37).sin(), (t * 0.11).cos() * 2.0, (t * 0.013).sin())
+            })
+            .collect();
+        let (lo, hi) = crate::mesh::bounds(&points);
+        let cell = (hi - lo).max_element() / 48.0;
+        let grid = Grid::new(&points, lo, cell);
+        // Queries inside the bounds and past them (a mirror image can fall outside).
+        for i in 0..500 {
+            let t = i as f64;
+            let p = DVec3::new(
+                (t * 0.7).sin() * 1.3,
+                (t * 0.3).cos() * 2.4,
+                (t * 0.05).cos(),
+            );
+            let (q, d) = grid.nearest(&points, p);
+            let brute = points
+                .iter()
+                .map(|x| x.distance(p))
+                .fold(f64::INFINITY, f64::min);
+            if brute < cell {
+                // Within a cell the nearest vertex is always among the 27 cells searched.
+                assert_eq!(d, brute, "{p}");
+                assert_eq!(q.distance(p), d);
+            } else {
+                // Farther: a vertex no nearer than the nearest, or none and two cells.
+                let none = q == p && d == 2.0 * cell;
+                assert!(
+                    none || (d >= brute && d < 2.0 * cell),
+                    "{p}: {d} vs {brute}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn up_reads_and_writes_as_an_axis() {
+        for text in ["+x", "-x", "+y", "-y", "+z", "-z"] {
+            let up: Up = text.parse().unwrap();
+            assert_eq!(up.to_string(), text);
+        }
+        assert_eq!("Z".parse::<Up>().unwrap(), Up::PosZ);
+        assert_eq!(Up::nearest(DVec3::new(0.1, -0.2, -0.9)), Up::NegZ);
+        assert_eq!(other_side("index.L.2").as_deref(), Some("index.R.2"));
+        assert_eq!(other_side("leg1.R").as_deref(), Some("leg1.L"));
+        for (role, ball) in [
+            ("arm.L", true),
+            ("leg", true),
+            ("leg2.R", true),
+            ("forearm.L", false),
+            ("legs", false),
+            ("ear.L", false),
+            ("joint 2", false),
+        ] {
+            assert_eq!(is_ball_joint(role), ball, "{role}");
+        }
+        assert_eq!(other_side("tail.2"), None);
+        assert!("up".parse::<Up>().is_err());
+    }
+}
