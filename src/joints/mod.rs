@@ -407,6 +407,31 @@ impl Joints {
         }
     }
 
+    /// Joins the body's separate parts where they meet ([`crate::mesh::contacts`]): a
+    /// connected cut, and a whole section, take a piece with the pieces it is in contact
+    /// with, as with its mesh neighbours. Cuts made before keep the sections they made.
+    ///
+    /// # Panics
+    /// If a contact names a vertex that does not exist.
+    pub fn join_contacts(&mut self, contacts: &[(u32, u32)]) {
+        if contacts.is_empty() {
+            return;
+        }
+        let n = self.body.points.len();
+        let body = Arc::make_mut(&mut self.body);
+        let mut edges: Vec<(u32, u32)> = contacts.to_vec();
+        for a in 0..n.min(body.start.len().saturating_sub(1)) {
+            for &b in body.neighbours(a) {
+                if (a as u32) < b {
+                    edges.push((a as u32, b));
+                }
+            }
+        }
+        edges.sort_unstable();
+        edges.dedup();
+        (body.start, body.neighbours) = crate::mesh::neighbours(n, &edges);
+    }
+
     /// Gives the joints the surface's rest positions and each vertex's skeletal distance
     /// (the medial radius), which set the joint bands and their contacts (see [`band`]);
     /// without them every cut is a hinge.

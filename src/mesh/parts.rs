@@ -248,7 +248,7 @@ pub(super) fn components(n: usize, triangles: &[[u32; 3]]) -> Vec<u32> {
 }
 
 /// A uniform grid of some points, for nearest-point queries.
-struct Grid {
+pub(super) struct Grid {
     lo: DVec3,
     cell: f64,
     dims: [usize; 3],
@@ -258,7 +258,7 @@ struct Grid {
 }
 
 impl Grid {
-    fn new(positions: &[DVec3], which: &[u32]) -> Grid {
+    pub(super) fn new(positions: &[DVec3], which: &[u32]) -> Grid {
         let ps: Vec<DVec3> = which.iter().map(|&v| positions[v as usize]).collect();
         let (lo, hi) = super::bounds(&ps);
         let extent = (hi - lo).max(DVec3::splat(1e-300));
@@ -297,7 +297,7 @@ impl Grid {
     }
 
     /// The nearest grid point to `q` and its squared distance.
-    fn nearest(&self, positions: &[DVec3], q: DVec3) -> Option<(f64, u32)> {
+    pub(super) fn nearest(&self, positions: &[DVec3], q: DVec3) -> Option<(f64, u32)> {
         if self.points.is_empty() {
             return None;
         }

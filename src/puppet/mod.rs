@@ -116,6 +116,7 @@ impl Puppet {
         };
         let mut uncut =
             Joints::with_mesh(&skeleton.points, &mesh.triangles, &hosts, &rig_file.root);
+        uncut.join_contacts(&mesh::contacts(&mesh));
         uncut.set_surface(&mesh.positions, &skeleton.distance);
         uncut.set_skin(report.and_then(|r| r.skin.clone()));
         let joints = rig_file.joints(uncut)?;

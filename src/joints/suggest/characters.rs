@@ -13,9 +13,9 @@ pub(super) struct Character {
 }
 
 /// The characters of `mesh`, largest first, when there are two or more: its body parts (not
-/// riders) grouped where their bounding boxes overlap (an arm modelled apart and pushed
-/// into the torso is the torso's; two characters holding hands are one), each with the
-/// riders on its parts. `None` for one character.
+/// riders) grouped where their bounding boxes overlap or they are in contact (an arm
+/// modelled apart and pushed into the torso is the torso's; two characters holding hands
+/// are one), each with the riders on its parts. `None` for one character.
 pub(super) fn of(mesh: &Mesh, skeleton: &Skeleton) -> Option<Vec<Character>> {
     let parts = Parts::of(mesh);
     let body = parts.body_parts();
@@ -36,6 +36,13 @@ pub(super) fn of(mesh: &Mesh, skeleton: &Skeleton) -> Option<Vec<Character>> {
                 groups.union(a, b);
             }
         }
+    }
+    // Parts in contact are one character, whatever their boxes (a foot just below its shin).
+    for (a, b) in parts.contacts(mesh) {
+        groups.union(
+            parts.part_of[a as usize] as usize,
+            parts.part_of[b as usize] as usize,
+        );
     }
     let mut of_part: Vec<Option<usize>> = vec![None; parts.len()];
     let mut roots: Vec<usize> = Vec::new();

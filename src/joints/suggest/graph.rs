@@ -20,7 +20,10 @@ impl Graph {
         let n = points.len();
         let mut positive: Vec<f64> = distance.iter().copied().filter(|d| *d > 0.0).collect();
         let floor = 1e-3 * crate::stats::median(&mut positive).unwrap_or(1.0);
-        let (start, to) = crate::mesh::neighbours(n, &crate::mesh::unique_edges(&mesh.triangles));
+        // The mesh's edges, and where its separate parts meet.
+        let mut edges = crate::mesh::unique_edges(&mesh.triangles);
+        edges.extend(crate::mesh::contacts(mesh));
+        let (start, to) = crate::mesh::neighbours(n, &edges);
         let mut len = vec![0.0; to.len()];
         for a in 0..n {
             for k in start[a] as usize..start[a + 1] as usize {

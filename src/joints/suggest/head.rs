@@ -19,11 +19,11 @@ use crate::mesh::Mesh;
 /// shoulders of one standing lie above its middle).
 /// The root's cuts above the plane (ears) hang from the head; with two or more it is the
 /// `head`, else the `neck` (as for a head cut where it narrows). `points` are the skeletal
-/// points, `hosts` the riders' hosts.
+/// points, `blank` the joints before any cut.
 pub(super) fn on_the_shoulders(
     mesh: &Mesh,
     points: &[DVec3],
-    hosts: &[Option<u32>],
+    blank: &Joints,
     root: &str,
     cuts: Vec<Cut>,
     up: DVec3,
@@ -52,7 +52,7 @@ pub(super) fn on_the_shoulders(
     }
     let top_of = |c: &Cut| c.point.dot(up) + arm_width(c);
     let at = top_of(arm_l).max(top_of(arm_r));
-    let mut joints = Joints::with_mesh(points, &mesh.triangles, hosts, root);
+    let mut joints = blank.clone();
     if joints.add_cuts(cuts.iter().cloned()).is_err() {
         return cuts;
     }
@@ -146,7 +146,7 @@ pub(super) fn on_the_shoulders(
         .chain(std::iter::once(neck))
         .chain(after)
         .collect();
-    let mut check = Joints::with_mesh(points, &mesh.triangles, hosts, root);
+    let mut check = blank.clone();
     if check.add_cuts(out.iter().cloned()).is_err() {
         return cuts;
     }

@@ -1,0 +1,150 @@
+//! Contacts: where a body's separate parts touch or pass into each other.
+//!
+//! A character modelled in pieces (a mech's plates, a hand pushed into its sleeve, a shin
+//! under its trousers) is one puppet where its pieces meet. A *contact* joins a vertex of
+//! one body part to the nearest vertex of another body part when it lies inside that part
+//! (its generalized winding number, [`crate::geom::winding`]) or touches it: within a
+//! quarter of the two vertices' longest edges together, so a seam where two pieces share
+//! their rings is joined, and two legs half an edge apart are not. Riders (see `parts`)
+//! have hosts instead. The suggestion walks the mesh's edges and its contacts as one graph, and
+//! connected cuts and whole sections take a piece with what it is in contact with.
+
+use super::parts::Grid;
+use super::{Mesh, Parts};
+use crate::geom::winding::Winding;
+use glam::DVec3;
+use rayon::prelude::*;
+
+/// The contacts of `mesh` between its body parts, each pair of vertices once, lower first
+/// (none for a mesh of one body part).
+pub fn contacts(mesh: &Mesh) -> Vec<(u32, u32)> {
+    Parts::of(mesh).contacts(mesh)
+}
+
+/// A body part, looked up for contacts.
+struct Piece {
+    part: usize,
+    grid: Grid,
+    winding: Winding,
+    /// Its box, grown by its longest edge.
+    lo: DVec3,
+    hi: DVec3,
+}
+
+impl Parts {
+    /// The contacts between the body parts of `mesh` (these parts' mesh), each pair of
+    /// vertices once, lower first; see the module docs.
+    pub fn contacts(&self, mesh: &Mesh) -> Vec<(u32, u32)> {
+        let body = self.body_parts();
+        if body.len() < 2 {
+            return Vec::new();
+        }
+        let positions = &mesh.positions;
+        let n = positions.len();
+        // Each vertex's longest edge: how far it reaches for a contact.
+        let mut reach = vec![0.0f64; n];
+        for t in &mesh.triangles {
+            for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                let l = positions[a as usize].distance(positions[b as usize]);
+                for v in [a, b] {
+                    let r = &mut reach[v as usize];
+                    *r = r.max(l);
+                }
+            }
+        }
+        let mut members: Vec<Vec<u32>> = vec![Vec::new(); self.len()];
+        for (v, &k) in self.part_of.iter().enumerate() {
+            members[k as usize].push(v as u32);
+        }
+        let mut faces: Vec<Vec<[u32; 3]>> = vec![Vec::new(); self.len()];
+        for t in &mesh.triangles {
+            faces[self.part_of[t[0] as usize] as usize].push(*t);
+        }
+        // Each body part's grid, winding number, and box grown by its longest reach.
+        let found: Vec<Piece> = body
+            .par_iter()
+            .map(|&k| {
+                let ps: Vec<DVec3> = members[k].iter().map(|&v| positions[v as usize]).collect();
+                let (lo, hi) = super::bounds(&ps);
+                let far = members[k]
+                    .iter()
+                    .map(|&v| reach[v as usize])
+                    .fold(0.0, f64::max);
+                Piece {
+                    part: k,
+                    grid: Grid::new(positions, &members[k]),
+                    winding: Winding::new(positions, &faces[k]),
+                    lo: lo - DVec3::splat(far),
+                    hi: hi + DVec3::splat(far),
+                }
+            })
+            .collect();
+        let mut out: Vec<(u32, u32)> = found
+            .par_iter()
+            .flat_map_iter(|a| {
+                let found = &found;
+                let reach = &reach;
+                members[a.part].iter().flat_map(move |&v| {
+                    let p = positions[v as usize];
+                    found.iter().filter_map(move |b| {
+                        if b.part == a.part || p.cmplt(b.lo).any() || p.cmpgt(b.hi).any() {
+                            return None;
+                        }
+                        let (d2, w) = b.grid.nearest(positions, p)?;
+                        let touch = 0.25 * (reach[v as usize] + reach[w as usize]);
+                        (d2 <= touch * touch || b.winding.at(p) > 0.5)
+                            .then_some((v.min(w), v.max(w)))
+                    })
+                })
+            })
+            .collect();
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::mesh::{shapes, Mesh};
+    use glam::DVec3;
+
+    /// Two spheres of radius 1 with centres `gap + 2` apart.
+    fn pair(gap: f64) -> (Mesh, usize) {
+        let a = shapes::uv_sphere(1.0, 24, 48);
+        let mut mesh = a.clone();
+        let off = mesh.positions.len();
+        mesh.positions.extend(
+            a.positions
+                .iter()
+                .map(|p| *p + DVec3::new(2.0 + gap, 0.0, 0.0)),
+        );
+        mesh.triangles
+            .extend(a.triangles.iter().map(|t| t.map(|v| v + off as u32)));
+        (mesh, off)
+    }
+
+    #[test]
+    fn parts_that_overlap_are_in_contact_where_they_meet() {
+        let (mesh, off) = pair(-0.2);
+        let contacts = super::contacts(&mesh);
+        assert!(!contacts.is_empty());
+        for &(a, b) in &contacts {
+            assert!(
+                (a as usize) < off && b as usize >= off,
+                "{a}-{b} joins two parts"
+            );
+            // Both ends near the plane the spheres cross at (x = 0.9).
+            for v in [a, b] {
+                let x = mesh.positions[v as usize].x;
+                assert!((x - 0.9).abs() < 0.25, "vertex {v} at x = {x}");
+            }
+        }
+    }
+
+    #[test]
+    fn parts_a_gap_apart_or_one_part_have_none() {
+        assert!(super::contacts(&pair(0.5).0).is_empty());
+        assert!(super::contacts(&shapes::uv_sphere(1.0, 16, 8)).is_empty());
+    }
+}
