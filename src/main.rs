@@ -24,7 +24,7 @@ fn main() -> ExitCode {
         writeln!(buf, "{level}: {}", record.args())
     })
     .init();
-    let cli = cli::Cli::parse();
+    let cli = cli::Cli::parse().settled();
     match cli::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

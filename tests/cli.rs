@@ -2,7 +2,7 @@
 //! fields, and the short CI versions of the stress and skipping measurements pass.
 
 mod common;
-use common::puppet;
+use common::{puppet, test_mesh};
 
 fn ok_json(args: &[&str]) -> serde_json::Value {
     let out = puppet(args);
@@ -28,6 +28,30 @@ fn bench_needs_one_mode() {
             String::from_utf8_lossy(&out.stderr).starts_with("error:"),
             "{args:?}"
         );
+    }
+}
+
+#[test]
+fn a_mesh_before_its_command_is_the_command_s_and_window_options_are_refused() {
+    // `puppet MESH suggest` suggests for MESH (it once read the embedded mesh instead).
+    let hand = test_mesh("hand.obj");
+    let hand = hand.to_str().unwrap();
+    for args in [&[hand, "suggest"][..], &["suggest", hand][..]] {
+        let out = puppet(args);
+        common::ok(&out);
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(text.contains("hand.obj: 7993 vertices"), "{args:?}: {text}");
+    }
+    for args in [
+        &[hand, "suggest", hand][..],
+        &[hand, "bench", "joints"][..],
+        &["--rig", "a.toml", "suggest", hand][..],
+        &["--ignore-skin", "skeleton", hand][..],
+    ] {
+        let out = puppet(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.starts_with("error:"), "{args:?}: {err}");
     }
 }
 

@@ -166,6 +166,77 @@ pub fn load_mesh(path: Option<&Path>, load: &LoadArgs) -> Result<(Mesh, LoadRepo
     Ok((mesh, report, name))
 }
 
+impl Cli {
+    /// The command line as meant: a mesh named before a command that reads one is that
+    /// command's (`puppet hero.glb suggest` suggests for `hero.glb`, not for the embedded
+    /// mesh). Exits with a usage error (status 2) where a command is given with what only
+    /// the window reads, or with two meshes.
+    pub fn settled(mut self) -> Cli {
+        use clap::CommandFactory;
+        let Some(command) = &mut self.command else {
+            return self;
+        };
+        let usage = |message: String| -> ! {
+            Cli::command()
+                .error(clap::error::ErrorKind::ArgumentConflict, message)
+                .exit()
+        };
+        let name = match command {
+            Command::Skeleton(_) => "skeleton",
+            Command::Suggest(_) => "suggest",
+            Command::Simulate(_) => "simulate",
+            Command::SendOsc(_) => "send-osc",
+            Command::Bench { .. } => "bench",
+        };
+        if let Some(mesh) = self.mesh.take() {
+            let slot = match command {
+                Command::Skeleton(a) => Some(&mut a.mesh),
+                Command::Suggest(a) => Some(&mut a.mesh),
+                Command::Simulate(a) => Some(&mut a.mesh),
+                Command::SendOsc(_) | Command::Bench { .. } => None,
+            };
+            match slot {
+                Some(slot @ None) => *slot = Some(mesh),
+                Some(Some(other)) => usage(format!(
+                    "two meshes, '{}' and '{}': `puppet {name}` reads one",
+                    mesh.display(),
+                    other.display()
+                )),
+                None => usage(format!(
+                    "'{}' before `puppet {name}`, which reads no mesh there",
+                    mesh.display()
+                )),
+            }
+        }
+        let window = [
+            ("--rig", self.rig.is_some()),
+            ("--anim", self.anim.is_some()),
+            ("--clip", self.clip.is_some()),
+            ("--screenshot", self.screenshot.is_some()),
+            ("--suggest-joints", self.suggest_joints),
+            ("--controls", self.controls.is_some()),
+            ("--listen", self.listen.is_some()),
+            ("--report", self.report.is_some()),
+            ("--drive-test", self.drive_test),
+        ];
+        if let Some((flag, _)) = window.iter().find(|(_, given)| *given) {
+            usage(format!(
+                "{flag} before `puppet {name}` is an option of the window (see `puppet {name} --help` for the command's own)"
+            ));
+        }
+        if self.ignore_skin {
+            match command {
+                Command::Suggest(a) => a.ignore_skin = true,
+                Command::Simulate(a) => a.ignore_skin = true,
+                _ => usage(format!(
+                    "--ignore-skin before `puppet {name}`, which has no skin to ignore"
+                )),
+            }
+        }
+        self
+    }
+}
+
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> Result<()> {
     match &cli.command {
