@@ -38,6 +38,10 @@ pub struct Args {
     /// Pose with collision on.
     #[arg(long)]
     collision: bool,
+    /// Suggest joints from the skeleton even for a file with a skin (a skinned glTF's own
+    /// joints are posed by default).
+    #[arg(long)]
+    ignore_skin: bool,
     /// Pose each character with collision off and on, and compare: the poses where on
     /// crosses more faces than off, stretches an edge more, or leaves a vertex farther
     /// behind.
@@ -198,6 +202,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         };
         let mut base = Puppet::build_loaded(mesh, Some(&report), rig, puppet::progress::silent())
             .map_err(|e| anyhow!("{file}: {e}"))?;
+        base.ignore_skin = args.ignore_skin;
         base.suggest_joints().map_err(|e| anyhow!("{file}: {e}"))?;
         let joints = base.joints.cuts().len();
         let mut mine = Vec::new();
