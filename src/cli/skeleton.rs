@@ -34,6 +34,8 @@ struct Summary<'a> {
     fallback: usize,
     clamped: usize,
     riders: usize,
+    /// Skeletal points moved back inside the mesh ([`skeleton::Skeleton::hold_inside`]).
+    moved_inside: usize,
     d_min: f64,
     d_median: f64,
     d_max: f64,
@@ -51,8 +53,10 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         ..SkeletonParams::default()
     };
     let bar = ProgressBar::new();
-    let sk = skeleton::build(&mesh, &normals, &params, &|s, f| bar.update(s, f))
+    let mut sk = skeleton::build(&mesh, &normals, &params, &|s, f| bar.update(s, f))
         .map_err(|e| FileError::new(&name, e))?;
+    // The skeleton the puppet uses: held inside a repaired mesh, and a mesh in pieces.
+    let moved_inside = sk.hold_inside(&mesh, !report.marks.is_empty());
     bar.finish();
     let mut t_written = None;
     if let Some(out) = &args.output {
@@ -100,6 +104,7 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         fallback: sk.fallback,
         clamped: sk.clamped,
         riders: sk.riders,
+        moved_inside,
         d_min,
         d_median,
         d_max,
@@ -115,8 +120,8 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         name, summary.vertices, summary.faces
     );
     println!(
-        "skeleton ({}): d min {:.4}  median {:.4}  max {:.4}; {} fallback (sp = p), {} clamped to thickness",
-        params.method, d_min, d_median, d_max, sk.fallback, sk.clamped
+        "skeleton ({}): d min {:.4}  median {:.4}  max {:.4}; {} fallback (sp = p), {} clamped to thickness, {} moved back inside",
+        params.method, d_min, d_median, d_max, sk.fallback, sk.clamped, moved_inside
     );
     let stages: Vec<String> = summary
         .seconds

@@ -102,21 +102,20 @@ impl Puppet {
         };
         let mut skeleton = skeleton::cache::build_cached(&mesh, &normals, &params, progress)?;
         let groups = report.map(|r| r.groups.clone()).unwrap_or_default();
-        if report.is_some_and(|r| !r.marks.is_empty()) {
-            let moved = skeleton.keep_inside(&mesh);
-            if moved > 0 {
-                log::debug!("{moved} skeletal points moved back inside the repaired mesh");
-            }
+        let moved = skeleton.hold_inside(&mesh, report.is_some_and(|r| !r.marks.is_empty()));
+        if moved > 0 {
+            log::debug!("{moved} skeletal points moved back inside the mesh");
         }
+        let parts = mesh::Parts::of(&mesh);
         // Riders go with the section of the body vertex nearest to them.
         let hosts = if skeleton.riders > 0 {
-            mesh::Parts::of(&mesh).hosts(&mesh.positions)
+            parts.hosts(&mesh.positions)
         } else {
             Vec::new()
         };
         let mut uncut =
             Joints::with_mesh(&skeleton.points, &mesh.triangles, &hosts, &rig_file.root);
-        uncut.join_contacts(&mesh::contacts(&mesh));
+        uncut.join_contacts(&parts.contacts(&mesh));
         uncut.set_surface(&mesh.positions, &skeleton.distance);
         uncut.set_skin(report.and_then(|r| r.skin.clone()));
         let joints = rig_file.joints(uncut)?;

@@ -176,6 +176,17 @@ pub struct Skeleton {
 }
 
 impl Skeleton {
+    /// [`Skeleton::keep_inside`] where a skeleton can leave its mesh: after repairs
+    /// (`repaired`: a filled hole's rim), and on a mesh of two or more body parts (each
+    /// part's skeleton is built on that part alone, [`build`]). Returns how many moved.
+    pub fn hold_inside(&mut self, mesh: &crate::mesh::Mesh, repaired: bool) -> usize {
+        if repaired || crate::mesh::Parts::of(mesh).body_parts().len() > 1 {
+            self.keep_inside(mesh)
+        } else {
+            0
+        }
+    }
+
     /// Moves every skeletal point that lies outside `mesh` (by its exact winding number)
     /// back towards its vertex, halving its distance until it is inside (at most 30
     /// times, then `d = 0`); returns how many moved. A safety net for repaired meshes,
