@@ -1,5 +1,5 @@
 //! A character made of many pieces is one puppet: the suggestion sees the pieces where
-//! they meet (`mesh::contacts`) and cuts the limbs they make; every piece turns with its
+//! they meet (`mesh::attachments`) and cuts the limbs they make; every piece turns with its
 //! limb.
 
 use glam::DVec3;
@@ -42,7 +42,7 @@ fn a_mannequin_in_pieces_gets_its_arms_legs_and_head() {
     let parts = puppet::mesh::Parts::of(&mesh);
     assert_eq!(parts.len(), 8, "{:?}", parts.area);
     assert_eq!(parts.riders(), 0);
-    assert!(!puppet::mesh::contacts(&mesh).is_empty());
+    assert!(!puppet::mesh::attachments(&mesh).is_empty());
     let mut p =
         Puppet::build(mesh, RigFile::default(), puppet::progress::silent()).expect("a puppet");
     p.suggest_joints().expect("joints");

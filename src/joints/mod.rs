@@ -407,19 +407,19 @@ impl Joints {
         }
     }
 
-    /// Joins the body's separate parts where they meet ([`crate::mesh::contacts`]): a
-    /// connected cut, and a whole section, take a piece with the pieces it is in contact
-    /// with, as with its mesh neighbours. Cuts made before keep the sections they made.
+    /// Joins the body's separate parts where they meet ([`crate::mesh::attachments`]): a
+    /// connected cut, and a whole section, take a piece with the pieces attached to it, as
+    /// with its mesh neighbours. Cuts made before keep the sections they made.
     ///
     /// # Panics
-    /// If a contact names a vertex that does not exist.
-    pub fn join_contacts(&mut self, contacts: &[(u32, u32)]) {
-        if contacts.is_empty() {
+    /// If an attachment names a vertex that does not exist.
+    pub fn attach_parts(&mut self, attachments: &[(u32, u32)]) {
+        if attachments.is_empty() {
             return;
         }
         let n = self.body.points.len();
         let body = Arc::make_mut(&mut self.body);
-        let mut edges: Vec<(u32, u32)> = contacts.to_vec();
+        let mut edges: Vec<(u32, u32)> = attachments.to_vec();
         for a in 0..n.min(body.start.len().saturating_sub(1)) {
             for &b in body.neighbours(a) {
                 if (a as u32) < b {

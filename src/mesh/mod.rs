@@ -14,7 +14,7 @@
 //! * `repair`: open seams, faces turned against their neighbours, holes (closed by `fill`:
 //!   a refined constrained Delaunay patch, faired);
 //! * `split`: sheets that touch at a vertex or along an edge, each given its own copies;
-//! * `parts`: the connected pieces, body and riders; `contacts`: where body parts meet;
+//! * `parts`: the connected pieces, body and riders; `attachments`: where body parts meet;
 //! * `validate`: the checks, and turning inside-out parts;
 //! * `load`: the pipeline, its options and its report;
 //! * `normals`, `fit`: angle-weighted vertex normals, and the local surface fit that
@@ -25,7 +25,7 @@
 //! * `measure`: areas, volumes and extents of a surface;
 //! * `decimate`: quadric edge collapse, for the rough copies the benchmarks make.
 
-mod contacts;
+mod attachments;
 mod decimate;
 mod edges;
 mod fill;
@@ -49,7 +49,7 @@ mod subdivide;
 mod validate;
 mod weld;
 
-pub use contacts::contacts;
+pub use attachments::attachments;
 pub use decimate::decimate;
 pub use fit::{fit_surface, SurfaceFit};
 pub use groups::{FaceGroups, Groups};

@@ -115,7 +115,7 @@ impl Puppet {
         };
         let mut uncut =
             Joints::with_mesh(&skeleton.points, &mesh.triangles, &hosts, &rig_file.root);
-        uncut.join_contacts(&parts.contacts(&mesh));
+        uncut.attach_parts(&parts.attachments(&mesh));
         uncut.set_surface(&mesh.positions, &skeleton.distance);
         uncut.set_skin(report.and_then(|r| r.skin.clone()));
         let joints = rig_file.joints(uncut)?;

@@ -13,7 +13,7 @@ pub(super) struct Character {
 }
 
 /// The characters of `mesh`, largest first, when there are two or more: its body parts (not
-/// riders) grouped where their bounding boxes overlap or they are in contact (an arm
+/// riders) grouped where their bounding boxes overlap or they are attached (an arm
 /// modelled apart and pushed into the torso is the torso's; two characters holding hands
 /// are one), each with the riders on its parts. `None` for one character.
 pub(super) fn of(mesh: &Mesh, skeleton: &Skeleton) -> Option<Vec<Character>> {
@@ -37,8 +37,8 @@ pub(super) fn of(mesh: &Mesh, skeleton: &Skeleton) -> Option<Vec<Character>> {
             }
         }
     }
-    // Parts in contact are one character, whatever their boxes (a foot just below its shin).
-    for (a, b) in parts.contacts(mesh) {
+    // Attached parts are one character, whatever their boxes (a foot just below its shin).
+    for (a, b) in parts.attachments(mesh) {
         groups.union(
             parts.part_of[a as usize] as usize,
             parts.part_of[b as usize] as usize,

@@ -22,7 +22,7 @@ impl Graph {
         let floor = 1e-3 * crate::stats::median(&mut positive).unwrap_or(1.0);
         // The mesh's edges, and where its separate parts meet.
         let mut edges = crate::mesh::unique_edges(&mesh.triangles);
-        edges.extend(crate::mesh::contacts(mesh));
+        edges.extend(crate::mesh::attachments(mesh));
         let (start, to) = crate::mesh::neighbours(n, &edges);
         let mut len = vec![0.0; to.len()];
         for a in 0..n {

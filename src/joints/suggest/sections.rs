@@ -172,7 +172,7 @@ fn suggest_one(
     // Apply them in order; one that cannot apply (a side left empty) is dropped and what
     // hangs from it hangs from its parent instead.
     let mut joints = Joints::with_mesh(&skeleton.points, &mesh.triangles, &hosts, root);
-    joints.join_contacts(&crate::mesh::contacts(mesh));
+    joints.attach_parts(&crate::mesh::attachments(mesh));
     // The joints before any cut, to try sets of cuts on (its mesh's edges found once).
     let blank = joints.clone();
     let mut applied: Vec<Option<String>> = Vec::with_capacity(limbs.len());

@@ -1,13 +1,13 @@
-//! Contacts: where a body's separate parts touch or pass into each other.
+//! Attachments: where a body's separate parts touch or pass into each other.
 //!
 //! A character modelled in pieces (a mech's plates, a hand pushed into its sleeve, a shin
-//! under its trousers) is one puppet where its pieces meet. A *contact* joins a vertex of
+//! under its trousers) is one puppet where its pieces meet. An *attachment* joins a vertex of
 //! one body part to the nearest vertex of another body part when it lies inside that part
 //! (its generalized winding number, [`crate::geom::winding`]) or touches it: within a
 //! quarter of the two vertices' longest edges together, so a seam where two pieces share
 //! their rings is joined, and two legs half an edge apart are not. Riders (see `parts`)
-//! have hosts instead. The suggestion walks the mesh's edges and its contacts as one graph, and
-//! connected cuts and whole sections take a piece with what it is in contact with.
+//! have hosts instead. The suggestion walks the mesh's edges and its attachments as one graph,
+//! and connected cuts and whole sections take a piece with what is attached to it.
 
 use super::parts::Grid;
 use super::{Mesh, Parts};
@@ -15,13 +15,13 @@ use crate::geom::winding::Winding;
 use glam::DVec3;
 use rayon::prelude::*;
 
-/// The contacts of `mesh` between its body parts, each pair of vertices once, lower first
+/// The attachments of `mesh` between its body parts, each pair of vertices once, lower first
 /// (none for a mesh of one body part).
-pub fn contacts(mesh: &Mesh) -> Vec<(u32, u32)> {
-    Parts::of(mesh).contacts(mesh)
+pub fn attachments(mesh: &Mesh) -> Vec<(u32, u32)> {
+    Parts::of(mesh).attachments(mesh)
 }
 
-/// A body part, looked up for contacts.
+/// A body part, looked up for attachments.
 struct Piece {
     part: usize,
     grid: Grid,
@@ -32,16 +32,16 @@ struct Piece {
 }
 
 impl Parts {
-    /// The contacts between the body parts of `mesh` (these parts' mesh), each pair of
+    /// The attachments between the body parts of `mesh` (these parts' mesh), each pair of
     /// vertices once, lower first; see the module docs.
-    pub fn contacts(&self, mesh: &Mesh) -> Vec<(u32, u32)> {
+    pub fn attachments(&self, mesh: &Mesh) -> Vec<(u32, u32)> {
         let body = self.body_parts();
         if body.len() < 2 {
             return Vec::new();
         }
         let positions = &mesh.positions;
         let n = positions.len();
-        // Each vertex's longest edge: how far it reaches for a contact.
+        // Each vertex's longest edge: how far it reaches for an attachment.
         let mut reach = vec![0.0f64; n];
         for t in &mesh.triangles {
             for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
@@ -125,11 +125,11 @@ mod tests {
     }
 
     #[test]
-    fn parts_that_overlap_are_in_contact_where_they_meet() {
+    fn parts_that_overlap_are_attached_where_they_meet() {
         let (mesh, off) = pair(-0.2);
-        let contacts = super::contacts(&mesh);
-        assert!(!contacts.is_empty());
-        for &(a, b) in &contacts {
+        let attachments = super::attachments(&mesh);
+        assert!(!attachments.is_empty());
+        for &(a, b) in &attachments {
             assert!(
                 (a as usize) < off && b as usize >= off,
                 "{a}-{b} joins two parts"
@@ -144,7 +144,7 @@ mod tests {
 
     #[test]
     fn parts_a_gap_apart_or_one_part_have_none() {
-        assert!(super::contacts(&pair(0.5).0).is_empty());
-        assert!(super::contacts(&shapes::uv_sphere(1.0, 16, 8)).is_empty());
+        assert!(super::attachments(&pair(0.5).0).is_empty());
+        assert!(super::attachments(&shapes::uv_sphere(1.0, 16, 8)).is_empty());
     }
 }
