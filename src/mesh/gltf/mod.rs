@@ -109,6 +109,9 @@ fn check_accessors(root: &gltf::json::Root) -> Result<(), MeshError> {
     Ok(())
 }
 
+/// The Draco mesh compression extension, which this reader does not decode.
+const DRACO: &str = "KHR_draco_mesh_compression";
+
 /// Parses a glTF file held in memory.
 ///
 /// # Errors
@@ -118,6 +121,12 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
     let raw = gltf::Gltf::from_slice_without_validation(bytes).map_err(bad)?;
     let mut json = raw.document.into_json();
     check_accessors(&json)?;
+    // Draco, which this reader does not decode: said so, with what to do.
+    if json.extensions_required.iter().any(|e| e == DRACO) {
+        return Err(bad(format!(
+            "its meshes are compressed with Draco ({DRACO}), which puppet does not decode: export it again without Draco (Blender: File > Export > glTF, Compression off)"
+        )));
+    }
     // The extensions this reader handles itself, which the crate's validation refuses.
     let compressed = json.extensions_used.iter().any(|e| e == meshopt::EXTENSION);
     json.extensions_required
@@ -449,5 +458,17 @@ mod tests {
         assert!(e.contains("separate file ('mesh.bin')"), "{e}");
         assert!(parse(b"glTF\x02\x00\x00\x00").is_err());
         assert!(parse(b"{\"asset\": 3}").is_err());
+        // Draco: one line that says what and what to do, not a line per accessor.
+        let draco = text.replacen(
+            r#"{"asset":{"version":"2.0"},"#,
+            r#"{"asset":{"version":"2.0"},"extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"],"#,
+            1,
+        );
+        assert_ne!(draco, text);
+        let e = parse(draco.as_bytes()).unwrap_err().to_string();
+        assert!(
+            e.contains("compressed with Draco") && e.contains("Compression off"),
+            "{e}"
+        );
     }
 }
