@@ -110,6 +110,7 @@ fn assemble(parts: &[Chunk], offsets: &[usize], vertices: usize) -> Result<Soup,
         objects: parts.iter().map(|p| p.objects).sum::<usize>().max(1),
         groups: None,
         skin: None,
+        unread_skin: None,
     };
     let mut jobs = Vec::with_capacity(parts.len());
     let (mut ps, mut ts) = (&mut soup.positions[..], &mut soup.triangles[..]);

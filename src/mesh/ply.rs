@@ -150,6 +150,7 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
         objects: 1,
         groups: None,
         skin: None,
+        unread_skin: None,
         loose_comments,
     };
     for (s, strip) in strips.iter().enumerate() {

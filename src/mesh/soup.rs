@@ -22,6 +22,8 @@ pub struct Soup {
     pub loose_comments: usize,
     /// The skeleton the file comes with (a glTF skin), joints and clips.
     pub skin: Option<super::Skin>,
+    /// Why the file's skin was left out, where it has one that cannot be read.
+    pub unread_skin: Option<String>,
 }
 
 impl Soup {

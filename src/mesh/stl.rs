@@ -31,6 +31,7 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
         objects: 1,
         groups: None,
         skin: None,
+        unread_skin: None,
     };
     for f in &mesh.faces {
         if f.vertices.iter().any(|&v| v >= n) {

@@ -182,7 +182,51 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
         Vec::new()
     };
     let data = accessor::Data { buffers, decoded };
-    let mut skinning = skin::Skinning::of(&gltf)?;
+    // A skin that cannot be read (weights that are NaN, a joint past the skin's) is left
+    // out with the reason, as other readers leave it: the shape is still the file's.
+    let skinning = skin::Skinning::of(&gltf);
+    let first = match skinning {
+        Ok(skinning) => gather(&gltf, &data, skinning),
+        Err(e) => Err(Failure::Skin(e)),
+    };
+    match first {
+        Ok(soup) => Ok(soup),
+        Err(Failure::Other(e)) => Err(e),
+        Err(Failure::Skin(why)) => {
+            let mut soup = gather(&gltf, &data, None).map_err(Failure::error)?;
+            soup.unread_skin = Some(why.to_string());
+            Ok(soup)
+        }
+    }
+}
+
+/// Why [`gather`] failed: the skin (the file reads without it), or anything else.
+enum Failure {
+    Skin(MeshError),
+    Other(MeshError),
+}
+
+impl Failure {
+    fn error(self) -> MeshError {
+        match self {
+            Failure::Skin(e) | Failure::Other(e) => e,
+        }
+    }
+}
+
+impl From<MeshError> for Failure {
+    fn from(e: MeshError) -> Failure {
+        Failure::Other(e)
+    }
+}
+
+/// The scene's triangles, placed at rest by `skinning` where the file has a skin, else by
+/// their nodes.
+fn gather(
+    gltf: &gltf::Gltf,
+    data: &accessor::Data,
+    mut skinning: Option<skin::Skinning>,
+) -> Result<Soup, Failure> {
     let mut soup = Soup {
         loose_comments: 0,
         objects: 0,
@@ -201,7 +245,7 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
     while let Some((node, parent)) = stack.pop() {
         depth += 1;
         if depth > 1_000_000 {
-            return Err(bad("the node tree is too deep or has a cycle"));
+            return Err(bad("the node tree is too deep or has a cycle").into());
         }
         let local = Mat4::from_cols_array_2d(&node.transform().matrix()).as_dmat4();
         let world = parent * local;
@@ -213,11 +257,13 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
                 let Some(positions) = prim.get(&gltf::Semantic::Positions) else {
                     continue;
                 };
-                let positions = accessor::floats(&positions, &data, 3)?;
+                let positions = accessor::floats(&positions, data, 3)?;
                 let base = soup.positions.len() as u32;
                 let count = positions.len() / 3;
                 let skinned = match (&mut skinning, node.skin()) {
-                    (Some(s), Some(skin)) => s.place(&skin, &prim, &data, &positions)?,
+                    (Some(s), Some(skin)) => s
+                        .place(&skin, &prim, data, &positions)
+                        .map_err(Failure::Skin)?,
                     _ => None,
                 };
                 match skinned {
@@ -235,11 +281,11 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
                     }
                 }
                 let indices: Vec<u32> = match prim.indices() {
-                    Some(i) => accessor::unsigned(&i, &data, 1)?,
+                    Some(i) => accessor::unsigned(&i, data, 1)?,
                     None => (0..count as u32).collect(),
                 };
                 if indices.iter().any(|&i| i as usize >= count) {
-                    return Err(bad("a triangle names a missing vertex"));
+                    return Err(bad("a triangle names a missing vertex").into());
                 }
                 let before = soup.triangles.len();
                 soup.triangles.extend(
@@ -261,7 +307,7 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
     }
     soup.objects = soup.objects.max(1);
     if let Some(s) = skinning {
-        soup.skin = Some(s.finish(&gltf, &data)?);
+        soup.skin = Some(s.finish(gltf, data).map_err(Failure::Skin)?);
     }
     soup.groups = FaceGroups::from_names(
         materials
@@ -418,23 +464,31 @@ mod tests {
         assert_eq!(skin.vertex_joint, [0, 1, 0, 0]);
     }
 
-    /// Bad skins are one error line each: weights that do not sum to 1, a joint number
-    /// past the skin's joints, a joint that is its own ancestor.
+    /// A bad skin is left out, with one line that says why: weights that do not sum to
+    /// 1 (or are NaN, as an exporter wrote them), a joint number past the skin's joints;
+    /// the shape is still read, placed by its nodes. A joint that is its own ancestor is
+    /// a cycle in the node tree: the file is refused in one line.
     #[test]
-    fn bad_skins_say_what() {
+    fn bad_skins_are_left_out_saying_why() {
+        let cycle = parse(skinned(1, [0.5, 0.5], ("[2]", "[1]")).as_bytes());
+        let e = cycle.expect_err("a cycle").to_string();
+        assert!(!e.contains('\n'), "{e}");
         for (text, says) in [
             (skinned(1, [0.5, 0.3], ("[2]", "[]")), "weights sum to 0.8"),
+            (
+                skinned(1, [f32::NAN, 0.5], ("[2]", "[]")),
+                "weights sum to NaN",
+            ),
             (
                 skinned(7, [0.5, 0.5], ("[2]", "[]")),
                 "names joint 7, but the skin has 2",
             ),
-            (
-                skinned(1, [0.5, 0.5], ("[2]", "[1]")),
-                "is its own ancestor",
-            ),
         ] {
-            let e = parse(text.as_bytes()).unwrap_err().to_string();
-            assert!(e.contains(says) && !e.contains('\n'), "{e}");
+            let soup = parse(text.as_bytes()).expect("the shape reads without its skin");
+            assert!(soup.skin.is_none());
+            assert_eq!(soup.triangles.len(), 4);
+            let why = soup.unread_skin.expect("a reason");
+            assert!(why.contains(says) && !why.contains('\n'), "{why}");
         }
     }
 
