@@ -324,3 +324,51 @@ fn touching_sheets_are_separated() {
         assert_eq!(v["faces"], 8, "{name}");
     }
 }
+
+/// A large open piece hanging off an edge the surface shares (a skirt sewn to a body at
+/// its waist, as game characters are exported) is kept: it gets its own copies of the
+/// vertices there, its hole is filled, and it is a part of the puppet; a flap of a few
+/// faces is still dropped.
+#[test]
+fn a_skirt_on_the_waist_is_kept_apart_not_dropped() {
+    let body = puppet::mesh::shapes::uv_sphere(1.0, 12, 16);
+    let mut m = body.clone();
+    // An open cone of 32 faces below the sphere, its rim on one ring of the sphere's
+    // vertices: each rim edge is the sphere's and the cone's (three faces).
+    let ring: Vec<u32> = (0..m.positions.len() as u32)
+        .filter(|&v| (m.positions[v as usize].y + 0.5).abs() < 1e-9)
+        .collect();
+    assert_eq!(ring.len(), 16);
+    let mut ring = ring;
+    ring.sort_by(|&a, &b| {
+        let (p, q) = (m.positions[a as usize], m.positions[b as usize]);
+        p.z.atan2(p.x).total_cmp(&q.z.atan2(q.x))
+    });
+    let hem0 = m.positions.len() as u32;
+    for &v in &ring {
+        let p = m.positions[v as usize];
+        m.positions.push(glam::DVec3::new(1.6 * p.x, -2.0, 1.6 * p.z));
+    }
+    for k in 0..16u32 {
+        let (a, b) = (ring[k as usize], ring[((k + 1) % 16) as usize]);
+        let (c, d) = (hem0 + k, hem0 + (k + 1) % 16);
+        m.triangles.push([a, b, d]);
+        m.triangles.push([a, d, c]);
+    }
+    let dir = scratch("skirt");
+    let path = dir.join("skirt.obj");
+    std::fs::write(&path, common::obj(&m)).unwrap();
+    let (mesh, report) = puppet::mesh::load(&path).expect("the skirted body loads");
+    let warnings = report.warnings().join("\n");
+    assert!(warnings.contains("gave 1 open piece"), "{warnings}");
+    assert!(!warnings.contains("fin"), "{warnings}");
+    assert_eq!(puppet::mesh::Parts::of(&mesh).len(), 2);
+    assert!(mesh.triangles.len() >= body.triangles.len() + 32);
+    puppet::Puppet::build_loaded(
+        mesh,
+        Some(&report),
+        puppet::RigFile::default(),
+        puppet::progress::silent(),
+    )
+    .expect("a puppet");
+}

@@ -137,8 +137,11 @@ pub struct LoadReport {
     pub flipped_parts: usize,
     /// Faces over the same three vertices as an earlier one, dropped.
     pub duplicate_faces: usize,
-    /// Faces of fins dropped: open pieces hanging off an edge a larger piece shares.
+    /// Faces of fins dropped: open flaps of a few faces hanging off an edge a larger piece
+    /// shares.
     pub fins: usize,
+    /// Larger open pieces hanging so, given their own copies of the vertices they shared.
+    pub detached: usize,
     /// PLY header lines read as comments though they lack the `comment` keyword.
     pub loose_comments: usize,
     /// Connected parts of the loaded mesh.
@@ -151,6 +154,8 @@ pub struct LoadReport {
     /// Where the repairs are on the loaded mesh (the window's overlay shows them).
     #[serde(skip)]
     pub marks: RepairMarks,
+    /// Why the file's skin was left out (a glTF skin that cannot be read).
+    pub unread_skin: Option<String>,
     /// The skeleton and clips the file comes with (a glTF skin), shared by every copy.
     #[serde(skip)]
     pub skin: Option<std::sync::Arc<super::Skin>>,
@@ -195,12 +200,14 @@ impl LoadReport {
             flipped_parts: 0,
             duplicate_faces: 0,
             fins: 0,
+            detached: 0,
             loose_comments: 0,
             parts: 0,
             seconds: Vec::new(),
             groups: Groups::default(),
             marks: RepairMarks::default(),
             skin: None,
+            unread_skin: None,
         }
     }
 
@@ -230,10 +237,22 @@ impl LoadReport {
                 plural(self.duplicate_faces, "duplicate face")
             ));
         }
+        if let Some(why) = &self.unread_skin {
+            w.push(format!(
+                "left its skin out ({why}): joints are suggested from its shape"
+            ));
+        }
         if self.loose_comments > 0 {
             w.push(format!(
                 "read {} of the PLY header without a keyword as comments",
                 plural(self.loose_comments, "line")
+            ));
+        }
+        if self.detached > 0 {
+            w.push(format!(
+                "gave {} hanging off an edge the surface shares (trousers or a skirt meeting a body at its waist) {} own copies of the vertices there",
+                plural(self.detached, "open piece"),
+                if self.detached == 1 { "its" } else { "their" }
             ));
         }
         if self.fins > 0 {
@@ -412,6 +431,7 @@ pub fn parse(
     let mut soup = read_soup(bytes, format)?;
     report.objects = soup.objects;
     report.loose_comments = soup.loose_comments;
+    report.unread_skin = soup.unread_skin.take();
     // The skin's vertices are carried by position too, once the repairs are done.
     let skinned = soup.skin.take().map(|s| (s, soup.positions.clone()));
     report.file_vertices = soup.positions.len();
@@ -441,22 +461,31 @@ pub fn parse(
     let (closed, measured) = rayon::join(|| half.is_closed_manifold(), || Parts::measured(&mesh));
     let (mut closed, mut measured) = (Some(closed), Some(measured));
     let mut holes = Holes::default();
+    // The copies a detached piece was given, kept from welding back to what they left.
+    let mut apart: Vec<u32> = Vec::new();
     if closed == Some(false) {
         let c = half.census(&|_| true);
         (closed, measured) = (None, None);
         // A face written twice makes its edges look shared by more than two faces.
         if c.nonmanifold > 0 {
             report.duplicate_faces = drop_duplicate_faces(&mut mesh);
-            report.fins = drop_fins(&mut mesh);
-            if report.duplicate_faces + report.fins > 0 {
+            let fins = drop_fins(&mut mesh);
+            (report.fins, report.detached) = (fins.dropped, fins.detached);
+            apart = fins.copies;
+            if report.duplicate_faces + report.fins + report.detached > 0 {
                 // A dropped flap can leave a vertex no face uses.
                 let identity: Vec<u32> = (0..mesh.positions.len() as u32).collect();
-                report.unreferenced += super::weld::remap(&mut mesh, &identity).removed_vertices;
+                let removed = super::weld::remap(&mut mesh, &identity).removed_vertices;
+                report.unreferenced += removed;
+                // The copies come last and are used: each moves down by what was removed.
+                for c in &mut apart {
+                    *c -= removed as u32;
+                }
                 half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
             }
         }
         if c.boundary > 0 {
-            report.seams_welded = weld_seams(&mut mesh, &half);
+            report.seams_welded = weld_seams(&mut mesh, &half, &apart);
             if report.seams_welded > 0 {
                 half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
             }

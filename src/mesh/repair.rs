@@ -60,11 +60,30 @@ pub(super) fn drop_duplicate_faces(mesh: &mut Mesh) -> usize {
     before - mesh.triangles.len()
 }
 
+/// A piece hanging off an edge is a fin, dropped, while it has at most this many faces (a
+/// stray flap); a larger one (a skirt, trousers, a cape) is a piece of its own.
+pub(super) const FIN: usize = 16;
+
+/// What [`drop_fins`] did.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub(super) struct Fins {
+    /// Faces dropped (fins).
+    pub dropped: usize,
+    /// Pieces given their own copies of the vertices they shared.
+    pub detached: usize,
+    /// Those copies (vertex numbers after the mesh's own).
+    pub copies: Vec<u32>,
+}
+
 /// Drops the *fins*: the faces of a piece that hangs off an edge shared by an odd number
-/// of faces (three or more), when the piece is open (it has an edge of one face) and a
-/// larger piece shares that edge. Pieces are faces joined across edges of exactly two
-/// faces. Returns how many faces were dropped (0 leaves the mesh untouched).
-pub(super) fn drop_fins(mesh: &mut Mesh) -> usize {
+/// of faces (three or more), when the piece is open (it has an edge of one face), a
+/// larger piece shares that edge, and the piece has at most [`FIN`] faces. A larger open
+/// piece hanging so (a character's trousers or skirt meeting its body along the waist)
+/// is a piece of its own: it gets its own copies of the vertices it shares, its
+/// holes are then filled like any other, and it is attached where it meets the body
+/// (`attachments`). Pieces are faces joined across edges of exactly two faces. Leaves the
+/// mesh untouched when there is nothing to do.
+pub(super) fn drop_fins(mesh: &mut Mesh) -> Fins {
     use std::collections::HashMap;
     let n = mesh.triangles.len();
     let mut on_edge: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
@@ -78,7 +97,7 @@ pub(super) fn drop_fins(mesh: &mut Mesh) -> usize {
         }
     }
     if !on_edge.values().any(|f| f.len() > 2 && f.len() % 2 == 1) {
-        return 0;
+        return Fins::default();
     }
     // Pieces: faces joined across edges of two faces.
     let mut parent: Vec<u32> = (0..n as u32).collect();
@@ -107,6 +126,7 @@ pub(super) fn drop_fins(mesh: &mut Mesh) -> usize {
         }
     }
     let mut drop: std::collections::HashSet<u32> = std::collections::HashSet::new();
+    let mut detach: std::collections::BTreeSet<u32> = std::collections::BTreeSet::new();
     let mut edges: Vec<&Vec<u32>> = on_edge
         .values()
         .filter(|f| f.len() > 2 && f.len() % 2 == 1)
@@ -121,22 +141,59 @@ pub(super) fn drop_fins(mesh: &mut Mesh) -> usize {
         for &f in faces {
             let r = roots[f as usize];
             if open.contains(&r) && size[&r] < largest {
-                drop.insert(r);
+                if size[&r] <= FIN {
+                    drop.insert(r);
+                } else {
+                    detach.insert(r);
+                }
             }
         }
     }
-    let before = n;
+    // A piece both dropped (off one edge) and detached (off another) is dropped.
+    detach.retain(|r| !drop.contains(r));
+    // Each detached piece's own copy of every vertex a face outside it uses too.
+    let mut outside: HashMap<u32, Vec<u32>> = HashMap::new();
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for &v in t {
+            let users = outside.entry(v).or_default();
+            if !users.contains(&roots[f]) {
+                users.push(roots[f]);
+            }
+        }
+    }
+    let mut copies: HashMap<(u32, u32), u32> = HashMap::new();
+    for (f, t) in mesh.triangles.iter_mut().enumerate() {
+        let r = roots[f];
+        if !detach.contains(&r) {
+            continue;
+        }
+        for v in t.iter_mut() {
+            if outside[v].len() > 1 {
+                *v = *copies.entry((*v, r)).or_insert_with(|| {
+                    mesh.positions.push(mesh.positions[*v as usize]);
+                    (mesh.positions.len() - 1) as u32
+                });
+            }
+        }
+    }
     let mut f = 0;
     mesh.triangles.retain(|_| {
         f += 1;
         !drop.contains(&roots[f - 1])
     });
-    before - mesh.triangles.len()
+    let mut copies: Vec<u32> = copies.into_values().collect();
+    copies.sort_unstable();
+    Fins {
+        dropped: n - mesh.triangles.len(),
+        detached: detach.len(),
+        copies,
+    }
 }
 
-/// Welds boundary vertices closer than a tenth of the shortest edge at either. Returns how
-/// many vertices were merged (0 leaves the mesh untouched).
-pub(super) fn weld_seams(mesh: &mut Mesh, half: &HalfEdges) -> usize {
+/// Welds boundary vertices closer than a tenth of the shortest edge at either, but none
+/// from `apart` (the copies [`drop_fins`] gave a detached piece). Returns how many
+/// vertices were merged (0 leaves the mesh untouched).
+pub(super) fn weld_seams(mesh: &mut Mesh, half: &HalfEdges, apart: &[u32]) -> usize {
     let n = mesh.positions.len();
     // Boundary vertices and their shortest incident edge.
     let mut reach = vec![f64::INFINITY; n];
@@ -165,6 +222,11 @@ pub(super) fn weld_seams(mesh: &mut Mesh, half: &HalfEdges) -> usize {
             if half.count(b, a) == 0 {
                 is_boundary[b as usize] = true;
             }
+        }
+    }
+    for &v in apart {
+        if let Some(b) = is_boundary.get_mut(v as usize) {
+            *b = false;
         }
     }
     let mut list: Vec<u32> = (0..n as u32).filter(|&v| is_boundary[v as usize]).collect();
@@ -432,7 +494,7 @@ mod tests {
         }
         assert!(!census(&m).is_clean());
         let half = HalfEdges::new(m.positions.len(), &m.triangles);
-        assert_eq!(weld_seams(&mut m, &half), 1);
+        assert_eq!(weld_seams(&mut m, &half, &[]), 1);
         assert!(census(&m).is_clean());
     }
 
@@ -448,7 +510,7 @@ mod tests {
         m.positions.push(DVec3::new(3.0, 0.0, 0.0));
         m.triangles.push([t[1], t[0], tip]);
         assert_eq!(census(&m).nonmanifold, 1);
-        assert_eq!(drop_fins(&mut m), 1);
+        assert_eq!(drop_fins(&mut m).dropped, 1);
         assert_eq!(m.triangles, sphere.triangles);
         // A flap of two faces off one edge.
         let mut m = sphere.clone();
@@ -457,7 +519,7 @@ mod tests {
         m.positions.push(DVec3::new(3.0, 1.0, 0.0));
         m.triangles.push([t[1], t[0], far]);
         m.triangles.push([t[0], far + 1, far]);
-        assert_eq!(drop_fins(&mut m), 2);
+        assert_eq!(drop_fins(&mut m).dropped, 2);
         assert!(census(&m).is_clean() || census(&m).boundary == 0);
         // A book: three single-face pages on one spine.
         let mut book = Mesh {
@@ -470,7 +532,35 @@ mod tests {
             ],
             triangles: vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]],
         };
-        assert_eq!(drop_fins(&mut book), 0);
+        assert_eq!(drop_fins(&mut book), Fins::default());
         assert_eq!(book.triangles.len(), 3);
+    }
+
+    /// An open piece of more than [`FIN`] faces hanging off an edge (a character's
+    /// trousers on its body) is no fin: it keeps its faces, with its own copies of the
+    /// vertices it shared, and is a part of its own.
+    #[test]
+    fn a_large_open_piece_hanging_off_an_edge_is_detached_not_dropped() {
+        let sphere = shapes::uv_sphere(1.0, 12, 8);
+        let t = sphere.triangles[5];
+        let mut m = sphere.clone();
+        // A fan of faces off one edge of the sphere: half as many faces as the sphere.
+        let base = m.positions.len() as u32;
+        let count = sphere.triangles.len() / 2;
+        for k in 0..=count {
+            let a = k as f64 / count as f64 * std::f64::consts::PI;
+            m.positions.push(DVec3::new(3.0 + a.cos(), a.sin(), 0.0));
+        }
+        m.triangles.push([t[1], t[0], base]);
+        for k in 0..count as u32 {
+            m.triangles.push([t[0], base + k + 1, base + k]);
+        }
+        let faces = m.triangles.len();
+        let fins = drop_fins(&mut m);
+        assert_eq!((fins.dropped, fins.detached, fins.copies.len()), (0, 1, 2));
+        assert_eq!(m.triangles.len(), faces);
+        assert_eq!(census(&m).nonmanifold, 0);
+        assert_eq!(m.triangles[..sphere.triangles.len()], sphere.triangles[..]);
+        assert_eq!(crate::mesh::Parts::of(&m).len(), 2);
     }
 }
