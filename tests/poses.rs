@@ -193,3 +193,81 @@ fn a_claw_folded_against_the_body_turns_without_tearing() {
     );
     assert!(over <= 0.01, "{:.2} % of edges over 1.5×", 100.0 * over);
 }
+
+/// The suggestion's step 6 (`joints::suggest::seams`): on every character of the
+/// population and of the characters in pieces, no section meets one it is not related to
+/// (neither its parent, its child nor a sibling) over a quarter of the shorter of their
+/// seams (mesh edges to other sections), as the guide and BENCHMARKS say.
+#[test]
+fn no_section_meets_one_it_is_not_related_to() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pieces");
+    let mut files = population();
+    let mut pieces: Vec<_> = std::fs::read_dir(root)
+        .expect("tests/data/pieces")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "obj"))
+        .collect();
+    pieces.sort();
+    files.extend(pieces);
+    for path in &files {
+        let p = suggested(path);
+        let sections = p.joints.sections();
+        let of = p.joints.section_of();
+        let parent = |s: usize| sections[s].parent;
+        let related = |a: usize, b: usize| {
+            parent(a) == Some(b)
+                || parent(b) == Some(a)
+                || (parent(a).is_some() && parent(a) == parent(b))
+        };
+        let mut seam = vec![0usize; sections.len()];
+        let mut shared = std::collections::BTreeMap::new();
+        let edges: std::collections::BTreeSet<(u32, u32)> = p
+            .mesh
+            .triangles
+            .iter()
+            .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+            .map(|(a, b)| (a.min(b), a.max(b)))
+            .collect();
+        for (a, b) in edges {
+            let (sa, sb) = (usize::from(of[a as usize]), usize::from(of[b as usize]));
+            if sa != sb {
+                seam[sa] += 1;
+                seam[sb] += 1;
+                if !related(sa, sb) {
+                    *shared.entry((sa.min(sb), sa.max(sb))).or_insert(0usize) += 1;
+                }
+            }
+        }
+        for ((a, b), n) in shared {
+            let share = n as f64 / seam[a].min(seam[b]) as f64;
+            assert!(
+                share < 0.25,
+                "{}: {} and {} share {:.0} % of a seam",
+                path.display(),
+                sections[a].name,
+                sections[b].name,
+                100.0 * share
+            );
+        }
+    }
+    assert!(files.len() >= 36, "{} characters", files.len());
+}
+
+/// Sections that met unrelated ones turned apart with no band between them: the lion
+/// statue's chain of "jaws", each touching its body, tore 44–93×, the beach man's toes,
+/// which met his shin past his foot, 13–17×. Their cuts go (step 6): 13× and 2× at most
+/// over `bench poses`' first three seeds.
+#[test]
+fn sections_that_met_unrelated_ones_no_longer_tear() {
+    let lion =
+        suggested(&Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/poses/lionstatue.obj"));
+    let (stretch, _, _) = worst(&lion, 2);
+    assert!(stretch <= 16.0, "the lion: an edge stretched {stretch:.2}×");
+    let beach =
+        suggested(&Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pieces/man-beach.obj"));
+    let (stretch, _, _) = worst(&beach, 2);
+    assert!(
+        stretch <= 3.0,
+        "the beach man: an edge stretched {stretch:.2}×"
+    );
+}

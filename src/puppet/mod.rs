@@ -220,17 +220,23 @@ impl Puppet {
         let (mut cuts, frame) =
             crate::joints::suggest::suggest(&self.mesh, &self.skeleton, &root, up);
         self.frame = Some(frame);
+        let mut skinned = false;
         if let Some(skin) = self.skin_joints() {
             root = skin.root;
             cuts = skin.cuts;
+            skinned = true;
         }
         // The floor lies across the up the suggestion found (unless the rig gives one).
         self.sim.set_up(self.up().as_vec3());
         let mut joints = self.joints.without_cuts(&root);
         joints.add_cuts(cuts.iter().cloned())?;
+        if !skinned {
+            crate::joints::suggest::seams::keep_related(&mut joints);
+        }
+        let count = joints.cuts().len();
         self.joints = joints;
         self.sync_sections();
-        Ok(cuts.len())
+        Ok(count)
     }
 
     /// The joints the mesh file's skin gives, unless [`Puppet::ignore_skin`] is on.

@@ -84,6 +84,11 @@
 //!    as the slice there is wide and no taller than the character below it; the ears on
 //!    it turn with it (`head`).
 //!
+//! 6. **Seams.** Once the cuts apply to the puppet (its sections whole over the surface),
+//!    a section that meets one it neither hangs from, nor carries, nor sits beside over
+//!    `FOREIGN` of its seam loses its cut (`seams`): the two would turn apart with no band
+//!    between them.
+//!
 //! `puppet bench suggest` scores it against the labelled characters of
 //! `tests/data/characters` (`labels`).
 //!
@@ -100,7 +105,9 @@
 //! * `anatomy`: the names by role within that frame (step 5, second half);
 //! * `head`: a biped's head with no neck to cut at turns at the top of its shoulders;
 //! * `characters`: two or more characters in one file, each suggested on its own;
-//! * `labels`: a labelled character's joints, and a suggestion's score against them.
+//! * `labels`: a labelled character's joints, and a suggestion's score against them;
+//! * `seams`: the cuts applied, a section meeting one it is not related to loses its cut
+//!   (step 6).
 
 mod anatomy;
 pub mod characters;
@@ -110,6 +117,7 @@ mod graph;
 mod head;
 pub mod labels;
 mod rules;
+pub mod seams;
 mod sections;
 mod slice;
 mod tree;
