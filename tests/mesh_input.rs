@@ -347,7 +347,8 @@ fn a_skirt_on_the_waist_is_kept_apart_not_dropped() {
     let hem0 = m.positions.len() as u32;
     for &v in &ring {
         let p = m.positions[v as usize];
-        m.positions.push(glam::DVec3::new(1.6 * p.x, -2.0, 1.6 * p.z));
+        m.positions
+            .push(glam::DVec3::new(1.6 * p.x, -2.0, 1.6 * p.z));
     }
     for k in 0..16u32 {
         let (a, b) = (ring[k as usize], ring[((k + 1) % 16) as usize]);
