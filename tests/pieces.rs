@@ -2,6 +2,9 @@
 //! they meet (`mesh::attachments`) and cuts the limbs they make; every piece turns with its
 //! limb.
 
+mod common;
+
+use common::{data_objs, suggested};
 use glam::DVec3;
 use puppet::mesh::{shapes, Mesh};
 use puppet::puppet::poses::{self, Spread};
@@ -65,18 +68,6 @@ fn outside(p: &Puppet) -> usize {
         .count()
 }
 
-/// The downloaded characters in pieces (`tests/data/pieces/README.md`).
-fn corpus() -> Vec<std::path::PathBuf> {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pieces");
-    let mut files: Vec<_> = std::fs::read_dir(dir)
-        .expect("tests/data/pieces")
-        .map(|e| e.expect("an entry").path())
-        .filter(|p| p.extension().is_some_and(|e| e == "obj"))
-        .collect();
-    files.sort();
-    files
-}
-
 /// Every downloaded character in pieces becomes one puppet: it has cuts, the suggestion
 /// finds the arms, legs and head of the people among them (scored against what every
 /// person has; the floors are today's: both arms on 8 of 8, both legs on 7, a head or
@@ -85,24 +76,16 @@ fn corpus() -> Vec<std::path::PathBuf> {
 /// and none is NaN.
 #[test]
 fn downloaded_characters_in_pieces_are_puppets() {
-    let files = corpus();
+    let files = data_objs("pieces");
     assert_eq!(files.len(), 12);
     let (mut people, mut arms, mut legs, mut heads) = (0, 0, 0, 0);
     for path in &files {
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
-        let (mesh, report) = puppet::mesh::load(path).expect("a corpus mesh loads");
+        let p = suggested(path);
         assert!(
-            puppet::mesh::Parts::of(&mesh).len() >= 10,
+            puppet::mesh::Parts::of(&p.mesh).len() >= 10,
             "{name}: in pieces"
         );
-        let mut p = Puppet::build_loaded(
-            mesh,
-            Some(&report),
-            RigFile::default(),
-            puppet::progress::silent(),
-        )
-        .expect("a puppet");
-        p.suggest_joints().expect("joints");
         let names: Vec<&str> = p.joints.cuts().iter().map(|c| c.name.as_str()).collect();
         assert!(names.len() >= 4, "{name}: {names:?}");
         if name.starts_with("man-") || name.starts_with("woman-") {

@@ -3,29 +3,13 @@
 //! ±60°, ±90° at the root), settled, the surface measured against its rest shape. The
 //! full population is `puppet bench poses` (`BENCHMARKS.md`); this is its sample.
 
+mod common;
+
+use common::{data_objs, suggested};
 use puppet::puppet::poses::{self, Spread};
 use puppet::random::SplitMix;
-use puppet::{Puppet, RigFile};
+use puppet::Puppet;
 use std::path::Path;
-
-/// A shipped mesh with its suggested joints.
-fn suggested(path: &Path) -> Puppet {
-    let (mesh, report) = puppet::mesh::load_with(
-        path,
-        &puppet::mesh::LoadOptions::default(),
-        puppet::progress::silent(),
-    )
-    .expect("a shipped mesh loads");
-    let mut p = Puppet::build_loaded(
-        mesh,
-        Some(&report),
-        RigFile::default(),
-        puppet::progress::silent(),
-    )
-    .expect("a puppet");
-    p.suggest_joints().expect("suggested joints");
-    p
-}
 
 fn mesh(name: &str) -> std::path::PathBuf {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -102,18 +86,10 @@ fn the_human_nods_without_tearing_its_face() {
 
 /// Every mesh in the pose population but the embedded cow (`puppet bench poses`).
 fn population() -> Vec<std::path::PathBuf> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
-    let mut out = Vec::new();
-    for folder in ["meshes", "characters", "poses"] {
-        let mut files: Vec<_> = std::fs::read_dir(root.join(folder))
-            .expect("a test data folder")
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.extension().is_some_and(|e| e == "obj"))
-            .collect();
-        files.sort();
-        out.extend(files);
-    }
-    out
+    ["meshes", "characters", "poses"]
+        .into_iter()
+        .flat_map(data_objs)
+        .collect()
 }
 
 /// Sections are whole (`joints::whole`): on every character of the population, each
@@ -200,15 +176,8 @@ fn a_claw_folded_against_the_body_turns_without_tearing() {
 /// seams (mesh edges to other sections), as the guide and BENCHMARKS say.
 #[test]
 fn no_section_meets_one_it_is_not_related_to() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pieces");
     let mut files = population();
-    let mut pieces: Vec<_> = std::fs::read_dir(root)
-        .expect("tests/data/pieces")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "obj"))
-        .collect();
-    pieces.sort();
-    files.extend(pieces);
+    files.extend(data_objs("pieces"));
     for path in &files {
         let p = suggested(path);
         let sections = p.joints.sections();

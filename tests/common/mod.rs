@@ -401,3 +401,37 @@ pub fn validate(glb: &Path) {
     let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(report["errors"], 0, "{report}");
 }
+
+/// The OBJ files of `tests/data/<folder>`, sorted.
+pub fn data_objs(folder: &str) -> Vec<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(folder);
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "obj"))
+        .collect();
+    files.sort();
+    files
+}
+
+/// The mesh at `path` loaded as the app loads it, built into a puppet with its suggested
+/// joints.
+pub fn suggested(path: &Path) -> puppet::Puppet {
+    let (mesh, report) = puppet::mesh::load_with(
+        path,
+        &puppet::mesh::LoadOptions::default(),
+        puppet::progress::silent(),
+    )
+    .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut p = puppet::Puppet::build_loaded(
+        mesh,
+        Some(&report),
+        puppet::RigFile::default(),
+        puppet::progress::silent(),
+    )
+    .expect("a puppet");
+    p.suggest_joints().expect("suggested joints");
+    p
+}
