@@ -273,7 +273,7 @@ fn short_stress_run_passes() {
     let mut poses = 0;
     let mut held = 0;
     let mut ups = [0; 6];
-    let (mut skins, mut mixes) = (0, 0);
+    let (mut skins, mut mixes, mut pieces) = (0, 0, 0);
     let mut drawn: std::collections::BTreeMap<String, u64> = Default::default();
     for seed in ["1", "2", "3"] {
         let report = ok_json(&[
@@ -289,6 +289,7 @@ fn short_stress_run_passes() {
         held += report["held"].as_u64().unwrap();
         skins += report["skins"].as_u64().unwrap();
         mixes += report["mixes"].as_u64().unwrap();
+        pieces += report["pieces"].as_u64().unwrap();
         for (k, n) in ups.iter_mut().enumerate() {
             *n += report["up"][k].as_u64().unwrap();
         }
@@ -302,6 +303,8 @@ fn short_stress_run_passes() {
     assert!(drawn.values().all(|&n| n >= 3), "{drawn:?}");
     // Scenarios rigged by a random skin, its weights mixing sections, were drawn.
     assert!(skins >= 1 && mixes >= 1, "{skins} skins, {mixes} mixes");
+    // Meshes in pieces, attached where they meet (`mesh::attachments`), were drawn.
+    assert!(pieces >= 1, "{pieces}");
     // Poses held back by collision, and up along several axis directions, were drawn.
     assert!(held >= 1, "{held}");
     assert!(ups.iter().filter(|&&n| n > 0).count() >= 3, "{ups:?}");

@@ -94,6 +94,8 @@ struct Report {
     /// the sections: `joints::skin`), and the mixes they had.
     skins: usize,
     mixes: usize,
+    /// Scenarios on a mesh in pieces, its parts attached where they meet.
+    pieces: usize,
     /// How many scenarios drew each option (so a run can show every one was tried).
     drawn: Drawn,
     seconds: f64,
@@ -128,6 +130,7 @@ fn bases() -> Result<Vec<Base>> {
         ("icosphere-2", shapes::icosphere(1.0, 2)),
         ("capsule", shapes::capsule(0.3, 0.8, 6, 6, 12)),
         ("torus", shapes::torus(1.0, 0.3, 24, 8)),
+        ("pieces", pieces()),
         ("spot", spot.clone()),
         ("spot-subdivided", subdivide_loop(&spot)),
     ];
@@ -148,6 +151,26 @@ fn bases() -> Result<Vec<Base>> {
             })
         })
         .collect()
+}
+
+/// A character in three pieces, each pushed into the next: a body, an upper arm, a
+/// forearm (attached where they meet, `mesh::attachments`).
+fn pieces() -> Mesh {
+    let mut out = shapes::capsule(0.3, 0.5, 6, 6, 12);
+    let piece = shapes::capsule(0.12, 0.3, 4, 4, 10);
+    for x in [0.6, 1.3] {
+        let base = out.positions.len() as u32;
+        // Lying along x, its middle at (x, 0.3, 0).
+        out.positions.extend(
+            piece
+                .positions
+                .iter()
+                .map(|p| DVec3::new(p.y + x, 0.3 - p.x, p.z)),
+        );
+        out.triangles
+            .extend(piece.triangles.iter().map(|t| t.map(|v| v + base)));
+    }
+    out
 }
 
 /// `puppet bench stress`.
@@ -378,6 +401,11 @@ fn run_scenario(
         .collect();
     // With the mesh, so the bands blend over the surface (`joints::blend`).
     let mut joints = Joints::with_mesh(&points, &scenario.mesh.triangles, &[], ROOT);
+    let attachments = mesh::attachments(&scenario.mesh);
+    if !attachments.is_empty() {
+        report.pieces += 1;
+    }
+    joints.attach_parts(&attachments);
     joints.set_surface(&scenario.mesh.positions, &scenario.distance);
     // A quarter of the scenarios are rigged by a random skin instead of random cuts.
     let skinned = rng.below(4) == 0;
