@@ -56,7 +56,8 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     let mut sk = skeleton::build(&mesh, &normals, &params, &|s, f| bar.update(s, f))
         .map_err(|e| FileError::new(&name, e))?;
     // The skeleton the puppet uses: held inside a repaired mesh, and a mesh in pieces.
-    let moved_inside = sk.hold_inside(&mesh, !report.marks.is_empty());
+    let parts = puppet::mesh::Parts::of(&mesh);
+    let moved_inside = sk.hold_inside(&mesh, &parts, !report.marks.is_empty());
     bar.finish();
     let mut t_written = None;
     if let Some(out) = &args.output {

@@ -151,13 +151,37 @@ pub(super) fn drop_fins(mesh: &mut Mesh) -> Fins {
     }
     // A piece both dropped (off one edge) and detached (off another) is dropped.
     detach.retain(|r| !drop.contains(r));
-    // Each detached piece's own copy of every vertex a face outside it uses too.
-    let mut outside: HashMap<u32, Vec<u32>> = HashMap::new();
+    let copies = if detach.is_empty() {
+        Vec::new()
+    } else {
+        own_copies(mesh, &roots, &detach)
+    };
+    let mut f = 0;
+    mesh.triangles.retain(|_| {
+        f += 1;
+        !drop.contains(&roots[f - 1])
+    });
+    Fins {
+        dropped: n - mesh.triangles.len(),
+        detached: detach.len(),
+        copies,
+    }
+}
+
+/// Gives each piece in `detach` (by its root in `roots`, one per face) its own copy of
+/// every vertex a face outside it uses too; returns the copies, in order.
+fn own_copies(
+    mesh: &mut Mesh,
+    roots: &[u32],
+    detach: &std::collections::BTreeSet<u32>,
+) -> Vec<u32> {
+    use std::collections::HashMap;
+    let mut users: HashMap<u32, Vec<u32>> = HashMap::new();
     for (f, t) in mesh.triangles.iter().enumerate() {
         for &v in t {
-            let users = outside.entry(v).or_default();
-            if !users.contains(&roots[f]) {
-                users.push(roots[f]);
+            let list = users.entry(v).or_default();
+            if !list.contains(&roots[f]) {
+                list.push(roots[f]);
             }
         }
     }
@@ -168,7 +192,7 @@ pub(super) fn drop_fins(mesh: &mut Mesh) -> Fins {
             continue;
         }
         for v in t.iter_mut() {
-            if outside[v].len() > 1 {
+            if users[v].len() > 1 {
                 *v = *copies.entry((*v, r)).or_insert_with(|| {
                     mesh.positions.push(mesh.positions[*v as usize]);
                     (mesh.positions.len() - 1) as u32
@@ -176,18 +200,9 @@ pub(super) fn drop_fins(mesh: &mut Mesh) -> Fins {
             }
         }
     }
-    let mut f = 0;
-    mesh.triangles.retain(|_| {
-        f += 1;
-        !drop.contains(&roots[f - 1])
-    });
     let mut copies: Vec<u32> = copies.into_values().collect();
     copies.sort_unstable();
-    Fins {
-        dropped: n - mesh.triangles.len(),
-        detached: detach.len(),
-        copies,
-    }
+    copies
 }
 
 /// Welds boundary vertices closer than a tenth of the shortest edge at either, but none

@@ -102,11 +102,12 @@ impl Puppet {
         };
         let mut skeleton = skeleton::cache::build_cached(&mesh, &normals, &params, progress)?;
         let groups = report.map(|r| r.groups.clone()).unwrap_or_default();
-        let moved = skeleton.hold_inside(&mesh, report.is_some_and(|r| !r.marks.is_empty()));
+        let parts = mesh::Parts::of(&mesh);
+        let repaired = report.is_some_and(|r| !r.marks.is_empty());
+        let moved = skeleton.hold_inside(&mesh, &parts, repaired);
         if moved > 0 {
             log::debug!("{moved} skeletal points moved back inside the mesh");
         }
-        let parts = mesh::Parts::of(&mesh);
         // Riders go with the section of the body vertex nearest to them.
         let hosts = if skeleton.riders > 0 {
             parts.hosts(&mesh.positions)

@@ -179,7 +179,7 @@ pub fn measure_at(puppet: &Puppet, now: &[DVec3], local: &[Local]) -> Surface {
             ..Surface::default()
         };
     }
-    let mut stretch: Vec<f64> = edges(&puppet.mesh.triangles)
+    let mut stretch: Vec<f64> = crate::mesh::unique_edges(&puppet.mesh.triangles)
         .into_iter()
         .filter_map(|(a, b)| {
             let (a, b) = (a as usize, b as usize);
@@ -256,18 +256,6 @@ pub fn worst_stretch(puppet: &Puppet) -> f64 {
     worst
 }
 
-/// Each edge of `triangles` once (smaller index first).
-fn edges(triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
-    let mut out: Vec<(u32, u32)> = triangles
-        .iter()
-        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
-        .map(|(a, b)| (a.min(b), a.max(b)))
-        .collect();
-    out.sort_unstable();
-    out.dedup();
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -308,10 +296,5 @@ mod tests {
                 }
             }
         }
-    }
-
-    #[test]
-    fn edges_are_listed_once() {
-        assert_eq!(edges(&[[0, 1, 2], [2, 1, 3]]).len(), 5);
     }
 }

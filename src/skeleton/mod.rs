@@ -177,10 +177,16 @@ pub struct Skeleton {
 
 impl Skeleton {
     /// [`Skeleton::keep_inside`] where a skeleton can leave its mesh: after repairs
-    /// (`repaired`: a filled hole's rim), and on a mesh of two or more body parts (each
-    /// part's skeleton is built on that part alone, [`build`]). Returns how many moved.
-    pub fn hold_inside(&mut self, mesh: &crate::mesh::Mesh, repaired: bool) -> usize {
-        if repaired || crate::mesh::Parts::of(mesh).body_parts().len() > 1 {
+    /// (`repaired`: a filled hole's rim), and on a mesh of two or more body parts (`parts`,
+    /// the mesh's: each part's skeleton is built on that part alone, [`build`]). Returns
+    /// how many moved.
+    pub fn hold_inside(
+        &mut self,
+        mesh: &crate::mesh::Mesh,
+        parts: &crate::mesh::Parts,
+        repaired: bool,
+    ) -> usize {
+        if repaired || parts.body_parts().len() > 1 {
             self.keep_inside(mesh)
         } else {
             0
