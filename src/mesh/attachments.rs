@@ -31,6 +31,64 @@ struct Piece {
     hi: DVec3,
 }
 
+/// The pieces' boxes in a uniform grid (cells as large as the median box), so a vertex
+/// looks only at the pieces whose boxes share its cell: a mesh of thousands of pieces is
+/// not every vertex against every piece.
+struct Boxes {
+    cell: f64,
+    cells: std::collections::HashMap<[i64; 3], Vec<usize>>,
+    /// Pieces whose boxes span too many cells, looked at by every vertex.
+    big: Vec<usize>,
+}
+
+/// A box spanning more cells than this is looked at by every vertex.
+const MOST_CELLS: i64 = 512;
+
+impl Boxes {
+    fn new(pieces: &[Piece]) -> Boxes {
+        let mut sizes: Vec<f64> = pieces
+            .iter()
+            .map(|p| (p.hi - p.lo).max_element())
+            .filter(|e| e.is_finite() && *e > 0.0)
+            .collect();
+        let cell = crate::stats::median(&mut sizes).unwrap_or(1.0);
+        let mut out = Boxes {
+            cell,
+            cells: Default::default(),
+            big: Vec::new(),
+        };
+        for (k, p) in pieces.iter().enumerate() {
+            let (lo, hi) = (out.key(p.lo), out.key(p.hi));
+            let span = (0..3)
+                .map(|d| hi[d].saturating_sub(lo[d]).saturating_add(1))
+                .fold(1i64, i64::saturating_mul);
+            if !(1..=MOST_CELLS).contains(&span) {
+                out.big.push(k);
+                continue;
+            }
+            for x in lo[0]..=hi[0] {
+                for y in lo[1]..=hi[1] {
+                    for z in lo[2]..=hi[2] {
+                        out.cells.entry([x, y, z]).or_default().push(k);
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    fn key(&self, p: DVec3) -> [i64; 3] {
+        let k = (p / self.cell).floor();
+        [k.x, k.y, k.z].map(|c| c.clamp(-1e15, 1e15) as i64)
+    }
+
+    /// The pieces whose boxes may hold `p`.
+    fn near(&self, p: DVec3) -> impl Iterator<Item = usize> + '_ {
+        let here = self.cells.get(&self.key(p)).map_or(&[][..], Vec::as_slice);
+        here.iter().chain(&self.big).copied()
+    }
+}
+
 impl Parts {
     /// The attachments between the body parts of `mesh` (these parts' mesh), each pair of
     /// vertices once, lower first; see the module docs.
@@ -79,14 +137,17 @@ impl Parts {
                 }
             })
             .collect();
+        let boxes = Boxes::new(&found);
         let mut out: Vec<(u32, u32)> = found
             .par_iter()
             .flat_map_iter(|a| {
                 let found = &found;
                 let reach = &reach;
+                let boxes = &boxes;
                 members[a.part].iter().flat_map(move |&v| {
                     let p = positions[v as usize];
-                    found.iter().filter_map(move |b| {
+                    boxes.near(p).filter_map(move |k| {
+                        let b = &found[k];
                         if b.part == a.part || p.cmplt(b.lo).any() || p.cmpgt(b.hi).any() {
                             return None;
                         }
