@@ -743,7 +743,17 @@ impl Joints {
             // weight must match (on a limb its skeletal point does, and is continuous);
             // a fan's blend over the surface.
             let weights = if arc {
-                self.blend(child, parent, pivot, normal, Hold::Exact, &guess)
+                self.blend(
+                    child,
+                    parent,
+                    pivot,
+                    normal,
+                    Hold::Exact {
+                        span: width + reach,
+                        smooth: SMOOTH * radius,
+                    },
+                    &guess,
+                )
             } else {
                 self.blend(
                     child,

@@ -33,6 +33,14 @@ use std::collections::BinaryHeap;
 /// seam (see the module docs).
 pub const SEAM_REACH: f64 = 0.75;
 
+/// How many times a limb's slope (the band's weight over its length) a first guess may
+/// change along an edge before it is a jump, not a limb's skeleton (a head's skeletal
+/// points at its centre, a chest's under a tucked arm). Chosen on half of
+/// `puppet bench poses`' characters (every other one) from 1.5, 2, 3, 4, 6 and none, by
+/// characters within 3× on every pose, then the worst stretch's 90th percentile, then its
+/// median; `docs/performance-log.md` has the other half.
+pub const JUMP: f64 = 2.0;
+
 /// Conjugate-gradient steps at most, and the residual (relative to the first) at which
 /// the weights are taken as solved.
 const MAX_ITERATIONS: usize = 400;
@@ -43,8 +51,15 @@ const TOLERANCE: f64 = 1e-6;
 pub(super) enum Hold {
     /// Exactly: an arc's levels are places along its bent centre line, which a vertex's
     /// weight must match (on a limb its skeletal point gives it, continuously); only the
-    /// parent's side around it is blended.
-    Exact,
+    /// parent's side around it is blended, and the band's vertices within `smooth` of a
+    /// place where the first guess jumps (see [`JUMP`]).
+    Exact {
+        /// The band's length, child and parent side together: over it the weight goes
+        /// from 0 to 1.
+        span: f64,
+        /// How far around a jump the weight is blended instead.
+        smooth: f64,
+    },
     /// Softly, a fan's: the child's within about `smooth` of a jump, the parent's not at
     /// all, and the child's vertices within `reach` of the seam blend too.
     Soft {
@@ -77,7 +92,7 @@ impl Joints {
         guess: &[Guess],
     ) -> Vec<(usize, f64)> {
         let (exact, width, smooth) = match hold {
-            Hold::Exact => (true, 0.0, 0.0),
+            Hold::Exact { smooth, .. } => (true, 0.0, smooth),
             Hold::Soft { reach, smooth } => (false, reach, smooth),
         };
         let n = self.section_of.len();
@@ -128,12 +143,16 @@ impl Joints {
         // A fixed vertex's weight: its label, or (held exactly) its first guess.
         let mut fixed: Vec<f64> = (0..n).map(label).collect();
         let mut kept: Vec<(usize, f64)> = Vec::new();
+        let loose = match hold {
+            Hold::Exact { span, smooth } => self.jumps(guess, span, smooth, child),
+            Hold::Soft { .. } => Vec::new(),
+        };
         for g in guess {
-            if exact {
+            if exact && !loose.get(g.vertex).copied().unwrap_or(false) {
                 fixed[g.vertex] = g.x;
                 kept.push((g.vertex, g.x));
                 index[g.vertex] = u32::MAX - 1;
-            } else if index[g.vertex] == NOT && ours(g.vertex) {
+            } else if index[g.vertex] == NOT && (ours(g.vertex) || exact) {
                 index[g.vertex] = free.len() as u32;
                 free.push(g.vertex);
                 x.push(g.x);
@@ -233,6 +252,43 @@ impl Joints {
             .map(|(i, x)| (i, x.clamp(0.0, 1.0)))
             .chain(kept)
             .collect()
+    }
+
+    /// Which of the band's vertices lie within `smooth` of a jump in their first guess
+    /// `guess` (`span` the band's length, `child` its child section), by vertex: an edge
+    /// whose two ends' guesses differ by more than [`JUMP`] times what a limb's skeleton
+    /// gives over its length (a child's vertex outside the band counts as 1).
+    fn jumps(&self, guess: &[Guess], span: f64, smooth: f64, child: usize) -> Vec<bool> {
+        let n = self.section_of.len();
+        let mut first = vec![f64::NAN; n];
+        for g in guess {
+            first[g.vertex] = g.x;
+        }
+        let rest = &self.body.rest;
+        let mut from = Vec::new();
+        for g in guess {
+            let i = g.vertex;
+            let jumps = self.body.neighbours(i).iter().any(|&j| {
+                let j = j as usize;
+                let other = match first[j] {
+                    x if !x.is_nan() => x,
+                    _ if usize::from(self.section_of[j]) == child && !self.body.is_rider(j) => 1.0,
+                    _ => return false,
+                };
+                (g.x - other).abs() * span > JUMP * rest[i].distance(rest[j])
+            });
+            if jumps {
+                from.push(i);
+            }
+        }
+        let mut loose = vec![false; n];
+        if from.is_empty() {
+            return loose;
+        }
+        for (i, _) in self.within(&from, smooth, |i| !first[i].is_nan()) {
+            loose[i] = true;
+        }
+        loose
     }
 
     /// The vertices (where `pass` holds) within `reach` of `from` along mesh edges, with
