@@ -557,12 +557,12 @@ fn motion_wakes_neighbouring_tiles_before_it_reaches_them() {
 }
 
 #[test]
-fn every_spring_sits_in_its_lane_and_padding_is_a_zero_length_spring() {
+fn every_spring_sits_in_its_lane_and_padding_is_a_spring_without_stiffness() {
     use puppet::sim::layout::Layout;
     let rig = rig();
     for tile in [1, 37, 256, 100_000] {
         let l = Layout::new(&rig, tile);
-        assert_eq!(l.lane_rest.len(), l.lane_offsets().len());
+        assert_eq!(l.lane_stiffness.len(), l.lane_offsets().len());
         let groups: usize = (0..l.tiles())
             .map(|t| l.tile_range(t).len().div_ceil(Layout::LANES))
             .sum();
@@ -572,12 +572,13 @@ fn every_spring_sits_in_its_lane_and_padding_is_a_zero_length_spring() {
             let r = l.tile_range(t);
             let g0 = t * l.groups_per_tile();
             // Row `row` of a group holds the row-th spring of each of its slots (neighbours as
-            // offsets, 4 × the slot), padded with the slot itself and rest 0; lanes past a
+            // offsets, 4 × the slot), padded with the slot itself and stiffness 0; lanes past a
             // short group's end repeat its last slot.
             for (gi, group) in r.clone().step_by(Layout::LANES).enumerate() {
                 let g = g0 + gi;
                 let span = l.group_start[g] as usize..l.group_start[g + 1] as usize;
-                let (neighbours, rests) = (&l.lane_offsets()[span.clone()], &l.lane_rest[span]);
+                let (neighbours, stiffness) =
+                    (&l.lane_offsets()[span.clone()], &l.lane_stiffness[span]);
                 assert_eq!(neighbours.len() % Layout::LANES, 0);
                 let valence = (group..(group + Layout::LANES).min(r.end))
                     .map(|k| (l.start[k + 1] - l.start[k]) as usize)
@@ -585,7 +586,7 @@ fn every_spring_sits_in_its_lane_and_padding_is_a_zero_length_spring() {
                 assert_eq!(neighbours.len() / Layout::LANES, valence.unwrap_or(0));
                 for (row, (qs, rs)) in neighbours
                     .chunks(Layout::LANES)
-                    .zip(rests.chunks(Layout::LANES))
+                    .zip(stiffness.chunks(Layout::LANES))
                     .enumerate()
                 {
                     for lane in 0..Layout::LANES {
@@ -593,7 +594,7 @@ fn every_spring_sits_in_its_lane_and_padding_is_a_zero_length_spring() {
                         let e = l.start[k] as usize + row;
                         if e < l.start[k + 1] as usize {
                             assert_eq!(qs[lane], 4 * l.edges[e].neighbour, "tile {tile} slot {k}");
-                            assert_eq!(rs[lane], l.edges[e].rest);
+                            assert_eq!(rs[lane], l.edges[e].stiffness);
                             seen += usize::from(group + lane < r.end);
                         } else {
                             assert_eq!(qs[lane] as usize, 4 * k, "tile {tile} slot {k} row {row}");

@@ -17,6 +17,7 @@ pub struct Reference {
     start: Vec<usize>,
     neighbour: Vec<usize>,
     neighbour_rest: Vec<f64>,
+    neighbour_stiffness: Vec<f64>,
     section_of: Vec<u16>,
     params: Params,
     h: f64,
@@ -46,6 +47,21 @@ impl Reference {
             }
             start.push(neighbour.len());
         }
+        // Each spring's stiffness: the mean rest length over its own (see `crate::rig`).
+        let mean = neighbour_rest.iter().sum::<f64>() / neighbour_rest.len().max(1) as f64;
+        // (A spring shorter than `mean / MAX_STIFFNESS` pulls toward that length.)
+        let most = f64::from(crate::rig::MAX_STIFFNESS);
+        let neighbour_stiffness: Vec<f64> = neighbour_rest
+            .iter_mut()
+            .map(|rest| {
+                if *rest > 0.0 && mean / *rest <= most {
+                    mean / *rest
+                } else {
+                    *rest = mean / most;
+                    most
+                }
+            })
+            .collect();
         let f_bd = params.material.bone_distance as f64;
         Reference {
             rest: mesh.positions.clone(),
@@ -54,6 +70,7 @@ impl Reference {
             start,
             neighbour,
             neighbour_rest,
+            neighbour_stiffness,
             section_of: scenario.joints.section_of().to_vec(),
             params,
             h,
@@ -87,13 +104,15 @@ impl Reference {
             let (bi, bo) = (r - l * n, r + l * n);
             let x = this.cur[i];
             let mut f = DVec3::ZERO;
+            let mut mass = 2.0;
             for s in this.start[i]..this.start[i + 1] {
-                f += stretch(this.cur[this.neighbour[s]] - x, this.neighbour_rest[s]);
+                let stiffness = this.neighbour_stiffness[s];
+                f += stiffness * stretch(this.cur[this.neighbour[s]] - x, this.neighbour_rest[s]);
+                mass += stiffness;
             }
             f += stretch(bi - x, l);
             f += stretch(bo - x, l);
-            let deg = (this.start[i + 1] - this.start[i]) as f64;
-            let y = x + c * (x - this.prev[i]) + (k / (deg + 2.0)) * f;
+            let y = x + c * (x - this.prev[i]) + (k / mass) * f;
             match p.solver.constraint {
                 Constraint::Circumsphere => {
                     let rho = (p.material.max_length as f64 - 1.0) * l;

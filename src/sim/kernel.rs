@@ -115,14 +115,18 @@ fn tile_avx2(ctx: &Ctx, range: Range<usize>, points: &mut [[f32; 4]]) -> f32 {
 /// on its mass point is `factor × d`.
 #[inline(always)]
 fn factor<V: Lanes>(dx: V, dy: V, dz: V, rest: V) -> V {
-    factor_of_squared(dx * dx + dy * dy + dz * dz, rest)
+    let len = (dx * dx + dy * dy + dz * dz).sqrt();
+    len.positive_or_zero((len - rest) / len)
 }
 
-/// [`factor`] from the squared length `|d|²`.
+/// A surface spring's factor from its squared length `|d|²`, its stiffness `c` and the
+/// mean rest length `unit`: `c (|d| − rest) / |d| = c − unit / |d|` (`c · rest = unit`,
+/// see [`crate::rig`]), 0 where `|d| = 0`. At rest it is exactly 0: `c` is `unit / rest`
+/// rounded as this division rounds.
 #[inline(always)]
-fn factor_of_squared<V: Lanes>(len2: V, rest: V) -> V {
+fn surface_factor<V: Lanes>(len2: V, c: V, unit: V) -> V {
     let len = len2.sqrt();
-    len.positive_or_zero((len - rest) / len)
+    len.positive_or_zero(c - unit / len)
 }
 
 #[inline(always)]
@@ -250,10 +254,11 @@ unsafe fn group<V: Lanes, const EXTRAS: bool>(
     // square roots, divisions and sums. Fused in one loop, each row was one long dependency
     // chain (gather, √, ÷, sum) of about 50 instructions, and the out-of-order window held
     // too few rows to keep the divider busy.
-    let (neighbours, rests) = (&l.lane_offsets()[rows.clone()], &l.lane_rest[rows]);
-    for (idx, rest) in neighbours
+    let (neighbours, stiffness) = (&l.lane_offsets()[rows.clone()], &l.lane_stiffness[rows]);
+    let unit = V::splat(l.spring_length);
+    for (idx, stiffness) in neighbours
         .chunks(LANES * CHUNK)
-        .zip(rests.chunks(LANES * CHUNK))
+        .zip(stiffness.chunks(LANES * CHUNK))
     {
         for (b, idx) in buf.iter_mut().zip(idx.chunks_exact(LANES)) {
             let Some(idx) = idx.first_chunk::<LANES>() else {
@@ -264,8 +269,8 @@ unsafe fn group<V: Lanes, const EXTRAS: bool>(
             let (dx, dy, dz) = (qx - x.x, qy - x.y, qz - x.z);
             *b = [dx, dy, dz, dx * dx + dy * dy + dz * dz];
         }
-        for (&[dx, dy, dz, len2], rest) in buf.iter().zip(rest.chunks_exact(LANES)) {
-            let k = factor_of_squared(len2, V::load(rest, 0));
+        for (&[dx, dy, dz, len2], c) in buf.iter().zip(stiffness.chunks_exact(LANES)) {
+            let k = surface_factor(len2, V::load(c, 0), unit);
             f.x = f.x + k * dx;
             f.y = f.y + k * dy;
             f.z = f.z + k * dz;

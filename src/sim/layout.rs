@@ -15,9 +15,9 @@
 //!   length `L`, the measured rest lengths of both bone springs, `1/m`) as struct-of-arrays,
 //!   so the kernel loads eight slots of one constant with one instruction; positions
 //!   [`Packed`] 16 bytes apart, so a neighbour is one 16-byte load.
-//! * The surface springs twice: as a CSR of `(neighbour slot, rest)` pairs (the layout's
-//!   own bookkeeping), and as the kernel reads them, in spring rows per group of
-//!   [`Layout::LANES`] slots (see `lane_rest`).
+//! * The surface springs twice: as a CSR of `(neighbour slot, rest, stiffness)` (the
+//!   layout's own bookkeeping), and as the kernel reads them, in spring rows per group of
+//!   [`Layout::LANES`] slots (see `lane_stiffness`).
 
 use crate::rig::Rig;
 use glam::Vec3;
@@ -107,11 +107,13 @@ pub struct Slots {
     pub outer_rest: Vec<f32>,
     /// Joint section.
     pub section: Vec<u16>,
-    /// `1 / m`, the mass being the number of springs (surface springs and the two bones).
+    /// `1 / m`, the mass being the sum of the point's spring stiffnesses (its surface
+    /// springs' and 1 for each of its two bone springs; see [`crate::rig`]).
     pub inv_mass: Vec<f32>,
 }
 
-/// A surface half-spring in the CSR: the neighbour's slot and the rest length.
+/// A surface half-spring in the CSR: the neighbour's slot, the rest length and the
+/// stiffness.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
 pub struct Edge {
@@ -119,6 +121,8 @@ pub struct Edge {
     pub neighbour: u32,
     /// The spring's rest length.
     pub rest: f32,
+    /// The spring's stiffness ([`crate::rig::stiffness`]).
+    pub stiffness: f32,
 }
 
 /// The rig in solver order (see the module docs).
@@ -138,19 +142,23 @@ pub struct Layout {
     /// The surface springs in the kernel's order: the slots of each tile in groups of
     /// [`Layout::LANES`] (the last group of a tile may be short), and for group `g` the
     /// entries `group_start[g]..group_start[g + 1]` of the offsets ([`Layout::lane_offsets`])
-    /// and `lane_rest` as rows of `LANES`, row `r` holding the `r`-th spring (CSR order) of
-    /// each slot of the group: its neighbour, as the offset of that slot's point in the
-    /// packed positions counted in `f32` (4 × the slot: x86 addressing scales it by 4 into
-    /// bytes, so the kernel's loads need no shift), and its rest length. Rows are padded to
-    /// the group's largest valence with the slot itself and rest 0 (a zero-length spring,
-    /// zero force). Lanes past a short group's end repeat its last slot's springs, so the
+    /// and `lane_stiffness` as rows of `LANES`, row `r` holding the `r`-th spring (CSR
+    /// order) of each slot of the group: its neighbour, as the offset of that slot's point
+    /// in the packed positions counted in `f32` (4 × the slot: x86 addressing scales it by 4
+    /// into bytes, so the kernel's loads need no shift), and its stiffness `c`. The kernel
+    /// needs no rest length: `c · rest = ℓ̄` ([`Layout::spring_length`]), so the force
+    /// `c (len − rest) / len · d` is `(c − ℓ̄ / len) · d`. Rows are padded to the group's
+    /// largest valence with the slot itself and stiffness 0 (a zero-length spring, zero
+    /// force). Lanes past a short group's end repeat its last slot's springs, so the
     /// kernel's results in those lanes are exactly that slot's.
     ///
     /// Invariant the kernel's unchecked loads rely on: every offset + 4 ≤ 4 × [`Layout::len`].
     /// `build_lanes` is the only writer and keeps it (private, read through the method).
     lane_offset: Vec<u32>,
-    /// Rest lengths of the spring rows (see above).
-    pub lane_rest: Vec<f32>,
+    /// Stiffnesses of the spring rows (see above).
+    pub lane_stiffness: Vec<f32>,
+    /// The surface springs' mean rest length `ℓ̄` ([`Rig::spring_length`]).
+    pub spring_length: f32,
     /// Where each group's rows start (see above).
     pub group_start: Vec<u32>,
     /// Slots per tile.
@@ -188,6 +196,7 @@ impl Layout {
             edges.extend((a..b).map(|s| Edge {
                 neighbour: slot[rig.neighbour[s] as usize],
                 rest: rig.neighbour_rest[s],
+                stiffness: rig.neighbour_stiffness[s],
             }));
             // Neighbours in slot order: the gathers then walk memory forwards.
             edges[first..].sort_unstable_by_key(|e| e.neighbour);
@@ -209,13 +218,17 @@ impl Layout {
             outer_rest: vec![0.0; n],
             section: vec![0; n],
             inv_mass: (0..n)
-                .map(|k| 1.0 / (start[k + 1] - start[k] + 2) as f32)
+                .map(|k| {
+                    let springs = &edges[start[k] as usize..start[k + 1] as usize];
+                    1.0 / (springs.iter().map(|e| e.stiffness).sum::<f32>() + 2.0)
+                })
                 .collect(),
         };
         let tile = tile.max(1);
         let mut layout = Layout {
             lane_offset: Vec::new(),
-            lane_rest: Vec::new(),
+            lane_stiffness: Vec::new(),
+            spring_length: rig.spring_length,
             group_start: Vec::new(),
             slots,
             start,
@@ -344,12 +357,12 @@ impl Layout {
         self.tile.div_ceil(Self::LANES)
     }
 
-    /// Builds `lane_offset`, `lane_rest` and `group_start` (see their docs).
+    /// Builds `lane_offset`, `lane_stiffness` and `group_start` (see their docs).
     fn build_lanes(&mut self) {
         const L: usize = Layout::LANES;
         let padded = self.edges.len() + self.edges.len() / 4;
         self.lane_offset = Vec::with_capacity(padded);
-        self.lane_rest = Vec::with_capacity(padded);
+        self.lane_stiffness = Vec::with_capacity(padded);
         self.group_start = vec![0];
         for t in 0..self.tiles() {
             let r = self.tile_range(t);
@@ -364,13 +377,13 @@ impl Layout {
                     for lane in 0..L {
                         let k = (g + lane).min(group.end - 1);
                         let e = self.start[k] as usize + row;
-                        let (q, rest) = if e < self.start[k + 1] as usize {
-                            (self.edges[e].neighbour, self.edges[e].rest)
+                        let (q, stiffness) = if e < self.start[k + 1] as usize {
+                            (self.edges[e].neighbour, self.edges[e].stiffness)
                         } else {
                             (k as u32, 0.0)
                         };
                         self.lane_offset.push(4 * q);
-                        self.lane_rest.push(rest);
+                        self.lane_stiffness.push(stiffness);
                     }
                 }
                 self.group_start.push(self.lane_offset.len() as u32);
