@@ -767,9 +767,13 @@ impl Joints {
                     &guess,
                 )
             };
-            for (i, x) in weights {
-                let w = if arc { x } else { weight(x) };
-                let level = (w * LEVELS as f64).round() as u16;
+            // Each vertex's share of the motion, rounded to the band's levels.
+            let shares: Vec<(usize, f64)> = weights
+                .into_iter()
+                .map(|(i, x)| (i, if arc { x } else { weight(x) }))
+                .collect();
+            let levels = self.levels(&shares);
+            for (&(i, _), level) in shares.iter().zip(levels) {
                 entries.push((i as u32, slot as u16, level));
             }
             slots.push(k);

@@ -55,6 +55,7 @@
 //! * `shape`: planes, spheres and boxes, as signed distances;
 //! * `band`: joint bands, their levels, contacts and where they overlap;
 //! * `blend`: a band's weight blended over the surface around its seam;
+//! * `levels`: a band's weights rounded to its levels, short edges on one;
 //! * `pose`: composing a pose down the section tree;
 //! * `suggest`: joints suggested from the skeleton;
 //! * `skin`: joints from the skeleton the mesh file came with (a glTF skin);
@@ -70,6 +71,7 @@ pub mod band;
 mod blend;
 pub mod collide;
 mod cut;
+mod levels;
 mod pose;
 mod shape;
 pub mod skin;
