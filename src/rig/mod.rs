@@ -61,8 +61,6 @@ pub struct Rig {
     pub start: Vec<u32>,
     /// Neighbours by vertex (see `start`).
     pub neighbour: Vec<u32>,
-    /// Rest length of the spring to each neighbour.
-    pub neighbour_rest: Vec<f32>,
     /// Stiffness of the spring to each neighbour ([`stiffness`]).
     pub neighbour_stiffness: Vec<f32>,
     /// The surface springs' mean rest length `ℓ̄`.
@@ -117,13 +115,11 @@ impl Rig {
         }
         let mut fill = start.clone();
         let mut neighbour = vec![0u32; 2 * springs.len()];
-        let mut neighbour_rest = vec![0f32; 2 * springs.len()];
         let mut neighbour_stiffness = vec![0f32; 2 * springs.len()];
         for s in &springs {
             for (from, to) in [(s.a, s.b), (s.b, s.a)] {
                 let k = fill[from as usize] as usize;
                 neighbour[k] = to;
-                neighbour_rest[k] = s.rest;
                 neighbour_stiffness[k] = s.stiffness;
                 fill[from as usize] += 1;
             }
@@ -135,7 +131,6 @@ impl Rig {
             springs,
             start,
             neighbour,
-            neighbour_rest,
             neighbour_stiffness,
             spring_length,
             bone_distance: 0.0,
@@ -214,8 +209,16 @@ mod tests {
         let rig = Rig::new(&mesh, &vec![DVec3::Y; n], &vec![0.1; n], 0.5);
         let mean = rig.springs.iter().map(|s| s.rest).sum::<f32>() / rig.springs.len() as f32;
         assert!((rig.spring_length - mean).abs() <= 1e-5 * mean);
-        for (k, &c) in rig.neighbour_stiffness.iter().enumerate() {
-            assert_eq!(c, stiffness(rig.neighbour_rest[k], rig.spring_length));
+        for s in &rig.springs {
+            assert_eq!(s.stiffness, stiffness(s.rest, rig.spring_length));
+            for (from, to) in [(s.a, s.b), (s.b, s.a)] {
+                let row = rig.start[from as usize] as usize..rig.start[from as usize + 1] as usize;
+                let k = row
+                    .clone()
+                    .find(|&k| rig.neighbour[k] == to)
+                    .expect("in the CSR");
+                assert_eq!(rig.neighbour_stiffness[k], s.stiffness);
+            }
         }
     }
 }

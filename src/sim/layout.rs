@@ -15,7 +15,7 @@
 //!   length `L`, the measured rest lengths of both bone springs, `1/m`) as struct-of-arrays,
 //!   so the kernel loads eight slots of one constant with one instruction; positions
 //!   [`Packed`] 16 bytes apart, so a neighbour is one 16-byte load.
-//! * The surface springs twice: as a CSR of `(neighbour slot, rest, stiffness)` (the
+//! * The surface springs twice: as a CSR of `(neighbour slot, stiffness)` (the
 //!   layout's own bookkeeping), and as the kernel reads them, in spring rows per group of
 //!   [`Layout::LANES`] slots (see `lane_stiffness`).
 
@@ -112,15 +112,13 @@ pub struct Slots {
     pub inv_mass: Vec<f32>,
 }
 
-/// A surface half-spring in the CSR: the neighbour's slot, the rest length and the
-/// stiffness.
+/// A surface half-spring in the CSR: the neighbour's slot and the stiffness (the rest
+/// length is the rig's; the kernel needs none, see `lane_stiffness`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
 pub struct Edge {
     /// The neighbour's slot.
     pub neighbour: u32,
-    /// The spring's rest length.
-    pub rest: f32,
     /// The spring's stiffness ([`crate::rig::stiffness`]).
     pub stiffness: f32,
 }
@@ -195,7 +193,6 @@ impl Layout {
             let first = edges.len();
             edges.extend((a..b).map(|s| Edge {
                 neighbour: slot[rig.neighbour[s] as usize],
-                rest: rig.neighbour_rest[s],
                 stiffness: rig.neighbour_stiffness[s],
             }));
             // Neighbours in slot order: the gathers then walk memory forwards.
