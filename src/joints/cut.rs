@@ -105,13 +105,20 @@ impl Joints {
                 self.default_pivot(&section, &cut, normal)
             }
         };
-        // Children of the split section follow it when their own pivot is on the new side
-        // (and, for a connected cut, when they touch the piece taken).
+        // Children of the split section follow it when their own pivot is on the new side;
+        // for a connected cut, when most of their seam with it is on the piece taken (a
+        // plane reaches across the whole body: a tail's tip can lie behind the plane of a
+        // cut that takes the body the tail hangs from), by the pivot where they share no
+        // edge with it.
         let follows: Vec<bool> = (0..self.sections.len())
             .map(|k| {
                 self.sections[k].parent == Some(parent)
-                    && cut.signed(self.own_pivot(k), normal) > 0.0
-                    && (!cut.connected || self.touches(k, &taken))
+                    && if cut.connected {
+                        let (on, off) = self.seam_sides(k, parent, &taken);
+                        on > off || on + off == 0 && cut.signed(self.own_pivot(k), normal) > 0.0
+                    } else {
+                        cut.signed(self.own_pivot(k), normal) > 0.0
+                    }
             })
             .collect();
         // A section turns about one point: the split section may keep one sharing child.
@@ -275,12 +282,20 @@ impl Joints {
         taken
     }
 
-    /// Does section `k` have a vertex joined by a mesh edge to one of `taken`?
-    fn touches(&self, k: usize, taken: &[bool]) -> bool {
-        (0..self.skeletal_of.len()).any(|i| {
-            self.skeletal_of[i] as usize == k
-                && self.body.neighbours(i).iter().any(|&w| taken[w as usize])
-        })
+    /// The mesh edges from section `k` to its parent section `parent`: how many end in the
+    /// piece `taken`, and how many in the rest of it.
+    fn seam_sides(&self, k: usize, parent: usize, taken: &[bool]) -> (usize, usize) {
+        let (mut on, mut off) = (0, 0);
+        for i in (0..self.skeletal_of.len()).filter(|&i| self.skeletal_of[i] as usize == k) {
+            for &w in self.body.neighbours(i) {
+                if taken[w as usize] {
+                    on += 1;
+                } else if self.skeletal_of[w as usize] as usize == parent {
+                    off += 1;
+                }
+            }
+        }
+        (on, off)
     }
 
     /// Each vertex's section from the cuts' (by skeletal points), made `whole` over the

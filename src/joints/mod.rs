@@ -60,7 +60,8 @@
 //! * `suggest`: joints suggested from the skeleton;
 //! * `skin`: joints from the skeleton the mesh file came with (a glTF skin);
 //! * `whole`: whole sections, a stray piece of one joining the section around it;
-//! * `collide`: the pose limit, which stops a part where it meets another.
+//! * `collide`: the pose limit, which stops a part where it meets another;
+//! * `spread`: random poses within a spread of angles.
 //!
 //! # Removing cuts
 //! Removing a cut merges its section back into the section it was cut from; its children
@@ -75,6 +76,7 @@ mod levels;
 mod pose;
 mod shape;
 pub mod skin;
+pub mod spread;
 pub mod suggest;
 mod whole;
 

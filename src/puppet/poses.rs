@@ -18,9 +18,9 @@
 use super::press::section_volumes;
 use super::Puppet;
 use crate::geom::intersect::new_crossings;
-use crate::joints::{Joints, Local, PoseScratch};
+pub use crate::joints::spread::{random_pose, Spread};
+use crate::joints::{Local, PoseScratch};
 use crate::mesh::measure::cone_volume;
-use crate::random::SplitMix;
 use glam::{DQuat, DVec3};
 
 /// Seconds over which a pose is reached (a smooth ramp from rest).
@@ -28,53 +28,6 @@ pub const RAMP: f64 = 0.5;
 
 /// Seconds a pose is held before the surface is measured.
 pub const HOLD: f64 = 1.0;
-
-/// How far the joints of a random pose turn (degrees either way).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct Spread {
-    /// A section whose parent is not the root (an elbow, a knee, a finger's joint).
-    pub limb: f64,
-    /// A section hanging from the root (a head, a hip, a shoulder).
-    pub root: f64,
-}
-
-impl Default for Spread {
-    /// The pose issue's population: ±60° on limbs, ±90° at the root.
-    fn default() -> Self {
-        Spread {
-            limb: 60.0,
-            root: 90.0,
-        }
-    }
-}
-
-/// A random pose of `joints` (one [`Local`] per section, the root at rest), drawn from
-/// `rng` (see the module docs).
-pub fn random_pose(joints: &Joints, spread: Spread, rng: &mut SplitMix) -> Vec<Local> {
-    let sections = joints.sections();
-    let mut local = vec![Local::default(); sections.len()];
-    for cut in joints.cuts() {
-        let Some(s) = joints.find(&cut.name) else {
-            continue;
-        };
-        let normal = cut.normal.normalize_or(DVec3::Y);
-        let (a, b) = normal.any_orthonormal_pair();
-        let turn = std::f64::consts::TAU * unit(rng);
-        let axis = a * turn.cos() + b * turn.sin();
-        let limit = if sections[s].parent == Some(0) {
-            spread.root
-        } else {
-            spread.limb
-        };
-        local[s] = Local::axis_angle(axis, limit * (2.0 * unit(rng) - 1.0));
-    }
-    local
-}
-
-/// A number in `0..1` from `rng`.
-fn unit(rng: &mut SplitMix) -> f64 {
-    (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-}
 
 /// Brings `puppet` from its present pose (at rest) to `target` over [`RAMP`] seconds, each
 /// section slerped from rest, and holds it [`HOLD`] seconds, each step through
@@ -254,47 +207,4 @@ pub fn worst_stretch(puppet: &Puppet) -> f64 {
         }
     }
     worst
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_random_pose_turns_across_each_cut_within_its_spread() {
-        // A line of skeletal points cut at y = 1 (from the root) and y = 2 (from that).
-        let points: Vec<DVec3> = (0..=30)
-            .map(|k| DVec3::new(0.0, k as f64 * 0.1, 0.0))
-            .collect();
-        let mut joints = Joints::new(&points, crate::joints::ROOT);
-        for (name, section, y) in [("arm", crate::joints::ROOT, 1.0), ("forearm", "arm", 2.0)] {
-            joints
-                .add_cut(crate::joints::Cut::plane(
-                    name,
-                    section,
-                    DVec3::new(0.0, y, 0.0),
-                    DVec3::Y,
-                ))
-                .expect("a cut");
-        }
-        let mut rng = SplitMix(7);
-        let spread = Spread::default();
-        for _ in 0..50 {
-            let pose = random_pose(&joints, spread, &mut rng);
-            assert_eq!(pose[0], Local::default());
-            for cut in joints.cuts() {
-                let s = joints.find(&cut.name).expect("section");
-                let (axis, angle) = pose[s].rotation.to_axis_angle();
-                let limit = if joints.sections()[s].parent == Some(0) {
-                    spread.root
-                } else {
-                    spread.limb
-                };
-                assert!(angle.to_degrees() <= limit + 1e-9);
-                if angle > 1e-6 {
-                    assert!(axis.dot(cut.normal.normalize()).abs() < 1e-9);
-                }
-            }
-        }
-    }
 }
