@@ -266,19 +266,22 @@ fn no_section_meets_one_it_is_not_related_to() {
 
 /// Sections that met unrelated ones turned apart with no band between them: the lion
 /// statue's chain of "jaws", each touching its body, tore 44–93×, the beach man's toes,
-/// which met his shin past his foot, 13–17×. Their cuts go (step 6): 13× and 2× at most
-/// over `bench poses`' first three seeds.
+/// which met his shin past his foot, 13–17×. Their cuts go (step 6). A section joined to
+/// the rest in two places tore where it was not turned: the lion's body, standing on its
+/// pedestal by four legs and turned about one, 26× (its tail's tip, behind the body's
+/// plane, was left hanging from the pedestal), the mech's 16×; the tear check takes their
+/// cuts too: 2.8× and 2.4× at most over `bench poses`' first three seeds (4.2× and 5.6×
+/// over all 20).
 #[test]
-fn sections_that_met_unrelated_ones_no_longer_tear() {
-    let lion =
-        suggested(&Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/poses/lionstatue.obj"));
-    let (stretch, _, _) = worst(&lion, 2);
-    assert!(stretch <= 16.0, "the lion: an edge stretched {stretch:.2}×");
-    let beach =
-        suggested(&Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pieces/man-beach.obj"));
-    let (stretch, _, _) = worst(&beach, 2);
-    assert!(
-        stretch <= 3.0,
-        "the beach man: an edge stretched {stretch:.2}×"
-    );
+fn sections_that_met_unrelated_ones_or_tore_no_longer_tear() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for (file, most) in [
+        ("tests/data/poses/lionstatue.obj", 3.0),
+        ("tests/data/pieces/man-beach.obj", 3.0),
+        ("tests/data/pieces/mech-george.obj", 3.0),
+    ] {
+        let p = suggested(&root.join(file));
+        let (stretch, _, _) = worst(&p, 3);
+        assert!(stretch <= most, "{file}: an edge stretched {stretch:.2}×");
+    }
 }

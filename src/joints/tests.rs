@@ -443,3 +443,96 @@ fn two_pieces_that_each_hang_from_the_parent_stay_one_section() {
         }
     }
 }
+
+#[test]
+fn a_section_joined_to_its_parent_in_two_places_loses_its_cut() {
+    // A ring of 5 × 61 vertices (the strip's last row joined to its first): rows 11–49
+    // have skeletal points above y = 1.05, the rest below, so a cut there takes an arch
+    // joined to the root at both ends (a body standing on a pedestal by two legs). Turned
+    // about one end, it tears at the other.
+    let ring = |arch: bool| {
+        let (w, rows) = (5, 61);
+        let at = |r: usize, c: usize| ((r % rows) * w + c) as u32;
+        let mut points = Vec::new();
+        let mut positions = Vec::new();
+        for r in 0..rows {
+            for c in 0..w {
+                let y = if arch && r >= 50 { 0.0 } else { 0.1 * r as f64 };
+                points.push(DVec3::new(0.0, y, 0.0));
+                positions.push(DVec3::new(0.1 * c as f64, 0.1 * r as f64, 0.0));
+            }
+        }
+        let mut triangles = Vec::new();
+        let last = if arch { rows } else { rows - 1 };
+        for r in 0..last {
+            for c in 0..w - 1 {
+                triangles.push([at(r, c), at(r, c + 1), at(r + 1, c + 1)]);
+                triangles.push([at(r, c), at(r + 1, c + 1), at(r + 1, c)]);
+            }
+        }
+        let mut j = Joints::with_mesh(&points, &triangles, &[], ROOT);
+        j.set_surface(&positions, &vec![0.05; positions.len()]);
+        j.add_cut(cut("arm", ROOT, 1.05)).unwrap();
+        assert_eq!(j.sections()[1].vertices, if arch { 195 } else { 250 });
+        j
+    };
+    let mut j = ring(true);
+    let removed = super::suggest::seams::keep_whole(&mut j);
+    assert_eq!(removed, vec!["arm".to_string()]);
+    assert_eq!(j.sections().len(), 1);
+    // The same cut on a strip whose top hangs from it alone keeps it.
+    let mut j = ring(false);
+    assert!(super::suggest::seams::keep_whole(&mut j).is_empty());
+    assert_eq!(j.sections().len(), 2);
+}
+
+#[test]
+fn a_later_connected_cut_adopts_the_children_it_carries_wherever_their_pivots_lie() {
+    // A tail: rows 0–20 rise along y, rows 21–30 curl back down and out along z. Its tip
+    // (rows 26–30) is cut first, from the root; then the body (rows 11–25) by a tilted
+    // connected plane behind which the tip's pivot lies. The tip hangs from the body it
+    // touches, not from the root it no longer meets.
+    let curl = |r: usize| {
+        if r <= 20 {
+            DVec3::new(0.0, 0.1 * r as f64, 0.0)
+        } else {
+            let k = (r - 20) as f64;
+            DVec3::new(0.0, 2.0 - 0.1 * k, 0.1 * k)
+        }
+    };
+    let (w, rows) = (5, 31);
+    let at = |r: usize, c: usize| (r * w + c) as u32;
+    let mut points = Vec::new();
+    let mut positions = Vec::new();
+    for r in 0..rows {
+        for c in 0..w {
+            points.push(curl(r));
+            positions.push(curl(r) + DVec3::new(0.1 * c as f64, 0.0, 0.0));
+        }
+    }
+    let mut triangles = Vec::new();
+    for r in 0..rows - 1 {
+        for c in 0..w - 1 {
+            triangles.push([at(r, c), at(r, c + 1), at(r + 1, c + 1)]);
+            triangles.push([at(r, c), at(r + 1, c + 1), at(r + 1, c)]);
+        }
+    }
+    let mut j = Joints::with_mesh(&points, &triangles, &[], ROOT);
+    j.set_surface(&positions, &vec![0.05; positions.len()]);
+    let connected = |name: &str, point: DVec3, normal: DVec3| Cut {
+        connected: true,
+        ..Cut::plane(name, ROOT, point, normal)
+    };
+    let tip = j
+        .add_cut(connected("tip", DVec3::new(0.0, 1.45, 0.55), -DVec3::Y))
+        .unwrap();
+    assert_eq!(j.sections()[tip].vertices, 5 * w);
+    let a = 40f64.to_radians();
+    let tilted = DVec3::new(0.0, a.cos(), -a.sin());
+    let body = j
+        .add_cut(connected("body", DVec3::new(0.0, 1.05, 0.0), tilted))
+        .unwrap();
+    assert!(tilted.dot(j.sections()[tip].pivot - DVec3::new(0.0, 1.05, 0.0)) < 0.0);
+    assert_eq!(j.sections()[body].vertices, 15 * w);
+    assert_eq!(j.sections()[tip].parent, Some(body));
+}

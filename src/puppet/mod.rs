@@ -233,6 +233,7 @@ impl Puppet {
         joints.add_cuts(cuts.iter().cloned())?;
         if !skinned {
             crate::joints::suggest::seams::keep_related(&mut joints);
+            crate::joints::suggest::seams::keep_whole(&mut joints);
         }
         let count = joints.cuts().len();
         self.joints = joints;

@@ -4,8 +4,20 @@
 //! they meet tears: a lion statue's chain of "jaws" each touching the body (93×), toes
 //! meeting a shin past the foot (13×). Measured on the sections as the puppet has them
 //! (whole over the surface, with the mesh's attachments), once the cuts apply.
+//!
+//! Then, **tears** ([`keep_whole`]): the joints are turned through [`TRIALS`] random poses
+//! (the spread `puppet bench poses` uses, other seeds) and the surface is taken where the
+//! bones would hold it (each vertex moved by its transform). An edge stretched past
+//! [`TEAR`] is torn, not bent: two sections joined in two places (a body standing on a
+//! pedestal by four legs, turned about one), or a section whose seam lies far from the
+//! band that should blend it. Each torn edge counts against the deeper of its two
+//! sections; the section with the most loses its cut, and the poses are drawn again until
+//! none tears.
 
-use crate::joints::Joints;
+use crate::joints::spread::{random_pose, Spread};
+use crate::joints::{Joints, PoseScratch};
+use crate::random::SplitMix;
+use glam::DVec3;
 
 /// A seam between two unrelated sections, as a share of the shorter of their two seams
 /// (mesh edges to other sections), at or above which the deeper of the two loses its
@@ -79,4 +91,81 @@ fn foreign(joints: &Joints) -> Option<String> {
     let deeper = if (depth(b), b) > (depth(a), a) { b } else { a };
     // The root has no cut to lose (it is never the deeper of an unrelated pair).
     parent(deeper).map(|_| sections[deeper].name.clone())
+}
+
+/// An edge's stretch at the bones' targets past which the skin is torn rather than bent.
+/// Over the 25 characters of `puppet bench poses` and the 12 of `tests/data/pieces`, a rig
+/// with no two sections joined in two places stretches its worst edge at most 5.6× in
+/// these poses (most under 3×); a section turned about one of its two seams tears the
+/// other 13–80× (`docs/performance-log.md`).
+pub const TEAR: f64 = 6.0;
+
+/// Random poses each suggestion is turned through to find tears.
+pub const TRIALS: u64 = 8;
+
+/// The seed of the first trial pose: far from `puppet bench poses`'s (1 on), so the bench
+/// measures poses this check never saw.
+const FIRST_SEED: u64 = 1 << 32;
+
+/// Removes, one at a time, the cut of the section that the most torn edges count against
+/// (see the module docs); returns the names of the cuts removed. Without rest positions
+/// or mesh edges it removes nothing.
+pub fn keep_whole(joints: &mut Joints) -> Vec<String> {
+    let mut removed = Vec::new();
+    for _ in 0..joints.cuts().len() {
+        let Some(name) = torn(joints) else {
+            break;
+        };
+        if joints.remove_cut(&name).is_err() {
+            break;
+        }
+        removed.push(name);
+    }
+    removed
+}
+
+/// The name of the section that loses its cut next for tearing, if any.
+fn torn(joints: &Joints) -> Option<String> {
+    let body = &joints.body;
+    let rest = &body.rest;
+    let of = joints.section_of();
+    let n = of.len();
+    if rest.len() != n || joints.cuts().is_empty() {
+        return None;
+    }
+    let rank = joints.contact_ranks();
+    let transform_of = joints.transform_of();
+    let mut blame = vec![0usize; joints.sections().len()];
+    let mut scratch = PoseScratch::default();
+    let mut now = vec![DVec3::ZERO; n];
+    for trial in 0..TRIALS {
+        let local = random_pose(joints, Spread::default(), &mut SplitMix(FIRST_SEED + trial));
+        let pose = joints.pose_into(&local, &mut scratch);
+        for (i, x) in now.iter_mut().enumerate() {
+            *x = pose
+                .transforms
+                .get(usize::from(transform_of[i]))
+                .map_or(rest[i], |m| {
+                    m.transform_point3(rest[i].as_vec3()).as_dvec3()
+                });
+        }
+        for a in 0..n {
+            for &b in body.neighbours(a) {
+                let b = b as usize;
+                let r = rest[a].distance(rest[b]);
+                if b > a && r > 0.0 && now[a].distance(now[b]) > TEAR * r {
+                    // The deeper section (by depth, then index) of the two.
+                    let s = if rank[usize::from(of[b])] > rank[usize::from(of[a])] {
+                        of[b]
+                    } else {
+                        of[a]
+                    };
+                    blame[usize::from(s)] += 1;
+                }
+            }
+        }
+    }
+    // The root has no cut to lose.
+    let worst = (1..blame.len()).max_by_key(|&s| (blame[s], s))?;
+    (blame[worst] > 0).then(|| joints.sections()[worst].name.clone())
 }
