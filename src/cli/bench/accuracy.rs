@@ -34,6 +34,27 @@ const FRAME: f64 = 1.0 / 60.0;
 /// Costs within this factor are treated as equal at least (more when the runs spread more).
 const COST_NOISE: f64 = 0.05;
 
+/// A configuration on the cost–error plane.
+#[derive(Clone, Copy, Debug)]
+struct Point {
+    /// Median ms per frame.
+    cost: f64,
+    /// Its run-to-run spread, relative to the cost.
+    spread: f64,
+    /// RMS error against the reference.
+    error: f64,
+}
+
+/// Does `a` dominate `b`: at least as cheap and as accurate, and better in one, where
+/// costs within the larger of the two spreads (at least [`COST_NOISE`]) and errors within
+/// `tie` (the reference's own uncertainty) are equal.
+fn dominates(a: Point, b: Point, tie: f64) -> bool {
+    let noise = COST_NOISE.max(a.spread).max(b.spread);
+    a.cost <= b.cost * (1.0 + noise)
+        && a.error <= b.error + tie
+        && (a.cost < b.cost * (1.0 - noise) || a.error < b.error - tie)
+}
+
 /// Positions at the end of every frame.
 type Run = Vec<Vec<DVec3>>;
 
@@ -308,14 +329,12 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         // 3. The Pareto front. Errors closer than the reference's own uncertainty (the RMS
         // change of its last refinement) are ties, as are costs within the noise.
         let tie = report.convergence.last().map_or(0.0, |c| c.rms_change);
-        let dominates = |j: usize, k: usize| {
-            let (cj, ck, ej, ek) = (cost[j], cost[k], errors[j].0, errors[k].0);
-            let noise = COST_NOISE.max(spread[j]).max(spread[k]);
-            j != k
-                && cj <= ck * (1.0 + noise)
-                && ej <= ek + tie
-                && (cj < ck * (1.0 - noise) || ej < ek - tie)
+        let point = |k: usize| Point {
+            cost: cost[k],
+            spread: spread[k],
+            error: errors[k].0,
         };
+        let dominates = |j: usize, k: usize| j != k && dominates(point(j), point(k), tie);
         let dominated = |k: usize| (0..configs.len()).any(|j| dominates(j, k));
         // The check: no configuration outside the iteration sweep dominates the default.
         let default_beaten =
@@ -381,4 +400,46 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The command's fail path: the default is dominated only by a configuration cheaper
+    /// beyond the noise at no worse error, or more accurate beyond the reference's
+    /// uncertainty at no greater cost.
+    #[test]
+    fn a_configuration_dominates_only_beyond_the_noise() {
+        let default = Point {
+            cost: 1.0,
+            spread: 0.02,
+            error: 1e-4,
+        };
+        let at = |cost: f64, error: f64| Point {
+            cost,
+            spread: 0.02,
+            error,
+        };
+        let tie = 1e-6;
+        // Cheaper by more than the 5 % noise, as accurate: dominates (the command fails).
+        assert!(dominates(at(0.9, 1e-4), default, tie));
+        // Cheaper within the noise, as accurate: a tie.
+        assert!(!dominates(at(0.97, 1e-4), default, tie));
+        // As cheap, more accurate beyond the tie: dominates.
+        assert!(dominates(at(1.0, 5e-5), default, tie));
+        // More accurate within the tie: no.
+        assert!(!dominates(at(1.0, 1e-4 - 5e-7), default, tie));
+        // Cheaper but less accurate, or more accurate but dearer: neither dominates.
+        assert!(!dominates(at(0.5, 2e-4), default, tie));
+        assert!(!dominates(at(2.0, 1e-5), default, tie));
+        // A noisy run widens the tie on cost.
+        let noisy = Point {
+            spread: 0.2,
+            ..at(0.85, 1e-4)
+        };
+        assert!(!dominates(noisy, default, tie));
+        // Nothing dominates itself.
+        assert!(!dominates(default, default, tie));
+    }
 }
