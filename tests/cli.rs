@@ -618,3 +618,61 @@ fn skeleton_speed_passes_and_fails_on_its_bounds() {
         assert!(err.starts_with(says) && err.lines().count() == 1, "{err}");
     }
 }
+
+/// `bench export`, `bench machine` and `bench joints` run headless and report what
+/// BENCHMARKS quotes them for: each format decoded as a reader does, PC2 and OBJ exact,
+/// the glb within a rounding of single precision, the 16-bit glb within a 16-bit step of
+/// the take's extent; the machine's yardsticks measured. `bench
+/// joints` refuses angles and bands out of range (exit 2, one line).
+#[test]
+fn export_machine_and_joints_benches_run_and_refuse_bad_input() {
+    let out = puppet(&[
+        "bench",
+        "export",
+        "--subdivisions",
+        "0",
+        "--frames",
+        "3",
+        "--json",
+    ]);
+    common::ok(&out);
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let rows = report["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 4, "{report}");
+    for row in rows {
+        let error = row["largest_error"].as_f64().unwrap();
+        let format = row["format"].as_str().unwrap();
+        if format.contains("16-bit") {
+            assert!(error > 0.0 && error <= 1.0 / 32766.0, "{row}");
+        } else if format.starts_with("glTF") {
+            // Rest plus morph target, in single precision: one rounding.
+            assert!(error <= 1e-7, "{row}");
+        } else {
+            assert_eq!(error, 0.0, "{row}");
+        }
+        assert!(row["bytes"].as_u64().unwrap() > 0, "{row}");
+    }
+    let out = puppet(&["bench", "machine", "--json"]);
+    common::ok(&out);
+    let machine: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for key in [
+        "copy_gb_per_second_1_thread",
+        "plain_loop_springs_per_second",
+    ] {
+        let v = machine[key].as_f64().unwrap_or(f64::NAN);
+        assert!(v.is_finite() && v > 0.0, "{key}: {machine}");
+    }
+    for (flag, value, says) in [
+        (
+            "--angles",
+            "200",
+            "error: --angles: 200 is outside -180..180",
+        ),
+        ("--bands", "9", "error: --bands: 9 is outside 0..6"),
+    ] {
+        let out = puppet(&["bench", "joints", flag, value]);
+        assert_eq!(out.status.code(), Some(2), "{flag} {value}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.starts_with(says) && err.lines().count() == 1, "{err}");
+    }
+}

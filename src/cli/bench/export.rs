@@ -90,22 +90,50 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         f.sync_all()?;
         Ok(bytes.len() as u64)
     };
+    let diagonal = scenario.mesh.diagonal();
+    // The largest distance of a decoded position from the simulated one, of the diagonal.
+    let largest = |decoded: &mut dyn Iterator<Item = glam::Vec3>| -> f64 {
+        let mut worst = 0.0f64;
+        let mut count = 0;
+        for (d, p) in decoded.zip(take.frames.iter().flatten()) {
+            let e = d.as_dvec3().distance(p.as_dvec3());
+            worst = if e.is_nan() {
+                f64::INFINITY
+            } else {
+                worst.max(e)
+            };
+            count += 1;
+        }
+        if count == take.frames.len() * take.rest.len() {
+            worst / diagonal
+        } else {
+            f64::INFINITY
+        }
+    };
     let mut rows = Vec::new();
     let t = Instant::now();
     let bytes = write("take.glb", &glb::write(&take)?)?;
+    let seconds = t.elapsed().as_secs_f64();
+    // What a reader decodes: the rest position plus the frame's morph target.
+    let n = take.rest.len();
+    let mut decoded = take
+        .frames
+        .iter()
+        .flat_map(|f| f.iter().zip(&take.rest).map(|(p, r)| *r + (*p - *r)))
+        .take(take.frames.len() * n);
     rows.push(Row {
         format: "glTF binary (.glb)",
-        seconds: t.elapsed().as_secs_f64(),
+        seconds,
         bytes,
         files: 1,
-        largest_error: 0.0,
+        largest_error: largest(&mut decoded),
     });
     let t = Instant::now();
     let bytes = write("take16.glb", &glb::write_with(&take, true)?)?;
     let seconds = t.elapsed().as_secs_f64();
     // What a reader decodes: the grid point through the node's transform.
     let grid = glb::Grid::of(&take);
-    let largest = take
+    let largest_16 = take
         .frames
         .iter()
         .flatten()
@@ -119,34 +147,75 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         seconds,
         bytes,
         files: 1,
-        largest_error: largest as f64 / scenario.mesh.diagonal(),
+        largest_error: largest_16 as f64 / diagonal,
     });
     let t = Instant::now();
     let rest: Vec<glam::DVec3> = take.rest.iter().map(|p| p.as_dvec3()).collect();
     let mut obj = Vec::new();
     puppet::mesh::write_obj(&mut obj, &rest, &take.triangles, "base")?;
-    let bytes = write("take.obj", &obj)? + write("take.pc2", &pc2::write(&take)?)?;
+    let cache = pc2::write(&take)?;
+    let bytes = write("take.obj", &obj)? + write("take.pc2", &cache)?;
+    let seconds = t.elapsed().as_secs_f64();
+    // What a reader decodes: the little-endian floats after the 32-byte header.
+    let floats: Vec<f32> = cache
+        .get(32..)
+        .unwrap_or_default()
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    let mut decoded = floats
+        .chunks_exact(3)
+        .map(|c| glam::Vec3::new(c[0], c[1], c[2]));
     rows.push(Row {
         format: "PC2 + base OBJ",
-        seconds: t.elapsed().as_secs_f64(),
+        seconds,
         bytes,
         files: 2,
-        largest_error: 0.0,
+        largest_error: largest(&mut decoded),
     });
-    let t = Instant::now();
     let mut bytes = 0;
+    let mut seconds = 0.0;
+    let mut worst = 0.0f64;
     for (k, frame) in take.frames.iter().enumerate() {
+        let t = Instant::now();
         let points: Vec<glam::DVec3> = frame.iter().map(|p| p.as_dvec3()).collect();
         let mut obj = Vec::new();
         puppet::mesh::write_obj(&mut obj, &points, &take.triangles, "frame")?;
         bytes += write(&format!("frame_{:05}.obj", k + 1), &obj)?;
+        seconds += t.elapsed().as_secs_f64();
+        // What a reader decodes (untimed): each `v` line's numbers as single floats.
+        let text = String::from_utf8_lossy(&obj);
+        let decoded: Vec<glam::Vec3> = text
+            .lines()
+            .filter_map(|l| l.strip_prefix("v "))
+            .map(|l| {
+                let c: Vec<f32> = l
+                    .split_whitespace()
+                    .map(|x| x.parse().unwrap_or(f32::NAN))
+                    .collect();
+                let at = |k: usize| c.get(k).copied().unwrap_or(f32::NAN);
+                glam::Vec3::new(at(0), at(1), at(2))
+            })
+            .collect();
+        worst = worst.max(if decoded.len() == frame.len() {
+            decoded
+                .iter()
+                .zip(frame)
+                .map(|(d, p)| d.as_dvec3().distance(p.as_dvec3()))
+                .fold(
+                    0.0,
+                    |a: f64, e| if e.is_nan() { f64::INFINITY } else { a.max(e) },
+                )
+        } else {
+            f64::INFINITY
+        });
     }
     rows.push(Row {
         format: "OBJ sequence",
-        seconds: t.elapsed().as_secs_f64(),
+        seconds,
         bytes,
         files: take.frames.len(),
-        largest_error: 0.0,
+        largest_error: worst / diagonal,
     });
     let _ = std::fs::remove_dir_all(&dir);
     let report = Report {
