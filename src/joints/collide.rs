@@ -17,6 +17,13 @@
 //! smallest moving radius in, so nothing passes through a part between two samples, and
 //! bisects to the last allowed pose before the first that is not. A pose that already
 //! presses (collision just turned on) may move anywhere that presses no more.
+//!
+//! The samples share their broad phase: before the walk, each moving ball gathers the
+//! still balls near the box its centre sweeps over the move, less the pairs that never
+//! press and those farther than it moves ([`Still::sweep`]); a sample then tests only
+//! those pairs, skipping a pair until its moving ball has moved past their gap. Moving
+//! balls are tested against each other only where one reaches the box of another section
+//! moving apart from its own.
 
 use super::{Joints, Local};
 use crate::geom::balls;
@@ -147,6 +154,22 @@ impl Balls {
         beyond / small
     }
 
+    /// Whether pair `a`, `b` never presses, whatever the pose: one section, or two sides
+    /// of a joint that were neighbours at rest (see [`Balls::press`]).
+    fn never(&self, a: usize, b: usize) -> bool {
+        if self.section[a] == self.section[b] {
+            return true;
+        }
+        let (ra, rb) = (self.radius[a], self.radius[b]);
+        let small = ra.min(rb);
+        let at_rest = self.center[a].distance(self.center[b]);
+        let joint = self.joint.get(a).copied();
+        if joint.is_none() || (joint != Some(0) && joint == self.joint.get(b).copied()) {
+            return balls::neighbours(at_rest - small, ra.max(rb), small);
+        }
+        ra + rb - at_rest > -SQUASH * small && (self.across(a, b) || self.across(b, a))
+    }
+
     /// Whether ball `a` is of a joint's flesh and `b` of the section across that joint.
     fn across(&self, a: usize, b: usize) -> bool {
         let Some(&j) = self.joint.get(a) else {
@@ -175,10 +198,6 @@ impl Balls {
         }
         let mut still = Still::new(self, &start, &moving);
         still.relative(&start, &end);
-        let pressing =
-            |s: f64, stop: f64| still.pressing(&joints.world(&between(from, to, s)), stop);
-        let already = pressing(0.0, f64::INFINITY).max(SQUASH);
-        let allowed = |p: f64| p <= already + 1e-9;
         // Samples close enough that no ball jumps more than half its radius: two balls
         // then move less than half their radii together between samples, and neither
         // passes through the other. Balls under [`SMALLEST`] of the grid's cell count as
@@ -197,6 +216,16 @@ impl Balls {
             jumps = jumps.max(moved / (0.5 * r));
         }
         let samples = (jumps.ceil() as usize).clamp(1, MAX_SAMPLES);
+        // The still balls each moving ball may meet anywhere along the move, once: each
+        // sample then tests only those pairs.
+        let poses: Vec<Vec<DAffine3>> = (0..=samples)
+            .map(|k| joints.world(&between(from, to, k as f64 / samples as f64)))
+            .collect();
+        still.sweep(&poses);
+        let pressing =
+            |s: f64, stop: f64| still.pressing(&joints.world(&between(from, to, s)), stop);
+        let already = pressing(0.0, f64::INFINITY).max(SQUASH);
+        let allowed = |p: f64| p <= already + 1e-9;
         let mut good = 0.0;
         for k in 1..=samples {
             let s = k as f64 / samples as f64;
@@ -225,6 +254,26 @@ impl Balls {
     }
 }
 
+/// A moving ball and a small still ball that may press during a move.
+#[derive(Clone, Copy, Debug)]
+struct Pair {
+    /// The moving ball's index among [`Still::movers`].
+    mover: u32,
+    /// The still ball.
+    ball: u32,
+    /// How far the moving ball must move from where it starts before they can press.
+    gap: f64,
+}
+
+/// What [`Still::sweep`] found for a move.
+#[derive(Clone, Debug)]
+struct Swept {
+    /// The pairs that may press somewhere along it.
+    pairs: Vec<Pair>,
+    /// Per moving ball: too big or too fast for pairs (it tests every small still ball).
+    wide: Vec<bool>,
+}
+
 /// The balls that do not move during a move, in a grid, and those that do.
 struct Still<'a> {
     balls: &'a Balls,
@@ -241,6 +290,10 @@ struct Still<'a> {
     big: Vec<u32>,
     /// Per ball: in the grid.
     gridded: Vec<bool>,
+    /// Once swept ([`Still::sweep`]): the pairs that may press somewhere along the move.
+    swept: Option<Swept>,
+    /// Where each moving ball starts the move.
+    start: Vec<DVec3>,
 }
 
 impl<'a> Still<'a> {
@@ -256,6 +309,8 @@ impl<'a> Still<'a> {
             extent: ([i64::MAX; 3], [i64::MIN; 3]),
             big: Vec::new(),
             gridded: vec![false; balls.len()],
+            swept: None,
+            start: Vec::new(),
         };
         for b in 0..balls.len() {
             let s = balls.section[b];
@@ -295,6 +350,80 @@ impl<'a> Still<'a> {
         }
     }
 
+    /// Finds, for the move through the poses `poses` (world transforms at its samples,
+    /// first to last), the small still balls each moving ball may press: those in the
+    /// cells within its radius and a cell of the box its centre sweeps, grown by its
+    /// longest step between samples, and no farther than it moves (a pair presses only
+    /// once the moving ball has moved by their gap at the start, plus the squash). Pairs
+    /// that never press are left out.
+    fn sweep(&mut self, poses: &[Vec<DAffine3>]) {
+        let balls = self.balls;
+        let cell = balls.cell;
+        let mut pairs = Vec::new();
+        let mut wide = vec![false; self.movers.len()];
+        let (lo, hi) = self.extent;
+        self.start.clear();
+        for (i, &a) in self.movers.iter().enumerate() {
+            let s = balls.section[a];
+            let at = |w: &Vec<DAffine3>| {
+                w.get(s)
+                    .map_or(balls.center[a], |m| m.transform_point3(balls.center[a]))
+            };
+            let (mut min, mut max) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+            let (mut step, mut far) = (0.0f64, 0.0f64);
+            let first = poses.first().map_or(balls.center[a], at);
+            self.start.push(first);
+            let mut last: Option<DVec3> = None;
+            for w in poses {
+                let p = at(w);
+                min = min.min(p);
+                max = max.max(p);
+                far = far.max(p.distance(first));
+                if let Some(q) = last {
+                    step = step.max(p.distance(q));
+                }
+                last = Some(p);
+            }
+            // Between samples a ball strays at most a step from them.
+            let reach = far + step;
+            let grow = balls.radius[a] + cell + step;
+            let (a_lo, a_hi) = (self.key(min - grow), self.key(max + grow));
+            let span = (0..3).map(|d| (a_hi[d].min(hi[d]) - a_lo[d].max(lo[d]) + 1).max(0));
+            let count: i64 = span.product();
+            if !(min.is_finite() && max.is_finite()) || count > 4096 {
+                wide[i] = true;
+                continue;
+            }
+            for x in a_lo[0].max(lo[0])..=a_hi[0].min(hi[0]) {
+                for y in a_lo[1].max(lo[1])..=a_hi[1].min(hi[1]) {
+                    for z in a_lo[2].max(lo[2])..=a_hi[2].min(hi[2]) {
+                        if let Some(list) = self.grid.get(&[x, y, z]) {
+                            for &b in list {
+                                let gap = self.gap(a, b as usize, first);
+                                if gap < reach && !balls.never(a, b as usize) {
+                                    pairs.push(Pair {
+                                        mover: i as u32,
+                                        ball: b,
+                                        gap,
+                                    });
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        self.swept = Some(Swept { pairs, wide });
+    }
+
+    /// How far moving ball `a`, at `at`, must move before it can press still ball `b`:
+    /// their gap plus the squash (see [`Balls::press`]).
+    fn gap(&self, a: usize, b: usize, at: DVec3) -> f64 {
+        let balls = self.balls;
+        let (ra, rb) = (balls.radius[a], balls.radius[b]);
+        at.distance(self.posed[b]) - ra - rb + SQUASH * ra.min(rb)
+    }
+
     fn key(&self, p: DVec3) -> [i64; 3] {
         let k = (p / self.balls.cell).floor();
         [k.x as i64, k.y as i64, k.z as i64]
@@ -327,9 +456,36 @@ impl<'a> Still<'a> {
             let k = (p / wide).floor();
             [k.x as i64, k.y as i64, k.z as i64]
         };
+        // Only a moving ball that reaches the box of another section moving apart from its
+        // own can press one of its balls: most lie far from every other part.
+        let mut boxes = vec![(DVec3::INFINITY, DVec3::NEG_INFINITY); sections];
+        for (i, &a) in self.movers.iter().enumerate() {
+            let (s, r) = (balls.section[a], balls.radius[a]);
+            if let Some(b) = boxes.get_mut(s) {
+                *b = (b.0.min(movers[i] - r), b.1.max(movers[i] + r));
+            }
+        }
+        let near: Vec<bool> = self
+            .movers
+            .iter()
+            .enumerate()
+            .map(|(i, &a)| {
+                let (s, r, p) = (balls.section[a], balls.radius[a], movers[i]);
+                !p.is_finite()
+                    || boxes.iter().enumerate().any(|(t, &(lo, hi))| {
+                        t != s
+                            && self.apart.get(s * sections + t).copied().unwrap_or(true)
+                            && (p - r).cmple(hi).all()
+                            && lo.cmple(p + r).all()
+                    })
+            })
+            .collect();
         let mut grid: Cells<[i64; 3], Vec<u32>> = Cells::default();
         let mut big = Vec::new();
         for (i, &a) in self.movers.iter().enumerate() {
+            if !near[i] {
+                continue;
+            }
             if balls.radius[a] > balls.cell || !movers[i].is_finite() {
                 big.push(i);
             } else {
@@ -337,7 +493,7 @@ impl<'a> Still<'a> {
             }
         }
         for (i, &a) in self.movers.iter().enumerate() {
-            if balls.radius[a] > balls.cell || !movers[i].is_finite() {
+            if !near[i] || balls.radius[a] > balls.cell || !movers[i].is_finite() {
                 continue;
             }
             let k = key(movers[i]);
@@ -361,13 +517,50 @@ impl<'a> Still<'a> {
             let a = self.movers[i];
             for (j, &b) in self.movers.iter().enumerate() {
                 let other_big = balls.radius[b] > balls.cell || !movers[j].is_finite();
-                if (!other_big || j > i) && apart(a, b) {
+                if near[j] && (!other_big || j > i) && apart(a, b) {
                     deepest = deepest.max(balls.press(a, b, movers[i], movers[j]));
                     if deepest > stop {
                         return deepest;
                     }
                 }
             }
+        }
+        if let Some(Swept { pairs, wide }) = &self.swept {
+            // How far each moving ball is from where it started: a pair presses only past
+            // its gap.
+            let moved: Vec<f64> = movers
+                .iter()
+                .zip(&self.start)
+                .map(|(p, q)| p.distance(*q))
+                .collect();
+            for &Pair { mover, ball, gap } in pairs {
+                let (i, b) = (mover as usize, ball as usize);
+                if moved[i] <= gap {
+                    continue;
+                }
+                deepest = deepest.max(balls.press(self.movers[i], b, movers[i], self.posed[b]));
+                if deepest > stop {
+                    return deepest;
+                }
+            }
+            for (i, &a) in self.movers.iter().enumerate() {
+                let pa = movers[i];
+                for &b in &self.big {
+                    deepest = deepest.max(balls.press(a, b as usize, pa, self.posed[b as usize]));
+                    if deepest > stop {
+                        return deepest;
+                    }
+                }
+                if wide[i] {
+                    for b in (0..balls.len()).filter(|&b| self.gridded[b]) {
+                        deepest = deepest.max(balls.press(a, b, pa, self.posed[b]));
+                        if deepest > stop {
+                            return deepest;
+                        }
+                    }
+                }
+            }
+            return deepest;
         }
         for (i, &a) in self.movers.iter().enumerate() {
             let pa = movers[i];
@@ -429,4 +622,91 @@ pub fn between(from: &[Local], to: &[Local], s: f64) -> Vec<Local> {
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::random::SplitMix;
+
+    fn unit(rng: &mut SplitMix) -> f64 {
+        (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// The swept pairs find what the grid finds at every pose along a move: the same
+    /// deepest press, over random balls in four sections, two of them turning.
+    #[test]
+    fn the_swept_pairs_press_as_the_grid_does_all_along_a_move() {
+        let mut rng = SplitMix(11);
+        let mut pressed = 0;
+        for trial in 0..20 {
+            let n = 400;
+            let mut balls = Balls::default();
+            for _ in 0..n {
+                balls
+                    .center
+                    .push(DVec3::new(unit(&mut rng), unit(&mut rng), unit(&mut rng)));
+                let big = unit(&mut rng) < 0.05;
+                balls.radius.push(if big {
+                    0.2
+                } else {
+                    0.01 + 0.04 * unit(&mut rng)
+                });
+                balls.section.push((unit(&mut rng) * 4.0) as usize % 4);
+            }
+            balls.joint = (0..n).map(|k| (k % 3) as u16).collect();
+            balls.sides = vec![None, Some((1, 0)), Some((2, 0)), Some((3, 1))];
+            balls.cell = balls::cell(&balls.radius);
+            let turn = |s: f64, axis: DVec3| {
+                DAffine3::from_translation(DVec3::splat(0.5))
+                    * DAffine3::from_axis_angle(axis, s * (1.0 + trial as f64 * 0.1))
+                    * DAffine3::from_translation(DVec3::splat(-0.5))
+            };
+            let world = |s: f64| {
+                vec![
+                    DAffine3::IDENTITY,
+                    turn(s, DVec3::Y),
+                    DAffine3::IDENTITY,
+                    turn(-s, DVec3::X),
+                ]
+            };
+            let moving = vec![false, true, false, true];
+            let mut grid = Still::new(&balls, &world(0.0), &moving);
+            grid.relative(&world(0.0), &world(1.0));
+            let mut swept = Still::new(&balls, &world(0.0), &moving);
+            swept.relative(&world(0.0), &world(1.0));
+            let samples = 16;
+            let poses: Vec<Vec<DAffine3>> = (0..=samples)
+                .map(|k| world(k as f64 / samples as f64))
+                .collect();
+            swept.sweep(&poses);
+            for k in 0..=64 {
+                let s = k as f64 / 64.0;
+                let w = world(s);
+                let (a, b) = (
+                    grid.pressing(&w, f64::INFINITY),
+                    swept.pressing(&w, f64::INFINITY),
+                );
+                assert_eq!(a, b, "trial {trial}, s {s}");
+                // Every pair, brute force: a moving ball against every still one, and
+                // against every moving one of a section turning apart from its own.
+                let at = |b: usize| w[balls.section[b]].transform_point3(balls.center[b]);
+                let mut brute = 0.0f64;
+                for &m in &grid.movers {
+                    for o in 0..n {
+                        let other_moves = moving[balls.section[o]];
+                        if other_moves && (o <= m || balls.section[o] == balls.section[m]) {
+                            continue;
+                        }
+                        brute = brute.max(balls.press(m, o, at(m), at(o)));
+                    }
+                }
+                assert_eq!(a, brute, "trial {trial}, s {s}");
+                pressed += usize::from(a > SQUASH);
+            }
+            let pairs = &swept.swept.as_ref().expect("swept").pairs;
+            assert!(pairs.len() < grid.movers.len() * (n - grid.movers.len()));
+        }
+        assert!(pressed > 100, "{pressed} poses pressed");
+    }
 }
