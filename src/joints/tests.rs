@@ -354,30 +354,46 @@ fn an_arc_band_bends_its_centre_line_without_shortening_it() {
     assert!(end.abs_diff_eq(child, 1e-12), "{end:?} against {child:?}");
 }
 
-/// A flat strip of `w × 31` vertices 0.1 apart (row `r`, column `c` at `(0.1 c, 0.1 r)`,
-/// index `31 … w`), each vertex's skeletal point on the y axis at its own height unless
-/// `point` says otherwise; the joints have its surface.
-fn strip(w: usize, point: impl Fn(usize, usize) -> f64) -> Joints {
-    let rows = 31;
-    let at = |r: usize, c: usize| (r * w + c) as u32;
-    let mut points = Vec::new();
-    let mut positions = Vec::new();
+/// A sheet of `w × rows` vertices (row `r`, column `c` at index `r w + c`), each with its
+/// skeletal point and position from `at`, triangulated between neighbouring rows (and the
+/// last row to the first when `closed`); the joints have its surface.
+fn sheet(
+    w: usize,
+    rows: usize,
+    closed: bool,
+    at: impl Fn(usize, usize) -> (DVec3, DVec3),
+) -> Joints {
+    let index = |r: usize, c: usize| ((r % rows) * w + c) as u32;
+    let (mut points, mut positions) = (Vec::new(), Vec::new());
     for r in 0..rows {
         for c in 0..w {
-            points.push(DVec3::new(0.0, point(r, c), 0.0));
-            positions.push(DVec3::new(0.1 * c as f64, 0.1 * r as f64, 0.0));
+            let (p, x) = at(r, c);
+            points.push(p);
+            positions.push(x);
         }
     }
     let mut triangles = Vec::new();
-    for r in 0..rows - 1 {
+    for r in 0..if closed { rows } else { rows - 1 } {
         for c in 0..w - 1 {
-            triangles.push([at(r, c), at(r, c + 1), at(r + 1, c + 1)]);
-            triangles.push([at(r, c), at(r + 1, c + 1), at(r + 1, c)]);
+            triangles.push([index(r, c), index(r, c + 1), index(r + 1, c + 1)]);
+            triangles.push([index(r, c), index(r + 1, c + 1), index(r + 1, c)]);
         }
     }
     let mut j = Joints::with_mesh(&points, &triangles, &[], ROOT);
     j.set_surface(&positions, &vec![0.05; positions.len()]);
     j
+}
+
+/// A flat strip of `w × 31` vertices 0.1 apart (row `r`, column `c` at `(0.1 c, 0.1 r)`,
+/// index `31 … w`), each vertex's skeletal point on the y axis at its own height unless
+/// `point` says otherwise; the joints have its surface.
+fn strip(w: usize, point: impl Fn(usize, usize) -> f64) -> Joints {
+    sheet(w, 31, false, |r, c| {
+        (
+            DVec3::new(0.0, point(r, c), 0.0),
+            DVec3::new(0.1 * c as f64, 0.1 * r as f64, 0.0),
+        )
+    })
 }
 
 #[test]
@@ -451,27 +467,13 @@ fn a_section_joined_to_its_parent_in_two_places_loses_its_cut() {
     // joined to the root at both ends (a body standing on a pedestal by two legs). Turned
     // about one end, it tears at the other.
     let ring = |arch: bool| {
-        let (w, rows) = (5, 61);
-        let at = |r: usize, c: usize| ((r % rows) * w + c) as u32;
-        let mut points = Vec::new();
-        let mut positions = Vec::new();
-        for r in 0..rows {
-            for c in 0..w {
-                let y = if arch && r >= 50 { 0.0 } else { 0.1 * r as f64 };
-                points.push(DVec3::new(0.0, y, 0.0));
-                positions.push(DVec3::new(0.1 * c as f64, 0.1 * r as f64, 0.0));
-            }
-        }
-        let mut triangles = Vec::new();
-        let last = if arch { rows } else { rows - 1 };
-        for r in 0..last {
-            for c in 0..w - 1 {
-                triangles.push([at(r, c), at(r, c + 1), at(r + 1, c + 1)]);
-                triangles.push([at(r, c), at(r + 1, c + 1), at(r + 1, c)]);
-            }
-        }
-        let mut j = Joints::with_mesh(&points, &triangles, &[], ROOT);
-        j.set_surface(&positions, &vec![0.05; positions.len()]);
+        let mut j = sheet(5, 61, arch, |r, c| {
+            let y = if arch && r >= 50 { 0.0 } else { 0.1 * r as f64 };
+            (
+                DVec3::new(0.0, y, 0.0),
+                DVec3::new(0.1 * c as f64, 0.1 * r as f64, 0.0),
+            )
+        });
         j.add_cut(cut("arm", ROOT, 1.05)).unwrap();
         assert_eq!(j.sections()[1].vertices, if arch { 195 } else { 250 });
         j
@@ -500,25 +502,10 @@ fn a_later_connected_cut_adopts_the_children_it_carries_wherever_their_pivots_li
             DVec3::new(0.0, 2.0 - 0.1 * k, 0.1 * k)
         }
     };
-    let (w, rows) = (5, 31);
-    let at = |r: usize, c: usize| (r * w + c) as u32;
-    let mut points = Vec::new();
-    let mut positions = Vec::new();
-    for r in 0..rows {
-        for c in 0..w {
-            points.push(curl(r));
-            positions.push(curl(r) + DVec3::new(0.1 * c as f64, 0.0, 0.0));
-        }
-    }
-    let mut triangles = Vec::new();
-    for r in 0..rows - 1 {
-        for c in 0..w - 1 {
-            triangles.push([at(r, c), at(r, c + 1), at(r + 1, c + 1)]);
-            triangles.push([at(r, c), at(r + 1, c + 1), at(r + 1, c)]);
-        }
-    }
-    let mut j = Joints::with_mesh(&points, &triangles, &[], ROOT);
-    j.set_surface(&positions, &vec![0.05; positions.len()]);
+    let w = 5;
+    let mut j = sheet(w, 31, false, |r, c| {
+        (curl(r), curl(r) + DVec3::new(0.1 * c as f64, 0.0, 0.0))
+    });
     let connected = |name: &str, point: DVec3, normal: DVec3| Cut {
         connected: true,
         ..Cut::plane(name, ROOT, point, normal)

@@ -31,17 +31,7 @@ pub const FOREIGN: f64 = 0.25;
 /// Removes, one at a time, the cut of the deeper section of the unrelated pair with the
 /// largest shared seam at or above [`FOREIGN`]; returns the names of the cuts removed.
 pub fn keep_related(joints: &mut Joints) -> Vec<String> {
-    let mut removed = Vec::new();
-    for _ in 0..joints.cuts().len() {
-        let Some(name) = foreign(joints) else {
-            break;
-        };
-        if joints.remove_cut(&name).is_err() {
-            break;
-        }
-        removed.push(name);
-    }
-    removed
+    remove_while(joints, foreign)
 }
 
 /// The name of the section that loses its cut next, if any.
@@ -111,9 +101,15 @@ const FIRST_SEED: u64 = 1 << 32;
 /// (see the module docs); returns the names of the cuts removed. Without rest positions
 /// or mesh edges it removes nothing.
 pub fn keep_whole(joints: &mut Joints) -> Vec<String> {
+    remove_while(joints, torn)
+}
+
+/// Removes the cut `next` names, one at a time, while it names one (at most as many as
+/// there are cuts); returns the names removed.
+fn remove_while(joints: &mut Joints, next: fn(&Joints) -> Option<String>) -> Vec<String> {
     let mut removed = Vec::new();
     for _ in 0..joints.cuts().len() {
-        let Some(name) = torn(joints) else {
+        let Some(name) = next(joints) else {
             break;
         };
         if joints.remove_cut(&name).is_err() {
