@@ -123,30 +123,18 @@ impl Balls {
         let (ra, rb) = (self.radius[a], self.radius[b]);
         let small = ra.min(rb);
         let depth = ra + rb - pa.distance(pb);
-        if depth <= SQUASH * small || self.section[a] == self.section[b] {
+        if depth <= SQUASH * small || self.never(a, b) {
             return 0.0;
         }
-        // The two sides of a joint never press when they were neighbours at rest (the
-        // surfaces within a few of the smaller radii); other parts do, unless they pressed
-        // at rest already (a mesh's own overlap): an arm hanging by the body presses it
-        // when it turns in.
-        let at_rest = self.center[a].distance(self.center[b]);
+        // The two sides of a joint press when they were not neighbours at rest: an arm
+        // hanging by the body presses it when it turns in.
         let joint = self.joint.get(a).copied();
         if joint.is_none() || (joint != Some(0) && joint == self.joint.get(b).copied()) {
-            return if balls::neighbours(at_rest - small, ra.max(rb), small) {
-                0.0
-            } else {
-                depth / small
-            };
+            return depth / small;
         }
-        // A ball of a joint's flesh and one of the section across that joint that touched
-        // at rest (within the squash) are that joint's too, wherever the other's centre
-        // lies: a chest's big ball reaching into the armpit does not hold the arm up.
-        let at_rest_overlap = ra + rb - at_rest;
-        if at_rest_overlap > -SQUASH * small && (self.across(a, b) || self.across(b, a)) {
-            return 0.0;
-        }
-        // Other parts press by how much deeper they go than they lay at rest.
+        // Other parts press by how much deeper they go than they lay at rest (a mesh's
+        // own overlap).
+        let at_rest_overlap = ra + rb - self.center[a].distance(self.center[b]);
         let beyond = depth - at_rest_overlap.max(0.0);
         if beyond <= SQUASH * small {
             return 0.0;
@@ -154,8 +142,11 @@ impl Balls {
         beyond / small
     }
 
-    /// Whether pair `a`, `b` never presses, whatever the pose: one section, or two sides
-    /// of a joint that were neighbours at rest (see [`Balls::press`]).
+    /// Whether pair `a`, `b` never presses, whatever the pose: one section; the two sides
+    /// of a joint that were neighbours at rest (the surfaces within a few of the smaller
+    /// radii); or a ball of a joint's flesh and one of the section across that joint that
+    /// touched it at rest, within the squash (a chest's big ball reaching into the armpit
+    /// does not hold the arm up).
     fn never(&self, a: usize, b: usize) -> bool {
         if self.section[a] == self.section[b] {
             return true;
