@@ -244,7 +244,8 @@ struct ContactPlane {
 
 impl ContactPlane {
     /// The push that brings contact `c` (rest position `rest`, moved by `own`) back onto
-    /// its side of the plane, if it is on the inner side of the bend and across.
+    /// its side of the plane, if it is on the inner side of the bend and farther across
+    /// than it lay at rest (so the push grows from nothing as the joint bends).
     ///
     /// The push fades to nothing towards the limb's middle on the inner side and beyond
     /// the limb's sides ([`PUSH_FADE`]): the plane is where a limb's two inner sides meet,
@@ -257,8 +258,17 @@ impl ContactPlane {
             return None;
         }
         let s = (own.transform_point3(rest) - self.point).dot(self.normal);
-        let across = if c.child_side { s < 0.0 } else { s > 0.0 };
-        if !across {
+        // How far across the vertex lies, less how far across the cut's plane it lay at
+        // rest (a parent's skin beyond a rounded cut's plane, a hip's beside the thigh):
+        // at rest the plane is the cut's, so the push starts from nothing as the joint
+        // starts to bend instead of jumping there at the first degree.
+        let at_rest = v.dot(self.axis);
+        let excess = if c.child_side {
+            -s - (-at_rest).max(0.0)
+        } else {
+            s - at_rest.max(0.0)
+        };
+        if excess <= 0.0 {
             return None;
         }
         let r = self.radius.max(1e-12);
@@ -270,7 +280,7 @@ impl ContactPlane {
             * (1.0 - ((side - PUSH_FADE[0]) / (PUSH_FADE[1] - PUSH_FADE[0])).clamp(0.0, 1.0))
             * (2.0 * (1.0 - along / self.reach)).clamp(0.0, 1.0)
             * ((w - self.at_cut).abs() / FLIP_FADE).min(1.0);
-        (fade > 0.0).then_some(-s * fade * self.normal)
+        (fade > 0.0).then_some(-s.signum() * excess * fade * self.normal)
     }
 }
 
