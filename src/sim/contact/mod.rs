@@ -30,6 +30,11 @@
 //!   line from the centre; its motion into the ball is dropped and its sliding motion
 //!   keeps `1 − friction` (the floor's friction). It is a projection, so a limb posed deep
 //!   into the body squashes against it and nothing gains energy: no explosion.
+//! * **Caught, let go.** A ball does not hold a point whose bones hold it beyond the ball
+//!   (its target lies outside it) and more than the point's own medial radius away: the
+//!   pose does not press it in, only its way there crossed the ball (a paw's vertex hooked
+//!   on the other paw while its neighbours passed), and held there its skin tears. A point
+//!   pressed in, or resting on the ball, is held.
 //! * **The floor** ([`Floor`], `floor`) is a half-space contact with the same response.
 //!   Every point may touch it, so the kernel runs it in its fused pass (stages 3b and 4b);
 //!   a point a ball pushed goes through the same code here, and ends above it.
@@ -654,6 +659,14 @@ impl Colliders {
             slots.rest.get(k),
             f64::from(self.slot_radius[k]),
         );
+        // Where its bones hold it: a ball that lies between the point and there, farther
+        // than the point's own radius, caught it as it went by (one vertex of a paw hooked
+        // on the other paw while its neighbours passed, held 1.8 radii off and its skin
+        // stretched 4.9×), and lets it go (see `caught`).
+        let target = stage
+            .transforms
+            .get(usize::from(slots.section[k]))
+            .map(|t| t.transform_point3(rest));
         let (mut x, start) = (x, x);
         let mut normal = None;
         for _pass in 0..2 {
@@ -674,6 +687,9 @@ impl Colliders {
                 let d = x - c;
                 let d2 = d.length_squared();
                 if d2 >= r * r && !sweep {
+                    continue;
+                }
+                if yields && target.is_some_and(|t| caught(t, x, c, r, own as f32)) {
                     continue;
                 }
                 // Near at rest: the flesh about their joint, never pushed. Two parts that
@@ -743,6 +759,15 @@ impl Colliders {
     }
 }
 
+/// A point at `x` whose bones hold it at `target`, farther than its own radius `own`
+/// away, is caught on the ball `(c, r)` when the target lies outside it: the part's pose
+/// does not press it into the ball (the pose limit stopped the parts apart), only its way
+/// there crossed it. Held, it stays on the near side while its neighbours reach their
+/// places, and the skin between tears; let go, it goes where its bones hold it.
+fn caught(target: Vec3, x: Vec3, c: Vec3, r: f32, own: f32) -> bool {
+    target.distance_squared(c) >= r * r && target.distance_squared(x) > own * own
+}
+
 /// The first point where the segment `a → b` enters the ball `(c, r)`, when `a` is
 /// outside it and the segment passes through it.
 fn entry(a: Vec3, b: Vec3, c: Vec3, r: f32) -> Option<Vec3> {
@@ -767,6 +792,18 @@ fn entry(a: Vec3, b: Vec3, c: Vec3, r: f32) -> Option<Vec3> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_point_is_caught_only_when_its_bones_hold_it_beyond_the_ball_and_far_off() {
+        let (c, r, own) = (Vec3::ZERO, 1.0, 0.2);
+        let x = Vec3::new(-1.0, 0.0, 0.0);
+        // Held beyond the ball, far off: caught, let go.
+        assert!(caught(Vec3::new(1.5, 0.0, 0.0), x, c, r, own));
+        // Pressed into the ball (the flesh squashes): held.
+        assert!(!caught(Vec3::new(-0.5, 0.0, 0.0), x, c, r, own));
+        // Just outside, within its own radius: held (a point resting on the ball).
+        assert!(!caught(Vec3::new(-1.1, 0.0, 0.0), x, c, r, own));
+    }
 
     #[test]
     fn a_segment_entering_a_ball_is_found() {
