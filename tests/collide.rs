@@ -140,8 +140,9 @@ fn arms_hanging_by_the_body_stop_when_turned_into_it() {
         assert!(off.crossing >= 100, "{name}: the pose presses: {off:?}");
         let on = press.press(&m, colliding()).unwrap();
         // (At most 2 before the joint bands blended the trunk's skin around the
-        // shoulder: the armpit's fold now crosses up to 8 faces, `BENCHMARKS.md`.)
-        assert!(on.crossing <= 8, "{name}: {on:?}");
+        // shoulder, 8 before each seam vertex reached by its own radius: the teddy's
+        // armpit fold now crosses 11 faces, `BENCHMARKS.md`.)
+        assert!(on.crossing <= 11, "{name}: {on:?}");
         assert!(on.deepest <= 0.5, "{name}: {on:?}");
         assert!(on.reached < 100.0, "{name}: {on:?}");
         assert!(on.reached >= least, "{name}: stopped early: {on:?}");
