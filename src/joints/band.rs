@@ -86,9 +86,9 @@
 //! and within 2.5 radii of the pivot's line has a transform of its own: its band motion
 //! (and swelling), plus, in an arc, when it is on the inner side of the bend and its posed
 //! rest position crosses the contact plane farther than it lay across the cut's plane at
-//! rest (a rounded cut leaves some of the parent's skin beyond its plane: pushed from
-//! where it lay, it jumped at the first degree of bend and tore the skin at hips and
-//! shoulders, `puppet bench poses`), the push back by the difference. Its side is its
+//! rest (a rounded cut leaves some of the parent's skin beyond its plane, which a push
+//! from where it lay would move at the first degree of bend), the push back by the
+//! difference. Its side is its
 //! weight's (past the weight at the cut: the child's), and the push fades out towards the
 //! limb's middle, beyond its sides, towards the reach's end and where the side changes,
 //! so the pushed skin stays whole. A fan is not pushed: a trunk beside a limb is not the

@@ -21,8 +21,7 @@
 //!   a turn by `θ` stretches the skin by about `1 + θ / (2 SEAM_REACH)` at most. Each
 //!   seam vertex reaches by its own radius (at least the median's): a flat seam (an ear,
 //!   a flipper) lies far from the pivot's line at its edges, a turn moves them farther,
-//!   and a strip as wide as the median's tore there (`puppet bench poses`: the goat's
-//!   head 3.03× before, 2.66× after).
+//!   and a strip as wide as the median's tears there (`puppet bench poses`).
 //!
 //! The child's vertices beyond the band stay 1 (a head beyond its neck turns whole), and
 //! every vertex of another section keeps its label, so only this band's two sections
@@ -168,9 +167,7 @@ impl Joints {
         // width of it (across a face, a lip whose skeletal point lies deep in the head),
         // unless that frees the whole child (it must keep vertices that turn whole).
         let parent_side = |i: usize| usize::from(self.section_of[i]) == parent || beside(i);
-        // Each seam vertex reaches as far as it lies from the pivot's line (at least the
-        // median's reach): where a flat seam lies far out (an ear's, a flipper's edge), a
-        // turn moves it farther, and its strip is as much wider.
+        // Each seam vertex reaches by its own radius, at least the median's (module docs).
         let mut from: Vec<(usize, f64)> = seam
             .iter()
             .zip(&across)

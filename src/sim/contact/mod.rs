@@ -659,10 +659,8 @@ impl Colliders {
             slots.rest.get(k),
             f64::from(self.slot_radius[k]),
         );
-        // Where its bones hold it: a ball that lies between the point and there, farther
-        // than the point's own radius, caught it as it went by (one vertex of a paw hooked
-        // on the other paw while its neighbours passed, held 1.8 radii off and its skin
-        // stretched 4.9×), and lets it go (see `caught`).
+        // Where its bones hold it: a ball that merely caught it on the way lets it go
+        // (see `caught`).
         let target = stage
             .transforms
             .get(usize::from(slots.section[k]))
