@@ -52,7 +52,7 @@ fn colliding() -> Params {
 /// cuts), a leg crossed over the other, the head bent into a shoulder, a finger curled into
 /// the palm, the cow's head turned into its flank: the crossing faces at most the table's,
 /// and the angle reached within 3° of the table's (a part frozen at rest fails). Without
-/// collision each presses fifty faces or more through others.
+/// collision each presses forty faces or more through others.
 #[test]
 fn pressed_parts_stop_at_the_body_without_crossing() {
     let human = mesh("human.obj");
@@ -73,7 +73,7 @@ fn pressed_parts_stop_at_the_body_without_crossing() {
     ] {
         let p = press(name);
         let off = p.press(mesh, Params::default()).unwrap();
-        assert!(off.crossing >= 50, "{name}: the pose presses: {off:?}");
+        assert!(off.crossing >= 40, "{name}: the pose presses: {off:?}");
         let on = p.press(mesh, colliding()).unwrap();
         assert!(on.crossing <= most, "{name}: {on:?}");
         assert!(on.deepest <= 0.5, "{name}: {on:?}");

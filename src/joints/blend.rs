@@ -17,8 +17,10 @@
 //! * the band itself (the vertices its first guess moves), and
 //! * the parent's vertices within [`SEAM_REACH`] × the seam's radius (how far the seam
 //!   lies from the pivot's line, across the cut's normal) of the seam, along the surface:
-//!   a thick joint (a head on a body, a hip) bends over a strip as wide as it is thick, so
-//!   a turn by `θ` stretches the skin by about `1 + θ / (2 SEAM_REACH)` at most. Each
+//!   a thick joint (a head on a body, a hip) bends over a strip as wide as it is thick:
+//!   where the seam moves with share `w` of the turn (a half on an arc, up to about 0.8
+//!   on a fan, whose child side starts deeper in the turn), a turn by `θ` stretches the
+//!   strip by about `1 + θ w / SEAM_REACH` at most. Each
 //!   seam vertex reaches by its own radius (at least the median's): a flat seam (an ear,
 //!   a flipper) lies far from the pivot's line at its edges, a turn moves them farther,
 //!   and a strip as wide as the median's tears there (`puppet bench poses`).
@@ -33,8 +35,12 @@ use glam::DVec3;
 use std::collections::BinaryHeap;
 
 /// How far along the surface, in seam radii, the parent's side of a band reaches from the
-/// seam (see the module docs).
-pub const SEAM_REACH: f64 = 0.75;
+/// seam (see the module docs). Chosen on half of `puppet bench poses`' characters (every
+/// other one) from 0.75 to 2.25 (a fan's and an arc's apart too), by characters within
+/// 3× on every pose, then the worst stretch's 90th percentile, then its median; that half
+/// reads nearly alike over the range, the other half's figures are in
+/// `docs/performance-log.md`.
+pub const SEAM_REACH: f64 = 1.25;
 
 /// How many times a limb's slope (the band's weight over its length) a first guess may
 /// change along an edge before it is a jump, not a limb's skeleton (a head's skeletal
