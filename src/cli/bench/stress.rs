@@ -10,8 +10,10 @@
 //! once (`puppet::puppet::poses`: ±60°, ±90° at the root), the bands blended over the mesh. After every step it checks: every
 //! coordinate finite, every mass point inside its constraint region (within 1e-5 of the
 //! model size), and bounded motion: no mass point moves farther in one step than its
-//! target moved plus the diameter of its region. It reports the worst surface-spring strain
-//! seen.
+//! target moved plus the diameter of its region; and no surface spring between two points
+//! in their regions stretches beyond its two targets' distance by more than their play
+//! around them. It reports the worst surface-spring strain seen (the bones' own: a random
+//! pivot stretches them without bound) and the worst beyond the bones'.
 //!
 //! Half the scenarios have gravity in a random direction up to 10 g, up along any of the
 //! six axis directions, a third a floor across it (anywhere from below the puppet to its
@@ -34,6 +36,11 @@ use puppet::sim::{
     Constraint, Layer, Material, Params, Regions, Simulation, Solver, World, MAX_GRAVITY,
     MAX_STIFFENING, MAX_STIFFNESS, REFERENCE_STEP,
 };
+
+/// Steps a point stays exempt from its region after a contact last held it (its value in
+/// `pushed` when held): it comes back in the step after the contact lets go, or, in a
+/// sleeping tile, which that wakes, in the one after that.
+const HELD: u8 = 3;
 
 struct Rng(SplitMix);
 
@@ -75,8 +82,13 @@ struct Report {
     scenarios: usize,
     steps: u64,
     vertex_steps: u64,
+    /// The largest surface-spring strain: the bones' own (a random pivot stretches
+    /// them), plus what the points' play around their targets adds.
     worst_strain: f64,
     worst_strain_scenario: String,
+    /// The largest stretch of a spring beyond its targets' distance, over its rest length
+    /// (bounded by its points' play by the checks).
+    worst_strain_beyond_bones: f64,
     /// Largest one-step displacement as a share of its bound (≤ 1 by the checks).
     worst_motion_share: f64,
     /// Largest constraint excess seen, relative to the model size (≤ 1e-5 by the checks).
@@ -239,9 +251,10 @@ pub fn run(args: &Args) -> Result<()> {
             report.seed, report.scenarios, report.arcs, report.fans, report.skins, report.steps, report.vertex_steps, report.seconds
         );
         println!(
-            "worst surface-spring strain {:.3} ({}); worst motion {:.3} of its bound; worst constraint excess {:.1e} of the model size",
+            "worst surface-spring strain {:.3} ({}), {:.3} beyond its bones'; worst motion {:.3} of its bound; worst constraint excess {:.1e} of the model size",
             report.worst_strain,
             report.worst_strain_scenario,
+            report.worst_strain_beyond_bones,
             report.worst_motion_share,
             report.worst_constraint_excess
         );
@@ -551,7 +564,7 @@ fn run_scenario(
             done += 1;
             pushed.iter_mut().for_each(|p| *p = p.saturating_sub(1));
             for i in sim.in_contact() {
-                pushed[i] = 3;
+                pushed[i] = HELD;
             }
             check(
                 &sim,
@@ -592,6 +605,9 @@ fn check(
     let x = sim.positions();
     let rig = sim.rig();
     let step = sim.steps();
+    // How far each point may lie from its target: its region; unbounded on the floor or
+    // while a contact holds it or it comes back from one.
+    let mut reach = vec![f64::INFINITY; rig.len()];
     for i in 0..rig.len() {
         let p = &Params {
             material: sim.regions().material_of(i, &base.material),
@@ -651,6 +667,7 @@ fn check(
             continue;
         }
         if !on_floor {
+            reach[i] = radius + tolerance;
             report.worst_constraint_excess = report.worst_constraint_excess.max(excess / size);
             if excess > tolerance {
                 bail!("stress scenario {name}, step {step}: vertex {i} is {excess:e} outside its constraint with {p:?}");
@@ -667,13 +684,26 @@ fn check(
         targets[i] = target;
         before[i] = y;
     }
+    // The skin stretches as far as its bones say (a random pivot stretches them without
+    // bound) and no farther than its points' play around their targets.
     for s in &rig.springs {
         if s.rest > 0.0 {
-            let len = (x.get(s.b as usize) - x.get(s.a as usize)).length();
-            let strain = (len / s.rest - 1.0).abs() as f64;
+            let (a, b) = (s.a as usize, s.b as usize);
+            let len = (x.get(b) - x.get(a)).length() as f64;
+            let strain = (len / s.rest as f64 - 1.0).abs();
             if strain > report.worst_strain {
                 report.worst_strain = strain;
                 report.worst_strain_scenario = name.to_string();
+            }
+            let play = reach[a] + reach[b];
+            if play.is_finite() {
+                let bones = (targets[b] - targets[a]).length() as f64;
+                let beyond = (len - bones).max(0.0);
+                report.worst_strain_beyond_bones =
+                    report.worst_strain_beyond_bones.max(beyond / s.rest as f64);
+                if beyond > play {
+                    bail!("stress scenario {name}, step {step}: the spring {a}–{b} is {len:e} long, {beyond:e} more than its targets lie apart, beyond its points' play {play:e}");
+                }
             }
         }
     }
