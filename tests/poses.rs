@@ -347,17 +347,18 @@ fn a_wide_flat_seam_bends_over_a_strip_as_wide() {
     assert!(stretch <= 3.0, "an edge stretched {stretch:.2}×");
 }
 
-/// The parent's side of a band reaches `SEAM_REACH` seam radii into it (`joints::blend`):
-/// a thick joint bends over a strip as wide as it is thick. Where the bones hold the
-/// surface in `bench poses`' 20 seeds, the arm of bigears beside its neckless head's band
-/// stays within 3× (3.32× with a reach of 0.75 radii) and the penguin's flipper root
-/// within 5× (5.36×).
+/// The parent's side of a band reaches `SEAM_REACH` seam radii into it (`joints::blend`),
+/// more where the seam moves with more than half the turn (a fan's): a thick joint bends
+/// over a strip as wide as it is thick. Where the bones hold the surface in `bench poses`'
+/// 20 seeds, the arm of bigears beside its neckless head's band stays within 3× (3.32×
+/// with a reach of 0.75 radii) and the penguin's flipper root within 4.5× (5.36×; 4.80×
+/// with the reach not widened for a fan).
 #[test]
 fn a_thick_seam_bends_over_a_strip_as_wide_as_it_is_thick() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     for (name, most) in [
         ("tests/data/characters/bigears.obj", 3.0),
-        ("tests/data/meshes/penguin.obj", 5.0),
+        ("tests/data/meshes/penguin.obj", 4.5),
     ] {
         let p = suggested(&root.join(name));
         let bones = (1..=20)

@@ -745,6 +745,9 @@ impl Joints {
             // An arc's levels are places along its bent centre line, which a vertex's
             // weight must match (on a limb its skeletal point does, and is continuous);
             // a fan's blend over the surface.
+            // The share of the turn the seam moves with: where the cut lies along the band.
+            let at_cut = width / (width + reach);
+            let seam = if arc { at_cut } else { weight(at_cut) };
             let weights = if arc {
                 self.blend(
                     child,
@@ -754,6 +757,7 @@ impl Joints {
                     Hold::Exact {
                         span: width + reach,
                         smooth: SMOOTH * radius,
+                        seam,
                     },
                     &guess,
                 )
@@ -766,6 +770,7 @@ impl Joints {
                     Hold::Soft {
                         reach,
                         smooth: SMOOTH * radius,
+                        seam,
                     },
                     &guess,
                 )

@@ -19,8 +19,9 @@
 //!   lies from the pivot's line, across the cut's normal) of the seam, along the surface:
 //!   a thick joint (a head on a body, a hip) bends over a strip as wide as it is thick:
 //!   where the seam moves with share `w` of the turn (a half on an arc, up to about 0.8
-//!   on a fan, whose child side starts deeper in the turn), a turn by `θ` stretches the
-//!   strip by about `1 + θ w / SEAM_REACH` at most. Each
+//!   on a fan, whose child side starts deeper in the turn), a turn by `θ` stretches a
+//!   strip `R` radii wide by about `1 + θ w / R` at most, so the strip is `SEAM_REACH · w
+//!   / 0.5` radii wide, its stretch bounded alike on both kinds. Each
 //!   seam vertex reaches by its own radius (at least the median's): a flat seam (an ear,
 //!   a flipper) lies far from the pivot's line at its edges, a turn moves them farther,
 //!   and a strip as wide as the median's tears there (`puppet bench poses`).
@@ -35,10 +36,12 @@ use glam::DVec3;
 use std::collections::BinaryHeap;
 
 /// How far along the surface, in seam radii, the parent's side of a band reaches from the
-/// seam (see the module docs). Chosen on half of `puppet bench poses`' characters (every
-/// other one) from 0.75 to 2.25 (a fan's and an arc's apart too), by characters within
-/// 3× on every pose, then the worst stretch's 90th percentile, then its median; that half
-/// reads nearly alike over the range, the other half's figures are in
+/// seam where the seam moves with half the turn (an arc's); a seam that moves with share
+/// `w` of it reaches `w / 0.5` times as far, so the strip's stretch is bounded alike (see
+/// the module docs). Chosen on half of `puppet bench poses`' characters (every other one)
+/// from 0.75 to 2.25 (a fan's and an arc's apart too, and in proportion to the share), by
+/// characters within 3× on every pose, then the worst stretch's 90th percentile, then its
+/// median; that half reads nearly alike over the range, the other half's figures are in
 /// `docs/performance-log.md`.
 pub const SEAM_REACH: f64 = 1.25;
 
@@ -68,6 +71,8 @@ pub(super) enum Hold {
         span: f64,
         /// How far around a jump the weight is blended instead.
         smooth: f64,
+        /// The share of the turn the band moves the seam with (see [`SEAM_REACH`]).
+        seam: f64,
     },
     /// Softly, a fan's: the child's within about `smooth` of a jump, the parent's not at
     /// all, and the child's vertices within `reach` of the seam blend too.
@@ -76,6 +81,8 @@ pub(super) enum Hold {
         reach: f64,
         /// Over what distance a jump in the first guess is smoothed.
         smooth: f64,
+        /// The share of the turn the band moves the seam with (see [`SEAM_REACH`]).
+        seam: f64,
     },
 }
 
@@ -100,10 +107,16 @@ impl Joints {
         hold: Hold,
         guess: &[Guess],
     ) -> Vec<(usize, f64)> {
-        let (exact, width, smooth) = match hold {
-            Hold::Exact { smooth, .. } => (true, 0.0, smooth),
-            Hold::Soft { reach, smooth } => (false, reach, smooth),
+        let (exact, width, smooth, seam_share) = match hold {
+            Hold::Exact { smooth, seam, .. } => (true, 0.0, smooth, seam),
+            Hold::Soft {
+                reach,
+                smooth,
+                seam,
+            } => (false, reach, smooth, seam),
         };
+        // A seam that moves with more of the turn than half bends over a wider strip.
+        let seam_reach = SEAM_REACH * (seam_share / 0.5).max(1.0);
         let n = self.section_of.len();
         let body = &self.body;
         if body.start.len() != n + 1 || body.rest.len() != n {
@@ -144,7 +157,7 @@ impl Joints {
         let Some(radius) = crate::stats::median(&mut radii) else {
             return guess.iter().map(|g| (g.vertex, g.x)).collect();
         };
-        let reach = SEAM_REACH * radius;
+        let reach = seam_reach * radius;
         // Free: the band, and the parent's vertices within `reach` of the seam.
         const NOT: u32 = u32::MAX;
         let mut index = vec![NOT; n];
@@ -154,7 +167,7 @@ impl Joints {
         let mut fixed: Vec<f64> = (0..n).map(label).collect();
         let mut kept: Vec<(usize, f64)> = Vec::new();
         let loose = match hold {
-            Hold::Exact { span, smooth } => self.jumps(guess, span, smooth, child),
+            Hold::Exact { span, smooth, .. } => self.jumps(guess, span, smooth, child),
             Hold::Soft { .. } => Vec::new(),
         };
         for g in guess {
@@ -177,7 +190,7 @@ impl Joints {
         let mut from: Vec<(usize, f64)> = seam
             .iter()
             .zip(&across)
-            .map(|(&i, &r)| (i, SEAM_REACH * r.max(radius)))
+            .map(|(&i, &r)| (i, seam_reach * r.max(radius)))
             .collect();
         from.extend(
             guess
