@@ -18,8 +18,8 @@
 //! * the parent's vertices within [`SEAM_REACH`] × the seam's radius (how far the seam
 //!   lies from the pivot's line, across the cut's normal) of the seam, along the surface:
 //!   a thick joint (a head on a body, a hip) bends over a strip as wide as it is thick:
-//!   where the seam moves with share `w` of the turn (a half on an arc, up to about 0.8
-//!   on a fan, whose child side starts deeper in the turn), a turn by `θ` stretches a
+//!   where the seam moves with share `w` of the turn (a half to two thirds on an arc, up
+//!   to 0.7 on a fan, whose child side starts deeper in the turn), a turn by `θ` stretches a
 //!   strip `R` radii wide by about `1 + θ w / R` at most, so the strip is `SEAM_REACH · w
 //!   / 0.5` radii wide, its stretch bounded alike on both kinds. Each
 //!   seam vertex reaches by its own radius (at least the median's): a flat seam (an ear,
