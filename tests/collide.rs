@@ -514,3 +514,95 @@ fn collision_on_random_poses_is_never_worse_than_off() {
         );
     }
 }
+
+/// Steps `puppet` through `poses` (one per step), its contacts' kept lists forgotten
+/// before every step when `forget`: where every vertex ends (bits) and how many
+/// vertex-steps a contact held.
+fn run_poses(
+    puppet: &Puppet,
+    poses: &[Vec<puppet::joints::Local>],
+    forget: bool,
+) -> (Vec<[u32; 3]>, usize) {
+    let mut q = puppet.clone();
+    let mut scratch = puppet::joints::PoseScratch::default();
+    let mut held = 0;
+    for local in poses {
+        if forget {
+            q.sim.forget_contact_lists();
+        }
+        q.sim.step(q.joints.pose_into(local, &mut scratch));
+        held += q.sim.in_contact().len();
+    }
+    let x = (0..q.mesh.positions.len())
+        .map(|i| q.sim.positions().get(i).to_array().map(f32::to_bits))
+        .collect();
+    (x, held)
+}
+
+/// `from` to `to` over `steps` steps (each section slerped), then held `hold` steps.
+fn ramp(
+    from: &[puppet::joints::Local],
+    to: &[puppet::joints::Local],
+    steps: usize,
+    hold: usize,
+) -> Vec<Vec<puppet::joints::Local>> {
+    (1..=steps + hold)
+        .map(|k| {
+            let s = (k as f64 / steps as f64).min(1.0);
+            from.iter()
+                .zip(to)
+                .map(|(a, b)| puppet::joints::Local {
+                    rotation: a.rotation.slerp(b.rotation, s),
+                    translation: a.translation.lerp(b.translation, s),
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The contact stage keeps, per tile and per group of its points, the balls near them, and
+/// per point how far it may move among balls that do not move before it can meet one: a
+/// settling pose reads few points. Kept or gathered again every step, the stage finds the
+/// same contacts, bit for bit: random poses of the dog reached and held (every part
+/// moves), and a leg crossed over the other with soft flesh, held, and turned back in one
+/// step (a moving part's balls reach a still part's tiles, and leave them).
+#[test]
+fn kept_contact_lists_change_nothing() {
+    use puppet::puppet::poses::{self, Spread};
+    let dog = common::suggested(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/characters/dog.obj"),
+    );
+    let mut cases = Vec::new();
+    for seed in [4, 7] {
+        let target = poses::random_pose(
+            &dog.joints,
+            Spread::default(),
+            &mut puppet::random::SplitMix(seed),
+        );
+        let mut q = dog.clone();
+        q.sim.set_params(colliding());
+        let rest = vec![puppet::joints::Local::default(); target.len()];
+        cases.push((format!("dog seed {seed}"), q, ramp(&rest, &target, 30, 60)));
+    }
+    let mut soft = colliding();
+    soft.world.flesh = 0.25;
+    let posed = press("legs crossed")
+        .posed(&mesh("human.obj"), soft)
+        .unwrap();
+    let rest = vec![puppet::joints::Local::default(); posed.local.len()];
+    let mut steps = ramp(&rest, &posed.local, 2, 40);
+    steps.extend(ramp(&posed.local, &rest, 1, 40));
+    cases.push(("legs crossed, soft".into(), posed.puppet, steps));
+    for (name, puppet, steps) in &cases {
+        let kept = run_poses(puppet, steps, false);
+        assert!(
+            kept.1 > 100,
+            "{name}: too few contacts to compare ({})",
+            kept.1
+        );
+        assert!(
+            kept == run_poses(puppet, steps, true),
+            "{name}: kept lists moved a point"
+        );
+    }
+}

@@ -474,6 +474,16 @@ impl Simulation {
         })
     }
 
+    /// Forgets the contacts' kept lists of the balls near each tile, so that the next step
+    /// gathers them all again: what the stage finds does not depend on them (a test
+    /// compares).
+    #[doc(hidden)]
+    pub fn forget_contact_lists(&mut self) {
+        if let Some(c) = &mut self.contacts {
+            c.forget_lists();
+        }
+    }
+
     /// Steps taken so far.
     pub fn steps(&self) -> u64 {
         self.state.steps

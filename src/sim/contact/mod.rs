@@ -26,6 +26,13 @@
 //!   test, grown by how far they moved since: while that box meets no cell holding a ball
 //!   the tile's section meets, its points are not read. Otherwise a tile whose box meets
 //!   no such ball is skipped whole.
+//! * **Kept lists** (`near`). A tile keeps the balls near its points' box, gathered for
+//!   a box a quarter cell larger, and each group of its points the balls of that list near
+//!   the group (less those of the flesh about every point's joint); each is gathered again
+//!   when its points leave that box or a ball that moved comes near the tile. A point keeps
+//!   its room: how far it may move, in a step where no ball moves, before it can meet one
+//!   of its group's balls; a point that stayed within it is not tested. A settling pose
+//!   reads few points; what the stage finds is the same (`tests/collide.rs`).
 //! * **Response.** A point inside a ball goes to its surface (plus the margin) along the
 //!   line from the centre; its motion into the ball is dropped and its sliding motion
 //!   keeps `1 − friction` (the floor's friction). It is a projection, so a limb posed deep
@@ -50,6 +57,7 @@
 
 mod floor;
 mod grid;
+mod near;
 
 pub use floor::{Floor, Up};
 
@@ -57,13 +65,13 @@ use super::layout::{Layout, Packed};
 use crate::geom::balls;
 use glam::{Affine3A, DVec3, Vec3};
 use grid::{key, Set};
+use near::Near;
 use rayon::prelude::*;
 
 /// A worker's lists, kept from tile to tile so the stage allocates nothing per tile: the
-/// balls near a tile, and those near a group of its points.
+/// balls near a group of a tile's points.
 #[derive(Default)]
 struct Buffers {
-    candidates: Vec<u32>,
     group: Vec<u32>,
     /// The tile's held flags before the stage.
     was: Vec<bool>,
@@ -120,6 +128,13 @@ pub struct Colliders {
     /// stay there): a sleeping tile far from every ball that moved is not read.
     tile_box: Vec<Option<(Vec3, Vec3)>>,
     tile_section: Vec<Option<u16>>,
+    /// Per tile, its kept list of the balls near it ([`Near`]).
+    near: Vec<Near>,
+    /// Counts the times the balls were posed from scratch or their reach or the margin
+    /// changed: a list kept in another generation is gathered again.
+    generation: u32,
+    /// The margin the kept lists were gathered with.
+    margin: f32,
     /// The balls some point may meet, each set posed and gridded on its own (see
     /// [`Colliders::choose`]): a set whose sections did not move keeps its grid.
     sets: Vec<Set>,
@@ -304,6 +319,11 @@ impl Colliders {
         &self.held
     }
 
+    /// Forgets the kept lists of the balls near each tile (each is gathered again).
+    pub fn forget_lists(&mut self) {
+        self.generation = self.generation.wrapping_add(1);
+    }
+
     /// Forgets the contacts (a step without collision).
     pub fn clear(&mut self) {
         self.held.fill(false);
@@ -342,6 +362,10 @@ impl Colliders {
             }
         }
         self.held.resize(layout.len(), false);
+        if stage.margin != self.margin {
+            self.margin = stage.margin;
+            self.generation = self.generation.wrapping_add(1);
+        }
         // A ball some point meets moved: sleeping tiles are tested too.
         let moved = self.pose(stage);
         if self.is_empty() {
@@ -349,19 +373,21 @@ impl Colliders {
         }
         let tile = layout.tile;
         self.tile_box.resize(layout.tiles(), None);
+        self.near.resize_with(layout.tiles(), Near::default);
         let mut held = std::mem::take(&mut self.held);
         let mut boxes = std::mem::take(&mut self.tile_box);
+        let mut near = std::mem::take(&mut self.near);
         let this = &*self;
         let touched: Vec<Touched> = cur
             .0
             .par_chunks_mut(tile)
             .zip(prev.0.par_chunks_mut(tile))
             .zip(held.par_chunks_mut(tile))
-            .zip(boxes.par_iter_mut())
+            .zip(boxes.par_iter_mut().zip(near.par_iter_mut()))
             .enumerate()
             .map_init(
                 Buffers::default,
-                |buffers, (t, (((cur, prev), held), bx))| {
+                |buffers, (t, (((cur, prev), held), (bx, near)))| {
                     let awake = awake.get(t).copied().unwrap_or(true);
                     if !this.tile_yields.get(t).copied().unwrap_or(true) || (!awake && !moved) {
                         return None;
@@ -377,9 +403,13 @@ impl Colliders {
                         buffers.was.extend_from_slice(held);
                     }
                     let motion = if this.may_meet(stage, t, *bx, !awake) {
-                        this.tile(stage, t, cur, prev, held, bx, buffers)
+                        this.tile(stage, t, cur, prev, held, (bx, near), buffers)
                     } else {
                         held.fill(false);
+                        // Not tested: a ball that moved may come near its kept box unseen.
+                        if moved {
+                            near.forget();
+                        }
                         None
                     };
                     let released =
@@ -395,6 +425,7 @@ impl Colliders {
             .collect();
         self.held = held;
         self.tile_box = boxes;
+        self.near = near;
         touched
     }
 
@@ -436,7 +467,8 @@ impl Colliders {
 
     /// Stage 4c on tile `t`, whose points, previous points and held flags are `cur`,
     /// `prev` and `held`: the largest squared distance a point of it moved in the step,
-    /// when a contact moved one. Keeps the box of its points in `bx`.
+    /// when a contact moved one. Keeps the box of its points in `bx`, and the balls near
+    /// them in `near`.
     #[allow(clippy::too_many_arguments)]
     fn tile(
         &self,
@@ -445,7 +477,7 @@ impl Colliders {
         cur: &mut [[f32; 4]],
         prev: &mut [[f32; 4]],
         held: &mut [bool],
-        bx: &mut Option<(Vec3, Vec3)>,
+        (bx, near): (&mut Option<(Vec3, Vec3)>, &mut Near),
         buffers: &mut Buffers,
     ) -> Option<f32> {
         let get = |a: &[[f32; 4]], i: usize| Vec3::new(a[i][0], a[i][1], a[i][2]);
@@ -466,17 +498,29 @@ impl Colliders {
         let sweep = fastest.sqrt() > reach || self.motion > reach;
         let grow = stage.margin + if sweep { self.motion } else { 0.0 };
         let (lo, hi) = (lo - grow, hi + grow);
-        let Buffers {
-            candidates, group, ..
-        } = buffers;
-        self.near(t, lo, hi, candidates);
-        if candidates.is_empty() {
+        let group = &mut buffers.group;
+        let skin = near::SKIN * self.cell;
+        let kept = near.tile.covers(self.generation, lo, hi) && {
+            let (a, b) = near.tile.bounds();
+            !self.moved_into(t, a, b)
+        };
+        if !kept {
+            let (lo, hi) = (lo - skin, hi + skin);
+            self.near(t, lo, hi, &mut near.tile.balls);
+            near.tile.keep(self.generation, lo, hi);
+            near.gathered = near.gathered.wrapping_add(1);
+        }
+        if near.tile.balls.is_empty() {
             held.fill(false);
             return None;
         }
+        let (tile_lo, tile_hi) = near.tile.bounds();
+        let still = self.motion == 0.0;
+        near.groups.resize_with(n.div_ceil(GROUP), Default::default);
+        near.room.resize(n, (Vec3::ZERO, -1.0));
         let mut any = false;
         let mut motion = 0.0f32;
-        for i0 in (0..n).step_by(GROUP) {
+        for (i0, kept) in (0..n).step_by(GROUP).zip(near.groups.iter_mut()) {
             let i1 = (i0 + GROUP).min(n);
             // The balls that meet this group of points' box.
             let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
@@ -486,17 +530,54 @@ impl Colliders {
                 hi = hi.max(x.max(p));
             }
             let (lo, hi) = (lo - grow, hi + grow);
-            group.clear();
-            group.extend(candidates.iter().copied().filter(|&b| {
+            let meets = |b: u32, lo: Vec3, hi: Vec3| {
                 let (c, r) = (self.posed[b as usize], self.reach(b as usize));
                 c.clamp(lo, hi).distance_squared(c) <= r * r
-            }));
+            };
+            if !kept.covers(near.gathered, lo, hi) {
+                // Within the tile's box, so that the tile's list holds all it meets; a
+                // ball every point of the group ignores (the flesh about their joint) is
+                // left out.
+                let (lo, hi) = ((lo - skin).max(tile_lo), (hi + skin).min(tile_hi));
+                kept.balls.clear();
+                kept.balls
+                    .extend(near.tile.balls.iter().copied().filter(|&b| {
+                        meets(b, lo, hi)
+                            && (start + i0..start + i1).any(|k| !self.ignores(stage, k, b as usize))
+                    }));
+                kept.keep(near.gathered, lo, hi);
+                for room in &mut near.room[i0..i1] {
+                    room.1 = -1.0;
+                }
+            }
+            // Gathered when a point needs it.
+            let mut filtered = false;
             for i in i0..i1 {
                 let (x, p) = (get(cur, i), get(prev, i));
-                let moved = if group.is_empty() {
+                let (anchor, room) = near.room[i];
+                // A point that stayed (from where it was, when it is swept) within its room
+                // among balls that did not move meets none.
+                let within = |y: Vec3| y.distance_squared(anchor) < room * room;
+                let moved = if kept.balls.is_empty()
+                    || (still && room > 0.0 && within(x) && (!sweep || within(p)))
+                {
                     None
                 } else {
-                    self.point(stage, start + i, group, sweep, x, p)
+                    if !filtered {
+                        group.clear();
+                        group.extend(kept.balls.iter().copied().filter(|&b| meets(b, lo, hi)));
+                        filtered = true;
+                    }
+                    let moved = if group.is_empty() {
+                        None
+                    } else {
+                        self.point(stage, start + i, group, sweep, x, p)
+                    };
+                    near.room[i] = match moved {
+                        None => (x, self.room(stage, start + i, &kept.balls, x)),
+                        Some(_) => (x, -1.0),
+                    };
+                    moved
                 };
                 held[i] = moved.is_some();
                 match moved {
@@ -527,6 +608,9 @@ impl Colliders {
     /// whether a ball moved.
     fn pose(&mut self, stage: &Stage) -> bool {
         let stale = std::mem::take(&mut self.stale);
+        if stale {
+            self.generation = self.generation.wrapping_add(1);
+        }
         let mut sets = std::mem::take(&mut self.sets);
         let (mut moved, mut motion) = (false, 0.0f32);
         self.moving.clear();
@@ -619,6 +703,54 @@ impl Colliders {
         });
     }
 
+    /// Whether a ball that moved in this step reaches into the box `lo..hi` of tile `t`
+    /// (one of a section a point of the tile meets).
+    fn moved_into(&self, t: usize, lo: Vec3, hi: Vec3) -> bool {
+        let own = self.tile_section[t];
+        self.boxes
+            .iter()
+            .zip(&self.moving)
+            .enumerate()
+            .any(|(s, (&(a, b), &m))| {
+                m && own.is_none_or(|o| self.meets(o, s as u16).is_some())
+                    && a.cmple(hi).all()
+                    && lo.cmple(b).all()
+            })
+    }
+
+    /// Whether slot `k` never yields to ball `b` nor is dented by it, wherever both are:
+    /// their sections do not meet, or the ball is of the flesh about the slot's joint and
+    /// was its neighbour at rest (at a joint the two sides touch at rest, and the band
+    /// holds the fold).
+    fn ignores(&self, stage: &Stage, k: usize, b: usize) -> bool {
+        if self.meets(self.slot_section[k], self.section[b]).is_none() {
+            return true;
+        }
+        let joint = self.slot_joint.get(k).copied().unwrap_or(0);
+        (self.everywhere || (joint != 0 && joint == self.joint[b]))
+            && balls::neighbours(
+                f64::from(stage.layout.slots.rest.get(k).distance(self.center[b])),
+                f64::from(self.radius[b] + stage.margin),
+                f64::from(self.slot_radius[k]),
+            )
+    }
+
+    /// How far the point of slot `k` at `x` may move before it can meet one of `balls`
+    /// that do not move (negative: it may meet one now).
+    fn room(&self, stage: &Stage, k: usize, balls: &[u32], x: Vec3) -> f32 {
+        balls.iter().fold(f32::INFINITY, |room, &b| {
+            let b = b as usize;
+            let r = self.radius[b] * (1.0 + stage.flesh) + stage.margin;
+            // (Short of the surface by a rounding: the point test compares squares.)
+            let to = x.distance(self.posed[b]) - r * 1.0001;
+            if to < room && !self.ignores(stage, k, b) {
+                to
+            } else {
+                room
+            }
+        })
+    }
+
     /// How far ball `b` reaches: its radius, grown by the flesh's give (it dents that far).
     fn reach(&self, b: usize) -> f32 {
         self.radius[b] * (1.0 + self.flesh)
@@ -653,7 +785,6 @@ impl Colliders {
         p: Vec3,
     ) -> Option<(Vec3, Vec3)> {
         let slots = &stage.layout.slots;
-        let joint = self.slot_joint.get(k).copied().unwrap_or(0);
         let (section, rest, own) = (
             self.slot_section[k],
             slots.rest.get(k),
@@ -690,15 +821,16 @@ impl Colliders {
                 if yields && target.is_some_and(|t| caught(t, x, c, r, own as f32)) {
                     continue;
                 }
-                // Near at rest: the flesh about their joint, never pushed. Two parts that
-                // merely rest near each other collide; where the point lay inside the
-                // ball at rest, it is put back only as far out as it lay then (and not
-                // swept: it may be inside).
+                // Near at rest: the flesh about their joint, never pushed.
+                if self.ignores(stage, k, b) {
+                    continue;
+                }
+                // Two parts that merely rest near each other collide; where the point lay
+                // inside the ball at rest, it is put back only as far out as it lay then
+                // (and not swept: it may be inside).
+                let joint = self.slot_joint.get(k).copied().unwrap_or(0);
                 let at_rest = rest.distance(self.center[b]);
                 let (r, sweep) = if self.everywhere || (joint != 0 && joint == self.joint[b]) {
-                    if balls::neighbours(f64::from(at_rest), f64::from(whole), own) {
-                        continue;
-                    }
                     (r, sweep)
                 } else if at_rest < r.max(whole) {
                     let r = r.min(at_rest);

@@ -1,0 +1,65 @@
+//! Kept lists of the balls near a tile and near each group of its points (see
+//! [`super::Colliders`]): each gathered for a box a little larger than its points need, and
+//! read again in later steps while the points stay inside that box and no ball that moved
+//! comes near the tile. A settling pose gathers once instead of every step, and a group
+//! far from every ball reads none.
+
+use glam::Vec3;
+
+/// How much larger than its points' box a list is gathered for, in grid cells: the points
+/// may move this far before it is gathered again.
+pub(super) const SKIN: f32 = 0.25;
+
+/// The balls that may meet some points, for a box.
+#[derive(Clone, Debug, Default)]
+pub(super) struct List {
+    /// The box the list was gathered for.
+    lo: Vec3,
+    hi: Vec3,
+    /// The stamp it was gathered under (none yet: never kept).
+    stamp: Option<u32>,
+    /// The balls, sorted, each once.
+    pub(super) balls: Vec<u32>,
+}
+
+impl List {
+    /// Whether the list, gathered under `stamp`, still holds every ball that meets
+    /// `lo..hi`: that box lies within the one it was gathered for. (The caller checks that
+    /// no ball that moved came near.)
+    pub(super) fn covers(&self, stamp: u32, lo: Vec3, hi: Vec3) -> bool {
+        self.stamp == Some(stamp) && self.lo.cmple(lo).all() && hi.cmple(self.hi).all()
+    }
+
+    /// The box the list was gathered for.
+    pub(super) fn bounds(&self) -> (Vec3, Vec3) {
+        (self.lo, self.hi)
+    }
+
+    /// Marks the list, just gathered for `lo..hi` under `stamp`, kept.
+    pub(super) fn keep(&mut self, stamp: u32, lo: Vec3, hi: Vec3) {
+        (self.lo, self.hi, self.stamp) = (lo, hi, Some(stamp));
+    }
+}
+
+/// A tile's lists: the balls near it (stamped with the colliders' generation), and near
+/// each group of its points (stamped with the tile list's gathering, and taken from it).
+#[derive(Clone, Debug, Default)]
+pub(super) struct Near {
+    pub(super) tile: List,
+    /// Counts the tile list's gatherings.
+    pub(super) gathered: u32,
+    pub(super) groups: Vec<List>,
+    /// Per point of the tile, where it was when last tested and how far it may move
+    /// from there, in a step where no ball moves, before it can meet a ball of its
+    /// group's list or its group's box leaves the one the list was gathered for
+    /// (negative: test it).
+    pub(super) room: Vec<(Vec3, f32)>,
+}
+
+impl Near {
+    /// Forgets the lists (a tile that was not tested while balls moved: one may have come
+    /// near its box unseen).
+    pub(super) fn forget(&mut self) {
+        self.tile.stamp = None;
+    }
+}
