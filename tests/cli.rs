@@ -506,8 +506,9 @@ fn pose_bench_passes_and_fails_on_its_bounds() {
         let out = puppet(&["bench", "poses", hand, bound, "nan"]);
         assert_eq!(out.status.code(), Some(2), "{bound}");
     }
-    // `--compare`: each pose with collision off, then on; on is no worse here.
-    let rows = records(&["--compare", "--never-worse"]);
+    // `--compare`: each pose with collision off, then on; on is no worse here, and the
+    // step's cost with collision on passes a bound no timing misses.
+    let rows = records(&["--compare", "--never-worse", "--max-collision-cost", "1e12"]);
     assert_eq!(rows.len(), 4);
     for (k, r) in rows.iter().enumerate() {
         assert_eq!(r["collision"], k % 2 == 1, "{r}");
@@ -519,6 +520,23 @@ fn pose_bench_passes_and_fails_on_its_bounds() {
         on["crossing"].as_u64() <= off["crossing"].as_u64(),
         "{off}\n{on}"
     );
+    // A cost no step meets fails, naming the character; the bound needs `--compare`.
+    let compare = ["bench", "poses", hand, "--poses", "1", "--compare"];
+    let out = puppet(
+        &[
+            &compare[..],
+            &["--max-collision-cost=-1000", "--max-collision-ms=-1000"],
+        ]
+        .concat(),
+    );
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("hand: the step with collision on costs"),
+        "{err}"
+    );
+    let out = puppet(&["bench", "poses", hand, "--max-collision-cost", "25"]);
+    assert_eq!(out.status.code(), Some(2));
 }
 
 /// A successful headless render prints no `error:` line, even where the session has no

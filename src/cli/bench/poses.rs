@@ -50,6 +50,16 @@ pub struct Args {
     /// With `--compare`: fail when collision on is worse than off on some pose.
     #[arg(long, requires = "compare")]
     never_worse: bool,
+    /// With `--compare`: fail when a character's step with collision on (median over its
+    /// poses) costs more than this share (%) over the step off, and more than
+    /// `--max-collision-ms` over it.
+    #[arg(long, requires = "compare", value_parser = super::bound)]
+    max_collision_cost: Option<f64>,
+    /// With `--max-collision-cost`: what the step with collision on may cost over the
+    /// step off whatever the share, in ms (on a small mesh a share of a fraction of a
+    /// millisecond is noise).
+    #[arg(long, default_value_t = 0.3, requires = "max_collision_cost", value_parser = super::bound)]
+    max_collision_ms: f64,
     /// Fail when a pose's worst edge stretch is above this.
     #[arg(long, value_parser = super::bound)]
     max_stretch: Option<f64>,
@@ -283,6 +293,24 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                     println!("{}", serde_json::to_string(&row)?);
                 }
                 mine.push((row, seconds));
+            }
+        }
+        if let Some(m) = args.max_collision_cost {
+            let step = |on: bool| {
+                let mut v: Vec<f64> = mine
+                    .iter()
+                    .filter(|(r, _)| r.collision == on)
+                    .map(|(r, _)| r.step_ms)
+                    .collect();
+                median(&mut v).unwrap_or(0.0)
+            };
+            let (off, on) = (step(false), step(true));
+            let ms = args.max_collision_ms;
+            if beyond(on, (off * (1.0 + m / 100.0)).max(off + ms)) {
+                failures.push(format!(
+                    "{name}: the step with collision on costs {on:.3} ms against {off:.3} off, \
+                     more than {m} % and {ms} ms over"
+                ));
             }
         }
         if !args.json && !mine.is_empty() {
