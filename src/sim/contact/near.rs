@@ -51,8 +51,7 @@ pub(super) struct Near {
     pub(super) groups: Vec<List>,
     /// Per point of the tile, where it was when last tested and how far it may move
     /// from there, in a step where no ball moves, before it can meet a ball of its
-    /// group's list or its group's box leaves the one the list was gathered for
-    /// (negative: test it).
+    /// group's list (negative: test it).
     pub(super) room: Vec<(Vec3, f32)>,
 }
 
