@@ -564,8 +564,9 @@ fn ramp(
 /// per point how far it may move among balls that do not move before it can meet one: a
 /// settling pose reads few points. Kept or gathered again every step, the stage finds the
 /// same contacts, bit for bit: random poses of the dog reached and held (every part
-/// moves), and a leg crossed over the other with soft flesh, held, and turned back in one
-/// step (a moving part's balls reach a still part's tiles, and leave them).
+/// moves, then held tiles go unread), and a leg crossed over the other with soft flesh,
+/// held, and turned back in one step (a moving part's balls reach a still part's tiles,
+/// and leave them).
 #[test]
 fn kept_contact_lists_change_nothing() {
     use puppet::puppet::poses::{self, Spread};

@@ -48,6 +48,10 @@ impl Simulation {
         s.awake.fill(true);
         s.steps_under_threshold.fill(0);
         s.wake_all = true;
+        if let Some(c) = &mut self.contacts {
+            // (The points jumped: what the contacts kept of them is forgotten.)
+            c.forget_lists();
+        }
         s.steps = 0;
         s.time_debt = 0.0;
         self.largest_motion = 0.0;

@@ -31,8 +31,11 @@
 //!   the group (less those of the flesh about every point's joint); each is gathered again
 //!   when its points leave that box or a ball that moved comes near the tile. A point keeps
 //!   its room: how far it may move, in a step where no ball moves, before it can meet one
-//!   of its group's balls; a point that stayed within it is not tested. A settling pose
-//!   reads few points; what the stage finds is the same (`tests/collide.rs`).
+//!   of its group's balls; a point that stayed within it is not tested, and a tile whose
+//!   points have all moved less, since it was last read, than the least room (or way
+//!   out of its lists' boxes) any of them had then is not read. In a step where a ball
+//!   moves, no room is kept. A settling pose reads few points; what the stage finds is
+//!   the same (`tests/collide.rs`).
 //! * **Response.** A point inside a ball goes to its surface (plus the margin) along the
 //!   line from the centre; its motion into the ball is dropped and its sliding motion
 //!   keeps `1 − friction` (the floor's friction). It is a projection, so a limb posed deep
@@ -327,6 +330,8 @@ impl Colliders {
     /// Forgets the contacts (a step without collision).
     pub fn clear(&mut self) {
         self.held.fill(false);
+        // (The points move unwatched: what each tile kept of them is forgotten.)
+        self.forget_lists();
     }
 
     /// Number of balls kept.
@@ -395,6 +400,11 @@ impl Colliders {
                     if awake {
                         let m = stage.tile_motion.get(t).map_or(f32::INFINITY, |m| m.sqrt());
                         *bx = bx.map(|(lo, hi)| (lo - m, hi + m));
+                        // Every point within its room, among balls that did not move: none
+                        // meets one, and none was held (a held point has no room).
+                        if !moved && near.within(this.generation, m) {
+                            return None;
+                        }
                     }
                     // (Only a tile that holds a point can let one go.)
                     let had = held.contains(&true);
@@ -512,6 +522,8 @@ impl Colliders {
         }
         if near.tile.balls.is_empty() {
             held.fill(false);
+            let (a, b) = near.tile.bounds();
+            near.read((lo - a).min(b - hi).min_element());
             return None;
         }
         let (tile_lo, tile_hi) = near.tile.bounds();
@@ -520,6 +532,7 @@ impl Colliders {
         near.room.resize(n, (Vec3::ZERO, -1.0));
         let mut any = false;
         let mut motion = 0.0f32;
+        let mut slack = f32::INFINITY;
         for (i0, kept) in (0..n).step_by(GROUP).zip(near.groups.iter_mut()) {
             let i1 = (i0 + GROUP).min(n);
             // The balls that meet this group of points' box.
@@ -550,6 +563,9 @@ impl Colliders {
                     room.1 = -1.0;
                 }
             }
+            // (How far the group's points may go before they leave its list's box.)
+            let (a, b) = kept.bounds();
+            slack = slack.min((lo - a).min(b - hi).min_element());
             // Gathered when a point needs it.
             let mut filtered = false;
             for i in i0..i1 {
@@ -558,9 +574,10 @@ impl Colliders {
                 // A point that stayed (from where it was, when it is swept) within its room
                 // among balls that did not move meets none.
                 let within = |y: Vec3| y.distance_squared(anchor) < room * room;
-                let moved = if kept.balls.is_empty()
-                    || (still && room > 0.0 && within(x) && (!sweep || within(p)))
-                {
+                let moved = if kept.balls.is_empty() {
+                    None
+                } else if still && room > 0.0 && within(x) && (!sweep || within(p)) {
+                    slack = slack.min(room - x.distance(anchor));
                     None
                 } else {
                     if !filtered {
@@ -573,10 +590,12 @@ impl Colliders {
                     } else {
                         self.point(stage, start + i, group, sweep, x, p)
                     };
+                    // (Kept for a step where no ball moves.)
                     near.room[i] = match moved {
-                        None => (x, self.room(stage, start + i, &kept.balls, x)),
-                        Some(_) => (x, -1.0),
+                        None if still => (x, self.room(stage, start + i, &kept.balls, x)),
+                        _ => (x, -1.0),
                     };
+                    slack = slack.min(near.room[i].1);
                     moved
                 };
                 held[i] = moved.is_some();
@@ -593,6 +612,7 @@ impl Colliders {
                 }
             }
         }
+        near.read(slack);
         if any {
             let (lo, hi) = (0..n).fold(
                 (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
@@ -742,7 +762,12 @@ impl Colliders {
             let b = b as usize;
             let r = self.radius[b] * (1.0 + stage.flesh) + stage.margin;
             // (Short of the surface by a rounding: the point test compares squares.)
-            let to = x.distance(self.posed[b]) - r * 1.0001;
+            let (r, d2) = (r * 1.0001, x.distance_squared(self.posed[b]));
+            // (Farther than the room left: no square root.)
+            if d2 >= (room + r) * (room + r) {
+                return room;
+            }
+            let to = d2.sqrt() - r;
             if to < room && !self.ignores(stage, k, b) {
                 to
             } else {
@@ -815,7 +840,9 @@ impl Colliders {
                 let sweep = sweep && yields;
                 let d = x - c;
                 let d2 = d.length_squared();
-                if d2 >= r * r && !sweep {
+                if d2 >= r * r && (!sweep || entry(p + (c - self.before[b]), x, c, r).is_none()) {
+                    // Outside, and (swept) its way did not cross the ball: whatever follows
+                    // leaves it.
                     continue;
                 }
                 if yields && target.is_some_and(|t| caught(t, x, c, r, own as f32)) {

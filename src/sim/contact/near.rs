@@ -53,6 +53,12 @@ pub(super) struct Near {
     /// from there, in a step where no ball moves, before it can meet a ball of its
     /// group's list (negative: test it).
     pub(super) room: Vec<(Vec3, f32)>,
+    /// How far every point of the tile may move from where it was when the tile was last
+    /// read, in steps where no ball moves, before one may meet a ball of its group's list
+    /// or leave that list's box (not positive: read it), and how far they may have moved
+    /// since (summed in `f64`, so that no step's motion is rounded away).
+    pub(super) slack: f32,
+    pub(super) drift: f64,
 }
 
 impl Near {
@@ -60,5 +66,18 @@ impl Near {
     /// near its box unseen).
     pub(super) fn forget(&mut self) {
         self.tile.stamp = None;
+    }
+
+    /// Whether the tile need not be read in a step where no ball moves and its points
+    /// moved at most `m`: all of them are still within their rooms and their lists' boxes,
+    /// the lists kept under `stamp`.
+    pub(super) fn within(&mut self, stamp: u32, m: f32) -> bool {
+        self.drift += f64::from(m);
+        self.tile.stamp == Some(stamp) && self.drift < f64::from(self.slack)
+    }
+
+    /// Marks the tile read, its points with `slack` to move (see [`Near::slack`]).
+    pub(super) fn read(&mut self, slack: f32) {
+        (self.slack, self.drift) = (slack, 0.0);
     }
 }
