@@ -30,6 +30,15 @@
 //! every vertex of another section keeps its label, so only this band's two sections
 //! blend. On a limb the harmonic weight is the first guess again (linear along a tube).
 //! The system is solved by conjugate gradients, from the first guess.
+//!
+//! The harmonic weight can still step steeply where the child's side is held deep in the
+//! turn beside a parent's vertex near the pivot (a flipper's seam: its weight went 0.68 →
+//! 0.84 over an edge a seventh of the skin's thickness there, 4.2× at the penguin's
+//! flipper turned). So its **slope is bounded** last: along an edge it changes by at most
+//! [`SLOPE`] per edge length over the distance from the pivot, which bounds how far a turn
+//! pulls the edge's ends apart. Each free weight becomes the mean of the largest function
+//! under the weights with that slope and the smallest over them: where the weights keep
+//! the slope both are the weight, and a step is spread evenly to either side.
 
 use super::Joints;
 use glam::DVec3;
@@ -52,6 +61,16 @@ pub const SEAM_REACH: f64 = 1.25;
 /// characters within 3× on every pose, then the worst stretch's 90th percentile, then its
 /// median; `docs/performance-log.md` has the other half.
 pub const JUMP: f64 = 2.0;
+
+/// How much a band's weight may change along an edge, per the edge's length over its
+/// distance from the pivot (at least the seam's radius): a turn by `θ` radians moves the
+/// ends of an edge whose weights differ by `Δw` apart by at most `θ Δw` times their
+/// distance from the pivot, so the rig stretches such an edge by at most `1 + θ · SLOPE`
+/// (2.6× at 90°). Chosen on half of `puppet bench poses`' characters (every other one)
+/// from 0.5, 0.75, 1, 1.25, 1.5 and 2 (and none), as [`SEAM_REACH`] was; a smaller slope
+/// spreads a step farther than the free strip reaches and tears at its edge.
+/// `docs/performance-log.md` has the other half.
+pub const SLOPE: f64 = 1.0;
 
 /// Conjugate-gradient steps at most, and the residual (relative to the first) at which
 /// the weights are taken as solved.
@@ -281,6 +300,7 @@ impl Joints {
             }
         };
         conjugate_gradient(&multiply, &diagonal, &rhs, &mut x);
+        self.limit_slope(&free, &index, &fixed, &mut x, pivot, radius);
         free.into_iter()
             .zip(x)
             .map(|(i, x)| (i, x.clamp(0.0, 1.0)))
@@ -323,6 +343,102 @@ impl Joints {
             loose[i] = true;
         }
         loose
+    }
+
+    /// Bounds the weight's slope over the free vertices `free` (their weights `x`, each
+    /// one's place in `x` by `index`, every other vertex's weight in `fixed`, which stays):
+    /// along an edge it changes by at most [`SLOPE`] times the edge's length over its
+    /// distance from `pivot` (at least `radius`). Each free weight becomes the mean of the
+    /// largest function under the weights with that slope and the smallest over them
+    /// (each by Dijkstra from every weight, see the module docs).
+    fn limit_slope(
+        &self,
+        free: &[usize],
+        index: &[u32],
+        fixed: &[f64],
+        x: &mut [f64],
+        pivot: DVec3,
+        radius: f64,
+    ) {
+        let slope = SLOPE;
+        if free.is_empty() {
+            return;
+        }
+        let rest = &self.body.rest;
+        let value = |i: usize, x: &[f64]| match index[i] {
+            k if (k as usize) < x.len() => x[k as usize],
+            _ => fixed[i],
+        };
+        let cost = |i: usize, j: usize| {
+            let far = rest[i]
+                .distance(pivot)
+                .max(rest[j].distance(pivot))
+                .max(radius);
+            slope * rest[i].distance(rest[j]) / far
+        };
+        let is_free = |j: usize| (index[j] as usize) < x.len();
+        // Only a step steeper than the slope moves a weight: the ends of such edges seed
+        // the two passes (the lower end the pass under, the higher the pass over).
+        let (mut low, mut high) = (Vec::new(), Vec::new());
+        for &i in free {
+            let v = value(i, x);
+            for &j in self.body.neighbours(i) {
+                let j = j as usize;
+                if self.body.is_rider(j) || (is_free(j) && j < i) {
+                    continue;
+                }
+                let w = value(j, x);
+                if (v - w).abs() > cost(i, j) {
+                    let (lo, hi) = if v < w { (i, j) } else { (j, i) };
+                    low.push(lo);
+                    high.push(hi);
+                }
+            }
+        }
+        if low.is_empty() {
+            return;
+        }
+        // Under: the least over sources of weight + cost to reach (a min-heap on weight).
+        let mut under = x.to_vec();
+        let mut heap: BinaryHeap<Near> = low.iter().map(|&i| Near(value(i, x), i)).collect();
+        while let Some(Near(v, i)) = heap.pop() {
+            if is_free(i) && v > under[index[i] as usize] {
+                continue;
+            }
+            for &j in self.body.neighbours(i) {
+                let j = j as usize;
+                if !is_free(j) || self.body.is_rider(j) {
+                    continue;
+                }
+                let c = v + cost(i, j);
+                if c < under[index[j] as usize] {
+                    under[index[j] as usize] = c;
+                    heap.push(Near(c, j));
+                }
+            }
+        }
+        // Over: the most over sources of weight − cost (a max-heap on weight).
+        let mut over = x.to_vec();
+        let mut heap: BinaryHeap<Left> = high.iter().map(|&i| Left(value(i, x), i)).collect();
+        while let Some(Left(v, i)) = heap.pop() {
+            if is_free(i) && v < over[index[i] as usize] {
+                continue;
+            }
+            for &j in self.body.neighbours(i) {
+                let j = j as usize;
+                if !is_free(j) || self.body.is_rider(j) {
+                    continue;
+                }
+                let c = v - cost(i, j);
+                if c > over[index[j] as usize] {
+                    over[index[j] as usize] = c;
+                    heap.push(Left(c, j));
+                }
+            }
+        }
+        for (k, w) in x.iter_mut().enumerate() {
+            *w = 0.5 * (under[k] + over[k]);
+        }
     }
 
     /// The vertices (where `pass` holds) within each source's own reach of it along mesh
