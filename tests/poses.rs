@@ -347,16 +347,23 @@ fn a_wide_flat_seam_bends_over_a_strip_as_wide() {
     assert!(stretch <= 3.0, "an edge stretched {stretch:.2}×");
 }
 
-/// The worst edge stretch where the bones hold the surface of `path` (its suggested
-/// joints) over `bench poses`' 20 seeds.
-fn worst_by_bones(path: &Path) -> f64 {
-    let p = suggested(path);
-    (1..=20)
-        .map(|seed| {
-            let target = poses::random_pose(&p.joints, Spread::default(), &mut SplitMix(seed));
-            poses::measure_at(&p, &poses::targets(&p, &target), &target).worst
-        })
-        .fold(0.0f64, f64::max)
+/// Asserts that where the bones hold the surface of each file (its suggested joints) over
+/// `bench poses`' 20 seeds, no edge stretches past the file's bound.
+fn bones_within(cases: &[(&str, f64)]) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for &(name, most) in cases {
+        let p = suggested(&root.join(name));
+        let bones = (1..=20)
+            .map(|seed| {
+                let target = poses::random_pose(&p.joints, Spread::default(), &mut SplitMix(seed));
+                poses::measure_at(&p, &poses::targets(&p, &target), &target).worst
+            })
+            .fold(0.0f64, f64::max);
+        assert!(
+            bones <= most,
+            "{name}: an edge stretched {bones:.2}× by the bones"
+        );
+    }
 }
 
 /// A band's weight steps no steeper than `joints::blend::SLOPE` allows: where the bones
@@ -365,17 +372,10 @@ fn worst_by_bones(path: &Path) -> f64 {
 /// flipper at 0.84 over a short edge) and the SWAT man of the pieces within 4.5× (6.97×).
 #[test]
 fn a_band_weight_steps_no_steeper_than_its_slope() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    for (name, most) in [
+    bones_within(&[
         ("tests/data/meshes/penguin.obj", 3.0),
         ("tests/data/pieces/man-swat.obj", 4.5),
-    ] {
-        let bones = worst_by_bones(&root.join(name));
-        assert!(
-            bones <= most,
-            "{name}: an edge stretched {bones:.2}× by the bones"
-        );
-    }
+    ]);
 }
 
 /// The parent's side of a band reaches `SEAM_REACH` seam radii into it (`joints::blend`),
@@ -386,15 +386,8 @@ fn a_band_weight_steps_no_steeper_than_its_slope() {
 /// with the reach not widened for a fan).
 #[test]
 fn a_thick_seam_bends_over_a_strip_as_wide_as_it_is_thick() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    for (name, most) in [
+    bones_within(&[
         ("tests/data/characters/bigears.obj", 3.0),
         ("tests/data/meshes/penguin.obj", 4.5),
-    ] {
-        let bones = worst_by_bones(&root.join(name));
-        assert!(
-            bones <= most,
-            "{name}: an edge stretched {bones:.2}× by the bones"
-        );
-    }
+    ]);
 }
