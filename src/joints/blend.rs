@@ -349,8 +349,9 @@ impl Joints {
     /// one's place in `x` by `index`, every other vertex's weight in `fixed`, which stays):
     /// along an edge it changes by at most [`SLOPE`] times the edge's length over its
     /// distance from `pivot` (at least `radius`). Each free weight becomes the mean of the
-    /// largest function under the weights with that slope and the smallest over them
-    /// (each by Dijkstra from every weight, see the module docs).
+    /// largest function under the weights with that slope and the smallest over them (see
+    /// the module docs), each by Dijkstra seeded at the ends of the edges that step more
+    /// steeply: no other weight can lower or raise a neighbour.
     fn limit_slope(
         &self,
         free: &[usize],
@@ -360,7 +361,6 @@ impl Joints {
         pivot: DVec3,
         radius: f64,
     ) {
-        let slope = SLOPE;
         if free.is_empty() {
             return;
         }
@@ -374,7 +374,7 @@ impl Joints {
                 .distance(pivot)
                 .max(rest[j].distance(pivot))
                 .max(radius);
-            slope * rest[i].distance(rest[j]) / far
+            SLOPE * rest[i].distance(rest[j]) / far
         };
         let is_free = |j: usize| (index[j] as usize) < x.len();
         // Only a step steeper than the slope moves a weight: the ends of such edges seed
