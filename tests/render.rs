@@ -175,15 +175,13 @@ fn the_readme_s_pictures_of_the_bent_elbow() {
             around - glam::Vec3::splat(0.14),
             around + glam::Vec3::splat(0.14),
         );
-        let image = render_image(
-            &gpu,
-            &mut renderer,
-            &session.view(Overlays::default()),
-            &cam,
-            480,
-            360,
-        )
-        .expect("offscreen render");
+        // A close-up of the skin: the ground far below would only show through.
+        let overlays = Overlays {
+            ground: false,
+            ..Overlays::default()
+        };
+        let image = render_image(&gpu, &mut renderer, &session.view(overlays), &cam, 480, 360)
+            .expect("offscreen render");
         let reference =
             Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("docs/images/elbow-90-{name}.png"));
         if bless() {
@@ -259,4 +257,128 @@ fn bless() -> bool {
         "PUPPET_BLESS under CI would compare each image with itself"
     );
     bless
+}
+
+fn luminance(p: [u8; 4]) -> f64 {
+    0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64
+}
+
+/// Of the model's pixels at its silhouette (next to the background, with a model pixel
+/// on the other side), the share that lies between the background and that inner pixel:
+/// partly covered, as anti-aliasing draws them. Without it a silhouette pixel is either
+/// the model's or the background's.
+fn soft_silhouette(img: &Image) -> f64 {
+    let bg = luminance([background()[0], background()[1], background()[2], 255]);
+    let is_bg = |x: u32, y: u32| (luminance(img.pixel(x, y)) - bg).abs() < 1.0;
+    let (mut edge, mut soft) = (0usize, 0usize);
+    for y in 1..img.height - 1 {
+        for x in 1..img.width - 1 {
+            if is_bg(x, y) {
+                continue;
+            }
+            for (dx, dy) in [(1i32, 0i32), (-1, 0), (0, 1), (0, -1)] {
+                let (bx, by) = ((x as i32 + dx) as u32, (y as i32 + dy) as u32);
+                let (ix, iy) = ((x as i32 - dx) as u32, (y as i32 - dy) as u32);
+                if !is_bg(bx, by) || is_bg(ix, iy) {
+                    continue;
+                }
+                let inner = luminance(img.pixel(ix, iy)) - bg;
+                if inner.abs() < 8.0 {
+                    continue;
+                }
+                edge += 1;
+                if (luminance(img.pixel(x, y)) - bg) / inner < 0.75 {
+                    soft += 1;
+                }
+                break;
+            }
+        }
+    }
+    soft as f64 / edge.max(1) as f64
+}
+
+/// Anti-aliasing: the offscreen renderer draws 4 samples a pixel on Mesa's software Vulkan,
+/// and its silhouettes are soft where one sample a pixel leaves them stepped.
+#[test]
+fn silhouettes_are_anti_aliased() {
+    let gpu = Gpu::headless().expect("a graphics adapter");
+    let session = spot_session(RigFile::default());
+    let cam = camera(&session);
+    let bare = Overlays {
+        ground: false,
+        pivots: false,
+        ..Overlays::default()
+    };
+    let mut msaa = SceneRenderer::new(&gpu, OFFSCREEN_FORMAT);
+    assert_eq!(msaa.samples(), puppet::render::scene::MSAA);
+    let mut one = SceneRenderer::with_samples(&gpu, OFFSCREEN_FORMAT, 1);
+    let soft = soft_silhouette(&shot(&gpu, &mut msaa, &session, &cam, bare));
+    let stepped = soft_silhouette(&shot(&gpu, &mut one, &session, &cam, bare));
+    assert!(
+        soft > 0.35 && stepped < 0.2,
+        "partly covered silhouette pixels: {soft:.2} anti-aliased, {stepped:.2} with one sample"
+    );
+}
+
+/// The ground: a soft shadow under the puppet, darker than the background (nothing else on
+/// the ground is), and gone with the ground; the shadow map is drawn again only when the
+/// surface moved.
+#[test]
+fn the_ground_shows_the_puppet_s_shadow_and_redraws_it_only_when_it_moves() {
+    let gpu = Gpu::headless().expect("a graphics adapter");
+    let mut renderer = SceneRenderer::new(&gpu, OFFSCREEN_FORMAT);
+    let rig = RigFile::load(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples/spot-jaw.rig.toml"),
+    )
+    .unwrap();
+    let mut session = spot_session(rig);
+    let cam = Camera {
+        pitch: 0.6,
+        ..camera(&session)
+    };
+    let off = Overlays {
+        ground: false,
+        ..Overlays::default()
+    };
+    let with = shot(&gpu, &mut renderer, &session, &cam, Overlays::default());
+    let without = shot(&gpu, &mut renderer, &session, &cam, off);
+    let bg = luminance([background()[0], background()[1], background()[2], 255]);
+    let (mut ground, mut shadow, mut darker_without) = (0usize, 0usize, 0usize);
+    for (a, b) in with.rgba.chunks(4).zip(without.rgba.chunks(4)) {
+        let (a, b) = ([a[0], a[1], a[2], a[3]], [b[0], b[1], b[2], b[3]]);
+        if luminance(b) < bg - 3.0 {
+            darker_without += 1;
+        }
+        // The ground's pixels: where the ground changed the image.
+        if (luminance(a) - luminance(b)).abs() > 1.0 {
+            ground += 1;
+            if luminance(a) < bg - 3.0 {
+                shadow += 1;
+            }
+        }
+    }
+    let pixels = (W * H) as f64;
+    assert!(
+        ground as f64 > 0.1 * pixels,
+        "the ground covers {ground} pixels"
+    );
+    assert!(
+        shadow as f64 > 0.002 * pixels && shadow < ground / 2,
+        "{shadow} of the ground's {ground} pixels are in shadow"
+    );
+    assert_eq!(
+        darker_without, 0,
+        "nothing but the shadow is darker than the background"
+    );
+
+    // Drawn again: nothing moved, no new shadow map; the head turned, one.
+    let passes = renderer.shadow_passes;
+    shot(&gpu, &mut renderer, &session, &cam, Overlays::default());
+    assert_eq!(renderer.shadow_passes, passes, "nothing moved");
+    let head = session.puppet.joints.find("head").unwrap();
+    session.select(Some(head), false);
+    session.rotate_selected(glam::DQuat::from_rotation_x(0.6));
+    session.advance(1.0 / 60.0, 1);
+    shot(&gpu, &mut renderer, &session, &cam, Overlays::default());
+    assert_eq!(renderer.shadow_passes, passes + 1, "the head turned");
 }

@@ -2,7 +2,7 @@
 //! panels, upload what changed and draw the scene and the panels.
 
 use super::{Report, WindowState};
-use crate::render;
+use crate::render::{self, SceneRenderer};
 use crate::session::loader::Status;
 use crate::session::Session;
 use anyhow::{anyhow, Result};
@@ -91,6 +91,17 @@ impl WindowState {
             _ => None,
         };
         let aspect = self.config.width as f32 / self.config.height.max(1) as f32;
+        // Anti-aliasing turned on or off in the panel: a renderer with the other sample
+        // count (it uploads everything again).
+        if let Some(on) = self.panel.anti_aliasing {
+            if on != (self.scene.samples() > 1) {
+                let samples = if on { render::scene::MSAA } else { 1 };
+                let format = self.config.format.add_srgb_suffix();
+                self.scene = SceneRenderer::with_samples(&self.gpu, format, samples);
+                self.settings.anti_aliasing = Some(on);
+                self.settings.save();
+            }
+        }
         if let Some(s) = &self.session {
             let view = s.view(self.panel.overlays);
             self.scene.prepare(&self.gpu, &view, &self.camera, aspect);

@@ -66,6 +66,10 @@ pub struct Report {
     pub pivots: BTreeMap<String, [f32; 2]>,
     /// The graphics adapter.
     pub adapter: String,
+    /// Samples a pixel the view is drawn with (1: no anti-aliasing).
+    pub samples: u32,
+    /// The ground and its shadow are drawn.
+    pub ground: bool,
     /// The process, and the X display and authority it draws on (for scripts that drive
     /// the window with `xdotool`).
     pub pid: u32,
@@ -91,6 +95,8 @@ impl WindowState {
             hint: self.panel.hint,
             message: self.panel.message.as_ref().map(|(m, _)| m.clone()),
             adapter: self.gpu.adapter.get_info().name,
+            samples: self.scene.samples(),
+            ground: self.panel.overlays.ground,
             pid: std::process::id(),
             display: std::env::var("DISPLAY").ok(),
             xauthority: std::env::var("XAUTHORITY").ok(),

@@ -1,5 +1,5 @@
-//! What the app remembers between runs: recent files and whether the first-run hint was
-//! followed. Kept in `settings.toml` under `$PUPPET_CONFIG_DIR`, else
+//! What the app remembers between runs: recent files, whether the first-run hint was
+//! followed, and anti-aliasing turned on or off. Kept in `settings.toml` under `$PUPPET_CONFIG_DIR`, else
 //! `$XDG_CONFIG_HOME/puppet`, else `~/.config/puppet`; best effort (a settings file that
 //! cannot be read or written is logged and otherwise ignored).
 
@@ -16,6 +16,9 @@ pub struct Settings {
     pub recent: Vec<PathBuf>,
     /// The puppeteer has turned a section once: no more first-run hint.
     pub hint_done: bool,
+    /// Anti-aliasing as last set in the panel; unset: the adapter's default (on a GPU,
+    /// off on a software renderer).
+    pub anti_aliasing: Option<bool>,
 }
 
 impl Settings {

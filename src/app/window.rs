@@ -61,7 +61,18 @@ impl WindowState {
                 .unwrap_or(wgpu::PresentMode::Fifo)
         };
         surface.configure(&gpu.device, &config);
-        let scene = SceneRenderer::new(&gpu, config.format.add_srgb_suffix());
+        let view_format = config.format.add_srgb_suffix();
+        let settings = Settings::load();
+        let can_msaa = crate::render::scene::msaa_supported(&gpu, view_format);
+        let msaa = can_msaa
+            && settings
+                .anti_aliasing
+                .unwrap_or_else(|| crate::render::scene::window_msaa(&gpu, view_format));
+        let scene = SceneRenderer::with_samples(
+            &gpu,
+            view_format,
+            if msaa { crate::render::scene::MSAA } else { 1 },
+        );
         let egui_ctx = egui::Context::default();
         let egui_state = egui_winit::State::new(
             egui_ctx.clone(),
@@ -88,7 +99,10 @@ impl WindowState {
                 renderer: egui_renderer,
             },
             camera: Camera::default(),
-            panel: PanelState::default(),
+            panel: PanelState {
+                anti_aliasing: can_msaa.then_some(msaa),
+                ..PanelState::default()
+            },
             session: None,
             loader: None,
             pointer: Pointer::default(),
@@ -97,7 +111,7 @@ impl WindowState {
             frames: 0,
             meter: (Instant::now(), 0, 0, 0.0),
             repaint_at: None,
-            settings: Settings::load(),
+            settings,
             dialog: None,
             load: options.load,
             hooks: options.hooks,

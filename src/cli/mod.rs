@@ -89,7 +89,7 @@ pub enum Command {
     SendOsc(send_osc::Args),
     /// Measure (every figure in BENCHMARKS.md): throughput, accuracy, stress, skip, sag,
     /// export, joints, collide, poses, suggest, skeleton, skeleton-speed, skeleton-change, machine,
-    /// controls.
+    /// controls, draw.
     #[command(arg_required_else_help = false)]
     Bench {
         /// What to measure.

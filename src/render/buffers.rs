@@ -7,8 +7,23 @@ use bytemuck::{Pod, Zeroable};
 #[derive(Clone, Copy, Pod, Zeroable)]
 pub(super) struct Uniforms {
     pub view_proj: [[f32; 4]; 4],
+    /// World to the shadow map's clip space.
+    pub shadow_proj: [[f32; 4]; 4],
     pub eye: [f32; 4],
-    pub light: [f32; 4],
+    /// Towards the key light; w: 1 when the shader encodes gamma itself.
+    pub key: [f32; 4],
+    /// Towards the fill light.
+    pub fill: [f32; 4],
+    /// Towards the rim light (behind the puppet).
+    pub rim: [f32; 4],
+    /// The world's up; w: 1 when the ground is drawn.
+    pub up: [f32; 4],
+    /// The ground's centre; w: half its side.
+    pub ground: [f32; 4],
+    /// Its two directions across up; their w: the grid's spacing, and how far (world
+    /// units) above the ground an occluder's shadow fades.
+    pub across_a: [f32; 4],
+    pub across_b: [f32; 4],
 }
 
 #[repr(C)]

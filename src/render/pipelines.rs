@@ -1,21 +1,43 @@
-//! The render pipelines of the scene (lit surface, depth-tested lines, lines on top) and
-//! the uniform buffer they share, created once per target format.
+//! The render pipelines of the scene (lit surface, ground, depth-tested lines, lines on top,
+//! and the shadow map's depth) and the uniform buffer they share, created once per target
+//! format and sample count.
 
 use super::buffers::{LineVertex, SurfaceVertex, Uniforms};
 use super::DEPTH_FORMAT;
 
+/// The shadow map's side in texels.
+pub(super) const SHADOW_SIZE: u32 = 512;
+
+/// The shade's side in texels (`SHADE_SIZE` in `shaders/scene.wgsl` says the same).
+pub(super) const SHADE_SIZE: u32 = 128;
+
+/// The shade's format.
+const SHADE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
 /// The pipelines and their uniforms.
 pub(super) struct Pipelines {
     pub surface: wgpu::RenderPipeline,
+    pub ground: wgpu::RenderPipeline,
     pub lines: wgpu::RenderPipeline,
     pub top: wgpu::RenderPipeline,
+    /// The surface's depth into the shadow map, and the shadow map into the shade.
+    pub shadow: wgpu::RenderPipeline,
+    pub shade: wgpu::RenderPipeline,
     pub uniforms: wgpu::Buffer,
+    /// The uniforms and the shade, for the scene's pass.
     pub bind_group: wgpu::BindGroup,
+    /// The uniforms alone, for the shadow map's pass.
+    pub shadow_bind_group: wgpu::BindGroup,
+    /// The uniforms and the shadow map, for the shade's pass.
+    pub shade_bind_group: wgpu::BindGroup,
+    pub shadow_map: wgpu::TextureView,
+    pub shade_view: wgpu::TextureView,
 }
 
 impl Pipelines {
-    /// Compiles `shaders/scene.wgsl` and builds the pipelines for targets of `format`.
-    pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> Pipelines {
+    /// Compiles `shaders/scene.wgsl` and builds the pipelines for targets of `format`
+    /// with `samples` samples a pixel.
+    pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat, samples: u32) -> Pipelines {
         let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("scene.wgsl"),
             source: wgpu::ShaderSource::Wgsl(include_str!("../../shaders/scene.wgsl").into()),
@@ -26,32 +48,137 @@ impl Pipelines {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("uniforms"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
+        let uniform_entry = wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let map_entry = wgpu::BindGroupLayoutEntry {
+            binding: 1,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Depth,
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        };
+        let shade_entry = wgpu::BindGroupLayoutEntry {
+            binding: 2,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        };
+        let sampler_entry = wgpu::BindGroupLayoutEntry {
+            binding: 3,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+            count: None,
+        };
+        let layout_of = |label, entries: &[wgpu::BindGroupLayoutEntry]| {
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(label),
+                entries,
+            })
+        };
+        let layout = layout_of("scene", &[uniform_entry, shade_entry, sampler_entry]);
+        let shadow_layout = layout_of("shadow map", &[uniform_entry]);
+        let shade_layout = layout_of("shade", &[uniform_entry, map_entry]);
+        let texture = |label, size, format, usage| {
+            device
+                .create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d {
+                        width: size,
+                        height: size,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage: usage | wgpu::TextureUsages::TEXTURE_BINDING,
+                    view_formats: &[],
+                })
+                .create_view(&Default::default())
+        };
+        let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        let shadow_map = texture("shadow map", SHADOW_SIZE, DEPTH_FORMAT, attachment);
+        let shade_view = texture("shade", SHADE_SIZE, SHADE_FORMAT, attachment);
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("shade"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let group = |label, layout, entries: &[wgpu::BindGroupEntry]| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout,
+                entries,
+            })
+        };
+        let uniform = wgpu::BindGroupEntry {
+            binding: 0,
+            resource: uniforms.as_entire_binding(),
+        };
+        let bind_group = group(
+            "scene",
+            &layout,
+            &[
+                uniform.clone(),
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&shade_view),
                 },
-                count: None,
-            }],
-        });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("uniforms"),
-            layout: &layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: uniforms.as_entire_binding(),
-            }],
-        });
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::Sampler(&sampler),
+                },
+            ],
+        );
+        let shadow_bind_group = group("shadow map", &shadow_layout, std::slice::from_ref(&uniform));
+        let shade_bind_group = group(
+            "shade",
+            &shade_layout,
+            &[
+                uniform,
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&shadow_map),
+                },
+            ],
+        );
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("scene"),
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
+        let shadow_pipeline_layout =
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("shadow map"),
+                bind_group_layouts: &[Some(&shadow_layout)],
+                immediate_size: 0,
+            });
+        let shade_pipeline_layout =
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("shade"),
+                bind_group_layouts: &[Some(&shade_layout)],
+                immediate_size: 0,
+            });
+        let multisample = wgpu::MultisampleState {
+            count: samples,
+            ..Default::default()
+        };
         let surface_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
         let color_attributes = wgpu::vertex_attr_array![2 => Float32x4];
         let surface_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -87,7 +214,7 @@ impl Pipelines {
                 stencil: Default::default(),
                 bias: Default::default(),
             }),
-            multisample: Default::default(),
+            multisample,
             fragment: Some(wgpu::FragmentState {
                 module: &shader,
                 entry_point: Some("fs_surface"),
@@ -127,7 +254,7 @@ impl Pipelines {
                     stencil: Default::default(),
                     bias: Default::default(),
                 }),
-                multisample: Default::default(),
+                multisample,
                 fragment: Some(wgpu::FragmentState {
                     module: &shader,
                     entry_point: Some("fs_lines"),
@@ -144,12 +271,99 @@ impl Pipelines {
         };
         let lines_pipeline = lines("lines", wgpu::CompareFunction::LessEqual);
         let top_pipeline = lines("lines on top", wgpu::CompareFunction::Always);
+        // The ground: drawn after the surface, tested against its depth, blended as it
+        // fades out.
+        let ground = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("ground"),
+            layout: Some(&pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("vs_ground"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(false),
+                depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample,
+            fragment: Some(wgpu::FragmentState {
+                module: &shader,
+                entry_point: Some("fs_ground"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format,
+                    blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let shadow = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("shadow map"),
+            layout: Some(&shadow_pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("vs_shadow"),
+                compilation_options: Default::default(),
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: std::mem::size_of::<SurfaceVertex>() as u64,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &surface_attributes,
+                })],
+            },
+            primitive: Default::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: None,
+            multiview_mask: None,
+            cache: None,
+        });
+        let shade = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("shade"),
+            layout: Some(&shade_pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("vs_fullscreen"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &shader,
+                entry_point: Some("fs_shade"),
+                compilation_options: Default::default(),
+                targets: &[Some(SHADE_FORMAT.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
         Pipelines {
             surface: surface_pipeline,
+            ground,
             lines: lines_pipeline,
             top: top_pipeline,
+            shadow,
+            shade,
             uniforms,
             bind_group,
+            shadow_bind_group,
+            shade_bind_group,
+            shadow_map,
+            shade_view,
         }
     }
 }

@@ -1,22 +1,71 @@
 //! [`SceneRenderer`]: draws what a core [`View`] describes. Resources are created once
 //! ([`SceneRenderer::new`]), [`SceneRenderer::prepare`] uploads only what the view's
 //! revision counters say changed, [`SceneRenderer::paint`] records the draws.
+//!
+//! A frame is two passes: the shadow map (the surface's depth seen down the ground's up,
+//! only when the surface or the ground moved), then the scene into a multisampled target
+//! ([`MSAA`] samples where the adapter has them, else one) resolved into the caller's.
 
 use super::buffers::{GrowBuffer, LineVertex, SurfaceVertex, Uniforms};
 use super::pipelines::Pipelines;
 use super::{Gpu, BACKGROUND, DEPTH_FORMAT};
-use crate::session::view::{Line, Revisions};
+use crate::session::view::{Ground, Line, Revisions};
 use crate::session::{Camera, View};
-use glam::Vec3;
+use glam::{Mat4, Vec3};
+
+/// Samples a pixel where the adapter supports them for the target and depth formats.
+pub const MSAA: u32 = 4;
+
+/// Whether the adapter draws [`MSAA`] samples a pixel into `format` and the depth buffer.
+pub fn msaa_supported(gpu: &Gpu, format: wgpu::TextureFormat) -> bool {
+    let supported = |f| {
+        gpu.adapter
+            .get_texture_format_features(f)
+            .flags
+            .sample_count_supported(MSAA)
+    };
+    supported(format) && supported(DEPTH_FORMAT)
+}
+
+/// Whether the window anti-aliases by default: where the adapter supports it and is a
+/// GPU. A software rasterizer (llvmpipe) covers every sample of every triangle, and
+/// [`MSAA`] samples cost it two to three times the frame (`puppet bench draw`), so there
+/// it starts off and the panel can turn it on.
+pub fn window_msaa(gpu: &Gpu, format: wgpu::TextureFormat) -> bool {
+    gpu.adapter.get_info().device_type != wgpu::DeviceType::Cpu && msaa_supported(gpu, format)
+}
+
+/// The key, fill and rim lights' directions in the camera's frame (x right, y up, z
+/// towards the viewer): the key high on one side, the fill low on the other, the rim
+/// behind and above.
+const KEY: Vec3 = Vec3::new(0.4, 0.8, 0.6);
+const FILL: Vec3 = Vec3::new(-0.7, 0.1, 0.5);
+const RIM: Vec3 = Vec3::new(-0.2, 0.5, -1.0);
+
+/// How far above the ground (in the ground's half sides) an occluder's shadow has
+/// faded to its lightest.
+const SHADOW_FADE: f32 = 0.75;
 
 /// The GPU side of drawing a puppet.
 pub struct SceneRenderer {
     encode_gamma: bool,
+    format: wgpu::TextureFormat,
+    samples: u32,
     pipelines: Pipelines,
+    /// The multisampled colour target (with more than one sample).
+    target: Option<(wgpu::Texture, wgpu::TextureView)>,
+    /// The ground of the last `prepare`, whether the shadow map shows the surface as it is
+    /// now, and the ground it was drawn for.
+    ground: Option<Ground>,
+    shadow_fresh: bool,
+    shadow_ground: Option<Ground>,
     vertices: GrowBuffer,
     colors: GrowBuffer,
     indices: GrowBuffer,
     index_count: u32,
+    /// The surface coarsened for the shadow map ([`shadow_triangles`]).
+    shadow_indices: GrowBuffer,
+    shadow_count: u32,
     lines: GrowBuffer,
     line_count: u32,
     top: GrowBuffer,
@@ -26,6 +75,8 @@ pub struct SceneRenderer {
     seen: Option<Revisions>,
     /// Uploads done by the last `prepare` (for tests and the idle measurement).
     pub last_uploads: usize,
+    /// Shadow map passes recorded so far (for tests: one per change of the surface).
+    pub shadow_passes: usize,
     cpu_vertices: Vec<SurfaceVertex>,
     cpu_normals: Vec<Vec3>,
     cpu_colors: Vec<[f32; 4]>,
@@ -35,17 +86,37 @@ pub struct SceneRenderer {
 }
 
 impl SceneRenderer {
-    /// Creates pipelines and buffers for drawing into targets of `format`.
+    /// Creates pipelines and buffers for drawing into targets of `format`, with [`MSAA`]
+    /// samples a pixel where the adapter supports them, else one (images: quality first).
     pub fn new(gpu: &Gpu, format: wgpu::TextureFormat) -> SceneRenderer {
+        let samples = if msaa_supported(gpu, format) { MSAA } else { 1 };
+        SceneRenderer::with_samples(gpu, format, samples)
+    }
+
+    /// [`SceneRenderer::new`] with `samples` samples a pixel (1: no anti-aliasing).
+    pub fn with_samples(gpu: &Gpu, format: wgpu::TextureFormat, samples: u32) -> SceneRenderer {
         let device = &gpu.device;
         let vertex = wgpu::BufferUsages::VERTEX;
+        let samples = samples.max(1);
         SceneRenderer {
             encode_gamma: !format.is_srgb(),
-            pipelines: Pipelines::new(device, format),
+            format,
+            samples,
+            pipelines: Pipelines::new(device, format, samples),
+            target: None,
+            ground: None,
+            shadow_fresh: false,
+            shadow_ground: None,
             vertices: GrowBuffer::new(device, "surface vertices", vertex),
             colors: GrowBuffer::new(device, "surface colours", vertex),
             indices: GrowBuffer::new(device, "surface indices", wgpu::BufferUsages::INDEX),
             index_count: 0,
+            shadow_indices: GrowBuffer::new(
+                device,
+                "shadow map indices",
+                wgpu::BufferUsages::INDEX,
+            ),
+            shadow_count: 0,
             lines: GrowBuffer::new(device, "overlay lines", vertex),
             line_count: 0,
             top: GrowBuffer::new(device, "overlay lines on top", vertex),
@@ -53,6 +124,7 @@ impl SceneRenderer {
             depth: None,
             seen: None,
             last_uploads: 0,
+            shadow_passes: 0,
             cpu_vertices: Vec::new(),
             cpu_normals: Vec::new(),
             cpu_colors: Vec::new(),
@@ -62,61 +134,96 @@ impl SceneRenderer {
         }
     }
 
-    /// The depth buffer for a target of `width × height`, recreated when the size changes.
-    fn depth_view(&mut self, gpu: &Gpu, width: u32, height: u32) -> &wgpu::TextureView {
-        let stale = self
-            .depth
-            .as_ref()
-            .is_none_or(|(t, _)| t.width() != width || t.height() != height);
-        if stale {
+    /// Samples a pixel this renderer draws with.
+    pub fn samples(&self) -> u32 {
+        self.samples
+    }
+
+    /// The depth buffer and, with more than one sample, the multisampled colour target
+    /// for a target of `width × height`, recreated when the size changes.
+    fn size_targets(&mut self, gpu: &Gpu, width: u32, height: u32) {
+        let texture = |label, format| {
             let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("depth"),
+                label: Some(label),
                 size: wgpu::Extent3d {
                     width: width.max(1),
                     height: height.max(1),
                     depth_or_array_layers: 1,
                 },
                 mip_level_count: 1,
-                sample_count: 1,
+                sample_count: self.samples,
                 dimension: wgpu::TextureDimension::D2,
-                format: DEPTH_FORMAT,
+                format,
                 usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
                 view_formats: &[],
             });
             let view = texture.create_view(&Default::default());
-            self.depth = Some((texture, view));
+            (texture, view)
+        };
+        let stale = |t: &Option<(wgpu::Texture, wgpu::TextureView)>| {
+            t.as_ref()
+                .is_none_or(|(t, _)| t.width() != width.max(1) || t.height() != height.max(1))
+        };
+        if stale(&self.depth) {
+            self.depth = Some(texture("depth", DEPTH_FORMAT));
         }
-        &self.depth.get_or_insert_with(|| unreachable!()).1
+        if self.samples > 1 && stale(&self.target) {
+            self.target = Some(texture("multisampled colour", self.format));
+        }
     }
 
     /// Uploads the camera, and what changed since the last call (another puppet re-uploads
     /// everything).
     pub fn prepare(&mut self, gpu: &Gpu, view: &View, camera: &Camera, aspect: f32) {
         let eye = camera.eye();
-        let light = (camera
-            .view()
-            .inverse()
-            .transform_vector3(Vec3::new(0.4, 0.8, 0.6)))
-        .normalize();
+        let to_world = camera.view().inverse();
+        let light = |v: Vec3| to_world.transform_vector3(v).normalize().extend(0.0);
+        let ground = view.ground();
+        let g = ground.unwrap_or(Ground {
+            centre: Vec3::ZERO,
+            up: camera.up,
+            across: [Vec3::X, Vec3::Z],
+            half: 1.0,
+            spacing: 1.0,
+        });
         let u = Uniforms {
             view_proj: camera.view_proj(aspect).to_cols_array_2d(),
+            shadow_proj: shadow_proj(&g).to_cols_array_2d(),
             eye: eye.extend(1.0).to_array(),
-            light: light
-                .extend(if self.encode_gamma { 1.0 } else { 0.0 })
+            key: light(KEY)
+                .with_w(if self.encode_gamma { 1.0 } else { 0.0 })
                 .to_array(),
+            fill: light(FILL).to_array(),
+            rim: light(RIM).to_array(),
+            up: g
+                .up
+                .normalize_or(Vec3::Y)
+                .extend(if ground.is_some() { 1.0 } else { 0.0 })
+                .to_array(),
+            ground: g.centre.extend(g.half).to_array(),
+            across_a: g.across[0].extend(g.spacing).to_array(),
+            across_b: g.across[1].extend(SHADOW_FADE * g.half).to_array(),
         };
         gpu.queue
             .write_buffer(&self.pipelines.uniforms, 0, bytemuck::bytes_of(&u));
+        self.ground = ground;
 
         let now = view.revisions();
         let before = self.seen.replace(now);
         self.last_uploads = 0;
         let changed = |f: fn(&Revisions) -> u64| before.is_none_or(|b| f(&b) != f(&now));
         let new_puppet = changed(|r| r.puppet);
+        if new_puppet || changed(|r| r.surface) {
+            self.shadow_fresh = false;
+        }
         if new_puppet {
             let indices: Vec<u32> = view.triangles().iter().flatten().copied().collect();
             self.indices.write(gpu, bytemuck::cast_slice(&indices));
             self.index_count = indices.len() as u32;
+            let coarse = shadow_triangles(view);
+            self.shadow_indices
+                .write(gpu, bytemuck::cast_slice(&coarse));
+            self.shadow_count = coarse.len() as u32;
             self.last_uploads += 1;
         }
         if new_puppet || changed(|r| r.surface) {
@@ -162,7 +269,8 @@ impl SceneRenderer {
         }
     }
 
-    /// Records the scene into `pass` (cleared colour and depth are the caller's).
+    /// Records the scene into `pass` (cleared colour and depth are the caller's, and the
+    /// shadow map is [`SceneRenderer::render_shadow`]'s).
     pub fn paint(&self, pass: &mut wgpu::RenderPass<'_>) {
         let p = &self.pipelines;
         pass.set_bind_group(0, &p.bind_group, &[]);
@@ -172,6 +280,10 @@ impl SceneRenderer {
             pass.set_vertex_buffer(1, self.colors.buffer.slice(..));
             pass.set_index_buffer(self.indices.buffer.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..self.index_count, 0, 0..1);
+        }
+        if self.ground.is_some() {
+            pass.set_pipeline(&p.ground);
+            pass.draw(0..6, 0..1);
         }
         if self.line_count > 0 {
             pass.set_pipeline(&p.lines);
@@ -185,8 +297,67 @@ impl SceneRenderer {
         }
     }
 
-    /// Begins a pass on `color` (cleared to the background) with this renderer's depth
-    /// buffer and paints the scene.
+    /// Records the surface's depth into the shadow map, and from it the shade over the
+    /// ground, when the surface or the ground moved since it last did (nothing without a
+    /// ground).
+    pub fn render_shadow(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        if self.ground.is_none() || (self.shadow_fresh && self.shadow_ground == self.ground) {
+            return;
+        }
+        self.shadow_fresh = true;
+        self.shadow_ground = self.ground;
+        self.shadow_passes += 1;
+        let p = &self.pipelines;
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("shadow map"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &p.shadow_map,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        if self.shadow_count > 0 {
+            pass.set_pipeline(&p.shadow);
+            pass.set_bind_group(0, &p.shadow_bind_group, &[]);
+            pass.set_vertex_buffer(0, self.vertices.buffer.slice(..));
+            pass.set_index_buffer(
+                self.shadow_indices.buffer.slice(..),
+                wgpu::IndexFormat::Uint32,
+            );
+            pass.draw_indexed(0..self.shadow_count, 0, 0..1);
+        }
+        drop(pass);
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("shade"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &p.shade_view,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
+                depth_slice: None,
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&p.shade);
+        pass.set_bind_group(0, &p.shade_bind_group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+
+    /// Renders the shadow map if it is stale, then begins a pass on `color` (cleared to
+    /// the background; through the multisampled target, resolved into `color`) with this
+    /// renderer's depth buffer and paints the scene.
     pub fn render_to(
         &mut self,
         gpu: &Gpu,
@@ -195,18 +366,27 @@ impl SceneRenderer {
         width: u32,
         height: u32,
     ) {
-        self.depth_view(gpu, width, height);
+        self.render_shadow(encoder);
+        self.size_targets(gpu, width, height);
         let Some((_, depth)) = &self.depth else {
             return;
+        };
+        let (view, resolve_target) = match &self.target {
+            Some((_, multisampled)) if self.samples > 1 => (multisampled, Some(color)),
+            _ => (color, None),
         };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("scene"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: color,
-                resolve_target: None,
+                view,
+                resolve_target,
                 ops: wgpu::Operations {
                     load: wgpu::LoadOp::Clear(BACKGROUND),
-                    store: wgpu::StoreOp::Store,
+                    store: if resolve_target.is_some() {
+                        wgpu::StoreOp::Discard
+                    } else {
+                        wgpu::StoreOp::Store
+                    },
                 },
                 depth_slice: None,
             })],
@@ -224,6 +404,63 @@ impl SceneRenderer {
         });
         self.paint(&mut pass);
     }
+}
+
+/// Cells across the bounding-box diagonal that the shadow's surface is coarsened to.
+const SHADOW_CELLS: f32 = 64.0;
+
+/// The surface's triangles coarsened for the shadow map, as indices into the same
+/// vertices (so they move with it): each vertex stands for the first vertex in its cell of
+/// a grid [`SHADOW_CELLS`] across the diagonal (at the positions when the puppet came),
+/// and triangles whose corners fall in fewer than three cells are dropped. The shadow is
+/// soft over about two cells, so the coarse outline does not show, and the pass draws a
+/// few thousand triangles instead of every one (on a software rasterizer the surface's
+/// triangles, not its pixels, are what a pass costs).
+fn shadow_triangles(view: &View) -> Vec<u32> {
+    let x = view.positions();
+    let n = x.len();
+    let cell = (view.size() as f32 / SHADOW_CELLS).max(f32::MIN_POSITIVE);
+    let mut first: std::collections::HashMap<[i64; 3], u32> = Default::default();
+    let stand: Vec<u32> = (0..n)
+        .map(|i| {
+            let key = (x.get(i) / cell).floor().as_i64vec3().to_array();
+            *first.entry(key).or_insert(i as u32)
+        })
+        .collect();
+    let mut seen = std::collections::HashSet::new();
+    let mut out = Vec::new();
+    for t in view.triangles() {
+        let c = t.map(|i| stand.get(i as usize).copied().unwrap_or(i));
+        if c[0] == c[1] || c[1] == c[2] || c[0] == c[2] {
+            continue;
+        }
+        // The same triangle either way round casts the same shadow: keep it once.
+        let mut key = c;
+        key.sort_unstable();
+        if seen.insert(key) {
+            out.extend_from_slice(&c);
+        }
+    }
+    out
+}
+
+/// World to the shadow map's clip space: an orthographic view down `g.up` onto the ground,
+/// two half sides wide (the puppet's reach) and deep from twice the half side above the
+/// ground to as far below (the shader reads depths back into heights by that range).
+fn shadow_proj(g: &Ground) -> Mat4 {
+    let up = g.up.normalize_or(Vec3::Y);
+    let reach = g.half.max(1e-6);
+    let eye = g.centre + up * 2.0 * reach;
+    let view = glam::camera::rh::view::look_at_mat4(eye, g.centre, g.across[1]);
+    let proj = glam::camera::rh::proj::directx::orthographic(
+        -reach,
+        reach,
+        -reach,
+        reach,
+        0.0,
+        4.0 * reach,
+    );
+    proj * view
 }
 
 /// Writes `lines` into `buffer` as line-list vertices (through `scratch`); returns the

@@ -771,3 +771,38 @@ fn tools_keep_their_rules_whoever_switches_them() {
     s.escape();
     assert!(!s.cut_tool.active && !s.paint_tool.active && s.selection.is_empty());
 }
+
+#[test]
+fn the_ground_lies_under_the_rest_mesh_or_at_the_floor_and_goes_when_hidden() {
+    let mut s = session();
+    let ground = s
+        .view(Overlays::default())
+        .ground()
+        .expect("shown by default");
+    let lowest = s
+        .puppet
+        .mesh
+        .positions
+        .iter()
+        .map(|p| p.y)
+        .fold(f64::INFINITY, f64::min) as f32;
+    assert_eq!(ground.up, Vec3::Y);
+    assert!((ground.centre.y - lowest).abs() < 1e-5, "{ground:?}");
+    for a in ground.across {
+        assert!(a.dot(Vec3::Y).abs() < 1e-6 && (a.length() - 1.0).abs() < 1e-6);
+    }
+    assert!(ground.across[0].dot(ground.across[1]).abs() < 1e-6);
+    assert!((ground.spacing * view::GRID_LINES as f32 - ground.half).abs() < 1e-6);
+    // The floor on: the ground is the floor, whatever the puppet does.
+    let mut params = *s.puppet.sim.params();
+    params.world.floor = true;
+    s.set_params(params);
+    let height = s.puppet.sim.floor_height().expect("the floor is on");
+    let floor = s.view(Overlays::default()).ground().unwrap();
+    assert!((floor.centre.y - height).abs() < 1e-5, "{floor:?}");
+    let hidden = Overlays {
+        ground: false,
+        ..Overlays::default()
+    };
+    assert_eq!(s.view(hidden).ground(), None);
+}

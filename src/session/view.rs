@@ -27,6 +27,8 @@ pub struct Overlays {
     /// Where loading repaired the mesh: the edges of filled holes (orange) and the split
     /// vertices (magenta crosses). On by itself when a file needed repairs.
     pub repairs: bool,
+    /// The ground under the puppet with its soft shadow and a faint grid ([`Ground`]).
+    pub ground: bool,
 }
 
 impl Default for Overlays {
@@ -39,12 +41,13 @@ impl Default for Overlays {
             cuts: false,
             pivots: true,
             repairs: false,
+            ground: true,
         }
     }
 }
 
 impl Overlays {
-    /// True when any overlay is shown.
+    /// True when any overlay line is shown (the ground is drawn apart from them).
     pub fn any(&self) -> bool {
         self.wireframe
             || self.skeleton
@@ -66,6 +69,30 @@ pub struct Line {
     /// Linear RGB and opacity.
     pub color: [f32; 4],
 }
+
+/// The ground a renderer draws under the puppet: a square across its up, at its lowest
+/// point at rest (at the floor when the floor is on), that the puppet's shadow falls on and
+/// a faint grid covers, fading out towards its edge. It stays put while the puppet moves,
+/// so a lifted foot is seen to leave it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ground {
+    /// The point under the middle of the mesh's bounding box at rest.
+    pub centre: Vec3,
+    /// The puppet's up (the floor's, when the floor is on).
+    pub up: Vec3,
+    /// Two directions across `up`, at right angles (the floor's axes when it is on).
+    pub across: [Vec3; 2],
+    /// Half its side.
+    pub half: f32,
+    /// The grid's spacing: the floor grid's, so their lines meet when both are drawn.
+    pub spacing: f32,
+}
+
+/// Half the ground's side, and of the floor grid's, in bounding-box diagonals.
+pub const GROUND_HALF: f32 = 0.75;
+
+/// Grid lines either side of the ground's (and the floor's) centre line.
+pub const GRID_LINES: i32 = 8;
 
 /// Counters that change when what they describe changes: a renderer re-uploads only the
 /// parts whose counter moved.
@@ -192,6 +219,43 @@ impl View<'_> {
     /// The current surface positions.
     pub fn positions(&self) -> Positions<'_> {
         self.session.puppet.sim.positions()
+    }
+
+    /// The ground under the puppet, when it is shown (see [`Ground`]).
+    pub fn ground(&self) -> Option<Ground> {
+        if !self.overlays.ground {
+            return None;
+        }
+        let p = &self.session.puppet;
+        let (lo, hi) = p.mesh.bounds();
+        let middle = ((lo + hi) * 0.5).as_vec3();
+        let half = GROUND_HALF * self.size() as f32;
+        let (up, across, level) = match p.sim.floor_height() {
+            Some(height) => {
+                let floor = p.sim.up();
+                let axis = |k: usize| Vec3::AXES[k % 3];
+                let up = axis(floor.axis) * floor.sign;
+                (up, [axis(floor.axis + 1), axis(floor.axis + 2)], height)
+            }
+            None => {
+                let up = p.up().as_vec3().normalize_or(Vec3::Y);
+                let lowest = p
+                    .mesh
+                    .positions
+                    .iter()
+                    .map(|x| x.as_vec3().dot(up))
+                    .fold(f32::INFINITY, f32::min);
+                let (a, b) = up.any_orthonormal_pair();
+                (up, [a, b], if lowest.is_finite() { lowest } else { 0.0 })
+            }
+        };
+        Some(Ground {
+            centre: middle + up * (level - middle.dot(up)),
+            up,
+            across,
+            half,
+            spacing: half / GRID_LINES as f32,
+        })
     }
 
     /// Bounding-box diagonal of the mesh (for sizes of overlay marks).
@@ -329,10 +393,10 @@ impl View<'_> {
             let mut c = ((lo + hi) * 0.5).as_vec3();
             c[up.axis] = height * up.sign;
             let (a, b) = ((up.axis + 1) % 3, (up.axis + 2) % 3);
-            let half = size * 0.75;
+            let half = size * GROUND_HALF;
             let color = [0.55, 0.55, 0.5, 0.6];
-            for k in -8..=8 {
-                let t = half * k as f32 / 8.0;
+            for k in -GRID_LINES..=GRID_LINES {
+                let t = half * k as f32 / GRID_LINES as f32;
                 let at = |u: f32, v: f32| {
                     let mut p = c;
                     p[a] += u;

@@ -78,6 +78,8 @@ pub struct Stats {
 pub struct PanelState {
     /// The overlays shown.
     pub overlays: Overlays,
+    /// The view is anti-aliased (multisampled); `None` where the adapter cannot.
+    pub anti_aliasing: Option<bool>,
     /// The path field (for a typed path when there is no file dialog).
     pub path: String,
     /// Files opened recently, the latest first.
@@ -106,6 +108,7 @@ impl Default for PanelState {
     fn default() -> Self {
         PanelState {
             overlays: Overlays::default(),
+            anti_aliasing: None,
             path: String::new(),
             recent: Vec::new(),
             source: None,

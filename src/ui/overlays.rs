@@ -18,6 +18,14 @@ pub(super) fn overlay_section(
         ui.checkbox(&mut o.pivots, "pivots");
         ui.checkbox(&mut o.repairs, "repairs")
             .on_hover_text("filled holes (orange edges) and split vertices (magenta)");
+        ui.checkbox(&mut o.ground, "ground")
+            .on_hover_text("the ground under the puppet, its soft shadow and a faint grid");
+        if let Some(on) = &mut state.anti_aliasing {
+            ui.checkbox(on, "anti-aliasing").on_hover_text(
+                "smooth edges (4 samples a pixel); off by default on a software renderer, \
+                 where it costs two to three times the frame",
+            );
+        }
     });
     if ui.button("Frame model (F)").clicked() {
         actions.push(Action::Frame);

@@ -19,11 +19,14 @@
 //! * `skeleton`, `skeleton-speed`, `skeleton-change`: the skeleton's accuracy, its speed,
 //!   and how far real meshes' points move between methods ([`skeleton`]);
 //! * `machine`: copy bandwidth and a plain scalar spring loop, as yardsticks ([`machine`]);
-//! * `controls`: live input latency, an OSC packet to the step that shows it ([`controls`]).
+//! * `controls`: live input latency, an OSC packet to the step that shows it ([`controls`]);
+//! * `draw`: a viewport frame's cost, and what each part of the look adds ([`draw`]).
 
 mod accuracy;
 mod collide;
 mod controls;
+#[cfg(feature = "gui")]
+mod draw;
 mod export;
 mod joints;
 mod machine;
@@ -80,6 +83,10 @@ pub enum Bench {
     /// Latency of live input: from an OSC packet leaving the sender to the end of the step
     /// that shows it.
     Controls(controls::Args),
+    /// What a frame of the viewport costs, and what anti-aliasing and the ground with its
+    /// shadow add.
+    #[cfg(feature = "gui")]
+    Draw(draw::Args),
 }
 
 /// The input of the step measurements.
@@ -106,6 +113,8 @@ pub fn run(bench: &Bench, load: &LoadArgs) -> Result<()> {
         Bench::SkeletonChange(args) => skeleton::change(args, load),
         Bench::Machine(args) => machine::run(args),
         Bench::Controls(args) => controls::run(args),
+        #[cfg(feature = "gui")]
+        Bench::Draw(args) => draw::run(args, load),
     }
 }
 

@@ -1,0 +1,251 @@
+//! `puppet bench draw`: what a frame of the viewport costs, and what each part of the look
+//! adds to it.
+//!
+//! The input (the embedded Spot when omitted) is Loop-subdivided `--subdivisions` times
+//! (twice: 46,754 vertices), rigged with a head cut, and drawn offscreen at `--width` ×
+//! `--height` (the window's default 1280 × 800) while the head nods, so every frame
+//! uploads the moved surface and redraws the shadow map, as the window does while the
+//! puppet moves. A frame is timed from `prepare` to the GPU being done with it (the
+//! simulation's step is not counted). The configurations alternate frame by frame
+//! (anti-aliasing and the ground; each alone; neither), so load on the shared machine hits
+//! them alike. Exit status 2 when the window's default on this adapter (the ground, with
+//! anti-aliasing on a GPU) draws fewer than `--min-fps` frames a second.
+
+use super::Input;
+use crate::cli::LoadArgs;
+use anyhow::{bail, Result};
+use puppet::joints::Cut;
+use puppet::render::scene::{msaa_supported, window_msaa, MSAA};
+use puppet::render::{Gpu, SceneRenderer, OFFSCREEN_FORMAT};
+use puppet::session::{Camera, Overlays, Session};
+use puppet::stats::median_p95;
+use puppet::{Puppet, RigFile};
+use std::time::Instant;
+
+/// `puppet bench draw`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    #[command(flatten)]
+    input: Input,
+    /// Loop subdivision steps (each quadruples the faces; at most 4).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(0..=4))]
+    subdivisions: u8,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 800, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    height: u32,
+    /// Frames drawn in each configuration.
+    #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u32).range(1..))]
+    frames: u32,
+    /// Keep the puppet still and orbit the camera instead: nothing is uploaded and the
+    /// shadow is not redrawn (a settled puppet looked at from around).
+    #[arg(long)]
+    still: bool,
+    /// Fail when the look as shipped draws fewer frames a second than this.
+    #[arg(long)]
+    min_fps: Option<f64>,
+    /// Print JSON instead of a Markdown table.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(serde::Serialize)]
+struct Row {
+    config: &'static str,
+    samples: u32,
+    ground: bool,
+    /// What the window draws on this adapter by default.
+    window_default: bool,
+    ms_per_frame: f64,
+    ms_p95: f64,
+    fps: f64,
+}
+
+#[derive(serde::Serialize)]
+struct Report {
+    mesh: String,
+    vertices: usize,
+    triangles: usize,
+    width: u32,
+    height: u32,
+    adapter: String,
+    frames: u32,
+    rows: Vec<Row>,
+}
+
+pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
+    if let Some(m) = args.min_fps {
+        if !(m.is_finite() && m >= 0.0) {
+            bail!("--min-fps: {m} is not a number of frames a second");
+        }
+    }
+    let (mut mesh, _, name) = super::super::load_mesh(args.input.mesh.as_deref(), load)?;
+    for _ in 0..args.subdivisions {
+        mesh = puppet::mesh::subdivide_loop(&mesh);
+    }
+    let (lo, hi) = mesh.bounds();
+    let (vertices, triangles) = (mesh.positions.len(), mesh.triangles.len());
+    // A cut across the top fifth along the longest axis: a head (or whatever is there) to
+    // nod, so the surface moves every frame.
+    let extent = hi - lo;
+    let axis = extent.max_position();
+    let mut point = (lo + hi) * 0.5;
+    point[axis] = hi[axis] - 0.2 * extent[axis];
+    let normal = glam::DVec3::AXES[axis];
+    let rig = RigFile {
+        cuts: vec![Cut::plane("head", puppet::joints::ROOT, point, normal)],
+        ..RigFile::default()
+    };
+    let puppet = Puppet::build(mesh, rig, puppet::progress::silent())
+        .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+    let mut session = Session::new(puppet, "draw");
+    session.select(session.puppet.joints.find("head"), false);
+    let mut camera = Camera {
+        up: session.puppet.up().as_vec3(),
+        ..Camera::default()
+    };
+    camera.frame(lo.as_vec3(), hi.as_vec3());
+
+    let gpu = Gpu::headless()?;
+    let adapter = gpu.adapter.get_info().name;
+    let msaa = if msaa_supported(&gpu, OFFSCREEN_FORMAT) {
+        MSAA
+    } else {
+        1
+    };
+    // The window's choice on this adapter (see `render::scene::window_msaa`).
+    let window = if window_msaa(&gpu, OFFSCREEN_FORMAT) {
+        msaa
+    } else {
+        1
+    };
+    let mut configs: Vec<(&'static str, SceneRenderer, bool)> = [
+        ("anti-aliasing and ground", msaa, true),
+        ("ground, no anti-aliasing", 1, true),
+        ("anti-aliasing, no ground", msaa, false),
+        ("neither", 1, false),
+    ]
+    .into_iter()
+    .map(|(name, samples, ground)| {
+        let renderer = SceneRenderer::with_samples(&gpu, OFFSCREEN_FORMAT, samples);
+        (name, renderer, ground)
+    })
+    .collect();
+    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("bench draw"),
+        size: wgpu::Extent3d {
+            width: args.width,
+            height: args.height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: OFFSCREEN_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        view_formats: &[],
+    });
+    let target = texture.create_view(&Default::default());
+    let aspect = args.width as f32 / args.height as f32;
+    let mut times = vec![Vec::new(); configs.len()];
+    // One frame each first: pipelines and buffers warm.
+    for frame in 0..=args.frames {
+        // Nod: a twentieth of a radian a frame, back and forth.
+        let sign = if (frame / 20) % 2 == 0 { 1.0 } else { -1.0 };
+        if args.still {
+            camera.yaw += 0.02;
+        } else {
+            session.rotate_selected(glam::DQuat::from_rotation_x(0.05 * sign));
+            session.advance(1.0 / 60.0, 1);
+        }
+        for (k, (_, renderer, ground)) in configs.iter_mut().enumerate() {
+            let overlays = Overlays {
+                ground: *ground,
+                ..Overlays::default()
+            };
+            let started = Instant::now();
+            renderer.prepare(&gpu, &session.view(overlays), &camera, aspect);
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            renderer.render_to(&gpu, &mut encoder, &target, args.width, args.height);
+            gpu.queue.submit([encoder.finish()]);
+            gpu.device
+                .poll(wgpu::PollType::wait_indefinitely())
+                .map_err(|e| anyhow::anyhow!("the GPU did not finish a frame: {e}"))?;
+            if frame > 0 {
+                times[k].push(started.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+    }
+    let rows: Vec<Row> = configs
+        .iter()
+        .zip(times)
+        .map(|((config, renderer, ground), t)| {
+            let (ms, p95) = median_p95(t);
+            Row {
+                config,
+                samples: renderer.samples(),
+                ground: *ground,
+                window_default: *ground && renderer.samples() == window,
+                ms_per_frame: ms,
+                ms_p95: p95,
+                fps: 1e3 / ms.max(1e-9),
+            }
+        })
+        .collect();
+    let report = Report {
+        mesh: name,
+        vertices,
+        triangles,
+        width: args.width,
+        height: args.height,
+        adapter,
+        frames: args.frames,
+        rows,
+    };
+    if args.json {
+        println!("{}", serde_json::to_string(&report)?);
+    } else {
+        println!(
+            "{} subdivided {}×: {} vertices, {} triangles; {} × {} pixels on {}; {} frames each, the head nodding",
+            report.mesh,
+            args.subdivisions,
+            report.vertices,
+            report.triangles,
+            report.width,
+            report.height,
+            report.adapter,
+            report.frames
+        );
+        println!();
+        println!("| configuration | samples | ground and shadow | ms per frame (median) | p95 | frames/s |");
+        println!("|---|---:|---|---:|---:|---:|");
+        for r in &report.rows {
+            let name = if r.window_default {
+                format!("**{} (the window's default here)**", r.config)
+            } else {
+                r.config.to_string()
+            };
+            println!(
+                "| {name} | {} | {} | {:.2} | {:.2} | {:.0} |",
+                r.samples,
+                if r.ground { "yes" } else { "no" },
+                r.ms_per_frame,
+                r.ms_p95,
+                r.fps
+            );
+        }
+    }
+    let default = report.rows.iter().find(|r| r.window_default);
+    if let (Some(min), Some(default)) = (args.min_fps, default) {
+        if default.fps < min {
+            bail!(
+                "the viewport draws {:.1} frames/s as the window does here ({}), below --min-fps {min}",
+                default.fps,
+                default.config
+            );
+        }
+    }
+    Ok(())
+}
