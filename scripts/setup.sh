@@ -10,6 +10,9 @@ need=()
 for pkg in mesa-vulkan-drivers libvulkan1 xvfb xauth xdotool libasound2-dev libudev-dev pkg-config; do
   dpkg -s "$pkg" >/dev/null 2>&1 || need+=("$pkg")
 done
+# ffmpeg to encode a take rendered to video (`simulate --out TAKE.mp4`; without it the
+# frames are PNG files) and ffprobe to read the video back in the tests.
+command -v ffmpeg >/dev/null || need+=(ffmpeg)
 command -v node >/dev/null || need+=(nodejs)
 command -v npm >/dev/null || need+=(npm)
 if [ ${#need[@]} -gt 0 ]; then

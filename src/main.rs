@@ -7,12 +7,17 @@ use std::io::Write;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
+    let cli = cli::Cli::parse();
     // A reader that stops early (`puppet suggest … | head`) ends the program quietly, as
-    // for other command-line tools; Rust's default would panic in `println!`.
+    // for other command-line tools; Rust's default would panic in `println!`. Not while
+    // frames are piped into `ffmpeg`: its early exit is an error to report.
     #[cfg(unix)]
-    // SAFETY: restoring a signal's default disposition at startup, before any thread runs.
-    unsafe {
-        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    if !cli.pipes_to_programs() {
+        // SAFETY: restoring a signal's default disposition at startup, before any thread
+        // runs (parsing the command line starts none).
+        unsafe {
+            libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+        }
     }
     #[cfg(unix)]
     private_runtime_dir();
@@ -24,7 +29,7 @@ fn main() -> ExitCode {
         writeln!(buf, "{level}: {}", record.args())
     })
     .init();
-    let cli = cli::Cli::parse().settled();
+    let cli = cli.settled();
     match cli::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

@@ -240,3 +240,201 @@ fn the_result_does_not_depend_on_the_frame_rate() {
         .collect();
     assert!(finals[0] == finals[1] && finals[1] == finals[2]);
 }
+
+#[cfg(feature = "gui")]
+/// Runs `puppet simulate` with `ffmpeg` as `ffmpeg` says (`Some("")`: none).
+fn simulate_with(ffmpeg: Option<&str>, args: &[&str]) -> std::process::Output {
+    let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_puppet"));
+    c.arg("simulate").args(args).env("RUST_LOG", "warn");
+    match ffmpeg {
+        Some(f) => c.env("PUPPET_FFMPEG", f),
+        None => c.env_remove("PUPPET_FFMPEG"),
+    };
+    c.output().expect("run puppet")
+}
+
+#[cfg(feature = "gui")]
+/// The jaw example at 160 × 120, `frames` frames at 30 fps, into `out`.
+fn jaw_video<'a>(out: &'a str, frames: &'a str, rig: &'a str, anim: &'a str) -> Vec<&'a str> {
+    vec![
+        "--rig",
+        rig,
+        "--anim",
+        anim,
+        "--frames",
+        frames,
+        "--video-size",
+        "160x120",
+        "--out",
+        out,
+        "--json",
+    ]
+}
+
+#[cfg(feature = "gui")]
+/// A take to video without `ffmpeg`: one PNG a frame in `TAKE-frames/`, the `ffmpeg` line
+/// that makes the video, no video file; the pictures follow the take (the jaw opens). With
+/// `ffmpeg` (installed by `scripts/setup.sh`; under CI it must be here): a video of as many
+/// frames, as long as the take, and each frame showing what the PNG of that frame shows.
+#[test]
+fn a_take_renders_to_a_video_or_to_png_frames_without_ffmpeg() {
+    let dir = scratch("video");
+    let (rig, anim) = (example("spot-jaw.rig.toml"), example("spot-jaw.anim.toml"));
+    let mp4 = dir.join("take.mp4");
+    let mp4 = mp4.to_str().unwrap();
+    let out = simulate_with(Some(""), &jaw_video(mp4, "30", &rig, &anim));
+    ok(&out);
+    let summary: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(summary["exported_frames"], 30, "{summary}");
+    let frames = dir.join("take-frames");
+    assert_eq!(summary["video_frames_dir"], frames.display().to_string());
+    assert!(summary["video_command"]
+        .as_str()
+        .unwrap()
+        .starts_with("ffmpeg -framerate 30 -i "));
+    assert!(!Path::new(mp4).exists(), "no video without ffmpeg");
+    let png = |k: usize| {
+        puppet::render::Image::load_png(&frames.join(format!("frame_{k:05}.png")))
+            .unwrap_or_else(|e| panic!("frame {k}: {e}"))
+    };
+    for k in 1..=30 {
+        assert_eq!((png(k).width, png(k).height), (160, 120), "frame {k}");
+    }
+    assert!(!frames.join("frame_00031.png").exists());
+    let moved = png(30).mean_abs_diff(&png(1)).unwrap();
+    assert!(
+        moved > 0.5,
+        "the jaw moves between frames 1 and 30 ({moved:.2})"
+    );
+
+    let probe = std::process::Command::new("ffprobe")
+        .arg("-version")
+        .output();
+    if probe.is_err()
+        || std::process::Command::new("ffmpeg")
+            .arg("-version")
+            .output()
+            .is_err()
+    {
+        assert!(
+            !common::under_ci(),
+            "ffmpeg not installed: scripts/setup.sh installs it"
+        );
+        eprintln!("ffmpeg not installed (scripts/setup.sh installs it): the video is not checked");
+        return;
+    }
+    ok(&simulate_with(None, &jaw_video(mp4, "30", &rig, &anim)));
+    let out = std::process::Command::new("ffprobe")
+        .args(["-v", "error", "-count_frames", "-select_streams", "v:0"])
+        .args([
+            "-show_entries",
+            "stream=nb_read_frames,width,height,duration",
+        ])
+        .args(["-of", "json", mp4])
+        .output()
+        .unwrap();
+    ok(&out);
+    let probe: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let stream = &probe["streams"][0];
+    assert_eq!(stream["nb_read_frames"], "30", "{probe}");
+    assert_eq!(
+        (stream["width"].as_u64(), stream["height"].as_u64()),
+        (Some(160), Some(120))
+    );
+    let duration: f64 = stream["duration"].as_str().unwrap().parse().unwrap();
+    assert!((duration - 1.0).abs() < 1e-3, "{duration} s");
+    // Frames 1 and 30 of the video, decoded, against the PNGs of the same frames.
+    for k in [1usize, 30] {
+        let decoded = dir.join(format!("decoded_{k}.png"));
+        let out = std::process::Command::new("ffmpeg")
+            .args(["-v", "error", "-y", "-i", mp4])
+            .args([
+                "-vf",
+                &format!("select=eq(n\\,{})", k - 1),
+                "-frames:v",
+                "1",
+            ])
+            .arg(&decoded)
+            .output()
+            .unwrap();
+        ok(&out);
+        let decoded = puppet::render::Image::load_png(&decoded).unwrap();
+        let d = decoded.mean_abs_diff(&png(k)).unwrap();
+        assert!(
+            d < 3.0,
+            "frame {k}: the video differs from the picture by {d:.2}"
+        );
+        if k == 30 {
+            assert!(decoded.mean_abs_diff(&png(1)).unwrap() > 0.5 * moved);
+        }
+    }
+}
+
+#[cfg(feature = "gui")]
+/// A video that cannot be written leaves nothing behind and keeps what was there: a
+/// missing folder and a bad size are refused before anything runs, and an `ffmpeg` that
+/// stops taking frames is one error line, no partial file, the old video untouched.
+#[test]
+fn a_failed_video_leaves_nothing_behind() {
+    let dir = scratch("video-fails");
+    let (rig, anim) = (example("spot-jaw.rig.toml"), example("spot-jaw.anim.toml"));
+    let missing = dir.join("no/such/folder/take.mp4");
+    let bad_size = dir.join("take.mp4");
+    for (out, size, says) in [
+        (
+            missing.to_str().unwrap(),
+            "160x120",
+            "its folder does not exist",
+        ),
+        (
+            bad_size.to_str().unwrap(),
+            "161x120",
+            "--video-size: '161x120' is not",
+        ),
+    ] {
+        let mut args = jaw_video(out, "3", &rig, &anim);
+        args[7] = size;
+        let run = simulate_with(Some(""), &args);
+        assert_eq!(run.status.code(), Some(2), "{out} {size}");
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert!(err.starts_with("error: ") && err.contains(says), "{err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        0,
+        "nothing written"
+    );
+    // An ffmpeg that answers -version and then takes no frame.
+    let fake = dir.join("ffmpeg");
+    std::fs::write(
+        &fake,
+        "#!/bin/sh\n[ \"$1\" = -version ] && exit 0\necho 'no encoder here' >&2\nexit 1\n",
+    )
+    .unwrap();
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let old = dir.join("take.mp4");
+    std::fs::write(&old, b"the take from yesterday").unwrap();
+    let run = simulate_with(
+        Some(fake.to_str().unwrap()),
+        &jaw_video(old.to_str().unwrap(), "3", &rig, &anim),
+    );
+    assert_eq!(run.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        err.starts_with("error: ") && err.contains("ffmpeg"),
+        "{err}"
+    );
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert_eq!(std::fs::read(&old).unwrap(), b"the take from yesterday");
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(
+        left.len(),
+        2,
+        "only the old video and the fake ffmpeg: {left:?}"
+    );
+}

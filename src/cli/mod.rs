@@ -171,6 +171,13 @@ impl Cli {
     /// command's (`puppet hero.glb suggest` suggests for `hero.glb`, not for the embedded
     /// mesh). Exits with a usage error (status 2) where a command is given with what only
     /// the window reads, or with two meshes.
+    /// True when the command pipes frames into another program (`simulate --out
+    /// TAKE.mp4` into `ffmpeg`): a broken pipe must then be an error to report, not the
+    /// signal that ends the program quietly.
+    pub fn pipes_to_programs(&self) -> bool {
+        matches!(&self.command, Some(Command::Simulate(a)) if a.out.as_deref().is_some_and(simulate::is_video))
+    }
+
     pub fn settled(mut self) -> Cli {
         use clap::CommandFactory;
         let Some(command) = &mut self.command else {

@@ -1,7 +1,13 @@
 //! `puppet simulate [MESH.obj] --rig RIG --anim ANIM [--frames N] [--fps F]
-//! [--out-dir DIR] [--out FINAL.obj] [--gravity G] [--floor H] [--friction F] [--collision]
-//! [--flesh F] [--json]`:
+//! [--out-dir DIR] [--out FINAL.obj | TAKE.glb | TAKE.pc2 | TAKE.mp4 | DIR/] [--gravity G]
+//! [--floor H] [--friction F] [--collision] [--flesh F] [--json]`:
 //! plays an animation through the full simulation, headless.
+//!
+//! A video (`TAKE.mp4`, `.webm`, `.mkv`, `.mov`) is the take drawn as the window draws it
+//! when it opens the puppet (its camera, lighting, ground and shadow, anti-aliased; no
+//! pivots), one picture per exported frame on the take's clock (`--fps` over
+//! `--frame-step`), through `ffmpeg` when it is installed, else PNG frames beside it
+//! ([`puppet::render::video`]).
 //!
 //! Frame `k` (1-based) shows time `k / fps`. The simulation runs on its own fixed step (the
 //! rig's `time_step`); the pose is sampled from the animation at every step, not every
@@ -14,6 +20,7 @@ use puppet::anim::{Animation, Bound};
 use puppet::export::{FileOrder, Kind, TakeFiles, TakeOptions};
 use puppet::files::{self, Format};
 use puppet::puppet::bake::{FrameRange, Player, MAX_FRAMES};
+use puppet::session::Session;
 use puppet::stats::median_p95;
 use puppet::{Puppet, RigFile};
 use std::path::{Path, PathBuf};
@@ -49,9 +56,14 @@ pub struct Args {
     /// `FINAL.obj`: the final surface (same vertex order as the welded input);
     /// `TAKE.glb`: every frame as a morph target with an animation of the weights (Blender
     /// shape keys, game engines); `TAKE.pc2`: a PC2 point cache and `TAKE.obj` beside it
-    /// (Blender's Mesh Cache modifier, 3ds Max); `DIR/`: one OBJ per frame.
+    /// (Blender's Mesh Cache modifier, 3ds Max); `DIR/`: one OBJ per frame; `TAKE.mp4`
+    /// (`.webm`, `.mkv`, `.mov`): the take drawn as the window draws it, through `ffmpeg`
+    /// (else PNG frames in `TAKE-frames/`).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// A video's size in pixels, `WIDTHxHEIGHT`, both even (with `--out TAKE.mp4`).
+    #[arg(long, default_value = "1280x720")]
+    pub video_size: String,
     /// Export every Nth frame (with `--out TAKE.glb | TAKE.pc2 | DIR/`).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
     pub frame_step: u64,
@@ -115,8 +127,12 @@ struct Summary {
     final_max_offset: f64,
     out: Option<String>,
     out_dir: Option<String>,
-    /// Frames written to `--out` when it is a take (`.glb`, `.pc2`, a folder).
+    /// Frames written to `--out` when it is a take (`.glb`, `.pc2`, a folder, a video).
     exported_frames: u64,
+    /// Without `ffmpeg`, the folder a video's frames went to as PNG files, and the
+    /// command that makes the video from them.
+    video_frames_dir: Option<String>,
+    video_command: Option<String>,
 }
 
 pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
@@ -214,6 +230,14 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         }
         _ => None,
     };
+    let mut video = match &out {
+        Out::Video(path) => Some(VideoTake::create(
+            path,
+            &args.video_size,
+            args.fps / range.step as f64,
+        )?),
+        _ => None,
+    };
     if let Some(dir) = &args.out_dir {
         std::fs::create_dir_all(dir).map_err(|e| {
             FileError::new(
@@ -267,38 +291,45 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         .map_err(|e| anyhow::anyhow!("--gravity/--floor/--friction/--flesh: {e}"))?;
     puppet.sim.set_params(params);
     let seconds_skeleton = t_skeleton.elapsed().as_secs_f64();
+    // What a video draws: the puppet as the window holds it.
+    let mut session = Session::new(puppet, mesh_name.clone());
     let bound: Option<Bound> = match (&anim, &args.anim, &clip) {
         (Some(a), Some(path), _) => Some(
-            a.bind(&puppet.joints)
+            a.bind(&session.puppet.joints)
                 .map_err(|e| FileError::new(path.display().to_string(), e))?,
         ),
         (_, _, Some((skin, k))) => Some(
-            puppet::anim::clip::animation(&skin.clips[*k], skin, &puppet.joints)
-                .bind(&puppet.joints)
+            puppet::anim::clip::animation(&skin.clips[*k], skin, &session.puppet.joints)
+                .bind(&session.puppet.joints)
                 .map_err(|e| FileError::new(&mesh_name, e))?,
         ),
         _ => None,
     };
 
-    let h = puppet.sim.params().solver.time_step as f64;
+    let h = session.puppet.sim.params().solver.time_step as f64;
     let mut player = Player::new(bound, args.fps);
     let mut step_ms = Vec::with_capacity(player.steps_by(h, frames).min(1 << 20) as usize);
     for frame in 1..=frames {
         let target = player.steps_by(h, frame);
         while player.steps() < target {
             let t = Instant::now();
-            player.step(&mut puppet);
+            player.step(&mut session.puppet);
             step_ms.push(t.elapsed().as_secs_f64() * 1e3);
         }
         if let (Some(take), true) = (&mut take, range.keeps(frame)) {
-            let x = puppet.sim.positions();
+            let x = session.puppet.sim.positions();
             take.add(frame, (0..x.len()).map(|i| x.get(i)).collect())
                 .map_err(|e| FileError::new(e.path, e.message))?;
+        }
+        if let (Some(video), true) = (&mut video, range.keeps(frame)) {
+            session.wake();
+            video.add(&session)?;
+            bar.update("drawing the video", frame as f64 / frames as f64);
         }
         if let Some(dir) = &args.out_dir {
             let path = dir.join(format!("frame_{frame:05}.obj"));
             write_surface(
-                &puppet,
+                &session.puppet,
                 &path,
                 &format!("frame {frame}, t = {} s", frame as f64 / args.fps),
             )?;
@@ -306,17 +337,24 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     }
     let steps = player.steps();
     if let Out::Final(path) = &out {
-        write_surface(&puppet, path, &format!("final frame {frames}"))?;
+        write_surface(&session.puppet, path, &format!("final frame {frames}"))?;
     }
     if let Some(take) = take {
         take.finish()
             .map_err(|e| FileError::new(e.path, e.message))?;
     }
+    let (video_frames_dir, video_command) = match video {
+        Some(v) => {
+            bar.finish();
+            v.finish()?
+        }
+        None => (None, None),
+    };
 
-    let positions = puppet.sim.positions();
-    let diagonal = puppet.mesh.diagonal().max(f64::MIN_POSITIVE);
+    let positions = session.puppet.sim.positions();
+    let diagonal = session.puppet.mesh.diagonal().max(f64::MIN_POSITIVE);
     let final_max_offset = (0..positions.len())
-        .map(|i| (positions.get(i) - puppet.sim.target(i)).length() as f64)
+        .map(|i| (positions.get(i) - session.puppet.sim.target(i)).length() as f64)
         .fold(0.0, f64::max)
         / diagonal;
     if !final_max_offset.is_finite() {
@@ -331,17 +369,17 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         mesh: mesh_name,
         rig: args.rig.as_ref().map(|p| p.display().to_string()),
         anim: args.anim.as_ref().map(|p| p.display().to_string()),
-        vertices: puppet.mesh.positions.len(),
-        springs: puppet.sim.rig().spring_count(),
-        sections: puppet.joints.sections().len(),
-        method: match puppet.sim.params().solver.constraint {
+        vertices: session.puppet.mesh.positions.len(),
+        springs: session.puppet.sim.rig().spring_count(),
+        sections: session.puppet.joints.sections().len(),
+        method: match session.puppet.sim.params().solver.constraint {
             puppet::sim::Constraint::Circumsphere => "circumsphere",
             puppet::sim::Constraint::SpringReduction => "spring-reduction",
         },
         frames,
         fps: args.fps,
         steps,
-        time_step: puppet.sim.params().solver.time_step,
+        time_step: session.puppet.sim.params().solver.time_step,
         ms_per_step_median: ms_median,
         ms_per_step_p95: ms_p95,
         seconds_skeleton,
@@ -350,6 +388,8 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         out: args.out.as_ref().map(|p| p.display().to_string()),
         exported_frames: range.count(),
         out_dir: args.out_dir.as_ref().map(|p| p.display().to_string()),
+        video_frames_dir,
+        video_command,
     };
     if args.json {
         println!("{}", serde_json::to_string_pretty(&summary)?);
@@ -383,9 +423,131 @@ fn print_summary(s: &Summary) {
     if let Some(d) = &s.out_dir {
         println!("frames    {d}/frame_00001.obj ..");
     }
-    if let Some(o) = &s.out {
-        println!("wrote     {o}");
+    match (&s.video_frames_dir, &s.video_command, &s.out) {
+        (Some(dir), Some(command), _) => {
+            println!(
+                "wrote     {} PNG frames to {dir}/ (ffmpeg not found)",
+                s.exported_frames
+            );
+            println!("video     {command}");
+        }
+        (_, _, Some(o)) => println!("wrote     {o}"),
+        _ => {}
     }
+}
+
+/// A take drawn into a video (see the module docs).
+#[cfg(feature = "gui")]
+struct VideoTake {
+    gpu: puppet::render::Gpu,
+    renderer: puppet::render::SceneRenderer,
+    camera: Option<puppet::session::Camera>,
+    video: puppet::render::video::Video,
+    size: (u32, u32),
+}
+
+#[cfg(feature = "gui")]
+impl VideoTake {
+    /// Checks the size, finds the GPU and starts the video at `fps`.
+    fn create(path: &Path, size: &str, fps: f64) -> Result<VideoTake> {
+        let size = video_size(size)?;
+        let gpu = puppet::render::Gpu::headless()?;
+        let renderer = puppet::render::SceneRenderer::new(&gpu, puppet::render::OFFSCREEN_FORMAT);
+        let video = puppet::render::video::Video::create(path, size.0, size.1, fps)
+            .map_err(|e| FileError::new(e.path, e.message))?;
+        Ok(VideoTake {
+            gpu,
+            renderer,
+            camera: None,
+            video,
+            size,
+        })
+    }
+
+    /// Draws the session's puppet as the window would and adds it to the video.
+    fn add(&mut self, session: &Session) -> Result<()> {
+        let puppet = &session.puppet;
+        let camera = self.camera.get_or_insert_with(|| {
+            let (lo, hi) = puppet.mesh.bounds();
+            let mut c = puppet::session::Camera {
+                up: puppet.up().as_vec3(),
+                ..Default::default()
+            };
+            c.frame(lo.as_vec3(), hi.as_vec3());
+            c
+        });
+        let overlays = puppet::session::Overlays {
+            pivots: false,
+            ..Default::default()
+        };
+        let image = puppet::render::render_image(
+            &self.gpu,
+            &mut self.renderer,
+            &session.view(overlays),
+            camera,
+            self.size.0,
+            self.size.1,
+        )?;
+        self.video
+            .add(&image)
+            .map_err(|e| FileError::new(e.path, e.message).into())
+    }
+
+    /// Ends the video; without `ffmpeg`, the frames' folder and the command that makes
+    /// the video from them.
+    fn finish(self) -> Result<(Option<String>, Option<String>)> {
+        match self
+            .video
+            .finish()
+            .map_err(|e| FileError::new(e.path, e.message))?
+        {
+            puppet::render::video::Written::Video(_) => Ok((None, None)),
+            puppet::render::video::Written::Frames { dir, command } => {
+                Ok((Some(dir.display().to_string()), Some(command)))
+            }
+        }
+    }
+}
+
+/// Without a renderer, `--out TAKE.mp4` is refused before anything runs.
+#[cfg(not(feature = "gui"))]
+struct VideoTake;
+
+#[cfg(not(feature = "gui"))]
+impl VideoTake {
+    fn create(path: &Path, size: &str, _: f64) -> Result<VideoTake> {
+        video_size(size)?;
+        Err(FileError::new(
+            path.display().to_string(),
+            "this build draws no video (it was built without the gui feature)",
+        )
+        .into())
+    }
+    fn add(&mut self, _: &Session) -> Result<()> {
+        Ok(())
+    }
+    fn finish(self) -> Result<(Option<String>, Option<String>)> {
+        Ok((None, None))
+    }
+}
+
+/// `WIDTHxHEIGHT`, both even and 16..=8192.
+fn video_size(text: &str) -> Result<(u32, u32)> {
+    let bad = || {
+        anyhow::anyhow!(
+            "--video-size: '{text}' is not WIDTHxHEIGHT with both even and within 16..8192"
+        )
+    };
+    let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (w, h): (u32, u32) = (
+        w.trim().parse().map_err(|_| bad())?,
+        h.trim().parse().map_err(|_| bad())?,
+    );
+    let fits = |v: u32| (16..=8192).contains(&v) && v.is_multiple_of(2);
+    if !(fits(w) && fits(h)) {
+        return Err(bad());
+    }
+    Ok((w, h))
 }
 
 fn write_surface(puppet: &Puppet, path: &Path, header: &str) -> Result<()> {
@@ -402,6 +564,18 @@ enum Out {
     Final(PathBuf),
     /// Every exported frame: `.glb`, `.pc2` or a folder of OBJ files.
     Take(PathBuf, Kind),
+    /// Every exported frame drawn into a video.
+    Video(PathBuf),
+}
+
+/// The extensions `--out` writes as a video.
+const VIDEO: [&str; 4] = ["mp4", "webm", "mkv", "mov"];
+
+/// True when `--out` names a video.
+pub fn is_video(path: &Path) -> bool {
+    path.extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .is_some_and(|e| VIDEO.contains(&e.as_str()))
 }
 
 impl Out {
@@ -418,9 +592,12 @@ impl Out {
         if ext.as_deref() == Some("obj") {
             return Ok(Out::Final(path.to_path_buf()));
         }
+        if is_video(path) {
+            return Ok(Out::Video(path.to_path_buf()));
+        }
         Err(FileError::new(
             path.display().to_string(),
-            "not a format simulate writes (FINAL.obj, TAKE.glb, TAKE.pc2, or DIR/)",
+            "not a format simulate writes (FINAL.obj, TAKE.glb, TAKE.pc2, TAKE.mp4, or DIR/)",
         )
         .into())
     }

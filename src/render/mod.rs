@@ -6,13 +6,15 @@
 //! * `pipelines`, `buffers`: the pipelines of `shaders/scene.wgsl` and the buffers they read;
 //! * [`scene`]: [`SceneRenderer`] (`new` creates, `prepare` uploads what changed, `paint`
 //!   draws);
-//! * [`image`]: images read back from the GPU, PNG files, comparisons for tests.
+//! * [`image`]: images read back from the GPU, PNG files, comparisons for tests;
+//! * [`video`]: a take's frames into `ffmpeg`, or PNG files without it.
 
 mod buffers;
 pub mod gpu;
 pub mod image;
 mod pipelines;
 pub mod scene;
+pub mod video;
 
 pub use gpu::{Gpu, RenderError};
 pub use image::Image;
