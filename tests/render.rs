@@ -22,6 +22,15 @@ fn spot_session(rig: RigFile) -> Session {
     )
 }
 
+/// Spot with the example rig's head cut.
+fn jaw_session() -> Session {
+    let rig = RigFile::load(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples/spot-jaw.rig.toml"),
+    )
+    .unwrap();
+    spot_session(rig)
+}
+
 fn camera(s: &Session) -> Camera {
     let mut c = Camera::default();
     let (lo, hi) = s.puppet.mesh.bounds();
@@ -123,11 +132,7 @@ fn the_default_puppet_renders_offscreen_with_shading_and_overlays() {
 fn a_turned_section_shows_in_the_image() {
     let gpu = Gpu::headless().expect("a graphics adapter");
     let mut renderer = SceneRenderer::new(&gpu, OFFSCREEN_FORMAT);
-    let rig = RigFile::load(
-        &Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples/spot-jaw.rig.toml"),
-    )
-    .unwrap();
-    let mut session = spot_session(rig);
+    let mut session = jaw_session();
     let cam = camera(&session);
     let before = shot(&gpu, &mut renderer, &session, &cam, Overlays::default());
     let head = session.puppet.joints.find("head").unwrap();
@@ -327,11 +332,7 @@ fn silhouettes_are_anti_aliased() {
 fn the_ground_shows_the_puppet_s_shadow_and_redraws_it_only_when_it_moves() {
     let gpu = Gpu::headless().expect("a graphics adapter");
     let mut renderer = SceneRenderer::new(&gpu, OFFSCREEN_FORMAT);
-    let rig = RigFile::load(
-        &Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples/spot-jaw.rig.toml"),
-    )
-    .unwrap();
-    let mut session = spot_session(rig);
+    let mut session = jaw_session();
     let cam = Camera {
         pitch: 0.6,
         ..camera(&session)

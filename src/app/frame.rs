@@ -243,22 +243,7 @@ impl WindowState {
             } else {
                 wgpu::LoadOp::Clear(render::BACKGROUND)
             };
-            let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("egui"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &plain,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                    depth_slice: None,
-                })],
-                depth_stencil_attachment: None,
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let pass = render::colour_pass(&mut encoder, "egui", &plain, load);
             self.egui
                 .renderer
                 .render(&mut pass.forget_lifetime(), primitives, screen);

@@ -158,23 +158,16 @@ impl Pipelines {
                 },
             ],
         );
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("scene"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let shadow_pipeline_layout =
+        let pipeline_layout_of = |label, layout| {
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("shadow map"),
-                bind_group_layouts: &[Some(&shadow_layout)],
+                label: Some(label),
+                bind_group_layouts: &[Some(layout)],
                 immediate_size: 0,
-            });
-        let shade_pipeline_layout =
-            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("shade"),
-                bind_group_layouts: &[Some(&shade_layout)],
-                immediate_size: 0,
-            });
+            })
+        };
+        let pipeline_layout = pipeline_layout_of("scene", &layout);
+        let shadow_pipeline_layout = pipeline_layout_of("shadow map", &shadow_layout);
+        let shade_pipeline_layout = pipeline_layout_of("shade", &shade_layout);
         let multisample = wgpu::MultisampleState {
             count: samples,
             ..Default::default()
@@ -207,23 +200,13 @@ impl Pipelines {
                 cull_mode: None,
                 ..Default::default()
             },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
+            depth_stencil: depth(true, wgpu::CompareFunction::Less),
             multisample,
             fragment: Some(wgpu::FragmentState {
                 module: &shader,
                 entry_point: Some("fs_surface"),
                 compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
+                targets: &[target(format, None)],
             }),
             multiview_mask: None,
             cache: None,
@@ -247,23 +230,13 @@ impl Pipelines {
                     topology: wgpu::PrimitiveTopology::LineList,
                     ..Default::default()
                 },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(false),
-                    depth_compare: Some(compare),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
+                depth_stencil: depth(false, compare),
                 multisample,
                 fragment: Some(wgpu::FragmentState {
                     module: &shader,
                     entry_point: Some("fs_lines"),
                     compilation_options: Default::default(),
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format,
-                        blend: Some(wgpu::BlendState::ALPHA_BLENDING),
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
+                    targets: &[target(format, Some(wgpu::BlendState::ALPHA_BLENDING))],
                 }),
                 multiview_mask: None,
                 cache: None,
@@ -283,23 +256,13 @@ impl Pipelines {
                 buffers: &[],
             },
             primitive: Default::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(false),
-                depth_compare: Some(wgpu::CompareFunction::LessEqual),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
+            depth_stencil: depth(false, wgpu::CompareFunction::LessEqual),
             multisample,
             fragment: Some(wgpu::FragmentState {
                 module: &shader,
                 entry_point: Some("fs_ground"),
                 compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format,
-                    blend: Some(wgpu::BlendState::ALPHA_BLENDING),
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
+                targets: &[target(format, Some(wgpu::BlendState::ALPHA_BLENDING))],
             }),
             multiview_mask: None,
             cache: None,
@@ -318,13 +281,7 @@ impl Pipelines {
                 })],
             },
             primitive: Default::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
+            depth_stencil: depth(true, wgpu::CompareFunction::Less),
             multisample: Default::default(),
             fragment: None,
             multiview_mask: None,
@@ -366,4 +323,27 @@ impl Pipelines {
             shade_view,
         }
     }
+}
+
+/// Depth tested with `compare` against the scene's depth buffer, written when `write`.
+fn depth(write: bool, compare: wgpu::CompareFunction) -> Option<wgpu::DepthStencilState> {
+    Some(wgpu::DepthStencilState {
+        format: DEPTH_FORMAT,
+        depth_write_enabled: Some(write),
+        depth_compare: Some(compare),
+        stencil: Default::default(),
+        bias: Default::default(),
+    })
+}
+
+/// A colour target of `format`, blended by `blend`.
+fn target(
+    format: wgpu::TextureFormat,
+    blend: Option<wgpu::BlendState>,
+) -> Option<wgpu::ColorTargetState> {
+    Some(wgpu::ColorTargetState {
+        format,
+        blend,
+        write_mask: wgpu::ColorWrites::ALL,
+    })
 }

@@ -334,22 +334,8 @@ impl SceneRenderer {
             pass.draw_indexed(0..self.shadow_count, 0, 0..1);
         }
         drop(pass);
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("shade"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &p.shade_view,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                    store: wgpu::StoreOp::Store,
-                },
-                depth_slice: None,
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let load = wgpu::LoadOp::Clear(wgpu::Color::BLACK);
+        let mut pass = super::colour_pass(encoder, "shade", &p.shade_view, load);
         pass.set_pipeline(&p.shade);
         pass.set_bind_group(0, &p.shade_bind_group, &[]);
         pass.draw(0..3, 0..1);
