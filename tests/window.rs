@@ -723,3 +723,24 @@ fn a_skinned_file_opens_with_its_joints_and_plays_a_clip() {
     let raised = turned(&r, "upper_arm.R");
     assert!((raised - 70.0).abs() < 5.0, "the arm turned {raised}°: {r}");
 }
+
+/// The window's look as a user meets it on this software renderer: the ground on and no
+/// anti-aliasing by default (it would cost two to three times the frame here), and
+/// anti-aliasing on when the settings say the user turned it on.
+#[test]
+fn the_window_draws_the_ground_and_anti_aliases_when_the_user_asked() {
+    let dir = common::scratch("window-look");
+    let w = common::Window::open(&dir, &[]);
+    let r = w.state().unwrap();
+    assert_eq!(
+        (r["samples"].as_u64(), r["ground"].as_bool()),
+        (Some(1), Some(true)),
+        "{r}"
+    );
+    let config = w.config.clone();
+    assert!(w.quit().success());
+    std::fs::write(config.join("settings.toml"), "anti_aliasing = true\n").unwrap();
+    let w = common::Window::open_with(&dir, &[], &config);
+    assert_eq!(w.state().unwrap()["samples"], 4);
+    assert!(w.quit().success());
+}
