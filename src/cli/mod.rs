@@ -175,7 +175,7 @@ impl Cli {
     /// TAKE.mp4` into `ffmpeg`): a broken pipe must then be an error to report, not the
     /// signal that ends the program quietly.
     pub fn pipes_to_programs(&self) -> bool {
-        matches!(&self.command, Some(Command::Simulate(a)) if a.out.as_deref().is_some_and(simulate::is_video))
+        matches!(&self.command, Some(Command::Simulate(a)) if a.out.as_deref().is_some_and(puppet::export::is_video))
     }
 
     pub fn settled(mut self) -> Cli {

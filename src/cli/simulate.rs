@@ -568,16 +568,6 @@ enum Out {
     Video(PathBuf),
 }
 
-/// The extensions `--out` writes as a video.
-const VIDEO: [&str; 4] = ["mp4", "webm", "mkv", "mov"];
-
-/// True when `--out` names a video.
-pub fn is_video(path: &Path) -> bool {
-    path.extension()
-        .map(|e| e.to_string_lossy().to_ascii_lowercase())
-        .is_some_and(|e| VIDEO.contains(&e.as_str()))
-}
-
 impl Out {
     fn of(path: Option<&Path>) -> Result<Out> {
         let Some(path) = path else {
@@ -592,7 +582,7 @@ impl Out {
         if ext.as_deref() == Some("obj") {
             return Ok(Out::Final(path.to_path_buf()));
         }
-        if is_video(path) {
+        if puppet::export::is_video(path) {
             return Ok(Out::Video(path.to_path_buf()));
         }
         Err(FileError::new(

@@ -17,7 +17,7 @@ pub mod pc2;
 mod take;
 
 pub use order::{FileOrder, FILE_ORDER_TOLERANCE};
-pub use take::{Kind, TakeError, TakeFiles, TakeOptions};
+pub use take::{is_video, Kind, TakeError, TakeFiles, TakeOptions, VIDEO_EXTENSIONS};
 
 use glam::Vec3;
 

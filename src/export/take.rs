@@ -40,6 +40,16 @@ impl Kind {
     }
 }
 
+/// The extensions a take is drawn into as a video (`render::video`, behind `gui`).
+pub const VIDEO_EXTENSIONS: [&str; 4] = ["mp4", "webm", "mkv", "mov"];
+
+/// True when `path` names a video by its extension ([`VIDEO_EXTENSIONS`]).
+pub fn is_video(path: &Path) -> bool {
+    path.extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .is_some_and(|e| VIDEO_EXTENSIONS.contains(&e.as_str()))
+}
+
 /// How a take is written.
 #[derive(Clone, Debug, Default)]
 pub struct TakeOptions {

@@ -10,16 +10,6 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 
-/// The extensions written as a video.
-pub const EXTENSIONS: [&str; 4] = ["mp4", "webm", "mkv", "mov"];
-
-/// True when `path` names a video by its extension.
-pub fn is_video(path: &Path) -> bool {
-    path.extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| EXTENSIONS.contains(&e.to_ascii_lowercase().as_str()))
-}
-
 /// Why a video could not be written: the file and the problem.
 #[derive(Debug, thiserror::Error)]
 #[error("{path}: {message}")]
@@ -164,11 +154,6 @@ impl Video {
             fps,
             frames: 0,
         })
-    }
-
-    /// Frames added so far.
-    pub fn frames(&self) -> usize {
-        self.frames
     }
 
     /// Adds the next frame (of the video's size).
