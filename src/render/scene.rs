@@ -178,7 +178,17 @@ impl SceneRenderer {
         let eye = camera.eye();
         let to_world = camera.view().inverse();
         let light = |v: Vec3| to_world.transform_vector3(v).normalize().extend(0.0);
-        let ground = view.ground();
+        let now = view.revisions();
+        let before = self.seen.replace(now);
+        self.last_uploads = 0;
+        let changed = |f: fn(&Revisions) -> u64| before.is_none_or(|b| f(&b) != f(&now));
+        let new_puppet = changed(|r| r.puppet);
+        // The ground moves only with the puppet, the floor or its own switch (all in the
+        // overlays' counter): a pass over the vertices, not done every frame.
+        if new_puppet || changed(|r| r.overlays) {
+            self.ground = view.ground();
+        }
+        let ground = self.ground;
         let g = ground.unwrap_or(Ground {
             centre: Vec3::ZERO,
             up: camera.up,
@@ -206,13 +216,6 @@ impl SceneRenderer {
         };
         gpu.queue
             .write_buffer(&self.pipelines.uniforms, 0, bytemuck::bytes_of(&u));
-        self.ground = ground;
-
-        let now = view.revisions();
-        let before = self.seen.replace(now);
-        self.last_uploads = 0;
-        let changed = |f: fn(&Revisions) -> u64| before.is_none_or(|b| f(&b) != f(&now));
-        let new_puppet = changed(|r| r.puppet);
         if new_puppet || changed(|r| r.surface) {
             self.shadow_fresh = false;
         }

@@ -187,6 +187,7 @@ impl View<'_> {
             self.overlays.bone_springs,
             self.overlays.cuts,
             self.overlays.pivots,
+            self.overlays.ground,
         ] {
             overlays.add(shown as u64);
         }
