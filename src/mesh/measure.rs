@@ -214,4 +214,47 @@ mod tests {
         assert!((crease - 40.0).abs() < 1e-9, "{crease}");
         assert_eq!(largest_crease(&rest, &now, &triangles, &[true, false]), 0.0);
     }
+
+    /// A piece of a tube bent as an arc (every ring square to the bent centre line, which
+    /// keeps its length: by Pappus the piece holds what it held) keeps its capped volume,
+    /// while its cone from the near cut's centre gains: the far cut, tilted, lies nearer.
+    #[test]
+    fn a_tube_bent_as_an_arc_keeps_its_capped_volume_but_not_its_cone() {
+        let m = shapes::capsule(0.2, 1.0, 8, 40, 48);
+        let piece: Vec<bool> = m
+            .triangles
+            .iter()
+            .map(|t| {
+                t.iter()
+                    .all(|&i| m.positions[i as usize].y.abs() <= 0.5 + 1e-9)
+            })
+            .collect();
+        let bend = 60f64.to_radians();
+        let radius = 1.0 / bend;
+        let now: Vec<DVec3> = m
+            .positions
+            .iter()
+            .map(|&p| {
+                let s = (p.y + 0.5).clamp(0.0, 1.0);
+                let past = p.y + 0.5 - s;
+                let a = bend * s;
+                let centre = DVec3::new(radius * (1.0 - a.cos()), -0.5 + radius * a.sin(), 0.0);
+                let along = DVec3::new(a.sin(), a.cos(), 0.0);
+                let across = DVec3::new(a.cos(), -a.sin(), 0.0);
+                centre + along * past + across * p.x + DVec3::Z * p.z
+            })
+            .collect();
+        let pivot = DVec3::new(0.0, -0.5, 0.0);
+        let change = |a: f64, b: f64| b / a - 1.0;
+        let capped = change(
+            capped_volume(&m.positions, &m.triangles, &piece),
+            capped_volume(&now, &m.triangles, &piece),
+        );
+        let cone = change(
+            cone_volume(&m.positions, &m.triangles, &piece, pivot),
+            cone_volume(&now, &m.triangles, &piece, pivot),
+        );
+        assert!(capped.abs() < 0.01, "capped {capped}");
+        assert!(cone > 0.05, "cone {cone}");
+    }
 }

@@ -5,8 +5,8 @@
 //! Measured over the *joint region*, the vertices within [`REGION`] local medial radii of
 //! the cut's plane on the limb (see [`crate::joints::Joints::joint_region`]):
 //! * faces crossing another face that did not at rest ([`intersecting_faces`]);
-//! * the change of the whole mesh's volume, and of the region's cone volume from the pivot
-//!   (unchanged by the rotation itself: only the deformation counts);
+//! * the change of the whole mesh's volume, and of the region's with the cuts across it
+//!   closed ([`capped_volume`]: unchanged by a rigid motion, only the deformation counts);
 //! * the largest dihedral angle between neighbouring faces of the region, and the rest
 //!   mesh's;
 //! * the crease: the largest rise of one edge's dihedral angle over its own rest angle,
@@ -93,7 +93,7 @@ pub struct Bent {
     pub region_faces: usize,
     /// Relative change of the whole mesh's volume.
     pub volume: f64,
-    /// Relative change of the region's cone volume from the pivot.
+    /// Relative change of the region's volume, its cuts closed.
     pub region_volume: f64,
     /// Largest dihedral angle in the region (degrees).
     pub dihedral: f64,

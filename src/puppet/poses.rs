@@ -78,8 +78,7 @@ pub struct Surface {
     /// Faces crossing another face that did not at rest.
     pub crossing: usize,
     /// The smallest and largest relative volume change of a section (an open piece of
-    /// the surface, closed by a cone from its pivot: where a band blends a section's skin
-    /// with its neighbour's, part of its volume moves across the seam).
+    /// the surface, each cut across it closed: [`section_volumes`]).
     pub volume: [f64; 2],
     /// The relative volume change of the whole surface.
     pub whole: f64,
@@ -152,7 +151,7 @@ pub fn measure_at(puppet: &Puppet, now: &[DVec3], local: &[Local]) -> Surface {
         over_1_5: share(1.5),
         over_2: share(2.0),
         crossing: new_crossings(rest, now, &puppet.mesh.triangles),
-        volume: section_volumes(puppet, now, local),
+        volume: section_volumes(puppet, now),
         whole: {
             let all = vec![true; puppet.mesh.triangles.len()];
             let at_rest = cone_volume(rest, &puppet.mesh.triangles, &all, DVec3::ZERO);
