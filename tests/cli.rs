@@ -514,6 +514,10 @@ fn pose_bench_passes_and_fails_on_its_bounds() {
         assert_eq!(r["collision"], k % 2 == 1, "{r}");
         assert!(r["behind"].as_f64().unwrap() >= 0.0, "{r}");
         assert!(r["limit_ms"][1].as_f64().unwrap() >= 0.0, "{r}");
+        // Off reaches the whole pose; on, what the parts leave room for.
+        let reached = r["reached"].as_f64().unwrap();
+        assert!((0.0..=1.0).contains(&reached), "{r}");
+        assert!(k % 2 == 1 || reached > 0.999, "{r}");
     }
     let (off, on) = (&rows[0], &rows[1]);
     assert!(

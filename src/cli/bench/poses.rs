@@ -6,6 +6,7 @@
 
 use crate::cli::LoadArgs;
 use anyhow::{anyhow, bail, Result};
+use puppet::joints::Local;
 use puppet::puppet::poses::{self, Spread, Surface};
 use puppet::random::SplitMix;
 use puppet::stats::{median, quantile};
@@ -91,6 +92,28 @@ struct Row {
     step_ms: f64,
     /// Median and largest time of the pose limit in a step while settling (ms).
     limit_ms: [f64; 2],
+    /// How much of the pose asked for the settled pose reached ([`reached`]): 1 with
+    /// collision off, less where parts stopped at each other.
+    reached: f64,
+}
+
+/// How much of the pose `asked` the pose `got` reached: over the sections asked to turn
+/// more than a degree, the mean of the share of each one's turn it got (1 when none is).
+/// A part that stops at the body reaches less; a character that cannot move at all, 0.
+fn reached(asked: &[Local], got: &[Local]) -> f64 {
+    let angle = |l: &Local| 2.0 * l.rotation.w.abs().min(1.0).acos();
+    let shares: Vec<f64> = asked
+        .iter()
+        .enumerate()
+        .skip(1)
+        .filter(|(_, a)| angle(a) > 1f64.to_radians())
+        .map(|(s, a)| (got.get(s).map_or(0.0, angle) / angle(a)).clamp(0.0, 1.0))
+        .collect();
+    if shares.is_empty() {
+        1.0
+    } else {
+        shares.iter().sum::<f64>() / shares.len() as f64
+    }
 }
 
 /// When collision on counts as worse than off on a pose: more new crossing faces; an edge
@@ -189,8 +212,8 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     let mut rows = Vec::new();
     let mut failures = Vec::new();
     if !args.json && args.compare {
-        println!("| character | joints | poses | new crossing faces off → on (median; max) | worst stretch off → on (max) | farthest behind off → on (max, medial radii) | poses worse on | step off → on (median ms) | pose limit (median; max ms) |");
-        println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+        println!("| character | joints | poses | new crossing faces off → on (median; max) | worst stretch off → on (max) | farthest behind off → on (max, medial radii) | poses worse on | turn reached on (median; least %) | step off → on (median ms) | pose limit (median; max ms) |");
+        println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     } else if !args.json {
         println!("| character | joints | poses | worst stretch (median … max) | p99 stretch (max) | edges over 1.5× (max %) | edges over 2× (max %) | new crossing faces (median … max) | section volume (% min … max) | whole volume (% min … max) | NaN | step (ms) | pose (s) |");
         println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
@@ -227,16 +250,17 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             let mut pair: Vec<Surface> = Vec::new();
             for &collision in runs {
                 let start = Instant::now();
-                let (times, surface) = if args.targets {
+                let (times, surface, got) = if args.targets {
                     let now = poses::targets(&base, &target);
-                    (Vec::new(), poses::measure_at(&base, &now, &target))
+                    (Vec::new(), poses::measure_at(&base, &now, &target), 1.0)
                 } else {
                     let mut p = base.clone();
                     let mut params = *p.sim.params();
                     params.world.collision = collision;
                     p.sim.set_params(params);
-                    let (times, reached) = poses::settle(&mut p, &target);
-                    (times, poses::measure(&p, &reached))
+                    let (times, got) = poses::settle(&mut p, &target);
+                    let surface = poses::measure(&p, &got);
+                    (times, surface, reached(&target, &got))
                 };
                 let seconds = start.elapsed().as_secs_f64();
                 let median = |k: usize| {
@@ -251,6 +275,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                     surface,
                     step_ms: median(0),
                     limit_ms: [median(1), times.iter().map(|t| t[1]).fold(0.0, f64::max)],
+                    reached: got,
                 };
                 pair.push(surface);
                 if let [off, on] = pair[..] {
@@ -420,7 +445,7 @@ fn print_comparison(name: &str, joints: usize, rows: &[(Row, f64)]) {
         .filter(|(a, b)| !worse(&a.surface, &b.surface).is_empty())
         .count();
     println!(
-        "| {name} | {joints} | {} | {:.0} → {:.0}; {:.0} → {:.0} | {:.2} → {:.2} | {:.2} → {:.2} | {worse_poses} | {:.3} → {:.3} | {:.3}; {:.2} |",
+        "| {name} | {joints} | {} | {:.0} → {:.0}; {:.0} → {:.0} | {:.2} → {:.2} | {:.2} → {:.2} | {worse_poses} | {:.0}; {:.0} | {:.3} → {:.3} | {:.3}; {:.2} |",
         off.len(),
         median(&off, &crossing),
         median(&on, &crossing),
@@ -430,6 +455,8 @@ fn print_comparison(name: &str, joints: usize, rows: &[(Row, f64)]) {
         max(&on, &|r| r.surface.worst),
         max(&off, &|r| r.surface.behind),
         max(&on, &|r| r.surface.behind),
+        100.0 * median(&on, &|r| r.reached),
+        100.0 * on.iter().map(|r| r.reached).fold(1.0, f64::min),
         median(&off, &|r| r.step_ms),
         median(&on, &|r| r.step_ms),
         median(&on, &|r| r.limit_ms[0]),
@@ -463,5 +490,21 @@ mod tests {
         assert!(more(&|s| s.behind = 0.9).is_empty());
         assert_eq!(more(&|s| s.behind = 1.2).len(), 1);
         assert_eq!(more(&|s| s.nan = true).len(), 1);
+    }
+
+    /// The share of a pose reached: the mean share of each turned section's turn; the root
+    /// and sections asked to stay do not count.
+    #[test]
+    fn reached_is_the_mean_share_of_each_turn() {
+        let turn = |deg: f64| Local {
+            rotation: glam::DQuat::from_rotation_x(deg.to_radians()),
+            translation: glam::DVec3::ZERO,
+        };
+        let asked = [turn(30.0), turn(90.0), turn(40.0), turn(0.0)];
+        assert!((reached(&asked, &asked) - 1.0).abs() < 1e-9);
+        let got = [turn(0.0), turn(45.0), turn(0.0), turn(10.0)];
+        assert!((reached(&asked, &got) - 0.25).abs() < 1e-9);
+        assert_eq!(reached(&[turn(30.0)], &[]), 1.0);
+        assert_eq!(reached(&asked, &[]), 0.0);
     }
 }
