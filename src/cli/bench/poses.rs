@@ -125,6 +125,10 @@ const TORN: f64 = 1.5;
 const WORSE_STRETCH: f64 = 1.1;
 const BEHIND: f64 = 1.0;
 
+/// The summary counts the poses where a section's volume changes by more than this share
+/// (the pose issue's bound).
+const VOLUME: f64 = 0.05;
+
 /// Collision on is worse than off on this pose: what is worse, in words.
 fn worse(off: &Surface, on: &Surface) -> Vec<String> {
     let mut out = Vec::new();
@@ -349,8 +353,12 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     }
     if !args.json && rows.len() > 1 {
         let mut worst: Vec<f64> = rows.iter().map(|r| r.surface.worst).collect();
+        let beyond_volume = rows
+            .iter()
+            .filter(|r| r.surface.volume[0] < -VOLUME || r.surface.volume[1] > VOLUME)
+            .count();
         println!(
-            "\n{} poses of {} characters: worst stretch median {:.2}, 90th percentile {:.2}, max {:.2}",
+            "\n{} poses of {} characters: worst stretch median {:.2}, 90th percentile {:.2}, max {:.2}; a section's volume beyond ±{:.0} % in {beyond_volume}",
             rows.len(),
             {
                 let mut c: Vec<&str> = rows.iter().map(|r| r.character.as_str()).collect();
@@ -359,7 +367,8 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             },
             median(&mut worst).unwrap_or(f64::NAN),
             quantile(&mut worst, 0.9).unwrap_or(f64::NAN),
-            quantile(&mut worst, 1.0).unwrap_or(f64::NAN)
+            quantile(&mut worst, 1.0).unwrap_or(f64::NAN),
+            100.0 * VOLUME,
         );
     }
     if !failures.is_empty() {
