@@ -418,11 +418,12 @@ impl Rings {
         // Per new vertex, `c_k` and each neighbour's share of `Δ²x_k`.
         let mut share = vec![0.0; self.nbr.len()];
         let mut coefficient = vec![1.0; self.new];
-        for k in 0..self.new {
-            for e in self.start[k]..self.start[k + 1] {
-                share[e] = self.weight[e] / self.total[k];
+        for (k, c) in coefficient.iter_mut().enumerate() {
+            let row = self.start[k]..self.start[k + 1];
+            for (e, sh) in row.clone().zip(&mut share[row]) {
+                *sh = self.weight[e] / self.total[k];
                 if self.has[self.nbr[e] as usize] {
-                    coefficient[k] += share[e] * self.back[e];
+                    *c += *sh * self.back[e];
                 }
             }
         }
