@@ -20,11 +20,21 @@ impl Joints {
     /// suggested joints would cost dozens of refreshes). Stops at the first that fails,
     /// with the ones before it applied.
     pub fn add_cuts(&mut self, cuts: impl IntoIterator<Item = Cut>) -> Result<(), JointError> {
+        let added = self.add_cuts_unbanded(cuts);
+        self.refresh_bands();
+        added
+    }
+
+    /// [`Joints::add_cuts`] but the bands, which the caller refreshes before the joints
+    /// pose anything ([`Joints::refresh_bands`]): the sections are assigned.
+    pub(super) fn add_cuts_unbanded(
+        &mut self,
+        cuts: impl IntoIterator<Item = Cut>,
+    ) -> Result<(), JointError> {
         let added = cuts
             .into_iter()
             .try_for_each(|cut| self.insert_cut(cut).map(|_| ()));
         self.assign_sections(true);
-        self.refresh_bands();
         added
     }
 
@@ -328,6 +338,14 @@ impl Joints {
     /// cut from, and cuts that split it now split that one. The skeleton is not touched. On
     /// error (the replay of the remaining cuts fails) nothing changes.
     pub fn remove_cut(&mut self, name: &str) -> Result<(), JointError> {
+        self.remove_cut_unbanded(name)?;
+        self.refresh_bands();
+        Ok(())
+    }
+
+    /// [`Joints::remove_cut`] but the bands, which the caller refreshes before the joints
+    /// pose anything ([`Joints::refresh_bands`]): the sections are assigned.
+    pub(super) fn remove_cut_unbanded(&mut self, name: &str) -> Result<(), JointError> {
         let k = self
             .cuts
             .iter()
@@ -352,7 +370,6 @@ impl Joints {
             };
         }
         rebuilt.assign_sections(true);
-        rebuilt.refresh_bands();
         *self = rebuilt;
         Ok(())
     }

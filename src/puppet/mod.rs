@@ -230,10 +230,10 @@ impl Puppet {
         // The floor lies across the up the suggestion found (unless the rig gives one).
         self.sim.set_up(self.up().as_vec3());
         let mut joints = self.joints.without_cuts(&root);
-        joints.add_cuts(cuts.iter().cloned())?;
-        if !skinned {
-            crate::joints::suggest::seams::keep_related(&mut joints);
-            crate::joints::suggest::seams::keep_whole(&mut joints);
+        if skinned {
+            joints.add_cuts(cuts)?;
+        } else {
+            crate::joints::suggest::seams::add(&mut joints, cuts)?;
         }
         let count = joints.cuts().len();
         self.joints = joints;

@@ -15,7 +15,7 @@
 //! none tears.
 
 use crate::joints::spread::{random_pose, Spread};
-use crate::joints::{Joints, PoseScratch};
+use crate::joints::{Cut, JointError, Joints, PoseScratch};
 use crate::random::SplitMix;
 use glam::DVec3;
 
@@ -28,10 +28,22 @@ use glam::DVec3;
 /// (`docs/performance-log.md`).
 pub const FOREIGN: f64 = 0.25;
 
-/// Removes, one at a time, the cut of the deeper section of the unrelated pair with the
-/// largest shared seam at or above [`FOREIGN`]; returns the names of the cuts removed.
-pub fn keep_related(joints: &mut Joints) -> Vec<String> {
-    remove_while(joints, foreign)
+/// Adds the suggested `cuts` to `joints`, then takes back, one at a time, the cut of the
+/// deeper section of the unrelated pair with the largest shared seam at or above
+/// [`FOREIGN`], and then those [`keep_whole`] removes; returns the names taken back. The bands are worked out once
+/// the seams have been settled (they need only the sections), then once per cut a tear
+/// takes back. On error (a cut that does not fit) the cuts before it stay, as with
+/// [`Joints::add_cuts`], and none is taken back.
+pub fn add(joints: &mut Joints, cuts: Vec<Cut>) -> Result<Vec<String>, JointError> {
+    let added = joints.add_cuts_unbanded(cuts);
+    let mut removed = Vec::new();
+    if added.is_ok() {
+        removed = remove_while(joints, foreign, Joints::remove_cut_unbanded);
+    }
+    joints.refresh_bands();
+    added?;
+    removed.extend(keep_whole(joints));
+    Ok(removed)
 }
 
 /// The name of the section that loses its cut next, if any.
@@ -101,18 +113,22 @@ const FIRST_SEED: u64 = 1 << 32;
 /// (see the module docs); returns the names of the cuts removed. Without rest positions
 /// or mesh edges it removes nothing.
 pub fn keep_whole(joints: &mut Joints) -> Vec<String> {
-    remove_while(joints, torn)
+    remove_while(joints, torn, Joints::remove_cut)
 }
 
-/// Removes the cut `next` names, one at a time, while it names one (at most as many as
-/// there are cuts); returns the names removed.
-fn remove_while(joints: &mut Joints, next: fn(&Joints) -> Option<String>) -> Vec<String> {
+/// Removes the cut `next` names by `remove`, one at a time, while it names one (at most
+/// as many as there are cuts); returns the names removed.
+fn remove_while(
+    joints: &mut Joints,
+    next: fn(&Joints) -> Option<String>,
+    remove: fn(&mut Joints, &str) -> Result<(), JointError>,
+) -> Vec<String> {
     let mut removed = Vec::new();
     for _ in 0..joints.cuts().len() {
         let Some(name) = next(joints) else {
             break;
         };
-        if joints.remove_cut(&name).is_err() {
+        if remove(joints, &name).is_err() {
             break;
         }
         removed.push(name);
