@@ -481,7 +481,7 @@ fn pose_bench_passes_and_fails_on_its_bounds() {
             .map(|l| serde_json::from_str(l).unwrap())
             .collect()
     };
-    let rows = records(&["--max-stretch", "3", "--max-over", "2"]);
+    let rows = records(&["--max-stretch", "3", "--max-over", "2", "--max-open", "1e9"]);
     assert_eq!(rows.len(), 2);
     for r in &rows {
         assert_eq!(r["character"], "hand");
@@ -490,6 +490,16 @@ fn pose_bench_passes_and_fails_on_its_bounds() {
         assert!((1.0..=3.0).contains(&worst), "{r}");
         assert_eq!(r["nan"], false);
     }
+    // The character opens once: its time, from the file to its joints, on every record.
+    let open = rows[0]["open_s"].as_f64().unwrap();
+    assert!(
+        open > 0.0 && rows[1]["open_s"].as_f64() == Some(open),
+        "{rows:?}"
+    );
+    let out = puppet(&["bench", "poses", hand, "--poses", "1", "--max-open", "0"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("hand: opens in"), "{err}");
     let out = puppet(&[
         "bench",
         "poses",
@@ -502,7 +512,7 @@ fn pose_bench_passes_and_fails_on_its_bounds() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("hand seed 1: worst stretch"), "{err}");
-    for bound in ["--max-stretch", "--max-over", "--max-volume"] {
+    for bound in ["--max-stretch", "--max-over", "--max-volume", "--max-open"] {
         let out = puppet(&["bench", "poses", hand, bound, "nan"]);
         assert_eq!(out.status.code(), Some(2), "{bound}");
     }

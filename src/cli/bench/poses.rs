@@ -70,6 +70,10 @@ pub struct Args {
     /// Fail when a section's volume changes by more than this (%) in a pose.
     #[arg(long, value_parser = super::bound)]
     max_volume: Option<f64>,
+    /// Fail when a character takes longer than this (s) to open: read, repaired,
+    /// skeleton, rig and suggested joints, as the window opens it.
+    #[arg(long, value_parser = super::bound)]
+    max_open: Option<f64>,
     /// Measure where the bones hold the surface (the rig's targets) instead of settling
     /// the simulation: fast, and the rig's own share of the stretch.
     #[arg(long)]
@@ -95,6 +99,8 @@ struct Row {
     /// How much of the pose asked for the settled pose reached ([`reached`]): 1 with
     /// collision off, less where parts stopped at each other.
     reached: f64,
+    /// How long the character took to open, from its file to its suggested joints (s).
+    open_s: f64,
 }
 
 /// How much of the pose `asked` the pose `got` reached: over the sections asked to turn
@@ -219,8 +225,8 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         println!("| character | joints | poses | new crossing faces off → on (median; max) | worst stretch off → on (max) | farthest behind off → on (max, medial radii) | poses worse on | turn reached on (median; least %) | step off → on (median ms) | pose limit (median; max ms) |");
         println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     } else if !args.json {
-        println!("| character | joints | poses | worst stretch (median … max) | p99 stretch (max) | edges over 1.5× (max %) | edges over 2× (max %) | new crossing faces (median … max) | section volume (% min … max) | whole volume (% min … max) | NaN | step (ms) | pose (s) |");
-        println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+        println!("| character | joints | poses | worst stretch (median … max) | p99 stretch (max) | edges over 1.5× (max %) | edges over 2× (max %) | new crossing faces (median … max) | section volume (% min … max) | whole volume (% min … max) | NaN | step (ms) | pose (s) | open (s) |");
+        println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     }
     for (name, path) in characters {
         if args
@@ -230,6 +236,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         {
             continue;
         }
+        let opening = Instant::now();
         let (mesh, report, file) = crate::cli::load_mesh(path.as_deref(), load)?;
         let mut params = puppet::sim::Params::default();
         params.world.collision = args.collision;
@@ -241,6 +248,10 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             .map_err(|e| anyhow!("{file}: {e}"))?;
         base.ignore_skin = args.ignore_skin;
         base.suggest_joints().map_err(|e| anyhow!("{file}: {e}"))?;
+        let open_s = opening.elapsed().as_secs_f64();
+        if let Some(m) = args.max_open.filter(|&m| beyond(open_s, m)) {
+            failures.push(format!("{name}: opens in {open_s:.2} s > {m} s"));
+        }
         let joints = base.joints.cuts().len();
         let mut mine = Vec::new();
         let runs: &[bool] = if args.compare {
@@ -280,6 +291,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                     step_ms: median(0),
                     limit_ms: [median(1), times.iter().map(|t| t[1]).fold(0.0, f64::max)],
                     reached: got,
+                    open_s,
                 };
                 pair.push(surface);
                 if let [off, on] = pair[..] {
@@ -370,6 +382,12 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             quantile(&mut worst, 1.0).unwrap_or(f64::NAN),
             100.0 * VOLUME,
         );
+        if let Some(slowest) = rows.iter().max_by(|a, b| a.open_s.total_cmp(&b.open_s)) {
+            println!(
+                "Each opens (file to suggested joints) in at most {:.2} s ({})",
+                slowest.open_s, slowest.character
+            );
+        }
     }
     if !failures.is_empty() {
         bail!(
@@ -405,7 +423,7 @@ fn print_character(name: &str, joints: usize, rows: &[(Row, f64)]) {
         .fold(f64::NEG_INFINITY, f64::max);
     let mut secs: Vec<f64> = rows.iter().map(|(_, s)| *s).collect();
     println!(
-        "| {name} | {joints} | {} | {:.2} … {:.2} | {:.2} | {:.2} | {:.2} | {:.0} … {:.0} | {:+.1} … {:+.1} | {:+.1} … {:+.1} | {} | {:.3} | {:.2} |",
+        "| {name} | {joints} | {} | {:.2} … {:.2} | {:.2} | {:.2} | {:.2} | {:.0} … {:.0} | {:+.1} … {:+.1} | {:+.1} … {:+.1} | {} | {:.3} | {:.2} | {:.2} |",
         rows.len(),
         at(0.5, &worst),
         at(1.0, &worst),
@@ -429,6 +447,7 @@ fn print_character(name: &str, joints: usize, rows: &[(Row, f64)]) {
         rows.iter().filter(|(r, _)| r.surface.nan).count(),
         at(0.5, &|r| r.step_ms),
         median(&mut secs).unwrap_or(f64::NAN),
+        rows.first().map_or(f64::NAN, |(r, _)| r.open_s),
     );
 }
 
