@@ -15,6 +15,15 @@ impl Joints {
         Ok(index)
     }
 
+    /// [`Joints::add_cut`] but the bands, which the caller refreshes before the joints pose
+    /// anything ([`Joints::refresh_bands`]): the sections are assigned (what the
+    /// suggestion measures while it places cuts).
+    pub(super) fn add_cut_unbanded(&mut self, cut: Cut) -> Result<usize, JointError> {
+        let index = self.insert_cut(cut)?;
+        self.assign_sections(true);
+        Ok(index)
+    }
+
     /// Applies cuts in order, as [`Joints::add_cut`] each, with the bands worked out once
     /// at the end instead of after every cut (each refresh visits every band: dozens of
     /// suggested joints would cost dozens of refreshes). Stops at the first that fails,

@@ -53,7 +53,7 @@ pub(super) fn on_the_shoulders(
     let top_of = |c: &Cut| c.point.dot(up) + arm_width(c);
     let at = top_of(arm_l).max(top_of(arm_r));
     let mut joints = blank.clone();
-    if joints.add_cuts(cuts.iter().cloned()).is_err() {
+    if joints.add_cuts_unbanded(cuts.iter().cloned()).is_err() {
         return cuts;
     }
     let Some(body) = joints.find(root) else {
@@ -147,7 +147,7 @@ pub(super) fn on_the_shoulders(
         .chain(after)
         .collect();
     let mut check = blank.clone();
-    if check.add_cuts(out.iter().cloned()).is_err() {
+    if check.add_cuts_unbanded(out.iter().cloned()).is_err() {
         return cuts;
     }
     out

@@ -246,7 +246,7 @@ fn suggest_one(
             applied.push(None);
             continue;
         }
-        match joints.add_cut(cut.clone()) {
+        match joints.add_cut_unbanded(cut.clone()) {
             Ok(_) => {
                 applied.push(Some(name));
                 cuts.push(cut);
@@ -315,7 +315,7 @@ fn suggest_one(
             break;
         }
         let mut check = blank.clone();
-        let Some(bad) = trial.iter().position(|c| check.add_cut(c.clone()).is_err()) else {
+        let Some(bad) = trial.iter().position(|c| check.add_cut_unbanded(c.clone()).is_err()) else {
             cuts = trial;
             break;
         };
@@ -390,7 +390,7 @@ fn to_the_body(
     // Each cut's section's vertices, once all apply.
     let sizes = |cuts: &[Cut]| -> Option<Vec<usize>> {
         let mut joints = blank.clone();
-        joints.add_cuts(cuts.iter().cloned()).ok()?;
+        joints.add_cuts_unbanded(cuts.iter().cloned()).ok()?;
         cuts.iter()
             .map(|c| Some(joints.sections()[joints.find(&c.name)?].vertices))
             .collect()
