@@ -315,7 +315,10 @@ fn suggest_one(
             break;
         }
         let mut check = blank.clone();
-        let Some(bad) = trial.iter().position(|c| check.add_cut_unbanded(c.clone()).is_err()) else {
+        let Some(bad) = trial
+            .iter()
+            .position(|c| check.add_cut_unbanded(c.clone()).is_err())
+        else {
             cuts = trial;
             break;
         };
