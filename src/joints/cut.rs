@@ -9,8 +9,7 @@ use glam::DVec3;
 impl Joints {
     /// Applies a cut; returns the new section's index. On error nothing changes.
     pub fn add_cut(&mut self, cut: Cut) -> Result<usize, JointError> {
-        let index = self.insert_cut(cut)?;
-        self.assign_sections(true);
+        let index = self.add_cut_unbanded(cut)?;
         self.refresh_bands();
         Ok(index)
     }

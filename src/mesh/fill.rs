@@ -483,7 +483,7 @@ mod tests {
     /// A `side × side` grid in the plane, its border (numbered first, held) lifted onto a
     /// saddle and its inside (numbered from the returned base) flat: the rings of its
     /// 4-neighbourhoods as [`fair`] builds them.
-    fn saddle(side: usize) -> (Rings, u32) {
+    fn saddle(side: usize) -> Rings {
         let inside = |i: usize, j: usize| i > 0 && j > 0 && i + 1 < side && j + 1 < side;
         let mut border = Vec::new();
         let mut inner = Vec::new();
@@ -528,7 +528,7 @@ mod tests {
         }
         let positions: Vec<DVec3> = border.iter().map(|b| b.2).collect();
         let new: Vec<DVec3> = inner.iter().map(|b| b.2).collect();
-        (Rings::new(&ring, &positions, &new, base), base)
+        Rings::new(&ring, &positions, &new, base)
     }
 
     #[test]
@@ -556,8 +556,8 @@ mod tests {
                 }
             }
         }
-        let (mut kept, _) = saddle(14);
-        let mut fresh = saddle(14).0;
+        let mut kept = saddle(14);
+        let mut fresh = saddle(14);
         kept.relax(1.0, false);
         plain(&mut fresh, false, 200);
         kept.weigh(1.0);

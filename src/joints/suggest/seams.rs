@@ -30,10 +30,10 @@ pub const FOREIGN: f64 = 0.25;
 
 /// Adds the suggested `cuts` to `joints`, then takes back, one at a time, the cut of the
 /// deeper section of the unrelated pair with the largest shared seam at or above
-/// [`FOREIGN`], and then those [`keep_whole`] removes; returns the names taken back. The bands are worked out once
-/// the seams have been settled (they need only the sections), then once per cut a tear
-/// takes back. On error (a cut that does not fit) the cuts before it stay, as with
-/// [`Joints::add_cuts`], and none is taken back.
+/// [`FOREIGN`], and then those [`keep_whole`] removes; returns the names taken back.
+/// The bands are worked out once the seams are settled (those need only the sections),
+/// then again for each cut a tear takes back. On error (a cut that does not fit) the
+/// cuts before it stay, as with [`Joints::add_cuts`], and none is taken back.
 pub fn add(joints: &mut Joints, cuts: Vec<Cut>) -> Result<Vec<String>, JointError> {
     let added = joints.add_cuts_unbanded(cuts);
     let mut removed = Vec::new();
