@@ -6,11 +6,15 @@
 //! in a pose, over the smaller radius; pairs at one joint that were neighbours at rest
 //! ([`crate::geom::balls::neighbours`]: the two sides of a joint) never press, nor does a
 //! ball of a joint's flesh with one of the section across that joint that touched it at
-//! rest (within [`SQUASH`]: a chest's big ball reaching into the armpit); parts that
+//! rest (within [`TOUCHING`]: a chest's big ball reaching into the armpit); parts that
 //! merely rest near each other (an arm hanging by the body) do, and two other balls that
 //! overlapped at rest (a mesh's own overlap) press only by how much deeper they go. A pose is
-//! allowed while no pair presses more than [`SQUASH`]: the flesh gives that much, and the
-//! simulation's contacts keep the surfaces apart ([`crate::sim::contact`]).
+//! allowed while no pair presses more than the flesh gives ([`Balls::set_squash`]: by
+//! default nothing, a part stops at the other's surface), and the simulation's contacts
+//! keep the surfaces apart ([`crate::sim::contact`]).
+//!
+//! A move stops only the parts that met ([`Balls::hold`]): the joints between the two
+//! parts that pressed stop where they met, and the rest of the move goes on.
 //!
 //! [`Balls::limit`] walks from the pose the puppet has to the one asked for (each section's
 //! rotation slerped, its translation lerped) in steps no ball moves more than half the
@@ -30,8 +34,9 @@ use crate::geom::balls;
 use crate::geom::cells::Cells;
 use glam::{DAffine3, DVec3};
 
-/// How far two parts may overlap, as a share of the smaller ball's radius.
-pub const SQUASH: f64 = 0.25;
+/// How near at rest, as a share of the smaller ball's radius, a ball of a joint's flesh
+/// and one of the section across that joint lie for them never to press.
+const TOUCHING: f64 = 0.25;
 
 /// Samples at most along a move (beyond them the move's sampling is coarser).
 const MAX_SAMPLES: usize = 64;
@@ -42,6 +47,10 @@ const SMALLEST: f64 = 0.125;
 
 /// Bisection steps between the last allowed sample and the first that is not.
 const BISECTIONS: usize = 4;
+
+/// Pairs of parts that may stop a move each before the rest of it stops too
+/// ([`Balls::hold`]): each costs a walk along what is left of the move.
+const ROUNDS: usize = 32;
 
 /// The balls of a puppet's sections.
 #[derive(Clone, Debug, Default)]
@@ -54,6 +63,9 @@ pub struct Balls {
     joint: Vec<u16>,
     /// Grid cell ([`balls::cell`]).
     cell: f64,
+    /// How far two parts may overlap, as a share of the smaller ball's radius
+    /// ([`Balls::set_squash`]).
+    squash: f64,
     /// Per cut, the sections on its two sides (the child, its parent); `None` for a cut
     /// whose section is gone.
     sides: Vec<Option<(usize, usize)>>,
@@ -86,6 +98,7 @@ impl Joints {
                 .map(|&i| usize::from(self.section_of.get(i).copied().unwrap_or(0)))
                 .collect(),
             cell: 0.0,
+            squash: 0.0,
             sides: self
                 .cuts
                 .iter()
@@ -101,6 +114,25 @@ impl Joints {
 }
 
 impl Balls {
+    /// Lets two parts overlap by `squash` of the smaller ball's radius (a puppet sets the
+    /// flesh's give, `World::flesh`: soft flesh lets a part sink in, and the contacts dent
+    /// it). By default 0: a part stops at the other's surface. (A fixed quarter, with each
+    /// move going on past the parts that met, let the contacts push deep points out alone
+    /// and tear the skin around them on 24 of 250 random poses, up to 13.8×; with none, on
+    /// 10, up to 5.4×: `docs/performance-log.md`, 2026-11-30.)
+    pub fn set_squash(&mut self, squash: f64) {
+        self.squash = if squash.is_finite() {
+            squash.max(0.0)
+        } else {
+            0.0
+        };
+    }
+
+    /// The overlap [`Balls::set_squash`] allows.
+    pub fn squash(&self) -> f64 {
+        self.squash
+    }
+
     /// Number of balls.
     pub fn len(&self) -> usize {
         self.center.len()
@@ -123,7 +155,7 @@ impl Balls {
         let (ra, rb) = (self.radius[a], self.radius[b]);
         let small = ra.min(rb);
         let depth = ra + rb - pa.distance(pb);
-        if depth <= SQUASH * small || self.never(a, b) {
+        if depth <= self.squash * small || self.never(a, b) {
             return 0.0;
         }
         // The two sides of a joint press when they were not neighbours at rest: an arm
@@ -136,7 +168,7 @@ impl Balls {
         // own overlap).
         let at_rest_overlap = ra + rb - self.center[a].distance(self.center[b]);
         let beyond = depth - at_rest_overlap.max(0.0);
-        if beyond <= SQUASH * small {
+        if beyond <= self.squash * small {
             return 0.0;
         }
         beyond / small
@@ -145,7 +177,7 @@ impl Balls {
     /// Whether pair `a`, `b` never presses, whatever the pose: one section; the two sides
     /// of a joint that were neighbours at rest (the surfaces within a few of the smaller
     /// radii); or a ball of a joint's flesh and one of the section across that joint that
-    /// touched it at rest, within the squash (a chest's big ball reaching into the armpit
+    /// touched it at rest, within [`TOUCHING`] (a chest's big ball reaching into the armpit
     /// does not hold the arm up).
     fn never(&self, a: usize, b: usize) -> bool {
         if self.section[a] == self.section[b] {
@@ -158,7 +190,7 @@ impl Balls {
         if joint.is_none() || (joint != Some(0) && joint == self.joint.get(b).copied()) {
             return balls::neighbours(at_rest - small, ra.max(rb), small);
         }
-        ra + rb - at_rest > -SQUASH * small && (self.across(a, b) || self.across(b, a))
+        ra + rb - at_rest > -TOUCHING * small && (self.across(a, b) || self.across(b, a))
     }
 
     /// Whether ball `a` is of a joint's flesh and `b` of the section across that joint.
@@ -174,9 +206,64 @@ impl Balls {
     }
 
     /// How far (0..1) along the move from `from` to `to` the puppet can go before two
-    /// parts press more than [`SQUASH`] (see the module docs); 1 when the whole move is
+    /// parts press more than the squash (see the module docs); 1 when the whole move is
     /// allowed, 0 when no part can move more than a hundredth of its smallest ball.
     pub fn limit(&self, joints: &Joints, from: &[Local], to: &[Local]) -> f64 {
+        self.reach(joints, from, to).share
+    }
+
+    /// The pose the puppet reaches on its way from `from` to `to` when each turn goes as
+    /// far as it can: the whole move goes as far as [`Balls::limit`] allows; then the
+    /// joints between the two parts that pressed (on the way from one up to the section
+    /// they both hang from, and down to the other) stop there, and the rest of the move
+    /// goes on, again, until it is all made or [`ROUNDS`] parts have met. A finger
+    /// meeting the palm stops that finger, not the other four; a hand meeting a thigh
+    /// stops that arm and that leg, not the head.
+    ///
+    /// `None` when the whole move is allowed.
+    pub fn hold(&self, joints: &Joints, from: &[Local], to: &[Local]) -> Option<Vec<Local>> {
+        let mut reach = self.reach(joints, from, to);
+        if reach.share >= 1.0 {
+            return None;
+        }
+        let mut at = from.to_vec();
+        // (A pose shorter than the other is at rest beyond its end.)
+        at.resize(from.len().max(to.len()), Local::default());
+        let mut goal = to.to_vec();
+        goal.resize(at.len(), Local::default());
+        for round in 0..ROUNDS {
+            if round > 0 {
+                reach = self.reach(joints, &at, &goal);
+                if reach.share >= 1.0 {
+                    return Some(goal);
+                }
+            }
+            if reach.share > 0.0 {
+                at = between(&at, &goal, reach.share);
+            }
+            let Some((a, b)) = reach.pressed else {
+                break;
+            };
+            let mut stopped = false;
+            for s in joints.path(a, b) {
+                if let (Some(g), Some(&now)) = (goal.get_mut(s), at.get(s)) {
+                    stopped |= *g != now;
+                    *g = now;
+                }
+            }
+            if !stopped {
+                break;
+            }
+        }
+        Some(at)
+    }
+
+    /// [`Balls::limit`], with the sections of the pair that pressed first.
+    fn reach(&self, joints: &Joints, from: &[Local], to: &[Local]) -> Reach {
+        let all = Reach {
+            share: 1.0,
+            pressed: None,
+        };
         let start = joints.world(from);
         let end = joints.world(to);
         let moving: Vec<bool> = start
@@ -185,7 +272,7 @@ impl Balls {
             .map(|(a, b)| !a.abs_diff_eq(*b, 1e-12))
             .collect();
         if self.is_empty() || !moving.iter().any(|&m| m) {
-            return 1.0;
+            return all;
         }
         let mut still = Still::new(self, &start, &moving);
         still.relative(&start, &end);
@@ -215,7 +302,7 @@ impl Balls {
         still.sweep(&poses);
         let pressing =
             |s: f64, stop: f64| still.pressing(&joints.world(&between(from, to, s)), stop);
-        let already = pressing(0.0, f64::INFINITY).max(SQUASH);
+        let already = pressing(0.0, f64::INFINITY).max(self.squash);
         let allowed = |p: f64| p <= already + 1e-9;
         let mut good = 0.0;
         for k in 1..=samples {
@@ -233,16 +320,30 @@ impl Balls {
                     bad = mid;
                 }
             }
+            // The pair that presses past the bisection's last allowed pose.
+            let pressed = still
+                .deepest(&joints.world(&between(from, to, bad)), already + 1e-9)
+                .1
+                .map(|(a, b)| (self.section[a], self.section[b]));
             // A creep of less than a hundredth of a ball is no move: a limb held against
             // the body settles.
-            return if good * far < 0.01 * smallest {
+            let share = if good * far < 0.01 * smallest {
                 0.0
             } else {
                 good
             };
+            return Reach { share, pressed };
         }
-        1.0
+        all
     }
+}
+
+/// How far a move goes ([`Balls::limit`]) and, when it stops short, the two sections
+/// whose balls pressed.
+#[derive(Clone, Copy, Debug)]
+struct Reach {
+    share: f64,
+    pressed: Option<(usize, usize)>,
 }
 
 /// A moving ball and a small still ball that may press during a move.
@@ -412,7 +513,7 @@ impl<'a> Still<'a> {
     fn gap(&self, a: usize, b: usize, at: DVec3) -> f64 {
         let balls = self.balls;
         let (ra, rb) = (balls.radius[a], balls.radius[b]);
-        at.distance(self.posed[b]) - ra - rb + SQUASH * ra.min(rb)
+        at.distance(self.posed[b]) - ra - rb + balls.squash * ra.min(rb)
     }
 
     fn key(&self, p: DVec3) -> [i64; 3] {
@@ -423,6 +524,11 @@ impl<'a> Still<'a> {
     /// The deepest press of a moving ball in the pose `world`, or the first found deeper
     /// than `stop` (a move is refused as soon as one pair presses too much).
     fn pressing(&self, world: &[DAffine3], stop: f64) -> f64 {
+        self.deepest(world, stop).0
+    }
+
+    /// [`Still::pressing`], with the balls of the pair found (`None` when none presses).
+    fn deepest(&self, world: &[DAffine3], stop: f64) -> (f64, Option<(usize, usize)>) {
         let balls = self.balls;
         let posed = |b: usize| {
             world
@@ -430,7 +536,19 @@ impl<'a> Still<'a> {
                 .map_or(balls.center[b], |w| w.transform_point3(balls.center[b]))
         };
         let movers: Vec<DVec3> = self.movers.iter().map(|&b| posed(b)).collect();
-        let mut deepest = 0.0f64;
+        let mut deepest = (0.0f64, None);
+        // Keeps the deeper press; true once it is deeper than `stop`.
+        let deeper = |deepest: &mut (f64, Option<(usize, usize)>),
+                      a: usize,
+                      b: usize,
+                      pa: DVec3,
+                      pb: DVec3| {
+            let p = balls.press(a, b, pa, pb);
+            if p > deepest.0 {
+                *deepest = (p, Some((a, b)));
+            }
+            deepest.0 > stop
+        };
         // Moving balls of sections moving apart from each other (two arms turned into
         // each other): small ones by grid cell, each pair once.
         let sections = self.sections;
@@ -493,11 +611,11 @@ impl<'a> Still<'a> {
                     for z in k[2] - 1..=k[2] + 1 {
                         for &j in grid.get(&[x, y, z]).map_or(&[][..], |v| v.as_slice()) {
                             let (j, b) = (j as usize, self.movers[j as usize]);
-                            if j > i && apart(a, b) {
-                                deepest = deepest.max(balls.press(a, b, movers[i], movers[j]));
-                                if deepest > stop {
-                                    return deepest;
-                                }
+                            if j > i
+                                && apart(a, b)
+                                && deeper(&mut deepest, a, b, movers[i], movers[j])
+                            {
+                                return deepest;
                             }
                         }
                     }
@@ -508,11 +626,12 @@ impl<'a> Still<'a> {
             let a = self.movers[i];
             for (j, &b) in self.movers.iter().enumerate() {
                 let other_big = balls.radius[b] > balls.cell || !movers[j].is_finite();
-                if near[j] && (!other_big || j > i) && apart(a, b) {
-                    deepest = deepest.max(balls.press(a, b, movers[i], movers[j]));
-                    if deepest > stop {
-                        return deepest;
-                    }
+                if near[j]
+                    && (!other_big || j > i)
+                    && apart(a, b)
+                    && deeper(&mut deepest, a, b, movers[i], movers[j])
+                {
+                    return deepest;
                 }
             }
         }
@@ -529,23 +648,20 @@ impl<'a> Still<'a> {
                 if moved[i] <= gap {
                     continue;
                 }
-                deepest = deepest.max(balls.press(self.movers[i], b, movers[i], self.posed[b]));
-                if deepest > stop {
+                if deeper(&mut deepest, self.movers[i], b, movers[i], self.posed[b]) {
                     return deepest;
                 }
             }
             for (i, &a) in self.movers.iter().enumerate() {
                 let pa = movers[i];
                 for &b in &self.big {
-                    deepest = deepest.max(balls.press(a, b as usize, pa, self.posed[b as usize]));
-                    if deepest > stop {
+                    if deeper(&mut deepest, a, b as usize, pa, self.posed[b as usize]) {
                         return deepest;
                     }
                 }
                 if wide[i] {
                     for b in (0..balls.len()).filter(|&b| self.gridded[b]) {
-                        deepest = deepest.max(balls.press(a, b, pa, self.posed[b]));
-                        if deepest > stop {
+                        if deeper(&mut deepest, a, b, pa, self.posed[b]) {
                             return deepest;
                         }
                     }
@@ -557,8 +673,7 @@ impl<'a> Still<'a> {
             let pa = movers[i];
             for &b in &self.big {
                 let b = b as usize;
-                deepest = deepest.max(balls.press(a, b, pa, self.posed[b]));
-                if deepest > stop {
+                if deeper(&mut deepest, a, b, pa, self.posed[b]) {
                     return deepest;
                 }
             }
@@ -567,11 +682,8 @@ impl<'a> Still<'a> {
             let reach = ((balls.radius[a] + balls.cell) / balls.cell).ceil() as i64;
             if reach > 8 || !pa.is_finite() {
                 for b in 0..balls.len() {
-                    if self.gridded[b] {
-                        deepest = deepest.max(balls.press(a, b, pa, self.posed[b]));
-                        if deepest > stop {
-                            return deepest;
-                        }
+                    if self.gridded[b] && deeper(&mut deepest, a, b, pa, self.posed[b]) {
+                        return deepest;
                     }
                 }
                 continue;
@@ -586,8 +698,7 @@ impl<'a> Still<'a> {
                         if let Some(list) = self.grid.get(&[x, y, z]) {
                             for &b in list {
                                 let b = b as usize;
-                                deepest = deepest.max(balls.press(a, b, pa, self.posed[b]));
-                                if deepest > stop {
+                                if deeper(&mut deepest, a, b, pa, self.posed[b]) {
                                     return deepest;
                                 }
                             }
@@ -693,7 +804,7 @@ mod tests {
                     }
                 }
                 assert_eq!(a, brute, "trial {trial}, s {s}");
-                pressed += usize::from(a > SQUASH);
+                pressed += usize::from(a > balls.squash);
             }
             let pairs = &swept.swept.as_ref().expect("swept").pairs;
             assert!(pairs.len() < grid.movers.len() * (n - grid.movers.len()));

@@ -581,6 +581,30 @@ impl Joints {
     pub fn find(&self, name: &str) -> Option<usize> {
         self.sections.iter().position(|s| s.name == name)
     }
+
+    /// The sections whose joints lie between sections `a` and `b`: from each up to the
+    /// section both hang from, that one left out (turning it moves both alike).
+    pub fn path(&self, a: usize, b: usize) -> Vec<usize> {
+        let up = |mut s: usize| {
+            let mut chain = vec![s];
+            while let Some(p) = self.sections.get(s).and_then(|x| x.parent) {
+                if chain.len() > self.sections.len() {
+                    break;
+                }
+                chain.push(p);
+                s = p;
+            }
+            chain
+        };
+        let (from_a, from_b) = (up(a), up(b));
+        let mut out: Vec<usize> = from_a
+            .iter()
+            .copied()
+            .take_while(|s| !from_b.contains(s))
+            .collect();
+        out.extend(from_b.iter().copied().take_while(|s| !from_a.contains(s)));
+        out
+    }
 }
 
 impl Body {

@@ -523,3 +523,33 @@ fn a_later_connected_cut_adopts_the_children_it_carries_wherever_their_pivots_li
     assert_eq!(j.sections()[body].vertices, 15 * w);
     assert_eq!(j.sections()[tip].parent, Some(body));
 }
+
+/// The joints between two sections: up from each to the section both hang from, that
+/// one left out; none between a section and itself.
+#[test]
+fn the_path_between_two_sections_runs_through_the_section_both_hang_from() {
+    // Two arms on a line of points: arm -> forearm -> hand above y = 1, leg below y = 0.5.
+    let mut j = Joints::new(&line(), ROOT);
+    let arm = j.add_cut(cut("arm", ROOT, 1.0)).unwrap();
+    let fore = j.add_cut(cut("forearm", "arm", 2.0)).unwrap();
+    let hand = j.add_cut(cut("hand", "forearm", 2.5)).unwrap();
+    let leg = j
+        .add_cut(Cut::plane(
+            "leg",
+            ROOT,
+            DVec3::new(0.0, 0.5, 0.0),
+            -DVec3::Y,
+        ))
+        .unwrap();
+    let sorted = |mut v: Vec<usize>| {
+        v.sort_unstable();
+        v
+    };
+    assert_eq!(
+        sorted(j.path(hand, leg)),
+        sorted(vec![hand, fore, arm, leg])
+    );
+    assert_eq!(sorted(j.path(hand, arm)), sorted(vec![hand, fore]));
+    assert_eq!(sorted(j.path(0, fore)), sorted(vec![fore, arm]));
+    assert!(j.path(hand, hand).is_empty());
+}

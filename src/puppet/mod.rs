@@ -176,11 +176,21 @@ impl Puppet {
         if !self.sim.params().world.collision {
             return 1.0;
         }
+        self.pose_balls().limit(&self.joints, from, to)
+    }
+
+    /// The sections' balls for the pose limit, built when first needed, letting parts
+    /// overlap by the flesh's give ([`crate::joints::collide::Balls::set_squash`]).
+    fn pose_balls(&mut self) -> std::sync::Arc<crate::joints::collide::Balls> {
         let joints = &self.joints;
+        let squash = f64::from(self.sim.params().world.flesh);
         let balls = self
             .balls
             .get_or_insert_with(|| std::sync::Arc::new(joints.balls()));
-        balls.limit(joints, from, to)
+        if balls.squash() != squash {
+            std::sync::Arc::make_mut(balls).set_squash(squash);
+        }
+        balls.clone()
     }
 
     /// Gives the simulation the current sections, and the regions and pinning resolved on
@@ -264,8 +274,8 @@ impl Puppet {
     }
 
     /// With collision on, takes the move from the pose `before` to the pose in `local`
-    /// only as far as no part presses into another ([`Puppet::limit_pose`]): `local`
-    /// becomes the pose reached. Every path that poses a section goes through it (a drag,
+    /// only as far as no part presses into another, each turn as far as it can
+    /// ([`crate::joints::collide::Balls::hold`]): `local` becomes the pose reached. Every path that poses a section goes through it (a drag,
     /// a glove, an animation, a recorded take, `simulate`), so a part stops at the body
     /// the same way whatever moves it. A `before` shorter than `local` is at rest beyond
     /// its end.
@@ -280,10 +290,8 @@ impl Puppet {
                 return;
             }
         }
-        let s = self.limit_pose(before, local);
-        if s < 1.0 {
-            let wanted =
-                std::mem::replace(local, crate::joints::collide::between(before, local, s));
+        if let Some(reached) = self.pose_balls().hold(&self.joints, before, local) {
+            let wanted = std::mem::replace(local, reached);
             self.stopped = Some((local.clone(), wanted));
         } else {
             self.stopped = None;

@@ -548,9 +548,10 @@ fn run_scenario(
         // With collision on, a new pose is held back where parts meet, as every path that
         // poses a part does (`Puppet::hold_back`).
         if p.world.collision && local != was {
-            let s = joints.balls().limit(&joints, &was, &local);
-            if s < 1.0 {
-                local = puppet::joints::collide::between(&was, &local, s);
+            let mut balls = joints.balls();
+            balls.set_squash(f64::from(p.world.flesh));
+            if let Some(reached) = balls.hold(&joints, &was, &local) {
+                local = reached;
                 pose = joints.pose(&local);
                 report.held += 1;
             }
