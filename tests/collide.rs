@@ -511,23 +511,21 @@ fn a_part_that_meets_the_body_stops_only_its_own_turn() {
     );
 }
 
-/// Collision on against off on random poses (the compare of `puppet bench poses`, on a
-/// sample): the dog in five seeded random poses, settled with collision off and on. On
-/// crosses no more faces than off, stretches no edge past 1.1× off's worst (above 1.5×)
-/// but in one pose, and there under 3×, and leaves no vertex over one medial radius
-/// behind. The one pose is seed 3: since each move goes on past the parts that met, a
-/// contact pushes one vertex of the right paw 0.0065 off where its bones hold it, alone,
-/// and its shortest edge (0.0022 long) stretches 2.71× (off: 1.66×; BENCHMARKS counts
-/// such poses over the population). Before a ball let go of a point it merely caught on
-/// the way (its bones hold it beyond the ball), one vertex of a front paw hooked on the
-/// other paw in seed 4: 1.8 radii behind and its skin 4.9× (off: 1.62×).
+/// Collision on is never worse than off on random poses (the compare of `puppet bench
+/// poses`, on a sample): the dog in five seeded random poses, settled with collision off and
+/// on. On crosses no more faces than off, stretches no edge past 1.1× off's worst (above
+/// 1.5×) and leaves no vertex over one medial radius behind. While the contacts acted
+/// between every pair of parts, not only those the pose limit stopped against each other,
+/// seed 3 pushed one vertex of the right paw 0.0065 off where its bones hold it, alone, and
+/// its 0.0022-long edge stretched 2.71× (off: 1.66×). Before a ball let go of a point it
+/// merely caught on the way, one vertex of a front paw hooked on the other paw in seed 4:
+/// 1.8 radii behind and its skin 4.9× (off: 1.62×).
 #[test]
-fn collision_on_random_poses_is_never_worse_than_off_but_in_one_pose_of_five() {
+fn collision_on_random_poses_is_never_worse_than_off() {
     use puppet::puppet::poses::{self, Spread};
     let p = common::suggested(
         &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/characters/dog.obj"),
     );
-    let mut stretched = Vec::new();
     for seed in 1..=5 {
         let target = poses::random_pose(
             &p.joints,
@@ -551,11 +549,8 @@ fn collision_on_random_poses_is_never_worse_than_off_but_in_one_pose_of_five() {
             on.crossing,
             off.crossing
         );
-        if on.worst > 1.5 && on.worst > 1.1 * off.worst {
-            stretched.push(seed);
-        }
         assert!(
-            on.worst <= 3.0 || on.worst <= 1.1 * off.worst,
+            on.worst <= 1.5 || on.worst <= 1.1 * off.worst,
             "seed {seed}: worst stretch {:.2} on against {:.2} off",
             on.worst,
             off.worst
@@ -566,10 +561,6 @@ fn collision_on_random_poses_is_never_worse_than_off_but_in_one_pose_of_five() {
             on.behind
         );
     }
-    assert!(
-        stretched.len() <= 1,
-        "stretched past off in seeds {stretched:?}"
-    );
 }
 
 /// Steps `puppet` through `poses` (one per step), its contacts' kept lists forgotten

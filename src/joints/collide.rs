@@ -220,8 +220,15 @@ impl Balls {
     /// meeting the palm stops that finger, not the other four; a hand meeting a thigh
     /// stops that arm and that leg, not the head.
     ///
-    /// `None` when the whole move is allowed.
-    pub fn hold(&self, joints: &Joints, from: &[Local], to: &[Local]) -> Option<Vec<Local>> {
+    /// `None` when the whole move is allowed. The sections of each pair of parts that met
+    /// go into `met`.
+    pub fn hold(
+        &self,
+        joints: &Joints,
+        from: &[Local],
+        to: &[Local],
+        met: &mut Vec<(usize, usize)>,
+    ) -> Option<Vec<Local>> {
         let mut reach = self.reach(joints, from, to);
         if reach.share >= 1.0 {
             return None;
@@ -244,6 +251,7 @@ impl Balls {
             let Some((a, b)) = reach.pressed else {
                 break;
             };
+            met.push((a, b));
             let mut stopped = false;
             for s in joints.path(a, b) {
                 if let (Some(g), Some(&now)) = (goal.get_mut(s), at.get(s)) {

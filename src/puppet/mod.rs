@@ -198,6 +198,7 @@ impl Puppet {
     pub fn sync_sections(&mut self) {
         self.balls = None;
         self.stopped = None;
+        self.sim.contacts_everywhere();
         self.sim.set_sections(self.joints.transform_of().to_vec());
         self.sim.set_joint_sections(self.joints.joint_sections());
         self.sync_regions();
@@ -290,7 +291,14 @@ impl Puppet {
                 return;
             }
         }
-        if let Some(reached) = self.pose_balls().hold(&self.joints, before, local) {
+        let mut met = Vec::new();
+        let got = self
+            .pose_balls()
+            .hold(&self.joints, before, local, &mut met);
+        // The contacts act between the parts that met (`sim::contact::Pairs`).
+        let sections = self.joints.sections().len();
+        self.sim.contacts_between(sections, &met);
+        if let Some(reached) = got {
             let wanted = std::mem::replace(local, reached);
             self.stopped = Some((local.clone(), wanted));
         } else {

@@ -168,6 +168,10 @@ pub struct Simulation {
     /// The medial balls sections collide with, built at the first step with collision on
     /// (and again after the sections change).
     contacts: Option<contact::Colliders>,
+    /// The pairs of sections the contacts act between (`None`: every pair), and whether
+    /// they changed since the contacts last took them.
+    pairs: Option<contact::Pairs>,
+    pairs_changed: bool,
     /// The joint sections, for contacts (empty: the transforms').
     joint: JointSections,
     /// The sleep threshold as a squared distance.
@@ -223,6 +227,8 @@ impl Simulation {
                 affine: Vec::new(),
             },
             contacts: None,
+            pairs: None,
+            pairs_changed: false,
             joint: JointSections::default(),
             regions: Regions::default(),
             per_slot: None,
@@ -409,6 +415,28 @@ impl Simulation {
         self.scratch.changed.resize(sections, false);
         self.contacts = None;
         self.state.wake_all = true;
+    }
+
+    /// Lets the contacts act only between pairs of sections the pose limit stopped against
+    /// each other ([`contact::Pairs`]), adding the pairs `met` (sections of `sections`). A
+    /// puppet calls it on every move it holds back (`Puppet::hold_back`); until then,
+    /// every pair.
+    pub fn contacts_between(&mut self, sections: usize, met: &[(usize, usize)]) {
+        let pairs = match &mut self.pairs {
+            Some(p) if p.sections() == sections => p,
+            _ => {
+                self.pairs_changed = true;
+                self.pairs.insert(contact::Pairs::new(sections))
+            }
+        };
+        for &(a, b) in met {
+            self.pairs_changed |= pairs.add(a, b);
+        }
+    }
+
+    /// Lets the contacts act between every pair of sections again (the sections changed).
+    pub fn contacts_everywhere(&mut self) {
+        self.pairs_changed |= self.pairs.take().is_some();
     }
 
     /// Gives the joint sections the contacts go by ([`JointSections`]). Without them, each

@@ -119,6 +119,7 @@ impl Simulation {
     fn collide(&mut self) {
         let (floor, keep) = (self.floor(), self.keep());
         let rig = &self.rig;
+        let built = self.contacts.is_none();
         let contacts = self.contacts.get_or_insert_with(|| {
             let centers: Vec<glam::Vec3> = (0..rig.len())
                 .map(|i| rig.rest[i] - rig.normals[i] * rig.skeletal_distance[i])
@@ -146,6 +147,10 @@ impl Simulation {
             );
             c
         });
+        if built || self.pairs_changed {
+            contacts.set_pairs(self.pairs.clone());
+            self.pairs_changed = false;
+        }
         let (state, scratch) = (&mut self.state, &mut self.scratch);
         scratch.affine.clear();
         scratch

@@ -71,6 +71,49 @@ use grid::{key, Set};
 use near::Near;
 use rayon::prelude::*;
 
+/// The pairs of joint sections the contacts act between when not every pair: those the
+/// pose limit stopped against each other ([`crate::joints::collide::Balls::hold`]). A
+/// point pushed out of another part's balls alone, where the pose limit never stopped
+/// the two, tore the skin around it: over 25 characters in 10 random poses, contacts
+/// between every pair left 10 of 250 poses worse than collision off (an edge up to
+/// 5.42×), between these 5 (3.23×; `docs/performance-log.md`, 2026-11-30).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Pairs {
+    sections: usize,
+    met: Vec<bool>,
+}
+
+impl Pairs {
+    /// No pair yet, among `sections` sections.
+    pub fn new(sections: usize) -> Pairs {
+        Pairs {
+            sections,
+            met: vec![false; sections * sections],
+        }
+    }
+
+    /// The number of sections.
+    pub fn sections(&self) -> usize {
+        self.sections
+    }
+
+    /// Adds the pair `a`, `b` (either way round); true when it is new.
+    pub fn add(&mut self, a: usize, b: usize) -> bool {
+        let n = self.sections;
+        if a >= n || b >= n || self.met[a * n + b] {
+            return false;
+        }
+        self.met[a * n + b] = true;
+        self.met[b * n + a] = true;
+        true
+    }
+
+    /// Whether `a` and `b` are a pair.
+    pub fn has(&self, a: usize, b: usize) -> bool {
+        a < self.sections && b < self.sections && self.met[a * self.sections + b]
+    }
+}
+
 /// A worker's lists, kept from tile to tile so the stage allocates nothing per tile: the
 /// balls near a group of a tile's points.
 #[derive(Default)]
@@ -98,6 +141,8 @@ const GROUP: usize = 8;
 /// The balls of a puppet and the broad phase over them.
 #[derive(Clone, Debug, Default)]
 pub struct Colliders {
+    /// The pairs of sections the contacts act between (`None`: every pair).
+    pairs: Option<Pairs>,
     /// Per joint section, its rank: a point yields to the balls of sections of lower rank
     /// only (the body's parts nearer the root stay where they are).
     rank: Vec<u32>,
@@ -320,6 +365,15 @@ impl Colliders {
     /// Per slot: a ball holds it (the last step that tested it moved it out of one).
     pub fn held(&self) -> &[bool] {
         &self.held
+    }
+
+    /// Lets the contacts act between `pairs` of sections only (`None`: every pair). What
+    /// the tiles kept is gathered again.
+    pub fn set_pairs(&mut self, pairs: Option<Pairs>) {
+        if self.pairs != pairs {
+            self.pairs = pairs;
+            self.forget_lists();
+        }
     }
 
     /// Forgets the kept lists of the balls near each tile (each is gathered again).
@@ -793,6 +847,11 @@ impl Colliders {
     /// when it yields to them (`b` is nearer the root), `Some(false)` when they dent its
     /// flesh (soft flesh only, `b` farther from the root).
     fn meets(&self, a: u16, b: u16) -> Option<bool> {
+        if let Some(pairs) = &self.pairs {
+            if !pairs.has(usize::from(a), usize::from(b)) {
+                return None;
+            }
+        }
         let yields = self.rank_of(a) > self.rank_of(b);
         (a != b && (yields || self.flesh > 0.0)).then_some(yields)
     }
@@ -949,6 +1008,16 @@ fn entry(a: Vec3, b: Vec3, c: Vec3, r: f32) -> Option<Vec3> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn pairs_go_both_ways_and_ignore_sections_out_of_range() {
+        let mut p = Pairs::new(3);
+        assert!(!p.has(0, 2));
+        assert!(p.add(2, 0));
+        assert!(!p.add(0, 2), "already there");
+        assert!(p.has(0, 2) && p.has(2, 0) && !p.has(1, 2));
+        assert!(!p.add(3, 0) && !p.has(3, 0));
+    }
 
     #[test]
     fn a_point_is_caught_only_when_its_bones_hold_it_beyond_the_ball_and_far_off() {
