@@ -16,7 +16,7 @@
 //! A move stops only the parts that met ([`Balls::hold`]): the joints between the two
 //! parts that pressed stop where they met, and the rest of the move goes on.
 //!
-//! [`Balls::limit`] walks from the pose the puppet has to the one asked for (each section's
+//! `Balls::reach` walks from the pose the puppet has to the one asked for (each section's
 //! rotation slerped, its translation lerped) in steps no ball moves more than half the
 //! smallest moving radius in, so nothing passes through a part between two samples, and
 //! bisects to the last allowed pose before the first that is not. A pose that already
@@ -205,15 +205,8 @@ impl Balls {
         (sa == child && sb == parent) || (sa == parent && sb == child)
     }
 
-    /// How far (0..1) along the move from `from` to `to` the puppet can go before two
-    /// parts press more than the squash (see the module docs); 1 when the whole move is
-    /// allowed, 0 when no part can move more than a hundredth of its smallest ball.
-    pub fn limit(&self, joints: &Joints, from: &[Local], to: &[Local]) -> f64 {
-        self.reach(joints, from, to).share
-    }
-
     /// The pose the puppet reaches on its way from `from` to `to` when each turn goes as
-    /// far as it can: the whole move goes as far as [`Balls::limit`] allows; then the
+    /// far as it can: the whole move goes as far as `Balls::reach` allows; then the
     /// joints between the two parts that pressed (on the way from one up to the section
     /// they both hang from, and down to the other) stop there, and the rest of the move
     /// goes on, again, until it is all made or [`ROUNDS`] parts have met. A finger
@@ -266,7 +259,10 @@ impl Balls {
         Some(at)
     }
 
-    /// [`Balls::limit`], with the sections of the pair that pressed first.
+    /// How far (0..1) along the move from `from` to `to` the puppet can go before two
+    /// parts press more than the squash (see the module docs): 1 when the whole move is
+    /// allowed, 0 when no part can move more than a hundredth of its smallest ball; and
+    /// the sections of the pair that pressed first.
     fn reach(&self, joints: &Joints, from: &[Local], to: &[Local]) -> Reach {
         let all = Reach {
             share: 1.0,
@@ -346,7 +342,7 @@ impl Balls {
     }
 }
 
-/// How far a move goes ([`Balls::limit`]) and, when it stops short, the two sections
+/// How far a move goes (`Balls::reach`) and, when it stops short, the two sections
 /// whose balls pressed.
 #[derive(Clone, Copy, Debug)]
 struct Reach {

@@ -169,16 +169,6 @@ impl Puppet {
         Ok(out)
     }
 
-    /// How far (0..1) along the move from the pose `from` to `to` the puppet can go with
-    /// collision on before a part presses into another ([`crate::joints::collide`]); 1
-    /// with collision off.
-    pub fn limit_pose(&mut self, from: &[Local], to: &[Local]) -> f64 {
-        if !self.sim.params().world.collision {
-            return 1.0;
-        }
-        self.pose_balls().limit(&self.joints, from, to)
-    }
-
     /// The sections' balls for the pose limit, built when first needed, letting parts
     /// overlap by the flesh's give ([`crate::joints::collide::Balls::set_squash`]).
     fn pose_balls(&mut self) -> std::sync::Arc<crate::joints::collide::Balls> {

@@ -57,12 +57,16 @@
 //!   settles (the contact puts a point back where it was, so the tile's motion is zero).
 //! * **Broad phase** (`grid`): balls by grid cell, one grid per set of balls that move
 //!   together.
+//! * **Which sections** (`pairs`): a puppet lets the contacts act only between the
+//!   sections its pose limit stopped against each other ([`Pairs`]).
 
 mod floor;
 mod grid;
 mod near;
+mod pairs;
 
 pub use floor::{Floor, Up};
+pub use pairs::Pairs;
 
 use super::layout::{Layout, Packed};
 use crate::geom::balls;
@@ -70,49 +74,6 @@ use glam::{Affine3A, DVec3, Vec3};
 use grid::{key, Set};
 use near::Near;
 use rayon::prelude::*;
-
-/// The pairs of joint sections the contacts act between when not every pair: those the
-/// pose limit stopped against each other ([`crate::joints::collide::Balls::hold`]). A
-/// point pushed out of another part's balls alone, where the pose limit never stopped
-/// the two, tore the skin around it: over 25 characters in 10 random poses, contacts
-/// between every pair left 10 of 250 poses worse than collision off (an edge up to
-/// 5.42×), between these 5 (3.23×; `docs/performance-log.md`, 2026-11-30).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Pairs {
-    sections: usize,
-    met: Vec<bool>,
-}
-
-impl Pairs {
-    /// No pair yet, among `sections` sections.
-    pub fn new(sections: usize) -> Pairs {
-        Pairs {
-            sections,
-            met: vec![false; sections * sections],
-        }
-    }
-
-    /// The number of sections.
-    pub fn sections(&self) -> usize {
-        self.sections
-    }
-
-    /// Adds the pair `a`, `b` (either way round); true when it is new.
-    pub fn add(&mut self, a: usize, b: usize) -> bool {
-        let n = self.sections;
-        if a >= n || b >= n || self.met[a * n + b] {
-            return false;
-        }
-        self.met[a * n + b] = true;
-        self.met[b * n + a] = true;
-        true
-    }
-
-    /// Whether `a` and `b` are a pair.
-    pub fn has(&self, a: usize, b: usize) -> bool {
-        a < self.sections && b < self.sections && self.met[a * self.sections + b]
-    }
-}
 
 /// A worker's lists, kept from tile to tile so the stage allocates nothing per tile: the
 /// balls near a group of a tile's points.
@@ -1008,16 +969,6 @@ fn entry(a: Vec3, b: Vec3, c: Vec3, r: f32) -> Option<Vec3> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn pairs_go_both_ways_and_ignore_sections_out_of_range() {
-        let mut p = Pairs::new(3);
-        assert!(!p.has(0, 2));
-        assert!(p.add(2, 0));
-        assert!(!p.add(0, 2), "already there");
-        assert!(p.has(0, 2) && p.has(2, 0) && !p.has(1, 2));
-        assert!(!p.add(3, 0) && !p.has(3, 0));
-    }
 
     #[test]
     fn a_point_is_caught_only_when_its_bones_hold_it_beyond_the_ball_and_far_off() {
