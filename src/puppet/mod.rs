@@ -266,10 +266,11 @@ impl Puppet {
 
     /// With collision on, takes the move from the pose `before` to the pose in `local`
     /// only as far as no part presses into another, each turn as far as it can
-    /// ([`crate::joints::collide::Balls::hold`]): `local` becomes the pose reached. Every path that poses a section goes through it (a drag,
-    /// a glove, an animation, a recorded take, `simulate`), so a part stops at the body
-    /// the same way whatever moves it. A `before` shorter than `local` is at rest beyond
-    /// its end.
+    /// ([`crate::joints::collide::Balls::hold`]): `local` becomes the pose reached, and the
+    /// contacts act between the parts that met. Every path that poses a section goes
+    /// through it (a drag, a glove, an animation, a recorded take, `simulate`), so a part
+    /// stops at the body the same way whatever moves it. A `before` shorter than `local`
+    /// is at rest beyond its end.
     pub fn hold_back(&mut self, before: &[Local], local: &mut Vec<Local>) {
         if !self.sim.params().world.collision {
             return;
