@@ -57,6 +57,19 @@
 //! Either way the transform is relative to the parent's world transform, so nested cuts
 //! compose.
 //!
+//! **Carried**: a band blends the parent's skin over a strip as wide as the joint is
+//! thick ([`super::blend`]), and that strip can reach the seam of one of the parent's
+//! other children (a wide head's band reaches the shoulders). Such a sibling, where its
+//! seam moves with at least [`CARRY_MIN`] of the turn, rides on the band whole: at its
+//! seam's mean share of the band's motion (its vertices next to the parent's, in a first
+//! blend), its world transform is `W(parent) · M_band(share) · own`, so its far end
+//! moves with its seam instead of staying behind (sheared so, the stuffed toy's arms
+//! changed their volume by up to 42 % in random poses), and the parent's skin around its
+//! seam blends from that share.
+//! A thicker joint's band carries its thinner siblings, never the other way round (by
+//! the bands' local radii), so the bands that move a vertex compose in one order, the
+//! carrier first.
+//!
 //! A parent vertex joins the band only on the parent's side of the plane and near the
 //! pivot (within the child's cross-section, `2.5 r` from the pivot across the normal of the
 //! cut's surface there), so the other leg at a hip cut or the body beside a shoulder stays
@@ -140,6 +153,14 @@ pub const BULGE: f64 = 0.0125;
 /// bones), a trunk's 33–100 % (a chest beside a shoulder, a pelvis, a palm, a body under
 /// a neck).
 pub const ARC_SPREAD: f64 = 0.25;
+
+/// The least share of a band's motion a sibling's seam must move with for the sibling to
+/// ride on the band whole (see the module docs: carried); below it the seam is blended as
+/// the parent's skin. Chosen on half of `puppet bench poses`' characters and pieces
+/// (every other one) from 1/128, 0.05, 0.1 and 0.2, by characters within 3× on every
+/// pose, then the worst stretch's 90th percentile, then the poses with a section's
+/// volume beyond ±5 %; `docs/performance-log.md` has the other half.
+pub const CARRY_MIN: f64 = 0.1;
 
 /// Over how many local medial radii a band's weight is smoothed where its first guess
 /// jumps between neighbouring vertices (see `blend`).
@@ -332,6 +353,7 @@ impl Joints {
         &mut self,
         entries: &mut [(u32, u16, u16)],
         slots: &[usize],
+        slot_rank: &[usize],
         next: &mut usize,
     ) {
         self.blends.clear();
@@ -397,8 +419,9 @@ impl Joints {
                 };
                 continue;
             }
-            // The parent's bands first, then the section's own; each in slot order.
-            parts.sort_by_key(|p| (!p.1, p.2));
+            // The parent's bands first, then the section's own; each in slot order, but a
+            // carrier before what it carries.
+            parts.sort_by_key(|p| (!p.1, slot_rank[usize::from(p.2)]));
             let base = if parts[0].1 {
                 self.sections[s].parent.unwrap_or(s)
             } else {
@@ -703,6 +726,25 @@ impl Joints {
         let radii: Vec<Option<(f64, usize, usize)>> =
             (0..self.cuts.len()).map(|k| self.local_radius(k)).collect();
         self.flesh = self.flesh_of(&radii);
+        // Which bands may carry which (see the module docs: carried): a thicker joint's
+        // band carries its thinner siblings, never the other way round, so the bands
+        // that move a vertex compose in one order (by rank) everywhere.
+        let thickness = |k: usize| radii[k].map_or(0.0, |r| r.0);
+        let mut by_thickness: Vec<usize> = (0..self.cuts.len()).collect();
+        by_thickness.sort_by(|&a, &b| thickness(b).total_cmp(&thickness(a)).then(a.cmp(&b)));
+        let mut rank = vec![0; self.cuts.len()];
+        for (r, &k) in by_thickness.iter().enumerate() {
+            rank[k] = r;
+        }
+        let mut section_rank = vec![usize::MAX; sections];
+        for (k, r) in radii.iter().enumerate() {
+            if let Some(x) = r.and_then(|r| section_rank.get_mut(r.1)) {
+                *x = rank[k];
+            }
+        }
+        let rank_of_section = |s: usize| section_rank.get(s).copied().unwrap_or(usize::MAX);
+        // (carried section, carrying cut, level)
+        let mut carries: Vec<(usize, usize, u16)> = Vec::new();
         for (k, &radius) in radii.iter().enumerate() {
             // A skin cut's vertices blend by the file's weights instead ([`super::skin`]).
             if self.cuts[k].shape == super::Shape::Skin && self.body.skin.is_some() {
@@ -748,38 +790,38 @@ impl Joints {
             // The share of the turn the seam moves with: where the cut lies along the band.
             let at_cut = width / (width + reach);
             let seam = if arc { at_cut } else { weight(at_cut) };
-            let weights = if arc {
-                self.blend(
-                    child,
-                    parent,
-                    pivot,
-                    normal,
-                    Hold::Exact {
-                        span: width + reach,
-                        smooth: SMOOTH * radius,
-                        seam,
-                    },
-                    &guess,
-                )
+            let hold = if arc {
+                Hold::Exact {
+                    span: width + reach,
+                    smooth: SMOOTH * radius,
+                    seam,
+                }
             } else {
-                self.blend(
-                    child,
-                    parent,
-                    pivot,
-                    normal,
-                    Hold::Soft {
-                        reach,
-                        smooth: SMOOTH * radius,
-                        seam,
-                    },
-                    &guess,
-                )
+                Hold::Soft {
+                    reach,
+                    smooth: SMOOTH * radius,
+                    seam,
+                }
             };
-            // Each vertex's share of the motion, rounded to the band's levels.
-            let shares: Vec<(usize, f64)> = weights
+            let share = |x: f64| if arc { x } else { weight(x) };
+            let mut weights = self.blend(child, parent, pivot, normal, hold, &guess, &[]);
+            // The parent's thinner children whose seams the band moves ride on it whole
+            // (see the module docs: carried).
+            let carried: Vec<(usize, f64)> = self
+                .seam_positions(child, parent, &weights, |s| rank_of_section(s) > rank[k])
                 .into_iter()
-                .map(|(i, x)| (i, if arc { x } else { weight(x) }))
+                .filter(|&(_, x)| share(x) >= CARRY_MIN)
                 .collect();
+            if !carried.is_empty() {
+                weights = self.blend(child, parent, pivot, normal, hold, &guess, &carried);
+                for &(s, x) in &carried {
+                    let level = (share(x).clamp(0.0, 1.0) * LEVELS as f64).round() as u16;
+                    carries.push((s, k, level));
+                }
+            }
+            // Each vertex's share of the motion, rounded to the band's levels.
+            let shares: Vec<(usize, f64)> =
+                weights.into_iter().map(|(i, x)| (i, share(x))).collect();
             let levels = self.levels(&shares);
             for (&(i, _), level) in shares.iter().zip(levels) {
                 entries.push((i as u32, slot as u16, level));
@@ -800,8 +842,49 @@ impl Joints {
             });
             slot += 1;
         }
+        // A carried section's vertices in its own band ride on its carriers too (the rest
+        // of it does through its world transform).
+        self.carried = vec![Vec::new(); sections];
+        let mut slot_of_cut = vec![None; self.cuts.len()];
+        for (slot, &k) in slots.iter().enumerate() {
+            slot_of_cut[k] = Some(slot as u16);
+        }
+        carries.sort_by_key(|&(s, k, _)| (s, rank[k]));
+        for &(s, k, level) in &carries {
+            self.carried[s].push((k, level));
+        }
+        let mut carry_edges: Vec<(usize, usize)> = Vec::new();
+        if !carries.is_empty() {
+            let own_slot = |s: usize| {
+                self.cuts
+                    .iter()
+                    .enumerate()
+                    .find(|&(k, _)| radii[k].is_some_and(|r| r.1 == s))
+                    .and_then(|(k, _)| slot_of_cut[k])
+            };
+            let own: Vec<Option<u16>> = (0..sections).map(own_slot).collect();
+            for &(s, k, _) in &carries {
+                if let (Some(c), Some(o)) = (slot_of_cut[k], own[s]) {
+                    carry_edges.push((usize::from(c), usize::from(o)));
+                }
+            }
+            let mut more = Vec::new();
+            for &(i, slot, level) in &entries {
+                let s = usize::from(self.section_of[i as usize]);
+                if own[s] != Some(slot) || usize::from(level) >= LEVELS {
+                    continue;
+                }
+                for &(k, carried_level) in &self.carried[s] {
+                    if let Some(c) = slot_of_cut[k] {
+                        more.push((i, c, carried_level));
+                    }
+                }
+            }
+            entries.extend(more);
+        }
+        let slot_rank = super::carry::carriers_first(slots.len(), &carry_edges);
         let mut next = sections + slot * (LEVELS - 1);
-        self.assign_levels(&mut entries, &slots, &mut next);
+        self.assign_levels(&mut entries, &slots, &slot_rank, &mut next);
         self.band_of = vec![None; sections];
         for (k, band) in self.bands.iter().enumerate() {
             if let Some(slot) = band.as_ref().and_then(|b| self.band_of.get_mut(b.child)) {

@@ -116,7 +116,11 @@ pub(super) struct Guess {
 impl Joints {
     /// Band `k`'s free vertices with their position across it (`0..=1`, see the module
     /// docs), from `guess` (the band's own vertices, by their skeletal points), `child`
-    /// and `parent` its sections and `pivot`, `normal` its frame.
+    /// and `parent` its sections and `pivot`, `normal` its frame. The parent's other
+    /// children in `carried` (section, position) ride on the band at that position, their
+    /// subtrees with them, and the parent's skin around their seams is free too (see
+    /// [`super::band`]: *carried*).
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn blend(
         &self,
         child: usize,
@@ -125,6 +129,7 @@ impl Joints {
         normal: DVec3,
         hold: Hold,
         guess: &[Guess],
+        carried: &[(usize, f64)],
     ) -> Vec<(usize, f64)> {
         let (exact, width, smooth, seam_share) = match hold {
             Hold::Exact { smooth, seam, .. } => (true, 0.0, smooth, seam),
@@ -147,14 +152,30 @@ impl Joints {
             moves[s] = s == child || self.sections[s].parent.is_some_and(|p| moves[p]);
         }
         let label = |i: usize| f64::from(u8::from(moves[usize::from(self.section_of[i])]));
+        // The sections carried, each at its position, their subtrees with them.
+        let mut carry: Vec<Option<f64>> = vec![None; self.sections.len()];
+        for &(s, x) in carried {
+            if let Some(c) = carry.get_mut(s) {
+                *c = Some(x);
+            }
+        }
+        for &s in &self.order {
+            if let Some(p) = self.sections[s].parent.filter(|&p| p != parent) {
+                carry[s] = carry[s].or(carry[p]);
+            }
+        }
         let ours = |i: usize| {
             let s = usize::from(self.section_of[i]);
             !self.body.is_rider(i) && (s == child || s == parent)
         };
-        // The parent's other children: near the seam they move with the parent's side.
+        // The parent's other children: near the seam they move with the parent's side
+        // (unless carried whole).
         let beside = |i: usize| {
             let s = usize::from(self.section_of[i]);
-            !self.body.is_rider(i) && s != child && self.sections[s].parent == Some(parent)
+            !self.body.is_rider(i)
+                && s != child
+                && self.sections[s].parent == Some(parent)
+                && carry[s].is_none()
         };
         // The seam, and how far it lies from the pivot's line.
         let mut seam = Vec::new();
@@ -183,7 +204,9 @@ impl Joints {
         let mut free: Vec<usize> = Vec::new();
         let mut x: Vec<f64> = Vec::new();
         // A fixed vertex's weight: its label, or (held exactly) its first guess.
-        let mut fixed: Vec<f64> = (0..n).map(label).collect();
+        let mut fixed: Vec<f64> = (0..n)
+            .map(|i| carry[usize::from(self.section_of[i])].unwrap_or_else(|| label(i)))
+            .collect();
         let mut kept: Vec<(usize, f64)> = Vec::new();
         let loose = match hold {
             Hold::Exact { span, smooth, .. } => self.jumps(guess, span, smooth, child),
@@ -218,6 +241,22 @@ impl Joints {
                 .filter(|&i| parent_side(i))
                 .map(|i| (i, reach)),
         );
+        // Around a carried section's seam the parent's skin blends from its position.
+        if !carried.is_empty() {
+            from.extend(
+                (0..n)
+                    .filter(|&i| {
+                        usize::from(self.section_of[i]) == parent
+                            && !self.body.is_rider(i)
+                            && self
+                                .body
+                                .neighbours(i)
+                                .iter()
+                                .any(|&j| carry[usize::from(self.section_of[j as usize])].is_some())
+                    })
+                    .map(|i| (i, reach)),
+            );
+        }
         for i in self.within_each(&from, |i| (ours(i) || beside(i)) && parent_side(i)) {
             if index[i] == NOT && parent_side(i) {
                 index[i] = free.len() as u32;

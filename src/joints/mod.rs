@@ -55,6 +55,7 @@
 //! * `shape`: planes, spheres and boxes, as signed distances;
 //! * `band`: joint bands, their levels, contacts and where they overlap;
 //! * `blend`: a band's weight blended over the surface around its seam;
+//! * `carry`: the siblings a band carries whole, and the order bands compose in;
 //! * `levels`: a band's weights rounded to its levels, short edges on one;
 //! * `pose`: composing a pose down the section tree;
 //! * `suggest`: joints suggested from the skeleton;
@@ -70,6 +71,7 @@
 
 pub mod band;
 mod blend;
+mod carry;
 pub mod collide;
 mod cut;
 mod levels;
@@ -317,6 +319,9 @@ pub struct Joints {
     bands: Vec<Option<Band>>,
     /// Per section, the cut whose band ends in it (the section it made), if any.
     band_of: Vec<Option<usize>>,
+    /// Per section, the bands of its parent's other children that carry it on the skin
+    /// they move (cut, level), carriers first; empty for most (see [`band`]: *carried*).
+    carried: Vec<Vec<(usize, u16)>>,
     /// Per vertex, the transform the simulation moves it with (its section's or a band
     /// level's).
     transform_of: Vec<u16>,
@@ -404,6 +409,7 @@ impl Joints {
             order: vec![0],
             bands: Vec::new(),
             band_of: vec![None],
+            carried: vec![Vec::new()],
             transform_of: vec![0; n],
             flesh: Vec::new(),
             blends: Vec::new(),
@@ -495,6 +501,7 @@ impl Joints {
             order: vec![0],
             bands: Vec::new(),
             band_of: vec![None],
+            carried: vec![Vec::new()],
             transform_of: vec![0; self.section_of.len()],
             flesh: Vec::new(),
             blends: Vec::new(),
@@ -583,7 +590,9 @@ impl Joints {
     }
 
     /// The sections whose joints lie between sections `a` and `b`: from each up to the
-    /// section both hang from, that one left out (turning it moves both alike).
+    /// section both hang from, that one left out (turning it moves both alike), and the
+    /// sections whose bands carry one of those (turning them moves it too; see
+    /// [`band`]: *carried*).
     pub fn path(&self, a: usize, b: usize) -> Vec<usize> {
         let up = |mut s: usize| {
             let mut chain = vec![s];
@@ -603,6 +612,17 @@ impl Joints {
             .take_while(|s| !from_b.contains(s))
             .collect();
         out.extend(from_b.iter().copied().take_while(|s| !from_a.contains(s)));
+        let mut at = 0;
+        while at < out.len() {
+            for &(k, _) in self.carried.get(out[at]).map_or(&[][..], Vec::as_slice) {
+                if let Some(c) = self.bands.get(k).and_then(Option::as_ref).map(|b| b.child) {
+                    if !out.contains(&c) {
+                        out.push(c);
+                    }
+                }
+            }
+            at += 1;
+        }
         out
     }
 }

@@ -24,9 +24,46 @@ impl Joints {
             let l = local.get(s).copied().unwrap_or_default();
             let own = self.own_motion(s, &l);
             world[s] = match self.sections[s].parent {
+                Some(p) if self.is_carried(s) => world[p] * self.carry(s, local) * own,
                 Some(p) => world[p] * own,
                 None => own,
             };
+        }
+    }
+
+    /// Whether section `s` rides on a band of one of its parent's other children (see
+    /// [`super::band`]: *carried*).
+    fn is_carried(&self, s: usize) -> bool {
+        self.carried.get(s).is_some_and(|c| !c.is_empty())
+    }
+
+    /// The motion, relative to its parent, of the skin section `s` rides on: the bands
+    /// that carry it, each at its level, carriers first (the identity for most; see
+    /// [`super::band`]: *carried*).
+    fn carry(&self, s: usize, local: &[Local]) -> DAffine3 {
+        let mut t = DAffine3::IDENTITY;
+        for &(k, level) in self.carried.get(s).map_or(&[][..], Vec::as_slice) {
+            let Some(band) = self.bands.get(k).and_then(Option::as_ref) else {
+                continue;
+            };
+            let l = local.get(band.child).copied().unwrap_or_default();
+            let child = self.own_motion(band.child, &l);
+            t *= self.band_motion(band, &l, &child, f64::from(level) / LEVELS as f64);
+        }
+        t
+    }
+
+    /// The frame section `s` turns in, in the pose `local` whose world transforms are
+    /// `world`: its parent's world transform, carried as [`Joints::carry`] says (the
+    /// identity for the root). Its local pose is relative to this frame.
+    ///
+    /// # Panics
+    /// If `s`'s parent is not a section of `world`.
+    pub fn parent_frame(&self, s: usize, world: &[DAffine3], local: &[Local]) -> DAffine3 {
+        match self.sections.get(s).and_then(|x| x.parent) {
+            Some(p) if self.is_carried(s) => world[p] * self.carry(s, local),
+            Some(p) => world[p],
+            None => DAffine3::IDENTITY,
         }
     }
 
@@ -87,6 +124,8 @@ impl Joints {
             };
             let swell = BULGE * bend_angle(band.normal, l.rotation);
             let pivot = band.pivot;
+            // The child's side rides on what carries the child.
+            let carried = parent * self.carry(band.child, local);
             for c in &band.contacts {
                 let base = match c.level {
                     0 => band.parent,
@@ -108,10 +147,11 @@ impl Joints {
                 let push = plane
                     .filter(|_| band.arc)
                     .and_then(|plane| plane.push(&own, rest, c));
+                let frame = if c.level >= LEVELS { carried } else { parent };
                 transforms.push(match push {
-                    Some(v) => to_f32(&(parent * DAffine3::from_translation(v) * own)),
+                    Some(v) => to_f32(&(frame * DAffine3::from_translation(v) * own)),
                     None if swelling <= 0.0 => transforms[base],
-                    None => to_f32(&(parent * own)),
+                    None => to_f32(&(frame * own)),
                 });
             }
         }
@@ -181,7 +221,8 @@ impl Joints {
         let band = self.band_ending_in(s).filter(|b| b.arc)?;
         let l = local.get(s).copied().unwrap_or_default();
         let at_cut = band.motion(l.rotation, &self.own_motion(s, &l), band.cut_share());
-        Some(*world.get(band.parent)? * at_cut)
+        world.get(band.parent)?;
+        Some(self.parent_frame(s, world, local) * at_cut)
     }
 
     /// The transform that carries section `s`'s pivot in the pose `local` whose world

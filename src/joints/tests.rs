@@ -553,3 +553,15 @@ fn the_path_between_two_sections_runs_through_the_section_both_hang_from() {
     assert_eq!(sorted(j.path(0, fore)), sorted(vec![fore, arm]));
     assert!(j.path(hand, hand).is_empty());
 }
+
+/// Bands compose in slot order, but a carrier before the section it carries: without
+/// carries the order is the slots', and a carried band moves after its carriers.
+#[test]
+fn carriers_compose_first_and_the_rest_keep_slot_order() {
+    use super::carry::carriers_first;
+    assert_eq!(carriers_first(4, &[]), vec![0, 1, 2, 3]);
+    // Slot 3 carries slot 1; slot 2 carries slot 0.
+    let place = carriers_first(4, &[(3, 1), (2, 0)]);
+    assert!(place[3] < place[1] && place[2] < place[0]);
+    assert_eq!(place, vec![1, 3, 0, 2]);
+}

@@ -220,10 +220,15 @@ impl Session {
     /// Call [`Session::checkpoint`] once before a drag; a ray that misses changes nothing.
     pub fn drag_pivot(&mut self, section: usize, origin: DVec3, dir: DVec3, free: bool) {
         let joints = &self.puppet.joints;
-        let Some((cut, parent)) = section
+        let Some(cut) = section
             .checked_sub(1)
             .and_then(|k| joints.cuts().get(k))
-            .zip(joints.sections().get(section).and_then(|s| s.parent))
+            .filter(|_| {
+                joints
+                    .sections()
+                    .get(section)
+                    .is_some_and(|s| s.parent.is_some())
+            })
         else {
             return;
         };
@@ -232,7 +237,7 @@ impl Session {
         };
         let world = joints.world(&self.local);
         let carrier = joints.cut_carrier(section, &world, &self.local);
-        let frame = carrier.unwrap_or(world[parent]);
+        let frame = carrier.unwrap_or_else(|| joints.parent_frame(section, &world, &self.local));
         let to_rest = frame.inverse();
         let (o, d) = (
             to_rest.transform_point3(origin),

@@ -227,11 +227,10 @@ impl Session {
                 continue;
             }
             self.touch(&[s]);
-            // W_s' = T(p) Q T(-p) W_s  ⇔  R_local' = R_parent⁻¹ Q R_parent R_local.
-            let parent = match self.puppet.joints.sections()[s].parent {
-                Some(p) => DQuat::from_mat3(&world[p].matrix3),
-                None => DQuat::IDENTITY,
-            };
+            // W_s' = T(p) Q T(-p) W_s  ⇔  R_local' = R_parent⁻¹ Q R_parent R_local, the
+            // parent's frame as it carries the section.
+            let frame = self.puppet.joints.parent_frame(s, &world, &self.local);
+            let parent = DQuat::from_mat3(&frame.matrix3);
             let l = &mut self.local[s];
             l.rotation = (parent.inverse() * rotation * parent * l.rotation).normalize();
             if !l.rotation.is_finite() {

@@ -369,8 +369,12 @@ impl View<'_> {
                 if !all && !s.selection.contains(&(k + 1)) {
                     continue;
                 }
-                let parent = sections[k + 1].parent.unwrap_or(0);
-                push_cut(lines, &world[parent], cut, half, [0.85, 0.85, 0.95, 0.8]);
+                // In the frame the section turns in (its parent's, as it carries it).
+                let frame = match sections[k + 1].parent {
+                    Some(_) => p.joints.parent_frame(k + 1, &world, &s.local),
+                    None => world[0],
+                };
+                push_cut(lines, &frame, cut, half, [0.85, 0.85, 0.95, 0.8]);
             }
         }
         if let Some(d) = &s.draft {
