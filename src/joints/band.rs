@@ -88,6 +88,11 @@
 //! `puppet bench joints` (the region's volume within 3 % at 45–135° on the human elbow and
 //! knee and two finger joints, `BENCHMARKS.md`).
 //!
+//! A fan keeps a symmetric child's volume, but not one whose cross-sections lie off the
+//! pivot's line (a head forward of its neck): its child's side of the band lengthens or
+//! shortens along the normal by what keeps the child's volume to first order, and the
+//! child moves with it ([`super::slide`], [`Band::shift`]).
+//!
 //! # Contacts
 //! Bent far enough, the inner sides of the two parts of a limb meet (at 135° a limb of
 //! radius `r` overlaps itself up to `2.4 r` from the pivot in a fan; an arc's inner side
@@ -216,6 +221,9 @@ pub struct Band {
     pub contacts: Vec<Contact>,
     /// Index of the first contact's transform in the pose.
     pub first_contact: usize,
+    /// A fan's slide per unit of turn (`G / H`, see [`super::slide`]): its levels move
+    /// along the normal by `−Φ a · slide` times their profile; zero for an arc.
+    pub slide: DVec3,
 }
 
 /// A vertex near a cut that is kept on its own side of the bend's contact plane.
@@ -250,7 +258,7 @@ impl Cut {
 /// half of it. Chosen by `puppet bench joints`: at 90° it sharpens the ring finger's
 /// largest crease by 28° instead of 31°, and at 135° the knee's by 33° instead of 49°
 /// and the middle finger's by 37° instead of 68°.
-fn weight(x: f64) -> f64 {
+pub(super) fn weight(x: f64) -> f64 {
     let x = x.clamp(0.0, 1.0);
     0.5 * (x * x * (3.0 - 2.0 * x) + x)
 }
@@ -300,12 +308,13 @@ impl Band {
         (along * w + across * sin + axis.cross(across) * versin) * (self.width + self.child_width)
     }
 
-    /// How far the child moves beyond a turn by `rotation` about the cut's pivot: the
-    /// bent centre line keeps its length, so it reaches past the corner a turn about the
-    /// pivot would make (see the module docs). Zero at rest and for a twist.
+    /// How far the child moves beyond a turn by `rotation` about the cut's pivot: along
+    /// an arc, the bent centre line keeps its length, so it reaches past the corner a
+    /// turn about the pivot would make (see the module docs), zero at rest and for a
+    /// twist; for a fan, its slide along the normal ([`Band::slide_for`]).
     pub fn shift(&self, rotation: DQuat) -> DVec3 {
         if !self.arc {
-            return DVec3::ZERO;
+            return self.normal * self.slide_for(rotation);
         }
         let (start, end, _) = self.ends();
         start + self.arc(rotation, 1.0) - (self.pivot + rotation * (end - self.pivot))
@@ -839,6 +848,7 @@ impl Joints {
                 arc,
                 contacts: Vec::new(),
                 first_contact: 0,
+                slide: DVec3::ZERO,
             });
             slot += 1;
         }
@@ -885,6 +895,7 @@ impl Joints {
         let slot_rank = super::carry::carriers_first(slots.len(), &carry_edges);
         let mut next = sections + slot * (LEVELS - 1);
         self.assign_levels(&mut entries, &slots, &slot_rank, &mut next);
+        self.measure_slides(&entries, &slots);
         self.band_of = vec![None; sections];
         for (k, band) in self.bands.iter().enumerate() {
             if let Some(slot) = band.as_ref().and_then(|b| self.band_of.get_mut(b.child)) {

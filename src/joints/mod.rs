@@ -25,9 +25,10 @@
 //!
 //! so rotating the upper arm carries the forearm and the hand with it, and the forearm's own
 //! rotation is about its elbow *as carried by the upper arm*. Every section can be posed at
-//! once. A section at the end of a joint band that bends as an arc (two limbs meeting: an
-//! elbow, a knee) also moves by the band's shift, `T(shift(R_s))` on the left of its own
-//! motion: the bent limb keeps its length ([`band`]).
+//! once. A section at the end of a joint band also moves by the band's shift,
+//! `T(shift(R_s))` on the left of its own motion: along an arc (two limbs meeting: an
+//! elbow, a knee) the bent limb keeps its length ([`band`]); at a fan the child slides
+//! along the cut's normal by what keeps its volume ([`slide`]).
 //!
 //! # Shared pivots
 //! The paper's pivot is "the rotation center for the two generated joint sections". A
@@ -56,6 +57,7 @@
 //! * `band`: joint bands, their levels, contacts and where they overlap;
 //! * `blend`: a band's weight blended over the surface around its seam;
 //! * `carry`: the siblings a band carries whole, and the order bands compose in;
+//! * `slide`: a fan's skin slid along its normal so the child keeps its volume;
 //! * `levels`: a band's weights rounded to its levels, short edges on one;
 //! * `pose`: composing a pose down the section tree;
 //! * `suggest`: joints suggested from the skeleton;
@@ -78,6 +80,7 @@ mod levels;
 mod pose;
 mod shape;
 pub mod skin;
+mod slide;
 pub mod spread;
 pub mod suggest;
 mod whole;
@@ -85,6 +88,7 @@ mod whole;
 pub use band::{Band, DEFAULT_BAND, MAX_BAND};
 pub use pose::{to_f32, PoseScratch};
 pub use shape::Shape;
+pub use slide::MAX_SLIDE;
 
 use glam::{DQuat, DVec3};
 use std::sync::Arc;
@@ -282,6 +286,9 @@ struct Body {
     /// without a mesh, where connected cuts take the whole positive side.
     start: Vec<u32>,
     neighbours: Vec<u32>,
+    /// The mesh's triangles (empty without a mesh): where a fan's slide is measured
+    /// ([`slide`]).
+    triangles: Vec<[u32; 3]>,
     /// For each vertex of a rider, its host vertex; `u32::MAX` for the body's own.
     host: Vec<u32>,
     /// Skeletal distance (medial radius) of each vertex; empty when unknown (then every
@@ -377,6 +384,7 @@ impl Joints {
                 points: skeleton_points.to_vec(),
                 start,
                 neighbours,
+                triangles: triangles.to_vec(),
                 host,
                 radius: Vec::new(),
                 rest: Vec::new(),

@@ -1,5 +1,5 @@
 //! Composing a pose down the section tree: `W(s) = W(parent) · T(pivot + t) · R · T(−pivot)`
-//! (at the end of an arc band, moved by its [`Band::shift`] too), then the joint bands'
+//! (at the end of a band, moved by its [`Band::shift`] too), then the joint bands'
 //! levels and contacts.
 
 use super::band::{Band, BULGE, LEVELS};
@@ -48,7 +48,8 @@ impl Joints {
             };
             let l = local.get(band.child).copied().unwrap_or_default();
             let child = self.own_motion(band.child, &l);
-            t *= self.band_motion(band, &l, &child, f64::from(level) / LEVELS as f64);
+            let slide = band.slide_for(l.rotation);
+            t *= self.band_motion(band, &l, &child, slide, f64::from(level) / LEVELS as f64);
         }
         t
     }
@@ -89,8 +90,10 @@ impl Joints {
             let l = local.get(band.child).copied().unwrap_or_default();
             let parent = scratch.world[band.parent];
             let child = self.own_motion(band.child, &l);
+            let slide = band.slide_for(l.rotation);
             for level in 0..=LEVELS {
-                let own = self.band_motion(band, &l, &child, level as f64 / LEVELS as f64);
+                let w = level as f64 / LEVELS as f64;
+                let own = self.band_motion(band, &l, &child, slide, w);
                 if (1..LEVELS).contains(&level) {
                     transforms.push(to_f32(&(parent * own)));
                 }
@@ -168,12 +171,9 @@ impl Joints {
 }
 
 impl Joints {
-    /// Section `s`'s motion relative to its parent in its local pose `l`: the turn about
-    /// its pivot and its translation, and, at the end of a band, the band's
-    /// [`Band::shift`].
     /// The local pose of section `s` whose motion relative to its parent is `motion` (its
     /// rotation part; a scale in it is dropped): the inverse of the composition above, the
-    /// arc band's shift included.
+    /// band's shift included.
     pub fn local_for(&self, s: usize, motion: &DAffine3) -> Local {
         let (_, rotation, translation) = motion.to_scale_rotation_translation();
         let rotation = rotation.normalize();
@@ -187,6 +187,9 @@ impl Joints {
         }
     }
 
+    /// Section `s`'s motion relative to its parent in its local pose `l`: the turn about
+    /// its pivot and its translation, and, at the end of a band, the band's
+    /// [`Band::shift`].
     fn own_motion(&self, s: usize, l: &Local) -> DAffine3 {
         let pivot = self.sections[s].pivot;
         let own = DAffine3::from_translation(pivot + l.translation)
@@ -200,14 +203,23 @@ impl Joints {
 
     /// The motion, relative to the parent, of the bone points a band moves with weight
     /// `w` of the child's `local` pose, `child` its own motion: along the arc
-    /// ([`Band::motion`]), or for a fan `T(pivot + w t) · slerp(I, R, w) · T(−pivot)`,
-    /// `pivot` the point the child turns about.
-    fn band_motion(&self, band: &Band, local: &Local, child: &DAffine3, w: f64) -> DAffine3 {
+    /// ([`Band::motion`]), or for a fan `T(pivot + w t + σ g(w) n) · slerp(I, R, w) ·
+    /// T(−pivot)`, `pivot` the point the child turns about, `σ` its `slide`
+    /// ([`Band::slide_for`]) and `g` the slide's [`super::slide::profile`].
+    fn band_motion(
+        &self,
+        band: &Band,
+        local: &Local,
+        child: &DAffine3,
+        slide: f64,
+        w: f64,
+    ) -> DAffine3 {
         if band.arc {
             return band.motion(local.rotation, child, w);
         }
         let pivot = self.sections[band.child].pivot;
-        DAffine3::from_translation(pivot + local.translation * w)
+        let slide = slide * super::slide::profile(band.cut_share(), w);
+        DAffine3::from_translation(pivot + local.translation * w + band.normal * slide)
             * DAffine3::from_quat(DQuat::IDENTITY.slerp(local.rotation, w))
             * DAffine3::from_translation(-pivot)
     }

@@ -311,6 +311,7 @@ fn arc_band() -> Band {
         arc: true,
         contacts: Vec::new(),
         first_contact: 0,
+        slide: DVec3::ZERO,
     }
 }
 
@@ -564,4 +565,23 @@ fn carriers_compose_first_and_the_rest_keep_slot_order() {
     let place = carriers_first(4, &[(3, 1), (2, 0)]);
     assert!(place[3] < place[1] && place[2] < place[0]);
     assert_eq!(place, vec![1, 3, 0, 2]);
+}
+
+/// A fan's slide profile (`slide`): nothing up to the seam, then evenly along the band to
+/// the whole slide at the child's end; `along` inverts the band's weight at every level
+/// and between.
+#[test]
+fn a_fans_slide_rises_evenly_from_its_seam_to_its_child_end() {
+    use super::band::{weight, LEVELS};
+    use super::slide::{along, profile};
+    for k in 0..=4 * LEVELS {
+        let x = k as f64 / (4 * LEVELS) as f64;
+        assert!((along(weight(x)) - x).abs() < 1e-12, "{x}");
+    }
+    let at_cut = 0.6;
+    assert_eq!(profile(at_cut, 0.0), 0.0);
+    assert_eq!(profile(at_cut, weight(0.5)), 0.0);
+    assert!(profile(at_cut, weight(at_cut)).abs() < 1e-12);
+    assert!((profile(at_cut, weight(0.8)) - 0.5).abs() < 1e-12);
+    assert!((profile(at_cut, 1.0) - 1.0).abs() < 1e-12);
 }

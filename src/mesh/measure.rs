@@ -115,62 +115,155 @@ pub fn cone_volume(
 /// If `region` is not one flag per triangle, or a triangle names a vertex beyond
 /// `positions`.
 pub fn capped_volume(positions: &[DVec3], triangles: &[[u32; 3]], region: &[bool]) -> f64 {
-    assert_eq!(region.len(), triangles.len(), "one flag per triangle");
-    let faces: Vec<[u32; 3]> = triangles
-        .iter()
-        .zip(region)
-        .filter(|(_, &r)| r)
-        .map(|(t, _)| *t)
-        .collect();
-    // Directed edges with no face across them run along the boundary.
-    let edges: std::collections::HashSet<(u32, u32)> = faces
-        .iter()
-        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
-        .collect();
-    let boundary: Vec<(u32, u32)> = edges
-        .iter()
-        .copied()
-        .filter(|&(a, b)| !edges.contains(&(b, a)))
-        .collect();
-    // Loops: the boundary's vertices joined along its edges.
-    let mut index = std::collections::HashMap::new();
-    for &(a, b) in &boundary {
-        for v in [a, b] {
-            let next = index.len() as u32;
-            index.entry(v).or_insert(next);
-        }
-    }
-    let edges: Vec<[u32; 3]> = boundary
-        .iter()
-        .map(|&(a, b)| [index[&a], index[&b], index[&b]])
-        .collect();
-    let loop_of = super::parts::components(index.len(), &edges);
-    let mut centroid = vec![(DVec3::ZERO, 0usize); index.len()];
-    for (&v, &i) in &index {
-        let c = &mut centroid[loop_of[i as usize] as usize];
-        c.0 += positions[v as usize];
-        c.1 += 1;
-    }
-    let apex = faces
+    let capped = Capped::new(triangles, region);
+    let apex = capped
+        .faces
         .first()
         .map_or(DVec3::ZERO, |t| positions[t[0] as usize]);
     let cone = |a: DVec3, b: DVec3, c: DVec3| (a - apex).dot((b - apex).cross(c - apex)) / 6.0;
-    let surface: f64 = faces
+    let centres = capped.centres(positions);
+    let surface: f64 = capped
+        .faces
         .iter()
         .map(|t| {
             let [a, b, c] = t.map(|i| positions[i as usize]);
             cone(a, b, c)
         })
         .sum();
-    let caps: f64 = boundary
+    let caps: f64 = capped
+        .boundary
         .iter()
-        .map(|&(a, b)| {
-            let (sum, count) = centroid[loop_of[index[&a] as usize] as usize];
-            let centre = sum / count as f64;
-            cone(positions[b as usize], positions[a as usize], centre)
-        })
+        .map(|&(a, b, l)| cone(positions[b as usize], positions[a as usize], centres[l]))
         .sum();
     surface + caps
+}
+
+/// The gradient of [`capped_volume`] over the region made of `faces` (the caps'
+/// centroids spread over their loops' vertices): how its capped volume changes as each
+/// vertex moves, to first order. Pairs (vertex, gradient), each vertex of the faces once,
+/// by vertex.
+///
+/// # Panics
+/// If a face names a vertex beyond `positions`.
+pub fn capped_volume_gradient(positions: &[DVec3], faces: &[[u32; 3]]) -> Vec<(u32, DVec3)> {
+    let capped = Capped::from_faces(faces.to_vec());
+    let Some(origin) = capped.faces.first().map(|t| positions[t[0] as usize]) else {
+        return Vec::new();
+    };
+    let at = |i: u32| positions[i as usize] - origin;
+    let mut gradient: HashMap<u32, DVec3> = HashMap::new();
+    // d(a·(b×c))/da = b×c, and cyclically.
+    let mut add = |v: u32, g: DVec3| *gradient.entry(v).or_insert(DVec3::ZERO) += g / 6.0;
+    for t in &capped.faces {
+        let [a, b, c] = t.map(at);
+        add(t[0], b.cross(c));
+        add(t[1], c.cross(a));
+        add(t[2], a.cross(b));
+    }
+    let centres: Vec<DVec3> = capped
+        .centres(positions)
+        .into_iter()
+        .map(|c| c - origin)
+        .collect();
+    let mut at_centre = vec![DVec3::ZERO; centres.len()];
+    for &(a, b, l) in &capped.boundary {
+        // The cap's triangle (b, a, centre).
+        let (pb, pa, c) = (at(b), at(a), centres[l]);
+        add(b, pa.cross(c));
+        add(a, c.cross(pb));
+        at_centre[l] += pb.cross(pa);
+    }
+    for &(v, l) in &capped.loop_of_vertex {
+        add(v, at_centre[l] / capped.loops[l] as f64);
+    }
+    let mut pairs: Vec<(u32, DVec3)> = gradient.into_iter().collect();
+    pairs.sort_unstable_by_key(|&(v, _)| v);
+    pairs
+}
+
+/// A region's faces and the loops of its boundary, each closed by a cap (see
+/// [`capped_volume`]).
+struct Capped {
+    faces: Vec<[u32; 3]>,
+    /// Boundary edges (a, b) with their loop.
+    boundary: Vec<(u32, u32, usize)>,
+    /// Each boundary vertex's loop, by vertex.
+    loop_of_vertex: Vec<(u32, usize)>,
+    /// Per loop, its vertex count.
+    loops: Vec<usize>,
+}
+
+impl Capped {
+    fn new(triangles: &[[u32; 3]], region: &[bool]) -> Capped {
+        assert_eq!(region.len(), triangles.len(), "one flag per triangle");
+        Capped::from_faces(
+            triangles
+                .iter()
+                .zip(region)
+                .filter(|(_, &r)| r)
+                .map(|(t, _)| *t)
+                .collect(),
+        )
+    }
+
+    fn from_faces(faces: Vec<[u32; 3]>) -> Capped {
+        // Directed edges with no face across them run along the boundary.
+        let edges: std::collections::HashSet<(u32, u32)> = faces
+            .iter()
+            .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+            .collect();
+        let mut boundary: Vec<(u32, u32)> = edges
+            .iter()
+            .copied()
+            .filter(|&(a, b)| !edges.contains(&(b, a)))
+            .collect();
+        boundary.sort_unstable();
+        // Loops: the boundary's vertices joined along its edges.
+        let mut index = HashMap::new();
+        for &(a, b) in &boundary {
+            for v in [a, b] {
+                let next = index.len() as u32;
+                index.entry(v).or_insert(next);
+            }
+        }
+        let joined: Vec<[u32; 3]> = boundary
+            .iter()
+            .map(|&(a, b)| [index[&a], index[&b], index[&b]])
+            .collect();
+        let loop_of = super::parts::components(index.len(), &joined);
+        let count = loop_of.iter().map(|&l| l as usize + 1).max().unwrap_or(0);
+        let mut loops = vec![0; count];
+        // In vertex order, so the caps' centroids add up alike on every run.
+        let mut loop_of_vertex: Vec<(u32, usize)> = index
+            .iter()
+            .map(|(&v, &i)| (v, loop_of[i as usize] as usize))
+            .collect();
+        loop_of_vertex.sort_unstable();
+        for &(_, l) in &loop_of_vertex {
+            loops[l] += 1;
+        }
+        Capped {
+            boundary: boundary
+                .into_iter()
+                .map(|(a, b)| (a, b, loop_of[index[&a] as usize] as usize))
+                .collect(),
+            faces,
+            loop_of_vertex,
+            loops,
+        }
+    }
+
+    /// Each loop's centroid.
+    fn centres(&self, positions: &[DVec3]) -> Vec<DVec3> {
+        let mut sum = vec![DVec3::ZERO; self.loops.len()];
+        for &(v, l) in &self.loop_of_vertex {
+            sum[l] += positions[v as usize];
+        }
+        sum.iter()
+            .zip(&self.loops)
+            .map(|(s, &count)| *s / count.max(1) as f64)
+            .collect()
+    }
 }
 
 #[cfg(test)]
@@ -256,5 +349,45 @@ mod tests {
         );
         assert!(capped.abs() < 0.01, "capped {capped}");
         assert!(cone > 0.05, "cone {cone}");
+    }
+
+    /// The gradient is the capped volume's: moving one vertex a little (a vertex of the
+    /// surface, one on the cut, which moves the cap's centre too) changes the volume by
+    /// the gradient's dot the move, to second order.
+    #[test]
+    fn the_capped_volume_gradient_matches_small_moves() {
+        let m = shapes::capsule(0.2, 1.0, 8, 40, 48);
+        let piece: Vec<bool> = m
+            .triangles
+            .iter()
+            .map(|t| t.iter().all(|&i| m.positions[i as usize].y <= 0.25))
+            .collect();
+        let faces: Vec<[u32; 3]> = m
+            .triangles
+            .iter()
+            .zip(&piece)
+            .filter(|(_, &r)| r)
+            .map(|(t, _)| *t)
+            .collect();
+        let gradient = capped_volume_gradient(&m.positions, &faces);
+        let v0 = capped_volume(&m.positions, &m.triangles, &piece);
+        let on_cut = gradient
+            .iter()
+            .filter(|&&(v, _)| (m.positions[v as usize].y - 0.25).abs() < 0.05)
+            .count();
+        assert!(on_cut > 0);
+        let h = 1e-6;
+        for &(v, g) in gradient.iter().step_by(37) {
+            for d in [DVec3::X, DVec3::Y, DVec3::Z] {
+                let mut moved = m.positions.clone();
+                moved[v as usize] += d * h;
+                let dv = (capped_volume(&moved, &m.triangles, &piece) - v0) / h;
+                assert!(
+                    (dv - g.dot(d)).abs() < 1e-6,
+                    "vertex {v}: {dv} against {}",
+                    g.dot(d)
+                );
+            }
+        }
     }
 }
