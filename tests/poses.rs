@@ -395,6 +395,20 @@ fn a_thick_seam_bends_over_a_strip_as_wide_as_it_is_thick() {
 /// The capped volume change of every section of `p` but `turned`, its parent and its
 /// children, where the bones hold the surface with only `turned` turned by `degrees` about
 /// `axes` axes across its cut: the largest, in %, with the section's name.
+/// Section `s`'s faces (every vertex in it) and the volume they hold at rest, each cut
+/// across them closed (`capped_volume`).
+fn section_region(p: &Puppet, s: usize) -> (Vec<bool>, f64) {
+    let section_of = p.joints.section_of();
+    let faces: Vec<bool> = p
+        .mesh
+        .triangles
+        .iter()
+        .map(|t| t.iter().all(|&i| usize::from(section_of[i as usize]) == s))
+        .collect();
+    let rest = puppet::mesh::measure::capped_volume(&p.mesh.positions, &p.mesh.triangles, &faces);
+    (faces, rest)
+}
+
 fn others_volume(p: &Puppet, turned: usize, degrees: f64, axes: usize) -> (f64, String) {
     use puppet::mesh::measure::capped_volume;
     let sections = p.joints.sections();
@@ -405,18 +419,13 @@ fn others_volume(p: &Puppet, turned: usize, degrees: f64, axes: usize) -> (f64, 
         .expect("a cut made the section")
         .normal;
     let across = normal.any_orthonormal_vector();
-    let section_of = p.joints.section_of();
     let triangles = &p.mesh.triangles;
     let mut worst = (0.0f64, String::new());
     for s in 0..sections.len() {
         if s == turned || sections[turned].parent == Some(s) || sections[s].parent == Some(turned) {
             continue;
         }
-        let faces: Vec<bool> = triangles
-            .iter()
-            .map(|t| t.iter().all(|&i| usize::from(section_of[i as usize]) == s))
-            .collect();
-        let rest = capped_volume(&p.mesh.positions, triangles, &faces);
+        let (faces, rest) = section_region(p, s);
         if rest.abs() < 1e-12 {
             continue;
         }
@@ -516,15 +525,10 @@ fn a_fan_keeps_its_childs_volume_either_way_it_turns() {
         root.join("tests/data/characters/teddy.obj"),
     ] {
         let p = suggested(&path);
-        let section_of = p.joints.section_of();
         let triangles = &p.mesh.triangles;
         for band in p.joints.bands().iter().flatten().filter(|b| !b.arc) {
             let s = band.child;
-            let faces: Vec<bool> = triangles
-                .iter()
-                .map(|t| t.iter().all(|&i| usize::from(section_of[i as usize]) == s))
-                .collect();
-            let rest = capped_volume(&p.mesh.positions, triangles, &faces);
+            let (faces, rest) = section_region(&p, s);
             if rest.abs() < 1e-12 {
                 continue;
             }
