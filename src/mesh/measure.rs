@@ -308,20 +308,21 @@ mod tests {
         assert_eq!(largest_crease(&rest, &now, &triangles, &[true, false]), 0.0);
     }
 
+    /// One flag per face of `m`: whether all three of its vertices satisfy `inside`.
+    fn faces_where(m: &crate::mesh::Mesh, inside: impl Fn(DVec3) -> bool) -> Vec<bool> {
+        m.triangles
+            .iter()
+            .map(|t| t.iter().all(|&i| inside(m.positions[i as usize])))
+            .collect()
+    }
+
     /// A piece of a tube bent as an arc (every ring square to the bent centre line, which
     /// keeps its length: by Pappus the piece holds what it held) keeps its capped volume,
     /// while its cone from the near cut's centre gains: the far cut, tilted, lies nearer.
     #[test]
     fn a_tube_bent_as_an_arc_keeps_its_capped_volume_but_not_its_cone() {
         let m = shapes::capsule(0.2, 1.0, 8, 40, 48);
-        let piece: Vec<bool> = m
-            .triangles
-            .iter()
-            .map(|t| {
-                t.iter()
-                    .all(|&i| m.positions[i as usize].y.abs() <= 0.5 + 1e-9)
-            })
-            .collect();
+        let piece = faces_where(&m, |p| p.y.abs() <= 0.5 + 1e-9);
         let bend = 60f64.to_radians();
         let radius = 1.0 / bend;
         let now: Vec<DVec3> = m
@@ -357,11 +358,7 @@ mod tests {
     #[test]
     fn the_capped_volume_gradient_matches_small_moves() {
         let m = shapes::capsule(0.2, 1.0, 8, 40, 48);
-        let piece: Vec<bool> = m
-            .triangles
-            .iter()
-            .map(|t| t.iter().all(|&i| m.positions[i as usize].y <= 0.25))
-            .collect();
+        let piece = faces_where(&m, |p| p.y <= 0.25);
         let faces: Vec<[u32; 3]> = m
             .triangles
             .iter()
