@@ -89,9 +89,9 @@
 //! knee and two finger joints, `BENCHMARKS.md`).
 //!
 //! A fan keeps a symmetric child's volume, but not one whose cross-sections lie off the
-//! pivot's line (a head forward of its neck): its child's side of the band lengthens or
-//! shortens along the normal by what keeps the child's volume to first order, and the
-//! child moves with it ([`super::slide`], [`Band::shift`]).
+//! pivot's line (a head forward of its neck), nor its parent's: each side of the band
+//! lengthens or shortens along the normal by what keeps its section's volume to first
+//! order, and the child moves with both ([`super::slide`], [`Band::shift`]).
 //!
 //! # Contacts
 //! Bent far enough, the inner sides of the two parts of a limb meet (at 135° a limb of
@@ -221,9 +221,12 @@ pub struct Band {
     pub contacts: Vec<Contact>,
     /// Index of the first contact's transform in the pose.
     pub first_contact: usize,
-    /// A fan's slide per unit of turn (`G / H`, see [`super::slide`]): its levels move
-    /// along the normal by `−Φ a · slide` times their profile; zero for an arc.
+    /// A fan's child side's slide per unit of turn (see [`super::slide`]): its levels
+    /// move along the normal by `−Φ a · slide` times their profile; zero for an arc.
     pub slide: DVec3,
+    /// A fan's parent side's slide per unit of turn (see [`super::slide`]), the child's
+    /// side and the child moving with it whole; zero for an arc and on a trunk.
+    pub parent_slide: DVec3,
 }
 
 /// A vertex near a cut that is kept on its own side of the bend's contact plane.
@@ -314,7 +317,7 @@ impl Band {
     /// twist; for a fan, its slide along the normal ([`Band::slide_for`]).
     pub fn shift(&self, rotation: DQuat) -> DVec3 {
         if !self.arc {
-            return self.normal * self.slide_for(rotation);
+            return self.normal * self.slide_for(rotation).whole();
         }
         let (start, end, _) = self.ends();
         start + self.arc(rotation, 1.0) - (self.pivot + rotation * (end - self.pivot))
@@ -849,6 +852,7 @@ impl Joints {
                 contacts: Vec::new(),
                 first_contact: 0,
                 slide: DVec3::ZERO,
+                parent_slide: DVec3::ZERO,
             });
             slot += 1;
         }

@@ -88,7 +88,7 @@ mod whole;
 pub use band::{Band, DEFAULT_BAND, MAX_BAND};
 pub use pose::{to_f32, PoseScratch};
 pub use shape::Shape;
-pub use slide::MAX_SLIDE;
+pub use slide::{Slide, MAX_SLIDE};
 
 use glam::{DQuat, DVec3};
 use std::sync::Arc;

@@ -3,6 +3,7 @@
 //! levels and contacts.
 
 use super::band::{Band, BULGE, LEVELS};
+use super::slide::Slide;
 use super::{Joints, Local, Section};
 use crate::sim::Pose;
 use glam::{Affine3A, DAffine3, DQuat, DVec3};
@@ -203,24 +204,24 @@ impl Joints {
 
     /// The motion, relative to the parent, of the bone points a band moves with weight
     /// `w` of the child's `local` pose, `child` its own motion: along the arc
-    /// ([`Band::motion`]), or for a fan `T(pivot + w t + σ g(w) n) · slerp(I, R, w) ·
-    /// T(−pivot)`, `pivot` the point the child turns about, `σ` its `slide`
-    /// ([`Band::slide_for`]) and `g` the slide's [`super::slide::profile`].
+    /// ([`Band::motion`]), or for a fan `T(pivot + w t + σ(w) n) · slerp(I, R, w) ·
+    /// T(−pivot)`, `pivot` the point the child turns about and `σ(w)` the band's `slide`
+    /// at `w` ([`Band::slide_for`], [`Slide::at`]).
     fn band_motion(
         &self,
         band: &Band,
         local: &Local,
         child: &DAffine3,
-        slide: f64,
+        slide: Slide,
         w: f64,
     ) -> DAffine3 {
         if band.arc {
             return band.motion(local.rotation, child, w);
         }
         let pivot = self.sections[band.child].pivot;
-        let slide = slide * super::slide::profile(band.cut_share(), w);
-        DAffine3::from_translation(pivot + local.translation * w + band.normal * slide)
-            * DAffine3::from_quat(DQuat::IDENTITY.slerp(local.rotation, w))
+        DAffine3::from_translation(
+            pivot + local.translation * w + band.normal * slide.at(band.cut_share(), w),
+        ) * DAffine3::from_quat(DQuat::IDENTITY.slerp(local.rotation, w))
             * DAffine3::from_translation(-pivot)
     }
 

@@ -312,6 +312,7 @@ fn arc_band() -> Band {
         contacts: Vec::new(),
         first_contact: 0,
         slide: DVec3::ZERO,
+        parent_slide: DVec3::ZERO,
     }
 }
 

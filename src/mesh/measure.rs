@@ -151,9 +151,15 @@ pub fn capped_volume_gradient(positions: &[DVec3], faces: &[[u32; 3]]) -> Vec<(u
         return Vec::new();
     };
     let at = |i: u32| positions[i as usize] - origin;
-    let mut gradient: HashMap<u32, DVec3> = HashMap::new();
+    let vertices = capped
+        .faces
+        .iter()
+        .flatten()
+        .max()
+        .map_or(0, |&v| v as usize + 1);
+    let mut gradient = vec![DVec3::ZERO; vertices];
     // d(a·(b×c))/da = b×c, and cyclically.
-    let mut add = |v: u32, g: DVec3| *gradient.entry(v).or_insert(DVec3::ZERO) += g / 6.0;
+    let mut add = |v: u32, g: DVec3| gradient[v as usize] += g / 6.0;
     for t in &capped.faces {
         let [a, b, c] = t.map(at);
         add(t[0], b.cross(c));
@@ -176,9 +182,12 @@ pub fn capped_volume_gradient(positions: &[DVec3], faces: &[[u32; 3]]) -> Vec<(u
     for &(v, l) in &capped.loop_of_vertex {
         add(v, at_centre[l] / capped.loops[l] as f64);
     }
-    let mut pairs: Vec<(u32, DVec3)> = gradient.into_iter().collect();
-    pairs.sort_unstable_by_key(|&(v, _)| v);
-    pairs
+    let mut used: Vec<u32> = capped.faces.iter().flatten().copied().collect();
+    used.sort_unstable();
+    used.dedup();
+    used.into_iter()
+        .map(|v| (v, gradient[v as usize]))
+        .collect()
 }
 
 /// A region's faces and the loops of its boundary, each closed by a cap (see
@@ -207,45 +216,50 @@ impl Capped {
     }
 
     fn from_faces(faces: Vec<[u32; 3]>) -> Capped {
-        // Directed edges with no face across them run along the boundary.
-        let edges: std::collections::HashSet<(u32, u32)> = faces
+        // Directed edges, sorted: one whose reverse no face has runs along the boundary.
+        let key = |a: u32, b: u32| (u64::from(a) << 32) | u64::from(b);
+        let mut edges: Vec<u64> = faces
             .iter()
-            .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+            .flat_map(|t| [key(t[0], t[1]), key(t[1], t[2]), key(t[2], t[0])])
             .collect();
-        let mut boundary: Vec<(u32, u32)> = edges
+        edges.sort_unstable();
+        edges.dedup();
+        let boundary: Vec<(u32, u32)> = edges
             .iter()
-            .copied()
-            .filter(|&(a, b)| !edges.contains(&(b, a)))
+            .map(|&e| ((e >> 32) as u32, e as u32))
+            .filter(|&(a, b)| edges.binary_search(&key(b, a)).is_err())
             .collect();
-        boundary.sort_unstable();
         // Loops: the boundary's vertices joined along its edges.
-        let mut index = HashMap::new();
+        let vertices = faces.iter().flatten().max().map_or(0, |&v| v as usize + 1);
+        let mut index = vec![u32::MAX; vertices];
+        let mut count = 0;
         for &(a, b) in &boundary {
             for v in [a, b] {
-                let next = index.len() as u32;
-                index.entry(v).or_insert(next);
+                if index[v as usize] == u32::MAX {
+                    index[v as usize] = count;
+                    count += 1;
+                }
             }
         }
         let joined: Vec<[u32; 3]> = boundary
             .iter()
-            .map(|&(a, b)| [index[&a], index[&b], index[&b]])
+            .map(|&(a, b)| [index[a as usize], index[b as usize], index[b as usize]])
             .collect();
-        let loop_of = super::parts::components(index.len(), &joined);
-        let count = loop_of.iter().map(|&l| l as usize + 1).max().unwrap_or(0);
-        let mut loops = vec![0; count];
+        let loop_of = super::parts::components(count as usize, &joined);
+        let loop_count = loop_of.iter().map(|&l| l as usize + 1).max().unwrap_or(0);
+        let mut loops = vec![0; loop_count];
         // In vertex order, so the caps' centroids add up alike on every run.
-        let mut loop_of_vertex: Vec<(u32, usize)> = index
-            .iter()
-            .map(|(&v, &i)| (v, loop_of[i as usize] as usize))
+        let loop_of_vertex: Vec<(u32, usize)> = (0..vertices as u32)
+            .filter(|&v| index[v as usize] != u32::MAX)
+            .map(|v| (v, loop_of[index[v as usize] as usize] as usize))
             .collect();
-        loop_of_vertex.sort_unstable();
         for &(_, l) in &loop_of_vertex {
             loops[l] += 1;
         }
         Capped {
             boundary: boundary
                 .into_iter()
-                .map(|(a, b)| (a, b, loop_of[index[&a] as usize] as usize))
+                .map(|(a, b)| (a, b, loop_of[index[a as usize] as usize] as usize))
                 .collect(),
             faces,
             loop_of_vertex,
