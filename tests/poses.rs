@@ -582,3 +582,32 @@ fn a_fan_keeps_both_sides_volumes_either_way_it_turns() {
         worst.0
     );
 }
+
+/// Which sides of a fan slide (`joints::slide`): a limb's side under a turning child does
+/// (the dog's thighs under their shins), a trunk's does not (the dog's body under its legs
+/// and head), nor the head's under the example's frog jaw, hinged at its cut's rim.
+#[test]
+fn a_limbs_side_slides_a_trunks_and_a_rim_hinges_do_not() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dog = suggested(&root.join("tests/data/characters/dog.obj"));
+    let band = |p: &Puppet, name: &str| {
+        let s = p.joints.find(name).expect(name);
+        let band = p.joints.bands().iter().flatten().find(|b| b.child == s);
+        band.expect("a band").clone()
+    };
+    for shin in ["shin.L", "shin.R"] {
+        let b = band(&dog, shin);
+        assert!(!b.arc && b.parent_slide.length() > 0.0, "{shin}: {}", b.arc);
+    }
+    for on_trunk in ["leg.L", "leg.R", "head"] {
+        let b = band(&dog, on_trunk);
+        assert!(!b.arc && b.slide.length() > 0.0, "{on_trunk}: {}", b.arc);
+        assert_eq!(b.parent_slide, glam::DVec3::ZERO, "{on_trunk}");
+    }
+    let spec = puppet::RigFile::load(&root.join("assets/examples/spot-jaw.rig.toml"))
+        .expect("example rig");
+    let (mesh, _) = puppet::mesh::load(spec.mesh.as_deref().expect("a mesh")).expect("spot");
+    let spot = Puppet::build(mesh, spec, puppet::progress::silent()).expect("a puppet");
+    let jaw = band(&spot, "jaw");
+    assert_eq!(jaw.parent_slide, glam::DVec3::ZERO, "the jaw's hinge slid");
+}
