@@ -30,7 +30,7 @@
 //! the child moves by both. A trunk's side (the root's) does not slide: there the normal
 //! is the limb's, across the trunk's own surface, so its slide moved the limb in and out
 //! of the body (the robot's arms met its chest 1° sooner, a leg crossed with soft flesh
-//! squashed 4 times deeper) for 10 fewer of 500 poses of `bench poses` beyond ±5 %.
+//! squashed 4 times deeper), for 10 of 500 poses of `bench poses` beyond ±5 % it saved.
 //! Nor does the side of a child that turns about a hinge at the cut's rim (a pivot more
 //! than a local radius off the cut's centre line: a jaw hinged at its back, 1.3 radii
 //! off; over the population's bands at most 1.0): its slide moved the hinge, and the
@@ -189,12 +189,25 @@ impl Joints {
                 !b.arc && !self.cuts[k].shared_pivot && self.sections[b.child].pivot == b.pivot
             })
         };
-        // Each vertex's gradient of its own section's capped volume, where a band slides.
+        // Whether a sliding band's parent side slides too: not a trunk's (the root's),
+        // nor one under a child hinged at the cut's rim (a jaw: the hinge stays put; see
+        // the module docs).
+        let parent_slides = |k: usize, band: &Band| {
+            let pivot = self.sections[band.child].pivot;
+            let rim = (self.cuts[k].point - pivot)
+                .reject_from(band.normal)
+                .length()
+                > band.radius;
+            self.sections[band.parent].parent.is_some() && !rim
+        };
+        // Each vertex's gradient of its own section's capped volume, where a side slides.
         let mut gradient = vec![DVec3::ZERO; n];
         let mut wanted = vec![false; self.sections.len()];
-        for band in slots.iter().filter_map(|&k| sliding(k)) {
-            wanted[band.parent] = true;
-            wanted[band.child] = true;
+        for &k in slots {
+            if let Some(band) = sliding(k) {
+                wanted[band.child] = true;
+                wanted[band.parent] |= parent_slides(k, band);
+            }
         }
         for (faces, _) in faces.iter().zip(&wanted).filter(|(_, &w)| w) {
             for (v, g) in capped_volume_gradient(&body.rest, faces) {
@@ -227,18 +240,10 @@ impl Joints {
                     slide[side][1] += (profile(at_cut, w) - against) * along;
                 }
             }
-            // Both slides together keep both volumes: `H [σ′, σ] = −Φ a · [G′, G]`; a
-            // trunk's side does not slide (see the module docs).
+            // Both slides together keep both volumes: `H [σ′, σ] = −Φ a · [G′, G]`.
             let [[a, b], [c, d]] = slide;
             let det = a * d - b * c;
-            let trunk = self.sections[band.parent].parent.is_none();
-            // Nor a side whose child turns about a hinge at the cut's rim (a jaw): the
-            // hinge stays where it is.
-            let rim = (self.cuts[k].point - pivot)
-                .reject_from(band.normal)
-                .length()
-                > band.radius;
-            let per_turn = if trunk || rim {
+            let per_turn = if !parent_slides(k, band) {
                 [DVec3::ZERO, turn[1] / d]
             } else if det.abs() > 1e-6 * (a * d).abs() {
                 [
