@@ -222,7 +222,8 @@ pub struct Band {
     /// Index of the first contact's transform in the pose.
     pub first_contact: usize,
     /// A fan's child side's slide per unit of turn (see [`super::slide`]): its levels
-    /// move along the normal by `−Φ a · slide` times their profile; zero for an arc.
+    /// move along the normal (turned with them) by `−Φ a · slide` times their profile;
+    /// zero for an arc.
     pub slide: DVec3,
     /// A fan's parent side's slide per unit of turn (see [`super::slide`]), the child's
     /// side and the child moving with it whole; zero for an arc and on a trunk.
@@ -314,10 +315,11 @@ impl Band {
     /// How far the child moves beyond a turn by `rotation` about the cut's pivot: along
     /// an arc, the bent centre line keeps its length, so it reaches past the corner a
     /// turn about the pivot would make (see the module docs), zero at rest and for a
-    /// twist; for a fan, its slide along the normal ([`Band::slide_for`]).
+    /// twist; for a fan, its slide along the normal turned with it ([`Band::slide_for`],
+    /// [`Band::slid`]).
     pub fn shift(&self, rotation: DQuat) -> DVec3 {
         if !self.arc {
-            return self.normal * self.slide_for(rotation).whole();
+            return self.slid(rotation, self.slide_for(rotation), 1.0);
         }
         let (start, end, _) = self.ends();
         start + self.arc(rotation, 1.0) - (self.pivot + rotation * (end - self.pivot))

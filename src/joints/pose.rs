@@ -219,9 +219,9 @@ impl Joints {
             return band.motion(local.rotation, child, w);
         }
         let pivot = self.sections[band.child].pivot;
-        DAffine3::from_translation(
-            pivot + local.translation * w + band.normal * slide.at(band.cut_share(), w),
-        ) * DAffine3::from_quat(DQuat::IDENTITY.slerp(local.rotation, w))
+        let turned = DQuat::IDENTITY.slerp(local.rotation, w);
+        DAffine3::from_translation(pivot + local.translation * w + band.slid(turned, slide, w))
+            * DAffine3::from_quat(turned)
             * DAffine3::from_translation(-pivot)
     }
 
