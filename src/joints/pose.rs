@@ -204,9 +204,10 @@ impl Joints {
 
     /// The motion, relative to the parent, of the bone points a band moves with weight
     /// `w` of the child's `local` pose, `child` its own motion: along the arc
-    /// ([`Band::motion`]), or for a fan `T(pivot + w t + σ(w) n) · slerp(I, R, w) ·
-    /// T(−pivot)`, `pivot` the point the child turns about and `σ(w)` the band's `slide`
-    /// at `w` ([`Band::slide_for`], [`Slide::at`]).
+    /// ([`Band::motion`]), or for a fan `T(pivot + w t + s(w)) · Q(w) · T(−pivot)`,
+    /// `Q(w) = slerp(I, R, w)`, `pivot` the point the child turns about and `s(w)` the
+    /// band's slide at `w` along the normal turned by `Q(w)` ([`Band::slide_for`],
+    /// [`Band::slid`]).
     fn band_motion(
         &self,
         band: &Band,

@@ -119,13 +119,6 @@ pub struct Slide {
     pub child: f64,
 }
 
-impl Slide {
-    /// How far the child moves along the normal: both slides.
-    pub fn whole(&self) -> f64 {
-        self.parent + self.child
-    }
-}
-
 impl Band {
     /// How far the bone points that move with share `w` of the child's motion slide
     /// when the band's two sides slide by `slide`: each side's slide by its share at `w`
@@ -251,9 +244,9 @@ impl Joints {
                     // The child's vertices move against the child, which moves by both.
                     let against = if side == 1 { 1.0 } else { 0.0 };
                     turn[side] += q.cross(dv) * (w - against);
-                    let along = band.normal.dot(dv);
-                    slide[side][0] += (rise(at_cut, x) - against) * along;
-                    slide[side][1] += (profile(at_cut, x) - against) * along;
+                    let normal = band.normal.dot(dv);
+                    slide[side][0] += (rise(at_cut, x) - against) * normal;
+                    slide[side][1] += (profile(at_cut, x) - against) * normal;
                 }
             }
             // Both slides together keep both volumes: `H [σ′, σ] = −Φ a · [G′, G]`.
