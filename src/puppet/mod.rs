@@ -169,6 +169,13 @@ impl Puppet {
         Ok(out)
     }
 
+    /// Builds the pose limit's balls now rather than on the first move with collision on
+    /// (a downloaded statue's take tens of milliseconds): what a window holds once a part
+    /// has been dragged, and what `bench poses` times.
+    pub fn ready_pose_limit(&mut self) {
+        self.pose_balls();
+    }
+
     /// The sections' balls for the pose limit, built when first needed, letting parts
     /// overlap by the flesh's give ([`crate::joints::collide::Balls::set_squash`]).
     fn pose_balls(&mut self) -> std::sync::Arc<crate::joints::collide::Balls> {

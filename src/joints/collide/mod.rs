@@ -1,0 +1,386 @@
+//! The pose limit: a section turned into another part of the body stops where their
+//! medial balls meet, however fast it was dragged.
+//!
+//! Each section's balls ([`crate::geom::balls::thin`] of the skeleton's) move rigidly with
+//! its world transform. Two balls of different sections *press* by how far they overlap
+//! in a pose, over the smaller radius; pairs at one joint that were neighbours at rest
+//! ([`crate::geom::balls::neighbours`]: the two sides of a joint) never press, nor does a
+//! ball of a joint's flesh with one of the section across that joint that touched it at
+//! rest (within [`TOUCHING`]: a chest's big ball reaching into the armpit); parts that
+//! merely rest near each other (an arm hanging by the body) do, and two other balls that
+//! overlapped at rest (a mesh's own overlap) press only by how much deeper they go. A pose is
+//! allowed while no pair presses more than the flesh gives ([`Balls::set_squash`]: by
+//! default nothing, a part stops at the other's surface), and the simulation's contacts
+//! keep the surfaces apart ([`crate::sim::contact`]).
+//!
+//! A move stops only the parts that met ([`Balls::hold`]): the joints between the two
+//! parts that pressed stop where they met, and the rest of the move goes on.
+//!
+//! `Balls::reach` walks from the pose the puppet has to the one asked for (each section's
+//! rotation slerped, its translation lerped) in steps no ball moves more than half the
+//! smallest moving radius in, so nothing passes through a part between two samples, and
+//! bisects to the last allowed pose before the first that is not. A pose that already
+//! presses (collision just turned on) may move anywhere that presses no more.
+//!
+//! The samples share their broad phase (`still`), a stretch of the move at a time (two samples,
+//! then each stretch twice the last, so a move stopped at its start, a part held against
+//! another and dragged on, gathers only what lies there): each moving ball gathers the
+//! still balls near the box its centre sweeps over the stretch, less the pairs that never
+//! press and those farther than it moves, and the moving balls of sections moving apart
+//! from its own whose boxes meet its box ([`Still::sweep`]); a sample then tests only
+//! those pairs, skipping a pair until its balls have moved past their gap.
+
+use super::{Joints, Local};
+use crate::geom::balls;
+use glam::{DAffine3, DVec3};
+use still::Still;
+
+mod still;
+
+/// How near at rest, as a share of the smaller ball's radius, a ball of a joint's flesh
+/// and one of the section across that joint lie for them never to press.
+const TOUCHING: f64 = 0.25;
+
+/// Samples at most along a move (beyond them the move's sampling is coarser).
+const MAX_SAMPLES: usize = 64;
+
+/// The smallest ball the sampling of a move heeds, as a share of the grid's cell (twice
+/// the 90th percentile radius).
+const SMALLEST: f64 = 0.125;
+
+/// Samples of a move's first stretch swept at once ([`Balls::reach`]).
+const FIRST_STRETCH: usize = 2;
+
+/// Grid cells a moving ball's box over a stretch may span before it is paired with every
+/// other box it meets ([`Still::sweep`]).
+const MAX_CELLS: i64 = 64;
+
+/// Bisection steps between the last allowed sample and the first that is not.
+const BISECTIONS: usize = 4;
+
+/// Pairs of parts that may stop a move each before the rest of it stops too
+/// ([`Balls::hold`]): each costs a walk along what is left of the move.
+const ROUNDS: usize = 32;
+
+/// The balls of a puppet's sections.
+#[derive(Clone, Debug, Default)]
+pub struct Balls {
+    center: Vec<DVec3>,
+    radius: Vec<f64>,
+    section: Vec<usize>,
+    /// The joint whose flesh each ball's vertex is (0: none, [`Joints::joint_flesh`];
+    /// empty: unknown).
+    joint: Vec<u16>,
+    /// Grid cell ([`balls::cell`]).
+    cell: f64,
+    /// How far two parts may overlap, as a share of the smaller ball's radius
+    /// ([`Balls::set_squash`]).
+    squash: f64,
+    /// Per cut, the sections on its two sides (the child, its parent); `None` for a cut
+    /// whose section is gone.
+    sides: Vec<Option<(usize, usize)>>,
+}
+
+impl Joints {
+    /// The balls the pose limit tests (see the module docs).
+    pub fn balls(&self) -> Balls {
+        let body = &self.body;
+        let n = body.points.len().min(body.radius.len());
+        let kept = balls::thin(
+            &body.points[..n],
+            &body.radius[..n],
+            &self.section_of[..n.min(self.section_of.len())],
+        );
+        let flesh = self.joint_flesh();
+        let mut out = Balls {
+            // (None known: every pair near at rest is a joint's flesh.)
+            joint: if flesh.is_empty() {
+                Vec::new()
+            } else {
+                kept.iter()
+                    .map(|&i| flesh.get(i).copied().unwrap_or(0))
+                    .collect()
+            },
+            center: kept.iter().map(|&i| body.points[i]).collect(),
+            radius: kept.iter().map(|&i| body.radius[i]).collect(),
+            section: kept
+                .iter()
+                .map(|&i| usize::from(self.section_of.get(i).copied().unwrap_or(0)))
+                .collect(),
+            cell: 0.0,
+            squash: 0.0,
+            sides: self
+                .cuts
+                .iter()
+                .map(|c| {
+                    let child = self.find(&c.name)?;
+                    Some((child, self.sections[child].parent?))
+                })
+                .collect(),
+        };
+        out.cell = balls::cell(&out.radius);
+        out
+    }
+}
+
+impl Balls {
+    /// Lets two parts overlap by `squash` of the smaller ball's radius (a puppet sets the
+    /// flesh's give, `World::flesh`: soft flesh lets a part sink in, and the contacts dent
+    /// it). By default 0: a part stops at the other's surface. (A fixed quarter, with each
+    /// move going on past the parts that met, let the contacts push deep points out alone
+    /// and tear the skin around them on 24 of 250 random poses, up to 13.8×; with none, on
+    /// 10, up to 5.4×: `docs/performance-log.md`, 2026-11-30.)
+    pub fn set_squash(&mut self, squash: f64) {
+        self.squash = if squash.is_finite() {
+            squash.max(0.0)
+        } else {
+            0.0
+        };
+    }
+
+    /// The overlap [`Balls::set_squash`] allows.
+    pub fn squash(&self) -> f64 {
+        self.squash
+    }
+
+    /// Number of balls.
+    pub fn len(&self) -> usize {
+        self.center.len()
+    }
+
+    /// True when there is none.
+    pub fn is_empty(&self) -> bool {
+        self.center.is_empty()
+    }
+
+    /// How much the deepest pair of balls presses in the pose whose world transforms are
+    /// `world` (see the module docs), among pairs with a ball of a section in `moving`.
+    pub fn pressing(&self, world: &[DAffine3], moving: &[bool]) -> f64 {
+        Still::new(self, world, moving).pressing(world, f64::INFINITY)
+    }
+
+    /// The deepest press of pair `a`, `b` at `pa`, `pb` (0 when they do not press or
+    /// were neighbours at rest).
+    fn press(&self, a: usize, b: usize, pa: DVec3, pb: DVec3) -> f64 {
+        let (ra, rb) = (self.radius[a], self.radius[b]);
+        let small = ra.min(rb);
+        let depth = ra + rb - pa.distance(pb);
+        if depth <= self.squash * small || self.never(a, b) {
+            return 0.0;
+        }
+        // The two sides of a joint press when they were not neighbours at rest: an arm
+        // hanging by the body presses it when it turns in.
+        let joint = self.joint.get(a).copied();
+        if joint.is_none() || (joint != Some(0) && joint == self.joint.get(b).copied()) {
+            return depth / small;
+        }
+        // Other parts press by how much deeper they go than they lay at rest (a mesh's
+        // own overlap).
+        let at_rest_overlap = ra + rb - self.center[a].distance(self.center[b]);
+        let beyond = depth - at_rest_overlap.max(0.0);
+        if beyond <= self.squash * small {
+            return 0.0;
+        }
+        beyond / small
+    }
+
+    /// Whether pair `a`, `b` never presses, whatever the pose: one section; the two sides
+    /// of a joint that were neighbours at rest (the surfaces within a few of the smaller
+    /// radii); or a ball of a joint's flesh and one of the section across that joint that
+    /// touched it at rest, within [`TOUCHING`] (a chest's big ball reaching into the armpit
+    /// does not hold the arm up).
+    fn never(&self, a: usize, b: usize) -> bool {
+        if self.section[a] == self.section[b] {
+            return true;
+        }
+        let (ra, rb) = (self.radius[a], self.radius[b]);
+        let small = ra.min(rb);
+        let at_rest = self.center[a].distance(self.center[b]);
+        let joint = self.joint.get(a).copied();
+        if joint.is_none() || (joint != Some(0) && joint == self.joint.get(b).copied()) {
+            return balls::neighbours(at_rest - small, ra.max(rb), small);
+        }
+        ra + rb - at_rest > -TOUCHING * small && (self.across(a, b) || self.across(b, a))
+    }
+
+    /// Whether ball `a` is of a joint's flesh and `b` of the section across that joint.
+    fn across(&self, a: usize, b: usize) -> bool {
+        let Some(&j) = self.joint.get(a) else {
+            return false;
+        };
+        let Some(&Some((child, parent))) = self.sides.get(usize::from(j).wrapping_sub(1)) else {
+            return false;
+        };
+        let (sa, sb) = (self.section[a], self.section[b]);
+        (sa == child && sb == parent) || (sa == parent && sb == child)
+    }
+
+    /// The pose the puppet reaches on its way from `from` to `to` when each turn goes as
+    /// far as it can: the whole move goes as far as `Balls::reach` allows; then the
+    /// joints between the two parts that pressed (on the way from one up to the section
+    /// they both hang from, and down to the other) stop there, and the rest of the move
+    /// goes on, again, until it is all made or [`ROUNDS`] parts have met. A finger
+    /// meeting the palm stops that finger, not the other four; a hand meeting a thigh
+    /// stops that arm and that leg, not the head.
+    ///
+    /// `None` when the whole move is allowed. The sections of each pair of parts that met
+    /// go into `met`.
+    pub fn hold(
+        &self,
+        joints: &Joints,
+        from: &[Local],
+        to: &[Local],
+        met: &mut Vec<(usize, usize)>,
+    ) -> Option<Vec<Local>> {
+        let mut reach = self.reach(joints, from, to);
+        if reach.share >= 1.0 {
+            return None;
+        }
+        let mut at = from.to_vec();
+        // (A pose shorter than the other is at rest beyond its end.)
+        at.resize(from.len().max(to.len()), Local::default());
+        let mut goal = to.to_vec();
+        goal.resize(at.len(), Local::default());
+        for round in 0..ROUNDS {
+            if round > 0 {
+                reach = self.reach(joints, &at, &goal);
+                if reach.share >= 1.0 {
+                    return Some(goal);
+                }
+            }
+            if reach.share > 0.0 {
+                at = between(&at, &goal, reach.share);
+            }
+            let Some((a, b)) = reach.pressed else {
+                break;
+            };
+            met.push((a, b));
+            let mut stopped = false;
+            for s in joints.path(a, b) {
+                if let (Some(g), Some(&now)) = (goal.get_mut(s), at.get(s)) {
+                    stopped |= *g != now;
+                    *g = now;
+                }
+            }
+            if !stopped {
+                break;
+            }
+        }
+        Some(at)
+    }
+
+    /// How far (0..1) along the move from `from` to `to` the puppet can go before two
+    /// parts press more than the squash (see the module docs): 1 when the whole move is
+    /// allowed, 0 when no part can move more than a hundredth of its smallest ball; and
+    /// the sections of the pair that pressed first.
+    fn reach(&self, joints: &Joints, from: &[Local], to: &[Local]) -> Reach {
+        let all = Reach {
+            share: 1.0,
+            pressed: None,
+        };
+        let start = joints.world(from);
+        let end = joints.world(to);
+        let moving: Vec<bool> = start
+            .iter()
+            .zip(&end)
+            .map(|(a, b)| !a.abs_diff_eq(*b, 1e-12))
+            .collect();
+        if self.is_empty() || !moving.iter().any(|&m| m) {
+            return all;
+        }
+        let mut still = Still::new(self, &start, &moving);
+        still.relative(&start, &end);
+        // Samples close enough that no ball jumps more than half its radius: two balls
+        // then move less than half their radii together between samples, and neither
+        // passes through the other. Balls under [`SMALLEST`] of the grid's cell count as
+        // that big (a crumb of a ball, at a crease, would ask for thousands of samples;
+        // the contacts keep such crumbs apart).
+        let floor = SMALLEST * self.cell;
+        let (mut far, mut smallest, mut jumps) = (0.0f64, f64::INFINITY, 0.0f64);
+        for &b in &still.movers {
+            let (s, c) = (self.section[b], self.center[b]);
+            let moved = start[s]
+                .transform_point3(c)
+                .distance(end[s].transform_point3(c));
+            let r = self.radius[b].max(floor);
+            far = far.max(moved);
+            smallest = smallest.min(r);
+            jumps = jumps.max(moved / (0.5 * r));
+        }
+        let samples = (jumps.ceil() as usize).clamp(1, MAX_SAMPLES);
+        let poses: Vec<Vec<DAffine3>> = (0..=samples)
+            .map(|k| joints.world(&between(from, to, k as f64 / samples as f64)))
+            .collect();
+        let world_at = |s: f64| joints.world(&between(from, to, s));
+        // The still balls each moving ball may meet along a stretch of the move, once per
+        // stretch: each sample of it then tests only those pairs. The first stretch is
+        // [`FIRST_STRETCH`] samples, each next one twice the last: a move stopped early (a
+        // part held against another and dragged on) gathers only what lies near its start.
+        let mut stretch = FIRST_STRETCH.min(samples);
+        let mut stretch_end = stretch;
+        still.sweep(&poses[..=stretch_end]);
+        let already = still
+            .pressing(&world_at(0.0), f64::INFINITY)
+            .max(self.squash);
+        let allowed = |p: f64| p <= already + 1e-9;
+        let mut good = 0.0;
+        for k in 1..=samples {
+            if k > stretch_end {
+                stretch *= 2;
+                stretch_end = (k - 1 + stretch).min(samples);
+                still.sweep(&poses[k - 1..=stretch_end]);
+            }
+            let s = k as f64 / samples as f64;
+            if allowed(still.pressing(&poses[k], already + 1e-9)) {
+                good = s;
+                continue;
+            }
+            let mut bad = s;
+            for _ in 0..BISECTIONS {
+                let mid = 0.5 * (good + bad);
+                if allowed(still.pressing(&world_at(mid), already + 1e-9)) {
+                    good = mid;
+                } else {
+                    bad = mid;
+                }
+            }
+            // The pair that presses past the bisection's last allowed pose.
+            let pressed = still
+                .deepest(&world_at(bad), already + 1e-9)
+                .1
+                .map(|(a, b)| (self.section[a], self.section[b]));
+            // A creep of less than a hundredth of a ball is no move: a limb held against
+            // the body settles.
+            let share = if good * far < 0.01 * smallest {
+                0.0
+            } else {
+                good
+            };
+            return Reach { share, pressed };
+        }
+        all
+    }
+}
+
+/// How far a move goes (`Balls::reach`) and, when it stops short, the two sections
+/// whose balls pressed.
+#[derive(Clone, Copy, Debug)]
+struct Reach {
+    share: f64,
+    pressed: Option<(usize, usize)>,
+}
+
+/// The pose a share `s` of the way from `from` to `to`: each section's rotation slerped,
+/// its translation lerped.
+pub fn between(from: &[Local], to: &[Local], s: f64) -> Vec<Local> {
+    (0..from.len().max(to.len()))
+        .map(|k| {
+            let a = from.get(k).copied().unwrap_or_default();
+            let b = to.get(k).copied().unwrap_or_default();
+            Local {
+                rotation: a.rotation.slerp(b.rotation, s).normalize(),
+                translation: a.translation.lerp(b.translation, s),
+            }
+        })
+        .collect()
+}
