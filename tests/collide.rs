@@ -511,6 +511,45 @@ fn a_part_that_meets_the_body_stops_only_its_own_turn() {
     );
 }
 
+/// A pose that already presses when collision comes on (posed with it off, the panel's
+/// switch turned after) goes back to where its parts meet, as if collision had been on
+/// while it was reached, and the contacts act between them: the cow's head turned 130°
+/// into its flank (48 faces crossing) ends at the 97° a hand's drag stops at, with none
+/// crossing. No move of a pose that already presses meets anything new: before, the
+/// pose limit let it stay, and the contacts, acting only between parts it had stopped,
+/// kept all 48 (between those parts alone, the head's points pushed out, 37).
+#[test]
+fn a_pose_pressing_when_collision_comes_on_goes_back_to_where_its_parts_meet() {
+    let p = press("cow head");
+    let spot = spot();
+    let posed = p.posed(&spot, Params::default()).unwrap();
+    let (mut puppet, local) = (posed.puppet, posed.local);
+    let off = puppet::puppet::press::measure(&puppet);
+    assert!(off.crossing >= 40, "the pose presses: {off:?}");
+    puppet.sim.set_params(colliding());
+    let mut played = local.clone();
+    let mut scratch = puppet::joints::PoseScratch::default();
+    for _ in 0..90 {
+        puppet.step_toward(&local, &mut played, &mut scratch);
+    }
+    let on = puppet::puppet::press::measure(&puppet);
+    let head = puppet.joints.find("part 1").unwrap();
+    let reached = played[head]
+        .rotation
+        .angle_between(DQuat::IDENTITY)
+        .to_degrees();
+    assert!(
+        on.crossing == 0 && (reached - 97.0).abs() <= 3.0,
+        "back to where the head meets the flank: {} faces crossing ({} before), at {reached:.1}°",
+        on.crossing,
+        off.crossing
+    );
+    assert!(
+        on.kinetic.is_finite() && on.volume[0] > -0.05 && on.volume[1] < 0.05,
+        "nothing blew up or squashed: {on:?}"
+    );
+}
+
 /// Collision on is never worse than off on random poses (the compare of `puppet bench
 /// poses`, on a sample): the dog in five seeded random poses, settled with collision off and
 /// on. On crosses no more faces than off, stretches no edge past 1.1× off's worst (above

@@ -74,6 +74,9 @@ pub struct Puppet {
     /// going to: the same move asked again (a pose held against the body, step after
     /// step) stays where it is without being tested again.
     stopped: Option<(Vec<Local>, Vec<Local>)>,
+    /// Whether the pose collision came on in was looked at for parts already pressing
+    /// each other ([`Puppet::hold_back`]).
+    pressing_found: bool,
     /// Up, front and left, as the last suggestion found them.
     frame: Option<crate::joints::suggest::Frame>,
     /// Suggest joints from the skeleton even when the mesh file has a skin.
@@ -138,6 +141,7 @@ impl Puppet {
             groups,
             balls: None,
             stopped: None,
+            pressing_found: false,
             frame: None,
             ignore_skin: false,
         };
@@ -170,10 +174,34 @@ impl Puppet {
     }
 
     /// Builds the pose limit's balls now rather than on the first move with collision on
-    /// (a downloaded statue's take tens of milliseconds): what a window holds once a part
-    /// has been dragged, and what `bench poses` times.
+    /// (a downloaded statue's take tens of milliseconds), and looks for parts pressing
+    /// each other at rest ([`Puppet::hold_back`]): what a window holds once a part has
+    /// been dragged, and what `bench poses` times.
     pub fn ready_pose_limit(&mut self) {
-        self.pose_balls();
+        let rest = vec![Local::default(); self.joints.sections().len()];
+        self.pressing_found = true;
+        if let Some(back) = self.back_off(&rest) {
+            self.stopped = Some((back, rest));
+        }
+    }
+
+    /// Once after collision comes on (or the cuts change), for the pose `pose` the puppet
+    /// holds: when parts of it press each other (posed with collision off, then turned
+    /// on), the pose they would have stopped in, reached from rest as a move is held back
+    /// ([`crate::joints::collide::Balls::hold`]), and the contacts act between them. No
+    /// move of a pose that already presses meets anything new, so its parts would stay
+    /// through each other. `None` when none press.
+    fn back_off(&mut self, pose: &[Local]) -> Option<Vec<Local>> {
+        let balls = self.pose_balls();
+        let mut met = balls.pressing_sections(&self.joints.world(pose));
+        if met.is_empty() {
+            return None;
+        }
+        let rest = vec![Local::default(); pose.len()];
+        let back = balls.hold(&self.joints, &rest, pose, &mut met);
+        let sections = self.joints.sections().len();
+        self.sim.contacts_between(sections, &met);
+        back
     }
 
     /// The sections' balls for the pose limit, built when first needed, letting parts
@@ -195,6 +223,7 @@ impl Puppet {
     pub fn sync_sections(&mut self) {
         self.balls = None;
         self.stopped = None;
+        self.pressing_found = false;
         self.sim.contacts_everywhere();
         self.sim.set_sections(self.joints.transform_of().to_vec());
         self.sim.set_joint_sections(self.joints.joint_sections());
@@ -277,10 +306,22 @@ impl Puppet {
     /// contacts act between the parts that met. Every path that poses a section goes
     /// through it (a drag, a glove, an animation, a recorded take, `simulate`), so a part
     /// stops at the body the same way whatever moves it. A `before` shorter than `local`
-    /// is at rest beyond its end.
+    /// is at rest beyond its end. The first call after collision comes on (or the cuts
+    /// change) takes a `before` whose parts already press each other back to where they
+    /// meet first, reached from rest (see `Puppet::back_off`).
     pub fn hold_back(&mut self, before: &[Local], local: &mut Vec<Local>) {
         if !self.sim.params().world.collision {
+            self.pressing_found = false;
             return;
+        }
+        let backed;
+        let mut before = before;
+        if !self.pressing_found {
+            self.pressing_found = true;
+            if let Some(back) = self.back_off(before) {
+                backed = back;
+                before = &backed;
+            }
         }
         if let Some((at, wanted)) = &self.stopped {
             if at.as_slice() == before && wanted == local {
@@ -317,6 +358,7 @@ impl Puppet {
             let before = std::mem::replace(local, wanted.to_vec());
             self.hold_back(&before, local);
         } else {
+            self.pressing_found = false;
             // Nothing to hold back: no allocation in the step.
             local.clear();
             local.extend_from_slice(wanted);

@@ -20,7 +20,9 @@
 //! rotation slerped, its translation lerped) in steps no ball moves more than half the
 //! smallest moving radius in, so nothing passes through a part between two samples, and
 //! bisects to the last allowed pose before the first that is not. A pose that already
-//! presses (collision just turned on) may move anywhere that presses no more.
+//! presses may move anywhere that presses no more (a puppet takes one that presses when
+//! collision comes on back to where its parts meet first, `Puppet::hold_back`, and finds
+//! them with [`Balls::pressing_sections`]).
 //!
 //! The samples share their broad phase (`still`), a stretch of the move at a time (two samples,
 //! then each stretch twice the last, so a move stopped at its start, a part held against
@@ -32,6 +34,7 @@
 
 use super::{Joints, Local};
 use crate::geom::balls;
+use crate::geom::cells::Cells;
 use glam::{DAffine3, DVec3};
 use still::Still;
 
@@ -157,6 +160,59 @@ impl Balls {
     /// `world` (see the module docs), among pairs with a ball of a section in `moving`.
     pub fn pressing(&self, world: &[DAffine3], moving: &[bool]) -> f64 {
         Still::new(self, world, moving).pressing(world, f64::INFINITY)
+    }
+
+    /// The pairs of sections (each once, the lower first) with balls that press each
+    /// other in the pose whose world transforms are `world` (see [`Balls::press`]).
+    pub fn pressing_sections(&self, world: &[DAffine3]) -> Vec<(usize, usize)> {
+        let posed: Vec<DVec3> = (0..self.len())
+            .map(|b| {
+                world
+                    .get(self.section[b])
+                    .map_or(self.center[b], |w| w.transform_point3(self.center[b]))
+            })
+            .collect();
+        // Cells twice the grid's: two small balls (at most a cell across each) that
+        // overlap lie in neighbouring cells.
+        let size = 2.0 * self.cell;
+        let key = |p: DVec3| {
+            let k = (p / size).floor();
+            [k.x as i64, k.y as i64, k.z as i64]
+        };
+        let big = |b: usize| self.radius[b] > self.cell || !posed[b].is_finite();
+        let mut grid: Cells<[i64; 3], Vec<u32>> = Cells::default();
+        for b in (0..self.len()).filter(|&b| !big(b)) {
+            grid.entry(key(posed[b])).or_default().push(b as u32);
+        }
+        let mut out = Vec::new();
+        let mut test = |a: usize, b: usize| {
+            let (sa, sb) = (self.section[a], self.section[b]);
+            let pair = (sa.min(sb), sa.max(sb));
+            if sa != sb && !out.contains(&pair) && self.press(a, b, posed[a], posed[b]) > 0.0 {
+                out.push(pair);
+            }
+        };
+        for (a, &at) in posed.iter().enumerate() {
+            if big(a) {
+                for b in (0..self.len()).filter(|&b| b != a && (!big(b) || b > a)) {
+                    test(a, b);
+                }
+                continue;
+            }
+            let k = key(at);
+            for x in k[0] - 1..=k[0] + 1 {
+                for y in k[1] - 1..=k[1] + 1 {
+                    for z in k[2] - 1..=k[2] + 1 {
+                        for &b in grid.get(&[x, y, z]).map_or(&[][..], |v| v.as_slice()) {
+                            if b as usize > a {
+                                test(a, b as usize);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        out
     }
 
     /// The deepest press of pair `a`, `b` at `pa`, `pb` (0 when they do not press or

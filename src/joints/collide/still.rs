@@ -619,6 +619,21 @@ mod tests {
                     }
                 }
                 assert_eq!(a, brute, "trial {trial}, s {s}");
+                // The pairs of sections pressing, every ball against every other.
+                let mut sections = Vec::new();
+                for x in 0..n {
+                    for y in x + 1..n {
+                        let (sx, sy) = (balls.section[x], balls.section[y]);
+                        let pair = (sx.min(sy), sx.max(sy));
+                        if balls.press(x, y, at(x), at(y)) > 0.0 && !sections.contains(&pair) {
+                            sections.push(pair);
+                        }
+                    }
+                }
+                let mut found = balls.pressing_sections(&w);
+                sections.sort_unstable();
+                found.sort_unstable();
+                assert_eq!(found, sections, "trial {trial}, s {s}");
                 pressed += usize::from(a > balls.squash);
             }
             let pairs = &swept.swept.as_ref().expect("swept").pairs;
