@@ -154,7 +154,8 @@ impl<'a> Still<'a> {
                 wide[i] = true;
                 continue;
             }
-            for &b in &self.big {
+            // A still ball it may press along the stretch: no farther than it moves.
+            let mut consider = |b: u32| {
                 let gap = self.gap(a, b as usize, first);
                 if gap < reach && !balls.never(a, b as usize) {
                     pairs.push(Pair {
@@ -163,21 +164,13 @@ impl<'a> Still<'a> {
                         gap,
                     });
                 }
-            }
+            };
+            self.big.iter().for_each(|&b| consider(b));
             for x in a_lo[0].max(lo[0])..=a_hi[0].min(hi[0]) {
                 for y in a_lo[1].max(lo[1])..=a_hi[1].min(hi[1]) {
                     for z in a_lo[2].max(lo[2])..=a_hi[2].min(hi[2]) {
                         if let Some(list) = self.grid.get(&[x, y, z]) {
-                            for &b in list {
-                                let gap = self.gap(a, b as usize, first);
-                                if gap < reach && !balls.never(a, b as usize) {
-                                    pairs.push(Pair {
-                                        mover: i as u32,
-                                        ball: b,
-                                        gap,
-                                    });
-                                }
-                            }
+                            list.iter().for_each(|&b| consider(b));
                         }
                     }
                 }
