@@ -677,3 +677,67 @@ fn a_limbs_side_slides_a_trunks_and_a_rim_hinges_do_not() {
     let jaw = band(&spot, "jaw");
     assert_eq!(jaw.parent_slide, glam::DVec3::ZERO, "the jaw's hinge slid");
 }
+
+/// Two bends on one short section keep its volume together (`joints::slide`: the cross
+/// term): where a fan's band and its child's band overlap (the lizard's, the ant's and
+/// the dog's thighs, upper arms and tails between two joints), the two bent by 60° about
+/// axes across their cuts, four ways and either sign, change the section's capped volume
+/// by at most 10 %, and by more than 5 % in at most a tenth of the turns (measured: 8.2 %,
+/// the dog's tail; 10 of 176; median 0.7 %). Without the cross term, 15.2 %, 104 of 176,
+/// median 5.8 %.
+#[test]
+fn two_bends_on_one_short_section_keep_its_volume_together() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut worst = Worst::default();
+    let (mut checked, mut beyond) = (0, 0);
+    for path in [
+        root.join("tests/data/characters/lizard.obj"),
+        root.join("tests/data/characters/ant.obj"),
+        root.join("tests/data/characters/dog.obj"),
+    ] {
+        let p = suggested(&path);
+        let bands: Vec<&puppet::joints::Band> = p.joints.bands().iter().flatten().collect();
+        for band in &bands {
+            if band.cross.is_empty() || section_region(&p, band.child).1.abs() < 1e-12 {
+                continue;
+            }
+            for below in bands.iter().filter(|b| b.parent == band.child) {
+                for k in 0..4 {
+                    let turn = |b: &puppet::joints::Band, k: usize| {
+                        let across = b.normal.any_orthonormal_vector();
+                        glam::DQuat::from_axis_angle(
+                            b.normal,
+                            std::f64::consts::FRAC_PI_2 * k as f64,
+                        ) * across
+                    };
+                    for (sa, sb) in [(1.0, 1.0), (1.0, -1.0)] {
+                        let mut target =
+                            vec![puppet::joints::Local::default(); p.joints.sections().len()];
+                        target[band.child] =
+                            puppet::joints::Local::axis_angle(turn(band, k), 60.0 * sa);
+                        target[below.child] =
+                            puppet::joints::Local::axis_angle(turn(below, k), 60.0 * sb);
+                        let now = poses::targets(&p, &target);
+                        let change = volume_change(&p, band.child, &now);
+                        worst.see(change, || {
+                            format!("{}'s {}", stem(&path), p.joints.sections()[band.child].name)
+                        });
+                        checked += 1;
+                        beyond += usize::from(change.abs() > 5.0);
+                    }
+                }
+            }
+        }
+    }
+    assert!(checked >= 100, "only {checked} turns");
+    assert!(
+        worst.0.abs() <= 10.0,
+        "{} changed by {:+.1} %",
+        worst.1,
+        worst.0
+    );
+    assert!(
+        beyond * 10 <= checked,
+        "{beyond} of {checked} turns changed a section by more than 5 %"
+    );
+}

@@ -31,6 +31,8 @@ pub fn animation(clip: &Clip, skin: &Skin, joints: &Joints) -> Animation {
         })
         .collect();
     let mut world = vec![DAffine3::IDENTITY; sections.len()];
+    let mut motion = world.clone();
+    let mut turned = vec![crate::joints::Local::default(); sections.len()];
     let last = clip.frames.len().saturating_sub(1);
     for (k, frame) in clip.frames.iter().enumerate() {
         let time = if k == last {
@@ -38,14 +40,22 @@ pub fn animation(clip: &Clip, skin: &Skin, joints: &Joints) -> Animation {
         } else {
             (k as f64 / clip.fps).min(clip.duration)
         };
+        // Every section's motion relative to its parent first: a band's slide depends on
+        // the turns of the sections around it.
         for &s in joints.parents_first() {
             let parent = sections[s].parent.map_or(DAffine3::IDENTITY, |p| world[p]);
-            let (Some(j), Some(t)) = (joint[s], track_of[s]) else {
-                world[s] = parent;
+            world[s] = match joint[s] {
+                Some(j) => affine(frame[j]) * affine(skin.joints[j].rest).inverse(),
+                None => parent,
+            };
+            motion[s] = parent.inverse() * world[s];
+            turned[s].rotation = motion[s].to_scale_rotation_translation().1.normalize();
+        }
+        for &s in joints.parents_first() {
+            let (Some(_), Some(t)) = (joint[s], track_of[s]) else {
                 continue;
             };
-            world[s] = affine(frame[j]) * affine(skin.joints[j].rest).inverse();
-            let local = joints.local_for(s, &(parent.inverse() * world[s]));
+            let local = joints.local_for(s, &motion[s], &turned);
             let (axis, angle) = local.rotation.to_axis_angle();
             tracks[t].key.push(Key {
                 time,

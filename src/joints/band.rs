@@ -126,7 +126,7 @@
 
 use super::blend::{Guess, Hold};
 use super::{Cut, Joints};
-use glam::{DAffine3, DQuat, DVec3};
+use glam::{DAffine3, DMat3, DQuat, DVec3};
 
 /// Band half-width in local medial radii when a cut does not say, chosen by
 /// `puppet bench joints` (no face crossing at 45–135° on the measured joints; the widest
@@ -228,6 +228,26 @@ pub struct Band {
     /// A fan's parent side's slide per unit of turn (see [`super::slide`]), the child's
     /// side and the child moving with it whole; zero for an arc and on a trunk.
     pub parent_slide: DVec3,
+    /// Where this band's child section is bent by two bands at once (its own and a
+    /// child's, overlapping on a short section): the second-order change of its volume
+    /// those bends make together, `Σ a_xᵀ C a_y` over pairs of sections' rotation
+    /// vectors (see [`super::slide`]), which the two slides take back too.
+    pub cross: Vec<Cross>,
+    /// How far each side slides (parent's, child's) per unit of that change.
+    pub cross_slide: [f64; 2],
+}
+
+/// Two bands that bend one section over the same vertices (see [`Band::cross`]): the
+/// sections whose rotations turn them, and how the section's volume changes with the two
+/// rotation vectors together, `a_xᵀ C a_y`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cross {
+    /// The section whose rotation turns the first band.
+    pub x: usize,
+    /// The section whose rotation turns the second.
+    pub y: usize,
+    /// `C`, per unit of turn squared (mesh units cubed).
+    pub coefficient: DMat3,
 }
 
 /// A vertex near a cut that is kept on its own side of the bend's contact plane.
@@ -315,11 +335,11 @@ impl Band {
     /// How far the child moves beyond a turn by `rotation` about the cut's pivot: along
     /// an arc, the bent centre line keeps its length, so it reaches past the corner a
     /// turn about the pivot would make (see the module docs), zero at rest and for a
-    /// twist; for a fan, its slide along the normal turned with it ([`Band::slide_for`],
-    /// [`Band::slid`]).
-    pub fn shift(&self, rotation: DQuat) -> DVec3 {
+    /// twist; for a fan, its `slide` along the normal turned with it
+    /// ([`super::Joints::slide`], [`Band::slid`]).
+    pub fn shift(&self, rotation: DQuat, slide: super::Slide) -> DVec3 {
         if !self.arc {
-            return self.slid(rotation, self.slide_for(rotation), 1.0);
+            return self.slid(rotation, slide, 1.0);
         }
         let (start, end, _) = self.ends();
         start + self.arc(rotation, 1.0) - (self.pivot + rotation * (end - self.pivot))
@@ -855,6 +875,8 @@ impl Joints {
                 first_contact: 0,
                 slide: DVec3::ZERO,
                 parent_slide: DVec3::ZERO,
+                cross: Vec::new(),
+                cross_slide: [0.0; 2],
             });
             slot += 1;
         }

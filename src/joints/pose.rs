@@ -22,8 +22,7 @@ impl Joints {
         world.clear();
         world.resize(self.sections.len(), DAffine3::IDENTITY);
         for &s in &self.order {
-            let l = local.get(s).copied().unwrap_or_default();
-            let own = self.own_motion(s, &l);
+            let own = self.own_motion(s, local);
             world[s] = match self.sections[s].parent {
                 Some(p) if self.is_carried(s) => world[p] * self.carry(s, local) * own,
                 Some(p) => world[p] * own,
@@ -48,8 +47,8 @@ impl Joints {
                 continue;
             };
             let l = local.get(band.child).copied().unwrap_or_default();
-            let child = self.own_motion(band.child, &l);
-            let slide = band.slide_for(l.rotation);
+            let child = self.own_motion(band.child, local);
+            let slide = self.slide(band, rotation_in(local));
             t *= self.band_motion(band, &l, &child, slide, f64::from(level) / LEVELS as f64);
         }
         t
@@ -90,8 +89,8 @@ impl Joints {
         for band in self.bands.iter().flatten() {
             let l = local.get(band.child).copied().unwrap_or_default();
             let parent = scratch.world[band.parent];
-            let child = self.own_motion(band.child, &l);
-            let slide = band.slide_for(l.rotation);
+            let child = self.own_motion(band.child, local);
+            let slide = self.slide(band, rotation_in(local));
             for level in 0..=LEVELS {
                 let w = level as f64 / LEVELS as f64;
                 let own = self.band_motion(band, &l, &child, slide, w);
@@ -173,31 +172,42 @@ impl Joints {
 
 impl Joints {
     /// The local pose of section `s` whose motion relative to its parent is `motion` (its
-    /// rotation part; a scale in it is dropped): the inverse of the composition above, the
-    /// band's shift included.
-    pub fn local_for(&self, s: usize, motion: &DAffine3) -> Local {
+    /// rotation part; a scale in it is dropped), the other sections turned as in `local`:
+    /// the inverse of the composition above, the band's shift included.
+    pub fn local_for(&self, s: usize, motion: &DAffine3, local: &[Local]) -> Local {
         let (_, rotation, translation) = motion.to_scale_rotation_translation();
         let rotation = rotation.normalize();
         let pivot = self.sections[s].pivot;
-        let shift = self
-            .band_ending_in(s)
-            .map_or(DVec3::ZERO, |band| band.shift(rotation));
+        let shift = self.band_ending_in(s).map_or(DVec3::ZERO, |band| {
+            let slide = self.slide(band, |k| {
+                if k == s {
+                    rotation
+                } else {
+                    rotation_in(local)(k)
+                }
+            });
+            band.shift(rotation, slide)
+        });
         Local {
             rotation,
             translation: translation - shift - pivot + rotation * pivot,
         }
     }
 
-    /// Section `s`'s motion relative to its parent in its local pose `l`: the turn about
+    /// Section `s`'s motion relative to its parent in the pose `local`: the turn about
     /// its pivot and its translation, and, at the end of a band, the band's
     /// [`Band::shift`].
-    fn own_motion(&self, s: usize, l: &Local) -> DAffine3 {
+    fn own_motion(&self, s: usize, local: &[Local]) -> DAffine3 {
+        let l = local.get(s).copied().unwrap_or_default();
         let pivot = self.sections[s].pivot;
         let own = DAffine3::from_translation(pivot + l.translation)
             * DAffine3::from_quat(l.rotation)
             * DAffine3::from_translation(-pivot);
         match self.band_ending_in(s) {
-            Some(band) => DAffine3::from_translation(band.shift(l.rotation)) * own,
+            Some(band) => {
+                let slide = self.slide(band, rotation_in(local));
+                DAffine3::from_translation(band.shift(l.rotation, slide)) * own
+            }
             None => own,
         }
     }
@@ -234,7 +244,7 @@ impl Joints {
     pub fn cut_carrier(&self, s: usize, world: &[DAffine3], local: &[Local]) -> Option<DAffine3> {
         let band = self.band_ending_in(s).filter(|b| b.arc)?;
         let l = local.get(s).copied().unwrap_or_default();
-        let at_cut = band.motion(l.rotation, &self.own_motion(s, &l), band.cut_share());
+        let at_cut = band.motion(l.rotation, &self.own_motion(s, local), band.cut_share());
         world.get(band.parent)?;
         Some(self.parent_frame(s, world, local) * at_cut)
     }
@@ -254,6 +264,11 @@ impl Joints {
         let k = (*self.band_of.get(s)?)?;
         self.bands.get(k)?.as_ref().filter(|b| b.child == s)
     }
+}
+
+/// Each section's rotation in the pose `local` (at rest where it has none).
+fn rotation_in(local: &[Local]) -> impl Fn(usize) -> DQuat + '_ {
+    move |s| local.get(s).map_or(DQuat::IDENTITY, |l| l.rotation)
 }
 
 /// The plane the two sides of a bent band meet on, in the parent's frame, through

@@ -115,27 +115,7 @@ pub fn cone_volume(
 /// If `region` is not one flag per triangle, or a triangle names a vertex beyond
 /// `positions`.
 pub fn capped_volume(positions: &[DVec3], triangles: &[[u32; 3]], region: &[bool]) -> f64 {
-    let capped = Capped::new(triangles, region);
-    let apex = capped
-        .faces
-        .first()
-        .map_or(DVec3::ZERO, |t| positions[t[0] as usize]);
-    let cone = |a: DVec3, b: DVec3, c: DVec3| (a - apex).dot((b - apex).cross(c - apex)) / 6.0;
-    let centres = capped.centres(positions);
-    let surface: f64 = capped
-        .faces
-        .iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|i| positions[i as usize]);
-            cone(a, b, c)
-        })
-        .sum();
-    let caps: f64 = capped
-        .boundary
-        .iter()
-        .map(|&(a, b, l)| cone(positions[b as usize], positions[a as usize], centres[l]))
-        .sum();
-    surface + caps
+    Capped::new(triangles, region).volume(positions)
 }
 
 /// The gradient of [`capped_volume`] over the region made of `faces` (the caps'
@@ -191,8 +171,8 @@ pub fn capped_volume_gradient(positions: &[DVec3], faces: &[[u32; 3]]) -> Vec<(u
 }
 
 /// A region's faces and the loops of its boundary, each closed by a cap (see
-/// [`capped_volume`]).
-struct Capped {
+/// [`capped_volume`]): found once, its volume measured for any positions.
+pub struct Capped {
     faces: Vec<[u32; 3]>,
     /// Boundary edges (a, b) with their loop.
     boundary: Vec<(u32, u32, usize)>,
@@ -215,7 +195,8 @@ impl Capped {
         )
     }
 
-    fn from_faces(faces: Vec<[u32; 3]>) -> Capped {
+    /// The region made of `faces`.
+    pub fn from_faces(faces: Vec<[u32; 3]>) -> Capped {
         // Directed edges, sorted: one whose reverse no face has runs along the boundary.
         let key = |a: u32, b: u32| (u64::from(a) << 32) | u64::from(b);
         let mut edges: Vec<u64> = faces
@@ -265,6 +246,74 @@ impl Capped {
             loop_of_vertex,
             loops,
         }
+    }
+
+    /// The region's volume with its vertices at `positions` (indexed by vertex), each
+    /// boundary loop closed by a fan from its centroid ([`capped_volume`]).
+    ///
+    /// # Panics
+    /// If a face names a vertex beyond `positions`.
+    pub fn volume(&self, positions: &[DVec3]) -> f64 {
+        let apex = self
+            .faces
+            .first()
+            .map_or(DVec3::ZERO, |t| positions[t[0] as usize]);
+        self.volume_from(positions, apex)
+    }
+
+    /// The part of the region whose faces and caps some vertex for which `moved` holds
+    /// touches: moving those vertices changes its [`Capped::volume_from`] a fixed apex
+    /// as much as the whole region's volume, for less work.
+    pub fn around(&self, moved: impl Fn(u32) -> bool) -> Capped {
+        let mut touched = vec![false; self.loops.len()];
+        for &(v, l) in &self.loop_of_vertex {
+            touched[l] |= moved(v);
+        }
+        Capped {
+            faces: self
+                .faces
+                .iter()
+                .filter(|t| t.iter().any(|&v| moved(v)))
+                .copied()
+                .collect(),
+            boundary: self
+                .boundary
+                .iter()
+                .filter(|b| touched[b.2])
+                .copied()
+                .collect(),
+            loop_of_vertex: self
+                .loop_of_vertex
+                .iter()
+                .filter(|p| touched[p.1])
+                .copied()
+                .collect(),
+            loops: self.loops.clone(),
+        }
+    }
+
+    /// The sum of the cones from `apex` over the region's faces and caps: its volume for
+    /// any apex when the region is the whole ([`Capped::volume`]).
+    ///
+    /// # Panics
+    /// If a face names a vertex beyond `positions`.
+    pub fn volume_from(&self, positions: &[DVec3], apex: DVec3) -> f64 {
+        let cone = |a: DVec3, b: DVec3, c: DVec3| (a - apex).dot((b - apex).cross(c - apex)) / 6.0;
+        let centres = self.centres(positions);
+        let surface: f64 = self
+            .faces
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| positions[i as usize]);
+                cone(a, b, c)
+            })
+            .sum();
+        let caps: f64 = self
+            .boundary
+            .iter()
+            .map(|&(a, b, l)| cone(positions[b as usize], positions[a as usize], centres[l]))
+            .sum();
+        surface + caps
     }
 
     /// Each loop's centroid.
