@@ -516,6 +516,21 @@ fn pose_bench_passes_and_fails_on_its_bounds() {
         let out = puppet(&["bench", "poses", hand, bound, "nan"]);
         assert_eq!(out.status.code(), Some(2), "{bound}");
     }
+    // A file that is no mesh: one error line, and no table's head before it.
+    let bad = common::scratch("bench_poses_bad_file").join("bad.obj");
+    std::fs::write(&bad, "not a mesh\n").unwrap();
+    let out = puppet(&["bench", "poses", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.starts_with("error: ") && err.contains("bad.obj") && err.lines().count() == 1,
+        "{err}"
+    );
+    assert!(
+        out.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
     // `--compare`: each pose with collision off, then on; on is no worse here, and the
     // step's cost with collision on passes a bound no timing misses.
     let rows = records(&["--compare", "--never-worse", "--max-collision-cost", "1e12"]);

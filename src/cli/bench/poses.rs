@@ -222,13 +222,21 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     let characters = population(&args.paths)?;
     let mut rows = Vec::new();
     let mut failures = Vec::new();
-    if !args.json && args.compare {
-        println!("| character | joints | poses | new crossing faces off → on (median; max) | worst stretch off → on (max) | farthest behind off → on (max, medial radii) | poses worse on | turn reached on (median; least %) | step off → on (median ms) | pose limit while moving (median; max ms) |");
-        println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
-    } else if !args.json {
-        println!("| character | joints | poses | worst stretch (median … max) | p99 stretch (max) | edges over 1.5× (max %) | edges over 2× (max %) | new crossing faces (median … max) | section volume (% min … max) | whole volume (% min … max) | NaN | step (ms) | pose (s) | open (s) |");
-        println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
-    }
+    // The table's head, printed with its first row: a file that fails to load before it
+    // leaves only its error line.
+    let mut head = Some(());
+    let mut print_head = || {
+        if head.take().is_none() {
+            return;
+        }
+        if args.compare {
+            println!("| character | joints | poses | new crossing faces off → on (median; max) | worst stretch off → on (max) | farthest behind off → on (max, medial radii) | poses worse on | turn reached on (median; least %) | step off → on (median ms) | pose limit while moving (median; max ms) |");
+            println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+        } else {
+            println!("| character | joints | poses | worst stretch (median … max) | p99 stretch (max) | edges over 1.5× (max %) | edges over 2× (max %) | new crossing faces (median … max) | section volume (% min … max) | whole volume (% min … max) | NaN | step (ms) | pose (s) | open (s) |");
+            println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+        }
+    };
     for (name, path) in characters {
         if args
             .only
@@ -363,6 +371,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             }
         }
         if !args.json && !mine.is_empty() {
+            print_head();
             if args.compare {
                 print_comparison(&name, joints, &mine);
             } else {
