@@ -271,7 +271,7 @@ fn the_torus_needs_a_spring_count_and_no_mesh() {
 fn short_stress_run_passes() {
     let mut bands = [0, 0];
     let mut poses = 0;
-    let mut held = 0;
+    let (mut held, mut toggled) = (0, 0);
     let mut ups = [0; 6];
     let (mut skins, mut mixes, mut pieces) = (0, 0, 0);
     let mut drawn: std::collections::BTreeMap<String, u64> = Default::default();
@@ -293,6 +293,7 @@ fn short_stress_run_passes() {
         bands[1] += report["fans"].as_u64().unwrap();
         poses += report["poses"].as_u64().unwrap();
         held += report["held"].as_u64().unwrap();
+        toggled += report["toggled"].as_u64().unwrap();
         skins += report["skins"].as_u64().unwrap();
         mixes += report["mixes"].as_u64().unwrap();
         pieces += report["pieces"].as_u64().unwrap();
@@ -313,6 +314,8 @@ fn short_stress_run_passes() {
     assert!(pieces >= 1, "{pieces}");
     // Poses held back by collision, and up along several axis directions, were drawn.
     assert!(held >= 1, "{held}");
+    // Collision was turned on and off mid-scenario.
+    assert!(toggled >= 2, "{toggled}");
     assert!(ups.iter().filter(|&&n| n > 0).count() >= 3, "{ups:?}");
     // Puppeteers' poses of every joint at once were drawn (`puppet::poses`).
     assert!(poses >= 2, "{poses}");

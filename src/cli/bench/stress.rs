@@ -19,7 +19,8 @@
 //! six axis directions, a third a floor across it (anywhere from below the puppet to its
 //! middle, friction 0..1: points on it may leave their constraint, none may be below it),
 //! half collision between sections (each new pose held back by the pose limit where parts
-//! meet, as every path that poses a part is), a third one to three material layers (by
+//! meet, as every path that poses a part is; now and then turned on or off mid-scenario,
+//! whatever the pose), a third one to three material layers (by
 //! section or painted per vertex with weights 0, 1 or random, each material drawn like the
 //! parameters), a third pin weights (0, 1 or random), and the bone-spring stiffening
 //! exponent is drawn from 0 to 4. A quarter of the scenarios are rigged by a random skin
@@ -100,6 +101,9 @@ struct Report {
     poses: usize,
     /// New poses the pose limit held back where parts meet (collision on).
     held: usize,
+    /// Times collision was turned on or off in the middle of a scenario, the pose as it
+    /// was (parts may press when it comes on).
+    toggled: usize,
     /// Scenarios with up along each axis direction (+x, −x, +y, −y, +z, −z).
     up: [usize; 6],
     /// Scenarios rigged by a random skin (its joints as skin cuts, its weights mixing
@@ -499,7 +503,7 @@ fn run_scenario(
         sim.set_params(q);
         sim.floor_height().map_or(f64::NEG_INFINITY, f64::from)
     });
-    let p = *sim.params();
+    let mut p = *sim.params();
     let n = sim.rig().len();
     let mut local = vec![Local::default(); joints.sections().len()];
     let mut pose = joints.pose(&local);
@@ -523,6 +527,13 @@ fn run_scenario(
             sim.set_sections(joints.transform_of().to_vec());
             sim.set_joint_sections(joints.joint_sections());
             pose = joints.pose(&local);
+        }
+        // Now and then collision is turned on or off, whatever the pose (a puppeteer's
+        // checkbox): parts may already press when it comes on.
+        if rng.below(40) == 0 {
+            p.world.collision = !p.world.collision;
+            sim.set_params(p);
+            report.toggled += 1;
         }
         let was = local.clone();
         if rng.below(12) == 0 {
