@@ -361,7 +361,7 @@ impl Band {
 }
 
 /// The axis and angle (`0..=π`) of the shortest turn a rotation makes.
-fn axis_angle(rotation: DQuat) -> (DVec3, f64) {
+pub(super) fn axis_angle(rotation: DQuat) -> (DVec3, f64) {
     let q = if rotation.w < 0.0 {
         -rotation
     } else {

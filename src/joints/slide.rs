@@ -68,7 +68,7 @@
 //!
 //! [`capped_volume_gradient`]: crate::mesh::measure::capped_volume_gradient
 
-use super::band::{weight, Cross, LEVELS};
+use super::band::{axis_angle, weight, Cross, LEVELS};
 use super::{Band, Joints};
 use crate::mesh::measure::{capped_volume_gradient, Capped};
 use glam::{DAffine3, DMat3, DQuat, DVec3};
@@ -178,12 +178,7 @@ impl Band {
 /// The rotation vector (axis times angle, the angle `0..=π`) of the shortest turn a
 /// rotation makes.
 fn turn(rotation: DQuat) -> DVec3 {
-    let q = if rotation.w < 0.0 {
-        -rotation
-    } else {
-        rotation
-    };
-    let (axis, angle) = q.normalize().to_axis_angle();
+    let (axis, angle) = axis_angle(rotation);
     axis * angle
 }
 
@@ -420,8 +415,7 @@ impl Joints {
                     .iter()
                     .map(|&(i, wx)| (i, wx, at_y.get(&i).copied().unwrap_or(rest_weight(y))))
                     .collect();
-                let shared = moved.iter().filter(|m| at_y.contains_key(&m.0)).count();
-                if shared == 0 {
+                if !moved.iter().any(|m| at_y.contains_key(&m.0)) {
                     continue;
                 }
                 let in_x: std::collections::HashSet<u32> =

@@ -261,9 +261,9 @@ impl Capped {
         self.volume_from(positions, apex)
     }
 
-    /// The part of the region whose faces and caps some vertex for which `moved` holds
-    /// touches: moving those vertices changes its [`Capped::volume_from`] a fixed apex
-    /// as much as the whole region's volume, for less work.
+    /// The faces and caps of the region that touch a vertex for which `moved` holds:
+    /// moving only those vertices changes this part's [`Capped::volume_from`] a fixed
+    /// apex by as much as it changes the whole region's volume, for less work.
     pub fn around(&self, moved: impl Fn(u32) -> bool) -> Capped {
         let mut touched = vec![false; self.loops.len()];
         for &(v, l) in &self.loop_of_vertex {
