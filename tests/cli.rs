@@ -623,7 +623,15 @@ fn controls_bench_passes_and_fails_when_packets_are_lost() {
 fn rough_surfaces_find_the_documented_share_of_joints() {
     for seed in ["1", "2", "3"] {
         let out = puppet(&[
-            "bench", "suggest", "--jitter", "0.1", "--seed", seed, "--json",
+            "bench",
+            "suggest",
+            "--set",
+            "tests/data/characters",
+            "--jitter",
+            "0.1",
+            "--seed",
+            seed,
+            "--json",
         ]);
         common::ok(&out);
         let rows: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");

@@ -1338,3 +1338,62 @@ fn legs_hanging_from_a_pelvis_are_legs() {
         assert!(s[arm].pivot.y > s[leg].pivot.y);
     }
 }
+
+/// The population of `tests/data/population` (artists' rigs): at least 40 characters, each
+/// with its mesh, up, front (but the snake) and half, both halves holding each rig family
+/// of four or more; `bench suggest --half` scores one half alone.
+#[test]
+fn the_population_is_labelled_and_split_in_two() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/population");
+    let mut halves = std::collections::BTreeMap::new();
+    let mut count = 0;
+    for e in std::fs::read_dir(&dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_none_or(|x| x != "toml") {
+            continue;
+        }
+        let labels = Labels::read(&p).unwrap();
+        assert!(labels.mesh_path(&p).exists(), "{}", p.display());
+        assert!(labels.up.is_some(), "{}", p.display());
+        let name = p.file_stem().unwrap().to_string_lossy().to_string();
+        assert!(labels.front.is_some() || name == "snake", "{name}");
+        assert!(labels.joints.iter().all(|j| !j.role.is_empty()));
+        *halves
+            .entry((labels.kind.clone(), labels.half.name()))
+            .or_insert(0) += 1;
+        count += 1;
+    }
+    assert!(count >= 40, "{count} characters");
+    for kind in ["quadruped", "fish", "humanoid", "robot"] {
+        for half in ["development", "held-out"] {
+            assert!(
+                halves
+                    .get(&(kind.to_string(), half))
+                    .is_some_and(|&n| n >= 2),
+                "{kind} in the {half} half: {halves:?}"
+            );
+        }
+    }
+    let out = puppet(&[
+        "bench", "suggest", "--half", "held-out", "--only", "fox", "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(rows.as_array().map(Vec::len), Some(1));
+    assert_eq!(rows[0]["half"], "held-out");
+    let out = puppet(&[
+        "bench",
+        "suggest",
+        "--half",
+        "development",
+        "--only",
+        "fox",
+        "--json",
+    ]);
+    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(rows.as_array().map(Vec::len), Some(0));
+}

@@ -1,10 +1,11 @@
 //! `puppet bench suggest`: the suggested joints of each labelled character against its
 //! labels (see `puppet::joints::suggest::labels`): recall of the required joints,
-//! spurious cuts, names, RigNet's joint-to-joint distance, and the time taken.
+//! spurious cuts, names, up and front, RigNet's joint-to-joint distance, and the time
+//! taken; totals per half of the population (`Half`), which must agree.
 
 use crate::cli::LoadArgs;
 use anyhow::{anyhow, bail, Result};
-use puppet::joints::suggest::labels::{Labels, Score, TOLERANCE};
+use puppet::joints::suggest::labels::{Half, Labels, Score, TOLERANCE};
 use puppet::joints::suggest::Up;
 use puppet::{Puppet, RigFile};
 use std::path::{Path, PathBuf};
@@ -13,9 +14,17 @@ use std::time::Instant;
 /// `puppet bench suggest`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Folder of the labelled set: one labels file (`NAME.toml`) per character.
-    #[arg(long, default_value = "tests/data/characters")]
-    set: PathBuf,
+    /// Folder of a labelled set: one labels file (`NAME.toml`) per character. Repeat it
+    /// for several; by default the hand-labelled set and the population from artists' rigs.
+    #[arg(
+        long,
+        default_values = ["tests/data/characters", "tests/data/population"]
+    )]
+    set: Vec<PathBuf>,
+    /// Only the characters of this half of the population (by default both, each with its
+    /// totals).
+    #[arg(long, value_enum)]
+    half: Option<Half>,
     /// Only the characters whose name contains this.
     #[arg(long)]
     only: Option<String>,
@@ -73,13 +82,20 @@ struct Row {
     character: String,
     kind: String,
     vertices: usize,
+    /// Its half of the population.
+    half: Half,
     /// Up as found, and whether the labels say the same.
     up: String,
     up_right: bool,
+    /// Front as found (the axis nearest it), and whether the labels say the same.
+    front: String,
+    front_right: bool,
     #[serde(flatten)]
     score: Score,
     ms_skeleton: f64,
     ms_suggest: f64,
+    /// Why the character could not be suggested on (the loader refused it).
+    refused: Option<String>,
 }
 
 /// The labels files in `dir`, by name.
@@ -97,7 +113,11 @@ fn label_files(dir: &Path) -> Result<Vec<(String, PathBuf)>> {
 pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     let mut rows = Vec::new();
     super::image_folder(args.images.as_ref())?;
-    for (name, file) in label_files(&args.set)? {
+    let mut files = Vec::new();
+    for set in &args.set {
+        files.extend(label_files(set)?);
+    }
+    for (name, file) in files {
         if args
             .only
             .as_ref()
@@ -106,83 +126,78 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             continue;
         }
         let labels = Labels::read(&file).map_err(|e| anyhow!("{}: {e}", file.display()))?;
-        let path = labels.mesh_path(&file);
-        let (mut mesh, report, shown) = crate::cli::load_mesh(Some(&path), load)?;
-        if let Some(share) = args.jitter {
-            mesh = puppet::mesh::shapes::roughen(&mesh, share, args.seed);
+        if args.half.is_some_and(|h| h != labels.half) {
+            continue;
         }
-        let height = mesh.longest_side();
-        // The skeleton and rig's time, once (a second build would find the skeleton in
-        // `skeleton::cache`), then the suggestion's, the median of three.
-        let t = Instant::now();
-        let built = Puppet::build_loaded(
-            mesh,
-            Some(&report),
-            RigFile::default(),
-            puppet::progress::silent(),
-        )
-        .map_err(|e| anyhow!("{shown}: {e}"))?;
-        let ms_skeleton = t.elapsed().as_secs_f64() * 1e3;
-        let (puppet, ms_suggest) = median_of_three(|| {
-            let mut puppet = built.clone();
-            puppet
-                .suggest_joints()
-                .map_err(|e| anyhow!("{shown}: {e}"))?;
-            Ok(puppet)
-        })?;
-        let score = labels.score(&puppet.joints.cut_pivots(), height);
-        let found = Up::nearest(puppet.up());
-        let up_right = labels.up.is_none_or(|u| u == found);
-        let up = found.to_string();
-        let vertices = puppet.mesh.positions.len();
-        if let Some(dir) = &args.images {
-            crate::cli::suggest::picture(puppet, &dir.join(format!("{name}.png")))?;
-        }
-        let row = Row {
-            character: name,
-            kind: labels.kind.clone(),
-            vertices,
-            up,
-            up_right,
-            score,
-            ms_skeleton,
-            ms_suggest,
+        let row = match measure(&name, &labels, &file, args, load) {
+            Ok(row) => row,
+            // A character the loader refuses scores nothing: its required joints are
+            // all missed, and it says why.
+            Err(e) => Row {
+                character: name,
+                kind: labels.kind.clone(),
+                vertices: 0,
+                half: labels.half,
+                up: "none".into(),
+                up_right: false,
+                front: "none".into(),
+                front_right: false,
+                score: labels.score(&[], 1.0),
+                ms_skeleton: 0.0,
+                ms_suggest: 0.0,
+                refused: Some(e.to_string()),
+            },
         };
         if !args.json {
             print_row(&row, rows.is_empty());
         }
         rows.push(row);
     }
-    let required: usize = rows.iter().map(|r| r.score.required).sum();
-    let found: usize = rows.iter().map(|r| r.score.found).sum();
-    let cuts: usize = rows.iter().map(|r| r.score.cuts).sum();
-    let spurious: usize = rows.iter().map(|r| r.score.spurious).sum();
-    let recall = 100.0 * found as f64 / required.max(1) as f64;
-    let spurious_share = 100.0 * spurious as f64 / cuts.max(1) as f64;
+    let halves: Vec<Half> = [Half::Development, Half::HeldOut]
+        .into_iter()
+        .filter(|h| rows.iter().any(|r| r.half == *h))
+        .collect();
+    let totals: Vec<(String, Totals)> = halves
+        .iter()
+        .map(|h| {
+            let of: Vec<&Row> = rows.iter().filter(|r| r.half == *h).collect();
+            (format!("{} half", h.name()), Totals::of(&of))
+        })
+        .chain(std::iter::once((
+            "all".to_string(),
+            Totals::of(&rows.iter().collect::<Vec<_>>()),
+        )))
+        .collect();
     if args.json {
         println!("{}", serde_json::to_string_pretty(&rows)?);
     } else {
-        let matched: usize = rows.iter().map(|r| r.score.matched).sum();
-        let named: usize = rows.iter().map(|r| r.score.named).sum();
-        let j2j = rows.iter().map(|r| r.score.j2j).sum::<f64>() / rows.len().max(1) as f64;
-        let ups = rows.iter().filter(|r| r.up_right).count();
-        let characters = rows.len();
-        println!(
-            "| **all** | | | {ups}/{characters} | {found}/{required} ({recall:.0} %) | {spurious}/{cuts} ({spurious_share:.0} %) | {named}/{matched} | {j2j:.1} | | | |"
-        );
+        for (name, t) in &totals {
+            println!(
+                "| **{name}** | | | {}/{} right | {}/{} ({:.0} %) | {}/{} ({:.0} %) | {}/{} | {:.1} | | | {}/{} fronts right |",
+                t.ups, t.characters, t.found, t.required, t.recall(), t.spurious, t.cuts,
+                t.spurious_share(), t.named, t.matched, t.j2j, t.fronts, t.characters
+            );
+        }
         println!(
             "\nA cut matches a joint within {:.0} % of the height (the longest side of the bounding box).",
             TOLERANCE * 100.0
         );
     }
-    if let Some(min) = args.min_recall {
-        if recall < min {
-            bail!("recall {recall:.1} % is below --min-recall {min}");
+    // Each half meets the targets (one half alone when `--half` picks it).
+    for (name, t) in totals
+        .iter()
+        .filter(|(n, _)| halves.len() < 2 || n != "all")
+    {
+        let (recall, spurious_share) = (t.recall(), t.spurious_share());
+        if let Some(min) = args.min_recall {
+            if recall < min {
+                bail!("{name}: recall {recall:.1} % is below --min-recall {min}");
+            }
         }
-    }
-    if let Some(max) = args.max_spurious {
-        if spurious_share > max {
-            bail!("{spurious_share:.1} % spurious cuts is above --max-spurious {max}");
+        if let Some(max) = args.max_spurious {
+            if spurious_share > max {
+                bail!("{name}: {spurious_share:.1} % spurious cuts is above --max-spurious {max}");
+            }
         }
     }
     if let Some(max) = args.max_time_share {
@@ -201,14 +216,112 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     Ok(())
 }
 
+/// Suggests joints on one labelled character and scores them.
+fn measure(name: &str, labels: &Labels, file: &Path, args: &Args, load: &LoadArgs) -> Result<Row> {
+    let path = labels.mesh_path(file);
+    let (mut mesh, report, shown) = crate::cli::load_mesh(Some(&path), load)?;
+    if let Some(share) = args.jitter {
+        mesh = puppet::mesh::shapes::roughen(&mesh, share, args.seed);
+    }
+    let height = mesh.longest_side();
+    // The skeleton and rig's time, once (a second build would find the skeleton in
+    // `skeleton::cache`), then the suggestion's, the median of three.
+    let t = Instant::now();
+    let built = Puppet::build_loaded(
+        mesh,
+        Some(&report),
+        RigFile::default(),
+        puppet::progress::silent(),
+    )
+    .map_err(|e| anyhow!("{shown}: {e}"))?;
+    let ms_skeleton = t.elapsed().as_secs_f64() * 1e3;
+    let (puppet, ms_suggest) = median_of_three(|| {
+        let mut puppet = built.clone();
+        puppet
+            .suggest_joints()
+            .map_err(|e| anyhow!("{shown}: {e}"))?;
+        Ok(puppet)
+    })?;
+    let score = labels.score(&puppet.joints.cut_pivots(), height);
+    let found = Up::nearest(puppet.up());
+    let up_right = labels.up.is_none_or(|u| u == found);
+    let up = found.to_string();
+    let front = puppet
+        .frame()
+        .map(|f| Up::nearest(f.front).to_string())
+        .unwrap_or_else(|| "none".into());
+    let front_right = labels.front.is_none_or(|f| f.to_string() == front);
+    let vertices = puppet.mesh.positions.len();
+    if let Some(dir) = &args.images {
+        crate::cli::suggest::picture(puppet, &dir.join(format!("{name}.png")))?;
+    }
+    let row = Row {
+        character: name.to_string(),
+        kind: labels.kind.clone(),
+        vertices,
+        half: labels.half,
+        up,
+        up_right,
+        front,
+        front_right,
+        score,
+        ms_skeleton,
+        ms_suggest,
+        refused: None,
+    };
+    Ok(row)
+}
+
+/// A set's totals over its characters.
+struct Totals {
+    characters: usize,
+    ups: usize,
+    fronts: usize,
+    required: usize,
+    found: usize,
+    cuts: usize,
+    spurious: usize,
+    matched: usize,
+    named: usize,
+    j2j: f64,
+}
+
+impl Totals {
+    fn of(rows: &[&Row]) -> Totals {
+        let sum = |f: fn(&Score) -> usize| rows.iter().map(|r| f(&r.score)).sum();
+        Totals {
+            characters: rows.len(),
+            ups: rows.iter().filter(|r| r.up_right).count(),
+            fronts: rows.iter().filter(|r| r.front_right).count(),
+            required: sum(|s| s.required),
+            found: sum(|s| s.found),
+            cuts: sum(|s| s.cuts),
+            spurious: sum(|s| s.spurious),
+            matched: sum(|s| s.matched),
+            named: sum(|s| s.named),
+            j2j: rows.iter().map(|r| r.score.j2j).sum::<f64>() / rows.len().max(1) as f64,
+        }
+    }
+
+    /// Required joints found, in %.
+    fn recall(&self) -> f64 {
+        100.0 * self.found as f64 / self.required.max(1) as f64
+    }
+
+    /// Spurious cuts, in % of the cuts.
+    fn spurious_share(&self) -> f64 {
+        100.0 * self.spurious as f64 / self.cuts.max(1) as f64
+    }
+}
+
 fn print_row(r: &Row, header: bool) {
     if header {
-        println!("| character | kind | vertices | up found | required found | spurious cuts | named as the role | CD-J2J (% height) | skeleton (ms) | suggestion (ms) | missed; spurious |");
-        println!("|---|---|---:|---|---:|---:|---:|---:|---:|---:|---|");
+        println!("| character | kind | vertices | up found | required found | spurious cuts | named as the role | CD-J2J (% height) | skeleton (ms) | suggestion (ms) | front found | half | missed; spurious |");
+        println!("|---|---|---:|---|---:|---:|---:|---:|---:|---:|---|---|---|");
     }
     let s = &r.score;
     println!(
-        "| {} | {} | {} | {}{} | {}/{} | {}/{} | {}/{} | {:.1} | {:.0} | {:.1} | {}; {} |",
+        "| {} | {} | {} | {}{} | {}/{} | {}/{} | {}/{} | {:.1} | {:.0} | {:.1} | {}{} | {} | {}; {} |",
         r.character,
         r.kind,
         r.vertices,
@@ -223,7 +336,13 @@ fn print_row(r: &Row, header: bool) {
         s.j2j,
         r.ms_skeleton,
         r.ms_suggest,
+        r.front,
+        if r.front_right { "" } else { " (wrong)" },
+        r.half.name(),
         s.missed.join(", "),
-        s.extra.join(", ")
+        match &r.refused {
+            Some(why) => format!("refused: {why}"),
+            None => s.extra.join(", "),
+        }
     );
 }

@@ -32,6 +32,13 @@ pub struct Labels {
     /// The up direction it is modelled with (`+y`, `+z`), when it says.
     #[serde(default)]
     pub up: Option<super::Up>,
+    /// The direction it faces (`+z`, glTF's), when it says.
+    #[serde(default)]
+    pub front: Option<super::Up>,
+    /// Which half of the population it is in: rules are chosen on the development half
+    /// only, and the held-out half checks that they carry over.
+    #[serde(default)]
+    pub half: Half,
     /// Where the mesh comes from and its licence, for meshes not generated here.
     #[serde(default)]
     pub credit: Option<String>,
@@ -41,6 +48,31 @@ pub struct Labels {
     /// The stretches where any cut is fair (`[[free]]`).
     #[serde(default)]
     pub free: Vec<Free>,
+}
+
+/// A half of the labelled population, fixed once.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, serde::Serialize, clap::ValueEnum,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum Half {
+    /// Where rules and thresholds are chosen (the labelled set the suggestion grew on is
+    /// all in it).
+    #[default]
+    Development,
+    /// Never looked at while choosing: a change that helps one half and hurts the other
+    /// is not kept.
+    HeldOut,
+}
+
+impl Half {
+    /// As written in a labels file.
+    pub fn name(self) -> &'static str {
+        match self {
+            Half::Development => "development",
+            Half::HeldOut => "held-out",
+        }
+    }
 }
 
 /// A labelled joint.
