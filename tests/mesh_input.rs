@@ -325,6 +325,40 @@ fn touching_sheets_are_separated() {
     }
 }
 
+/// A closed piece set into a ring of the surface (a low-poly eye's buried half, a cone
+/// from a ring of a ball to a point inside it: every ring edge has three faces and no
+/// piece there has an edge of one face) gets its own copies and closes on its own: the
+/// ball stays whole, two parts load where the file was refused.
+#[test]
+fn a_closed_piece_set_into_a_ring_goes_its_own_way() {
+    let mut m = puppet::mesh::shapes::uv_sphere(1.0, 12, 16);
+    let faces = m.triangles.len();
+    let mut ring: Vec<u32> = (0..m.positions.len() as u32)
+        .filter(|&v| (m.positions[v as usize].y + 0.5).abs() < 1e-9)
+        .collect();
+    assert_eq!(ring.len(), 16);
+    ring.sort_by(|&a, &b| {
+        let (p, q) = (m.positions[a as usize], m.positions[b as usize]);
+        p.z.atan2(p.x).total_cmp(&q.z.atan2(q.x))
+    });
+    let apex = m.positions.len() as u32;
+    m.positions.push(glam::DVec3::new(0.0, 0.2, 0.0));
+    for k in 0..16 {
+        m.triangles.push([ring[(k + 1) % 16], ring[k], apex]);
+    }
+    let dir = scratch("buried-cone");
+    let path = dir.join("buried.obj");
+    std::fs::write(&path, common::obj(&m)).unwrap();
+    let (mesh, report) = puppet::mesh::load(&path).expect("the ball with a buried cone loads");
+    let warnings = report.warnings().join("\n");
+    assert!(
+        warnings.contains("gave 1 piece meeting a larger one"),
+        "{warnings}"
+    );
+    assert_eq!(puppet::mesh::Parts::of(&mesh).len(), 2, "{warnings}");
+    assert!(mesh.triangles.len() >= faces + 16);
+}
+
 /// A large open piece hanging off an edge the surface shares (a skirt sewn to a body at
 /// its waist, as game characters are exported) is kept: it gets its own copies of the
 /// vertices there, its hole is filled, and it is a part of the puppet; a flap of a few
@@ -361,7 +395,10 @@ fn a_skirt_on_the_waist_is_kept_apart_not_dropped() {
     std::fs::write(&path, common::obj(&m)).unwrap();
     let (mesh, report) = puppet::mesh::load(&path).expect("the skirted body loads");
     let warnings = report.warnings().join("\n");
-    assert!(warnings.contains("gave 1 open piece"), "{warnings}");
+    assert!(
+        warnings.contains("gave 1 piece meeting a larger one"),
+        "{warnings}"
+    );
     assert!(!warnings.contains("fin"), "{warnings}");
     assert_eq!(puppet::mesh::Parts::of(&mesh).len(), 2);
     assert!(mesh.triangles.len() >= body.triangles.len() + 32);

@@ -140,7 +140,8 @@ pub struct LoadReport {
     /// Faces of fins dropped: open flaps of a few faces hanging off an edge a larger piece
     /// shares.
     pub fins: usize,
-    /// Larger open pieces hanging so, given their own copies of the vertices they shared.
+    /// Larger open pieces hanging so, and closed ones meeting a larger piece at an edge
+    /// that cannot be paired, given their own copies of the vertices they shared.
     pub detached: usize,
     /// PLY header lines read as comments though they lack the `comment` keyword.
     pub loose_comments: usize,
@@ -250,8 +251,8 @@ impl LoadReport {
         }
         if self.detached > 0 {
             w.push(format!(
-                "gave {} hanging off an edge the surface shares (trousers or a skirt meeting a body at its waist) {} own copies of the vertices there",
-                plural(self.detached, "open piece"),
+                "gave {} meeting a larger one along an edge of three or more faces (trousers or a skirt sewn to a body at its waist, an eye set into a head) {} own copies of the vertices there",
+                plural(self.detached, "piece"),
                 if self.detached == 1 { "its" } else { "their" }
             ));
         }
@@ -484,7 +485,9 @@ pub fn parse(
                 half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
             }
         }
-        if c.boundary > 0 {
+        // A detached piece's or a dropped fin's edges are new boundaries.
+        let boundary = c.boundary > 0 || report.fins + report.detached > 0;
+        if boundary {
             report.seams_welded = weld_seams(&mut mesh, &half, &apart);
             if report.seams_welded > 0 {
                 half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
@@ -505,7 +508,7 @@ pub fn parse(
         if split.vertices > 0 {
             half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
         }
-        if c.boundary > 0 && options.fill_holes > 0 {
+        if boundary && options.fill_holes > 0 {
             let before = mesh.triangles.len() as u32;
             holes = fill_holes(&mut mesh, &half, options.fill_holes);
             report.marks.hole_faces = (before..mesh.triangles.len() as u32).collect();
@@ -516,7 +519,7 @@ pub fn parse(
             if holes.filled > 0 {
                 half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
             }
-        } else if c.boundary > 0 {
+        } else if boundary {
             holes = fill_holes(&mut mesh.clone(), &half, 0);
         }
         lap(&mut report, "repair", "checking");

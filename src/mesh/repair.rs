@@ -81,12 +81,18 @@ pub(super) struct Fins {
 /// piece hanging so (a character's trousers or skirt meeting its body along the waist)
 /// is a piece of its own: it gets its own copies of the vertices it shares, its
 /// holes are then filled like any other, and it is attached where it meets the body
-/// (`attachments`). Pieces are faces joined across edges of exactly two faces. Leaves the
-/// mesh untouched when there is nothing to do.
+/// (`attachments`). Where that leaves more than two faces on such an edge (or on an edge
+/// of four or more faces that [`super::split::split_sheets`] cannot pair), the smallest
+/// closed piece there gets its own copies too, then the next, until two faces are left (a
+/// low-poly eye set into a ring of the head, its buried half a third piece). Pieces are faces
+/// joined across edges of exactly two faces. Leaves the mesh untouched when there is
+/// nothing to do.
 pub(super) fn drop_fins(mesh: &mut Mesh) -> Fins {
     use std::collections::HashMap;
     let n = mesh.triangles.len();
     let mut on_edge: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
+    // Per edge, its faces and whether each runs along it from the lower vertex.
+    let mut ways: HashMap<(u32, u32), Vec<(u32, bool)>> = HashMap::new();
     for (f, t) in mesh.triangles.iter().enumerate() {
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);
@@ -94,9 +100,18 @@ pub(super) fn drop_fins(mesh: &mut Mesh) -> Fins {
                 .entry((a.min(b), a.max(b)))
                 .or_default()
                 .push(f as u32);
+            ways.entry((a.min(b), a.max(b)))
+                .or_default()
+                .push((f as u32, a < b));
         }
     }
-    if !on_edge.values().any(|f| f.len() > 2 && f.len() % 2 == 1) {
+    // An edge of three or more faces that `split_sheets` cannot pair: an odd number, or
+    // faces that do not run half each way or do not pair about the edge.
+    let unpaired = |e: &(u32, u32), f: &Vec<u32>| {
+        f.len() > 2
+            && (f.len() % 2 == 1 || super::split::pair_around(mesh, e.0, e.1, &ways[e]).is_none())
+    };
+    if !on_edge.iter().any(|(e, f)| unpaired(e, f)) {
         return Fins::default();
     }
     // Pieces: faces joined across edges of two faces.
@@ -128,17 +143,18 @@ pub(super) fn drop_fins(mesh: &mut Mesh) -> Fins {
     let mut drop: std::collections::HashSet<u32> = std::collections::HashSet::new();
     let mut detach: std::collections::BTreeSet<u32> = std::collections::BTreeSet::new();
     let mut edges: Vec<&Vec<u32>> = on_edge
-        .values()
-        .filter(|f| f.len() > 2 && f.len() % 2 == 1)
+        .iter()
+        .filter(|(e, f)| unpaired(e, f))
+        .map(|(_, f)| f)
         .collect();
     edges.sort_unstable();
-    for faces in edges {
+    for faces in &edges {
         let largest = faces
             .iter()
             .map(|&f| size[&roots[f as usize]])
             .max()
             .unwrap_or(0);
-        for &f in faces {
+        for &f in faces.iter() {
             let r = roots[f as usize];
             if open.contains(&r) && size[&r] < largest {
                 if size[&r] <= FIN {
@@ -146,6 +162,32 @@ pub(super) fn drop_fins(mesh: &mut Mesh) -> Fins {
                 } else {
                     detach.insert(r);
                 }
+            }
+        }
+    }
+    // Where more than two faces are left on such an edge, the smallest closed piece there
+    // goes its own way, then the next, until two are left (an eye set into a ring of the
+    // head keeps its visible cap joined to the head; its buried half closes on its own).
+    for faces in &edges {
+        loop {
+            let left: Vec<u32> = faces
+                .iter()
+                .map(|&f| roots[f as usize])
+                .filter(|r| !drop.contains(r) && !detach.contains(r))
+                .collect();
+            if left.len() <= 2 {
+                break;
+            }
+            let largest = left.iter().map(|r| size[r]).max().unwrap_or(0);
+            match left
+                .iter()
+                .filter(|r| size[*r] < largest)
+                .min_by_key(|r| (size[*r], **r))
+            {
+                Some(&r) => {
+                    detach.insert(r);
+                }
+                None => break,
             }
         }
     }

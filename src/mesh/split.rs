@@ -45,7 +45,12 @@ fn corner(triangles: &[[u32; 3]], f: u32, v: u32) -> usize {
 
 /// The faces around the edge `a`–`b` (`a < b`) paired across the solid wedge between
 /// neighbours, or `None` where the faces' sides do not pair up (an inconsistent fold).
-fn pair_around(mesh: &Mesh, a: u32, b: u32, faces: &[(u32, bool)]) -> Option<Vec<(u32, u32)>> {
+pub(super) fn pair_around(
+    mesh: &Mesh,
+    a: u32,
+    b: u32,
+    faces: &[(u32, bool)],
+) -> Option<Vec<(u32, u32)>> {
     let (pa, pb) = (mesh.positions[a as usize], mesh.positions[b as usize]);
     let axis = (pb - pa).normalize_or_zero();
     if axis == DVec3::ZERO {
