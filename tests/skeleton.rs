@@ -38,7 +38,7 @@ fn the_fitted_ball_is_within_its_bounds_at_every_resolution() {
     }
 }
 
-/// Error bounds per method, from the measured table in BENCHMARKS.md (with headroom): they
+/// Error bounds per method, from the measured table in docs/engine-benchmarks.md (with headroom): they
 /// fail if a change makes the skeleton measurably worse. The fitted ball is held to the
 /// targets (median 1 %, 95th percentile 3 %) on every shape and resolution, tidy and
 /// uneven alike (the finer resolutions, in `docs/performance-log.md`, are within them too).

@@ -1,7 +1,7 @@
 //! Docs that cannot drift from the code: every command and bench mode is named in README,
-//! CONTRIBUTING and `--help`; every command README, the guide and BENCHMARKS quote parses
-//! with the current arguments (parse only: nothing runs); ARCHITECTURE lists the files that
-//! hold `unsafe`.
+//! CONTRIBUTING and `--help`; every command README, the guide, BENCHMARKS and the engine
+//! benchmarks (`docs/engine-benchmarks.md`) quote parses with the current arguments (parse
+//! only: nothing runs); ARCHITECTURE lists the files that hold `unsafe`.
 
 use super::Cli;
 use clap::{CommandFactory, Parser};
@@ -10,6 +10,7 @@ const README: &str = include_str!("../../README.md");
 const BENCHMARKS: &str = include_str!("../../BENCHMARKS.md");
 const CONTRIBUTING: &str = include_str!("../../CONTRIBUTING.md");
 const GUIDE: &str = include_str!("../../docs/guide.md");
+const ENGINE: &str = include_str!("../../docs/engine-benchmarks.md");
 
 /// The commands (`skeleton`, …) and the bench modes (`throughput`, …) as clap knows them.
 fn commands_and_modes() -> (Vec<String>, Vec<String>) {
@@ -114,6 +115,7 @@ fn every_quoted_command_parses() {
         ("README.md", README),
         ("docs/guide.md", GUIDE),
         ("BENCHMARKS.md", BENCHMARKS),
+        ("docs/engine-benchmarks.md", ENGINE),
     ] {
         for quoted in quoted_commands(text) {
             let args = arguments(&quoted);

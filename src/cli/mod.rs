@@ -87,9 +87,9 @@ pub enum Command {
     Simulate(simulate::Args),
     /// Stream a synthetic glove performance as OSC (try `--controls` without a glove).
     SendOsc(send_osc::Args),
-    /// Measure (every figure in BENCHMARKS.md): throughput, accuracy, stress, skip, sag,
-    /// export, joints, collide, poses, suggest, skeleton, skeleton-speed, skeleton-change, machine,
-    /// controls, draw.
+    /// Measure (every figure in BENCHMARKS.md and docs/engine-benchmarks.md): throughput,
+    /// accuracy, stress, skip, sag, export, joints, collide, poses, suggest, skeleton,
+    /// skeleton-speed, skeleton-change, machine, controls, draw.
     #[command(arg_required_else_help = false)]
     Bench {
         /// What to measure.

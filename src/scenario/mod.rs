@@ -1,6 +1,6 @@
 //! Standard scenarios for benchmarks, the stability stress and the accuracy reference: one
 //! definition shared by `puppet bench`, the tests and the criterion benches, so every
-//! number in `BENCHMARKS.md` comes from the same animation.
+//! number in `BENCHMARKS.md` and `docs/engine-benchmarks.md` comes from the same animation.
 //!
 //! **The standard scenario.** The mesh is cut across its longest bounding-box axis at
 //! [`LIMB_AT`] of its extent; the smaller end (the "limb", about a fifth of the mesh) swings

@@ -20,7 +20,7 @@ pub struct Options {
 pub const SLEEP_AFTER: u16 = 8;
 
 impl Default for Options {
-    /// Values chosen by measurement (`puppet bench skip`, `BENCHMARKS.md`).
+    /// Values chosen by measurement (`puppet bench skip`, `docs/engine-benchmarks.md`).
     fn default() -> Self {
         Options {
             sleeping: true,

@@ -85,7 +85,7 @@ pub enum Method {
     /// fitted normal, starting at the fitted radius, shrunk by every vertex but
     /// the 1-ring neighbours the fit stands for ([`Tangent`]). Within 1 % median and 3 %
     /// p95 on tidy and uneven meshes (alternating gaps, jittered, decimated) where the
-    /// shrinking ball is off by up to 43 % (`BENCHMARKS.md`); exact to its definition
+    /// shrinking ball is off by up to 43 % (`docs/engine-benchmarks.md`); exact to its definition
     /// whatever the Delaunay edges offer (`ShrinkingBalls::settle`). The default.
     #[default]
     FittedBall,
@@ -133,7 +133,7 @@ impl std::fmt::Display for Method {
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SkeletonParams {
     /// Distance method. Default: [`Method::FittedBall`], chosen by the accuracy table in
-    /// `BENCHMARKS.md`.
+    /// `docs/engine-benchmarks.md`.
     pub method: Method,
     /// A tetrahedron is a sliver when `6 V / l_max³` is below this (a regular tetrahedron
     /// has `1/√2`). Default `1e-3`. Vertices whose every inside Voronoi vertex comes from a

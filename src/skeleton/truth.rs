@@ -1,5 +1,5 @@
 //! Ground truth for the skeleton: analytic shapes with known medial radii, and the accuracy
-//! report (`puppet bench --skeleton`, `BENCHMARKS.md`, and the bounds asserted in tests).
+//! report (`puppet bench --skeleton`, `docs/engine-benchmarks.md`, and the bounds asserted in tests).
 //!
 //! The medial radius at a surface point `p` with normal `n` is the radius of the largest
 //! ball inside the object that touches `p`: its centre is `p − r n`. For a sphere it is the

@@ -71,7 +71,7 @@ struct Config {
     iterations: u32,
     default: bool,
     /// Part of the reduction-iteration sweep: shown on the front, but not held against the
-    /// default (see `BENCHMARKS.md`: on this scenario 1 or 2 iterations tie with 4).
+    /// default (see `docs/engine-benchmarks.md`: on this scenario 1 or 2 iterations tie with 4).
     sweep: bool,
 }
 

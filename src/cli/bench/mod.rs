@@ -1,5 +1,5 @@
-//! `puppet bench MODE`: every measurement in `BENCHMARKS.md`, headless, one subcommand
-//! per mode:
+//! `puppet bench MODE`: every measurement in `BENCHMARKS.md` and
+//! `docs/engine-benchmarks.md`, headless, one subcommand per mode:
 //!
 //! * `throughput`: step throughput on the standard scenario ([`puppet::scenario`]), and the
 //!   largest Loop subdivision of the input that still holds 60 steps/s ([`throughput`]);

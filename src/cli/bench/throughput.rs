@@ -37,7 +37,7 @@ pub struct Row {
     pub steps_per_second: f64,
     pub threads: usize,
     pub simd: bool,
-    /// Bytes the fused pass streams per step (see `BENCHMARKS.md`) and the rate that makes.
+    /// Bytes the fused pass streams per step (see `docs/engine-benchmarks.md`) and the rate that makes.
     pub bytes_per_step: usize,
     pub gb_per_second: f64,
 }
