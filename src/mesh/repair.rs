@@ -577,7 +577,7 @@ mod tests {
     }
 
     /// A gap whose two sides a sliver joins (a face over an edge a ten-thousandth long, as
-    /// a low-poly alpaca's ear has two): the ends of that edge are welded, the sliver goes,
+    /// a low-poly alpaca's head has two): the ends of that edge are welded, the sliver goes,
     /// and the sphere is whole; an edge a tenth as long as the others is left alone.
     #[test]
     fn a_sliver_across_a_gap_is_collapsed() {
