@@ -3,6 +3,7 @@
 
 mod common;
 use common::{puppet, scratch};
+use puppet::mesh::{LoadReport, Mesh};
 use std::path::Path;
 
 const TETRA: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
@@ -325,14 +326,8 @@ fn touching_sheets_are_separated() {
     }
 }
 
-/// A closed piece set into a ring of the surface (a low-poly eye's buried half, a cone
-/// from a ring of a ball to a point inside it: every ring edge has three faces and no
-/// piece there has an edge of one face) gets its own copies and closes on its own: the
-/// ball stays whole, two parts load where the file was refused.
-#[test]
-fn a_closed_piece_set_into_a_ring_goes_its_own_way() {
-    let mut m = puppet::mesh::shapes::uv_sphere(1.0, 12, 16);
-    let faces = m.triangles.len();
+/// The ring of a 12 × 16 ball's vertices at y = −0.5, in order around it.
+fn ring_of(m: &Mesh) -> Vec<u32> {
     let mut ring: Vec<u32> = (0..m.positions.len() as u32)
         .filter(|&v| (m.positions[v as usize].y + 0.5).abs() < 1e-9)
         .collect();
@@ -341,16 +336,33 @@ fn a_closed_piece_set_into_a_ring_goes_its_own_way() {
         let (p, q) = (m.positions[a as usize], m.positions[b as usize]);
         p.z.atan2(p.x).total_cmp(&q.z.atan2(q.x))
     });
+    ring
+}
+
+/// Writes `m` as an OBJ and loads it: the mesh and the warnings, one a line.
+fn written_and_loaded(m: &Mesh, name: &str) -> (Mesh, LoadReport, String) {
+    let path = scratch(name).join(format!("{name}.obj"));
+    std::fs::write(&path, common::obj(m)).unwrap();
+    let (mesh, report) = puppet::mesh::load(&path).expect("it loads");
+    let warnings = report.warnings().join("\n");
+    (mesh, report, warnings)
+}
+
+/// A closed piece set into a ring of the surface (a low-poly eye's buried half, a cone
+/// from a ring of a ball to a point inside it: every ring edge has three faces and no
+/// piece there has an edge of one face) gets its own copies and closes on its own: the
+/// ball stays whole, two parts load where the file was refused.
+#[test]
+fn a_closed_piece_set_into_a_ring_goes_its_own_way() {
+    let mut m = puppet::mesh::shapes::uv_sphere(1.0, 12, 16);
+    let faces = m.triangles.len();
+    let ring = ring_of(&m);
     let apex = m.positions.len() as u32;
     m.positions.push(glam::DVec3::new(0.0, 0.2, 0.0));
     for k in 0..16 {
         m.triangles.push([ring[(k + 1) % 16], ring[k], apex]);
     }
-    let dir = scratch("buried-cone");
-    let path = dir.join("buried.obj");
-    std::fs::write(&path, common::obj(&m)).unwrap();
-    let (mesh, report) = puppet::mesh::load(&path).expect("the ball with a buried cone loads");
-    let warnings = report.warnings().join("\n");
+    let (mesh, _, warnings) = written_and_loaded(&m, "buried-cone");
     assert!(
         warnings.contains("gave 1 piece meeting a larger one"),
         "{warnings}"
@@ -369,15 +381,7 @@ fn a_skirt_on_the_waist_is_kept_apart_not_dropped() {
     let mut m = body.clone();
     // An open cone of 32 faces below the sphere, its rim on one ring of the sphere's
     // vertices: each rim edge is the sphere's and the cone's (three faces).
-    let ring: Vec<u32> = (0..m.positions.len() as u32)
-        .filter(|&v| (m.positions[v as usize].y + 0.5).abs() < 1e-9)
-        .collect();
-    assert_eq!(ring.len(), 16);
-    let mut ring = ring;
-    ring.sort_by(|&a, &b| {
-        let (p, q) = (m.positions[a as usize], m.positions[b as usize]);
-        p.z.atan2(p.x).total_cmp(&q.z.atan2(q.x))
-    });
+    let ring = ring_of(&m);
     let hem0 = m.positions.len() as u32;
     for &v in &ring {
         let p = m.positions[v as usize];
@@ -390,11 +394,7 @@ fn a_skirt_on_the_waist_is_kept_apart_not_dropped() {
         m.triangles.push([a, b, d]);
         m.triangles.push([a, d, c]);
     }
-    let dir = scratch("skirt");
-    let path = dir.join("skirt.obj");
-    std::fs::write(&path, common::obj(&m)).unwrap();
-    let (mesh, report) = puppet::mesh::load(&path).expect("the skirted body loads");
-    let warnings = report.warnings().join("\n");
+    let (mesh, report, warnings) = written_and_loaded(&m, "skirt");
     assert!(
         warnings.contains("gave 1 piece meeting a larger one"),
         "{warnings}"

@@ -1397,3 +1397,27 @@ fn the_population_is_labelled_and_split_in_two() {
     let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(rows.as_array().map(Vec::len), Some(0));
 }
+
+/// A glTF file is +y up, as its specification fixes: a low-poly bull whose legs alone
+/// would say +z stands on them; the same mesh written as OBJ has only its limbs to say.
+#[test]
+fn a_gltf_file_is_y_up_as_its_specification_says() {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/population/bull.glb");
+    let (m, report) = mesh::load(&file).unwrap();
+    let mut p = Puppet::build_loaded(
+        m.clone(),
+        Some(&report),
+        RigFile::default(),
+        puppet::progress::silent(),
+    )
+    .unwrap();
+    p.suggest_joints().unwrap();
+    assert_eq!(Up::nearest(p.up()), Up::PosY);
+    let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
+    p.suggest_joints().unwrap();
+    assert_ne!(
+        Up::nearest(p.up()),
+        Up::PosY,
+        "the limbs alone say otherwise"
+    );
+}

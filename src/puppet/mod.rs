@@ -79,6 +79,9 @@ pub struct Puppet {
     pressing_found: bool,
     /// Up, front and left, as the last suggestion found them.
     frame: Option<crate::joints::suggest::Frame>,
+    /// The up the mesh file's format fixes (glTF's +y, by its specification), taken as
+    /// given where the rig file gives none.
+    format_up: Option<crate::joints::suggest::Up>,
     /// Suggest joints from the skeleton even when the mesh file has a skin.
     pub ignore_skin: bool,
 }
@@ -143,6 +146,9 @@ impl Puppet {
             stopped: None,
             pressing_found: false,
             frame: None,
+            format_up: report
+                .is_some_and(|r| r.format == mesh::Format::Gltf)
+                .then_some(crate::joints::suggest::Up::PosY),
             ignore_skin: false,
         };
         let regions = puppet.regions(true).map_err(BuildError::Regions)?;
@@ -254,7 +260,7 @@ impl Puppet {
     /// returns how many. On error nothing changes.
     pub fn suggest_joints(&mut self) -> Result<usize, JointError> {
         let mut root = self.joints.sections()[0].name.clone();
-        let up = self.rig_file.up.map(|u| u.vector());
+        let up = self.rig_file.up.or(self.format_up).map(|u| u.vector());
         let (mut cuts, frame) =
             crate::joints::suggest::suggest(&self.mesh, &self.skeleton, &root, up);
         self.frame = Some(frame);
@@ -291,9 +297,10 @@ impl Puppet {
         self.frame
     }
 
-    /// The mesh's up direction: the rig file's, or as the last suggestion found it, or +y.
+    /// The mesh's up direction: the rig file's, or the file format's (glTF's +y), or as the
+    /// last suggestion found it, or +y.
     pub fn up(&self) -> DVec3 {
-        match (self.rig_file.up, self.frame) {
+        match (self.rig_file.up.or(self.format_up), self.frame) {
             (Some(u), _) => u.vector(),
             (None, Some(f)) => f.up,
             (None, None) => DVec3::Y,

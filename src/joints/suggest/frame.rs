@@ -5,7 +5,8 @@
 //!   centroid; the plane is kept where the mirrored vertices land, at the median, within
 //!   [`MIRRORED`] of the mesh's size of a vertex (a character in T-pose or on all fours; a
 //!   curled tail or a raised arm moves few vertices).
-//! * **Up.** Given (`--up`, the rig file's `up`), or found: of the axis directions along
+//! * **Up.** Given (`--up`, the rig file's `up`, a glTF file's +y: `Puppet` passes it), or
+//!   found: of the axis directions along
 //!   the mirror plane, the one opposite to where the tips of the root's limbs off the
 //!   plane lie from the mesh's centre, the legs hanging down, each limb counted as much as
 //!   it is thick (legs carry the body; an armadillo's ears and raised arm say less).

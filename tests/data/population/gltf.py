@@ -61,12 +61,18 @@ def trs(node):
             r[6] * sz, r[7] * sz, r[8] * sz, 0, tx, ty, tz, 1]
 
 
-def world_matrices(js):
-    nodes = js['nodes']
+def parents(js):
+    """Each node's parent node."""
     parent = {}
-    for i, n in enumerate(nodes):
+    for i, n in enumerate(js['nodes']):
         for c in n.get('children', []):
             parent[c] = i
+    return parent
+
+
+def world_matrices(js):
+    nodes = js['nodes']
+    parent = parents(js)
     world = {}
 
     def w(i):
@@ -142,10 +148,7 @@ def joints_at_rest(js):
     """Every skin joint's (name, world position, parent joint name), first skin wins per name."""
     world = world_matrices(js)
     nodes = js['nodes']
-    parent = {}
-    for i, n in enumerate(nodes):
-        for c in n.get('children', []):
-            parent[c] = i
+    parent = parents(js)
     seen = {}
     for skin in js.get('skins', []):
         for j in skin['joints']:
