@@ -1421,3 +1421,50 @@ fn a_gltf_file_is_y_up_as_its_specification_says() {
         "the limbs alone say otherwise"
     );
 }
+
+/// What BENCHMARKS says of the population (`bench suggest`, both halves), held: two files
+/// refused (the stag and the wasp), up right on every file that loads, each half's
+/// required joints found at least as today and the two halves within five points of each
+/// other (rules chosen on one half carry over to the other).
+#[test]
+fn the_population_scores_as_benchmarks_says() {
+    let out = puppet(&[
+        "bench",
+        "suggest",
+        "--set",
+        "tests/data/population",
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let rows = rows.as_array().unwrap();
+    assert_eq!(rows.len(), 45);
+    let refused: Vec<&str> = rows
+        .iter()
+        .filter(|r| !r["refused"].is_null())
+        .map(|r| r["character"].as_str().unwrap())
+        .collect();
+    assert_eq!(refused, ["stag", "wasp"]);
+    let lying: Vec<&str> = rows
+        .iter()
+        .filter(|r| r["refused"].is_null() && r["up_right"] != true)
+        .map(|r| r["character"].as_str().unwrap())
+        .collect();
+    assert!(lying.is_empty(), "up wrong: {lying:?}");
+    let recall = |half: &str| {
+        let of = rows.iter().filter(|r| r["half"] == half);
+        let sum = |k: &str| of.clone().map(|r| r[k].as_u64().unwrap()).sum::<u64>();
+        (sum("found"), sum("required"))
+    };
+    let (dev, held) = (recall("development"), recall("held-out"));
+    assert!(dev.0 >= 54 && held.0 >= 48, "{dev:?} {held:?}");
+    let share = |(f, r): (u64, u64)| 100.0 * f as f64 / r as f64;
+    assert!(
+        (share(dev) - share(held)).abs() <= 5.0,
+        "development {dev:?}, held-out {held:?}"
+    );
+}
