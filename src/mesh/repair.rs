@@ -84,7 +84,10 @@ pub(super) struct Fins {
 /// (`attachments`). Where that leaves more than two faces on such an edge (or on an edge
 /// of four or more faces that [`super::split::split_sheets`] cannot pair), the smallest
 /// closed piece there gets its own copies too, then the next, until two faces are left (a
-/// low-poly eye set into a ring of the head, its buried half a third piece). Pieces are faces
+/// low-poly eye set into a ring of the head, its buried half a third piece). Where more
+/// than two faces of one piece are still left (a face folded over its neighbours' edge),
+/// the smallest of those running the edge the way more of them do is dropped, until as many
+/// run each way. Pieces are faces
 /// joined across edges of exactly two faces. Leaves the mesh untouched when there is
 /// nothing to do.
 pub(super) fn drop_fins(mesh: &mut Mesh) -> Fins {
@@ -142,12 +145,13 @@ pub(super) fn drop_fins(mesh: &mut Mesh) -> Fins {
     }
     let mut drop: std::collections::HashSet<u32> = std::collections::HashSet::new();
     let mut detach: std::collections::BTreeSet<u32> = std::collections::BTreeSet::new();
-    let mut edges: Vec<&Vec<u32>> = on_edge
+    let mut keys: Vec<(u32, u32)> = on_edge
         .iter()
         .filter(|(e, f)| unpaired(e, f))
-        .map(|(_, f)| f)
+        .map(|(e, _)| *e)
         .collect();
-    edges.sort_unstable();
+    keys.sort_unstable_by_key(|e| &on_edge[e]);
+    let edges: Vec<&Vec<u32>> = keys.iter().map(|e| &on_edge[e]).collect();
     for faces in &edges {
         let largest = faces
             .iter()
@@ -191,6 +195,37 @@ pub(super) fn drop_fins(mesh: &mut Mesh) -> Fins {
             }
         }
     }
+    // Where more than two faces are still left on an edge, all of one piece (a face folded
+    // over its neighbours' edge, joined to them elsewhere), the smallest of those running
+    // the edge the way more of them do goes, until as many run each way: its gap is then
+    // a hole like any other.
+    let mut stray: std::collections::BTreeSet<u32> = std::collections::BTreeSet::new();
+    let area = |f: u32| {
+        let [a, b, c] = mesh.triangles[f as usize].map(|v| mesh.positions[v as usize]);
+        (b - a).cross(c - a).length()
+    };
+    for e in &keys {
+        let left: Vec<(u32, bool)> = ways[e]
+            .iter()
+            .copied()
+            .filter(|&(f, _)| {
+                let r = roots[f as usize];
+                !drop.contains(&r) && !detach.contains(&r) && !stray.contains(&f)
+            })
+            .collect();
+        let one_piece = left
+            .iter()
+            .all(|w| roots[w.0 as usize] == roots[left[0].0 as usize]);
+        if left.len() <= 2 || !one_piece {
+            continue;
+        }
+        let forward = left.iter().filter(|w| w.1).count();
+        let more = forward * 2 > left.len();
+        let mut more_way: Vec<u32> = left.iter().filter(|w| w.1 == more).map(|w| w.0).collect();
+        more_way.sort_by(|&f, &g| area(f).total_cmp(&area(g)).then(f.cmp(&g)));
+        let excess = more_way.len() - (left.len() - more_way.len());
+        stray.extend(more_way.iter().take(excess));
+    }
     // A piece both dropped (off one edge) and detached (off another) is dropped.
     detach.retain(|r| !drop.contains(r));
     let copies = if detach.is_empty() {
@@ -201,7 +236,7 @@ pub(super) fn drop_fins(mesh: &mut Mesh) -> Fins {
     let mut f = 0;
     mesh.triangles.retain(|_| {
         f += 1;
-        !drop.contains(&roots[f - 1])
+        !drop.contains(&roots[f - 1]) && !stray.contains(&(f as u32 - 1))
     });
     Fins {
         dropped: n - mesh.triangles.len(),
