@@ -87,15 +87,12 @@ pub(super) struct Fins {
 /// low-poly eye set into a ring of the head, its buried half a third piece). Where more
 /// than two faces of one piece are still left (a face folded over its neighbours' edge),
 /// the smallest of those running the edge the way more of them do is dropped, until as many
-/// run each way. Pieces are faces
-/// joined across edges of exactly two faces. Leaves the mesh untouched when there is
-/// nothing to do.
+/// run each way. Pieces are faces joined across edges of exactly two faces. Leaves the mesh
+/// untouched when there is nothing to do.
 pub(super) fn drop_fins(mesh: &mut Mesh) -> Fins {
     use std::collections::HashMap;
     let n = mesh.triangles.len();
     let mut on_edge: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
-    // Per edge, its faces and whether each runs along it from the lower vertex.
-    let mut ways: HashMap<(u32, u32), Vec<(u32, bool)>> = HashMap::new();
     for (f, t) in mesh.triangles.iter().enumerate() {
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);
@@ -103,16 +100,24 @@ pub(super) fn drop_fins(mesh: &mut Mesh) -> Fins {
                 .entry((a.min(b), a.max(b)))
                 .or_default()
                 .push(f as u32);
-            ways.entry((a.min(b), a.max(b)))
-                .or_default()
-                .push((f as u32, a < b));
         }
     }
+    // Each face on the edge `a`–`b` (`a < b`) and whether it runs along it from `a`.
+    let ways = |&(a, b): &(u32, u32), faces: &[u32]| -> Vec<(u32, bool)> {
+        faces
+            .iter()
+            .map(|&f| {
+                let t = mesh.triangles[f as usize];
+                (f, (0..3).any(|k| t[k] == a && t[(k + 1) % 3] == b))
+            })
+            .collect()
+    };
     // An edge of three or more faces that `split_sheets` cannot pair: an odd number, or
     // faces that do not run half each way or do not pair about the edge.
     let unpaired = |e: &(u32, u32), f: &Vec<u32>| {
         f.len() > 2
-            && (f.len() % 2 == 1 || super::split::pair_around(mesh, e.0, e.1, &ways[e]).is_none())
+            && (f.len() % 2 == 1
+                || super::split::pair_around(mesh, e.0, e.1, &ways(e, f)).is_none())
     };
     if !on_edge.iter().any(|(e, f)| unpaired(e, f)) {
         return Fins::default();
@@ -205,9 +210,8 @@ pub(super) fn drop_fins(mesh: &mut Mesh) -> Fins {
         (b - a).cross(c - a).length()
     };
     for e in &keys {
-        let left: Vec<(u32, bool)> = ways[e]
-            .iter()
-            .copied()
+        let left: Vec<(u32, bool)> = ways(e, &on_edge[e])
+            .into_iter()
             .filter(|&(f, _)| {
                 let r = roots[f as usize];
                 !drop.contains(&r) && !detach.contains(&r) && !stray.contains(&f)
