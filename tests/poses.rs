@@ -317,21 +317,21 @@ fn no_section_meets_one_it_is_not_related_to() {
 /// Sections that met unrelated ones turned apart with no band between them: the lion
 /// statue's chain of "jaws", each touching its body, tore 44–93×, the beach man's toes,
 /// which met his shin past his foot, 13–17×. Their cuts go (step 6). A section joined to
-/// the rest in two places tore where it was not turned: the lion's body, standing on its
-/// pedestal by four legs and turned about one, 26× (its tail's tip, behind the body's
-/// plane, was left hanging from the pedestal), the mech's 16×; the tear check takes their
-/// cuts too: 2.8× and 2.4× at most over `bench poses`' first three seeds (4.2× and 5.6×
-/// over all 20).
+/// the rest in two places tore where it was not turned: the lion's hind legs with half its
+/// pedestal, meeting the body at the hips and across the pedestal, 3.8× over `bench
+/// poses`' 20 seeds, the mech's 16×; a section that meets its parent along two loops
+/// loses its cut (`seams::TWICE`), and the tear check takes the others: the lion at most
+/// 2.6× over all 20 seeds, the others 2.4× at most over the first three.
 #[test]
 fn sections_that_met_unrelated_ones_or_tore_no_longer_tear() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    for (file, most) in [
-        ("tests/data/poses/lionstatue.obj", 3.0),
-        ("tests/data/pieces/man-beach.obj", 3.0),
-        ("tests/data/pieces/mech-george.obj", 3.0),
+    for (file, seeds, most) in [
+        ("tests/data/poses/lionstatue.obj", 20, 3.0),
+        ("tests/data/pieces/man-beach.obj", 3, 3.0),
+        ("tests/data/pieces/mech-george.obj", 3, 3.0),
     ] {
         let p = suggested(&root.join(file));
-        let (stretch, _, _) = worst(&p, 3);
+        let (stretch, _, _) = worst(&p, seeds);
         assert!(stretch <= most, "{file}: an edge stretched {stretch:.2}×");
     }
 }

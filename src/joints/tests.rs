@@ -471,32 +471,51 @@ fn two_pieces_that_each_hang_from_the_parent_stay_one_section() {
     }
 }
 
+/// A ring of 5 × 61 vertices (the strip's last row joined to its first), cut at y = 1.05:
+/// with `arch`, rows 11–49 have skeletal points above the cut and the rest below, so the
+/// cut takes an arch joined to the root at both ends (a body standing on a pedestal by
+/// two legs); without, a strip whose top hangs from the cut alone.
+fn arch_or_strip(arch: bool) -> Joints {
+    let mut j = sheet(5, 61, arch, |r, c| {
+        let y = if arch && r >= 50 { 0.0 } else { 0.1 * r as f64 };
+        (
+            DVec3::new(0.0, y, 0.0),
+            DVec3::new(0.1 * c as f64, 0.1 * r as f64, 0.0),
+        )
+    });
+    j.add_cut(cut("arm", ROOT, 1.05)).unwrap();
+    assert_eq!(j.sections()[1].vertices, if arch { 195 } else { 250 });
+    j
+}
+
 #[test]
 fn a_section_joined_to_its_parent_in_two_places_loses_its_cut() {
-    // A ring of 5 × 61 vertices (the strip's last row joined to its first): rows 11–49
-    // have skeletal points above y = 1.05, the rest below, so a cut there takes an arch
-    // joined to the root at both ends (a body standing on a pedestal by two legs). Turned
-    // about one end, it tears at the other.
-    let ring = |arch: bool| {
-        let mut j = sheet(5, 61, arch, |r, c| {
-            let y = if arch && r >= 50 { 0.0 } else { 0.1 * r as f64 };
-            (
-                DVec3::new(0.0, y, 0.0),
-                DVec3::new(0.1 * c as f64, 0.1 * r as f64, 0.0),
-            )
-        });
-        j.add_cut(cut("arm", ROOT, 1.05)).unwrap();
-        assert_eq!(j.sections()[1].vertices, if arch { 195 } else { 250 });
-        j
-    };
-    let mut j = ring(true);
+    // Turned about one end, the arch tears at the other.
+    let mut j = arch_or_strip(true);
     let removed = super::suggest::seams::keep_whole(&mut j);
     assert_eq!(removed, vec!["arm".to_string()]);
     assert_eq!(j.sections().len(), 1);
     // The same cut on a strip whose top hangs from it alone keeps it.
-    let mut j = ring(false);
+    let mut j = arch_or_strip(false);
     assert!(super::suggest::seams::keep_whole(&mut j).is_empty());
     assert_eq!(j.sections().len(), 2);
+}
+
+#[test]
+fn a_section_meeting_its_parent_along_two_loops_is_joined_twice() {
+    // The arch meets the root along two seams of equal length: joined twice, whether or
+    // not a pose would tear it past `TEAR` (a squat arch does not).
+    let j = arch_or_strip(true);
+    assert_eq!(super::suggest::seams::joined_twice(&j), Some("arm".into()));
+    let mut cuts = j.cuts().to_vec();
+    let mut bare = j.uncut();
+    let removed = super::suggest::seams::add(&mut bare, std::mem::take(&mut cuts)).unwrap();
+    assert_eq!(removed, vec!["arm".to_string()]);
+    // The strip meets it along one.
+    assert_eq!(
+        super::suggest::seams::joined_twice(&arch_or_strip(false)),
+        None
+    );
 }
 
 #[test]

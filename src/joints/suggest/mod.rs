@@ -87,7 +87,10 @@
 //! 6. **Seams.** Once the cuts apply to the puppet (its sections whole over the surface),
 //!    a section that meets one it neither hangs from, nor carries, nor sits beside over
 //!    `FOREIGN` of its seam loses its cut (`seams`): the two would turn apart with no band
-//!    between them. Then the joints are turned through `TRIALS` random poses; a section
+//!    between them. A section that meets its parent along two loops (`TWICE`: a statue's
+//!    hind legs standing on its pedestal, met at the hips and across the pedestal) loses
+//!    its cut too: turned about one, it tears the other. Then the joints are turned through
+//!    `TRIALS` random poses; a section
 //!    whose skin tears there (an edge past `TEAR` times its length where the bones hold
 //!    it: a body standing on a pedestal by four legs, turned about one) loses its cut.
 //!
@@ -108,8 +111,8 @@
 //! * `head`: a biped's head with no neck to cut at turns at the top of its shoulders;
 //! * `characters`: two or more characters in one file, each suggested on its own;
 //! * `labels`: a labelled character's joints, and a suggestion's score against them;
-//! * `seams`: the cuts applied, a section meeting one it is not related to, or tearing
-//!   in random poses, loses its cut (step 6).
+//! * `seams`: the cuts applied, a section meeting one it is not related to, or its parent
+//!   in two places, or tearing in random poses, loses its cut (step 6).
 
 mod anatomy;
 pub mod characters;
