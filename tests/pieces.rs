@@ -115,3 +115,20 @@ fn downloaded_characters_in_pieces_are_puppets() {
         "both arms on {arms}, both legs on {legs}, a head on {heads} of {people}"
     );
 }
+
+/// A knee's seam across trousers, the leg inside them and the pieces attached between
+/// them is one loop, broken here and there by a vertex of a third section: the knee is
+/// joined to the thigh once, not twice (`seams::TWICE`), and keeps its cut. Counting each
+/// arc between such vertices as a loop took both knees from the man in casual clothes and
+/// one from the man in beach clothes.
+#[test]
+fn a_knee_in_trousers_keeps_its_cut() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    for file in ["man-casual.obj", "man-beach.obj"] {
+        let p = suggested(&root.join("tests/data/pieces").join(file));
+        let names: Vec<&str> = p.joints.cuts().iter().map(|c| c.name.as_str()).collect();
+        for want in ["shin.L", "shin.R"] {
+            assert!(names.contains(&want), "{file}: {want} in {names:?}");
+        }
+    }
+}

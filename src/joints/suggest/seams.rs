@@ -192,15 +192,17 @@ fn torn(joints: &Joints) -> Option<String> {
     (blame[worst] > 0).then(|| joints.sections()[worst].name.clone())
 }
 
-/// The second largest of the loops where a section meets its parent, as a share of all
-/// their seam, at or above which the section is joined to its parent in two places and
-/// loses its cut: turned about one seam it tears the other open. A limb cut across meets
-/// its parent along one ring (a stray edge or two beside it aside). Over the suggestions
-/// on every corpus (shipped, poses, pieces, the population's development half), the
-/// sections joined twice have a second loop of 25–48 % of the seam (a lion statue's hind
-/// legs standing on its pedestal, a frog's folded shin touching its thigh), and every other
-/// section at most 4.3 % (stray edges of a ragged seam); the held-out half's joined twice
-/// share 28–50 % (`docs/performance-log.md`).
+/// The second largest of the loops where a section meets its parent on one piece of the
+/// mesh, as a share of their whole seam, at or above which the section is joined to its
+/// parent in two places and loses its cut: turned about one loop it tears the other open.
+/// A limb cut across meets its parent along one ring on each piece it crosses (trousers
+/// and the leg inside them: one each); two loops within an edge of each other are one (a
+/// ring crossing a vertex of a third section). Over the suggestions on every corpus
+/// (shipped, poses, characters, pieces, the population), the sections joined twice have a
+/// second loop of 25–47 % of their seam (a lion statue's hind legs standing on its
+/// pedestal, a part of a rat, the trousers of a soldier in pieces) and every other section none:
+/// any value up to 0.25 separates them on the development half; the held-out half has
+/// none joined twice (`docs/performance-log.md`).
 pub const TWICE: f64 = 0.1;
 
 /// The name of the section joined to its parent in two places ([`TWICE`]) that loses its
@@ -223,18 +225,35 @@ pub fn joined_twice(joints: &Joints) -> Option<String> {
                 continue;
             };
             if a < b {
+                // Each end's neighbours too: a loop crossing a vertex of a third section
+                // (a sock's hem on the shin's ring) stays one loop.
+                for &c in joints
+                    .body
+                    .neighbours(a)
+                    .iter()
+                    .chain(joints.body.neighbours(b))
+                {
+                    loops.union(a, c as usize);
+                }
                 loops.union(a, b);
                 seam.push((child, a));
             }
         }
     }
-    let mut edges: std::collections::HashMap<(usize, usize), usize> = Default::default();
-    for (s, a) in seam {
-        *edges.entry((s, loops.find(a))).or_default() += 1;
+    // The mesh's pieces: a cut across trousers and the leg inside them meets its parent
+    // along two loops, one on each piece, and is joined once on each.
+    let mut pieces = super::union_find::UnionFind::new(of.len());
+    for t in &joints.body.triangles {
+        pieces.union(t[0] as usize, t[1] as usize);
+        pieces.union(t[1] as usize, t[2] as usize);
     }
-    let mut per_section = vec![Vec::new(); sections.len()];
-    for ((s, _), n) in edges {
-        per_section[s].push(n);
+    let mut edges: std::collections::HashMap<(usize, usize, usize), usize> = Default::default();
+    for (s, a) in seam {
+        *edges.entry((s, pieces.find(a), loops.find(a))).or_default() += 1;
+    }
+    let mut per_piece: std::collections::HashMap<(usize, usize), Vec<usize>> = Default::default();
+    for ((s, piece, _), n) in edges {
+        per_piece.entry((s, piece)).or_default().push(n);
     }
     let share = |loops: &mut Vec<usize>| {
         loops.sort_unstable_by(|a, b| b.cmp(a));
@@ -243,10 +262,9 @@ pub fn joined_twice(joints: &Joints) -> Option<String> {
             .get(1)
             .map_or(0.0, |&second| second as f64 / all as f64)
     };
-    let (worst, twice) = per_section
+    let ((worst, _), twice) = per_piece
         .iter_mut()
-        .enumerate()
-        .map(|(s, l)| (s, share(l)))
+        .map(|(&key, l)| (key, share(l)))
         .max_by(|x, y| x.1.total_cmp(&y.1).then(x.0.cmp(&y.0)))?;
     // The root has no parent, hence no seam of its own: it never comes out here.
     (twice >= TWICE && sections[worst].parent.is_some()).then(|| sections[worst].name.clone())
