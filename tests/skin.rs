@@ -76,6 +76,29 @@ fn a_skinned_figure_is_rigged_by_its_skin() {
     assert!(ours["skin"]["joints"] == 16);
 }
 
+/// A downloaded wasp whose exporter wrote NaN for 6 vertices' skin weights keeps the
+/// skeleton it came with: each of those vertices takes its nearest neighbour's joints, and
+/// the load says so in one line (the whole skin was left out before, and its joints
+/// suggested from the shape).
+#[test]
+fn a_skin_with_a_few_weights_that_are_not_numbers_is_kept() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gltf/wasp-nan-weights.glb");
+    let out = puppet(&["suggest", path.to_str().unwrap(), "--json"]);
+    ok(&out);
+    let s: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(s["joints_from"], "skin");
+    assert_eq!(s["skin"]["joints"], 29);
+    assert_eq!(s["skin"]["clips"].as_array().unwrap().len(), 3);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("gave 6 vertices whose skin weights are not numbers the joints of the nearest vertex with weights"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("left its skin out"), "{stderr}");
+    let (mesh, _) = puppet::mesh::load(&path).unwrap();
+    assert!(mesh.positions.iter().all(|p| p.is_finite()));
+}
+
 /// The rig file `suggest -o` writes from the skin loads back to the same sections.
 #[test]
 fn a_rig_written_from_a_skin_loads_back_the_same() {

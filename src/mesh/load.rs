@@ -157,6 +157,9 @@ pub struct LoadReport {
     pub marks: RepairMarks,
     /// Why the file's skin was left out (a glTF skin that cannot be read).
     pub unread_skin: Option<String>,
+    /// Skinned vertices whose weights were not numbers, given their nearest neighbour's.
+    pub borrowed_weights: usize,
+
     /// The skeleton and clips the file comes with (a glTF skin), shared by every copy.
     #[serde(skip)]
     pub skin: Option<std::sync::Arc<super::Skin>>,
@@ -209,6 +212,7 @@ impl LoadReport {
             marks: RepairMarks::default(),
             skin: None,
             unread_skin: None,
+            borrowed_weights: 0,
         }
     }
 
@@ -236,6 +240,15 @@ impl LoadReport {
             w.push(format!(
                 "removed {} over the same corners as another",
                 plural(self.duplicate_faces, "duplicate face")
+            ));
+        }
+        if self.borrowed_weights > 0 {
+            w.push(format!(
+                "gave {} whose skin weights are not numbers the joints of the nearest vertex with weights",
+                match self.borrowed_weights {
+                    1 => "1 vertex".to_string(),
+                    n => format!("{n} vertices"),
+                }
             ));
         }
         if let Some(why) = &self.unread_skin {
@@ -433,6 +446,7 @@ pub fn parse(
     report.objects = soup.objects;
     report.loose_comments = soup.loose_comments;
     report.unread_skin = soup.unread_skin.take();
+    report.borrowed_weights = soup.borrowed_weights;
     // The skin's vertices are carried by position too, once the repairs are done.
     let skinned = soup.skin.take().map(|s| (s, soup.positions.clone()));
     report.file_vertices = soup.positions.len();

@@ -111,6 +111,7 @@ fn assemble(parts: &[Chunk], offsets: &[usize], vertices: usize) -> Result<Soup,
         groups: None,
         skin: None,
         unread_skin: None,
+        borrowed_weights: 0,
     };
     let mut jobs = Vec::with_capacity(parts.len());
     let (mut ps, mut ts) = (&mut soup.positions[..], &mut soup.triangles[..]);

@@ -151,6 +151,7 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
         groups: None,
         skin: None,
         unread_skin: None,
+        borrowed_weights: 0,
         loose_comments,
     };
     for (s, strip) in strips.iter().enumerate() {

@@ -24,6 +24,8 @@ pub struct Soup {
     pub skin: Option<super::Skin>,
     /// Why the file's skin was left out, where it has one that cannot be read.
     pub unread_skin: Option<String>,
+    /// Skinned vertices whose weights were not numbers, given their nearest neighbour's.
+    pub borrowed_weights: usize,
 }
 
 impl Soup {

@@ -32,6 +32,7 @@ pub fn parse(bytes: &[u8]) -> Result<Soup, MeshError> {
         groups: None,
         skin: None,
         unread_skin: None,
+        borrowed_weights: 0,
     };
     for f in &mesh.faces {
         if f.vertices.iter().any(|&v| v >= n) {

@@ -260,9 +260,16 @@ fn gather(
                 let positions = accessor::floats(&positions, data, 3)?;
                 let base = soup.positions.len() as u32;
                 let count = positions.len() / 3;
+                let indices: Vec<u32> = match prim.indices() {
+                    Some(i) => accessor::unsigned(&i, data, 1)?,
+                    None => (0..count as u32).collect(),
+                };
+                if indices.iter().any(|&i| i as usize >= count) {
+                    return Err(bad("a triangle names a missing vertex").into());
+                }
                 let skinned = match (&mut skinning, node.skin()) {
                     (Some(s), Some(skin)) => s
-                        .place(&skin, &prim, data, &positions)
+                        .place(&skin, &prim, data, &positions, &indices)
                         .map_err(Failure::Skin)?,
                     _ => None,
                 };
@@ -279,13 +286,6 @@ fn gather(
                             }),
                         )
                     }
-                }
-                let indices: Vec<u32> = match prim.indices() {
-                    Some(i) => accessor::unsigned(&i, data, 1)?,
-                    None => (0..count as u32).collect(),
-                };
-                if indices.iter().any(|&i| i as usize >= count) {
-                    return Err(bad("a triangle names a missing vertex").into());
                 }
                 let before = soup.triangles.len();
                 soup.triangles.extend(
@@ -307,6 +307,7 @@ fn gather(
     }
     soup.objects = soup.objects.max(1);
     if let Some(s) = skinning {
+        soup.borrowed_weights = s.borrowed;
         soup.skin = Some(s.finish(gltf, data).map_err(Failure::Skin)?);
     }
     soup.groups = FaceGroups::from_names(
@@ -465,9 +466,9 @@ mod tests {
     }
 
     /// A bad skin is left out, with one line that says why: weights that do not sum to
-    /// 1 (or are NaN, as an exporter wrote them), a joint number past the skin's joints;
-    /// the shape is still read, placed by its nodes. A joint that is its own ancestor is
-    /// a cycle in the node tree: the file is refused in one line.
+    /// 1, a joint number past the skin's joints; the shape is still read, placed by its
+    /// nodes. A joint that is its own ancestor is a cycle in the node tree: the file is
+    /// refused in one line.
     #[test]
     fn bad_skins_are_left_out_saying_why() {
         let cycle = parse(skinned(1, [0.5, 0.5], ("[2]", "[1]")).as_bytes());
@@ -475,10 +476,6 @@ mod tests {
         assert!(!e.contains('\n'), "{e}");
         for (text, says) in [
             (skinned(1, [0.5, 0.3], ("[2]", "[]")), "weights sum to 0.8"),
-            (
-                skinned(1, [f32::NAN, 0.5], ("[2]", "[]")),
-                "weights sum to NaN",
-            ),
             (
                 skinned(7, [0.5, 0.5], ("[2]", "[]")),
                 "names joint 7, but the skin has 2",
@@ -489,6 +486,23 @@ mod tests {
             assert_eq!(soup.triangles.len(), 4);
             let why = soup.unread_skin.expect("a reason");
             assert!(why.contains(says) && !why.contains('\n'), "{why}");
+        }
+    }
+
+    /// A vertex whose weights are not numbers (as an exporter wrote a few) keeps the skin:
+    /// it takes the joints of its nearest neighbour with weights, and the skin is read
+    /// whole, the character keeping the skeleton it came with.
+    #[test]
+    fn a_vertex_whose_weights_are_not_numbers_takes_a_neighbours() {
+        for w3 in [[f32::NAN, 0.5], [f32::INFINITY, 0.0]] {
+            let soup = parse(skinned(1, w3, ("[2]", "[]")).as_bytes()).expect("reads");
+            assert!(soup.unread_skin.is_none(), "{:?}", soup.unread_skin);
+            assert_eq!(soup.borrowed_weights, 1);
+            let skin = soup.skin.expect("the skin is kept");
+            // Vertex 3's neighbours: 0 and 2 on joint 0 (first by number), 1 on joint 1.
+            assert_eq!(skin.vertex_joint, [0, 1, 0, 0]);
+            assert_eq!(soup.positions[3], DVec3::new(0.0, 0.0, 1.0));
+            assert!(skin.joints.iter().all(|j| j.weight.is_finite()));
         }
     }
 

@@ -47,6 +47,8 @@ pub(super) struct Skinning {
     /// Per vertex of the soup so far, its four largest weights by node, largest first
     /// (`(u32::MAX, 0)` where it has fewer; all so for a vertex no skin moves).
     weights: Vec<Weights>,
+    /// Vertices whose weights were not numbers, given a neighbour's.
+    pub borrowed: usize,
 }
 
 impl Skinning {
@@ -106,6 +108,7 @@ impl Skinning {
             joint,
             weight: vec![0.0; n],
             weights: Vec::new(),
+            borrowed: 0,
         };
         skinning.globals = skinning.pose(&skinning.rest);
         Ok(Some(skinning))
@@ -134,15 +137,22 @@ impl Skinning {
     /// set counted; `None` when the primitive has no joints or weights (then it is placed
     /// by its node). The weights go to the joints' carried weight.
     ///
+    /// A vertex whose weights are not numbers (as some exporters write a few) takes the
+    /// joints and weights of the nearest vertex over the primitive's triangles `indices`
+    /// that has numbers ([`Skinning::borrowed`] counts them).
+    ///
     /// # Errors
-    /// Joint numbers past the skin's joints, weights that do not sum to 1, a missing or
-    /// short inverse bind matrix accessor.
+    /// Joint numbers past the skin's joints, weights that do not sum to 1, a vertex whose
+    /// weights are not numbers on a piece with none that are (nothing says where the skin
+    /// holds it: its node's transform is another frame), a missing or short inverse bind
+    /// matrix accessor.
     pub fn place(
         &mut self,
         skin: &gltf::Skin,
         prim: &gltf::Primitive,
         data: &Data,
         positions: &[f32],
+        indices: &[u32],
     ) -> Result<Option<Vec<DVec3>>, MeshError> {
         let count = positions.len() / 3;
         let mut sets = Vec::new();
@@ -188,11 +198,11 @@ impl Skinning {
             .zip(&inverse)
             .map(|(&node, ibm)| self.globals[node] * *ibm)
             .collect();
-        let mut out = Vec::with_capacity(count);
+        // Each vertex's joints (by number in the skin) and weights, as the file gives them.
+        let mut given: Vec<Vec<(usize, f64)>> = Vec::with_capacity(count);
+        let mut lost = Vec::new();
         for v in 0..count {
-            let p = glam::Vec3::from_slice(&positions[3 * v..3 * v + 3]).as_dvec3();
-            let (mut at, mut sum) = (DVec3::ZERO, 0.0);
-            let mut top = NO_WEIGHTS;
+            let mut pairs = Vec::new();
             for (joints, weights) in &sets {
                 for c in 0..4 {
                     let w = weights[4 * v + c] as f64;
@@ -200,31 +210,56 @@ impl Skinning {
                         continue;
                     }
                     let j = joints[4 * v + c] as usize;
-                    let m = matrices.get(j).ok_or_else(|| {
-                        bad(format!(
+                    if j >= matrices.len() {
+                        return Err(bad(format!(
                             "skin {}: vertex {v} names joint {j}, but the skin has {}",
                             skin.index(),
                             nodes.len()
-                        ))
-                    })?;
-                    at += w * m.transform_point3(p);
-                    sum += w;
-                    self.weight[nodes[j]] += w;
-                    // Into the four largest, in order (a joint named twice adds up).
-                    let node = nodes[j] as u32;
-                    match top.iter().position(|t| t.0 == node) {
-                        Some(k) => top[k].1 += w as f32,
-                        None if (w as f32) > top[3].1 => top[3] = (node, w as f32),
-                        None => {}
+                        )));
                     }
-                    top.sort_by(|a, b| b.1.total_cmp(&a.1));
+                    pairs.push((j, w));
                 }
             }
-            if !sum.is_finite() || (sum - 1.0).abs() > WEIGHT_SUM_TOLERANCE {
+            let sum: f64 = pairs.iter().map(|p| p.1).sum();
+            if !sum.is_finite() {
+                // Weights that are not numbers (as an exporter wrote a few): taken from a
+                // neighbour below.
+                lost.push(v);
+                pairs.clear();
+            } else if (sum - 1.0).abs() > WEIGHT_SUM_TOLERANCE {
                 return Err(bad(format!(
                     "skin {}: vertex {v}'s weights sum to {sum}, not 1",
                     skin.index()
                 )));
+            }
+            given.push(pairs);
+        }
+        if !lost.is_empty() {
+            borrow_weights(&mut given, &lost, indices).map_err(|v| {
+                bad(format!(
+                    "skin {}: vertex {v}'s weights are not numbers, nor any on its piece",
+                    skin.index()
+                ))
+            })?;
+            self.borrowed += lost.len();
+        }
+        let mut out = Vec::with_capacity(count);
+        for (v, pairs) in given.iter().enumerate() {
+            let p = glam::Vec3::from_slice(&positions[3 * v..3 * v + 3]).as_dvec3();
+            let (mut at, mut sum) = (DVec3::ZERO, 0.0);
+            let mut top = NO_WEIGHTS;
+            for &(j, w) in pairs {
+                at += w * matrices[j].transform_point3(p);
+                sum += w;
+                self.weight[nodes[j]] += w;
+                // Into the four largest, in order (a joint named twice adds up).
+                let node = nodes[j] as u32;
+                match top.iter().position(|t| t.0 == node) {
+                    Some(k) => top[k].1 += w as f32,
+                    None if (w as f32) > top[3].1 => top[3] = (node, w as f32),
+                    None => {}
+                }
+                top.sort_by(|a, b| b.1.total_cmp(&a.1));
             }
             out.push(at / sum);
             for t in &mut top {
@@ -392,6 +427,45 @@ struct Channel {
     values: Vec<f32>,
     width: usize,
     interpolation: gltf::animation::Interpolation,
+}
+
+/// Gives each vertex of `lost` (no weights in `given`) the joints and weights of the
+/// nearest vertex over the triangles `indices` that has some (fewest edges; of those,
+/// the first found).
+///
+/// # Errors
+/// The first vertex of `lost` that no vertex with weights reaches.
+fn borrow_weights(
+    given: &mut [Vec<(usize, f64)>],
+    lost: &[usize],
+    indices: &[u32],
+) -> Result<(), usize> {
+    let n = given.len();
+    let edges: Vec<(u32, u32)> = indices
+        .chunks_exact(3)
+        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+        .collect();
+    let (start, neighbours) = crate::mesh::neighbours(n, &edges);
+    let mut from: Vec<Option<usize>> = (0..n).map(Some).collect();
+    for &v in lost {
+        from[v] = None;
+    }
+    let mut queue: std::collections::VecDeque<usize> =
+        (0..n).filter(|&v| from[v].is_some()).collect();
+    while let Some(v) = queue.pop_front() {
+        for &u in &neighbours[start[v] as usize..start[v + 1] as usize] {
+            let u = u as usize;
+            if from[u].is_none() {
+                from[u] = from[v];
+                queue.push_back(u);
+            }
+        }
+    }
+    for &v in lost {
+        let source = from[v].ok_or(v)?;
+        given[v] = given[source].clone();
+    }
+    Ok(())
 }
 
 impl Channel {
