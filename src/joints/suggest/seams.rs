@@ -193,11 +193,12 @@ fn torn(joints: &Joints) -> Option<String> {
 }
 
 /// The second largest of the loops where a section meets its parent on one piece of the
-/// mesh, as a share of their whole seam, at or above which the section is joined to its
+/// mesh, as a share of the section's seam on that piece, at or above which the section is joined to its
 /// parent in two places and loses its cut: turned about one loop it tears the other open.
-/// A limb cut across meets its parent along one ring on each piece it crosses (trousers
-/// and the leg inside them: one each); two loops within an edge of each other are one (a
-/// ring crossing a vertex of a third section). Over the suggestions on every corpus
+/// A limb cut across meets its parent along one ring on each piece it crosses (a cut
+/// across two pieces of a witch in the population: one each); two loops within an edge of
+/// each other are one (a ring crossing a vertex of a third section: the knees of men in
+/// trousers). Over the suggestions on every corpus
 /// (shipped, poses, characters, pieces, the population), the sections joined twice have a
 /// second loop of 25–47 % of their seam (a lion statue's hind legs standing on its
 /// pedestal, a part of a rat, the trousers of a soldier in pieces) and every other section none:
@@ -225,8 +226,8 @@ pub fn joined_twice(joints: &Joints) -> Option<String> {
                 continue;
             };
             if a < b {
-                // Each end's neighbours too: a loop crossing a vertex of a third section
-                // (a sock's hem on the shin's ring) stays one loop.
+                // Each end's neighbours too: a ring crossing a vertex of a third section
+                // stays one loop.
                 for &c in joints
                     .body
                     .neighbours(a)
@@ -240,8 +241,9 @@ pub fn joined_twice(joints: &Joints) -> Option<String> {
             }
         }
     }
-    // The mesh's pieces: a cut across trousers and the leg inside them meets its parent
-    // along two loops, one on each piece, and is joined once on each.
+    // The mesh's pieces: a cut across two pieces meets its parent along a loop on each,
+    // and is joined once on each (counted over the whole seam, a witch in the population
+    // lost a cut across two pieces).
     let mut pieces = super::union_find::UnionFind::new(of.len());
     for t in &joints.body.triangles {
         pieces.union(t[0] as usize, t[1] as usize);
