@@ -616,7 +616,7 @@ fn controls_bench_passes_and_fails_when_packets_are_lost() {
     assert_eq!(out.status.code(), Some(2));
 }
 
-/// The guide's and BENCHMARKS' figures for rough surfaces: with every vertex moved by up
+/// The guide's and the engine page's figures for rough surfaces: with every vertex moved by up
 /// to a tenth of an edge (`bench suggest --jitter 0.1`, seeds 1–3), 78–82 of the 97
 /// required joints are found.
 #[test]
