@@ -507,9 +507,8 @@ fn a_section_meeting_its_parent_along_two_loops_is_joined_twice() {
     // not a pose would tear it past `TEAR` (a squat arch does not).
     let j = arch_or_strip(true);
     assert_eq!(super::suggest::seams::joined_twice(&j), Some("arm".into()));
-    let mut cuts = j.cuts().to_vec();
     let mut bare = j.uncut();
-    let removed = super::suggest::seams::add(&mut bare, std::mem::take(&mut cuts)).unwrap();
+    let removed = super::suggest::seams::add(&mut bare, j.cuts().to_vec()).unwrap();
     assert_eq!(removed, vec!["arm".to_string()]);
     // The strip meets it along one.
     assert_eq!(

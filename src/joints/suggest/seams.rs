@@ -193,17 +193,17 @@ fn torn(joints: &Joints) -> Option<String> {
 }
 
 /// The second largest of the loops where a section meets its parent on one piece of the
-/// mesh, as a share of the section's seam on that piece, at or above which the section is joined to its
-/// parent in two places and loses its cut: turned about one loop it tears the other open.
-/// A limb cut across meets its parent along one ring on each piece it crosses (a cut
-/// across two pieces of a witch in the population: one each); two loops within an edge of
-/// each other are one (a ring crossing a vertex of a third section: the knees of men in
-/// trousers). Over the suggestions on every corpus
-/// (shipped, poses, characters, pieces, the population), the sections joined twice have a
-/// second loop of 25–47 % of their seam (a lion statue's hind legs standing on its
-/// pedestal, a part of a rat, the trousers of a soldier in pieces) and every other section none:
-/// any value up to 0.25 separates them on the development half; the held-out half has
-/// none joined twice (`docs/performance-log.md`).
+/// mesh, as a share of the section's seam on that piece, at or above which the section is
+/// joined to its parent in two places and loses its cut: turned about one loop it tears
+/// the other open. A limb cut across meets its parent along one ring on each piece it
+/// crosses (a cut across two pieces of a witch in the population: one each); two loops
+/// within an edge of each other are one (a ring crossing a vertex of a third section: the
+/// knees of men in trousers). Over the suggestions on every corpus (shipped, poses,
+/// characters, pieces, the population), the sections joined twice have a second loop of
+/// 25–47 % of their seam (a lion statue's hind legs standing on its pedestal, a part of a
+/// rat, the trousers of a soldier in pieces) and every other section none: any value up to
+/// 0.25 separates them on the development half; the held-out half has none joined twice
+/// (`docs/performance-log.md`).
 pub const TWICE: f64 = 0.1;
 
 /// The name of the section joined to its parent in two places ([`TWICE`]) that loses its

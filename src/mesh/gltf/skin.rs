@@ -199,56 +199,47 @@ impl Skinning {
             .map(|(&node, ibm)| self.globals[node] * *ibm)
             .collect();
         // Each vertex's joints (by number in the skin) and weights, as the file gives them.
-        let mut given: Vec<Vec<(usize, f64)>> = Vec::with_capacity(count);
+        let pairs = |v: usize| {
+            sets.iter().flat_map(move |(joints, weights)| {
+                (0..4)
+                    .map(move |c| (joints[4 * v + c] as usize, weights[4 * v + c] as f64))
+                    .filter(|&(_, w)| w != 0.0)
+            })
+        };
         let mut lost = Vec::new();
         for v in 0..count {
-            let mut pairs = Vec::new();
-            for (joints, weights) in &sets {
-                for c in 0..4 {
-                    let w = weights[4 * v + c] as f64;
-                    if w == 0.0 {
-                        continue;
-                    }
-                    let j = joints[4 * v + c] as usize;
-                    if j >= matrices.len() {
-                        return Err(bad(format!(
-                            "skin {}: vertex {v} names joint {j}, but the skin has {}",
-                            skin.index(),
-                            nodes.len()
-                        )));
-                    }
-                    pairs.push((j, w));
-                }
+            if let Some((j, _)) = pairs(v).find(|&(j, _)| j >= matrices.len()) {
+                return Err(bad(format!(
+                    "skin {}: vertex {v} names joint {j}, but the skin has {}",
+                    skin.index(),
+                    nodes.len()
+                )));
             }
-            let sum: f64 = pairs.iter().map(|p| p.1).sum();
+            let sum: f64 = pairs(v).map(|(_, w)| w).sum();
             if !sum.is_finite() {
-                // Weights that are not numbers (as an exporter wrote a few): taken from a
-                // neighbour below.
+                // Weights that are not numbers (as an exporter wrote a few): a neighbour's.
                 lost.push(v);
-                pairs.clear();
             } else if (sum - 1.0).abs() > WEIGHT_SUM_TOLERANCE {
                 return Err(bad(format!(
                     "skin {}: vertex {v}'s weights sum to {sum}, not 1",
                     skin.index()
                 )));
             }
-            given.push(pairs);
         }
-        if !lost.is_empty() {
-            borrow_weights(&mut given, &lost, indices).map_err(|v| {
-                bad(format!(
-                    "skin {}: vertex {v}'s weights are not numbers, nor any on its piece",
-                    skin.index()
-                ))
-            })?;
-            self.borrowed += lost.len();
-        }
+        // The vertex whose weights each vertex takes: its own, or a neighbour's.
+        let source = borrow_weights(count, &lost, indices).map_err(|v| {
+            bad(format!(
+                "skin {}: vertex {v}'s weights are not numbers, nor any on its piece",
+                skin.index()
+            ))
+        })?;
+        self.borrowed += lost.len();
         let mut out = Vec::with_capacity(count);
-        for (v, pairs) in given.iter().enumerate() {
+        for (v, &from) in source.iter().enumerate() {
             let p = glam::Vec3::from_slice(&positions[3 * v..3 * v + 3]).as_dvec3();
             let (mut at, mut sum) = (DVec3::ZERO, 0.0);
             let mut top = NO_WEIGHTS;
-            for &(j, w) in pairs {
+            for (j, w) in pairs(from) {
                 at += w * matrices[j].transform_point3(p);
                 sum += w;
                 self.weight[nodes[j]] += w;
@@ -429,29 +420,27 @@ struct Channel {
     interpolation: gltf::animation::Interpolation,
 }
 
-/// Gives each vertex of `lost` (no weights in `given`) the joints and weights of the
-/// nearest vertex over the triangles `indices` that has some (fewest edges; of those,
-/// the first found).
+/// Per vertex of a primitive of `count`, the vertex whose weights it takes: itself, or for
+/// each of `lost` (weights that are not numbers) the nearest vertex over the triangles
+/// `indices` that has weights (fewest edges; of those, the first found).
 ///
 /// # Errors
 /// The first vertex of `lost` that no vertex with weights reaches.
-fn borrow_weights(
-    given: &mut [Vec<(usize, f64)>],
-    lost: &[usize],
-    indices: &[u32],
-) -> Result<(), usize> {
-    let n = given.len();
+fn borrow_weights(count: usize, lost: &[usize], indices: &[u32]) -> Result<Vec<usize>, usize> {
+    let mut from: Vec<Option<usize>> = (0..count).map(Some).collect();
+    if lost.is_empty() {
+        return Ok((0..count).collect());
+    }
+    for &v in lost {
+        from[v] = None;
+    }
     let edges: Vec<(u32, u32)> = indices
         .chunks_exact(3)
         .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
         .collect();
-    let (start, neighbours) = crate::mesh::neighbours(n, &edges);
-    let mut from: Vec<Option<usize>> = (0..n).map(Some).collect();
-    for &v in lost {
-        from[v] = None;
-    }
+    let (start, neighbours) = crate::mesh::neighbours(count, &edges);
     let mut queue: std::collections::VecDeque<usize> =
-        (0..n).filter(|&v| from[v].is_some()).collect();
+        (0..count).filter(|&v| from[v].is_some()).collect();
     while let Some(v) = queue.pop_front() {
         for &u in &neighbours[start[v] as usize..start[v + 1] as usize] {
             let u = u as usize;
@@ -461,11 +450,7 @@ fn borrow_weights(
             }
         }
     }
-    for &v in lost {
-        let source = from[v].ok_or(v)?;
-        given[v] = given[source].clone();
-    }
-    Ok(())
+    from.iter().enumerate().map(|(v, f)| f.ok_or(v)).collect()
 }
 
 impl Channel {
