@@ -2,7 +2,7 @@
 //! and the pairs each stretch of the move may press (see the parent module's docs).
 
 use super::{Balls, MAX_CELLS};
-use crate::geom::cells::Cells;
+use crate::geom::cells::SortedCells;
 use glam::{DAffine3, DVec3};
 
 /// A moving ball and a small still ball that may press during a move.
@@ -39,7 +39,7 @@ pub(super) struct Still<'a> {
     pub(super) movers: Vec<usize>,
     /// The others, posed: small ones by grid cell, big ones (over a cell) apart.
     posed: Vec<DVec3>,
-    grid: Cells<[i64; 3], Vec<u32>>,
+    grid: SortedCells,
     /// The lowest and highest cell holding a ball.
     extent: ([i64; 3], [i64; 3]),
     big: Vec<u32>,
@@ -60,13 +60,14 @@ impl<'a> Still<'a> {
             sections,
             movers: Vec::new(),
             posed: vec![DVec3::ZERO; balls.len()],
-            grid: Cells::default(),
+            grid: SortedCells::default(),
             extent: ([i64::MAX; 3], [i64::MIN; 3]),
             big: Vec::new(),
             gridded: vec![false; balls.len()],
             swept: None,
             start: Vec::new(),
         };
+        let mut cells = Vec::new();
         for b in 0..balls.len() {
             let s = balls.section[b];
             if moving.get(s).copied().unwrap_or(false) {
@@ -85,10 +86,11 @@ impl<'a> Still<'a> {
                     out.extent.0[d] = out.extent.0[d].min(kd);
                     out.extent.1[d] = out.extent.1[d].max(kd);
                 }
-                out.grid.entry(k).or_default().push(b as u32);
+                cells.push((k, b as u32));
                 out.gridded[b] = true;
             }
         }
+        out.grid = SortedCells::new(cells);
         out
     }
 
@@ -166,15 +168,9 @@ impl<'a> Still<'a> {
                 }
             };
             self.big.iter().for_each(|&b| consider(b));
-            for x in a_lo[0].max(lo[0])..=a_hi[0].min(hi[0]) {
-                for y in a_lo[1].max(lo[1])..=a_hi[1].min(hi[1]) {
-                    for z in a_lo[2].max(lo[2])..=a_hi[2].min(hi[2]) {
-                        if let Some(list) = self.grid.get(&[x, y, z]) {
-                            list.iter().for_each(|&b| consider(b));
-                        }
-                    }
-                }
-            }
+            let from = [a_lo[0].max(lo[0]), a_lo[1].max(lo[1]), a_lo[2].max(lo[2])];
+            let to = [a_hi[0].min(hi[0]), a_hi[1].min(hi[1]), a_hi[2].min(hi[2])];
+            self.grid.each_in(from, to, consider);
         }
         let movers = self.moving_pairs(&boxes);
         self.swept = Some(Swept {
@@ -244,7 +240,14 @@ impl<'a> Still<'a> {
                     .get(sa(i))
                     .is_some_and(|o| o.iter().any(|&t| boxes_meet(boxes[i], section_box[t])))
         };
-        let mut grid: Cells<[i64; 3], Vec<u32>> = Cells::default();
+        // The grid holds each ball's rank by section, so a cell's balls come by section.
+        let mut order: Vec<usize> = (0..boxes.len()).collect();
+        order.sort_by_key(|&i| (sa(i), i));
+        let mut rank = vec![0u32; boxes.len()];
+        for (r, &i) in order.iter().enumerate() {
+            rank[i] = r as u32;
+        }
+        let mut cells = Vec::new();
         let mut wide = Vec::new();
         // Each box's lowest cell: where two boxes meet begins in the higher of theirs.
         let mut low = vec![[0i64; 3]; boxes.len()];
@@ -262,25 +265,33 @@ impl<'a> Still<'a> {
             for x in k0[0]..=k1[0] {
                 for y in k0[1]..=k1[1] {
                     for z in k0[2]..=k1[2] {
-                        grid.entry([x, y, z]).or_default().push(i as u32);
+                        cells.push(([x, y, z], rank[i]));
                     }
                 }
             }
         }
+        let grid = SortedCells::new(cells);
         let mut out = Vec::new();
-        for (cell, list) in grid.iter() {
-            for (n, &i) in list.iter().enumerate() {
-                for &j in &list[n + 1..] {
-                    let (i, j) = (i as usize, j as usize);
-                    let (a, b) = (low[i], low[j]);
-                    if sa(i) != sb(j)
-                        && [a[0].max(b[0]), a[1].max(b[1]), a[2].max(b[2])] == *cell
-                        && boxes_meet(boxes[i], boxes[j])
-                        && pressable(i, j)
-                    {
-                        out.push((i as u32, j as u32, self.pair_gap(i, j)));
+        for (cell, list) in grid.runs() {
+            // A cell's balls by section: each pairs only with those of later sections.
+            let mut first = 0;
+            while first < list.len() {
+                let s = sa(order[list[first].1 as usize]);
+                let end = first + list[first..].partition_point(|e| sa(order[e.1 as usize]) == s);
+                for &(_, i) in &list[first..end] {
+                    let i = order[i as usize];
+                    for &(_, j) in &list[end..] {
+                        let j = order[j as usize];
+                        let (a, b) = (low[i], low[j]);
+                        if [a[0].max(b[0]), a[1].max(b[1]), a[2].max(b[2])] == cell
+                            && boxes_meet(boxes[i], boxes[j])
+                            && pressable(i, j)
+                        {
+                            out.push((i as u32, j as u32, self.pair_gap(i, j)));
+                        }
                     }
                 }
+                first = end;
             }
         }
         let is_wide = {
@@ -443,7 +454,7 @@ impl<'a> Still<'a> {
                         })
                 })
                 .collect();
-            let mut grid: Cells<[i64; 3], Vec<u32>> = Cells::default();
+            let mut cells = Vec::new();
             let mut big = Vec::new();
             for (i, &a) in self.movers.iter().enumerate() {
                 if !near[i] {
@@ -452,9 +463,10 @@ impl<'a> Still<'a> {
                 if balls.radius[a] > balls.cell || !movers[i].is_finite() {
                     big.push(i);
                 } else {
-                    grid.entry(key(movers[i])).or_default().push(i as u32);
+                    cells.push((key(movers[i]), i as u32));
                 }
             }
+            let grid = SortedCells::new(cells);
             for (i, &a) in self.movers.iter().enumerate() {
                 if !near[i] || balls.radius[a] > balls.cell || !movers[i].is_finite() {
                     continue;
@@ -462,15 +474,13 @@ impl<'a> Still<'a> {
                 let k = key(movers[i]);
                 for x in k[0] - 1..=k[0] + 1 {
                     for y in k[1] - 1..=k[1] + 1 {
-                        for z in k[2] - 1..=k[2] + 1 {
-                            for &j in grid.get(&[x, y, z]).map_or(&[][..], |v| v.as_slice()) {
-                                let (j, b) = (j as usize, self.movers[j as usize]);
-                                if j > i
-                                    && apart(a, b)
-                                    && deeper(&mut deepest, a, b, movers[i], movers[j])
-                                {
-                                    return deepest;
-                                }
+                        for &(_, j) in grid.row(x, y, k[2] - 1, k[2] + 1) {
+                            let (j, b) = (j as usize, self.movers[j as usize]);
+                            if j > i
+                                && apart(a, b)
+                                && deeper(&mut deepest, a, b, movers[i], movers[j])
+                            {
+                                return deepest;
                             }
                         }
                     }
@@ -513,16 +523,13 @@ impl<'a> Still<'a> {
             let k = self.key(pa);
             let (lo, hi) = self.extent;
             let span = |d: usize| (k[d] - reach).max(lo[d])..=(k[d] + reach).min(hi[d]);
+            let (z0, z1) = (*span(2).start(), *span(2).end());
             for x in span(0) {
                 for y in span(1) {
-                    for z in span(2) {
-                        if let Some(list) = self.grid.get(&[x, y, z]) {
-                            for &b in list {
-                                let b = b as usize;
-                                if deeper(&mut deepest, a, b, pa, self.posed[b]) {
-                                    return deepest;
-                                }
-                            }
+                    for &(_, b) in self.grid.row(x, y, z0, z1) {
+                        let b = b as usize;
+                        if deeper(&mut deepest, a, b, pa, self.posed[b]) {
+                            return deepest;
                         }
                     }
                 }
