@@ -6,7 +6,8 @@
 //! in a pose, over the smaller radius; pairs at one joint that were neighbours at rest
 //! ([`crate::geom::balls::neighbours`]: the two sides of a joint) never press, nor does a
 //! ball of a joint's flesh with one of the section across that joint that touched it at
-//! rest (within [`TOUCHING`]: a chest's big ball reaching into the armpit); parts that
+//! rest (within [`TOUCHING`]: a chest's big ball reaching into the armpit), nor two balls of a joint's two sides both in its neck
+//! ([`NECK`]: a thick neck's crease closing as the head turns); parts that
 //! merely rest near each other (an arm hanging by the body) do, and two other balls that
 //! overlapped at rest (a mesh's own overlap) press only by how much deeper they go. A pose is
 //! allowed while no pair presses more than the flesh gives ([`Balls::set_squash`]: by
@@ -43,6 +44,10 @@ mod still;
 /// How near at rest, as a share of the smaller ball's radius, a ball of a joint's flesh
 /// and one of the section across that joint lie for them never to press.
 const TOUCHING: f64 = 0.25;
+
+/// How far from a joint's pivot its neck reaches, in the distance from the pivot to the
+/// nearest point of the surface: balls of its two sides both within it never press.
+const NECK: f64 = 2.0;
 
 /// Samples at most along a move (beyond them the move's sampling is coarser).
 const MAX_SAMPLES: usize = 64;
@@ -82,6 +87,21 @@ pub struct Balls {
     /// Per cut, the sections on its two sides (the child, its parent); `None` for a cut
     /// whose section is gone.
     sides: Vec<Option<(usize, usize)>>,
+    /// Per section, the neck of the joint it hangs from; `None` for the root, or without a
+    /// surface.
+    necks: Vec<Option<Neck>>,
+}
+
+/// Where a joint's two sides meet: balls of both within it never press.
+#[derive(Clone, Copy, Debug)]
+struct Neck {
+    /// The joint's pivot.
+    pivot: DVec3,
+    /// How far from the pivot the neck reaches: [`NECK`] times the distance from the
+    /// pivot to the nearest point of the surface.
+    reach: f64,
+    /// The section across the joint.
+    parent: usize,
 }
 
 impl Joints {
@@ -120,7 +140,25 @@ impl Joints {
                     Some((child, self.sections[child].parent?))
                 })
                 .collect(),
+            necks: Vec::new(),
         };
+        out.necks = self
+            .sections
+            .iter()
+            .map(|section| {
+                let surface = body
+                    .rest
+                    .iter()
+                    .map(|p| p.distance(section.pivot))
+                    .fold(f64::INFINITY, f64::min);
+                Some(Neck {
+                    pivot: section.pivot,
+                    reach: NECK * surface,
+                    parent: section.parent?,
+                })
+                .filter(|_| surface.is_finite())
+            })
+            .collect();
         out.cell = balls::cell(&out.radius);
         out
     }
@@ -240,11 +278,11 @@ impl Balls {
         beyond / small
     }
 
-    /// Whether pair `a`, `b` never presses, whatever the pose: one section; the two sides
-    /// of a joint that were neighbours at rest (the surfaces within a few of the smaller
-    /// radii); or a ball of a joint's flesh and one of the section across that joint that
-    /// touched it at rest, within [`TOUCHING`] (a chest's big ball reaching into the armpit
-    /// does not hold the arm up).
+    /// Whether pair `a`, `b` never presses, whatever the pose: one section; two balls of a
+    /// joint's two sides both in its neck; the two sides of a joint that were neighbours at
+    /// rest (the surfaces within a few of the smaller radii); or a ball of a joint's flesh
+    /// and one of the section across that joint that touched it at rest, within
+    /// [`TOUCHING`] (a chest's big ball reaching into the armpit does not hold the arm up).
     fn never(&self, a: usize, b: usize) -> bool {
         if self.section[a] == self.section[b] {
             return true;
@@ -252,11 +290,35 @@ impl Balls {
         let (ra, rb) = (self.radius[a], self.radius[b]);
         let small = ra.min(rb);
         let at_rest = self.center[a].distance(self.center[b]);
+        // Balls of the two sides of one joint both near its pivot hold the flesh the joint
+        // bends (a thick neck's crease), wherever the joint's band ends.
+        if self.in_neck(a, b) {
+            return true;
+        }
         let joint = self.joint.get(a).copied();
         if joint.is_none() || (joint != Some(0) && joint == self.joint.get(b).copied()) {
             return balls::neighbours(at_rest - small, ra.max(rb), small);
         }
         ra + rb - at_rest > -TOUCHING * small && (self.across(a, b) || self.across(b, a))
+    }
+
+    /// Whether balls `a` and `b` lie on the two sides of one joint, both within its neck
+    /// of its pivot.
+    fn in_neck(&self, a: usize, b: usize) -> bool {
+        let (sa, sb) = (self.section[a], self.section[b]);
+        let neck = |child: usize, parent: usize| match self.necks.get(child) {
+            Some(&Some(Neck {
+                pivot,
+                reach,
+                parent: p,
+            })) => {
+                p == parent
+                    && self.center[a].distance(pivot) < reach
+                    && self.center[b].distance(pivot) < reach
+            }
+            _ => false,
+        };
+        neck(sa, sb) || neck(sb, sa)
     }
 
     /// Whether ball `a` is of a joint's flesh and `b` of the section across that joint.
