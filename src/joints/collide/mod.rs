@@ -6,10 +6,11 @@
 //! in a pose, over the smaller radius; pairs at one joint that were neighbours at rest
 //! ([`crate::geom::balls::neighbours`]: the two sides of a joint) never press, nor does a
 //! ball of a joint's flesh with one of the section across that joint that touched it at
-//! rest (within [`TOUCHING`]: a chest's big ball reaching into the armpit), nor two balls of a joint's two sides both in its neck
-//! ([`NECK`]: a thick neck's crease closing as the head turns); parts that
-//! merely rest near each other (an arm hanging by the body) do, and two other balls that
-//! overlapped at rest (a mesh's own overlap) press only by how much deeper they go. A pose is
+//! rest (within [`TOUCHING`]: a chest's big ball reaching into the armpit), nor two balls
+//! of a joint's two sides both in its neck ([`NECK`]: a thick neck's crease closing as
+//! the head turns); parts that merely rest near each other (an arm hanging by the body)
+//! do, and two other balls that overlapped at rest (a mesh's own overlap) press only by
+//! how much deeper they go. A pose is
 //! allowed while no pair presses more than the flesh gives ([`Balls::set_squash`]: by
 //! default nothing, a part stops at the other's surface), and the simulation's contacts
 //! keep the surfaces apart ([`crate::sim::contact`]).
@@ -46,7 +47,7 @@ mod still;
 const TOUCHING: f64 = 0.25;
 
 /// How far from a joint's pivot its neck reaches, in the distance from the pivot to the
-/// nearest point of the surface: balls of its two sides both within it never press.
+/// nearest surface vertex: balls of its two sides both within it never press.
 const NECK: f64 = 2.0;
 
 /// Samples at most along a move (beyond them the move's sampling is coarser).
@@ -95,10 +96,11 @@ pub struct Balls {
 /// Where a joint's two sides meet: balls of both within it never press.
 #[derive(Clone, Copy, Debug)]
 struct Neck {
-    /// The joint's pivot.
+    /// The point the section below the joint turns about (its cut's pivot, or a shared
+    /// one).
     pivot: DVec3,
     /// How far from the pivot the neck reaches: [`NECK`] times the distance from the
-    /// pivot to the nearest point of the surface.
+    /// pivot to the nearest surface vertex.
     reach: f64,
     /// The section across the joint.
     parent: usize,
