@@ -74,11 +74,6 @@ impl SortedCells {
             .chunk_by(|a, b| a.0 == b.0)
             .map(|run| (run[0].0, run))
     }
-
-    /// True when no index lies in the grid.
-    pub fn is_empty(&self) -> bool {
-        self.entries.is_empty()
-    }
 }
 
 #[cfg(test)]
