@@ -364,10 +364,15 @@ fn a_session_plays_a_clip_and_holds_its_last_pose() {
         },
     );
     let mut loader = loader;
+    let start = std::time::Instant::now();
     let opened = loop {
         if let puppet::session::loader::Status::Done(r) = loader.poll() {
             break r.unwrap();
         }
+        assert!(
+            start.elapsed() < std::time::Duration::from_secs(120),
+            "the loader did not finish within 120 s"
+        );
         std::thread::sleep(std::time::Duration::from_millis(5));
     };
     assert!(opened.problems.is_empty(), "{:?}", opened.problems);

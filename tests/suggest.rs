@@ -1422,8 +1422,8 @@ fn a_gltf_file_is_y_up_as_its_specification_says() {
     );
 }
 
-/// What BENCHMARKS says of the population (`bench suggest`, both halves), held: one file
-/// refused (the stag), up right on every file that loads, each half's
+/// What BENCHMARKS says of the population (`bench suggest`, both halves), held: no file
+/// refused (the stag's stray face and fin repaired), up right on every file, each half's
 /// required joints found at least as today and the two halves within five points of each
 /// other (rules chosen on one half carry over to the other).
 #[test]
@@ -1448,7 +1448,7 @@ fn the_population_scores_as_benchmarks_says() {
         .filter(|r| !r["refused"].is_null())
         .map(|r| r["character"].as_str().unwrap())
         .collect();
-    assert_eq!(refused, ["stag"]);
+    assert!(refused.is_empty(), "refused: {refused:?}");
     let lying: Vec<&str> = rows
         .iter()
         .filter(|r| r["refused"].is_null() && r["up_right"] != true)
@@ -1461,7 +1461,7 @@ fn the_population_scores_as_benchmarks_says() {
         (sum("found"), sum("required"))
     };
     let (dev, held) = (recall("development"), recall("held-out"));
-    assert!(dev.0 >= 54 && held.0 >= 48, "{dev:?} {held:?}");
+    assert!(dev.0 >= 54 && held.0 >= 50, "{dev:?} {held:?}");
     let share = |(f, r): (u64, u64)| 100.0 * f as f64 / r as f64;
     assert!(
         (share(dev) - share(held)).abs() <= 5.0,

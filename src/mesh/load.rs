@@ -5,7 +5,9 @@
 use super::edges::HalfEdges;
 use super::groups::Groups;
 use super::parts::Parts;
-use super::repair::{drop_duplicate_faces, drop_fins, fill_holes, orient, weld_seams, Holes};
+use super::repair::{
+    drop_duplicate_faces, drop_fins, drop_lone_faces, fill_holes, orient, weld_seams, Holes,
+};
 use super::soup::Soup;
 use super::split::split_sheets;
 use super::validate::validate_with;
@@ -140,6 +142,9 @@ pub struct LoadReport {
     /// Faces of fins dropped: open flaps of a few faces hanging off an edge a larger piece
     /// shares.
     pub fins: usize,
+    /// Lone faces joined to no other along any edge, dropped (filled, each would close
+    /// into a solid of no volume).
+    pub stray_faces: usize,
     /// Larger open pieces hanging so, and closed ones meeting a larger piece at an edge
     /// that cannot be paired, given their own copies of the vertices they shared.
     pub detached: usize,
@@ -204,6 +209,7 @@ impl LoadReport {
             flipped_parts: 0,
             duplicate_faces: 0,
             fins: 0,
+            stray_faces: 0,
             detached: 0,
             loose_comments: 0,
             parts: 0,
@@ -274,6 +280,12 @@ impl LoadReport {
                 "dropped {} hanging off an edge the surface shares with {}",
                 plural(self.fins, "fin face"),
                 if self.fins == 1 { "it" } else { "them" }
+            ));
+        }
+        if self.stray_faces > 0 {
+            w.push(format!(
+                "dropped {} joined to no other face (a lone triangle encloses nothing)",
+                plural(self.stray_faces, "stray face")
             ));
         }
         if self.seams_welded > 0 {
@@ -522,6 +534,14 @@ pub fn parse(
         if split.vertices > 0 {
             half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
         }
+        if boundary {
+            report.stray_faces = drop_lone_faces(&mut mesh);
+            if report.stray_faces > 0 {
+                let identity: Vec<u32> = (0..mesh.positions.len() as u32).collect();
+                report.unreferenced += super::weld::remap(&mut mesh, &identity).removed_vertices;
+                half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
+            }
+        }
         if boundary && options.fill_holes > 0 {
             let before = mesh.triangles.len() as u32;
             holes = fill_holes(&mut mesh, &half, options.fill_holes);
@@ -573,3 +593,4 @@ pub fn parse(
     lap(&mut report, "check", "checked");
     Ok((mesh, report))
 }
+

@@ -60,6 +60,24 @@ pub(super) fn drop_duplicate_faces(mesh: &mut Mesh) -> usize {
     before - mesh.triangles.len()
 }
 
+/// Drops the faces joined to no other along any of their three edges (a stray triangle
+/// left where a seam came apart: filled, it would close into a solid of no volume whose
+/// vertices have no normal). Returns how many were dropped.
+pub(super) fn drop_lone_faces(mesh: &mut Mesh) -> usize {
+    use std::collections::HashMap;
+    let edge = |a: u32, b: u32| (a.min(b), a.max(b));
+    let mut on_edge: HashMap<(u32, u32), u32> = HashMap::with_capacity(mesh.triangles.len());
+    for t in &mesh.triangles {
+        for k in 0..3 {
+            *on_edge.entry(edge(t[k], t[(k + 1) % 3])).or_default() += 1;
+        }
+    }
+    let before = mesh.triangles.len();
+    mesh.triangles
+        .retain(|t| (0..3).any(|k| on_edge[&edge(t[k], t[(k + 1) % 3])] > 1));
+    before - mesh.triangles.len()
+}
+
 /// A piece hanging off an edge is a fin, dropped, while it has at most this many faces (a
 /// stray flap); a larger one (a skirt, trousers, a cape) is a piece of its own.
 pub(super) const FIN: usize = 16;
@@ -374,10 +392,22 @@ pub(super) fn weld_seams(mesh: &mut Mesh, half: &HalfEdges, apart: &[u32]) -> us
     }
     pairs.sort_unstable();
     let mut rep: Vec<u32> = (0..n as u32).collect();
+    // The faces at each vertex, those of a vertex welded to it included.
+    let mut faces_of: Vec<Vec<u32>> = vec![Vec::new(); n];
+    for (f, t) in mesh.triangles.iter().enumerate() {
+        for &v in t {
+            faces_of[v as usize].push(f as u32);
+        }
+    }
     let mut merged = 0;
     for (i, j) in pairs {
-        if rep[i as usize] == i && rep[j as usize] == j {
+        if rep[i as usize] == i
+            && rep[j as usize] == j
+            && !overfills(mesh, &rep, &faces_of, i, j)
+        {
             rep[i as usize] = j;
+            let moved = std::mem::take(&mut faces_of[i as usize]);
+            faces_of[j as usize].extend(moved);
             merged += 1;
         }
     }
@@ -385,6 +415,46 @@ pub(super) fn weld_seams(mesh: &mut Mesh, half: &HalfEdges, apart: &[u32]) -> us
         remap(mesh, &rep);
     }
     merged
+}
+
+/// Whether welding vertex `i` to `j` (each vertex already welded to `rep[v]`; the faces at
+/// each in `faces_of`) would leave an edge at `j` with more than two faces where it had
+/// fewer: a seam welded across a gap that a dropped fin left beside it (a stag's head,
+/// whose midline kept one face of three), which the hole's filling closes instead.
+fn overfills(mesh: &Mesh, rep: &[u32], faces_of: &[Vec<u32>], i: u32, j: u32) -> bool {
+    use std::collections::HashMap;
+    let (fi, fj) = (&faces_of[i as usize], &faces_of[j as usize]);
+    // Per other end of an edge at `j`: its faces before the weld and after.
+    let mut count: HashMap<u32, (usize, usize)> = HashMap::new();
+    for (k, &f) in fi.iter().chain(fj).enumerate() {
+        if k >= fi.len() && fi.contains(&f) {
+            continue;
+        }
+        let before = mesh.triangles[f as usize].map(|v| rep[v as usize]);
+        let after = before.map(|v| if v == i { j } else { v });
+        for (t, at) in [(before, 0), (after, 1)] {
+            if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+                continue;
+            }
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let other = if a == j {
+                    b
+                } else if b == j {
+                    a
+                } else {
+                    continue;
+                };
+                let c = count.entry(other).or_default();
+                if at == 0 {
+                    c.0 += 1;
+                } else {
+                    c.1 += 1;
+                }
+            }
+        }
+    }
+    count.values().any(|&(before, after)| after > 2 && after > before)
 }
 
 /// Turns faces to agree with their neighbours across two-face edges, part by part from the
@@ -649,6 +719,50 @@ mod tests {
         let mut m = gap(0.03);
         let half = HalfEdges::new(m.positions.len(), &m.triangles);
         assert_eq!(weld_seams(&mut m, &half, &[]), 0);
+    }
+
+    /// A boundary vertex beside another, where welding them would lay a third face on an
+    /// edge (a strip of two faces whose shared edge would land on a hole's rim), stays
+    /// apart: the weld is for gaps that close, not for folds that make fins.
+    #[test]
+    fn a_seam_weld_never_puts_three_faces_on_an_edge() {
+        let sphere = shapes::uv_sphere(1.0, 12, 8);
+        let [a, b, c] = sphere.triangles[5];
+        let mut m = sphere.clone();
+        m.triangles.remove(5);
+        // A strip of two faces on the edge a–i, i a hair from c.
+        let i = m.positions.len() as u32;
+        let (pa, pc) = (m.positions[a as usize], m.positions[c as usize]);
+        m.positions.push(pc + 1e-6 * (pc - pa));
+        m.positions.push(pc + 0.5 * (pc - pa) + DVec3::new(0.0, 0.0, 0.3));
+        m.positions.push(pc + 0.5 * (pc - pa) - DVec3::new(0.0, 0.0, 0.3));
+        m.triangles.push([a, i, i + 1]);
+        m.triangles.push([i, a, i + 2]);
+        let half = HalfEdges::new(m.positions.len(), &m.triangles);
+        let before = m.clone();
+        assert_eq!(weld_seams(&mut m, &half, &[]), 0);
+        assert_eq!(m.triangles, before.triangles);
+        // Where i closes the hole in c's place instead, it welds to c: the sphere is whole.
+        let mut m = before.clone();
+        m.triangles.truncate(m.triangles.len() - 2);
+        m.triangles.push([a, b, i]);
+        let half = HalfEdges::new(m.positions.len(), &m.triangles);
+        assert_eq!(weld_seams(&mut m, &half, &[]), 1);
+        assert!(census(&m).is_clean(), "{:?}", census(&m));
+    }
+
+    /// A lone face joined to nothing goes; a surface keeps every face.
+    #[test]
+    fn a_lone_face_is_dropped_and_the_surface_kept() {
+        let sphere = shapes::uv_sphere(1.0, 12, 8);
+        let mut m = sphere.clone();
+        let k = m.positions.len() as u32;
+        m.positions
+            .extend([DVec3::new(3.0, 0.0, 0.0), DVec3::new(3.0, 1.0, 0.0), DVec3::new(3.0, 0.0, 1.0)]);
+        m.triangles.push([k, k + 1, k + 2]);
+        assert_eq!(drop_lone_faces(&mut m), 1);
+        assert_eq!(m.triangles, sphere.triangles);
+        assert_eq!(drop_lone_faces(&mut m), 0);
     }
 
     /// A fin (one face hanging off an edge of a closed sphere) and a flap of two faces go;
