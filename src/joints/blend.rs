@@ -38,7 +38,11 @@
 //! [`SLOPE`] per edge length over the distance from the pivot, which bounds how far a turn
 //! pulls the edge's ends apart. Each free weight becomes the mean of the largest function
 //! under the weights with that slope and the smallest over them: where the weights keep
-//! the slope both are the weight, and a step is spread evenly to either side.
+//! the slope both are the weight, and a step is spread evenly to either side. A step
+//! against a fixed weight (a vertex of another section, which keeps its label) can only
+//! move its free end, so each free weight is first held within the slope of every fixed
+//! one: a neck beside a hindquarters' band stays within the slope of the head, which that
+//! band does not move (a downloaded deer tore 5.0× there when the mean halved the step).
 
 use super::Joints;
 use glam::DVec3;
@@ -387,7 +391,8 @@ impl Joints {
     /// Bounds the weight's slope over the free vertices `free` (their weights `x`, each
     /// one's place in `x` by `index`, every other vertex's weight in `fixed`, which stays):
     /// along an edge it changes by at most [`SLOPE`] times the edge's length over its
-    /// distance from `pivot` (at least `radius`). Each free weight becomes the mean of the
+    /// distance from `pivot` (at least `radius`). Each free weight is first held within that
+    /// slope of every fixed weight (where they leave room), then becomes the mean of the
     /// largest function under the weights with that slope and the smallest over them (see
     /// the module docs), each by Dijkstra seeded at the ends of the edges that step more
     /// steeply: no other weight can lower or raise a neighbour.
@@ -415,7 +420,61 @@ impl Joints {
                 .max(radius);
             SLOPE * rest[i].distance(rest[j]) / far
         };
-        let is_free = |j: usize| (index[j] as usize) < x.len();
+        let len = x.len();
+        let is_free = |j: usize| (index[j] as usize) < len;
+        // First each free weight within the slope of every fixed one, where the fixed ones
+        // leave room for that: the mean below halves a step, and against a fixed weight
+        // only the free end can move (a neck beside a tail's band, its weight a step
+        // above its head's).
+        let mut upper = vec![f64::INFINITY; x.len()];
+        let mut lower = vec![f64::NEG_INFINITY; x.len()];
+        let (mut down, mut up) = (BinaryHeap::new(), BinaryHeap::new());
+        for &i in free {
+            for &j in self.body.neighbours(i) {
+                let j = j as usize;
+                if !is_free(j) && !self.body.is_rider(j) {
+                    down.push(Near(fixed[j], j));
+                    up.push(Left(fixed[j], j));
+                }
+            }
+        }
+        while let Some(Near(v, i)) = down.pop() {
+            if is_free(i) && v > upper[index[i] as usize] {
+                continue;
+            }
+            for &j in self.body.neighbours(i) {
+                let j = j as usize;
+                if !is_free(j) || self.body.is_rider(j) {
+                    continue;
+                }
+                let c = v + cost(i, j);
+                if c < upper[index[j] as usize] {
+                    upper[index[j] as usize] = c;
+                    down.push(Near(c, j));
+                }
+            }
+        }
+        while let Some(Left(v, i)) = up.pop() {
+            if is_free(i) && v < lower[index[i] as usize] {
+                continue;
+            }
+            for &j in self.body.neighbours(i) {
+                let j = j as usize;
+                if !is_free(j) || self.body.is_rider(j) {
+                    continue;
+                }
+                let c = v - cost(i, j);
+                if c > lower[index[j] as usize] {
+                    lower[index[j] as usize] = c;
+                    up.push(Left(c, j));
+                }
+            }
+        }
+        for (k, w) in x.iter_mut().enumerate() {
+            if lower[k] <= upper[k] {
+                *w = w.clamp(lower[k], upper[k]);
+            }
+        }
         // Only a step steeper than the slope moves a weight: the ends of such edges seed
         // the two passes (the lower end the pass under, the higher the pass over).
         let (mut low, mut high) = (Vec::new(), Vec::new());
