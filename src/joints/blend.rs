@@ -354,7 +354,9 @@ impl Joints {
     /// Which of the band's vertices lie within `smooth` of a jump in their first guess
     /// `guess` (`span` the band's length, `child` its child section), by vertex: an edge
     /// whose two ends' guesses differ by more than [`JUMP`] times what a limb's skeleton
-    /// gives over its length (a child's vertex outside the band counts as 1).
+    /// gives over its length (a vertex of the child or of a section hanging from it,
+    /// outside the band, counts as 1: a thumb at the end of a palm the wrist's band
+    /// covers turns whole with the hand).
     fn jumps(&self, guess: &[Guess], span: f64, smooth: f64, child: usize) -> Vec<bool> {
         let n = self.section_of.len();
         let mut first = vec![f64::NAN; n];
@@ -369,7 +371,11 @@ impl Joints {
                 let j = j as usize;
                 let other = match first[j] {
                     x if !x.is_nan() => x,
-                    _ if usize::from(self.section_of[j]) == child && !self.body.is_rider(j) => 1.0,
+                    _ if self.hangs_from(usize::from(self.section_of[j]), child)
+                        && !self.body.is_rider(j) =>
+                    {
+                        1.0
+                    }
                     _ => return false,
                 };
                 (g.x - other).abs() * span > JUMP * rest[i].distance(rest[j])
@@ -386,6 +392,20 @@ impl Joints {
             loose[i] = true;
         }
         loose
+    }
+
+    /// Whether section `s` is `child` or hangs from it, however deep.
+    fn hangs_from(&self, mut s: usize, child: usize) -> bool {
+        for _ in 0..self.sections.len() {
+            if s == child {
+                return true;
+            }
+            match self.sections.get(s).and_then(|x| x.parent) {
+                Some(p) => s = p,
+                None => return false,
+            }
+        }
+        false
     }
 
     /// Bounds the weight's slope over the free vertices `free` (their weights `x`, each
