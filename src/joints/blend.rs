@@ -213,7 +213,9 @@ impl Joints {
             .collect();
         let mut kept: Vec<(usize, f64)> = Vec::new();
         let loose = match hold {
-            Hold::Exact { span, smooth, .. } => self.jumps(guess, span, smooth, child),
+            Hold::Exact { span, smooth, .. } => {
+                self.jumps(guess, span, smooth, child, (pivot, radius))
+            }
             Hold::Soft { .. } => Vec::new(),
         };
         for g in guess {
@@ -354,10 +356,19 @@ impl Joints {
     /// Which of the band's vertices lie within `smooth` of a jump in their first guess
     /// `guess` (`span` the band's length, `child` its child section), by vertex: an edge
     /// whose two ends' guesses differ by more than [`JUMP`] times what a limb's skeleton
-    /// gives over its length (a vertex of the child or of a section hanging from it,
-    /// outside the band, counts as 1: a thumb at the end of a palm the wrist's band
-    /// covers turns whole with the hand).
-    fn jumps(&self, guess: &[Guess], span: f64, smooth: f64, child: usize) -> Vec<bool> {
+    /// gives over its length, or by more than [`SLOPE`] allows that far from the pivot (a
+    /// fin's tip, far off the pivot's line, on a limb's ramp); `pivot` and `radius` as in
+    /// `limit_slope`. A vertex of the child or of a section hanging from it, outside the
+    /// band, counts as 1 (a thumb at the end of a palm the wrist's band covers turns whole
+    /// with the hand).
+    fn jumps(
+        &self,
+        guess: &[Guess],
+        span: f64,
+        smooth: f64,
+        child: usize,
+        (pivot, radius): (DVec3, f64),
+    ) -> Vec<bool> {
         let n = self.section_of.len();
         let mut first = vec![f64::NAN; n];
         for g in guess {
@@ -378,7 +389,14 @@ impl Joints {
                     }
                     _ => return false,
                 };
-                (g.x - other).abs() * span > JUMP * rest[i].distance(rest[j])
+                let (step, length) = ((g.x - other).abs(), rest[i].distance(rest[j]));
+                // Steeper than a limb's skeleton gives, or than the slope allows this far
+                // from the pivot (a fin's tip, far off the pivot's line).
+                let far = rest[i]
+                    .distance(pivot)
+                    .max(rest[j].distance(pivot))
+                    .max(radius);
+                step * span > JUMP * length || step > SLOPE * length / far
             });
             if jumps {
                 from.push(i);
