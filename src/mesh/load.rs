@@ -593,4 +593,3 @@ pub fn parse(
     lap(&mut report, "check", "checked");
     Ok((mesh, report))
 }
-

@@ -401,10 +401,7 @@ pub(super) fn weld_seams(mesh: &mut Mesh, half: &HalfEdges, apart: &[u32]) -> us
     }
     let mut merged = 0;
     for (i, j) in pairs {
-        if rep[i as usize] == i
-            && rep[j as usize] == j
-            && !overfills(mesh, &rep, &faces_of, i, j)
-        {
+        if rep[i as usize] == i && rep[j as usize] == j && !overfills(mesh, &rep, &faces_of, i, j) {
             rep[i as usize] = j;
             let moved = std::mem::take(&mut faces_of[i as usize]);
             faces_of[j as usize].extend(moved);
@@ -454,7 +451,9 @@ fn overfills(mesh: &Mesh, rep: &[u32], faces_of: &[Vec<u32>], i: u32, j: u32) ->
             }
         }
     }
-    count.values().any(|&(before, after)| after > 2 && after > before)
+    count
+        .values()
+        .any(|&(before, after)| after > 2 && after > before)
 }
 
 /// Turns faces to agree with their neighbours across two-face edges, part by part from the
@@ -734,8 +733,10 @@ mod tests {
         let i = m.positions.len() as u32;
         let (pa, pc) = (m.positions[a as usize], m.positions[c as usize]);
         m.positions.push(pc + 1e-6 * (pc - pa));
-        m.positions.push(pc + 0.5 * (pc - pa) + DVec3::new(0.0, 0.0, 0.3));
-        m.positions.push(pc + 0.5 * (pc - pa) - DVec3::new(0.0, 0.0, 0.3));
+        m.positions
+            .push(pc + 0.5 * (pc - pa) + DVec3::new(0.0, 0.0, 0.3));
+        m.positions
+            .push(pc + 0.5 * (pc - pa) - DVec3::new(0.0, 0.0, 0.3));
         m.triangles.push([a, i, i + 1]);
         m.triangles.push([i, a, i + 2]);
         let half = HalfEdges::new(m.positions.len(), &m.triangles);
@@ -757,8 +758,11 @@ mod tests {
         let sphere = shapes::uv_sphere(1.0, 12, 8);
         let mut m = sphere.clone();
         let k = m.positions.len() as u32;
-        m.positions
-            .extend([DVec3::new(3.0, 0.0, 0.0), DVec3::new(3.0, 1.0, 0.0), DVec3::new(3.0, 0.0, 1.0)]);
+        m.positions.extend([
+            DVec3::new(3.0, 0.0, 0.0),
+            DVec3::new(3.0, 1.0, 0.0),
+            DVec3::new(3.0, 0.0, 1.0),
+        ]);
         m.triangles.push([k, k + 1, k + 2]);
         assert_eq!(drop_lone_faces(&mut m), 1);
         assert_eq!(m.triangles, sphere.triangles);
