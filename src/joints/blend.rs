@@ -464,50 +464,31 @@ impl Joints {
         // leave room for that: the mean below halves a step, and against a fixed weight
         // only the free end can move (a neck beside a tail's band, its weight a step
         // above its head's).
-        let mut upper = vec![f64::INFINITY; x.len()];
-        let mut lower = vec![f64::NEG_INFINITY; x.len()];
-        let (mut down, mut up) = (BinaryHeap::new(), BinaryHeap::new());
+        let mut fixed_seeds = Vec::new();
         for &i in free {
             for &j in self.body.neighbours(i) {
                 let j = j as usize;
                 if !is_free(j) && !self.body.is_rider(j) {
-                    down.push(Near(fixed[j], j));
-                    up.push(Left(fixed[j], j));
+                    fixed_seeds.push(j);
                 }
             }
         }
-        while let Some(Near(v, i)) = down.pop() {
-            if is_free(i) && v > upper[index[i] as usize] {
-                continue;
-            }
-            for &j in self.body.neighbours(i) {
-                let j = j as usize;
-                if !is_free(j) || self.body.is_rider(j) {
-                    continue;
-                }
-                let c = v + cost(i, j);
-                if c < upper[index[j] as usize] {
-                    upper[index[j] as usize] = c;
-                    down.push(Near(c, j));
-                }
-            }
-        }
-        while let Some(Left(v, i)) = up.pop() {
-            if is_free(i) && v < lower[index[i] as usize] {
-                continue;
-            }
-            for &j in self.body.neighbours(i) {
-                let j = j as usize;
-                if !is_free(j) || self.body.is_rider(j) {
-                    continue;
-                }
-                let c = v - cost(i, j);
-                if c > lower[index[j] as usize] {
-                    lower[index[j] as usize] = c;
-                    up.push(Left(c, j));
-                }
-            }
-        }
+        let mut upper = vec![f64::INFINITY; len];
+        self.lower_from(
+            &mut upper,
+            fixed_seeds.iter().map(|&j| (j, fixed[j])),
+            index,
+            &cost,
+        );
+        // (The most under a weight less the cost: the least over its negative plus it.)
+        let mut lower = vec![f64::INFINITY; len];
+        self.lower_from(
+            &mut lower,
+            fixed_seeds.iter().map(|&j| (j, -fixed[j])),
+            index,
+            &cost,
+        );
+        lower.iter_mut().for_each(|w| *w = -*w);
         for (k, w) in x.iter_mut().enumerate() {
             if lower[k] <= upper[k] {
                 *w = w.clamp(lower[k], upper[k]);
@@ -534,11 +515,43 @@ impl Joints {
         if low.is_empty() {
             return;
         }
-        // Under: the least over sources of weight + cost to reach (a min-heap on weight).
+        // Under: the least over sources of weight + cost to reach; over: the most over
+        // sources of weight − cost.
         let mut under = x.to_vec();
-        let mut heap: BinaryHeap<Near> = low.iter().map(|&i| Near(value(i, x), i)).collect();
+        self.lower_from(
+            &mut under,
+            low.iter().map(|&i| (i, value(i, x))),
+            index,
+            &cost,
+        );
+        let mut over: Vec<f64> = x.iter().map(|w| -w).collect();
+        self.lower_from(
+            &mut over,
+            high.iter().map(|&i| (i, -value(i, x))),
+            index,
+            &cost,
+        );
+        over.iter_mut().for_each(|w| *w = -*w);
+        for (k, w) in x.iter_mut().enumerate() {
+            *w = 0.5 * (under[k] + over[k]);
+        }
+    }
+
+    /// Lowers each free weight in `out` (its place by `index`; a vertex is free when that
+    /// place is inside `out`) to the least over `seeds` (vertex, weight) of the seed's weight
+    /// plus the `cost` of the way there over free vertices (Dijkstra; riders are no way).
+    fn lower_from(
+        &self,
+        out: &mut [f64],
+        seeds: impl IntoIterator<Item = (usize, f64)>,
+        index: &[u32],
+        cost: &impl Fn(usize, usize) -> f64,
+    ) {
+        let len = out.len();
+        let is_free = |j: usize| (index[j] as usize) < len;
+        let mut heap: BinaryHeap<Near> = seeds.into_iter().map(|(i, v)| Near(v, i)).collect();
         while let Some(Near(v, i)) = heap.pop() {
-            if is_free(i) && v > under[index[i] as usize] {
+            if is_free(i) && v > out[index[i] as usize] {
                 continue;
             }
             for &j in self.body.neighbours(i) {
@@ -547,33 +560,11 @@ impl Joints {
                     continue;
                 }
                 let c = v + cost(i, j);
-                if c < under[index[j] as usize] {
-                    under[index[j] as usize] = c;
+                if c < out[index[j] as usize] {
+                    out[index[j] as usize] = c;
                     heap.push(Near(c, j));
                 }
             }
-        }
-        // Over: the most over sources of weight − cost (a max-heap on weight).
-        let mut over = x.to_vec();
-        let mut heap: BinaryHeap<Left> = high.iter().map(|&i| Left(value(i, x), i)).collect();
-        while let Some(Left(v, i)) = heap.pop() {
-            if is_free(i) && v < over[index[i] as usize] {
-                continue;
-            }
-            for &j in self.body.neighbours(i) {
-                let j = j as usize;
-                if !is_free(j) || self.body.is_rider(j) {
-                    continue;
-                }
-                let c = v - cost(i, j);
-                if c > over[index[j] as usize] {
-                    over[index[j] as usize] = c;
-                    heap.push(Left(c, j));
-                }
-            }
-        }
-        for (k, w) in x.iter_mut().enumerate() {
-            *w = 0.5 * (under[k] + over[k]);
         }
     }
 
