@@ -534,7 +534,7 @@ pub fn parse(
         if split.vertices > 0 {
             half = HalfEdges::new(mesh.positions.len(), &mesh.triangles);
         }
-        if boundary {
+        if boundary && options.fill_holes > 0 {
             report.stray_faces = drop_lone_faces(&mut mesh);
             if report.stray_faces > 0 {
                 let identity: Vec<u32> = (0..mesh.positions.len() as u32).collect();

@@ -62,7 +62,8 @@ pub(super) fn drop_duplicate_faces(mesh: &mut Mesh) -> usize {
 
 /// Drops the faces joined to no other along any of their three edges (a stray triangle
 /// left where a seam came apart: filled, it would close into a solid of no volume whose
-/// vertices have no normal). Returns how many were dropped.
+/// vertices have no normal), unless every face is one (a file of lone triangles keeps them,
+/// and the check says what they lack). Returns how many were dropped.
 pub(super) fn drop_lone_faces(mesh: &mut Mesh) -> usize {
     use std::collections::HashMap;
     let edge = |a: u32, b: u32| (a.min(b), a.max(b));
@@ -72,9 +73,12 @@ pub(super) fn drop_lone_faces(mesh: &mut Mesh) -> usize {
             *on_edge.entry(edge(t[k], t[(k + 1) % 3])).or_default() += 1;
         }
     }
+    let joined = |t: &[u32; 3]| (0..3).any(|k| on_edge[&edge(t[k], t[(k + 1) % 3])] > 1);
+    if !mesh.triangles.iter().any(joined) {
+        return 0;
+    }
     let before = mesh.triangles.len();
-    mesh.triangles
-        .retain(|t| (0..3).any(|k| on_edge[&edge(t[k], t[(k + 1) % 3])] > 1));
+    mesh.triangles.retain(joined);
     before - mesh.triangles.len()
 }
 
@@ -752,7 +756,8 @@ mod tests {
         assert!(census(&m).is_clean(), "{:?}", census(&m));
     }
 
-    /// A lone face joined to nothing goes; a surface keeps every face.
+    /// A lone face joined to nothing goes; a surface keeps every face, and a lone face with
+    /// nothing else keeps it.
     #[test]
     fn a_lone_face_is_dropped_and_the_surface_kept() {
         let sphere = shapes::uv_sphere(1.0, 12, 8);
@@ -767,6 +772,12 @@ mod tests {
         assert_eq!(drop_lone_faces(&mut m), 1);
         assert_eq!(m.triangles, sphere.triangles);
         assert_eq!(drop_lone_faces(&mut m), 0);
+        // A file of one triangle keeps it (the check then names its open edges).
+        let mut one = Mesh {
+            positions: vec![DVec3::ZERO, DVec3::X, DVec3::Y],
+            triangles: vec![[0, 1, 2]],
+        };
+        assert_eq!(drop_lone_faces(&mut one), 0);
     }
 
     /// A fin (one face hanging off an edge of a closed sphere) and a flap of two faces go;
