@@ -214,7 +214,7 @@ impl Joints {
         let mut kept: Vec<(usize, f64)> = Vec::new();
         let loose = match hold {
             Hold::Exact { span, smooth, .. } => {
-                self.jumps(guess, span, smooth, child, (pivot, radius))
+                self.jumps(guess, span, smooth, &moves, (pivot, radius))
             }
             Hold::Soft { .. } => Vec::new(),
         };
@@ -354,7 +354,8 @@ impl Joints {
     }
 
     /// Which of the band's vertices lie within `smooth` of a jump in their first guess
-    /// `guess` (`span` the band's length, `child` its child section), by vertex: an edge
+    /// `guess` (`span` the band's length, `moves` per section: the band's child or a section
+    /// hanging from it), by vertex: an edge
     /// whose two ends' guesses differ by more than [`JUMP`] times what a limb's skeleton
     /// gives over its length, or by more than [`SLOPE`] allows that far from the pivot (a
     /// fin's tip, far off the pivot's line, on a limb's ramp); `pivot` and `radius` as in
@@ -366,7 +367,7 @@ impl Joints {
         guess: &[Guess],
         span: f64,
         smooth: f64,
-        child: usize,
+        moves: &[bool],
         (pivot, radius): (DVec3, f64),
     ) -> Vec<bool> {
         let n = self.section_of.len();
@@ -382,11 +383,7 @@ impl Joints {
                 let j = j as usize;
                 let other = match first[j] {
                     x if !x.is_nan() => x,
-                    _ if self.hangs_from(usize::from(self.section_of[j]), child)
-                        && !self.body.is_rider(j) =>
-                    {
-                        1.0
-                    }
+                    _ if moves[usize::from(self.section_of[j])] && !self.body.is_rider(j) => 1.0,
                     _ => return false,
                 };
                 let (step, length) = ((g.x - other).abs(), rest[i].distance(rest[j]));
@@ -410,20 +407,6 @@ impl Joints {
             loose[i] = true;
         }
         loose
-    }
-
-    /// Whether section `s` is `child` or hangs from it, however deep.
-    fn hangs_from(&self, mut s: usize, child: usize) -> bool {
-        for _ in 0..self.sections.len() {
-            if s == child {
-                return true;
-            }
-            match self.sections.get(s).and_then(|x| x.parent) {
-                Some(p) => s = p,
-                None => return false,
-            }
-        }
-        false
     }
 
     /// Bounds the weight's slope over the free vertices `free` (their weights `x`, each
