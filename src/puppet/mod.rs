@@ -70,6 +70,9 @@ pub struct Puppet {
     /// The sections' balls for the pose limit, built when first needed (and again after
     /// the cuts change).
     balls: Option<std::sync::Arc<crate::joints::collide::Balls>>,
+    /// The pose limit's pairs of balls near each other, kept from move to move
+    /// ([`crate::joints::collide::Near`]).
+    near: crate::joints::collide::Near,
     /// Where the last move [`Puppet::hold_back`] stopped short ended, and the pose it was
     /// going to: the same move asked again (a pose held against the body, step after
     /// step) stays where it is without being tested again.
@@ -143,6 +146,7 @@ impl Puppet {
             rig_file,
             groups,
             balls: None,
+            near: Default::default(),
             stopped: None,
             pressing_found: false,
             frame: None,
@@ -204,7 +208,7 @@ impl Puppet {
             return None;
         }
         let rest = vec![Local::default(); pose.len()];
-        let back = balls.hold(&self.joints, &rest, pose, &mut met);
+        let back = balls.hold(&self.joints, &rest, pose, &mut met, &mut self.near);
         let sections = self.joints.sections().len();
         self.sim.contacts_between(sections, &met);
         back
@@ -228,6 +232,7 @@ impl Puppet {
     /// them ([`Puppet::sync_regions`]). Call after any change of cuts.
     pub fn sync_sections(&mut self) {
         self.balls = None;
+        self.near = Default::default();
         self.stopped = None;
         self.pressing_found = false;
         self.sim.contacts_everywhere();
@@ -340,7 +345,7 @@ impl Puppet {
         let mut met = Vec::new();
         let got = self
             .pose_balls()
-            .hold(&self.joints, before, local, &mut met);
+            .hold(&self.joints, before, local, &mut met, &mut self.near);
         // The contacts act between the parts that met (`sim::contact::Pairs`).
         let sections = self.joints.sections().len();
         self.sim.contacts_between(sections, &met);

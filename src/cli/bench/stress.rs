@@ -561,7 +561,13 @@ fn run_scenario(
         if p.world.collision && local != was {
             let mut balls = joints.balls();
             balls.set_squash(f64::from(p.world.flesh));
-            if let Some(reached) = balls.hold(&joints, &was, &local, &mut Vec::new()) {
+            if let Some(reached) = balls.hold(
+                &joints,
+                &was,
+                &local,
+                &mut Vec::new(),
+                &mut Default::default(),
+            ) {
                 local = reached;
                 pose = joints.pose(&local);
                 report.held += 1;

@@ -26,21 +26,21 @@
 //! collision comes on back to where its parts meet first, `Puppet::hold_back`, and finds
 //! them with [`Balls::pressing_sections`]).
 //!
-//! The samples share their broad phase (`still`), a stretch of the move at a time (two samples,
-//! then each stretch twice the last, so a move stopped at its start, a part held against
-//! another and dragged on, gathers only what lies there): each moving ball gathers the
-//! still balls near the box its centre sweeps over the stretch, less the pairs that never
-//! press and those farther than it moves, and the moving balls of sections moving apart
-//! from its own whose boxes meet its box ([`Still::sweep`]); a sample then tests only
-//! those pairs, skipping a pair until its balls have moved past their gap.
+//! The samples share their broad phase (`near`, [`Near`]): the pairs of balls of different
+//! sections within a margin of each other, listed once and kept from move to move (a
+//! Verlet list) while no ball strays farther than half the margin from where it was
+//! listed; a move that takes one farther lists them again where it got to. A sample then
+//! tests only the listed pairs of sections whose relative transform the move changes.
+//! Dragged or played, a pose moves a little each step, so most steps list nothing and
+//! test a few thousand pairs.
 
 use super::{Joints, Local};
 use crate::geom::balls;
 use crate::geom::cells::Cells;
 use glam::{DAffine3, DVec3};
-use still::Still;
+pub use near::Near;
 
-mod still;
+mod near;
 
 /// How near at rest, as a share of the smaller ball's radius, a ball of a joint's flesh
 /// and one of the section across that joint lie for them never to press.
@@ -56,13 +56,6 @@ const MAX_SAMPLES: usize = 64;
 /// The smallest ball the sampling of a move heeds, as a share of the grid's cell (twice
 /// the 90th percentile radius).
 const SMALLEST: f64 = 0.125;
-
-/// Samples of a move's first stretch swept at once ([`Balls::reach`]).
-const FIRST_STRETCH: usize = 2;
-
-/// Grid cells a moving ball's box over a stretch may span before it is paired with every
-/// other box it meets ([`Still::sweep`]).
-const MAX_CELLS: i64 = 64;
 
 /// Bisection steps between the last allowed sample and the first that is not.
 const BISECTIONS: usize = 4;
@@ -91,6 +84,11 @@ pub struct Balls {
     /// Per section, the neck of the joint it hangs from; `None` for the root, or without a
     /// surface.
     necks: Vec<Option<Neck>>,
+    /// Per pair of sections (`a * sections + b`), whether two of their balls may be a pair
+    /// that never presses ([`Balls::never`]): the two sides of a joint, or sections a
+    /// joint's flesh lies in; every other pair of sections presses wherever it meets.
+    /// Empty: any pair may.
+    kin: Vec<bool>,
 }
 
 /// Where a joint's two sides meet: balls of both within it never press.
@@ -143,6 +141,7 @@ impl Joints {
                 })
                 .collect(),
             necks: Vec::new(),
+            kin: Vec::new(),
         };
         out.necks = self
             .sections
@@ -162,6 +161,7 @@ impl Joints {
             })
             .collect();
         out.cell = balls::cell(&out.radius);
+        out.kin = out.kin(self.sections.len());
         out
     }
 }
@@ -199,7 +199,22 @@ impl Balls {
     /// How much the deepest pair of balls presses in the pose whose world transforms are
     /// `world` (see the module docs), among pairs with a ball of a section in `moving`.
     pub fn pressing(&self, world: &[DAffine3], moving: &[bool]) -> f64 {
-        Still::new(self, world, moving).pressing(world, f64::INFINITY)
+        let posed = self.posed(world);
+        let mut near = Near::default();
+        near.cover(self, &posed, &posed);
+        // Balls of moving sections each in their section's group, the still ones in one.
+        let group: Vec<u32> = self
+            .section
+            .iter()
+            .map(|&s| {
+                if moving.get(s) == Some(&true) {
+                    s as u32 + 1
+                } else {
+                    0
+                }
+            })
+            .collect();
+        near.deepest(self, &group, &posed, f64::INFINITY).0
     }
 
     /// The pairs of sections (each once, the lower first) with balls that press each
@@ -258,10 +273,18 @@ impl Balls {
     /// The deepest press of pair `a`, `b` at `pa`, `pb` (0 when they do not press or
     /// were neighbours at rest).
     fn press(&self, a: usize, b: usize, pa: DVec3, pb: DVec3) -> f64 {
+        if self.never(a, b) {
+            return 0.0;
+        }
+        self.press_near(a, b, pa, pb)
+    }
+
+    /// [`Balls::press`] of a pair known to be one that may press (not [`Balls::never`]).
+    fn press_near(&self, a: usize, b: usize, pa: DVec3, pb: DVec3) -> f64 {
         let (ra, rb) = (self.radius[a], self.radius[b]);
         let small = ra.min(rb);
         let depth = ra + rb - pa.distance(pb);
-        if depth <= self.squash * small || self.never(a, b) {
+        if depth <= self.squash * small {
             return 0.0;
         }
         // The two sides of a joint press when they were not neighbours at rest: an arm
@@ -280,14 +303,59 @@ impl Balls {
         beyond / small
     }
 
+    /// [`Balls::kin`] worked out for `sections` sections (empty when the joints' flesh is
+    /// unknown: then any pair near at rest never presses).
+    fn kin(&self, sections: usize) -> Vec<bool> {
+        if self.joint.len() != self.len() || self.section.iter().any(|&s| s >= sections) {
+            return Vec::new();
+        }
+        let mut kin = vec![false; sections * sections];
+        let mut mark = |a: usize, b: usize| {
+            kin[a * sections + b] = true;
+            kin[b * sections + a] = true;
+        };
+        for (child, neck) in self.necks.iter().enumerate() {
+            if let Some(n) = neck.filter(|n| n.parent < sections && child < sections) {
+                mark(child, n.parent);
+            }
+        }
+        for &(child, parent) in self.sides.iter().flatten() {
+            if child < sections && parent < sections {
+                mark(child, parent);
+            }
+        }
+        // The sections each joint's flesh lies in.
+        let mut flesh: Vec<Vec<usize>> = vec![Vec::new(); self.sides.len() + 1];
+        for (b, &j) in self.joint.iter().enumerate() {
+            if let Some(list) = flesh.get_mut(usize::from(j)).filter(|_| j != 0) {
+                if !list.contains(&self.section[b]) {
+                    list.push(self.section[b]);
+                }
+            }
+        }
+        for list in &flesh {
+            for &a in list {
+                for &b in list {
+                    mark(a, b);
+                }
+            }
+        }
+        kin
+    }
+
     /// Whether pair `a`, `b` never presses, whatever the pose: one section; two balls of a
     /// joint's two sides both in its neck; the two sides of a joint that were neighbours at
     /// rest (the surfaces within a few of the smaller radii); or a ball of a joint's flesh
     /// and one of the section across that joint that touched it at rest, within
     /// [`TOUCHING`] (a chest's big ball reaching into the armpit does not hold the arm up).
     fn never(&self, a: usize, b: usize) -> bool {
-        if self.section[a] == self.section[b] {
+        let (sa, sb) = (self.section[a], self.section[b]);
+        if sa == sb {
             return true;
+        }
+        let sections = self.necks.len();
+        if !self.kin.is_empty() && !self.kin[sa * sections + sb] {
+            return false;
         }
         let (ra, rb) = (self.radius[a], self.radius[b]);
         let small = ra.min(rb);
@@ -351,8 +419,9 @@ impl Balls {
         from: &[Local],
         to: &[Local],
         met: &mut Vec<(usize, usize)>,
+        near: &mut Near,
     ) -> Option<Vec<Local>> {
-        let mut reach = self.reach(joints, from, to);
+        let mut reach = self.reach(joints, from, to, near);
         if reach.share >= 1.0 {
             return None;
         }
@@ -363,7 +432,7 @@ impl Balls {
         goal.resize(at.len(), Local::default());
         for round in 0..ROUNDS {
             if round > 0 {
-                reach = self.reach(joints, &at, &goal);
+                reach = self.reach(joints, &at, &goal, near);
                 if reach.share >= 1.0 {
                     return Some(goal);
                 }
@@ -392,8 +461,9 @@ impl Balls {
     /// How far (0..1) along the move from `from` to `to` the puppet can go before two
     /// parts press more than the squash (see the module docs): 1 when the whole move is
     /// allowed, 0 when no part can move more than a hundredth of its smallest ball; and
-    /// the sections of the pair that pressed first.
-    fn reach(&self, joints: &Joints, from: &[Local], to: &[Local]) -> Reach {
+    /// the sections of the pair that pressed first. The pairs tested are `near`'s, listed
+    /// again where the move takes a ball past its margin.
+    fn reach(&self, joints: &Joints, from: &[Local], to: &[Local], near: &mut Near) -> Reach {
         let all = Reach {
             share: 1.0,
             pressed: None,
@@ -408,8 +478,7 @@ impl Balls {
         if self.is_empty() || !moving.iter().any(|&m| m) {
             return all;
         }
-        let mut still = Still::new(self, &start, &moving);
-        still.relative(&start, &end);
+        let group = near::groups(self, &start, &end);
         // Samples close enough that no ball jumps more than half its radius: two balls
         // then move less than half their radii together between samples, and neither
         // passes through the other. Balls under [`SMALLEST`] of the grid's cell count as
@@ -417,7 +486,7 @@ impl Balls {
         // the contacts keep such crumbs apart).
         let floor = SMALLEST * self.cell;
         let (mut far, mut smallest, mut jumps) = (0.0f64, f64::INFINITY, 0.0f64);
-        for &b in &still.movers {
+        for b in (0..self.len()).filter(|&b| moving.get(self.section[b]) == Some(&true)) {
             let (s, c) = (self.section[b], self.center[b]);
             let moved = start[s]
                 .transform_point3(c)
@@ -428,45 +497,38 @@ impl Balls {
             jumps = jumps.max(moved / (0.5 * r));
         }
         let samples = (jumps.ceil() as usize).clamp(1, MAX_SAMPLES);
-        let poses: Vec<Vec<DAffine3>> = (0..=samples)
-            .map(|k| joints.world(&between(from, to, k as f64 / samples as f64)))
-            .collect();
-        let world_at = |s: f64| joints.world(&between(from, to, s));
-        // The still balls each moving ball may meet along a stretch of the move, once per
-        // stretch: each sample of it then tests only those pairs. The first stretch is
-        // [`FIRST_STRETCH`] samples, each next one twice the last: a move stopped early (a
-        // part held against another and dragged on) gathers only what lies near its start.
-        let mut stretch = FIRST_STRETCH.min(samples);
-        let mut stretch_end = stretch;
-        still.sweep(&poses[..=stretch_end]);
-        let already = still
-            .pressing(&world_at(0.0), f64::INFINITY)
+        let posed_at = |s: f64| self.posed(&joints.world(&between(from, to, s)));
+        let mut last = self.posed(&start);
+        // Listed (when need be) with the first step's speeds.
+        let mut next = Some(posed_at(1.0 / samples as f64));
+        near.cover(self, &last, next.as_deref().unwrap_or(&last));
+        let already = near
+            .deepest(self, &group, &last, f64::INFINITY)
+            .0
             .max(self.squash);
         let allowed = |p: f64| p <= already + 1e-9;
         let mut good = 0.0;
         for k in 1..=samples {
-            if k > stretch_end {
-                stretch *= 2;
-                stretch_end = (k - 1 + stretch).min(samples);
-                still.sweep(&poses[k - 1..=stretch_end]);
-            }
             let s = k as f64 / samples as f64;
-            if allowed(still.pressing(&poses[k], already + 1e-9)) {
+            let now = next.take().unwrap_or_else(|| posed_at(s));
+            near.cover(self, &last, &now);
+            if allowed(near.deepest(self, &group, &now, already + 1e-9).0) {
                 good = s;
+                last = now;
                 continue;
             }
             let mut bad = s;
             for _ in 0..BISECTIONS {
                 let mid = 0.5 * (good + bad);
-                if allowed(still.pressing(&world_at(mid), already + 1e-9)) {
+                if allowed(near.deepest(self, &group, &posed_at(mid), already + 1e-9).0) {
                     good = mid;
                 } else {
                     bad = mid;
                 }
             }
-            // The pair that presses past the bisection's last allowed pose.
-            let pressed = still
-                .deepest(&world_at(bad), already + 1e-9)
+            // The pair that presses deepest past the bisection's last allowed pose.
+            let pressed = near
+                .deepest(self, &group, &posed_at(bad), f64::INFINITY)
                 .1
                 .map(|(a, b)| (self.section[a], self.section[b]));
             // A creep of less than a hundredth of a ball is no move: a limb held against
@@ -479,6 +541,17 @@ impl Balls {
             return Reach { share, pressed };
         }
         all
+    }
+
+    /// Every ball's centre in the pose whose world transforms are `world`.
+    fn posed(&self, world: &[DAffine3]) -> Vec<DVec3> {
+        (0..self.len())
+            .map(|b| {
+                world
+                    .get(self.section[b])
+                    .map_or(self.center[b], |w| w.transform_point3(self.center[b]))
+            })
+            .collect()
     }
 }
 
