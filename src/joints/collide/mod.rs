@@ -36,7 +36,6 @@
 
 use super::{Joints, Local};
 use crate::geom::balls;
-use crate::geom::cells::Cells;
 use glam::{DAffine3, DVec3};
 pub use near::Near;
 
@@ -218,60 +217,19 @@ impl Balls {
     }
 
     /// The pairs of sections (each once, the lower first) with balls that press each
-    /// other in the pose whose world transforms are `world` (see [`Balls::press`]).
+    /// other in the pose whose world transforms are `world` (see [`Balls::press_near`]).
     pub fn pressing_sections(&self, world: &[DAffine3]) -> Vec<(usize, usize)> {
-        let posed: Vec<DVec3> = (0..self.len())
-            .map(|b| {
-                world
-                    .get(self.section[b])
-                    .map_or(self.center[b], |w| w.transform_point3(self.center[b]))
-            })
-            .collect();
-        // Cells twice the grid's: two small balls (at most a cell across each) that
-        // overlap lie in neighbouring cells.
-        let size = 2.0 * self.cell;
-        let key = |p: DVec3| {
-            let k = (p / size).floor();
-            [k.x as i64, k.y as i64, k.z as i64]
-        };
-        let big = |b: usize| self.radius[b] > self.cell || !posed[b].is_finite();
-        let mut grid: Cells<[i64; 3], Vec<u32>> = Cells::default();
-        for b in (0..self.len()).filter(|&b| !big(b)) {
-            grid.entry(key(posed[b])).or_default().push(b as u32);
-        }
-        let mut out = Vec::new();
-        let mut test = |a: usize, b: usize| {
-            let (sa, sb) = (self.section[a], self.section[b]);
-            let pair = (sa.min(sb), sa.max(sb));
-            if sa != sb && !out.contains(&pair) && self.press(a, b, posed[a], posed[b]) > 0.0 {
-                out.push(pair);
-            }
-        };
-        for (a, &at) in posed.iter().enumerate() {
-            if big(a) {
-                for b in (0..self.len()).filter(|&b| b != a && (!big(b) || b > a)) {
-                    test(a, b);
-                }
-                continue;
-            }
-            let k = key(at);
-            for x in k[0] - 1..=k[0] + 1 {
-                for y in k[1] - 1..=k[1] + 1 {
-                    for z in k[2] - 1..=k[2] + 1 {
-                        for &b in grid.get(&[x, y, z]).map_or(&[][..], |v| v.as_slice()) {
-                            if b as usize > a {
-                                test(a, b as usize);
-                            }
-                        }
-                    }
-                }
-            }
-        }
+        let posed = self.posed(world);
+        let mut near = Near::default();
+        near.cover(self, &posed, &posed);
+        let mut out = near.pressing(self, &posed);
+        out.sort_unstable();
         out
     }
 
     /// The deepest press of pair `a`, `b` at `pa`, `pb` (0 when they do not press or
-    /// were neighbours at rest).
+    /// were neighbours at rest): what the listed pairs are checked against.
+    #[cfg(test)]
     fn press(&self, a: usize, b: usize, pa: DVec3, pb: DVec3) -> f64 {
         if self.never(a, b) {
             return 0.0;
@@ -279,7 +237,8 @@ impl Balls {
         self.press_near(a, b, pa, pb)
     }
 
-    /// [`Balls::press`] of a pair known to be one that may press (not [`Balls::never`]).
+    /// How deep pair `a`, `b` presses at `pa`, `pb`, the pair known to be one that may
+    /// press (not [`Balls::never`]; a listed pair, [`Near`]).
     fn press_near(&self, a: usize, b: usize, pa: DVec3, pb: DVec3) -> f64 {
         let (ra, rb) = (self.radius[a], self.radius[b]);
         let small = ra.min(rb);

@@ -312,6 +312,24 @@ impl Near {
     }
 }
 
+impl Near {
+    /// The pairs of sections (each once, the lower first) of the listed pairs of balls
+    /// that press at `posed`, whatever their motion.
+    pub(super) fn pressing(&self, balls: &Balls, posed: &[DVec3]) -> Vec<(usize, usize)> {
+        self.blocks
+            .iter()
+            .filter(|block| {
+                let pairs = &self.pairs[block.bins[0] as usize..block.bins[BINS + 1] as usize];
+                pairs.iter().any(|&Pair { a, b, .. }| {
+                    let (a, b) = (a as usize, b as usize);
+                    balls.press_near(a, b, posed[a], posed[b]) > 0.0
+                })
+            })
+            .map(|block| (block.sections.0 as usize, block.sections.1 as usize))
+            .collect()
+    }
+}
+
 /// Per ball of `balls`, a group: balls of two sections whose relative transform is the
 /// same at `start` and `end` (they move together, or neither moves) share one, and cannot
 /// come to press over the move.
