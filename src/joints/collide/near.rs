@@ -13,6 +13,10 @@ const SKIN: f64 = 1.0;
 /// Bins of each block of pairs by gap ([`Block`]).
 const BINS: usize = 8;
 
+/// The most slots (pairs of sections times bins) the pairs are counted into; beyond, as
+/// with hundreds of sections, they are sorted.
+const COUNTED: usize = 1 << 18;
+
 /// The pairs of balls that may press while every ball stays within its margin of where
 /// it was when they were listed. Kept by the puppet between moves; made again
 /// ([`Near::cover`]) when a move takes a ball farther.
@@ -98,7 +102,6 @@ impl Near {
         }));
         let margin = &self.margin;
         self.skin = 2.0 * margin.iter().copied().fold(base, f64::max);
-        let skin = self.skin;
         self.pairs.clear();
         let half = 0.5 * balls.cell;
         let size = balls.cell + 2.0 * base;
@@ -208,11 +211,38 @@ impl Near {
                 add(a, b);
             }
         }
-        // By pair of sections, each block by its gap's bin (counted, then laid out).
+        self.lay_out(found, sections, COUNTED);
+    }
+
+    /// Keeps `found` (pairs with their sections' key, `sections` of them) by pair of
+    /// sections, each block by its gap's bin: counted, then laid out, or sorted where
+    /// there are more than `counted` slots (pairs of sections times bins) to count.
+    fn lay_out(&mut self, mut found: Vec<(usize, Pair)>, sections: usize, counted: usize) {
+        let skin = self.skin;
         let bin =
             |g: f64| ((g / skin * BINS as f64).floor() + 1.0).clamp(0.0, BINS as f64) as usize;
+        let slots = sections * sections * (BINS + 1);
+        self.blocks.clear();
+        self.pairs.clear();
+        if slots > counted {
+            found.sort_unstable_by_key(|&(key, pair)| (key, bin(pair.gap)));
+            self.pairs.extend(found.iter().map(|&(_, pair)| pair));
+            let mut start = 0;
+            for run in found.chunk_by(|x, y| x.0 == y.0) {
+                let key = run[0].0;
+                let bins = std::array::from_fn(|k| {
+                    (start + run.partition_point(|&(_, p)| bin(p.gap) < k)) as u32
+                });
+                self.blocks.push(Block {
+                    sections: ((key / sections) as u32, (key % sections) as u32),
+                    bins,
+                });
+                start += run.len();
+            }
+            return;
+        }
         let slot = |key: usize, g: f64| key * (BINS + 1) + bin(g);
-        let mut count = vec![0u32; sections * sections * (BINS + 1) + 1];
+        let mut count = vec![0u32; slots + 1];
         for &(key, pair) in &found {
             count[slot(key, pair.gap) + 1] += 1;
         }
@@ -233,7 +263,6 @@ impl Near {
             self.pairs[next[k] as usize] = pair;
             next[k] += 1;
         }
-        self.blocks.clear();
         for key in 0..sections * sections {
             let bins = &count[key * (BINS + 1)..=(key + 1) * (BINS + 1)];
             if bins[0] < bins[BINS + 1] {
@@ -479,6 +508,43 @@ mod tests {
             }
         }
         assert!(pressed > 100, "{pressed} poses pressed");
+        // Sorted rather than counted (as with hundreds of sections): the same blocks, each
+        // bin the same pairs.
+        let n = 2000;
+        let found: Vec<(usize, Pair)> = (0..n as u32)
+            .map(|k| {
+                let key = (rng.next_u64() % 36) as usize;
+                let gap = unit(&mut rng) * 1.2 - 0.1;
+                (
+                    key,
+                    Pair {
+                        a: k,
+                        b: k + 1,
+                        gap,
+                    },
+                )
+            })
+            .collect();
+        let (mut counted, mut sorted) = (Near::default(), Near::default());
+        counted.skin = 1.0;
+        sorted.skin = 1.0;
+        counted.lay_out(found.clone(), 6, usize::MAX);
+        sorted.lay_out(found, 6, 0);
+        assert_eq!(counted.blocks.len(), sorted.blocks.len());
+        for (c, s) in counted.blocks.iter().zip(&sorted.blocks) {
+            assert_eq!((c.sections, c.bins), (s.sections, s.bins));
+            for k in 0..=BINS {
+                let set = |near: &Near, b: &Block| {
+                    let mut v: Vec<u32> = near.pairs[b.bins[k] as usize..b.bins[k + 1] as usize]
+                        .iter()
+                        .map(|p| p.a)
+                        .collect();
+                    v.sort_unstable();
+                    v
+                };
+                assert_eq!(set(&counted, c), set(&sorted, s));
+            }
+        }
         assert!(lists < 20 * 1024 / 16, "{lists} lists");
     }
 }
