@@ -28,7 +28,7 @@
 //!
 //! The samples share their broad phase (`near`, [`Near`]): the pairs of balls of different
 //! sections within a margin of each other, listed once and kept from move to move (a
-//! Verlet list) while no ball strays farther than half the margin from where it was
+//! Verlet list) while no ball strays farther than its margin from where it was
 //! listed; a move that takes one farther lists them again where it got to. A sample then
 //! tests only the listed pairs of sections whose relative transform the move changes.
 //! Dragged or played, a pose moves a little each step, so most steps list nothing and
