@@ -26,13 +26,14 @@
 //! collision comes on back to where its parts meet first, `Puppet::hold_back`, and finds
 //! them with [`Balls::pressing_sections`]).
 //!
-//! The samples share their broad phase (`near`, [`Near`]): the pairs of balls of different
-//! sections within a margin of each other, listed once and kept from move to move (a
-//! Verlet list) while no ball strays farther than its margin from where it was
-//! listed; a move that takes one farther lists them again where it got to. A sample then
-//! tests only the listed pairs of sections whose relative transform the move changes.
-//! Dragged or played, a pose moves a little each step, so most steps list nothing and
-//! test a few thousand pairs.
+//! The samples share their broad phase (`near`, [`Near`]): per pair of sections whose
+//! bounding spheres come near, the pairs of their balls within a width of each other,
+//! listed in one section's frame and kept from move to move (a Verlet list) while the
+//! other's balls have not moved farther than that in it. A ball's press depends only on
+//! its two sections' relative transform, so a hand swung from the shoulder keeps its
+//! fingers' pairs; only the pairs of sections that moved apart are listed again. A
+//! sample then tests only the listed pairs of sections whose relative transform the move
+//! changes, and of those only pairs whose gap is under how far they moved.
 
 use super::{Joints, Local};
 use crate::geom::balls;
@@ -198,14 +199,11 @@ impl Balls {
     /// How much the deepest pair of balls presses in the pose whose world transforms are
     /// `world` (see the module docs), among pairs with a ball of a section in `moving`.
     pub fn pressing(&self, world: &[DAffine3], moving: &[bool]) -> f64 {
-        let posed = self.posed(world);
         let mut near = Near::default();
-        near.cover(self, &posed, &posed);
-        // Balls of moving sections each in their section's group, the still ones in one.
-        let group: Vec<u32> = self
-            .section
-            .iter()
-            .map(|&s| {
+        near.cover(self, world, world);
+        // Moving sections each in their own group, the still ones in one.
+        let group: Vec<u32> = (0..self.sections())
+            .map(|s| {
                 if moving.get(s) == Some(&true) {
                     s as u32 + 1
                 } else {
@@ -213,18 +211,22 @@ impl Balls {
                 }
             })
             .collect();
-        near.deepest(self, &group, &posed, f64::INFINITY).0
+        near.deepest(self, &group, world, f64::INFINITY).0
     }
 
     /// The pairs of sections (each once, the lower first) with balls that press each
     /// other in the pose whose world transforms are `world` (see [`Balls::press_near`]).
     pub fn pressing_sections(&self, world: &[DAffine3]) -> Vec<(usize, usize)> {
-        let posed = self.posed(world);
         let mut near = Near::default();
-        near.cover(self, &posed, &posed);
-        let mut out = near.pressing(self, &posed);
+        near.cover(self, world, world);
+        let mut out = near.pressing(self, world);
         out.sort_unstable();
         out
+    }
+
+    /// How many sections the balls lie in (one past the highest).
+    fn sections(&self) -> usize {
+        self.section.iter().copied().max().map_or(0, |s| s + 1)
     }
 
     /// The deepest press of pair `a`, `b` at `pa`, `pb` (0 when they do not press or
@@ -437,7 +439,7 @@ impl Balls {
         if self.is_empty() || !moving.iter().any(|&m| m) {
             return all;
         }
-        let group = near::groups(self, &start, &end);
+        let group = near::groups(self.sections(), &start, &end);
         // Samples close enough that no ball jumps more than half its radius: two balls
         // then move less than half their radii together between samples, and neither
         // passes through the other. Balls under [`SMALLEST`] of the grid's cell count as
@@ -456,10 +458,10 @@ impl Balls {
             jumps = jumps.max(moved / (0.5 * r));
         }
         let samples = (jumps.ceil() as usize).clamp(1, MAX_SAMPLES);
-        let posed_at = |s: f64| self.posed(&joints.world(&between(from, to, s)));
-        let mut last = self.posed(&start);
+        let world_at = |s: f64| joints.world(&between(from, to, s));
+        let mut last = start;
         // Listed (when need be) with the first step's speeds.
-        let mut next = Some(posed_at(1.0 / samples as f64));
+        let mut next = Some(world_at(1.0 / samples as f64));
         near.cover(self, &last, next.as_deref().unwrap_or(&last));
         let already = near
             .deepest(self, &group, &last, f64::INFINITY)
@@ -469,7 +471,7 @@ impl Balls {
         let mut good = 0.0;
         for k in 1..=samples {
             let s = k as f64 / samples as f64;
-            let now = next.take().unwrap_or_else(|| posed_at(s));
+            let now = next.take().unwrap_or_else(|| world_at(s));
             near.cover(self, &last, &now);
             if allowed(near.deepest(self, &group, &now, already + 1e-9).0) {
                 good = s;
@@ -479,7 +481,7 @@ impl Balls {
             let mut bad = s;
             for _ in 0..BISECTIONS {
                 let mid = 0.5 * (good + bad);
-                if allowed(near.deepest(self, &group, &posed_at(mid), already + 1e-9).0) {
+                if allowed(near.deepest(self, &group, &world_at(mid), already + 1e-9).0) {
                     good = mid;
                 } else {
                     bad = mid;
@@ -487,7 +489,7 @@ impl Balls {
             }
             // The pair that presses deepest past the bisection's last allowed pose.
             let pressed = near
-                .deepest(self, &group, &posed_at(bad), f64::INFINITY)
+                .deepest(self, &group, &world_at(bad), f64::INFINITY)
                 .1
                 .map(|(a, b)| (self.section[a], self.section[b]));
             // A creep of less than a hundredth of a ball is no move: a limb held against
@@ -503,6 +505,7 @@ impl Balls {
     }
 
     /// Every ball's centre in the pose whose world transforms are `world`.
+    #[cfg(test)]
     fn posed(&self, world: &[DAffine3]) -> Vec<DVec3> {
         (0..self.len())
             .map(|b| {
