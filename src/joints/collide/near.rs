@@ -54,6 +54,9 @@ pub struct Near {
     /// block's `now` is its relative transform there when its `stamp` is that count.
     frames: Option<Frames>,
     covers: u64,
+    /// Scratch of [`Near::cover`]: per section, its bounding sphere's centre and how far
+    /// its balls moved over the move covered.
+    spheres: Vec<(DVec3, f64)>,
     /// How many times a move listed pairs again.
     lists: usize,
 }
@@ -224,22 +227,23 @@ impl Near {
     pub(super) fn cover(&mut self, balls: &Balls, from: &[DAffine3], to: &[DAffine3]) {
         let sections = self.prepare(balls);
         let t = Frames::new(to, sections);
-        // The last pose covered up to is most often this move's start: its blocks'
-        // relative transforms are known.
-        let known = self
-            .frames
-            .take()
-            .filter(|f| f.world.len() == sections && same(&f.world, from))
-            .map(|_| self.covers);
-        let f = Frames::new(from, sections);
+        // The last pose covered up to is most often this move's start: its frames and its
+        // blocks' relative transforms are known.
+        let (f, known) = match self.frames.take() {
+            Some(f) if f.world.len() == sections && same(&f.world, from) => (f, Some(self.covers)),
+            _ => (Frames::new(from, sections), None),
+        };
         self.covers += 1;
         let parts = std::mem::take(&mut self.parts);
-        let centre: Vec<DVec3> = (0..sections)
-            .map(|s| t.world[s].transform_point3(parts[s].centre))
-            .collect();
-        let step: Vec<f64> = (0..sections)
-            .map(|s| moved(&f.world[s], &t.world[s], &parts[s]))
-            .collect();
+        // Each section's bounding sphere's centre at `to`, and how far its balls moved.
+        let mut spheres = std::mem::take(&mut self.spheres);
+        spheres.clear();
+        spheres.extend((0..sections).map(|s| {
+            (
+                t.world[s].transform_point3(parts[s].centre),
+                moved(&f.world[s], &t.world[s], &parts[s]),
+            )
+        }));
         let base = SKIN * balls.cell;
         let mut listed = false;
         self.live.clear();
@@ -252,9 +256,10 @@ impl Near {
                 if part.balls.is_empty() {
                     continue;
                 }
-                let reach = parts[a].reach + part.reach + step[a] + step[b];
+                let ((ca, sa), (cb, sb)) = (spheres[a], spheres[b]);
+                let reach = parts[a].reach + part.reach + sa + sb;
                 // (Not finite: passed over, as balls that are nowhere never press.)
-                let near = centre[a].distance_squared(centre[b]) < reach * reach;
+                let near = ca.distance_squared(cb) < reach * reach;
                 if !near {
                     continue;
                 }
@@ -307,6 +312,7 @@ impl Near {
             }
         }
         self.parts = parts;
+        self.spheres = spheres;
         self.frames = Some(t);
         self.lists += usize::from(listed);
     }
