@@ -132,3 +132,21 @@ fn a_knee_in_trousers_keeps_its_cut() {
         }
     }
 }
+
+/// A piece that meets its parent only where the two pass into each other has no seam to
+/// blend its band across (the walker's legs, rods joined to its body), and its first
+/// guess still keeps `joints::blend::SLOPE`: where its bones hold the surface over
+/// `bench poses`' 20 seeds, no edge stretches past 3× (4.75× when that guess went
+/// unbounded: two skin vertices a fifth of a leg from the pivot, nine levels apart).
+#[test]
+fn a_piece_with_no_seam_keeps_its_band_slope() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let p = suggested(&root.join("tests/data/pieces/walker.obj"));
+    let worst = (1..=20)
+        .map(|seed| {
+            let target = poses::random_pose(&p.joints, Spread::default(), &mut SplitMix(seed));
+            poses::measure_at(&p, &poses::targets(&p, &target), &target).worst
+        })
+        .fold(0.0f64, f64::max);
+    assert!(worst <= 3.0, "an edge stretched {worst:.2}× by the bones");
+}

@@ -199,7 +199,13 @@ impl Joints {
         }
         let across = radii.clone();
         let Some(radius) = crate::stats::median(&mut radii) else {
-            return guess.iter().map(|g| (g.vertex, g.x)).collect();
+            // No seam: the child is a piece that meets its parent only where the two
+            // pass into each other (a walker's leg). Nothing blends across, but its
+            // first guess still keeps the slope (module docs).
+            let fixed: Vec<f64> = (0..n)
+                .map(|i| carry[usize::from(self.section_of[i])].unwrap_or_else(|| label(i)))
+                .collect();
+            return self.sloped_guess(guess, &fixed, pivot, normal);
         };
         let reach = seam_reach * radius;
         // Free: the band, and the parent's vertices within `reach` of the seam.
@@ -350,6 +356,41 @@ impl Joints {
             .zip(x)
             .map(|(i, x)| (i, x.clamp(0.0, 1.0)))
             .chain(kept)
+            .collect()
+    }
+
+    /// The first guess `guess` with its slope bounded ([`SLOPE`], `limit_slope`) against
+    /// the `fixed` weights of the vertices outside it, for a band with no seam: the
+    /// radius the slope is measured from is the guess's median distance from the pivot's
+    /// line (`normal` through `pivot`). A rider keeps its guess.
+    fn sloped_guess(
+        &self,
+        guess: &[Guess],
+        fixed: &[f64],
+        pivot: DVec3,
+        normal: DVec3,
+    ) -> Vec<(usize, f64)> {
+        const NOT: u32 = u32::MAX;
+        let rest = &self.body.rest;
+        let mut index = vec![NOT; fixed.len()];
+        let (mut free, mut x, mut across, mut riders) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for g in guess {
+            if self.body.is_rider(g.vertex) {
+                riders.push((g.vertex, g.x));
+            } else if index[g.vertex] == NOT {
+                index[g.vertex] = free.len() as u32;
+                free.push(g.vertex);
+                x.push(g.x);
+                across.push((rest[g.vertex] - pivot).reject_from(normal).length());
+            }
+        }
+        let radius = crate::stats::median(&mut across).unwrap_or(0.0);
+        self.limit_slope(&free, &index, fixed, &mut x, pivot, radius);
+        free.into_iter()
+            .zip(x)
+            .map(|(i, x)| (i, x.clamp(0.0, 1.0)))
+            .chain(riders)
             .collect()
     }
 
