@@ -221,9 +221,9 @@ pub struct Band {
     pub contacts: Vec<Contact>,
     /// Index of the first contact's transform in the pose.
     pub first_contact: usize,
-    /// A fan's child side's slide per unit of turn (see [`super::slide`]): its levels
-    /// move along the normal (turned with them) by `−Φ a · slide` times their profile;
-    /// zero for an arc.
+    /// The child side's slide per unit of turn (see [`super::slide`]; an arc's is
+    /// measured through its own motion): its levels move along the normal (turned with
+    /// them) by `−Φ a · slide` times their profile.
     pub slide: DVec3,
     /// A fan's parent side's slide per unit of turn (see [`super::slide`]), the child's
     /// side and the child moving with it whole; zero for an arc and on a trunk.
@@ -289,7 +289,7 @@ pub(super) fn weight(x: f64) -> f64 {
 
 impl Band {
     /// The band's parent end and child end on its centre line at rest, and its length.
-    fn ends(&self) -> (DVec3, DVec3, f64) {
+    pub(super) fn ends(&self) -> (DVec3, DVec3, f64) {
         (
             self.pivot - self.normal * self.width,
             self.pivot + self.normal * self.child_width,
@@ -335,7 +335,7 @@ impl Band {
     /// How far the child moves beyond a turn by `rotation` about the cut's pivot: along
     /// an arc, the bent centre line keeps its length, so it reaches past the corner a
     /// turn about the pivot would make (see the module docs), zero at rest and for a
-    /// twist; for a fan, its `slide` along the normal turned with it
+    /// twist; and its `slide` along the normal turned with it
     /// ([`super::Joints::slide`], [`Band::slid`]).
     pub fn shift(&self, rotation: DQuat, slide: super::Slide) -> DVec3 {
         if !self.arc {
@@ -343,6 +343,7 @@ impl Band {
         }
         let (start, end, _) = self.ends();
         start + self.arc(rotation, 1.0) - (self.pivot + rotation * (end - self.pivot))
+            + self.slid(rotation, slide, 1.0)
     }
 
     /// The motion, relative to the parent, of the bone points at share `w` of the band

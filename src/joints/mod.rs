@@ -27,8 +27,8 @@
 //! rotation is about its elbow *as carried by the upper arm*. Every section can be posed at
 //! once. A section at the end of a joint band also moves by the band's shift,
 //! `T(shift(R_s))` on the left of its own motion: along an arc (two limbs meeting: an
-//! elbow, a knee) the bent limb keeps its length ([`band`]); at a fan the child slides
-//! along the cut's normal by what keeps its volume ([`slide`]).
+//! elbow, a knee) the bent limb keeps its length ([`band`]); at a fan, and at an arc
+//! too, the child slides along the cut's normal by what keeps its volume ([`slide`]).
 //!
 //! # Shared pivots
 //! The paper's pivot is "the rotation center for the two generated joint sections". A

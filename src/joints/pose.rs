@@ -91,9 +91,10 @@ impl Joints {
             let parent = scratch.world[band.parent];
             let child = self.own_motion(band.child, local);
             let slide = self.slide(band, rotation_in(local));
+            let bending = self.bending(band, &l, &child, slide);
             for level in 0..=LEVELS {
                 let w = level as f64 / LEVELS as f64;
-                let own = self.band_motion(band, &l, &child, slide, w);
+                let own = bending.at(w);
                 if (1..LEVELS).contains(&level) {
                     transforms.push(to_f32(&(parent * own)));
                 }
@@ -213,11 +214,7 @@ impl Joints {
     }
 
     /// The motion, relative to the parent, of the bone points a band moves with weight
-    /// `w` of the child's `local` pose, `child` its own motion: along the arc
-    /// ([`Band::motion`]), or for a fan `T(pivot + w t + s(w)) · Q(w) · T(−pivot)`,
-    /// `Q(w) = slerp(I, R, w)`, `pivot` the point the child turns about and `s(w)` the
-    /// band's slide at `w` along the normal turned by `Q(w)` ([`Band::slide_for`],
-    /// [`Band::slid`]).
+    /// `w` of the child's `local` pose, `child` its own motion ([`Bending::at`]).
     fn band_motion(
         &self,
         band: &Band,
@@ -226,14 +223,45 @@ impl Joints {
         slide: Slide,
         w: f64,
     ) -> DAffine3 {
-        if band.arc {
-            return band.motion(local.rotation, child, w);
+        self.bending(band, local, child, slide).at(w)
+    }
+
+    /// `band` bent by the child's `local` pose, `child` its own motion and `slide` the
+    /// band's ([`Joints::slide`]), with what its levels share worked out once.
+    fn bending<'a>(
+        &self,
+        band: &'a Band,
+        local: &Local,
+        child: &DAffine3,
+        slide: Slide,
+    ) -> Bending<'a> {
+        if !band.arc {
+            return Bending::Fan {
+                band,
+                pivot: self.sections[band.child].pivot,
+                local: *local,
+                slide,
+            };
         }
-        let pivot = self.sections[band.child].pivot;
-        let turned = DQuat::IDENTITY.slerp(local.rotation, w);
-        DAffine3::from_translation(pivot + local.translation * w + band.slid(turned, slide, w))
-            * DAffine3::from_quat(turned)
-            * DAffine3::from_translation(-pivot)
+        let (axis, angle) = super::band::axis_angle(local.rotation);
+        let (start, end, length) = band.ends();
+        let along = axis * axis.dot(band.normal);
+        let across = band.normal - along;
+        let mut arc = Arc {
+            axis,
+            angle,
+            start,
+            length,
+            along,
+            across,
+            side: axis.cross(across),
+            spread: DVec3::ZERO,
+        };
+        // What the arc does not give (the child's translation, less the slide, which rises
+        // on the child's side only), spread evenly along it.
+        let slid = band.slid(local.rotation, slide, 1.0);
+        arc.spread = child.transform_point3(end) - slid - start - arc.point(1.0);
+        Bending::Arc { band, arc, slide }
     }
 
     /// Where a bent arc band carries the cut that made section `s`, in the pose `local`
@@ -267,6 +295,89 @@ impl Joints {
 }
 
 /// Each section's rotation in the pose `local` (at rest where it has none).
+/// A band bent in one pose ([`Joints::bending`]): its motion at each share `w` of the
+/// band, relative to the parent.
+enum Bending<'a> {
+    /// `T(pivot + w t + s(w)) · Q(w) · T(−pivot)`, `Q(w) = slerp(I, R, w)`, `pivot` the
+    /// point the child turns about and `s(w)` the band's slide at `w` along the normal
+    /// turned by `Q(w)` ([`Band::slide_for`], [`Band::slid`]).
+    Fan {
+        band: &'a Band,
+        pivot: DVec3,
+        local: Local,
+        slide: Slide,
+    },
+    /// Turned by share `w` of the rotation about the point of the bent centre line at
+    /// `w` ([`Band::motion`]), and slid along the normal turned with it by the band's
+    /// slide at `w`, which rises on the child's side only.
+    Arc {
+        band: &'a Band,
+        arc: Arc,
+        slide: Slide,
+    },
+}
+
+/// An arc band's bent centre line in one pose: the band's length times `∫₀ʷ Q(u) n du`
+/// from its parent end, `Q(u)` the rotation by share `u` of the angle, and the child's
+/// translation the arc does not give, spread evenly along it (`spread`).
+struct Arc {
+    axis: DVec3,
+    angle: f64,
+    start: DVec3,
+    length: f64,
+    along: DVec3,
+    across: DVec3,
+    side: DVec3,
+    spread: DVec3,
+}
+
+impl Arc {
+    /// The centre line's point at share `w`, relative to the parent end.
+    fn point(&self, w: f64) -> DVec3 {
+        let (sin, versin) = if self.angle < 1e-9 {
+            (w, 0.5 * w * w * self.angle)
+        } else {
+            let half = 0.5 * w * self.angle;
+            (
+                (w * self.angle).sin() / self.angle,
+                2.0 * half.sin() * half.sin() / self.angle,
+            )
+        };
+        (self.along * w + self.across * sin + self.side * versin) * self.length
+    }
+}
+
+impl Bending<'_> {
+    /// The motion at share `w` of the band.
+    fn at(&self, w: f64) -> DAffine3 {
+        match self {
+            Bending::Fan {
+                band,
+                pivot,
+                local,
+                slide,
+            } => {
+                let turned = DQuat::IDENTITY.slerp(local.rotation, w);
+                DAffine3::from_translation(
+                    *pivot + local.translation * w + band.slid(turned, *slide, w),
+                ) * DAffine3::from_quat(turned)
+                    * DAffine3::from_translation(-*pivot)
+            }
+            Bending::Arc { band, arc, slide } => {
+                let turned = DQuat::from_axis_angle(arc.axis, arc.angle * w);
+                let slid = if *slide == Slide::default() {
+                    DVec3::ZERO
+                } else {
+                    band.slid(turned, *slide, w)
+                };
+                DAffine3::from_translation(arc.start + arc.point(w) + arc.spread * w + slid)
+                    * DAffine3::from_quat(turned)
+                    * DAffine3::from_translation(-(arc.start + band.normal * (w * arc.length)))
+            }
+        }
+    }
+}
+
 fn rotation_in(local: &[Local]) -> impl Fn(usize) -> DQuat + '_ {
     move |s| local.get(s).map_or(DQuat::IDENTITY, |l| l.rotation)
 }
