@@ -515,6 +515,30 @@ fn pose_bench_passes_and_fails_on_its_bounds() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("hand seed 1: worst stretch"), "{err}");
+    // A volume bound no pose meets names the sections that change most, as the records
+    // do.
+    let out = puppet(&[
+        "bench",
+        "poses",
+        hand,
+        "--poses",
+        "1",
+        "--targets",
+        "--max-volume",
+        "0",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    let at_bones = records(&["--targets"]);
+    let named = at_bones[0]["volume_sections"][1]
+        .as_str()
+        .unwrap_or_default()
+        .to_string();
+    assert!(!named.is_empty(), "{}", at_bones[0]);
+    assert!(
+        err.contains("hand seed 1: a section's volume") && err.contains(&format!("({named})")),
+        "{err}"
+    );
     for bound in ["--max-stretch", "--max-over", "--max-volume", "--max-open"] {
         let out = puppet(&["bench", "poses", hand, bound, "nan"]);
         assert_eq!(out.status.code(), Some(2), "{bound}");

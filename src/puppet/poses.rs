@@ -15,7 +15,7 @@
 //!   surface's;
 //! * whether any position is not finite.
 
-use super::press::section_volumes;
+use super::press::section_volume_extremes;
 use super::Puppet;
 use crate::geom::intersect::new_crossings;
 pub use crate::joints::spread::{random_pose, Spread};
@@ -78,8 +78,11 @@ pub struct Surface {
     /// Faces crossing another face that did not at rest.
     pub crossing: usize,
     /// The smallest and largest relative volume change of a section (an open piece of
-    /// the surface, each cut across it closed: [`section_volumes`]).
+    /// the surface, each cut across it closed: [`super::press::section_volumes`]).
     pub volume: [f64; 2],
+    /// The sections that change by those (`None` where no section holds a volume).
+    #[serde(skip)]
+    pub volume_sections: [Option<usize>; 2],
     /// The relative volume change of the whole surface.
     pub whole: f64,
     /// How far the vertex farthest from where its bones hold it lies from there, in its
@@ -142,6 +145,7 @@ pub fn measure_at(puppet: &Puppet, now: &[DVec3], local: &[Local]) -> Surface {
     stretch.sort_by(f64::total_cmp);
     let n = stretch.len().max(1) as f64;
     let share = |limit: f64| stretch.iter().filter(|&&s| s > limit).count() as f64 / n;
+    let volume = section_volume_extremes(puppet, now);
     Surface {
         worst: stretch.last().copied().unwrap_or(1.0),
         p99: stretch
@@ -151,7 +155,8 @@ pub fn measure_at(puppet: &Puppet, now: &[DVec3], local: &[Local]) -> Surface {
         over_1_5: share(1.5),
         over_2: share(2.0),
         crossing: new_crossings(rest, now, &puppet.mesh.triangles),
-        volume: section_volumes(puppet, now),
+        volume: volume.map(|(change, _)| change),
+        volume_sections: volume.map(|(_, s)| s),
         whole: {
             let all = vec![true; puppet.mesh.triangles.len()];
             let at_rest = cone_volume(rest, &puppet.mesh.triangles, &all, DVec3::ZERO);

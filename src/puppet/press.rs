@@ -454,10 +454,16 @@ pub fn measure(p: &Puppet) -> Pressed {
 /// −0.05 % capped, and reads +8.6 % as a cone from its near cut: `mesh::measure`'s
 /// tests).
 pub fn section_volumes(p: &Puppet, now: &[DVec3]) -> [f64; 2] {
+    section_volume_extremes(p, now).map(|(change, _)| change)
+}
+
+/// [`section_volumes`] with the section that changes by each (`None` where no section
+/// holds a volume).
+pub fn section_volume_extremes(p: &Puppet, now: &[DVec3]) -> [(f64, Option<usize>); 2] {
     let rest = &p.mesh.positions;
     let triangles = &p.mesh.triangles;
     let section_of = p.joints.section_of();
-    let mut volume = [f64::INFINITY, f64::NEG_INFINITY];
+    let mut volume = [(f64::INFINITY, None), (f64::NEG_INFINITY, None)];
     let whole = cone_volume(rest, triangles, &vec![true; triangles.len()], DVec3::ZERO).abs();
     for s in 0..p.joints.sections().len() {
         let faces: Vec<bool> = triangles
@@ -470,7 +476,12 @@ pub fn section_volumes(p: &Puppet, now: &[DVec3]) -> [f64; 2] {
             continue;
         }
         let change = (capped_volume(now, triangles, &faces) - a) / against;
-        volume = [volume[0].min(change), volume[1].max(change)];
+        if change < volume[0].0 {
+            volume[0] = (change, Some(s));
+        }
+        if change > volume[1].0 {
+            volume[1] = (change, Some(s));
+        }
     }
     volume
 }

@@ -67,7 +67,8 @@ pub struct Args {
     /// Fail when a pose has more than this share (%) of its edges stretched over 1.5×.
     #[arg(long, value_parser = super::bound)]
     max_over: Option<f64>,
-    /// Fail when a section's volume changes by more than this (%) in a pose.
+    /// Fail when a section's volume changes by more than this (%) in a pose (naming the
+    /// sections that change most).
     #[arg(long, value_parser = super::bound)]
     max_volume: Option<f64>,
     /// Fail when a character takes longer than this (s) to open: read, repaired,
@@ -92,6 +93,9 @@ struct Row {
     collision: bool,
     #[serde(flatten)]
     surface: Surface,
+    /// The sections whose volume changes the least and the most (empty where none
+    /// holds a volume).
+    volume_sections: [String; 2],
     /// Median step time while settling (ms).
     step_ms: f64,
     /// The pose limit's time in a step (ms): its median over the steps that reach the pose
@@ -301,6 +305,10 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                     joints,
                     collision,
                     surface,
+                    volume_sections: surface.volume_sections.map(|s| {
+                        s.and_then(|s| base.joints.sections().get(s))
+                            .map_or_else(String::new, |s| s.name.clone())
+                    }),
                     step_ms: median(0, times.len()),
                     limit_ms: [
                         median(1, ramp as usize),
@@ -338,9 +346,11 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                     .filter(|&m| beyond(100.0 * s.volume[0].abs().max(s.volume[1].abs()), m))
                 {
                     missed.push(format!(
-                        "a section's volume {:+.1} … {:+.1} % beyond ±{m} %",
+                        "a section's volume {:+.1} % ({}) … {:+.1} % ({}) beyond ±{m} %",
                         100.0 * s.volume[0],
-                        100.0 * s.volume[1]
+                        row.volume_sections[0],
+                        100.0 * s.volume[1],
+                        row.volume_sections[1]
                     ));
                 }
                 if !missed.is_empty() {
@@ -386,6 +396,12 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             .iter()
             .filter(|r| r.surface.volume[0] < -VOLUME || r.surface.volume[1] > VOLUME)
             .count();
+        // The largest change, and where.
+        let most = rows
+            .iter()
+            .flat_map(|r| (0..2).map(move |k| (r.surface.volume[k], r, k)))
+            .filter(|(v, _, _)| v.is_finite())
+            .max_by(|a, b| a.0.abs().total_cmp(&b.0.abs()));
         println!(
             "\n{} poses of {} characters: worst stretch median {:.2}, 90th percentile {:.2}, max {:.2}; a section's volume beyond ±{:.0} % in {beyond_volume}",
             rows.len(),
@@ -399,6 +415,15 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             quantile(&mut worst, 1.0).unwrap_or(f64::NAN),
             100.0 * VOLUME,
         );
+        if let Some((v, r, k)) = most {
+            println!(
+                "A section's largest volume change: {:+.1} % ({}'s {}, seed {})",
+                100.0 * v,
+                r.character,
+                r.volume_sections[k],
+                r.seed
+            );
+        }
         if let Some(slowest) = rows.iter().max_by(|a, b| a.open_s.total_cmp(&b.open_s)) {
             println!(
                 "Each opens (file to suggested joints) in at most {:.2} s ({})",
