@@ -499,36 +499,20 @@ fn pose_bench_passes_and_fails_on_its_bounds() {
         open > 0.0 && rows[1]["open_s"].as_f64() == Some(open),
         "{rows:?}"
     );
-    let out = puppet(&["bench", "poses", hand, "--poses", "1", "--max-open", "0"]);
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
+    // A bound no pose meets: exit 2, and what it says.
+    let fails = |args: &[&str]| -> String {
+        let mut all = vec!["bench", "poses", hand, "--poses", "1"];
+        all.extend_from_slice(args);
+        let out = puppet(&all);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    let err = fails(&["--max-open", "0"]);
     assert!(err.contains("hand: opens in"), "{err}");
-    let out = puppet(&[
-        "bench",
-        "poses",
-        hand,
-        "--poses",
-        "1",
-        "--max-stretch",
-        "1.01",
-    ]);
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = fails(&["--max-stretch", "1.01"]);
     assert!(err.contains("hand seed 1: worst stretch"), "{err}");
-    // A volume bound no pose meets names the sections that change most, as the records
-    // do.
-    let out = puppet(&[
-        "bench",
-        "poses",
-        hand,
-        "--poses",
-        "1",
-        "--targets",
-        "--max-volume",
-        "0",
-    ]);
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
+    // A volume bound names the sections that change most, as the records do.
+    let err = fails(&["--targets", "--max-volume", "0"]);
     let at_bones = records(&["--targets"]);
     let named = at_bones[0]["volume_sections"][1]
         .as_str()
