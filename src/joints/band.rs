@@ -312,26 +312,6 @@ impl Band {
         self.width / (self.width + self.child_width)
     }
 
-    /// Where the bent centre line takes its point at share `w` of the band, relative to
-    /// the parent end, for the child's `rotation` (before the child's translation): the
-    /// band's length times `∫₀ʷ Q(u) n du`, `Q(u)` the rotation by share `u` of the angle
-    /// (see the module docs).
-    fn arc(&self, rotation: DQuat, w: f64) -> DVec3 {
-        let (axis, angle) = axis_angle(rotation);
-        let along = axis * axis.dot(self.normal);
-        let across = self.normal - along;
-        let (sin, versin) = if angle < 1e-9 {
-            (w, 0.5 * w * w * angle)
-        } else {
-            let half = 0.5 * w * angle;
-            (
-                (w * angle).sin() / angle,
-                2.0 * half.sin() * half.sin() / angle,
-            )
-        };
-        (along * w + across * sin + axis.cross(across) * versin) * (self.width + self.child_width)
-    }
-
     /// How far the child moves beyond a turn by `rotation` about the cut's pivot: along
     /// an arc, the bent centre line keeps its length, so it reaches past the corner a
     /// turn about the pivot would make (see the module docs), zero at rest and for a
@@ -342,7 +322,7 @@ impl Band {
             return self.slid(rotation, slide, 1.0);
         }
         let (start, end, _) = self.ends();
-        start + self.arc(rotation, 1.0) - (self.pivot + rotation * (end - self.pivot))
+        start + self.bent(rotation).point(1.0) - (self.pivot + rotation * (end - self.pivot))
             + self.slid(rotation, slide, 1.0)
     }
 
@@ -351,13 +331,8 @@ impl Band {
     /// `rotation` its rotation: turned by share `w` of the rotation, about the point of
     /// the bent centre line at `w` (see the module docs).
     pub(super) fn motion(&self, rotation: DQuat, child: &DAffine3, w: f64) -> DAffine3 {
-        let (start, end, length) = self.ends();
-        // What the arc does not give (the child's translation), spread evenly along it.
-        let rest = child.transform_point3(end) - start - self.arc(rotation, 1.0);
-        let (axis, angle) = axis_angle(rotation);
-        DAffine3::from_translation(start + self.arc(rotation, w) + rest * w)
-            * DAffine3::from_axis_angle(axis, angle * w)
-            * DAffine3::from_translation(-(start + self.normal * (w * length)))
+        let bent = self.bent(rotation);
+        bent.motion(w, bent.spread(child, DVec3::ZERO))
     }
 }
 

@@ -2,7 +2,7 @@
 //! (at the end of a band, moved by its [`Band::shift`] too), then the joint bands'
 //! levels and contacts.
 
-use super::band::{Band, BULGE, LEVELS};
+use super::band::{axis_angle, Band, BULGE, LEVELS};
 use super::slide::Slide;
 use super::{Joints, Local, Section};
 use crate::sim::Pose;
@@ -243,25 +243,16 @@ impl Joints {
                 slide,
             };
         }
-        let (axis, angle) = super::band::axis_angle(local.rotation);
-        let (start, end, length) = band.ends();
-        let along = axis * axis.dot(band.normal);
-        let across = band.normal - along;
-        let mut arc = Arc {
-            axis,
-            angle,
-            start,
-            length,
-            along,
-            across,
-            side: axis.cross(across),
-            spread: DVec3::ZERO,
-        };
         // What the arc does not give (the child's translation, less the slide, which rises
         // on the child's side only), spread evenly along it.
-        let slid = band.slid(local.rotation, slide, 1.0);
-        arc.spread = child.transform_point3(end) - slid - start - arc.point(1.0);
-        Bending::Arc { band, arc, slide }
+        let bent = band.bent(local.rotation);
+        let spread = bent.spread(child, band.slid(local.rotation, slide, 1.0));
+        Bending::Arc {
+            band,
+            bent,
+            spread,
+            slide,
+        }
     }
 
     /// Where a bent arc band carries the cut that made section `s`, in the pose `local`
@@ -294,7 +285,6 @@ impl Joints {
     }
 }
 
-/// Each section's rotation in the pose `local` (at rest where it has none).
 /// A band bent in one pose ([`Joints::bending`]): its motion at each share `w` of the
 /// band, relative to the parent.
 enum Bending<'a> {
@@ -312,39 +302,11 @@ enum Bending<'a> {
     /// slide at `w`, which rises on the child's side only.
     Arc {
         band: &'a Band,
-        arc: Arc,
+        bent: Bent,
+        /// What the arc does not give of the child's translation ([`Bent::spread`]).
+        spread: DVec3,
         slide: Slide,
     },
-}
-
-/// An arc band's bent centre line in one pose: the band's length times `∫₀ʷ Q(u) n du`
-/// from its parent end, `Q(u)` the rotation by share `u` of the angle, and the child's
-/// translation the arc does not give, spread evenly along it (`spread`).
-struct Arc {
-    axis: DVec3,
-    angle: f64,
-    start: DVec3,
-    length: f64,
-    along: DVec3,
-    across: DVec3,
-    side: DVec3,
-    spread: DVec3,
-}
-
-impl Arc {
-    /// The centre line's point at share `w`, relative to the parent end.
-    fn point(&self, w: f64) -> DVec3 {
-        let (sin, versin) = if self.angle < 1e-9 {
-            (w, 0.5 * w * w * self.angle)
-        } else {
-            let half = 0.5 * w * self.angle;
-            (
-                (w * self.angle).sin() / self.angle,
-                2.0 * half.sin() * half.sin() / self.angle,
-            )
-        };
-        (self.along * w + self.across * sin + self.side * versin) * self.length
-    }
 }
 
 impl Bending<'_> {
@@ -363,21 +325,91 @@ impl Bending<'_> {
                 ) * DAffine3::from_quat(turned)
                     * DAffine3::from_translation(-*pivot)
             }
-            Bending::Arc { band, arc, slide } => {
-                let turned = DQuat::from_axis_angle(arc.axis, arc.angle * w);
-                let slid = if *slide == Slide::default() {
-                    DVec3::ZERO
-                } else {
-                    band.slid(turned, *slide, w)
-                };
-                DAffine3::from_translation(arc.start + arc.point(w) + arc.spread * w + slid)
-                    * DAffine3::from_quat(turned)
-                    * DAffine3::from_translation(-(arc.start + band.normal * (w * arc.length)))
+            Bending::Arc {
+                band,
+                bent,
+                spread,
+                slide,
+            } => {
+                DAffine3::from_translation(band.slid(bent.turned(w), *slide, w))
+                    * bent.motion(w, *spread)
             }
         }
     }
 }
 
+impl Band {
+    /// The band's centre line bent by the child's `rotation` (see [`super::band`]).
+    pub(super) fn bent(&self, rotation: DQuat) -> Bent {
+        let (axis, angle) = axis_angle(rotation);
+        let along = axis * axis.dot(self.normal);
+        let across = self.normal - along;
+        let (start, _, length) = self.ends();
+        Bent {
+            axis,
+            angle,
+            start,
+            normal: self.normal,
+            length,
+            along,
+            across,
+            side: axis.cross(across),
+        }
+    }
+}
+
+/// A band's centre line bent by a rotation ([`Band::bent`]): the band's length times
+/// `∫₀ʷ Q(u) n du` from its parent end (`start`), `Q(u)` the rotation by share `u` of the
+/// angle.
+pub(super) struct Bent {
+    axis: DVec3,
+    angle: f64,
+    start: DVec3,
+    normal: DVec3,
+    length: f64,
+    along: DVec3,
+    across: DVec3,
+    side: DVec3,
+}
+
+impl Bent {
+    /// The bent centre line's point at share `w`, relative to the parent end.
+    pub(super) fn point(&self, w: f64) -> DVec3 {
+        let (sin, versin) = if self.angle < 1e-9 {
+            (w, 0.5 * w * w * self.angle)
+        } else {
+            let half = 0.5 * w * self.angle;
+            (
+                (w * self.angle).sin() / self.angle,
+                2.0 * half.sin() * half.sin() / self.angle,
+            )
+        };
+        (self.along * w + self.across * sin + self.side * versin) * self.length
+    }
+
+    /// What the arc does not give of the child's motion `child` (its translation, less
+    /// `slid`), to be spread evenly along the band.
+    pub(super) fn spread(&self, child: &DAffine3, slid: DVec3) -> DVec3 {
+        let end = self.start + self.normal * self.length;
+        child.transform_point3(end) - slid - self.start - self.point(1.0)
+    }
+
+    /// The motion, relative to the parent, of the bone points at share `w`: turned by
+    /// share `w` of the rotation about the bent centre line's point there, moved by `w`
+    /// of `spread`.
+    pub(super) fn motion(&self, w: f64, spread: DVec3) -> DAffine3 {
+        DAffine3::from_translation(self.start + self.point(w) + spread * w)
+            * DAffine3::from_axis_angle(self.axis, self.angle * w)
+            * DAffine3::from_translation(-(self.start + self.normal * (w * self.length)))
+    }
+
+    /// The rotation by share `w` of the turn.
+    pub(super) fn turned(&self, w: f64) -> DQuat {
+        DQuat::from_axis_angle(self.axis, self.angle * w)
+    }
+}
+
+/// Each section's rotation in the pose `local` (at rest where it has none).
 fn rotation_in(local: &[Local]) -> impl Fn(usize) -> DQuat + '_ {
     move |s| local.get(s).map_or(DQuat::IDENTITY, |l| l.rotation)
 }

@@ -75,13 +75,13 @@
 //! too, as a fan's does: its levels rise from the cut to the band's child end
 //! ([`profile`]) along the normal turned with them, the child moves by the whole slide,
 //! and the arc spreads the rest of the child's translation evenly along itself as before
-//! ([`super::Band::motion`]). Its `G` is measured through the arc's own motion, by central
-//! differences over turns by ±[`ARC_AT`] about each axis (the change is odd in the turn
-//! to within 0.2 %: volumes differenced over 0.1 and 1.1 radians gave the same slide, so
-//! the tangent at rest is taken, each vertex's motion dotted with the volume's
-//! gradient), and `H` from the same gradient, as a fan's ([`Joints::arc_slide`]). The parent's side does not slide (its
-//! bend moves the child off the pivot already), and no cross term is measured for an
-//! arc. The same turns: 1.2 % at the median arc, 11.4 % at the worst (the hoof, its
+//! ([`super::Band::motion`]). Its `G` is measured through the arc's own motion, by
+//! central differences over turns by ±[`ARC_AT`] about each axis (the change is odd in
+//! the turn to within 0.2 %: volumes differenced over 0.1 and 1.1 radians gave the same
+//! slide, so the tangent at rest is taken, each vertex's motion dotted with the volume's
+//! gradient), and `H` from the same gradient, as a fan's ([`Joints::arc_slide`]). The
+//! parent's side does not slide (its bend moves the child off the pivot already), and no
+//! cross term is measured for an arc. The same turns: 1.2 % at the median arc, 11.4 % at the worst (the hoof, its
 //! slide held at [`MAX_SLIDE`]). Spreading the slide evenly along the whole band instead
 //! (the parent's side too) kept more volume (`bench poses`: 70 poses beyond ±5 % against
 //! 67 here from 77) but stretched an edge 3.12× in one settled pose; rising on the child's
@@ -383,7 +383,6 @@ impl Joints {
         for (k, slide) in arcs {
             if let Some(band) = self.bands[k].as_mut() {
                 band.slide = slide;
-                band.cross_slide = [0.0, 0.0];
             }
         }
     }
