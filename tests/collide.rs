@@ -551,54 +551,73 @@ fn a_pose_pressing_when_collision_comes_on_goes_back_to_where_its_parts_meet() {
 }
 
 /// Collision on is never worse than off on random poses (the compare of `puppet bench
-/// poses`, on a sample): the dog in five seeded random poses, settled with collision off and
-/// on. On crosses no more faces than off, stretches no edge past 1.1× off's worst (above
-/// 1.5×) and leaves no vertex over one medial radius behind. While the contacts acted
-/// between every pair of parts, not only those the pose limit stopped against each other,
-/// seed 3 pushed one vertex of the right paw 0.0065 off where its bones hold it, alone, and
-/// its 0.0022-long edge stretched 2.71× (off: 1.66×). Before a ball let go of a point it
-/// merely caught on the way, one vertex of a front paw hooked on the other paw in seed 4:
-/// 1.8 radii behind and its skin 4.9× (off: 1.62×).
+/// poses`, on a sample): the dog in five seeded random poses, the cow and the human in the
+/// one each that was worse, settled with collision off and on. On crosses no more faces
+/// than off, stretches no edge past 1.1× off's worst (above 1.5×) and leaves no vertex
+/// over one medial radius behind. What each pose caught:
+/// * the dog, seed 3: while the contacts acted between every pair of parts, not only those
+///   the pose limit stopped against each other, one vertex of the right paw was pushed
+///   0.0065 off where its bones hold it, alone, and its 0.0022-long edge stretched 2.71×
+///   (off: 1.66×); seed 4, before a ball let go of a point it merely caught on the way:
+///   a front paw's vertex hooked on the other paw, 1.8 radii behind, its skin 4.9×;
+/// * the cow, seed 10: the tail, stopped 5° into the rump, had a vertex of its band pulled
+///   two of its edges off its bones by the body's big ball (3.24×; off 1.66×) before a
+///   contact moved a point at most one edge farther than the step left it;
+/// * the human, seed 2: a ring finger held the whole margin (a share of the mesh's
+///   diagonal, most of a finger's radius) away from the middle finger, 1.53× against
+///   1.38× off (1.42× with the one-edge bound alone); with the margin at most a quarter
+///   of the point's own radius, no edge stretches as far as off's worst (1.16×).
 #[test]
 fn collision_on_random_poses_is_never_worse_than_off() {
     use puppet::puppet::poses::{self, Spread};
-    let p = common::suggested(
-        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/characters/dog.obj"),
-    );
-    for seed in 1..=5 {
-        let target = poses::random_pose(
-            &p.joints,
-            Spread::default(),
-            &mut puppet::random::SplitMix(seed),
-        );
-        let mut surfaces = Vec::new();
-        for collision in [false, true] {
-            let mut q = p.clone();
-            let mut params = *q.sim.params();
-            params.world.collision = collision;
-            q.sim.set_params(params);
-            let (_, reached) = poses::settle(&mut q, &target);
-            surfaces.push(poses::measure(&q, &reached));
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    // (The file, its seeds, and whether on must stretch no edge past off's worst at all.)
+    let cases: [(&str, &[u64], bool); 3] = [
+        ("tests/data/characters/dog.obj", &[1, 2, 3, 4, 5], false),
+        ("assets/spot.obj", &[10], false),
+        ("tests/data/meshes/human.obj", &[2], true),
+    ];
+    for (file, seeds, strict) in cases {
+        let p = common::suggested(&root.join(file));
+        for &seed in seeds {
+            let target = poses::random_pose(
+                &p.joints,
+                Spread::default(),
+                &mut puppet::random::SplitMix(seed),
+            );
+            let mut surfaces = Vec::new();
+            for collision in [false, true] {
+                let mut q = p.clone();
+                let mut params = *q.sim.params();
+                params.world.collision = collision;
+                q.sim.set_params(params);
+                if collision {
+                    q.ready_pose_limit();
+                }
+                let (_, reached) = poses::settle(&mut q, &target);
+                surfaces.push(poses::measure(&q, &reached));
+            }
+            let (off, on) = (surfaces[0], surfaces[1]);
+            assert!(!on.nan, "{file} seed {seed}: NaN");
+            assert!(
+                on.crossing <= off.crossing,
+                "{file} seed {seed}: {} faces crossing on against {} off",
+                on.crossing,
+                off.crossing
+            );
+            assert!(
+                (on.worst <= 1.5 && !strict)
+                    || on.worst <= off.worst * if strict { 1.0 } else { 1.1 },
+                "{file} seed {seed}: worst stretch {:.2} on against {:.2} off",
+                on.worst,
+                off.worst
+            );
+            assert!(
+                on.behind <= 1.0,
+                "{file} seed {seed}: a vertex {:.2} medial radii behind",
+                on.behind
+            );
         }
-        let (off, on) = (surfaces[0], surfaces[1]);
-        assert!(!on.nan, "seed {seed}: NaN");
-        assert!(
-            on.crossing <= off.crossing,
-            "seed {seed}: {} faces crossing on against {} off",
-            on.crossing,
-            off.crossing
-        );
-        assert!(
-            on.worst <= 1.5 || on.worst <= 1.1 * off.worst,
-            "seed {seed}: worst stretch {:.2} on against {:.2} off",
-            on.worst,
-            off.worst
-        );
-        assert!(
-            on.behind <= 1.0,
-            "seed {seed}: a vertex {:.2} medial radii behind",
-            on.behind
-        );
     }
 }
 

@@ -36,10 +36,14 @@
 //!   out of its lists' boxes) any of them had then is not read. In a step where a ball
 //!   moves, no room is kept. A settling pose reads few points; what the stage finds is
 //!   the same (`tests/collide.rs`).
-//! * **Response.** A point inside a ball goes to its surface (plus the margin) along the
-//!   line from the centre; its motion into the ball is dropped and its sliding motion
-//!   keeps `1 − friction` (the floor's friction). It is a projection, so a limb posed deep
-//!   into the body squashes against it and nothing gains energy: no explosion.
+//! * **Response.** A point inside a ball goes to its surface (plus the margin, at most a
+//!   quarter of the point's own medial radius: `MARGIN_SHARE`) along the line from the
+//!   centre, but never more than one of its edges farther from where its bones hold it
+//!   than the step left it (`slot_edge`): the pose limit keeps the parts apart, and a
+//!   contact only fixes what is left at their surfaces. Its motion into the ball is
+//!   dropped and its sliding motion keeps `1 − friction` (the floor's friction). It is a
+//!   projection, so a limb posed deep into the body squashes against it and nothing gains
+//!   energy: no explosion.
 //! * **Caught, let go.** A ball does not hold a point whose bones hold it beyond the ball
 //!   (its target lies outside it) and more than the point's own medial radius away: the
 //!   pose does not press it in, only its way there crossed the ball (a paw's vertex hooked
@@ -99,6 +103,12 @@ pub struct Touched {
 /// Points tested together against the balls that meet their box.
 const GROUP: usize = 8;
 
+/// The most margin a point keeps from a foreign ball, as a share of its own medial
+/// radius: the margin is a share of the mesh's diagonal, and on a body a finger's radius
+/// is not much more (a finger held that far from the next was pulled off its bones, and
+/// its skin stretched 2.94×).
+const MARGIN_SHARE: f32 = 0.25;
+
 /// The balls of a puppet and the broad phase over them.
 #[derive(Clone, Debug, Default)]
 pub struct Colliders {
@@ -121,6 +131,12 @@ pub struct Colliders {
     /// when it has only one.
     slot_section: Vec<u16>,
     slot_radius: Vec<f32>,
+    /// Per slot, its shortest rest edge: a contact moves a point at most that much
+    /// farther from where its bones hold it than the step left it. The pose limit keeps
+    /// the parts apart, and a contact fixes what is left at their surfaces; one that
+    /// pulled a point farther (a cow's tail pressed 5° into its rump pulled a vertex of
+    /// its band two edges off) tore the skin between it and its neighbours (3.24×).
+    slot_edge: Vec<f32>,
     /// Per tile: a point of it yields to some ball (a tile of the root has none to yield
     /// to, and is skipped, unless the flesh gives).
     tile_yields: Vec<bool>,
@@ -239,6 +255,17 @@ impl Colliders {
             .order
             .iter()
             .map(|&v| flesh.get(v as usize).copied().unwrap_or(0))
+            .collect();
+        self.slot_edge = (0..layout.len())
+            .map(|k| {
+                let r = layout.slots.rest.get(k);
+                let (a, b) = (layout.start[k] as usize, layout.start[k + 1] as usize);
+                layout.edges[a..b]
+                    .iter()
+                    .map(|e| layout.slots.rest.get(e.neighbour as usize).distance(r))
+                    .filter(|&d| d > 0.0)
+                    .fold(f32::INFINITY, f32::min)
+            })
             .collect();
         self.slot_radius = layout
             .order
@@ -841,6 +868,8 @@ impl Colliders {
             .transforms
             .get(usize::from(slots.section[k]))
             .map(|t| t.transform_point3(rest));
+        // (A finger keeps a finger's margin, not the body's.)
+        let margin = stage.margin.min(MARGIN_SHARE * own as f32);
         let (mut x, start) = (x, x);
         let mut normal = None;
         for _pass in 0..2 {
@@ -854,7 +883,7 @@ impl Colliders {
                 // give, and its own balls, grown by as much (its surface bulges around
                 // them as it squashes), push the flesh in; the flesh is never swept (it
                 // does not follow the part).
-                let (c, whole) = (self.posed[b], self.radius[b] + stage.margin);
+                let (c, whole) = (self.posed[b], self.radius[b] + margin);
                 let give = self.radius[b] * stage.flesh;
                 let r = if yields { whole - give } else { whole + give };
                 let sweep = sweep && yields;
@@ -916,6 +945,14 @@ impl Colliders {
         let mut n = normal?;
         if !x.is_finite() {
             return None;
+        }
+        // No farther from where its bones hold it than one of its edges more than the
+        // step left it (see `slot_edge`).
+        if let Some(t) = target {
+            let (most, off) = (self.slot_edge[k].max(start.distance(t)), x.distance(t));
+            if off > most {
+                x = t + (x - t) * (most / off);
+            }
         }
         // The floor, a half-space contact with the same response, wins.
         if let Some(floor) = stage.floor {
