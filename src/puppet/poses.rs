@@ -168,11 +168,13 @@ pub fn measure_at(puppet: &Puppet, now: &[DVec3], local: &[Local]) -> Surface {
             }
         },
         behind: {
-            // In the vertex's own medial radius, at least the median: flesh a contact
-            // squashes moves a share of its own radius (a thigh pressed by the other
-            // thigh, a few centimetres), a piece caught or left behind more.
+            // In the vertex's own medial radius, at least the median over the vertices
+            // with a skeleton of their own (a rider's is 0: a snake's two finely made
+            // eyes hold most of its vertices): flesh a contact squashes moves a share of
+            // its own radius (a thigh pressed by the other thigh, a few centimetres), a
+            // piece caught or left behind more.
             let distance = &puppet.skeleton.distance;
-            let mut d: Vec<f64> = distance.clone();
+            let mut d: Vec<f64> = distance.iter().copied().filter(|&r| r > 0.0).collect();
             let floor = crate::stats::median(&mut d)
                 .unwrap_or(1.0)
                 .max(f64::MIN_POSITIVE);
