@@ -10,8 +10,8 @@
 //! * **Which pairs.** A point yields to the balls of sections nearer the root (an arm to
 //!   the body, a finger to the palm; of two at one depth, the later), never to its own
 //!   section's, and never to a ball of its own joint's flesh that it was a neighbour of at
-//!   rest ([`balls::neighbours`], `Joints::joint_flesh`): at a joint the two sides touch
-//!   at rest, and the band holds the fold. Parts that merely rest near each other (an arm
+//!   rest ([`balls::neighbours`], `Joints::joint_flesh`; `ignore`): at a joint the two
+//!   sides touch at rest, and the band holds the fold. Parts that merely rest near each other (an arm
 //!   hanging by the body) collide; a point that lay inside a ball at rest (the balls
 //!   reach a little past a crevice's surface) is kept no deeper than it lay.
 //! * **Soft flesh** (`flesh` > 0, a share of a ball's radius): the point sinks into the
@@ -27,9 +27,13 @@
 //!   the tile's section meets, its points are not read. Otherwise a tile whose box meets
 //!   no such ball is skipped whole.
 //! * **Kept lists** (`near`). A tile keeps the balls near its points' box, gathered for
-//!   a box a quarter cell larger, and each group of its points the balls of that list near
-//!   the group (less those of the flesh about every point's joint); each is gathered again
-//!   when its points leave that box or a ball that moved comes near the tile. A point keeps
+//!   a box a quarter cell larger (or, while balls move, three of their last step's
+//!   motions), and each group of its points the balls of that list that reach the group
+//!   anywhere along their step's sweep (less those of the flesh about every point's
+//!   joint, `ignore`); each is gathered again when its points' box, grown by how far any
+//!   ball moved since (an odometer of the steps' largest motions), leaves the box it was
+//!   gathered for. A swinging arm's tiles keep their lists a step or more instead of
+//!   gathering every step. A point keeps
 //!   its room: how far it may move, in a step where no ball moves, before it can meet one
 //!   of its group's balls; a point that stayed within it is not tested, and a tile whose
 //!   points have all moved less, since it was last read, than the least room (or way
@@ -66,6 +70,7 @@
 
 mod floor;
 mod grid;
+mod ignore;
 mod near;
 mod pairs;
 mod response;
@@ -75,8 +80,9 @@ pub use pairs::Pairs;
 
 use super::layout::{Layout, Packed};
 use crate::geom::balls;
-use glam::{Affine3A, DVec3, Vec3};
+use glam::{Affine3A, DVec3, Vec3, Vec4};
 use grid::{key, Set};
+use ignore::Rest;
 use near::Near;
 use rayon::prelude::*;
 
@@ -85,6 +91,9 @@ use rayon::prelude::*;
 #[derive(Default)]
 struct Buffers {
     group: Vec<u32>,
+    /// Where each ball of the tile's list swept ([`Colliders::swept`]), side by side
+    /// (read once for every group whose list is taken from it).
+    spheres: Vec<(Vec4, Vec4)>,
     /// The tile's held flags before the stage.
     was: Vec<bool>,
 }
@@ -132,6 +141,9 @@ pub struct Colliders {
     /// pulled a point farther (a cow's tail pressed 5° into its rump pulled a vertex of
     /// its band two edges off) tore the skin between it and its neighbours (3.24×).
     slot_edge: Vec<f32>,
+    /// Per group of points (each tile's groups in turn, [`GROUP`] slots each), where its
+    /// slots lie at rest ([`Rest`]).
+    group_rest: Vec<Rest>,
     /// Per tile: a point of it yields to some ball (a tile of the root has none to yield
     /// to, and is skipped, unless the flesh gives).
     tile_yields: Vec<bool>,
@@ -163,8 +175,11 @@ pub struct Colliders {
     before: Vec<Vec3>,
     /// Grid cell size.
     cell: f32,
-    /// How far the balls that moved most moved in the last step.
+    /// How far the balls that moved most moved in the last step, and those motions
+    /// summed over every step (an odometer: a kept list reads how far a ball may have
+    /// come since it was gathered, [`near::List::drift`]).
     motion: f32,
+    travelled: f64,
     /// Per slot: a ball holds it (set when a step moves it out of one, kept while its
     /// tile sleeps).
     held: Vec<bool>,
@@ -172,6 +187,16 @@ pub struct Colliders {
     stale: bool,
     /// Smallest radius kept (the sweep's threshold).
     smallest: f32,
+}
+
+/// Whether a ball that swept `(centre, half)` ([`Colliders::swept`]) reaches into the box
+/// `lo..hi` (whose `w` spans everything) anywhere along its sweep: the box of its centre's
+/// sweep, rounded by its reach, meets the box (a ball that did not move: its sphere).
+fn touches((centre, half): (Vec4, Vec4), lo: Vec4, hi: Vec4) -> bool {
+    let gap = (lo - (centre + half))
+        .max((centre - half) - hi)
+        .max(Vec4::ZERO);
+    gap.length_squared() <= centre.w * centre.w
 }
 
 /// What the contact stage needs of the step.
@@ -267,6 +292,7 @@ impl Colliders {
             .iter()
             .map(|&v| radii.get(v as usize).copied().unwrap_or(0.0))
             .collect();
+        self.group_rest = ignore::rest_of_groups(layout, &self.slot_radius);
         let sections = section_of
             .iter()
             .map(|&s| usize::from(s) + 1)
@@ -545,22 +571,27 @@ impl Colliders {
         let sweep = fastest.sqrt() > reach || self.motion > reach;
         let grow = stage.margin + if sweep { self.motion } else { 0.0 };
         let (lo, hi) = (lo - grow, hi + grow);
-        let group = &mut buffers.group;
-        let skin = near::SKIN * self.cell;
-        let kept = near.tile.covers(self.generation, lo, hi) && {
-            let (a, b) = near.tile.bounds();
-            !self.moved_into(t, a, b)
-        };
+        let (group, spheres) = (&mut buffers.group, &mut buffers.spheres);
+        // (Filled for this call's list when a group first needs it.)
+        spheres.clear();
+        // A list is kept while the points' box, grown by how far a ball may have moved
+        // since it was gathered, lies within the box it was gathered for; gathered, with
+        // a skin that lasts a few steps of the balls' present motion.
+        let skin = (near::SKIN * self.cell).max(near::STEPS * self.motion);
+        let since = self.travelled - f64::from(self.motion);
+        let drift = near.tile.drift(self.travelled);
+        let kept = near.tile.covers(self.generation, lo - drift, hi + drift);
         if !kept {
             let (lo, hi) = (lo - skin, hi + skin);
             self.near(t, lo, hi, &mut near.tile.balls);
-            near.tile.keep(self.generation, lo, hi);
+            near.tile.keep(self.generation, lo, hi, since);
             near.gathered = near.gathered.wrapping_add(1);
         }
         if near.tile.balls.is_empty() {
             held.fill(false);
             let (a, b) = near.tile.bounds();
-            near.read((lo - a).min(b - hi).min_element());
+            let drift = near.tile.drift(self.travelled);
+            near.read((lo - drift - a).min(b - hi - drift).min_element());
             return None;
         }
         let (tile_lo, tile_hi) = near.tile.bounds();
@@ -579,30 +610,51 @@ impl Colliders {
                 lo = lo.min(x.min(p));
                 hi = hi.max(x.max(p));
             }
-            let (lo, hi) = (lo - grow, hi + grow);
+            // (Grown by the margin only: each ball's own sweep counts, not the fastest.)
+            let (lo, hi) = (lo - stage.margin, hi + stage.margin);
             let meets = |b: u32, lo: Vec3, hi: Vec3| {
-                let (c, r) = (self.posed[b as usize], self.reach(b as usize));
-                c.clamp(lo, hi).distance_squared(c) <= r * r
+                touches(
+                    self.swept(b as usize),
+                    lo.extend(f32::MIN),
+                    hi.extend(f32::MAX),
+                )
             };
-            if !kept.covers(near.gathered, lo, hi) {
+            let drift = kept.drift(self.travelled);
+            if !kept.covers(near.gathered, lo - drift, hi + drift) {
                 // Within the tile's box, so that the tile's list holds all it meets; a
                 // ball every point of the group ignores (the flesh about their joint) is
                 // left out.
-                let (lo, hi) = ((lo - skin).max(tile_lo), (hi + skin).min(tile_hi));
+                let grown = skin + self.motion;
+                let (lo, hi) = ((lo - grown).max(tile_lo), (hi + grown).min(tile_hi));
+                let slots = start + i0..start + i1;
+                let index = t * stage.layout.tile.div_ceil(GROUP) + i0 / GROUP;
+                let shared = self.shared(slots.clone());
+                if spheres.len() != near.tile.balls.len() {
+                    spheres.clear();
+                    spheres.extend(near.tile.balls.iter().map(|&b| self.swept(b as usize)));
+                }
+                let (lo4, hi4) = (lo.extend(f32::MIN), hi.extend(f32::MAX));
                 kept.balls.clear();
-                kept.balls
-                    .extend(near.tile.balls.iter().copied().filter(|&b| {
-                        meets(b, lo, hi)
-                            && (start + i0..start + i1).any(|k| !self.ignores(stage, k, b as usize))
-                    }));
-                kept.keep(near.gathered, lo, hi);
+                kept.balls.extend(
+                    near.tile
+                        .balls
+                        .iter()
+                        .zip(spheres.iter())
+                        .filter(|(_, &s)| touches(s, lo4, hi4))
+                        .map(|(&b, _)| b)
+                        .filter(|&b| {
+                            !self.ignored_by_all(stage, (&slots, index), shared, b as usize)
+                        }),
+                );
+                kept.keep(near.gathered, lo, hi, since);
                 for room in &mut near.room[i0..i1] {
                     room.1 = -1.0;
                 }
             }
             // (How far the group's points may go before they leave its list's box.)
             let (a, b) = kept.bounds();
-            slack = slack.min((lo - a).min(b - hi).min_element());
+            let drift = kept.drift(self.travelled);
+            slack = slack.min((lo - drift - a).min(b - hi - drift).min_element());
             // Gathered when a point needs it.
             let mut filtered = false;
             for i in i0..i1 {
@@ -660,6 +712,16 @@ impl Colliders {
         any.then_some(motion)
     }
 
+    /// Where ball `b` went in this step: the box its centre swept, as its centre and half
+    /// extents, with its reach as the centre's `w` (see [`touches`]).
+    fn swept(&self, b: usize) -> (Vec4, Vec4) {
+        let (a, c) = (self.before[b], self.posed[b]);
+        (
+            ((a + c) * 0.5).extend(self.reach(b)),
+            ((c - a).abs() * 0.5).extend(0.0),
+        )
+    }
+
     /// Poses each set of balls one of whose transforms changed (all of them when stale)
     /// and builds its grid again; then the sections' boxes and which moved. Returns
     /// whether a ball moved.
@@ -714,6 +776,7 @@ impl Colliders {
         }
         if moved {
             self.motion = motion;
+            self.travelled += f64::from(motion);
             self.boxes.clear();
             self.boxes.resize(
                 self.rank.len().max(1),
@@ -758,38 +821,6 @@ impl Colliders {
             own.is_none_or(|s| self.meets(s, self.section[k]).is_some())
                 && c.clamp(lo, hi).distance_squared(c) <= r * r
         });
-    }
-
-    /// Whether a ball that moved in this step reaches into the box `lo..hi` of tile `t`
-    /// (one of a section a point of the tile meets).
-    fn moved_into(&self, t: usize, lo: Vec3, hi: Vec3) -> bool {
-        let own = self.tile_section[t];
-        self.boxes
-            .iter()
-            .zip(&self.moving)
-            .enumerate()
-            .any(|(s, (&(a, b), &m))| {
-                m && own.is_none_or(|o| self.meets(o, s as u16).is_some())
-                    && a.cmple(hi).all()
-                    && lo.cmple(b).all()
-            })
-    }
-
-    /// Whether slot `k` never yields to ball `b` nor is dented by it, wherever both are:
-    /// their sections do not meet, or the ball is of the flesh about the slot's joint and
-    /// was its neighbour at rest (at a joint the two sides touch at rest, and the band
-    /// holds the fold).
-    fn ignores(&self, stage: &Stage, k: usize, b: usize) -> bool {
-        if self.meets(self.slot_section[k], self.section[b]).is_none() {
-            return true;
-        }
-        let joint = self.slot_joint.get(k).copied().unwrap_or(0);
-        (self.everywhere || (joint != 0 && joint == self.joint[b]))
-            && balls::neighbours(
-                f64::from(stage.layout.slots.rest.get(k).distance(self.center[b])),
-                f64::from(self.radius[b] + stage.margin),
-                f64::from(self.slot_radius[k]),
-            )
     }
 
     /// How far the point of slot `k` at `x` may move before it can meet one of `balls`

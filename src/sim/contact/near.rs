@@ -7,8 +7,13 @@
 use glam::Vec3;
 
 /// How much larger than its points' box a list is gathered for, in grid cells: the points
-/// may move this far before it is gathered again.
+/// and the balls may move this far before it is gathered again.
 pub(super) const SKIN: f32 = 0.25;
+
+/// While the balls move, a list is gathered this many of their last step's motions
+/// larger (when that is more than [`SKIN`]): it then lasts a few steps of a swing
+/// instead of one.
+pub(super) const STEPS: f32 = 3.0;
 
 /// The balls that may meet some points, for a box.
 #[derive(Clone, Debug, Default)]
@@ -18,6 +23,10 @@ pub(super) struct List {
     hi: Vec3,
     /// The stamp it was gathered under (none yet: never kept).
     stamp: Option<u32>,
+    /// How far the balls had travelled ([`super::Colliders`]' odometer) before the step
+    /// it was gathered in: a ball left out lies at least that much less than the box's
+    /// skin away.
+    at: f64,
     /// The balls, sorted, each once.
     pub(super) balls: Vec<u32>,
 }
@@ -35,9 +44,17 @@ impl List {
         (self.lo, self.hi)
     }
 
-    /// Marks the list, just gathered for `lo..hi` under `stamp`, kept.
-    pub(super) fn keep(&mut self, stamp: u32, lo: Vec3, hi: Vec3) {
-        (self.lo, self.hi, self.stamp) = (lo, hi, Some(stamp));
+    /// Marks the list, just gathered for `lo..hi` under `stamp`, kept, the balls having
+    /// travelled `at` before this step.
+    pub(super) fn keep(&mut self, stamp: u32, lo: Vec3, hi: Vec3, at: f64) {
+        (self.lo, self.hi, self.stamp, self.at) = (lo, hi, Some(stamp), at);
+    }
+
+    /// How far a ball may have moved since the list was gathered (in that step
+    /// included), when the balls have `travelled` in all: a box this much larger than
+    /// the points' must lie within the list's.
+    pub(super) fn drift(&self, travelled: f64) -> f32 {
+        (travelled - self.at).max(0.0) as f32
     }
 }
 
