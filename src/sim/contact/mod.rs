@@ -27,7 +27,7 @@
 //!   the tile's section meets, its points are not read. Otherwise a tile whose box meets
 //!   no such ball is skipped whole.
 //! * **Kept lists** (`near`). A tile keeps the balls near its points' box, gathered for
-//!   a box a quarter cell larger (or, while balls move, three of their last step's
+//!   a box a quarter cell larger (or, while balls move, ten of their last step's
 //!   motions), and each group of its points the balls of that list that reach the group
 //!   anywhere along their step's sweep (less those of the flesh about every point's
 //!   joint, `ignore`); each is gathered again when its points' box, grown by how far any

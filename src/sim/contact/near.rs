@@ -13,7 +13,7 @@ pub(super) const SKIN: f32 = 0.25;
 /// While the balls move, a list is gathered this many of their last step's motions
 /// larger (when that is more than [`SKIN`]): it then lasts a few steps of a swing
 /// instead of one.
-pub(super) const STEPS: f32 = 3.0;
+pub(super) const STEPS: f32 = 10.0;
 
 /// The balls that may meet some points, for a box.
 #[derive(Clone, Debug, Default)]
