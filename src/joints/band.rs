@@ -366,6 +366,7 @@ impl Joints {
         slot_rank: &[usize],
         next: &mut usize,
     ) {
+        self.changing();
         self.blends.clear();
         entries.sort_unstable();
         let levels = LEVELS as u16;
@@ -465,6 +466,7 @@ impl Joints {
     /// Sets the band factor of the cut named `name` (`None`: the default); returns false
     /// when there is no such cut.
     pub fn set_band(&mut self, name: &str, band: Option<f64>) -> bool {
+        self.changing();
         let Some(cut) = self.cuts.iter_mut().find(|c| c.name == name) else {
             return false;
         };
@@ -723,6 +725,7 @@ impl Joints {
 
     /// Recomputes the bands and every vertex's transform (after the cuts changed).
     pub(super) fn refresh_bands(&mut self) {
+        self.changing();
         let n = self.section_of.len();
         self.transform_of.clone_from(&self.section_of);
         self.bands = vec![None; self.cuts.len()];

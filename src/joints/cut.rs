@@ -9,6 +9,7 @@ use glam::DVec3;
 impl Joints {
     /// Applies a cut; returns the new section's index. On error nothing changes.
     pub fn add_cut(&mut self, cut: Cut) -> Result<usize, JointError> {
+        self.changing();
         let index = self.add_cut_unbanded(cut)?;
         self.refresh_bands();
         Ok(index)
@@ -18,6 +19,7 @@ impl Joints {
     /// anything ([`Joints::refresh_bands`]): the sections are assigned (what the
     /// suggestion measures while it places cuts).
     pub(super) fn add_cut_unbanded(&mut self, cut: Cut) -> Result<usize, JointError> {
+        self.changing();
         let index = self.insert_cut(cut)?;
         self.assign_sections(true);
         Ok(index)
@@ -28,6 +30,7 @@ impl Joints {
     /// suggested joints would cost dozens of refreshes). Stops at the first that fails,
     /// with the ones before it applied.
     pub fn add_cuts(&mut self, cuts: impl IntoIterator<Item = Cut>) -> Result<(), JointError> {
+        self.changing();
         let added = self.add_cuts_unbanded(cuts);
         self.refresh_bands();
         added
@@ -39,6 +42,7 @@ impl Joints {
         &mut self,
         cuts: impl IntoIterator<Item = Cut>,
     ) -> Result<(), JointError> {
+        self.changing();
         let added = cuts
             .into_iter()
             .try_for_each(|cut| self.insert_cut(cut).map(|_| ()));
@@ -48,6 +52,7 @@ impl Joints {
 
     /// [`Joints::add_cut`] but the bands, which the caller refreshes.
     fn insert_cut(&mut self, cut: Cut) -> Result<usize, JointError> {
+        self.changing();
         let name = cut.name.clone();
         if name.trim().is_empty() {
             return Err(JointError::EmptyName(name));
@@ -193,6 +198,7 @@ impl Joints {
     /// Sets every section's turning point: its own pivot, or that of its first child cut
     /// (in cut order) with a shared pivot (see the module docs).
     fn refresh_pivots(&mut self) {
+        self.changing();
         let n = self.sections.len();
         let mut shared = vec![false; n];
         for k in 0..n {
@@ -213,6 +219,7 @@ impl Joints {
     /// (`shared`), or about its own again; a sibling cut that shared its pivot stops (a
     /// section turns about one point). Returns false when there is no such cut.
     pub fn set_shared_pivot(&mut self, name: &str, shared: bool) -> bool {
+        self.changing();
         let Some(k) = self.find(name).filter(|&k| k > 0) else {
             return false;
         };
@@ -321,6 +328,7 @@ impl Joints {
     /// not after each); riders take their hosts' sections; every section's vertex count
     /// is brought up to date.
     pub(super) fn assign_sections(&mut self, whole: bool) {
+        self.changing();
         self.section_of.clone_from(&self.skeletal_of);
         self.borrowed.clear();
         if whole && !self.body.rest.is_empty() && self.make_whole() > 0 {
@@ -346,6 +354,7 @@ impl Joints {
     /// cut from, and cuts that split it now split that one. The skeleton is not touched. On
     /// error (the replay of the remaining cuts fails) nothing changes.
     pub fn remove_cut(&mut self, name: &str) -> Result<(), JointError> {
+        self.changing();
         self.remove_cut_unbanded(name)?;
         self.refresh_bands();
         Ok(())
@@ -354,6 +363,7 @@ impl Joints {
     /// [`Joints::remove_cut`] but the bands, which the caller refreshes before the joints
     /// pose anything ([`Joints::refresh_bands`]): the sections are assigned.
     pub(super) fn remove_cut_unbanded(&mut self, name: &str) -> Result<(), JointError> {
+        self.changing();
         let k = self
             .cuts
             .iter()
@@ -386,6 +396,7 @@ impl Joints {
     /// a section sharing it turns about the new point too. A non-finite pivot changes
     /// nothing.
     pub fn set_pivot(&mut self, index: usize, pivot: DVec3) {
+        self.changing();
         if !pivot.is_finite() || index >= self.sections.len() {
             return;
         }

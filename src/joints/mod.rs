@@ -341,6 +341,29 @@ pub struct Joints {
     /// Blends of sections by the skin's weights, their transforms after the contacts'
     /// ([`skin::Mix`]).
     mixes: Vec<skin::Mix>,
+    /// Which content this is ([`Stamp`]): a pose asked for again of the same content is
+    /// read from [`PoseScratch`] instead of made again.
+    stamp: Stamp,
+}
+
+/// Tells one content of a [`Joints`] from another: a fresh number each time one may
+/// change (every `&mut self` method takes one first), drawn from a counter shared by all,
+/// so that two clones changed apart never read alike. In comparisons every stamp is equal:
+/// two joints alike are alike whatever their history.
+#[derive(Clone, Copy, Debug)]
+struct Stamp(u64);
+
+impl Stamp {
+    fn fresh() -> Stamp {
+        static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+        Stamp(NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed))
+    }
+}
+
+impl PartialEq for Stamp {
+    fn eq(&self, _: &Stamp) -> bool {
+        true
+    }
 }
 
 impl Joints {
@@ -422,7 +445,13 @@ impl Joints {
             flesh: Vec::new(),
             blends: Vec::new(),
             mixes: Vec::new(),
+            stamp: Stamp::fresh(),
         }
+    }
+
+    /// Marks the joints changed (see [`Stamp`]).
+    fn changing(&mut self) {
+        self.stamp = Stamp::fresh();
     }
 
     /// Joins the body's separate parts where they meet ([`crate::mesh::attachments`]): a
@@ -432,6 +461,7 @@ impl Joints {
     /// # Panics
     /// If an attachment names a vertex that does not exist.
     pub fn attach_parts(&mut self, attachments: &[(u32, u32)]) {
+        self.changing();
         if attachments.is_empty() {
             return;
         }
@@ -457,6 +487,7 @@ impl Joints {
     /// # Panics
     /// If `positions` or `radii` is not one per skeletal point.
     pub fn set_surface(&mut self, positions: &[DVec3], radii: &[f64]) {
+        self.changing();
         let n = self.body.points.len();
         assert_eq!(positions.len(), n, "one position per vertex");
         assert_eq!(radii.len(), n, "one radius per vertex");
@@ -470,6 +501,7 @@ impl Joints {
     /// Gives the joints the skeleton the mesh file came with, for skin cuts
     /// ([`Shape::Skin`]). A skin whose `vertex_joint` is not one per vertex is ignored.
     pub fn set_skin(&mut self, skin: Option<Arc<crate::mesh::Skin>>) {
+        self.changing();
         let n = self.body.points.len();
         Arc::make_mut(&mut self.body).skin = skin.filter(|s| s.vertex_joint.len() == n);
     }
@@ -487,6 +519,7 @@ impl Joints {
     /// The same body with no cuts and the root named `root` (its pivot kept).
     pub fn without_cuts(&self, root: &str) -> Joints {
         let mut j = self.uncut();
+        j.changing();
         j.sections[0].name = root.to_string();
         j
     }
@@ -514,6 +547,7 @@ impl Joints {
             flesh: Vec::new(),
             blends: Vec::new(),
             mixes: Vec::new(),
+            stamp: Stamp::fresh(),
         };
         // (No cuts: no bands, and no joint has flesh.)
         j.refresh_bands();

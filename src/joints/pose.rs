@@ -77,7 +77,14 @@ impl Joints {
 
     /// [`Joints::pose`] reusing `scratch` (nothing allocated once it has grown): every
     /// section's transform, then every joint band's levels (see [`super::band`]).
+    /// The same pose asked for again of the same joints is the one made last.
     pub fn pose_into<'a>(&self, local: &[Local], scratch: &'a mut PoseScratch) -> &'a Pose {
+        if scratch.made == Some(self.stamp.0) && scratch.made_of == local {
+            return &scratch.pose;
+        }
+        scratch.made = Some(self.stamp.0);
+        scratch.made_of.clear();
+        scratch.made_of.extend_from_slice(local);
         self.world_into(local, &mut scratch.world);
         let transforms = &mut scratch.pose.transforms;
         transforms.clear();
@@ -520,6 +527,9 @@ pub struct PoseScratch {
     pose: Pose,
     /// The pose asked for in a step, before the pose limit (`Puppet::step_animated`).
     pub(crate) wanted: Vec<Local>,
+    /// The joints' stamp and the local poses `pose` was made for (none yet).
+    made: Option<u64>,
+    made_of: Vec<Local>,
 }
 
 impl Default for PoseScratch {
@@ -529,6 +539,8 @@ impl Default for PoseScratch {
             motions: Vec::new(),
             pose: Pose::rest(1),
             wanted: Vec::new(),
+            made: None,
+            made_of: Vec::new(),
         }
     }
 }

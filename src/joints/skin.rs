@@ -61,6 +61,7 @@ impl Joints {
     /// transform, numbered from `next`; returns the next free transform. Nothing without
     /// a skin cut, or when the mixes would not fit under `max` transforms.
     pub(super) fn refresh_mixes(&mut self, next: usize, max: usize) -> usize {
+        self.changing();
         self.mixes.clear();
         let Some(skin) = self.body.skin.clone() else {
             return next;

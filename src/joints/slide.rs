@@ -233,6 +233,7 @@ impl Joints {
     /// the levels its vertices got (`entries`: vertex, band slot, level; `slots`: each slot's cut).
     /// Nothing without the mesh's triangles and rest positions.
     pub(super) fn measure_slides(&mut self, entries: &[(u32, u16, u16)], slots: &[usize]) {
+        self.changing();
         let n = self.section_of.len();
         let body = self.body.clone();
         if body.triangles.is_empty() || body.rest.len() != n {

@@ -145,6 +145,46 @@ fn the_pose_in_single_precision_matches() {
     assert!((a - w[arm].transform_point3(p)).length() < 1e-6);
 }
 
+/// A pose asked for again of the same joints is the one made last; the joints changed
+/// (a pivot moved, a cut added, a band set), or another pose, or another clone changed
+/// apart, it is made again: each reads what `pose` makes from scratch.
+#[test]
+fn a_pose_is_made_again_when_the_joints_or_the_pose_change() {
+    let mut j = Joints::new(&line(), ROOT);
+    let arm = j.add_cut(cut("arm", ROOT, 1.0)).unwrap();
+    let mut local = vec![Local::default(); 2];
+    local[arm] = Local::axis_angle(DVec3::X, 40.0);
+    let mut scratch = PoseScratch::default();
+    let first = j.pose_into(&local, &mut scratch).clone();
+    assert_eq!(first, j.pose(&local));
+    assert_eq!(*j.pose_into(&local, &mut scratch), first, "asked again");
+    j.set_pivot(arm, DVec3::new(0.0, 1.2, 0.5));
+    let moved = j.pose_into(&local, &mut scratch).clone();
+    assert_ne!(moved, first, "a moved pivot turns the arm about it");
+    assert_eq!(moved, j.pose(&local));
+    local[arm] = Local::axis_angle(DVec3::X, 20.0);
+    assert_eq!(*j.pose_into(&local, &mut scratch), j.pose(&local));
+    let mut other = j.clone();
+    other.set_pivot(arm, DVec3::new(0.0, 0.8, -0.5));
+    assert_eq!(*other.pose_into(&local, &mut scratch), other.pose(&local));
+    j.set_pivot(arm, DVec3::new(0.0, 1.2, 0.9));
+    assert_eq!(
+        *j.pose_into(&local, &mut scratch),
+        j.pose(&local),
+        "clones apart"
+    );
+    let hand = j.add_cut(cut("hand", "arm", 2.0)).unwrap();
+    local.resize(3, Local::default());
+    local[hand] = Local::axis_angle(DVec3::Z, 30.0);
+    assert_eq!(*j.pose_into(&local, &mut scratch), j.pose(&local));
+    assert!(j.set_band("hand", Some(0.2)));
+    assert_eq!(
+        *j.pose_into(&local, &mut scratch),
+        j.pose(&local),
+        "a band set"
+    );
+}
+
 /// A 9×9×9 grid of skeletal points in [−1, 1]³, with the edges between grid neighbours.
 fn cube() -> (Vec<DVec3>, Vec<[u32; 3]>) {
     let at = |k: usize| -1.0 + k as f64 * 0.25;

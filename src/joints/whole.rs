@@ -36,6 +36,7 @@ impl Joints {
     /// Moves every stray piece of a section to the section around it (see the module
     /// docs). Returns how many vertices moved.
     pub(super) fn make_whole(&mut self) -> usize {
+        self.changing();
         let body = &self.body;
         let n = self.section_of.len();
         if body.neighbours.is_empty() || self.sections.len() < 2 {
@@ -137,6 +138,7 @@ impl Joints {
     /// that section's bands. A piece's own skeletal points lie in another section, which
     /// would put it at the wrong end of a band.
     pub(super) fn borrow_points(&mut self) {
+        self.changing();
         let n = self.section_of.len();
         let body = &self.body;
         let moved = |i: usize| !body.is_rider(i) && self.section_of[i] != self.skeletal_of[i];
