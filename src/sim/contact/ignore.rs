@@ -186,7 +186,7 @@ mod tests {
                             let g = c.group_rest[index];
                             let d = c.center[b].distance(g.centre);
                             let r = c.radius[b] + margin;
-                            let within = |own: f32| r + 2.0 * r.min(own);
+                            let within = |own: f32| r + balls::NEIGHBOURS as f32 * r.min(own);
                             decided += usize::from(
                                 d + g.spread < 0.99 * within(g.own.0)
                                     || d - g.spread > 1.01 * within(g.own.1),
