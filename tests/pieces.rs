@@ -118,7 +118,7 @@ fn downloaded_characters_in_pieces_are_puppets() {
 
 /// A knee's seam across trousers, the leg inside them and the pieces attached between
 /// them is one loop, broken here and there by a vertex of a third section: the knee is
-/// joined to the thigh once, not twice (`seams::TWICE`), and keeps its cut. Counting each
+/// joined to the thigh once, not twice (`rules::TWICE`), and keeps its cut. Counting each
 /// arc between such vertices as a loop took both knees from the man in casual clothes and
 /// one from the man in beach clothes.
 #[test]

@@ -60,7 +60,7 @@ fn random_poses_of_the_shipped_characters_keep_the_skin_whole() {
 
 /// BENCHMARKS' claim: every one of the 500 poses of `bench poses` (the 25 shipped
 /// characters, 20 seeds each, settled) keeps its worst edge within 3×, with no NaN (the
-/// lion statue's hind legs on its pedestal reached 3.83× before `seams::TWICE`). The bench
+/// lion statue's hind legs on its pedestal reached 3.83× before `rules::TWICE`). The bench
 /// itself fails off the bound; a minute in CI.
 #[test]
 fn every_pose_of_the_shipped_population_stays_within_three_times() {
@@ -332,7 +332,7 @@ fn no_section_meets_one_it_is_not_related_to() {
 /// the rest in two places tore where it was not turned: the lion's hind legs with half its
 /// pedestal, meeting the body at the hips and across the pedestal, 3.8× over `bench
 /// poses`' 20 seeds, the mech's 16×; a section that meets its parent along two loops
-/// loses its cut (`seams::TWICE`), and the tear check takes the others: the lion at most
+/// loses its cut (`rules::TWICE`), and the tear check takes the others: the lion at most
 /// 2.6× over all 20 seeds, the others 2.4× at most over the first three.
 #[test]
 fn sections_that_met_unrelated_ones_or_tore_no_longer_tear() {

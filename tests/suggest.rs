@@ -5,7 +5,7 @@ mod common;
 
 use common::{puppet, scratch, test_mesh};
 use puppet::joints::suggest::labels::Labels;
-use puppet::joints::suggest::Up;
+use puppet::mesh::orientation::Up;
 use puppet::{mesh, Puppet, RigFile};
 use std::path::Path;
 
@@ -834,7 +834,7 @@ fn left_and_right_cuts_mirror_each_other() {
     for name in ["robot", "dog", "human"] {
         let (_, p) = labelled(name);
         let (mirror, size, pivots) = mirror_and_pivots(&p);
-        let image = |q: glam::DVec3| puppet::joints::suggest::image(mirror, q);
+        let image = |q: glam::DVec3| puppet::mesh::orientation::image(mirror, q);
         for (left, at) in &pivots {
             if !left.split('.').any(|w| w == "L") {
                 continue;
@@ -866,7 +866,7 @@ fn a_joint_found_on_one_side_is_copied_to_the_other() {
         let (_, p) = labelled(name);
         let (mirror, size, pivots) = mirror_and_pivots(&p);
         let (n, o) = mirror;
-        let image = |q: glam::DVec3| puppet::joints::suggest::image(mirror, q);
+        let image = |q: glam::DVec3| puppet::mesh::orientation::image(mirror, q);
         for (cut, at) in &pivots {
             if (at.dot(n) - o).abs() < 0.05 * size {
                 continue;

@@ -28,7 +28,7 @@ pub struct Args {
     /// The axis the mesh is modelled with as up: +x, -x, +y, -y, +z or -z (default: found
     /// from its shape; written into the rig file when given).
     #[arg(long, value_name = "AXIS", allow_hyphen_values = true)]
-    pub up: Option<puppet::joints::suggest::Up>,
+    pub up: Option<puppet::mesh::orientation::Up>,
     /// Suggest joints from the skeleton even when the file has a skin (a skinned glTF's
     /// joints are used by default).
     #[arg(long)]

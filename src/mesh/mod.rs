@@ -23,6 +23,7 @@
 //! * `shapes`, `subdivide`: test shapes, refinement;
 //! * `groups`: the file's named groups (materials), carried to the loaded vertices;
 //! * `measure`: areas, volumes and extents of a surface;
+//! * `orientation`: a character's mirror plane, flat base, up, front and left;
 //! * `decimate`: quadric edge collapse, for the rough copies the benchmarks make.
 
 mod attachments;
@@ -37,6 +38,7 @@ mod load;
 pub mod measure;
 mod normals;
 mod obj;
+pub mod orientation;
 mod parts;
 mod ply;
 mod repair;

@@ -20,8 +20,8 @@ pub use rig_file::{Region, RigError, RigFile};
 
 use crate::anim::Bound;
 use crate::files;
-use crate::joints::suggest::Up;
 use crate::joints::{JointError, Joints, Local, PoseScratch};
+use crate::mesh::orientation::Up;
 use crate::mesh::{self, Groups, LoadReport, Mesh, MeshError};
 use crate::progress::Progress;
 use crate::rig::Rig;
@@ -81,10 +81,10 @@ pub struct Puppet {
     /// each other ([`Puppet::hold_back`]).
     pressing_found: bool,
     /// Up, front and left, as the last suggestion found them.
-    frame: Option<crate::joints::suggest::Frame>,
+    frame: Option<crate::mesh::orientation::Frame>,
     /// The up the mesh file's format fixes (glTF's +y, by its specification), taken as
     /// given where the rig file gives none.
-    format_up: Option<crate::joints::suggest::Up>,
+    format_up: Option<crate::mesh::orientation::Up>,
     /// Suggest joints from the skeleton even when the mesh file has a skin.
     pub ignore_skin: bool,
 }
@@ -152,7 +152,7 @@ impl Puppet {
             frame: None,
             format_up: report
                 .is_some_and(|r| r.format == mesh::Format::Gltf)
-                .then_some(crate::joints::suggest::Up::PosY),
+                .then_some(crate::mesh::orientation::Up::PosY),
             ignore_skin: false,
         };
         let regions = puppet.regions(true).map_err(BuildError::Regions)?;
@@ -298,7 +298,7 @@ impl Puppet {
     }
 
     /// Up, front and left as the last suggestion found them (`None` before one).
-    pub fn frame(&self) -> Option<crate::joints::suggest::Frame> {
+    pub fn frame(&self) -> Option<crate::mesh::orientation::Frame> {
         self.frame
     }
 

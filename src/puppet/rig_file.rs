@@ -47,8 +47,8 @@
 
 use super::paint::{self, Paint};
 use crate::files::{self, Format};
-use crate::joints::suggest::Up;
 use crate::joints::{Cut, JointError, Joints, Shape, ROOT};
+use crate::mesh::orientation::Up;
 use crate::sim::{Constraint, Material, Params};
 use crate::skeleton::Method;
 use glam::DVec3;

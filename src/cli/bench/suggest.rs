@@ -6,7 +6,7 @@
 use crate::cli::LoadArgs;
 use anyhow::{anyhow, bail, Result};
 use puppet::joints::suggest::labels::{Half, Labels, Score, TOLERANCE};
-use puppet::joints::suggest::Up;
+use puppet::mesh::orientation::Up;
 use puppet::{Puppet, RigFile};
 use std::path::{Path, PathBuf};
 use std::time::Instant;

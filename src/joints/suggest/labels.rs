@@ -31,10 +31,10 @@ pub struct Labels {
     pub kind: String,
     /// The up direction it is modelled with (`+y`, `+z`), when it says.
     #[serde(default)]
-    pub up: Option<super::Up>,
+    pub up: Option<crate::mesh::orientation::Up>,
     /// The direction it faces (`+z`, glTF's), when it says.
     #[serde(default)]
-    pub front: Option<super::Up>,
+    pub front: Option<crate::mesh::orientation::Up>,
     /// Which half of the population it is in: rules are chosen on the development half
     /// only, and the held-out half checks that they carry over.
     #[serde(default)]

@@ -2,89 +2,131 @@
 //! medial radius (or as a share), so one mesh's scale is another's. `puppet bench suggest`
 //! and `tests/suggest.rs` measure what moving one changes.
 
+// Orientation (stages 1 and 5): defined in `mesh::orientation`, where the mirror plane, the
+// flat base, up and front are found, and listed here with the rest. `MIRRORED`: the mirror
+// plane; `BASE_AREA`: a flat base; `FEET`, `GROUND`: up from feet on the ground;
+// `OFF_PLANE`: a pivot on one side of the plane; `FRONT_END`: a head ahead of a tail.
+// The names read the last three too.
+pub(crate) use crate::mesh::orientation::{FRONT_END, GROUND, OFF_PLANE};
+
 /// The root is the point nearest the centroid among those on the middle of the body at
 /// least this share of the thickest there.
-pub(super) const THICK: f64 = 0.85;
+pub(crate) const THICK: f64 = 0.85;
 /// A limb of the root with at least this many tips, more than all the root's other limbs
 /// together, and as thick inside as [`BODY_THICK`] of the root is the body (the root found
 /// was a big head on it), and the tree is rooted there instead.
-pub(super) const BODY_TIPS: usize = 3;
-pub(super) const BODY_THICK: f64 = 0.5;
+pub(crate) const BODY_TIPS: usize = 3;
+pub(crate) const BODY_THICK: f64 = 0.5;
 /// The body's core reaches as far as its skeletal distance stays this share of the root's,
 /// and no farther than this many of the root's radii from its centre.
-pub(super) const CORE: f64 = 0.85;
-pub(super) const CORE_REACH: f64 = 2.5;
+pub(crate) const CORE: f64 = 0.85;
+pub(crate) const CORE_REACH: f64 = 2.5;
 /// A limb must be at most this share of the width where it hangs from.
-pub(super) const THINNER: f64 = 0.75;
+pub(crate) const THINNER: f64 = 0.75;
 /// A limb is cut this many of its radii out from the fork.
-pub(super) const BASE: f64 = 0.5;
+pub(crate) const BASE: f64 = 0.5;
 /// A shoulder's or a hip's pivot (a limb root named `arm` or `leg`) sits this many more of
 /// its radii in from the cut than another limb's: the ball of a ball joint lies inside the
 /// trunk, past the armpit or the crotch, where an ear, a tail or a finger bends at its base.
-pub(super) const SOCKET: f64 = 0.5;
+pub(crate) const SOCKET: f64 = 0.5;
 /// A shoulder's or a hip's cut moves toward the body while the slice of the mesh around it
 /// reaches no farther than this many of the limb's widths (the size of its ring) from the
 /// cut's point: until it meets the trunk.
-pub(super) const ROUND: f64 = 1.5;
+pub(crate) const ROUND: f64 = 1.5;
 /// A limb or a bump must be at least this many of its radii long.
-pub(super) const ELONGATED: f64 = 1.6;
+pub(crate) const ELONGATED: f64 = 1.6;
 /// A limb's tip sticks out of the medial ball of the trunk it grows from by at least this
 /// many of its sizes (the mean distance of its ring from the ring's centre): a nose, an
 /// eye, an ear flat on a head, a face in front of a skull or a belly does not.
-pub(super) const PROTRUDES: f64 = 2.0;
+pub(crate) const PROTRUDES: f64 = 2.0;
 /// ... and by at least this share of the mesh's size (the longest side of its bounding
 /// box): a human's ears are bumps.
-pub(super) const SMALL: f64 = 0.025;
+pub(crate) const SMALL: f64 = 0.025;
 /// A part of the body is cut at its base (a head) only where it is at most this share of
 /// the trunk below it and of its own widest ring: a clear narrowing, a neck, not a waist
 /// as wide as the hips.
-pub(super) const NARROW: f64 = 0.88;
+pub(crate) const NARROW: f64 = 0.88;
 /// A narrowing is a joint when the radius dips by at least this share below the thinner of
 /// the thickest within three radii before it and the thicker part after it (and an
 /// extremity is that much wider than its wrist; a ring that much wider than the narrowest
 /// within a radius is a bulge, where a dip of the skeletal distance alone is none).
-pub(super) const DIP: f64 = 0.12;
+pub(crate) const DIP: f64 = 0.12;
 /// A limb whose axis turns by at least this many degrees (over three radii) bends there.
-pub(super) const BEND: f64 = 40.0;
+pub(crate) const BEND: f64 = 40.0;
 /// A digit (a tip among several that grow from one extremity) at least this many of its
 /// radii long gets its two joints.
-pub(super) const DIGIT: f64 = 6.0;
+pub(crate) const DIGIT: f64 = 6.0;
 /// A limb's first stretch (from its base to its first joint) this many of its radii long
 /// bends in the middle.
-pub(super) const LONG: f64 = 8.0;
+pub(crate) const LONG: f64 = 8.0;
 /// ... unless the stretch is flat: its rings' median size more than this many times its
 /// median skeletal distance (a big thin ear, a fin; a limb's rings measure 1.0–1.4 times).
-pub(super) const FLAT: f64 = 2.0;
+pub(crate) const FLAT: f64 = 2.0;
 /// ... or this many, when its first joint lies past this share of the limb's length (a wrist
 /// or an ankle: the elbow or knee before it neither narrows nor bends).
-pub(super) const LONG_TO_WRIST: f64 = 6.0;
-pub(super) const WRIST: f64 = 0.6;
+pub(crate) const LONG_TO_WRIST: f64 = 6.0;
+pub(crate) const WRIST: f64 = 0.6;
 /// A part as thick as the body with limbs of its own turns at its base when it reaches
 /// this many radii out.
-pub(super) const HEAD: f64 = 3.0;
+pub(crate) const HEAD: f64 = 3.0;
 /// ... and every limb it has is at most this share of its width.
-pub(super) const SLENDER: f64 = 0.5;
+pub(crate) const SLENDER: f64 = 0.5;
 /// A head's one part on the mirror plane that reaches at most this many times the
 /// thickness of its far half (its largest skeletal distance there) is the head's end, a
 /// snout or a muzzle, not a jaw: no joint.
-pub(super) const SNOUT: f64 = 4.0;
+pub(crate) const SNOUT: f64 = 4.0;
 /// A head's part off the mirror plane at least this many times as long as its far half is
 /// thick, and round there, is an antenna (a feeler), not an ear.
-pub(super) const ANTENNA: f64 = 5.0;
+pub(crate) const ANTENNA: f64 = 5.0;
 /// A left and a right cut whose pivots lie within this share of the mesh's size of each
 /// other's mirror image are made to mirror each other exactly.
-pub(super) const PAIRED: f64 = 0.02;
+pub(crate) const PAIRED: f64 = 0.02;
 /// A cut with no cut within this share of the mesh's size of its mirror image is copied
 /// there (on a limb whose mirror image is cut).
-pub(super) const MATCHED: f64 = 0.05;
+pub(crate) const MATCHED: f64 = 0.05;
 /// A biped's arms hang at least this many of their widths above its legs (a quadruped's
 /// forelegs stand beside its hind legs): its head, when nothing cuts it, turns at the top of
 /// its shoulders.
-pub(super) const RAISED: f64 = 3.0;
-/// A mesh with a flat base (a bust, a statue cut square below: [`super::frame::flat_base`])
+pub(crate) const RAISED: f64 = 3.0;
+/// A mesh with a flat base (a bust, a statue cut square below: [`crate::mesh::orientation::flat_base`])
 /// is rooted at its thickest point within this share of its height above the base: what
 /// stands on the base is the body, and a head on it turns at its neck (a root in the head
 /// cut the shoulders off as a `neck`, and the base's corners off as limbs).
-pub(super) const STANDING: f64 = 0.25;
+pub(crate) const STANDING: f64 = 0.25;
 /// Sections smaller than this share of the vertices (or 12 vertices) are not suggested.
-pub(super) const SMALLEST: f64 = 0.002;
+pub(crate) const SMALLEST: f64 = 0.002;
+
+// Seams: what the cuts, once applied to the puppet, must keep (`seams`).
+
+/// A seam between two unrelated sections, as a share of the shorter of their two seams
+/// (mesh edges to other sections), at or above which the deeper of the two loses its
+/// cut. No shipped or labelled character has any such seam. Chosen on the six men of
+/// `tests/data/pieces`, where every value from 0.2 to 0.3 removes the same cuts; on the
+/// rest of the population the seams it removes share 29.7–100 %, and those it keeps at
+/// most 14 % (a thumb's base and its tip, a koala's ear and its body)
+/// (`docs/performance-log.md`).
+pub(crate) const FOREIGN: f64 = 0.25;
+
+/// An edge's stretch at the bones' targets past which the skin is torn rather than bent.
+/// Over the 25 characters of `puppet bench poses` and the 12 of `tests/data/pieces`, a rig
+/// with no two sections joined in two places stretches its worst edge at most 5.6× in
+/// these poses (most under 3×); a section turned about one of its two seams tears the
+/// other 13–80× (`docs/performance-log.md`).
+pub(crate) const TEAR: f64 = 6.0;
+
+/// Random poses each suggestion is turned through to find tears.
+pub(crate) const TRIALS: u64 = 8;
+
+/// The second largest of the loops where a section meets its parent on one piece of the
+/// mesh, as a share of the section's seam on that piece, at or above which the section is
+/// joined to its parent in two places and loses its cut: turned about one loop it tears
+/// the other open. A limb cut across meets its parent along one ring on each piece it
+/// crosses (a cut across two pieces of a witch in the population: one each); two loops
+/// within an edge of each other are one (a ring crossing a vertex of a third section: the
+/// knees of men in trousers). Over the suggestions on every corpus (shipped, poses,
+/// characters, pieces, the population), the sections joined twice have a second loop of
+/// 25–47 % of their seam (a lion statue's hind legs standing on its pedestal, a part of a
+/// rat, the trousers of a soldier in pieces) and every other section none: any value up to
+/// 0.25 separates them on the development half; the held-out half has none joined twice
+/// (`docs/performance-log.md`).
+pub(crate) const TWICE: f64 = 0.1;

@@ -1,4 +1,4 @@
-//! Step 6, seams: a section that meets a section it is not related to (neither its
+//! Seams, once the suggested cuts apply: a section that meets a section it is not related to (neither its
 //! parent, nor its child, nor a sibling) over a large share of its seam loses its cut.
 //! Two such sections turn each on its own with no band between them, and the skin where
 //! they meet tears: a lion statue's chain of "jaws" each touching the body (93×), toes
@@ -18,19 +18,11 @@
 //! sections; the section with the most loses its cut, and the poses are drawn again until
 //! none tears.
 
+use super::rules::{FOREIGN, TEAR, TRIALS, TWICE};
 use crate::joints::spread::{random_pose, Spread};
 use crate::joints::{Cut, JointError, Joints, PoseScratch};
 use crate::random::SplitMix;
 use glam::DVec3;
-
-/// A seam between two unrelated sections, as a share of the shorter of their two seams
-/// (mesh edges to other sections), at or above which the deeper of the two loses its
-/// cut. No shipped or labelled character has any such seam. Chosen on the six men of
-/// `tests/data/pieces`, where every value from 0.2 to 0.3 removes the same cuts; on the
-/// rest of the population the seams it removes share 29.7–100 %, and those it keeps at
-/// most 14 % (a thumb's base and its tip, a koala's ear and its body)
-/// (`docs/performance-log.md`).
-pub const FOREIGN: f64 = 0.25;
 
 /// Adds the suggested `cuts` to `joints`, then takes back, one at a time, the cut of the
 /// deeper section of the unrelated pair with the largest shared seam at or above
@@ -104,16 +96,6 @@ fn foreign(joints: &Joints) -> Option<String> {
     // The root has no cut to lose (it is never the deeper of an unrelated pair).
     parent(deeper).map(|_| sections[deeper].name.clone())
 }
-
-/// An edge's stretch at the bones' targets past which the skin is torn rather than bent.
-/// Over the 25 characters of `puppet bench poses` and the 12 of `tests/data/pieces`, a rig
-/// with no two sections joined in two places stretches its worst edge at most 5.6× in
-/// these poses (most under 3×); a section turned about one of its two seams tears the
-/// other 13–80× (`docs/performance-log.md`).
-pub const TEAR: f64 = 6.0;
-
-/// Random poses each suggestion is turned through to find tears.
-pub const TRIALS: u64 = 8;
 
 /// The seed of the first trial pose: far from `puppet bench poses`'s (1 on), so the bench
 /// measures poses this check never saw.
@@ -191,20 +173,6 @@ fn torn(joints: &Joints) -> Option<String> {
     let worst = (1..blame.len()).max_by_key(|&s| (blame[s], s))?;
     (blame[worst] > 0).then(|| joints.sections()[worst].name.clone())
 }
-
-/// The second largest of the loops where a section meets its parent on one piece of the
-/// mesh, as a share of the section's seam on that piece, at or above which the section is
-/// joined to its parent in two places and loses its cut: turned about one loop it tears
-/// the other open. A limb cut across meets its parent along one ring on each piece it
-/// crosses (a cut across two pieces of a witch in the population: one each); two loops
-/// within an edge of each other are one (a ring crossing a vertex of a third section: the
-/// knees of men in trousers). Over the suggestions on every corpus (shipped, poses,
-/// characters, pieces, the population), the sections joined twice have a second loop of
-/// 25–47 % of their seam (a lion statue's hind legs standing on its pedestal, a part of a
-/// rat, the trousers of a soldier in pieces) and every other section none: any value up to
-/// 0.25 separates them on the development half; the held-out half has none joined twice
-/// (`docs/performance-log.md`).
-pub const TWICE: f64 = 0.1;
 
 /// The name of the section joined to its parent in two places ([`TWICE`]) that loses its
 /// cut next, if any: the one with the largest second loop, by share.

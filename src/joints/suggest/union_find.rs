@@ -1,14 +1,14 @@
 //! Union-find, for the sweep that builds the join tree and the loops of a slice.
 
 /// Union-find with path halving.
-pub(super) struct UnionFind(Vec<u32>);
+pub(crate) struct UnionFind(Vec<u32>);
 
 impl UnionFind {
-    pub(super) fn new(n: usize) -> Self {
+    pub(crate) fn new(n: usize) -> Self {
         UnionFind((0..n as u32).collect())
     }
 
-    pub(super) fn find(&mut self, mut x: usize) -> usize {
+    pub(crate) fn find(&mut self, mut x: usize) -> usize {
         while self.0[x] as usize != x {
             self.0[x] = self.0[self.0[x] as usize];
             x = self.0[x] as usize;
@@ -16,7 +16,7 @@ impl UnionFind {
         x
     }
 
-    pub(super) fn union(&mut self, a: usize, b: usize) {
+    pub(crate) fn union(&mut self, a: usize, b: usize) {
         let (ra, rb) = (self.find(a), self.find(b));
         if ra != rb {
             self.0[ra] = rb as u32;

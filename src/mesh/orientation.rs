@@ -1,5 +1,7 @@
-//! Step 5 of the module docs, its first half: the mirror plane, which way is up, front and
-//! left (the [`Frame`]); `anatomy` names the parts by role within it.
+//! A character's orientation: its mirror plane, its flat base, which way is up, front and
+//! left (the [`Frame`]). The suggestion (`joints::suggest`) finds the mirror plane and the
+//! base first (its stage 1), and up and front once the root's limbs are cut (its stage 5),
+//! from how they hang ([`Reach`]); its names by role read the frame.
 //!
 //! * **Mirror plane.** The mesh is mirrored through the plane across each axis through its
 //!   centroid; the plane is kept where the mirrored vertices land, at the median, within
@@ -11,7 +13,7 @@
 //!   plane lie from the mesh's centre, the legs hanging down, each limb counted as much as
 //!   it is thick (legs carry the body; an armadillo's ears and raised arm say less).
 //!   With no mirror plane or no limb off it, a flat base at the mesh's far end along an
-//!   axis ([`BASE`] of its area: a bust's, a statue's) faces down, if that axis lies along
+//!   axis ([`BASE_AREA`] of its area: a bust's, a statue's) faces down, if that axis lies along
 //!   the plane. Else, when the limbs do not clearly hang, and two pairs or more all end
 //!   within [`FEET`] of the mesh's far end along one axis only, that way is down (a
 //!   lizard's, an insect's sprawled feet on the ground). Else, without a plane, when +y
@@ -27,29 +29,28 @@
 //!   back); else the way that part leans, else the way the feet point, else the convention
 //!   (+z for y up, −y for z up).
 //!   **Left** = up × front: a character's own left, as `.L` in Blender's names.
-use super::rules::SNOUT;
 use crate::mesh::Mesh;
 use glam::DVec3;
 
 /// A cut's pivot this share of the mesh's size from the mirror plane is on one side.
-pub(super) const OFF_PLANE: f64 = 0.03;
+pub const OFF_PLANE: f64 = 0.03;
 /// A limb that reaches this share of the height above the mesh's lowest point stands on
 /// the ground.
-pub(super) const GROUND: f64 = 0.1;
+pub const GROUND: f64 = 0.1;
 /// Two pairs of limbs or more that all end within this share of the height above the mesh's
 /// lowest point are feet on the ground (a lizard's, an insect's sprawled legs), when they do
 /// so along one axis only.
-const FEET: f64 = 0.2;
+pub const FEET: f64 = 0.2;
 /// A head whose root lies this share of the mesh's size ahead of another part's on the
 /// mirror plane (a tail's) marks the front; a part on the plane whose root lies as far
 /// behind the centre is a tail.
-pub(super) const FRONT_END: f64 = 0.15;
+pub const FRONT_END: f64 = 0.15;
 /// A flat face of the mesh at its far end along an axis (faces within 5° of the axis and
 /// within 1 % of the mesh's size of that end) covering at least this share of its area is
 /// a base it stands on (a bust's, a statue's): where no limb off the mirror plane says
 /// which way is down, that way is. (Characters measured: at most 1.3 %, a flank's or a
 /// sole's flat patch; busts 6–11 %.)
-const BASE: f64 = 0.04;
+pub const BASE_AREA: f64 = 0.04;
 
 /// An axis direction a mesh is modelled with as up: `+y` (OBJ's and glTF's convention),
 /// `+z` (CAD's and Blender's)…, written `x`, `+x` or `-x`.
@@ -142,7 +143,7 @@ impl std::fmt::Display for Up {
 }
 
 /// The mirrored vertices lie within this share of the mesh's size of a vertex (median).
-const MIRRORED: f64 = 0.012;
+pub const MIRRORED: f64 = 0.012;
 
 /// A character's directions.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -296,8 +297,8 @@ impl Grid {
 
 /// The outward normal of the mesh's flat base, if it has one: of the six axis directions,
 /// the one whose flat faces at the mesh's far end that way cover the most area, when that
-/// is at least [`BASE`] of the whole.
-pub(super) fn flat_base(mesh: &Mesh) -> Option<DVec3> {
+/// is at least [`BASE_AREA`] of the whole.
+pub fn flat_base(mesh: &Mesh) -> Option<DVec3> {
     let (lo, hi) = crate::mesh::bounds(&mesh.positions);
     let size = (hi - lo).max_element();
     if !(size > 0.0 && size.is_finite()) {
@@ -327,7 +328,28 @@ pub(super) fn flat_base(mesh: &Mesh) -> Option<DVec3> {
         }
     }
     let k = (0..6).max_by(|&a, &b| area[a].total_cmp(&area[b]))?;
-    (total > 0.0 && area[k] >= BASE * total).then_some(AXES[k])
+    (total > 0.0 && area[k] >= BASE_AREA * total).then_some(AXES[k])
+}
+
+/// What says how a body stands before its limbs are cut: its mirror plane and its flat
+/// base (the suggestion's first stage; up and front come from the limbs, [`frame`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Cues {
+    /// The mirror plane (unit normal, offset along it), if the mesh has one
+    /// ([`mirror_plane`]).
+    pub mirror: Option<(DVec3, f64)>,
+    /// The outward normal of its flat base, if it has one ([`flat_base`]).
+    pub base: Option<DVec3>,
+}
+
+impl Cues {
+    /// The cues of `mesh`.
+    pub fn of(mesh: &Mesh) -> Cues {
+        Cues {
+            mirror: mirror_plane(&mesh.positions),
+            base: flat_base(mesh),
+        }
+    }
 }
 
 /// The six axis directions.
@@ -355,19 +377,14 @@ pub struct Reach {
 }
 
 impl Reach {
-    pub(super) fn direction(&self) -> DVec3 {
+    /// The way it points: from its pivot to its tip (unit, or zero).
+    pub fn direction(&self) -> DVec3 {
         (self.tip - self.pivot).normalize_or_zero()
     }
 
     /// It points up (along `up`) from above `centre`: an ear, when off the mirror plane.
-    pub(super) fn raised(&self, up: DVec3, centre: DVec3) -> bool {
+    pub fn raised(&self, up: DVec3, centre: DVec3) -> bool {
         self.direction().dot(up) > 0.5 && (self.pivot - centre).dot(up) > 0.0
-    }
-
-    /// It reaches at most [`SNOUT`] times its far half's thickness: a snout, a muzzle, a
-    /// nose, not a limb's length.
-    pub(super) fn short(&self) -> bool {
-        self.tip.distance(self.pivot) <= SNOUT * self.end
     }
 
     /// How much it looks like a head, leaning along `towards`: its far half's thickness,
@@ -379,16 +396,10 @@ impl Reach {
     }
 }
 
-/// The frame of a mesh with the mirror plane `mirror` ([`mirror_plane`]) whose root has
-/// `limbs` (see the module docs); `up` when given; `base`, the outward normal of its flat
-/// base if it has one ([`flat_base`]).
-pub fn frame(
-    positions: &[DVec3],
-    mirror: Option<(DVec3, f64)>,
-    limbs: &[Reach],
-    up: Option<DVec3>,
-    base: Option<DVec3>,
-) -> Frame {
+/// The frame of a mesh with the cues `cues` whose root has `limbs` (see the module docs);
+/// `up` when given.
+pub fn frame(positions: &[DVec3], cues: Cues, limbs: &[Reach], up: Option<DVec3>) -> Frame {
+    let Cues { mirror, base } = cues;
     let size = crate::mesh::longest_side(positions);
     let centre = positions.iter().sum::<DVec3>() / positions.len().max(1) as f64;
     let axes = AXES;
@@ -562,7 +573,7 @@ pub fn frame(
 
 /// Which of the parts on the mirror plane `midline` is most like a head (or the neck it
 /// ends): of those ending at least `thickest` thick, the one ending widest, leaning up.
-pub(super) fn head_of(midline: &[&Reach], thickest: f64, up: DVec3) -> Option<usize> {
+pub fn head_of(midline: &[&Reach], thickest: f64, up: DVec3) -> Option<usize> {
     (0..midline.len())
         .filter(|&m| midline[m].end >= thickest)
         .max_by(|&a, &b| {
@@ -574,7 +585,6 @@ pub(super) fn head_of(midline: &[&Reach], thickest: f64, up: DVec3) -> Option<us
 
 #[cfg(test)]
 mod tests {
-    use super::super::anatomy::{is_ball_joint, other_side};
     use super::*;
 
     #[test]
@@ -624,20 +634,112 @@ mod tests {
         }
         assert_eq!("Z".parse::<Up>().unwrap(), Up::PosZ);
         assert_eq!(Up::nearest(DVec3::new(0.1, -0.2, -0.9)), Up::NegZ);
-        assert_eq!(other_side("index.L.2").as_deref(), Some("index.R.2"));
-        assert_eq!(other_side("leg1.R").as_deref(), Some("leg1.L"));
-        for (role, ball) in [
-            ("arm.L", true),
-            ("leg", true),
-            ("leg2.R", true),
-            ("forearm.L", false),
-            ("legs", false),
-            ("ear.L", false),
-            ("joint 2", false),
-        ] {
-            assert_eq!(is_ball_joint(role), ball, "{role}");
-        }
-        assert_eq!(other_side("tail.2"), None);
         assert!("up".parse::<Up>().is_err());
+    }
+
+    /// Points on two boxes side by side, mirrored across x = 1, with a tail off to one side.
+    fn figure(tail: bool) -> Vec<DVec3> {
+        let mut p = Vec::new();
+        for i in 0..10 {
+            for j in 0..20 {
+                for k in 0..6 {
+                    let (x, y, z) = (i as f64 * 0.1, j as f64 * 0.1, k as f64 * 0.1);
+                    p.push(DVec3::new(0.05 + x, y, z));
+                    p.push(DVec3::new(1.95 - x, y, z));
+                }
+            }
+        }
+        if tail {
+            for j in 0..20 {
+                p.push(DVec3::new(
+                    1.5 + j as f64 * 0.02,
+                    0.0,
+                    -0.5 - j as f64 * 0.05,
+                ));
+            }
+        }
+        p
+    }
+
+    #[test]
+    fn the_mirror_plane_is_found_across_the_axis_it_mirrors() {
+        let (n, o) = mirror_plane(&figure(false)).unwrap();
+        assert_eq!(n, DVec3::X);
+        assert!((o - 1.0).abs() < 0.02, "{o}");
+        // A few points off the plane (a curled tail) move nothing.
+        let (n, o) = mirror_plane(&figure(true)).unwrap();
+        assert_eq!(n, DVec3::X);
+        assert!((o - 1.0).abs() < 0.02, "{o}");
+        // A lopsided cloud has none.
+        let lopsided: Vec<DVec3> = (0..500)
+            .map(|i| {
+                let t = i as f64;
+                DVec3::new(
+                    (t * 0.37).sin().abs() * t.sqrt(),
+                    (t * 0.11).cos(),
+                    t * 0.01,
+                )
+            })
+            .collect();
+        assert!(mirror_plane(&lopsided).is_none());
+    }
+
+    #[test]
+    fn a_bust_with_no_limbs_stands_on_its_flat_base() {
+        // A ball cut flat below, modelled z-up: a bust's base at its far end along -z.
+        let mut bust = crate::mesh::shapes::icosphere(1.0, 3);
+        for p in &mut bust.positions {
+            p.z = p.z.max(-0.6);
+        }
+        assert_eq!(flat_base(&bust), Some(DVec3::NEG_Z));
+        // Round all over, or flat where it is not at the far end, there is none.
+        assert_eq!(flat_base(&crate::mesh::shapes::icosphere(1.0, 3)), None);
+        let (n, o) = mirror_plane(&bust.positions).unwrap();
+        assert!(n.dot(DVec3::Z).abs() < 0.5, "{n}");
+        // Its cues: the plane along the axis, the base below.
+        let cues = Cues::of(&bust);
+        assert_eq!(cues.base, Some(DVec3::NEG_Z));
+        assert_eq!(cues.mirror, Some((n, o)));
+        let f = frame(&bust.positions, cues, &[], None);
+        assert_eq!(f.up, DVec3::Z);
+        // A given up wins, and without a base the convention stays.
+        let given = frame(&bust.positions, cues, &[], Some(DVec3::X));
+        assert_eq!(given.up, DVec3::X);
+        assert_eq!(
+            frame(&bust.positions, Cues { base: None, ..cues }, &[], None).up,
+            DVec3::Y
+        );
+    }
+
+    #[test]
+    fn legs_hanging_along_an_axis_make_the_other_way_up() {
+        let plane = figure(false);
+        // Four legs off the plane hanging along -z: z is up, front across it and x.
+        let leg = |x: f64, y: f64| Reach {
+            pivot: DVec3::new(x, y, 0.0),
+            tip: DVec3::new(x, y, -1.0),
+            end: 0.1,
+            paired: false,
+        };
+        let limbs = [leg(0.5, 0.2), leg(1.5, 0.2), leg(0.5, 1.8), leg(1.5, 1.8)];
+        let cues = Cues {
+            mirror: mirror_plane(&plane),
+            base: None,
+        };
+        let f = frame(&plane, cues, &limbs, None);
+        assert_eq!(f.up, DVec3::Z);
+        assert!(f.front.dot(DVec3::Y).abs() > 0.99);
+        assert!((f.left - f.up.cross(f.front)).length() < 1e-12);
+        // Given, up is kept.
+        assert_eq!(frame(&plane, cues, &limbs, Some(DVec3::Y)).up, DVec3::Y);
+        // Sprawled legs say little: +y stays.
+        let sprawl = |x: f64, y: f64, s: f64| Reach {
+            pivot: DVec3::new(x, y, 0.0),
+            tip: DVec3::new(x + s, y, -0.3),
+            end: 0.1,
+            paired: false,
+        };
+        let limbs = [sprawl(0.5, 0.2, -1.0), sprawl(1.5, 0.2, 1.0)];
+        assert_eq!(frame(&plane, cues, &limbs, None).up, DVec3::Y);
     }
 }

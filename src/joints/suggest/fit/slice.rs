@@ -1,9 +1,9 @@
 //! The mesh's slice by a plane: the loop of it around a point, and how far a limb's root
-//! cut can move toward the body while that loop stays the limb's (step 5 of the module
-//! docs: a shoulder or a hip).
+//! cut can move toward the body while that loop stays the limb's (stage 6: a shoulder or a
+//! hip).
 
-use super::rules::ROUND;
-use super::union_find::UnionFind;
+use crate::joints::suggest::rules::ROUND;
+use crate::joints::suggest::union_find::UnionFind;
 use crate::mesh::Mesh;
 use glam::DVec3;
 use std::collections::HashMap;

@@ -1,13 +1,11 @@
 //! A biped's head that sits on its body with no neck to cut at (Homer's, as wide as his
 //! chest; a cartoon's cylinder of a head) turns at the top of its shoulders.
 
-use std::collections::HashMap;
-
-use glam::DVec3;
-
-use super::rules::{RAISED, SMALLEST};
+use crate::joints::suggest::rules::{RAISED, SMALLEST};
 use crate::joints::{Cut, Joints, Shape};
 use crate::mesh::Mesh;
+use glam::DVec3;
+use std::collections::HashMap;
 
 /// `cuts` (named by role, parent-first) with a cut across the body at the top of a biped's
 /// shoulders when no cut turns its head: where `arm.L`, `arm.R`, `leg.L` and `leg.R` hang

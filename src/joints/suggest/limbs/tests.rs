@@ -1,8 +1,8 @@
-//! The suggestion's rules on numbers made up to test one rule each; `tests/suggest.rs` holds
-//! what they do together on the shipped meshes.
+//! Stage 3's rules on numbers made up to test one rule each, and the stage on the shipped
+//! human; `tests/suggest.rs` holds what the stages do together on the shipped meshes.
 
-use super::cuts::{fill, is_limb, smooth, Profile};
-use super::rules::{DIP, LONG, SOCKET};
+use super::profile::{fill, is_limb, smooth, Profile};
+use crate::joints::suggest::rules::{DIP, LONG, SOCKET};
 
 /// A profile of `d` (the skeletal distance per bin) with the ring sizes the same shape,
 /// along a straight axis a unit per bin.
@@ -141,4 +141,36 @@ fn a_long_flat_part_is_not_cut_in_its_middle() {
     let mut flat = profile(&[1.0; 30]);
     flat.size = vec![4.0; 30];
     assert_eq!(flat.cut_bins(true, false, false), Vec::<usize>::new());
+}
+
+#[test]
+fn the_human_s_limbs_come_parent_first_in_mirrored_pairs() {
+    let (mesh, skeleton) = crate::joints::suggest::fixture::human();
+    let body = crate::joints::suggest::body::Body::of(mesh, skeleton);
+    let mirror = body.cues.mirror;
+    let limbs = super::of(&body.tree(), mirror);
+    let size = mesh.longest_side();
+    for (k, l) in limbs.iter().enumerate() {
+        assert!(l.parent.is_none_or(|p| p < k), "limb {k} before its parent");
+        assert!((l.normal.length() - 1.0).abs() < 1e-9);
+        assert!(l.expected > 0 && l.width >= 0.0, "limb {k}: {l:?}");
+    }
+    // Two arms, two legs and the head hang from the root; each limb off the mirror plane
+    // has one whose pivot is its mirror image.
+    let roots: Vec<_> = limbs.iter().filter(|l| l.parent.is_none()).collect();
+    assert!(roots.len() >= 5, "{} root limbs", roots.len());
+    let (n, o) = mirror.expect("the human is mirrored");
+    let off: Vec<_> = roots
+        .iter()
+        .filter(|l| (l.pivot.dot(n) - o).abs() > 0.03 * size)
+        .collect();
+    assert_eq!(off.len(), 4);
+    for l in &off {
+        let image = crate::mesh::orientation::image((n, o), l.pivot);
+        assert!(
+            off.iter().any(|m| m.pivot.distance(image) < 0.02 * size),
+            "{} has no partner",
+            l.pivot
+        );
+    }
 }

@@ -1,47 +1,43 @@
-//! The join tree of `g` (steps 1 and 2 of the module docs): the root and the body's core,
-//! `g` (the distance from the core in local radii), and the union-find sweep from the
-//! largest `g` down that cuts the mesh into segments, protrusions hanging from forks.
+//! The join tree of `g` (stage 2, see the module docs): the root and the body's core, `g`
+//! (the distance from the core in local radii), and the union-find sweep from the largest
+//! `g` down that cuts the mesh into segments, protrusions hanging from forks.
 
-use super::cuts::Limb;
 use super::graph::{farthest, Graph};
-use super::rules::{BODY_THICK, BODY_TIPS, CORE, CORE_REACH, ELONGATED, THICK};
-use super::union_find::UnionFind;
+use crate::joints::suggest::rules::{CORE, CORE_REACH, ELONGATED, THICK};
+use crate::joints::suggest::union_find::UnionFind;
 use crate::mesh::Mesh;
 use crate::skeleton::Skeleton;
 use glam::DVec3;
 
 /// A segment of the join tree: the vertices added between two events of the sweep.
 #[derive(Clone, Debug)]
-pub(super) struct Segment {
+pub(crate) struct Segment {
     /// The segment the sweep continued into below this one's lowest vertex (`None` for the
     /// last one, the root's).
-    pub(super) parent: Option<usize>,
+    pub(crate) parent: Option<usize>,
     /// Its vertices, from the largest `g` down.
-    pub(super) vertices: Vec<u32>,
+    pub(crate) vertices: Vec<u32>,
 }
 
 /// The join tree of `g` with what the cuts need.
-pub(super) struct Tree<'a> {
-    pub(super) mesh: &'a Mesh,
-    pub(super) skeleton: &'a Skeleton,
-    pub(super) g: Vec<f64>,
-    pub(super) segments: Vec<Segment>,
+pub(crate) struct Tree<'a> {
+    pub(crate) mesh: &'a Mesh,
+    pub(crate) skeleton: &'a Skeleton,
+    pub(crate) g: Vec<f64>,
+    pub(crate) segments: Vec<Segment>,
     /// Each segment's children (the segments whose parent it is).
-    pub(super) children: Vec<Vec<usize>>,
+    pub(crate) children: Vec<Vec<usize>>,
     /// The root's medial ball: the body's core is at least this.
-    pub(super) core: (DVec3, f64),
+    pub(crate) core: (DVec3, f64),
     /// The longest side of the mesh's bounding box.
-    pub(super) size_of_mesh: f64,
+    pub(crate) size_of_mesh: f64,
+    /// Rooted on a flat base the body stands on: the body is what stands there.
+    pub(crate) standing: bool,
 }
 
 impl<'a> Tree<'a> {
-    /// The tree from the root found (step 1 of the module docs).
-    pub(super) fn new(mesh: &'a Mesh, skeleton: &'a Skeleton) -> Tree<'a> {
-        Tree::rooted(mesh, skeleton, None)
-    }
-
     /// The tree from vertex `root`'s medial ball, or from the root found when `None`.
-    pub(super) fn rooted(mesh: &'a Mesh, skeleton: &'a Skeleton, root: Option<usize>) -> Tree<'a> {
+    pub(crate) fn rooted(mesh: &'a Mesh, skeleton: &'a Skeleton, root: Option<usize>) -> Tree<'a> {
         let points = &skeleton.points;
         let n = points.len();
         let graph = Graph::new(mesh, &mesh.positions, &skeleton.distance);
@@ -53,6 +49,7 @@ impl<'a> Tree<'a> {
             children: Vec::new(),
             core: (DVec3::ZERO, 0.0),
             size_of_mesh: mesh.longest_side(),
+            standing: false,
         };
         if n < 4 {
             return tree;
@@ -127,55 +124,11 @@ impl<'a> Tree<'a> {
         tree
     }
 
-    /// Where the body is when the root found is not on it: a limb of the root with more
-    /// tips than all the root's other limbs together, at least [`BODY_TIPS`], as thick
-    /// inside as [`BODY_THICK`] of the root (a big head's body, hanging from the head by a
-    /// neck, with the arms and legs; not an arm with its fingers) holds it. Its thickest
-    /// vertex past the cut is returned, to root the tree there instead, with that cut.
-    pub(super) fn body_elsewhere(&self, limbs: &[Limb]) -> Option<(usize, Limb)> {
-        let n = limbs.len();
-        let mut tips = vec![0usize; n];
-        let mut has_child = vec![false; n];
-        for l in limbs {
-            if let Some(p) = l.parent {
-                has_child[p] = true;
-            }
-        }
-        // Each leaf counts for the root limb it hangs from.
-        let top = |mut i: usize| {
-            while let Some(p) = limbs[i].parent {
-                i = p;
-            }
-            i
-        };
-        for i in 0..n {
-            if !has_child[i] {
-                tips[top(i)] += 1;
-            }
-        }
-        let all: usize = tips.iter().sum();
-        let (best, most) = (0..n)
-            .filter(|&i| limbs[i].parent.is_none())
-            .map(|i| (i, tips[i]))
-            .max_by_key(|&(_, t)| t)?;
-        if most < BODY_TIPS || most <= all - most {
-            return None;
-        }
-        let (k, at) = limbs[best].past?;
-        let (v, d) = self
-            .subtree(k, &self.children)
-            .into_iter()
-            .filter(|&v| self.g[v as usize] >= at)
-            .map(|v| (v as usize, self.skeleton.distance[v as usize]))
-            .max_by(|a, b| a.1.total_cmp(&b.1))?;
-        (d >= BODY_THICK * self.core.1).then_some((v, limbs[best]))
-    }
-
     /// The union-find sweep from the largest `g` down (see the module docs): segments and
     /// their parents. Where components meet, only those reaching at least [`ELONGATED`]
     /// radii above the meeting point count: when fewer than two do, the others are bumps and
     /// the sweep goes on in the longest one's segment.
-    pub(super) fn sweep(&self, graph: &Graph) -> Vec<Segment> {
+    pub(crate) fn sweep(&self, graph: &Graph) -> Vec<Segment> {
         let g = &self.g;
         let n = g.len();
         let mut order: Vec<u32> = (0..n as u32)
@@ -247,7 +200,7 @@ impl<'a> Tree<'a> {
     }
 
     /// The smallest `g` of `vertices` (infinite for none).
-    pub(super) fn lowest(&self, vertices: &[u32]) -> f64 {
+    pub(crate) fn lowest(&self, vertices: &[u32]) -> f64 {
         vertices
             .iter()
             .map(|&v| self.g[v as usize])
@@ -255,7 +208,7 @@ impl<'a> Tree<'a> {
     }
 
     /// The largest `g` of `vertices` (minus infinity for none).
-    pub(super) fn highest(&self, vertices: &[u32]) -> f64 {
+    pub(crate) fn highest(&self, vertices: &[u32]) -> f64 {
         vertices
             .iter()
             .map(|&v| self.g[v as usize])
@@ -263,7 +216,7 @@ impl<'a> Tree<'a> {
     }
 
     /// A ring of a segment: its vertices with `g` in `[lo, hi)`.
-    pub(super) fn ring(&self, segment: &[u32], lo: f64, hi: f64) -> Vec<u32> {
+    pub(crate) fn ring(&self, segment: &[u32], lo: f64, hi: f64) -> Vec<u32> {
         segment
             .iter()
             .copied()
@@ -272,7 +225,7 @@ impl<'a> Tree<'a> {
     }
 
     /// Median skeletal distance of `vertices`.
-    pub(super) fn radius(&self, vertices: &[u32]) -> f64 {
+    pub(crate) fn radius(&self, vertices: &[u32]) -> f64 {
         let mut d: Vec<f64> = vertices
             .iter()
             .map(|&v| self.skeleton.distance[v as usize])
@@ -281,7 +234,7 @@ impl<'a> Tree<'a> {
     }
 
     /// The size of a ring: the mean distance of its surface points from their centre.
-    pub(super) fn size(&self, vertices: &[u32]) -> f64 {
+    pub(crate) fn size(&self, vertices: &[u32]) -> f64 {
         let (c, _) = self.centre(vertices);
         vertices
             .iter()
@@ -291,7 +244,7 @@ impl<'a> Tree<'a> {
     }
 
     /// Mean surface position and mean skeletal point of `vertices`.
-    pub(super) fn centre(&self, vertices: &[u32]) -> (DVec3, DVec3) {
+    pub(crate) fn centre(&self, vertices: &[u32]) -> (DVec3, DVec3) {
         let k = vertices.len().max(1) as f64;
         let p = vertices
             .iter()
@@ -306,7 +259,7 @@ impl<'a> Tree<'a> {
         (p, s)
     }
 
-    pub(super) fn children(&self) -> Vec<Vec<usize>> {
+    pub(crate) fn children(&self) -> Vec<Vec<usize>> {
         let mut children = vec![Vec::new(); self.segments.len()];
         for (k, s) in self.segments.iter().enumerate() {
             if let Some(p) = s.parent {
@@ -317,7 +270,7 @@ impl<'a> Tree<'a> {
     }
 
     /// All vertices of segment `k` and of the segments above it.
-    pub(super) fn subtree(&self, k: usize, children: &[Vec<usize>]) -> Vec<u32> {
+    pub(crate) fn subtree(&self, k: usize, children: &[Vec<usize>]) -> Vec<u32> {
         let mut out = Vec::new();
         let mut stack = vec![k];
         while let Some(s) = stack.pop() {
@@ -328,7 +281,7 @@ impl<'a> Tree<'a> {
     }
 
     /// The vertices with `g` in `[lo, hi)` of segment `k` and the segments below it.
-    pub(super) fn trunk_ring(&self, mut k: usize, lo: f64, hi: f64) -> Vec<u32> {
+    pub(crate) fn trunk_ring(&self, mut k: usize, lo: f64, hi: f64) -> Vec<u32> {
         let mut out = Vec::new();
         loop {
             let seg = &self.segments[k].vertices;

@@ -1,18 +1,20 @@
-//! The cut rules (step 3 of the module docs): which segments of the join tree are limbs, and
+//! The cut rules (stage 3, see the module docs): which segments of the join tree are limbs, and
 //! where a limb or a part of the body is cut: at its base, at narrowings, where it widens
 //! into an extremity, along a digit, in the middle of a long stretch.
 
-use super::rules::{
-    BASE, BEND, BODY_THICK, DIGIT, DIP, ELONGATED, FLAT, HEAD, LONG, LONG_TO_WRIST, MATCHED,
-    NARROW, PROTRUDES, SLENDER, SMALL, SOCKET, THINNER, WRIST,
+use super::limb::put_first;
+use super::profile::{fill, is_limb, smooth, Profile};
+use super::Limb;
+use crate::joints::suggest::body::Tree;
+use crate::joints::suggest::rules::{
+    BASE, BODY_THICK, ELONGATED, HEAD, MATCHED, NARROW, PROTRUDES, SLENDER, SMALL, SOCKET, THINNER,
 };
-use super::tree::Tree;
 use glam::DVec3;
 
 impl Tree<'_> {
     /// Every cut's place, parent-first: `parent` indexes this list. `mirror`: the mesh's
     /// mirror plane (unit normal, offset), if it has one.
-    pub(super) fn limbs(&self, mirror: Option<(DVec3, f64)>) -> Vec<Limb> {
+    pub(crate) fn limbs(&self, mirror: Option<(DVec3, f64)>) -> Vec<Limb> {
         let mut out = Vec::new();
         if self.segments.is_empty() {
             return out;
@@ -135,7 +137,7 @@ impl Tree<'_> {
     /// whose mirror image is cut (or on the body), is copied there: a knee found on one leg
     /// only.
     fn copy_to_the_other_side(&self, out: &mut Vec<Limb>, (n, o): (DVec3, f64)) {
-        let image = |p: DVec3| super::frame::image((n, o), p);
+        let image = |p: DVec3| crate::mesh::orientation::image((n, o), p);
         let size = self.size_of_mesh;
         let partner: Vec<Option<usize>> = out
             .iter()
@@ -166,7 +168,7 @@ impl Tree<'_> {
             copies.push(Limb {
                 parent,
                 point: image(l.point),
-                normal: super::frame::reflect(n, l.normal),
+                normal: crate::mesh::orientation::reflect(n, l.normal),
                 pivot: image(l.pivot),
                 ..*l
             });
@@ -176,7 +178,7 @@ impl Tree<'_> {
 
     /// Visits segment `k` (whose limb, the nearest cut below it, is `limb`), adding the
     /// cuts at its base and inside it, then its children.
-    pub(super) fn walk(&self, k: usize, limb: Option<usize>, shape: &Shape, out: &mut Vec<Limb>) {
+    pub(crate) fn walk(&self, k: usize, limb: Option<usize>, shape: &Shape, out: &mut Vec<Limb>) {
         let mut current = limb;
         if let Some(base) = shape.base[k] {
             out.push(Limb {
@@ -229,7 +231,7 @@ impl Tree<'_> {
 
     /// The widths of the limbs that hang from segment `k`, directly or through forks that
     /// are no limbs.
-    pub(super) fn limbs_hanging(
+    pub(crate) fn limbs_hanging(
         &self,
         k: usize,
         children: &[Vec<usize>],
@@ -247,7 +249,7 @@ impl Tree<'_> {
 
     /// The cut at the base of segment `k` where it hangs from `parent`, if `k` (with what
     /// grows from it) is a limb: thinner than the parent there and long enough.
-    pub(super) fn base_cut(
+    pub(crate) fn base_cut(
         &self,
         k: usize,
         parent: usize,
@@ -325,7 +327,7 @@ impl Tree<'_> {
     /// the trunk `parent` near its fork by [`PROTRUDES`] of its own size and by [`SMALL`] of
     /// the mesh? A nose, an eye, an ear flat on a head, a face in front of a skull, a belly
     /// do not: they are bumps, neither limbs nor cut inside.
-    pub(super) fn protrudes(&self, k: usize, parent: usize, children: &[Vec<usize>]) -> bool {
+    pub(crate) fn protrudes(&self, k: usize, parent: usize, children: &[Vec<usize>]) -> bool {
         let seg = &self.segments[k].vertices;
         let low = self.lowest(seg);
         let own = self.size(&self.ring(seg, low + 1.0, low + 3.0));
@@ -441,7 +443,7 @@ impl Tree<'_> {
     /// The profile of segment `k` from its base up, in bins half its radius long: the
     /// median skeletal distance and the mean distance of the surface from the ring's centre
     /// of each ring (empty rings interpolated), smoothed over three bins.
-    pub(super) fn profile(&self, k: usize) -> Option<Profile> {
+    pub(crate) fn profile(&self, k: usize) -> Option<Profile> {
         let seg = &self.segments[k].vertices;
         let r = self.radius(seg);
         if seg.len() < 16 || r <= 0.0 {
@@ -493,7 +495,7 @@ impl Tree<'_> {
     /// an extremity that other limbs grow from (a wrist, an ankle: `extremity`); and along
     /// a long digit (`digit`: a tip among several of an extremity) at its two joints (see
     /// [`Profile::cut_bins`]).
-    pub(super) fn inner_cuts(
+    pub(crate) fn inner_cuts(
         &self,
         k: usize,
         limb: bool,
@@ -511,7 +513,7 @@ impl Tree<'_> {
 
     /// A cut through the ring of `seg` at level `at`, across the axis (from the centre of
     /// the ring a radius below to the one a radius above), its pivot on the axis.
-    pub(super) fn cut_at(&self, k: usize, at: f64) -> Option<Limb> {
+    pub(crate) fn cut_at(&self, k: usize, at: f64) -> Option<Limb> {
         let seg = &self.segments[k].vertices;
         let half = 0.25;
         let ring = self.ring(seg, at - half, at + half);
@@ -556,288 +558,17 @@ impl Tree<'_> {
 }
 
 /// What [`Tree::limbs`] found of the tree's shape, for [`Tree::walk`].
-pub(super) struct Shape<'a> {
-    pub(super) children: &'a [Vec<usize>],
+pub(crate) struct Shape<'a> {
+    pub(crate) children: &'a [Vec<usize>],
     /// Each segment's base cut, if it is a limb.
-    pub(super) base: &'a [Option<Limb>],
+    pub(crate) base: &'a [Option<Limb>],
     /// The nearest limb at or below each segment (the root's segment for the body).
-    pub(super) owner: &'a [usize],
+    pub(crate) owner: &'a [usize],
     /// Per owner: limbs that hang from it, and those of them no limb grows from.
-    pub(super) limbs_from: &'a [usize],
-    pub(super) tips_from: &'a [usize],
+    pub(crate) limbs_from: &'a [usize],
+    pub(crate) tips_from: &'a [usize],
     /// The root is a palm: the tips hanging from it are digits.
-    pub(super) palm: bool,
+    pub(crate) palm: bool,
     /// The root's segment.
-    pub(super) root: usize,
-}
-
-/// A segment's profile (see [`Tree::profile`]).
-pub(super) struct Profile {
-    /// `g` at its base.
-    pub(super) low: f64,
-    /// Bin length.
-    pub(super) step: f64,
-    /// Per bin: median skeletal distance, and mean distance from the ring's centre.
-    pub(super) d: Vec<f64>,
-    pub(super) size: Vec<f64>,
-    /// Per bin: the ring's centre (the limb's axis).
-    pub(super) centre: Vec<DVec3>,
-}
-
-impl Profile {
-    /// The bins of the cuts inside a part with this profile, from its base up, in order: at
-    /// clear narrowings; where a limb widens into an extremity (`extremity`); along a digit
-    /// (`digit`) at 45 % and 72 % of its length; in the middle of a limb's long stretch
-    /// without a joint. `limb`: the part is a limb, cut at its base (a part of the body is
-    /// cut only where it narrows).
-    pub(super) fn cut_bins(&self, limb: bool, extremity: bool, digit: bool) -> Vec<usize> {
-        let bins = self.d.len();
-        // Bins of cuts; a cut keeps three bins (1.5 radii) from another and from the top,
-        // and two radii from the base cut.
-        let mut at: Vec<usize> = Vec::new();
-        let first = if limb {
-            (2.0 * (BASE + 1.5)) as usize
-        } else {
-            3
-        };
-        let free = |at: &[usize], b: usize| {
-            b >= first && b + 3 <= bins && at.iter().all(|&c| c.abs_diff(b) >= 3)
-        };
-        // Narrowings: a minimum of the skeletal distance or of the ring's size clearly below
-        // the thickest within three radii (six bins) before it and the thicker part after it.
-        for b in 1..bins - 1 {
-            // (The part past it widens again within three radii: the end of a taper into
-            // a foot whose rings the bend distorts is no narrowing.)
-            let narrows = |v: &[f64]| {
-                let here = v[b];
-                let before = v[b.saturating_sub(6)..b]
-                    .iter()
-                    .copied()
-                    .fold(0.0, f64::max);
-                let after = v[b + 1..].iter().copied().fold(0.0, f64::max);
-                let soon = v[b + 1..(b + 7).min(bins)]
-                    .iter()
-                    .copied()
-                    .fold(0.0, f64::max);
-                here <= v[b - 1]
-                    && here <= v[b + 1]
-                    && here <= (1.0 - DIP) * before.min(after)
-                    && here <= (1.0 - DIP) * soon
-            };
-            // (A dip of the skeletal distance alone, where the rings bulge, is the middle of
-            // a round end, a big ear's: no narrowing.)
-            let bulge = {
-                let near = &self.size[b.saturating_sub(2)..(b + 3).min(bins)];
-                self.size[b] > (1.0 + DIP) * near.iter().copied().fold(f64::INFINITY, f64::min)
-            };
-            if ((narrows(&self.d) && !bulge) || narrows(&self.size)) && free(&at, b) {
-                at.push(b);
-            }
-        }
-        if !limb {
-            at.sort_unstable();
-            return at;
-        }
-        // Where it widens into an extremity: the narrowest ring of its last half, if the
-        // extremity is clearly wider.
-        if extremity {
-            let half = bins / 2;
-            if let Some(b) = (half..bins).min_by(|&a, &b| self.size[a].total_cmp(&self.size[b])) {
-                let wider = self.size[b..].iter().copied().fold(0.0, f64::max);
-                if wider >= (1.0 + DIP) * self.size[b] && free(&at, b) {
-                    at.push(b);
-                }
-            }
-        }
-        // Where the axis bends (a bent knee, an ankle, a hock): the sharpest turn over
-        // three radii either side, if it turns by at least BEND, and no other cut within
-        // those three radii (the same joint, a narrowing at an ankle). A short limb that
-        // ends at an extremity (an arm bent forward, two radii from its elbow to its hand)
-        // is measured over as much as it has, down to 1.5 radii either side, up to that
-        // end (no round tip there).
-        let w: usize = if extremity {
-            ((bins.max(1) - 1) / 2).clamp(3, 6)
-        } else {
-            6
-        };
-        let turn = |b: usize| {
-            if b < w || b + w >= bins {
-                return 0.0;
-            }
-            let u = self.centre[b] - self.centre[b - w];
-            let v = self.centre[b + w] - self.centre[b];
-            u.angle_between(v).to_degrees()
-        };
-        // (Not within two and a half radii of the base, where the axis turns out of the trunk, nor
-        // within three of the tip, where it rounds.)
-        let end = if extremity { w } else { 5 };
-        for b in 5..bins.saturating_sub(end) {
-            let t = turn(b);
-            let alone = at.iter().all(|&c| c.abs_diff(b) >= w);
-            if t >= BEND && t >= turn(b - 1) && t >= turn(b + 1) && free(&at, b) && alone {
-                at.push(b);
-            }
-        }
-        // A digit's two joints, at 45 % and 72 % of its length (where a finger's bend),
-        // unless narrowings already cut it.
-        if digit && at.is_empty() && bins as f64 * self.step >= DIGIT {
-            for share in [0.45, 0.72] {
-                let b = (share * bins as f64) as usize;
-                if free(&at, b) {
-                    at.push(b);
-                }
-            }
-        }
-        // A long first stretch, from the base to the first joint (an upper arm whose elbow
-        // neither narrows nor bends, a dog's straight leg down to its wrist), bends in the
-        // middle; later stretches are between
-        // joints already found (a shin between a knee and an ankle).
-        // (A digit's two joints stand in for this, unless something else cut it.)
-        at.sort_unstable();
-        if !digit || !at.is_empty() {
-            let ends: Vec<usize> = std::iter::once(first / 2)
-                .chain(at.iter().copied())
-                .chain(std::iter::once(bins))
-                .collect();
-            // Metres along the axis from the base, bin by bin (the middle of a tapering
-            // stretch is nearer its thin end in local radii).
-            let mut along = vec![0.0; bins];
-            for b in 1..bins {
-                along[b] = along[b - 1] + self.centre[b].distance(self.centre[b - 1]);
-            }
-            for w in ends.windows(2).take(1) {
-                let (a, b) = (w[0], w[1]);
-                // (From fewer radii when that joint lies in the limb's last part: a wrist
-                // or an ankle, with an elbow or a knee still to come before it.)
-                let len = (b - a) as f64 * self.step;
-                // (None in a flat part: its length in radii of its thickness says nothing
-                // of an elbow.)
-                let median =
-                    |v: &[f64]| crate::stats::median(&mut v.to_vec()).unwrap_or(f64::INFINITY);
-                let flat =
-                    median(&self.size[a..b.min(bins)]) > FLAT * median(&self.d[a..b.min(bins)]);
-                let to_wrist = b < bins && b as f64 >= WRIST * bins as f64;
-                if !flat && (len >= LONG || (to_wrist && len >= LONG_TO_WRIST)) {
-                    // (The middle of the bone, from the ball of the limb's root: [`SOCKET`]
-                    // of the radius at the cut behind the base ring, where a shoulder's or
-                    // a hip's pivot goes. A thigh whose top hides in the trunk is counted
-                    // whole, and its knee is not placed low.)
-                    let ball = along[0] - SOCKET * self.d[1];
-                    let half = 0.5 * (ball + along[b.min(bins - 1)]);
-                    let mid = (0..b.min(bins))
-                        .find(|&m| along[m] >= half)
-                        .unwrap_or((a + b) / 2);
-                    if free(&at, mid) {
-                        at.push(mid);
-                    }
-                }
-            }
-            at.sort_unstable();
-        }
-        at
-    }
-}
-
-/// Is a protrusion a limb? Its ring `own` wide (the size of [`Tree::size`]) must be thinner
-/// than the `trunk` it grows from ([`THINNER`]) and longer than it is wide: `length` (in
-/// local radii, `radius` its medial radius) at least [`ELONGATED`] times its width in
-/// radii. A nose is neither; a finger on a palm is both.
-pub(super) fn is_limb(own: f64, trunk: f64, length: f64, radius: f64) -> bool {
-    own > 0.0 && own <= THINNER * trunk && length >= ELONGATED * own / radius
-}
-
-/// Empty bins (NaN) take the value of the nearest bins on either side; `None` if all are.
-pub(super) fn fill(v: &[f64]) -> Option<Vec<f64>> {
-    let known: Vec<usize> = (0..v.len()).filter(|&i| v[i].is_finite()).collect();
-    let (&first, &last) = (known.first()?, known.last()?);
-    let mut out = v.to_vec();
-    for (i, o) in out.iter_mut().enumerate() {
-        if o.is_finite() {
-            continue;
-        }
-        *o = if i < first {
-            v[first]
-        } else if i > last {
-            v[last]
-        } else {
-            let a = known
-                .iter()
-                .rev()
-                .find(|&&k| k < i)
-                .copied()
-                .unwrap_or(first);
-            let b = known.iter().find(|&&k| k > i).copied().unwrap_or(last);
-            let t = (i - a) as f64 / (b - a).max(1) as f64;
-            v[a] + (v[b] - v[a]) * t
-        };
-    }
-    Some(out)
-}
-
-/// A moving average over three bins.
-pub(super) fn smooth(v: &[f64]) -> Vec<f64> {
-    (0..v.len())
-        .map(|b| {
-            let (a, c) = (b.saturating_sub(1), (b + 1).min(v.len() - 1));
-            (v[a] + v[b] + v[c]) / 3.0
-        })
-        .collect()
-}
-
-/// A suggested cut before it is named.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Limb {
-    /// The cut below it (index in the list), `None` for one on the root.
-    pub(super) parent: Option<usize>,
-    /// How many vertices lie past it in the join tree: a plane that takes far more has
-    /// slipped past the limb into the body.
-    pub(super) expected: usize,
-    /// The size ([`Tree::size`]) of its ring.
-    pub(super) width: f64,
-    pub(super) point: DVec3,
-    pub(super) normal: DVec3,
-    pub(super) pivot: DVec3,
-    /// How much deeper its pivot goes when it turns out to be a shoulder or a hip (named
-    /// in step 5): [`SOCKET`] of its root ring's radius for a limb thinner than the core
-    /// (whose pivot went in from the cut), else 0.
-    pub(super) socket: f64,
-    /// The segment it cuts and the level of `g` it cuts at (`None` for a cut across a
-    /// slice of the body: the core at a neck, a waist).
-    pub(super) past: Option<(usize, f64)>,
-}
-
-impl Limb {
-    /// A cut of the root across a slice of the body of size `width` (a neck across the
-    /// core, a waist), not at a level of `g`, with `expected` vertices past it.
-    pub(super) fn across(
-        point: DVec3,
-        normal: DVec3,
-        pivot: DVec3,
-        width: f64,
-        expected: usize,
-    ) -> Limb {
-        Limb {
-            parent: None,
-            expected,
-            width,
-            socket: 0.0,
-            point,
-            normal,
-            pivot,
-            past: None,
-        }
-    }
-}
-
-/// Puts `neck`, a cut across the body, first in `limbs` (parent-first, indexed by
-/// position): what hangs from the body past it hangs from it.
-pub(super) fn put_first(limbs: &mut Vec<Limb>, neck: Limb) {
-    for limb in limbs.iter_mut() {
-        limb.parent = match limb.parent {
-            Some(p) => Some(p + 1),
-            None if (limb.point - neck.point).dot(neck.normal) > 0.0 => Some(0),
-            None => None,
-        };
-    }
-    limbs.insert(0, neck);
+    pub(crate) root: usize,
 }

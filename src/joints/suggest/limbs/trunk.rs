@@ -1,17 +1,17 @@
-//! A cut across the body's core (step 3 of the module docs): a head as thick as the body it
+//! A cut across the body's core (stage 3): a head as thick as the body it
 //! sits on is part of the core, which no other rule cuts; where the core clearly narrows
 //! between two thick parts (a neck), the part away from the root turns there.
 
-use super::cuts::Limb;
-use super::rules::{ELONGATED, NARROW};
-use super::tree::Tree;
+use super::Limb;
+use crate::joints::suggest::body::Tree;
+use crate::joints::suggest::rules::{ELONGATED, NARROW};
 use glam::DVec3;
 
 impl Tree<'_> {
     /// The cut across the core at its clearest narrowing along its long axis, if one is at
     /// most [`NARROW`] of the widest slices on both sides and the part past it reaches at
     /// least [`ELONGATED`] radii: its plane faces away from the root.
-    pub(super) fn trunk_cut(&self) -> Option<Limb> {
+    pub(crate) fn trunk_cut(&self) -> Option<Limb> {
         let core: Vec<u32> = (0..self.g.len() as u32)
             .filter(|&v| self.g[v as usize] == 0.0)
             .collect();
@@ -67,7 +67,7 @@ impl Tree<'_> {
     /// `vertices` in slices `step` thick from `lo` along their `t` (one per vertex; those
     /// below `lo` left out, those past the last slice in it), and each slice's size (NaN
     /// for a slice of fewer than 8 vertices).
-    pub(super) fn slices(
+    pub(crate) fn slices(
         &self,
         vertices: &[u32],
         t: &[f64],
@@ -90,7 +90,7 @@ impl Tree<'_> {
 }
 
 /// The largest of `sizes` that is a number (0 for none).
-pub(super) fn widest(sizes: &[f64]) -> f64 {
+pub(crate) fn widest(sizes: &[f64]) -> f64 {
     sizes
         .iter()
         .copied()
@@ -100,7 +100,7 @@ pub(super) fn widest(sizes: &[f64]) -> f64 {
 
 /// The direction along which `points` (about their mean) spread most: power iteration on
 /// their covariance.
-pub(super) fn long_axis(points: impl Iterator<Item = DVec3>) -> DVec3 {
+pub(crate) fn long_axis(points: impl Iterator<Item = DVec3>) -> DVec3 {
     let mut cov = glam::DMat3::ZERO;
     for p in points {
         cov += glam::DMat3::from_cols(p * p.x, p * p.y, p * p.z);

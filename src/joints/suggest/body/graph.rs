@@ -7,16 +7,16 @@ use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 /// A mesh's skeletal graph: `S`'s edges as a CSR with their lengths.
-pub(super) struct Graph {
-    pub(super) start: Vec<u32>,
-    pub(super) to: Vec<u32>,
-    pub(super) len: Vec<f64>,
+pub(crate) struct Graph {
+    pub(crate) start: Vec<u32>,
+    pub(crate) to: Vec<u32>,
+    pub(crate) len: Vec<f64>,
 }
 
 impl Graph {
     /// The mesh's edges, each as long as it is in units of the skeletal distance at its
     /// ends: a step of one is about one local radius, across a fat body or a thin finger.
-    pub(super) fn new(mesh: &Mesh, points: &[DVec3], distance: &[f64]) -> Graph {
+    pub(crate) fn new(mesh: &Mesh, points: &[DVec3], distance: &[f64]) -> Graph {
         let n = points.len();
         let mut positive: Vec<f64> = distance.iter().copied().filter(|d| *d > 0.0).collect();
         let floor = 1e-3 * crate::stats::median(&mut positive).unwrap_or(1.0);
@@ -35,7 +35,7 @@ impl Graph {
         Graph { start, to, len }
     }
 
-    pub(super) fn neighbours(&self, v: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+    pub(crate) fn neighbours(&self, v: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
         let (a, b) = (self.start[v] as usize, self.start[v + 1] as usize);
         self.to[a..b]
             .iter()
@@ -45,12 +45,12 @@ impl Graph {
 
     /// Shortest-path lengths from `source` (infinite where unreachable), and each vertex's
     /// predecessor on its path.
-    pub(super) fn distances(&self, source: usize) -> (Vec<f64>, Vec<u32>) {
+    pub(crate) fn distances(&self, source: usize) -> (Vec<f64>, Vec<u32>) {
         self.distances_from(&[(source as u32, 0.0)])
     }
 
     /// Shortest-path lengths from several sources, each starting at its own distance.
-    pub(super) fn distances_from(&self, sources: &[(u32, f64)]) -> (Vec<f64>, Vec<u32>) {
+    pub(crate) fn distances_from(&self, sources: &[(u32, f64)]) -> (Vec<f64>, Vec<u32>) {
         let n = self.start.len() - 1;
         let mut dist = vec![f64::INFINITY; n];
         let mut pred = vec![u32::MAX; n];
@@ -98,7 +98,7 @@ impl Ord for Item {
 }
 
 /// The farthest reachable vertex.
-pub(super) fn farthest(dist: &[f64]) -> usize {
+pub(crate) fn farthest(dist: &[f64]) -> usize {
     (0..dist.len())
         .filter(|&v| dist[v].is_finite())
         .max_by(|&a, &b| dist[a].total_cmp(&dist[b]))

@@ -1,0 +1,61 @@
+//! A limb: a suggested cut before it is applied and named (stage 3's output).
+
+use glam::DVec3;
+
+/// A suggested cut before it is named.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Limb {
+    /// The cut below it (index in the list), `None` for one on the root.
+    pub(crate) parent: Option<usize>,
+    /// How many vertices lie past it in the join tree: a plane that takes far more has
+    /// slipped past the limb into the body.
+    pub(crate) expected: usize,
+    /// The size ([`crate::joints::suggest::body::Tree::size`]) of its ring.
+    pub(crate) width: f64,
+    pub(crate) point: DVec3,
+    pub(crate) normal: DVec3,
+    pub(crate) pivot: DVec3,
+    /// How much deeper its pivot goes when it turns out to be a shoulder or a hip (named
+    /// in step 5): [`crate::joints::suggest::rules::SOCKET`] of its root ring's radius for a limb thinner than the core
+    /// (whose pivot went in from the cut), else 0.
+    pub(crate) socket: f64,
+    /// The segment it cuts and the level of `g` it cuts at (`None` for a cut across a
+    /// slice of the body: the core at a neck, a waist).
+    pub(crate) past: Option<(usize, f64)>,
+}
+
+impl Limb {
+    /// A cut of the root across a slice of the body of size `width` (a neck across the
+    /// core, a waist), not at a level of `g`, with `expected` vertices past it.
+    pub(crate) fn across(
+        point: DVec3,
+        normal: DVec3,
+        pivot: DVec3,
+        width: f64,
+        expected: usize,
+    ) -> Limb {
+        Limb {
+            parent: None,
+            expected,
+            width,
+            socket: 0.0,
+            point,
+            normal,
+            pivot,
+            past: None,
+        }
+    }
+}
+
+/// Puts `neck`, a cut across the body, first in `limbs` (parent-first, indexed by
+/// position): what hangs from the body past it hangs from it.
+pub(crate) fn put_first(limbs: &mut Vec<Limb>, neck: Limb) {
+    for limb in limbs.iter_mut() {
+        limb.parent = match limb.parent {
+            Some(p) => Some(p + 1),
+            None if (limb.point - neck.point).dot(neck.normal) > 0.0 => Some(0),
+            None => None,
+        };
+    }
+    limbs.insert(0, neck);
+}

@@ -1,0 +1,212 @@
+//! Stage 4 of the suggestion: the limbs applied as cuts, numbered by their place in the
+//! tree (`joint 1`, `joint 1.2`).
+//!
+//! Each cut is a connected plane through the ring's centre, across the
+//! limb's axis there, its pivot on the axis; cuts apply parent-first, and one that would
+//! leave a section of fewer than `SMALLEST` of the vertices, or whose plane takes more
+//! than twice what lies past it in the join tree (it slipped past the limb into the
+//! body), is dropped; a limb's root plane that slips so first tries the mirror image of
+//! its partner's on the other side (an arm hanging closer to the body on one side).
+
+use super::limbs::Limb;
+use super::rules::{PAIRED, SMALLEST};
+use crate::joints::{Cut, Joints, Shape};
+use crate::mesh::Mesh;
+use crate::skeleton::Skeleton;
+use glam::DVec3;
+use std::collections::HashMap;
+
+/// Stage 4's output: the cuts that applied, and the joints they make.
+pub(crate) struct Placed {
+    /// The joints of the whole mesh before any cut (its edges found once), to try sets of
+    /// cuts on.
+    pub(crate) blank: Joints,
+    /// The joints with every cut applied.
+    pub(crate) joints: Joints,
+    /// The cuts that applied, parent-first, numbered by their place in the tree.
+    pub(crate) cuts: Vec<Cut>,
+    /// Per cut, its limb's socket and width ([`Limb::socket`], [`Limb::width`]).
+    pub(crate) sockets: Vec<(f64, f64)>,
+}
+
+/// `limbs` applied in order as cuts to the joints of `mesh` (its skeleton `skeleton`, its
+/// riders going with `hosts`) under the root section `root`; `mirror`, the body's mirror
+/// plane. One that cannot apply (a side left empty) is dropped, and what hangs from it
+/// hangs from its parent instead.
+pub(crate) fn place(
+    mesh: &Mesh,
+    skeleton: &Skeleton,
+    hosts: &[Option<u32>],
+    root: &str,
+    limbs: &[Limb],
+    mirror: Option<(DVec3, f64)>,
+) -> Placed {
+    let mut joints = Joints::with_mesh(&skeleton.points, &mesh.triangles, hosts, root);
+    joints.attach_parts(&crate::mesh::attachments(mesh));
+    let blank = joints.clone();
+    let mut applied: Vec<Option<String>> = Vec::with_capacity(limbs.len());
+    let mut count: HashMap<String, usize> = Default::default();
+    let mut cuts = Vec::new();
+    // Each applied cut's limb's `socket` and width.
+    let mut sockets = Vec::new();
+    for limb in limbs {
+        // The nearest ancestor that applied, or the root.
+        let mut parent = limb.parent;
+        let section = loop {
+            match parent {
+                Some(p) => match &applied[p] {
+                    Some(name) => break name.clone(),
+                    None => parent = limbs[p].parent,
+                },
+                None => break root.to_string(),
+            }
+        };
+        let k = count.entry(section.clone()).or_default();
+        *k += 1;
+        let name = if section == root {
+            format!("joint {k}")
+        } else {
+            format!("{section}.{k}")
+        };
+        let plane = |point: DVec3, normal: DVec3, pivot: DVec3| {
+            Cut {
+                name: name.clone(),
+                section: section.clone(),
+                point,
+                normal,
+                pivot: Some(pivot),
+                connected: true,
+                band: None,
+                shape: Shape::Plane,
+                shared_pivot: false,
+            }
+            .rounded()
+        };
+        // Too small a piece, or too little left, is no joint worth a section.
+        let smallest = (SMALLEST * skeleton.points.len() as f64).max(12.0) as usize;
+        let big_enough_for = |cut: &Cut, expected: usize| {
+            joints.find(&cut.section).is_some_and(|s| {
+                let taken = joints.preview(s, cut).iter().filter(|&&t| t).count();
+                taken >= smallest
+                    && joints.sections()[s].vertices - taken >= smallest
+                    && taken <= 2 * expected + smallest
+            })
+        };
+        // A limb's root plane that slips past it into the body (an arm hanging close to
+        // it) may take the mirror image of its partner's on the other side instead.
+        let mut cut = plane(limb.point, limb.normal, limb.pivot);
+        let mut big_enough = big_enough_for(&cut, limb.expected);
+        if let (false, Some(m)) = (big_enough, mirror) {
+            if let Some(o) = partner(limbs, limb, m, mesh.longest_side()) {
+                let image = |p: DVec3| crate::mesh::orientation::image(m, p);
+                let mirrored = plane(
+                    image(o.point),
+                    crate::mesh::orientation::reflect(m.0, o.normal),
+                    image(o.pivot),
+                );
+                if big_enough_for(&mirrored, o.expected) {
+                    cut = mirrored;
+                    big_enough = true;
+                }
+            }
+        }
+        if !big_enough {
+            *count.entry(cut.section).or_default() -= 1;
+            applied.push(None);
+            continue;
+        }
+        match joints.add_cut_unbanded(cut.clone()) {
+            Ok(_) => {
+                applied.push(Some(name));
+                cuts.push(cut);
+                sockets.push((limb.socket, limb.width));
+            }
+            Err(e) => {
+                log::debug!("suggested joint dropped: {e}");
+                *count.entry(cut.section).or_default() -= 1;
+                applied.push(None);
+            }
+        }
+    }
+    Placed {
+        blank,
+        joints,
+        cuts,
+        sockets,
+    }
+}
+
+/// The root limb whose pivot's mirror image (through `mirror`) lies nearest root limb
+/// `limb`'s pivot, within [`PAIRED`] of the mesh's `size`; `None` for a nested limb and
+/// for one nearest its own image.
+fn partner<'a>(
+    limbs: &'a [Limb],
+    limb: &Limb,
+    mirror: (DVec3, f64),
+    size: f64,
+) -> Option<&'a Limb> {
+    if limb.parent.is_some() {
+        return None;
+    }
+    limbs
+        .iter()
+        .filter(|o| o.parent.is_none())
+        .map(|o| {
+            (
+                o,
+                crate::mesh::orientation::image(mirror, o.pivot).distance(limb.pivot),
+            )
+        })
+        .filter(|&(_, d)| d <= PAIRED * size)
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(o, _)| o)
+        // (A limb on the mirror plane is its own image: it has no partner.)
+        .filter(|o| !std::ptr::eq(*o, limb))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::joints::suggest::{body::Body, fixture, limbs};
+
+    #[test]
+    fn each_limb_that_leaves_a_section_big_enough_is_a_numbered_cut() {
+        let (mesh, skeleton) = fixture::human();
+        let body = Body::of(mesh, skeleton);
+        let limbs = limbs::of(&body.tree(), body.cues.mirror);
+        let placed = place(
+            mesh,
+            skeleton,
+            &body.hosts,
+            "root",
+            &limbs,
+            body.cues.mirror,
+        );
+        assert!(placed.blank.cuts().is_empty());
+        assert_eq!(placed.joints.cuts(), &placed.cuts[..]);
+        assert_eq!(placed.sockets.len(), placed.cuts.len());
+        assert!(placed.cuts.len() <= limbs.len() && placed.cuts.len() >= 9);
+        // Numbered by place: `joint k` on the root, `<section>.k` below it.
+        for cut in &placed.cuts {
+            if cut.section == "root" {
+                assert!(cut.name.starts_with("joint "), "{}", cut.name);
+            } else {
+                assert!(
+                    cut.name.starts_with(&format!("{}.", cut.section)),
+                    "{}",
+                    cut.name
+                );
+            }
+        }
+        let smallest = (SMALLEST * skeleton.points.len() as f64).max(12.0) as usize;
+        for s in placed.joints.sections() {
+            assert!(s.vertices >= smallest, "{}: {}", s.name, s.vertices);
+        }
+        // A limb past every vertex (nothing left beside it) is no cut.
+        let mut whole = limbs[0];
+        whole.point -= whole.normal * 10.0 * mesh.longest_side();
+        whole.parent = None;
+        let none = place(mesh, skeleton, &body.hosts, "root", &[whole], None);
+        assert!(none.cuts.is_empty());
+    }
+}
