@@ -45,7 +45,8 @@
 //! * `seams`: the cuts applied, and those that would tear taken back;
 //! * `characters`: two or more characters in one file;
 //! * `labels`: a labelled character's joints, and a suggestion's score against them;
-//! * `union_find`: the sweep's sets, a slice's loops.
+//! * `union_find`: the sweep's sets, a slice's loops;
+//! * `fixture` (tests only): the repository's characters the stages' unit tests run on.
 
 mod body;
 pub mod characters;
