@@ -8,8 +8,8 @@ use glam::DVec3;
 use std::collections::HashMap;
 
 /// `cuts` (named by role, parent-first) with a cut across the body at the top of a biped's
-/// shoulders when no cut turns its head: where `arm.L`, `arm.R`, `leg.L` and `leg.R` hang
-/// from the root, the arms [`RAISED`] widths above the legs, and none is named `neck` or
+/// shoulders when no cut turns its head: where `arm.L` and `arm.R` hang from the root, and
+/// `leg.L` and `leg.R` from the root or from its `hips` (a pelvis cut at a waist), the arms [`RAISED`] widths above the legs, and none is named `neck` or
 /// `head`. The plane lies across `up` at the top of the higher arm's ring (its cut's point
 /// plus its width, from `width` by name), its pivot at the centre of the body's slice
 /// there. The part above must be at least as tall as the slice is wide (a head, not the
@@ -28,10 +28,19 @@ pub(super) fn on_the_shoulders(
     width: &HashMap<String, (f64, f64)>,
 ) -> Vec<Cut> {
     let smallest = (SMALLEST * points.len() as f64).max(12.0) as usize;
-    let find = |name: &str| cuts.iter().find(|c| c.name == name && c.section == root);
-    let (Some(arm_l), Some(arm_r), Some(leg_l), Some(leg_r)) =
-        (find("arm.L"), find("arm.R"), find("leg.L"), find("leg.R"))
-    else {
+    let find = |name: &str, from: &[&str]| {
+        cuts.iter()
+            .find(|c| c.name == name && from.contains(&c.section.as_str()))
+    };
+    // The legs hang from the root, or from a pelvis cut from it at a waist (`hips`).
+    let hips = find("hips", &[root]).map(|c| c.name.as_str());
+    let below: Vec<&str> = std::iter::once(root).chain(hips).collect();
+    let (Some(arm_l), Some(arm_r), Some(leg_l), Some(leg_r)) = (
+        find("arm.L", &[root]),
+        find("arm.R", &[root]),
+        find("leg.L", &below),
+        find("leg.R", &below),
+    ) else {
         return cuts;
     };
     if cuts.iter().any(|c| {
