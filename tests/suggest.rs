@@ -1461,7 +1461,7 @@ fn the_population_scores_as_benchmarks_says() {
         (sum("found"), sum("required"))
     };
     let (dev, held) = (recall("development"), recall("held-out"));
-    assert!(dev.0 >= 54 && held.0 >= 51, "{dev:?} {held:?}");
+    assert!(dev.0 >= 54 && held.0 >= 52, "{dev:?} {held:?}");
     let share = |(f, r): (u64, u64)| 100.0 * f as f64 / r as f64;
     assert!(
         (share(dev) - share(held)).abs() <= 5.0,

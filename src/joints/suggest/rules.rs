@@ -93,6 +93,10 @@ pub(crate) const RAISED: f64 = 3.0;
 /// stands on the base is the body, and a head on it turns at its neck (a root in the head
 /// cut the shoulders off as a `neck`, and the base's corners off as limbs).
 pub(crate) const STANDING: f64 = 0.25;
+/// A chain of at most this many parts on the mirror plane, each the one part of the last
+/// and hanging down, whose last carries two parts off the plane, is a waist and the hips
+/// the legs hang from (a shirt's hem, the trousers' waist, then the crotch).
+pub(crate) const WAIST: usize = 3;
 /// Sections smaller than this share of the vertices (or 12 vertices) are not suggested.
 pub(crate) const SMALLEST: f64 = 0.002;
 

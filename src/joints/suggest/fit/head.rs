@@ -9,8 +9,8 @@ use std::collections::HashMap;
 
 /// `cuts` (named by role, parent-first) with a cut across the body at the top of a biped's
 /// shoulders when no cut turns its head: where `arm.L` and `arm.R` hang from the root, and
-/// `leg.L` and `leg.R` from the root or from its `hips` (a pelvis cut at a waist), the arms [`RAISED`] widths above the legs, and none is named `neck` or
-/// `head`. The plane lies across `up` at the top of the higher arm's ring (its cut's point
+/// `leg.L` and `leg.R` from the root or from its `hips` (a pelvis cut at a waist), the arms
+/// [`RAISED`] widths above the legs, and none is named `neck` or `head`. The plane lies across `up` at the top of the higher arm's ring (its cut's point
 /// plus its width, from `width` by name), its pivot at the centre of the body's slice
 /// there. The part above must be at least as tall as the slice is wide (a head, not the
 /// top of a chest the arms leave from), and no taller than the character below it (the
@@ -32,9 +32,15 @@ pub(super) fn on_the_shoulders(
         cuts.iter()
             .find(|c| c.name == name && from.contains(&c.section.as_str()))
     };
-    // The legs hang from the root, or from a pelvis cut from it at a waist (`hips`).
-    let hips = find("hips", &[root]).map(|c| c.name.as_str());
-    let below: Vec<&str> = std::iter::once(root).chain(hips).collect();
+    // The legs hang from the root, or from a pelvis cut from it at a waist (`hips`, below
+    // a `waist` or not).
+    let below: Vec<&str> = std::iter::once(root)
+        .chain(
+            cuts.iter()
+                .filter(|c| c.name == "hips" || c.name == "waist")
+                .map(|c| c.name.as_str()),
+        )
+        .collect();
     let (Some(arm_l), Some(arm_r), Some(leg_l), Some(leg_r)) = (
         find("arm.L", &[root]),
         find("arm.R", &[root]),

@@ -408,4 +408,44 @@ mod tests {
         assert_eq!(name(0.007).as_deref(), Some("thumb.L"));
         assert_eq!(name(0.025).as_deref(), Some("forearm.L"));
     }
+
+    /// A person in clothes cut at the shirt's hem, then at the trousers' crotch: the chain
+    /// on the mirror plane is the waist and the hips, and the two parts off it at its end
+    /// are the legs (as the arms are arms).
+    #[test]
+    fn a_chain_hanging_down_the_midline_to_two_legs_is_the_waist_and_the_hips() {
+        // Sections: 0 the chest, 1 below the hem, 2 the crotch, 3–4 legs, 5–6 arms.
+        let along = [
+            (DVec3::new(0.0, 1.3, 0.0), DVec3::Y),
+            (DVec3::new(0.0, 1.2, 0.0), DVec3::NEG_Y),
+            (DVec3::new(0.0, 1.0, 0.0), DVec3::NEG_Y),
+            (DVec3::new(0.1, 0.9, 0.0), DVec3::NEG_Y),
+            (DVec3::new(-0.1, 0.9, 0.0), DVec3::NEG_Y),
+            (DVec3::new(0.2, 1.45, 0.0), DVec3::X),
+            (DVec3::new(-0.2, 1.45, 0.0), DVec3::NEG_X),
+        ];
+        let parent = [None, Some(0), Some(1), Some(2), Some(2), Some(0), Some(0)];
+        let names = named(
+            &along,
+            &parent,
+            8,
+            |_| 0.02,
+            |naming| {
+                naming.frame.mirror = Some((DVec3::X, 0.0));
+                let limbs: Vec<_> = naming.children[0]
+                    .clone()
+                    .into_iter()
+                    .map(|s| (s, naming.reach(s)))
+                    .collect();
+                naming.root(&limbs);
+                naming.names.clone()
+            },
+        );
+        let names: Vec<Option<&str>> = names.iter().map(|n| n.as_deref()).collect();
+        assert_eq!(names[1], Some("waist"), "{names:?}");
+        assert_eq!(names[2], Some("hips"), "{names:?}");
+        assert_eq!(names[3], Some("leg.L"), "{names:?}");
+        assert_eq!(names[4], Some("leg.R"), "{names:?}");
+        assert_eq!(names[5], Some("arm.L"), "{names:?}");
+    }
 }

@@ -11,7 +11,9 @@
 //!   hanging down); when all stand, pairs from the front: arms (forelegs) and legs,
 //!   numbered legs from three pairs on. A part on the plane hanging down with two or more
 //!   off it (a pelvis the legs hang from, cut at a waist) is the `hips`, and those parts
-//!   count as the root's limbs. On the plane, of those not growing from the back
+//!   count as the root's limbs; so is the end of a chain of up to `WAIST` such parts, each
+//!   the one part of the last (a shirt's hem, then the crotch), the ones above it the
+//!   `waist`. On the plane, of those not growing from the back
 //!   end and ending no thinner than any limb off the plane, the one whose far half is
 //!   thickest (a head ends in a bulb, a tail in a point), leaning up, counted twice when it
 //!   carries parts off the plane (ears, antennae), is the neck (or the head if nothing

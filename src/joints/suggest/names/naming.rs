@@ -2,7 +2,7 @@
 //! they stand, the neck or head and the tail on the mirror plane.
 
 use super::chains::Family;
-use crate::joints::suggest::rules::{FRONT_END, GROUND, OFF_PLANE, SNOUT};
+use crate::joints::suggest::rules::{FRONT_END, GROUND, OFF_PLANE, SNOUT, WAIST};
 use crate::mesh::orientation::{head_of, image, Frame, Reach};
 use crate::mesh::Mesh;
 use glam::DVec3;
@@ -131,19 +131,37 @@ impl Naming<'_> {
         let mut legs: Vec<(usize, Reach)> = Vec::new();
         // A part on the plane hanging down with two or more parts off it (a pelvis both
         // legs hang from, cut as one with a loincloth) is the hips: its parts are the
-        // body's limbs.
+        // body's limbs. So is the end of a chain of such parts, each the one part of the
+        // last, all on the plane and hanging down (a shirt's hem, then the trousers'
+        // waist, then the crotch): the ones above it are the `waist`.
         let mut parts: Vec<(usize, Reach)> = Vec::new();
-        for &(s, r) in limbs {
-            let carried: Vec<usize> = self.children[s]
+        let off_plane = |n: &Self, s: usize| -> Vec<usize> {
+            n.children[s]
                 .iter()
                 .copied()
-                .filter(|&c| self.side(self.sections[c].pivot).is_some())
-                .collect();
-            if self.side(r.pivot).is_none()
-                && r.direction().dot(frame.up) < -0.5
-                && carried.len() >= 2
-            {
-                self.names[s] = Some("hips".into());
+                .filter(|&c| n.side(n.sections[c].pivot).is_some())
+                .collect()
+        };
+        let hanging = |n: &Self, s: usize, r: &Reach| {
+            n.side(r.pivot).is_none() && r.direction().dot(frame.up) < -0.5 && s > 0
+        };
+        for &(s, r) in limbs {
+            let mut chain = vec![s];
+            let mut at = s;
+            while off_plane(self, at).is_empty() && self.children[at].len() == 1 {
+                let next = self.children[at][0];
+                if chain.len() >= WAIST || !hanging(self, next, &self.reach(next)) {
+                    break;
+                }
+                chain.push(next);
+                at = next;
+            }
+            let carried = off_plane(self, at);
+            if hanging(self, s, &r) && carried.len() >= 2 {
+                for &c in &chain[..chain.len() - 1] {
+                    self.names[c] = Some("waist".into());
+                }
+                self.names[at] = Some("hips".into());
                 parts.extend(carried.into_iter().map(|c| (c, self.reach(c))));
             } else {
                 parts.push((s, r));
