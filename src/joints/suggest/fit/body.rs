@@ -10,10 +10,12 @@ use std::collections::HashMap;
 /// toward the body along its normal as far as [`Slicer::toward_body`] allows, a left
 /// and a right one by the lesser of their two distances; one that then takes more than
 /// twice its section's vertices (it slipped into the body) or cannot apply stays. `blank`:
-/// the mesh's joints before any cut, which the cuts are tried on.
+/// the mesh's joints before any cut, which the cuts are tried on; `applied`, those joints
+/// with `cuts` applied, when the caller has them.
 pub(super) fn to_the_body(
     mesh: &Mesh,
     blank: &Joints,
+    applied: Option<&Joints>,
     cuts: Vec<Cut>,
     ball: &HashMap<String, (f64, f64)>,
     smallest: usize,
@@ -34,14 +36,21 @@ pub(super) fn to_the_body(
         return cuts;
     }
     // Each cut's section's vertices, once all apply.
-    let sizes = |cuts: &[Cut]| -> Option<Vec<usize>> {
-        let mut joints = blank.clone();
-        joints.add_cuts_unbanded(cuts.iter().cloned()).ok()?;
+    let sizes_on = |joints: &Joints, cuts: &[Cut]| -> Option<Vec<usize>> {
         cuts.iter()
             .map(|c| Some(joints.sections()[joints.find(&c.name)?].vertices))
             .collect()
     };
-    let Some(before) = sizes(&cuts) else {
+    let sizes = |cuts: &[Cut]| -> Option<Vec<usize>> {
+        let mut joints = blank.clone();
+        joints.add_cuts_unbanded(cuts.iter().cloned()).ok()?;
+        sizes_on(&joints, cuts)
+    };
+    let before = match applied {
+        Some(joints) => sizes_on(joints, &cuts),
+        None => sizes(&cuts),
+    };
+    let Some(before) = before else {
         return cuts;
     };
     let moved = |skip: &[&str]| -> Vec<Cut> {

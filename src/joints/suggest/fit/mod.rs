@@ -43,6 +43,9 @@ pub(crate) fn fit(
     // its section: the nearest moved one tries its pair's next way.)
     let pairs = pairs::mirror_pairs(&cuts, frame, character);
     let mut way = vec![0usize; pairs.len()];
+    // The joints with every cut applied, once a set of pairs is taken (the next step
+    // measures the sections on them).
+    let mut applied: Option<Joints> = None;
     loop {
         let mut trial = cuts.clone();
         for (p, pair) in pairs.iter().enumerate() {
@@ -55,13 +58,13 @@ pub(crate) fn fit(
             break;
         }
         let mut check = blank.clone();
-        let Some(bad) = trial
-            .iter()
-            .position(|c| check.add_cut_unbanded(c.clone()).is_err())
-        else {
+        if check.add_cuts_unbanded(trial.iter().cloned()).is_ok() {
             cuts = trial;
+            applied = Some(check);
             break;
-        };
+        }
+        // The cut that failed: those before it applied.
+        let bad = check.cuts().len();
         let Some(p) = (0..=bad)
             .rev()
             .filter(|&k| trial[k] != cuts[k])
@@ -74,7 +77,7 @@ pub(crate) fn fit(
     // A shoulder's or a hip's cut moves toward the body up to where the limb meets the
     // trunk; a left and a right one by the same distance.
     let smallest = (SMALLEST * points.len() as f64).max(12.0) as usize;
-    cuts = body::to_the_body(mesh, blank, cuts, balls, smallest);
+    cuts = body::to_the_body(mesh, blank, applied.as_ref(), cuts, balls, smallest);
     // A shoulder or a hip turns about the ball inside the trunk, past the cut; a left and a
     // right one by the same depth, so that a mirrored pair stays mirrored.
     for cut in &mut cuts {
