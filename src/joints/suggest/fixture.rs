@@ -1,6 +1,10 @@
 //! Characters the stages' unit tests run on: a mesh of the repository with its skeleton,
 //! built once per test run.
 
+use super::body::Body;
+use super::limbs::{self, Limb};
+use super::names::{self, Named};
+use super::place::{self, Placed};
 use crate::mesh::Mesh;
 use crate::skeleton::Skeleton;
 use std::collections::HashMap;
@@ -27,4 +31,41 @@ pub(crate) fn character(path: &str) -> &'static (Mesh, Skeleton) {
 /// The shipped human (SMPL's template: no riders, mirrored across x, +y up, facing +z).
 pub(crate) fn human() -> &'static (Mesh, Skeleton) {
     character("tests/data/meshes/human.obj")
+}
+
+/// The shipped human run through the stages up to the one a test is of.
+pub(crate) struct Staged {
+    pub(crate) mesh: &'static Mesh,
+    pub(crate) skeleton: &'static Skeleton,
+    /// Stages 1–2.
+    pub(crate) body: Body<'static>,
+    /// Stage 3.
+    pub(crate) limbs: Vec<Limb>,
+    /// Stage 4.
+    pub(crate) placed: Placed,
+}
+
+impl Staged {
+    /// The human through stage 4 (its cuts placed, under the root `root`).
+    pub(crate) fn human() -> Staged {
+        let (mesh, skeleton) = human();
+        let body = Body::of(mesh, skeleton);
+        let mirror = body.cues.mirror;
+        let limbs = limbs::of(&body.tree(), mirror);
+        let placed = place::place(mesh, skeleton, &body.hosts, "root", &limbs, mirror);
+        Staged {
+            mesh,
+            skeleton,
+            body,
+            limbs,
+            placed,
+        }
+    }
+
+    /// Stage 5 on it, with up given or found.
+    pub(crate) fn named(&self, up: Option<glam::DVec3>) -> Named {
+        let body = &self.body;
+        let radius = &self.skeleton.distance;
+        names::name(&body.character, radius, &self.placed, up, body.cues, "root")
+    }
 }

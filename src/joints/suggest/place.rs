@@ -167,21 +167,17 @@ fn partner<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::joints::suggest::{body::Body, fixture, limbs};
+    use crate::joints::suggest::fixture::Staged;
 
     #[test]
     fn each_limb_that_leaves_a_section_big_enough_is_a_numbered_cut() {
-        let (mesh, skeleton) = fixture::human();
-        let body = Body::of(mesh, skeleton);
-        let limbs = limbs::of(&body.tree(), body.cues.mirror);
-        let placed = place(
+        let Staged {
             mesh,
             skeleton,
-            &body.hosts,
-            "root",
-            &limbs,
-            body.cues.mirror,
-        );
+            body,
+            limbs,
+            placed,
+        } = Staged::human();
         assert!(placed.blank.cuts().is_empty());
         assert_eq!(placed.joints.cuts(), &placed.cuts[..]);
         assert_eq!(placed.sockets.len(), placed.cuts.len());

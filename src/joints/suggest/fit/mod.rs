@@ -100,24 +100,15 @@ pub(crate) fn fit(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::joints::suggest::{body::Body, fixture, limbs, names, place};
+    use crate::joints::suggest::fixture::Staged;
     use crate::mesh::orientation::image;
 
     #[test]
     fn pairs_mirror_exactly_and_shoulders_turn_inside_the_trunk() {
-        let (mesh, skeleton) = fixture::human();
-        let body = Body::of(mesh, skeleton);
-        let mirror = body.cues.mirror;
-        let limbs = limbs::of(&body.tree(), mirror);
-        let placed = place::place(mesh, skeleton, &body.hosts, "root", &limbs, mirror);
-        let named = names::name(
-            &body.character,
-            &skeleton.distance,
-            &placed,
-            None,
-            body.cues,
-            "root",
-        );
+        let staged = Staged::human();
+        let (mesh, skeleton, body, placed) =
+            (staged.mesh, staged.skeleton, &staged.body, &staged.placed);
+        let named = staged.named(None);
         let cuts = fit(
             mesh,
             &body.character,

@@ -240,27 +240,9 @@ mod tests {
 
     #[test]
     fn the_human_s_cuts_are_named_by_role_in_a_frame_facing_forward() {
-        use crate::joints::suggest::{body::Body, fixture, limbs, place};
-        let (mesh, skeleton) = fixture::human();
-        let body = Body::of(mesh, skeleton);
-        let limbs = limbs::of(&body.tree(), body.cues.mirror);
-        let placed = place::place(
-            mesh,
-            skeleton,
-            &body.hosts,
-            "root",
-            &limbs,
-            body.cues.mirror,
-        );
-        let count = placed.cuts.len();
-        let named = name(
-            &body.character,
-            &skeleton.distance,
-            &placed,
-            None,
-            body.cues,
-            "root",
-        );
+        let staged = crate::joints::suggest::fixture::Staged::human();
+        let count = staged.placed.cuts.len();
+        let named = staged.named(None);
         assert_eq!(named.frame.up, DVec3::Y);
         assert_eq!(named.frame.front, DVec3::Z);
         assert_eq!(named.frame.left, DVec3::X);
@@ -286,14 +268,7 @@ mod tests {
         balls.sort_unstable();
         assert_eq!(balls, ["arm.L", "arm.R", "leg.L", "leg.R"]);
         // Up given is up kept.
-        let given = name(
-            &body.character,
-            &skeleton.distance,
-            &placed,
-            Some(DVec3::Z),
-            body.cues,
-            "root",
-        );
+        let given = staged.named(Some(DVec3::Z));
         assert_eq!(given.frame.up, DVec3::Z);
     }
 }
