@@ -1462,6 +1462,18 @@ fn the_population_scores_as_benchmarks_says() {
     };
     let (dev, held) = (recall("development"), recall("held-out"));
     assert!(dev.0 >= 54 && held.0 >= 52, "{dev:?} {held:?}");
+    // Fronts right, as BENCHMARKS says: 19 of 24 and 14 of 21.
+    let fronts = |half: &str| {
+        rows.iter()
+            .filter(|r| r["half"] == half && r["front_right"] == true)
+            .count()
+    };
+    assert!(
+        fronts("development") >= 19 && fronts("held-out") >= 14,
+        "fronts right: {} and {}",
+        fronts("development"),
+        fronts("held-out")
+    );
     let share = |(f, r): (u64, u64)| 100.0 * f as f64 / r as f64;
     assert!(
         (share(dev) - share(held)).abs() <= 5.0,

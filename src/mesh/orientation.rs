@@ -26,7 +26,8 @@
 //! * **Front.** Across up and the mirror plane: the end of the body that the part on the
 //!   plane most like a head grows from (with ears on the body, the one nearest them), away
 //!   from another part on the plane, a tail ([`FRONT_END`]: a cat stretching looks up and
-//!   back); else the way that part leans, else the way the feet point, else the convention
+//!   back); else the way that part leans, else, with limbs hanging down, the way the soles
+//!   lie ahead of the shins ([`TOES`]) or else the limbs' tips point, else the convention
 //!   (+z for y up, −y for z up).
 //!   **Left** = up × front: a character's own left, as `.L` in Blender's names.
 use crate::mesh::Mesh;
@@ -45,6 +46,12 @@ pub const FEET: f64 = 0.2;
 /// mirror plane (a tail's) marks the front; a part on the plane whose root lies as far
 /// behind the centre is a tail.
 pub const FRONT_END: f64 = 0.15;
+/// Where neither the head's end nor its lean tells the front and limbs hang down, soles this
+/// share of the mesh's size ahead of the shins do ([`toes`]), before the limbs' tips. On the development half
+/// of the labelled characters that reach this cue (people, toys, a robot, a head), any
+/// share above 0.0006 (the head on its own, whose "soles" are its neck) gives the same
+/// fronts, all right; 0.01 is a round one in that range.
+pub const TOES: f64 = 0.01;
 /// A flat face of the mesh at its far end along an axis (faces within 5° of the axis and
 /// within 1 % of the mesh's size of that end) covering at least this share of its area is
 /// a base it stands on (a bust's, a statue's): where no limb off the mirror plane says
@@ -550,12 +557,20 @@ pub fn frame(positions: &[DVec3], cues: Cues, limbs: &[Reach], up: Option<DVec3>
         .filter(|l| l.direction().dot(up) < -0.5)
         .map(|l| (l.tip - l.pivot).dot(axis))
         .sum();
+    let toes = || toes(positions, up, axis) / size.max(f64::MIN_POSITIVE);
     let sign = if placed.abs() > FRONT_END * size {
         placed.signum()
     } else if lean.abs() > 0.3 {
         lean.signum()
     } else if feet.abs() > 1e-9 {
-        feet.signum()
+        // Legs hang: their soles say it, where they clearly lie ahead of the shins, else
+        // the limbs' tips.
+        let toes = toes();
+        if toes.abs() >= TOES {
+            toes.signum()
+        } else {
+            feet.signum()
+        }
     } else if axis.dot(convention) < 0.0 {
         -1.0
     } else {
@@ -568,6 +583,31 @@ pub fn frame(positions: &[DVec3], cues: Cues, limbs: &[Reach], up: Option<DVec3>
         front: front + DVec3::ZERO,
         left: up.cross(front) + DVec3::ZERO,
         mirror,
+    }
+}
+
+/// How far the soles (the vertices in the lowest 4 % of the height along `up`) lie ahead of
+/// the shins above them (8–15 %) along `axis`: feet point forward, on a person in shoes as
+/// on a paw.
+fn toes(positions: &[DVec3], up: DVec3, axis: DVec3) -> f64 {
+    let height = |p: &DVec3| p.dot(up);
+    let (lo, hi) = positions
+        .iter()
+        .map(height)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), h| {
+            (a.min(h), b.max(h))
+        });
+    let along = |from: f64, to: f64| {
+        let (lo, hi) = (lo + from * (hi - lo), lo + to * (hi - lo));
+        let (sum, n) = positions
+            .iter()
+            .filter(|p| (lo..=hi).contains(&height(p)))
+            .fold((0.0, 0usize), |(s, n), p| (s + p.dot(axis), n + 1));
+        (n > 0).then(|| sum / n as f64)
+    };
+    match (along(0.0, 0.04), along(0.08, 0.15)) {
+        (Some(soles), Some(shins)) => soles - shins,
+        _ => 0.0,
     }
 }
 
@@ -741,5 +781,47 @@ mod tests {
         };
         let limbs = [sprawl(0.5, 0.2, -1.0), sprawl(1.5, 0.2, 1.0)];
         assert_eq!(frame(&plane, cues, &limbs, None).up, DVec3::Y);
+    }
+
+    /// A standing figure whose legs' tips (the heels, farthest from the hips) lie behind:
+    /// its soles, reaching forward of its shins, tell the front (+z); without soles ahead
+    /// of the shins the limbs' tips do (−z).
+    #[test]
+    fn soles_ahead_of_the_shins_tell_the_front_of_a_standing_figure() {
+        let figure = |soles: bool| {
+            let mut p = Vec::new();
+            for i in 0..=170 {
+                let y = i as f64 * 0.01;
+                for x in [-0.1, 0.1] {
+                    p.push(DVec3::new(x, y, 0.0));
+                    if soles && y <= 0.05 {
+                        for k in 1..=6 {
+                            p.push(DVec3::new(x, y, 0.025 * k as f64));
+                        }
+                    }
+                }
+            }
+            p
+        };
+        let leg = |x: f64| Reach {
+            pivot: DVec3::new(x, 0.9, 0.0),
+            tip: DVec3::new(x, 0.0, -0.05),
+            end: 0.05,
+            paired: false,
+        };
+        let limbs = [leg(0.1), leg(-0.1)];
+        let cues = Cues {
+            mirror: Some((DVec3::X, 0.0)),
+            base: None,
+        };
+        let with = figure(true);
+        assert!(toes(&with, DVec3::Y, DVec3::Z) > TOES * 1.7);
+        assert_eq!(frame(&with, cues, &limbs, Some(DVec3::Y)).front, DVec3::Z);
+        let without = figure(false);
+        assert_eq!(toes(&without, DVec3::Y, DVec3::Z), 0.0);
+        assert_eq!(
+            frame(&without, cues, &limbs, Some(DVec3::Y)).front,
+            DVec3::NEG_Z
+        );
     }
 }

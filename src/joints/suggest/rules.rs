@@ -5,7 +5,8 @@
 // Orientation (stages 1 and 5): defined in `mesh::orientation`, where the mirror plane, the
 // flat base, up and front are found, and listed here with the rest. `MIRRORED`: the mirror
 // plane; `BASE_AREA`: a flat base; `FEET`, `GROUND`: up from feet on the ground;
-// `OFF_PLANE`: a pivot on one side of the plane; `FRONT_END`: a head ahead of a tail.
+// `OFF_PLANE`: a pivot on one side of the plane; `FRONT_END`: a head ahead of a tail;
+// `TOES`: soles ahead of the shins.
 // The names read the last three too.
 pub(crate) use crate::mesh::orientation::{FRONT_END, GROUND, OFF_PLANE};
 
