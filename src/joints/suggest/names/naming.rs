@@ -142,22 +142,21 @@ impl Naming<'_> {
                 .filter(|&c| n.side(n.sections[c].pivot).is_some())
                 .collect()
         };
-        let hanging = |n: &Self, s: usize, r: &Reach| {
-            n.side(r.pivot).is_none() && r.direction().dot(frame.up) < -0.5 && s > 0
-        };
+        let hanging =
+            |n: &Self, r: &Reach| n.side(r.pivot).is_none() && r.direction().dot(frame.up) < -0.5;
         for &(s, r) in limbs {
             let mut chain = vec![s];
             let mut at = s;
             while off_plane(self, at).is_empty() && self.children[at].len() == 1 {
                 let next = self.children[at][0];
-                if chain.len() >= WAIST || !hanging(self, next, &self.reach(next)) {
+                if chain.len() >= WAIST || !hanging(self, &self.reach(next)) {
                     break;
                 }
                 chain.push(next);
                 at = next;
             }
             let carried = off_plane(self, at);
-            if hanging(self, s, &r) && carried.len() >= 2 {
+            if hanging(self, &r) && carried.len() >= 2 {
                 for &c in &chain[..chain.len() - 1] {
                     self.names[c] = Some("waist".into());
                 }
