@@ -69,6 +69,9 @@ pub fn settle(puppet: &mut Puppet, target: &[Local]) -> (Vec<[f64; 2]>, Vec<Loca
 pub struct Surface {
     /// The largest edge stretch (posed length over rest length).
     pub worst: f64,
+    /// The two vertices of that edge (`None` where no edge has a length).
+    #[serde(skip)]
+    pub worst_edge: Option<[usize; 2]>,
     /// The 99th percentile of the edges' stretch.
     pub p99: f64,
     /// The share of edges stretched more than 1.5×.
@@ -134,20 +137,23 @@ pub fn measure_at(puppet: &Puppet, now: &[DVec3], local: &[Local]) -> Surface {
             ..Surface::default()
         };
     }
-    let mut stretch: Vec<f64> = crate::mesh::unique_edges(&puppet.mesh.triangles)
+    let mut stretch: Vec<(f64, [usize; 2])> = crate::mesh::unique_edges(&puppet.mesh.triangles)
         .into_iter()
         .filter_map(|(a, b)| {
             let (a, b) = (a as usize, b as usize);
             let r = rest[a].distance(rest[b]);
-            (r > 0.0).then(|| now[a].distance(now[b]) / r)
+            (r > 0.0).then(|| (now[a].distance(now[b]) / r, [a, b]))
         })
         .collect();
-    stretch.sort_by(f64::total_cmp);
+    stretch.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let worst_edge = stretch.last().map(|s| s.1);
+    let stretch: Vec<f64> = stretch.into_iter().map(|s| s.0).collect();
     let n = stretch.len().max(1) as f64;
     let share = |limit: f64| stretch.iter().filter(|&&s| s > limit).count() as f64 / n;
     let volume = section_volume_extremes(puppet, now);
     Surface {
         worst: stretch.last().copied().unwrap_or(1.0),
+        worst_edge,
         p99: stretch
             .get(((stretch.len() as f64 * 0.99) as usize).min(stretch.len().saturating_sub(1)))
             .copied()

@@ -96,6 +96,8 @@ struct Row {
     /// The sections whose volume changes the least and the most (empty where none
     /// holds a volume).
     volume_sections: [String; 2],
+    /// The sections of the two ends of the most stretched edge (empty where none).
+    worst_sections: [String; 2],
     /// Median step time while settling (ms).
     step_ms: f64,
     /// The pose limit's time in a step (ms): its median over the steps that reach the pose
@@ -319,6 +321,13 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                         s.and_then(|s| base.joints.sections().get(s))
                             .map_or_else(String::new, |s| s.name.clone())
                     }),
+                    worst_sections: std::array::from_fn(|k| {
+                        surface
+                            .worst_edge
+                            .and_then(|e| base.joints.section_of().get(e[k]))
+                            .and_then(|&s| base.joints.sections().get(usize::from(s)))
+                            .map_or_else(String::new, |s| s.name.clone())
+                    }),
                     step_ms: median(0, times.len()),
                     limit_ms: [
                         median(1, ramp as usize),
@@ -426,6 +435,22 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             quantile(&mut worst, 1.0).unwrap_or(f64::NAN),
             100.0 * VOLUME,
         );
+        let over = rows.iter().filter(|r| r.surface.worst > 3.0).count();
+        if let Some(r) = rows
+            .iter()
+            .max_by(|a, b| a.surface.worst.total_cmp(&b.surface.worst))
+        {
+            let [a, b] = &r.worst_sections;
+            let between = if a == b {
+                format!("within {a}")
+            } else {
+                format!("between {a} and {b}")
+            };
+            println!(
+                "The most stretched edge: {:.2}× ({}'s, {between}, seed {}); {over} poses past 3×",
+                r.surface.worst, r.character, r.seed
+            );
+        }
         if let Some((v, r, k)) = most {
             println!(
                 "A section's largest volume change: {:+.1} % ({}'s {}, seed {})",
