@@ -492,7 +492,21 @@ fn pose_bench_passes_and_fails_on_its_bounds() {
         let worst = r["worst"].as_f64().unwrap();
         assert!((1.0..=3.0).contains(&worst), "{r}");
         assert_eq!(r["nan"], false);
+        // The most stretched edge's two ends, by section.
+        let ends = r["worst_sections"].as_array().expect("worst_sections");
+        assert!(
+            ends.len() == 2 && ends.iter().all(|s| !s.as_str().unwrap_or("").is_empty()),
+            "{r}"
+        );
     }
+    // The summary names the most stretched edge and where it lies.
+    let out = puppet(&["bench", "poses", hand, "--poses", "2"]);
+    common::ok(&out);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("The most stretched edge: ") && text.contains("(hand's, "),
+        "{text}"
+    );
     // The character opens once: its time, from the file to its joints, on every record.
     let open = rows[0]["open_s"].as_f64().unwrap();
     assert!(
