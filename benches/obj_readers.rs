@@ -5,6 +5,7 @@
 //! reads the small Spot once with each and checks they agree.
 
 use puppet::mesh::{parse_file_mesh, parse_obj, subdivide_loop, write_obj, Format};
+use puppet::stats::median;
 use std::hint::black_box;
 use std::time::Instant;
 
@@ -27,11 +28,6 @@ fn ours_read(text: &[u8]) -> usize {
         .expect("our reader reads the file")
         .triangles
         .len()
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
 }
 
 fn main() {
@@ -64,7 +60,10 @@ fn main() {
             black_box(tobj_read(black_box(&text)));
             theirs.push(t.elapsed().as_secs_f64() * 1e3);
         }
-        let (a, b) = (median(ours), median(theirs));
+        let (a, b) = (
+            median(&mut ours).unwrap_or(f64::NAN),
+            median(&mut theirs).unwrap_or(f64::NAN),
+        );
         println!(
             "| Spot ×{} | {} | {:.1} | {a:.1} | {b:.1} | {:.2} |",
             4usize.pow(level as u32),
