@@ -152,6 +152,10 @@ const BEHIND: f64 = 1.0;
 /// (the pose issue's bound).
 const VOLUME: f64 = 0.05;
 
+/// The summary counts the poses whose worst edge stretches more than this (the pose
+/// issue's bound).
+const STRETCH: f64 = 3.0;
+
 /// Collision on is worse than off on this pose: what is worse, in words.
 fn worse(off: &Surface, on: &Surface) -> Vec<String> {
     let mut out = Vec::new();
@@ -435,7 +439,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             quantile(&mut worst, 1.0).unwrap_or(f64::NAN),
             100.0 * VOLUME,
         );
-        let over = rows.iter().filter(|r| r.surface.worst > 3.0).count();
+        let over = rows.iter().filter(|r| r.surface.worst > STRETCH).count();
         if let Some(r) = rows
             .iter()
             .max_by(|a, b| a.surface.worst.total_cmp(&b.surface.worst))
@@ -447,7 +451,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                 format!("between {a} and {b}")
             };
             println!(
-                "The most stretched edge: {:.2}× ({}'s, {between}, seed {}); {over} poses past 3×",
+                "The most stretched edge: {:.2}× ({}'s, {between}, seed {}); {over} poses past {STRETCH}×",
                 r.surface.worst, r.character, r.seed
             );
         }
