@@ -525,7 +525,7 @@ impl Joints {
         let (pivot, along) = self.cut_frame(k);
         let normal = cut.normal.normalize_or_zero();
         let reach = 2.5 * radius;
-        (0..self.section_of.len())
+        let members: Vec<(usize, f64)> = (0..self.section_of.len())
             .filter(|&i| !self.body.is_rider(i))
             .filter_map(|i| {
                 let p = self.point(i);
@@ -537,6 +537,57 @@ impl Joints {
                     || (Some(s) == parent && d <= 0.0 && d > -width && in_plane <= reach);
                 member.then_some((i, d))
             })
+            .collect();
+        self.joined_to_seam(child, members)
+    }
+
+    /// `members` (vertex, signed distance) less the child's vertices that are not joined
+    /// to the seam through the child's members: a limb that curls back to its cut's plane
+    /// (a spider's leg, a fingertip beside the palm's cut) has skeletal points near the
+    /// plane far from the seam, and a band level there turns them about a pivot many
+    /// edges away, so a step of one level tears (4.3× on a downloaded spider). Kept as
+    /// they are where the child has no seam (a piece that only passes into its parent).
+    fn joined_to_seam(&self, child: usize, members: Vec<(usize, f64)>) -> Vec<(usize, f64)> {
+        let n = self.section_of.len();
+        let mut moves = vec![false; self.sections.len()];
+        for &s in &self.order {
+            moves[s] = s == child || self.sections[s].parent.is_some_and(|p| moves[p]);
+        }
+        let in_child = |i: usize| usize::from(self.section_of[i]) == child;
+        let mut member = vec![false; n];
+        for &(i, _) in &members {
+            member[i] = in_child(i);
+        }
+        let mut joined = vec![false; n];
+        let mut stack: Vec<usize> = members
+            .iter()
+            .map(|&(i, _)| i)
+            .filter(|&i| {
+                member[i]
+                    && self.body.neighbours(i).iter().any(|&j| {
+                        let j = j as usize;
+                        !self.body.is_rider(j) && !moves[usize::from(self.section_of[j])]
+                    })
+            })
+            .collect();
+        if stack.is_empty() {
+            return members;
+        }
+        for &i in &stack {
+            joined[i] = true;
+        }
+        while let Some(i) = stack.pop() {
+            for &j in self.body.neighbours(i) {
+                let j = j as usize;
+                if member[j] && !joined[j] {
+                    joined[j] = true;
+                    stack.push(j);
+                }
+            }
+        }
+        members
+            .into_iter()
+            .filter(|&(i, _)| !member[i] || joined[i])
             .collect()
     }
 

@@ -653,3 +653,23 @@ fn a_fans_slide_rises_evenly_from_its_seam_to_its_child_end() {
     assert!((profile(at_cut, 0.8) - 0.5).abs() < 1e-12);
     assert!((profile(at_cut, 1.0) - 1.0).abs() < 1e-12);
 }
+
+#[test]
+fn a_limb_curling_back_to_its_cut_turns_whole_where_it_comes_back() {
+    // Rows 26–30 of the arm (cut at y = 1.05) have skeletal points just above the cut, as
+    // a spider's leg whose tip comes back beside its hip: by their skeletal points inside
+    // the band, but joined to the seam only through the arm beyond it.
+    let curled = |r: usize| r >= 26;
+    let mut j = strip(5, |r, _| if curled(r) { 1.1 } else { 0.1 * r as f64 });
+    let arm = j.add_cut(cut("arm", ROOT, 1.05)).unwrap();
+    let sections = j.sections().len();
+    let transform = |r: usize, c: usize| usize::from(j.transform_of()[r * 5 + c]);
+    // The band still bends the arm at its seam …
+    assert!((0..5).all(|c| transform(11, c) >= sections));
+    // … and the curled tip turns with the arm, not by a level of the band.
+    for r in (0..31).filter(|&r| curled(r)) {
+        for c in 0..5 {
+            assert_eq!(transform(r, c), arm, "row {r} column {c}");
+        }
+    }
+}
