@@ -110,12 +110,7 @@ impl WindowState {
             },
             Key::Named(NamedKey::Space) => {
                 if let Some(s) = &mut self.session {
-                    if s.playback.is_some() {
-                        s.toggle_play();
-                    } else {
-                        s.paused ^= true;
-                        s.wake();
-                    }
+                    s.toggle_pause();
                 }
             }
             Key::Named(

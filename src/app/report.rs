@@ -142,7 +142,7 @@ impl WindowState {
             .filter(|&i| regions.pin_of(i) > 0.0)
             .count();
         report.stretch = crate::puppet::poses::worst_stretch(&s.puppet);
-        report.state = if s.paused {
+        report.state = if s.is_paused() {
             "paused"
         } else if s.is_settled() {
             "settled"

@@ -78,8 +78,8 @@ pub struct Session {
     pub export_settings: ExportSettings,
     /// The export running, if any.
     export: Option<ExportJob>,
-    /// Simulation paused by the user.
-    pub paused: bool,
+    /// Simulation paused by the user ([`Session::set_paused`]).
+    paused: bool,
     /// The regions and pinning as undo keeps them.
     regions_state: paint_tool::RegionsState,
     undo: undo::History,
@@ -136,6 +136,30 @@ impl Session {
     /// the window stops stepping and drawing until the next input.
     pub fn is_running(&self) -> bool {
         !self.settled && !self.paused
+    }
+
+    /// True when the user paused the simulation.
+    pub fn is_paused(&self) -> bool {
+        self.paused
+    }
+
+    /// Pauses or resumes the simulation; resumed, it steps again (and the window draws
+    /// the change either way).
+    pub fn set_paused(&mut self, paused: bool) {
+        if self.paused != paused {
+            self.paused = paused;
+            self.wake();
+        }
+    }
+
+    /// What Space does: plays or pauses the animation playing, else pauses or resumes
+    /// the simulation.
+    pub fn toggle_pause(&mut self) {
+        if self.playback.is_some() {
+            self.toggle_play();
+        } else {
+            self.set_paused(!self.paused);
+        }
     }
 
     /// Something changed: simulate again.

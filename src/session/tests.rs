@@ -250,6 +250,21 @@ fn the_simulation_sleeps_when_settled_and_wakes_on_a_change() {
 }
 
 #[test]
+fn pausing_stops_the_steps_and_resuming_wakes_them() {
+    let mut s = session();
+    s.select(Some(2), false);
+    s.rotate_selected(DQuat::from_rotation_z(0.5));
+    let revision = s.revision;
+    s.toggle_pause();
+    assert!(s.is_paused() && !s.is_running());
+    assert!(s.revision > revision, "the window draws the paused state");
+    assert_eq!(s.advance(1.0, 4), 0, "paused, nothing steps");
+    s.set_paused(false);
+    assert!(!s.is_paused() && s.is_running());
+    assert!(s.advance(1.0 / 60.0, 4) > 0, "resumed, it steps again");
+}
+
+#[test]
 fn picking_hits_the_nearest_surface() {
     let s = session();
     let hit = s

@@ -80,5 +80,8 @@ pub(super) fn material_section(ui: &mut egui::Ui, session: &mut Session) {
     if session.puppet.sim.params().is_static() {
         ui.small("static material: the surface follows the bones (not integrated)");
     }
-    ui.checkbox(&mut session.paused, "pause simulation");
+    let mut paused = session.is_paused();
+    if ui.checkbox(&mut paused, "pause simulation").changed() {
+        session.set_paused(paused);
+    }
 }

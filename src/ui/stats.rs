@@ -17,7 +17,7 @@ pub(super) fn stats_section(ui: &mut egui::Ui, state: &PanelState, session: &Ses
             ("fps", format!("{:.0}", state.stats.fps)),
             (
                 "state",
-                if session.paused {
+                if session.is_paused() {
                     "paused".into()
                 } else if session.is_settled() {
                     "settled".into()
