@@ -70,6 +70,50 @@ fn every_pose_of_the_shipped_population_stays_within_three_times() {
     assert!(table.contains("500 poses of 25 characters"), "{table}");
 }
 
+/// BENCHMARKS' claims on the 45 downloads of `tests/data/population` (20 seeds each,
+/// settled, the joints suggested from the skeleton): no pose gives a NaN, no edge
+/// stretches past 5.5× (the parasaurolophus's neck and head, 5.47×), at most 29 poses pass
+/// 3×, and 35 characters stay within 3× on every pose. Half a minute in CI.
+#[test]
+fn the_downloads_poses_hold_what_benchmarks_says() {
+    let out = puppet(&[
+        "bench",
+        "poses",
+        "--ignore-skin",
+        "--max-stretch",
+        "5.5",
+        "tests/data/population",
+    ]);
+    ok(&out);
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.contains("900 poses of 45 characters"), "{table}");
+    let past: usize = table
+        .split(" poses past 3×")
+        .next()
+        .and_then(|head| head.rsplit("; ").next())
+        .and_then(|n| n.trim().parse().ok())
+        .unwrap_or_else(|| panic!("no count of poses past 3× in {table}"));
+    assert!(past <= 29, "{past} poses past 3×");
+    // Each character's row: `| name | joints | poses | median … max | … | NaN | …`.
+    let rows: Vec<Vec<&str>> = table
+        .lines()
+        .filter(|l| l.starts_with("| ") && !l.starts_with("| character"))
+        .map(|l| l.split('|').map(str::trim).collect())
+        .collect();
+    assert_eq!(rows.len(), 45, "{table}");
+    let within = rows
+        .iter()
+        .filter(|r| {
+            r[4].rsplit(' ')
+                .next()
+                .and_then(|m| m.parse::<f64>().ok())
+                .is_some_and(|m| m <= 3.0)
+        })
+        .count();
+    assert!(within >= 35, "{within} of 45 within 3× on every pose");
+    assert!(rows.iter().all(|r| r[11] == "0"), "a NaN: {table}");
+}
+
 /// The pose issue's first case: the human's head nodded 45° forward about its suggested
 /// cut, which crossed the face at the mouth and tore it open (46× at the lips).
 #[test]
