@@ -16,7 +16,9 @@
 //! head bent into a shoulder).
 //! A vertex of the child or the parent whose skeletal point lies at signed distance `d`
 //! from the plane (positive into the child), `−W < d < W_c` (`W_c ≤ W` the child's side),
-//! lies at `x = (d + W) / (W + W_c)` across the band. That is the first guess; the share
+//! lies at `x = (d + W) / (W + W_c)` across the band (a child's vertex only where it is
+//! joined to the seam through such vertices: a limb that curls back to the plane is not
+//! in the band there). That is the first guess; the share
 //! `x` each vertex gets is then blended over the surface around the cut's seam
 //! ([`super::blend`]: across a face or a thick trunk neighbouring skeletal points lie far
 //! apart, and the skin between them tore), and the vertex moves with a share `w` of the
@@ -514,8 +516,9 @@ impl Joints {
 
     /// The body's vertices (riders excluded) near cut `k`, with the signed distance `d` of
     /// their skeletal point from its plane (positive into the child): the child's with
-    /// `d < width`, and the parent's with `−width < d ≤ 0` within `2.5 r` of the pivot in
-    /// the plane (see the module docs). What a band of half-width `width` moves.
+    /// `d < width` joined to the seam through such vertices, and the parent's with
+    /// `−width < d ≤ 0` within `2.5 r` of the pivot in the plane (see the module docs).
+    /// What a band of half-width `width` moves.
     fn near_cut(&self, k: usize, radius: f64, width: f64) -> Vec<(usize, f64)> {
         let cut = &self.cuts[k];
         let Some(child) = self.find(&cut.name) else {
