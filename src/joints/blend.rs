@@ -151,10 +151,7 @@ impl Joints {
             return guess.iter().map(|g| (g.vertex, g.x)).collect();
         }
         // Which sections move with the child.
-        let mut moves = vec![false; self.sections.len()];
-        for &s in &self.order {
-            moves[s] = s == child || self.sections[s].parent.is_some_and(|p| moves[p]);
-        }
+        let moves = self.moves_with(child);
         let label = |i: usize| f64::from(u8::from(moves[usize::from(self.section_of[i])]));
         // The sections carried, each at its position, their subtrees with them.
         let mut carry: Vec<Option<f64>> = vec![None; self.sections.len()];

@@ -59,6 +59,7 @@
 //! * `carry`: the siblings a band carries whole, and the order bands compose in;
 //! * `slide`: a fan's skin slid along its normal so the child keeps its volume;
 //! * `levels`: a band's weights rounded to its levels, short edges on one;
+//! * `reach`: where a band reaches: the vertices near a cut, its radius, its flesh;
 //! * `pose`: composing a pose down the section tree;
 //! * `suggest`: joints suggested from the skeleton;
 //! * `skin`: joints from the skeleton the mesh file came with (a glTF skin);
@@ -78,6 +79,7 @@ pub mod collide;
 mod cut;
 mod levels;
 mod pose;
+mod reach;
 mod shape;
 pub mod skin;
 mod slide;
@@ -624,6 +626,16 @@ impl Joints {
                 depth * 65_536 + s as u32
             })
             .collect()
+    }
+
+    /// Per section, whether it moves with section `s`: `s` itself and every section
+    /// hanging from it, however deep.
+    pub(super) fn moves_with(&self, s: usize) -> Vec<bool> {
+        let mut moves = vec![false; self.sections.len()];
+        for &k in &self.order {
+            moves[k] = k == s || self.sections[k].parent.is_some_and(|p| moves[p]);
+        }
+        moves
     }
 
     /// Index of the section named `name`.
