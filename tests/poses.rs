@@ -73,7 +73,7 @@ fn every_pose_of_the_shipped_population_stays_within_three_times() {
 /// BENCHMARKS' claims on the 45 downloads of `tests/data/population` (20 seeds each,
 /// settled, the joints suggested from the skeleton): no pose gives a NaN, no edge
 /// stretches past 4.5× (the adventurer's body, 4.08×; 5.47× before the tear check took
-/// back joints past 3.5×), at most 14 poses pass 3×, and 38 characters stay within 3× on
+/// back joints past 3.5×), at most 9 poses pass 3×, and 40 characters stay within 3× on
 /// every pose. Half a minute in CI.
 #[test]
 fn the_downloads_poses_hold_what_benchmarks_says() {
@@ -94,7 +94,7 @@ fn the_downloads_poses_hold_what_benchmarks_says() {
         .and_then(|head| head.rsplit("; ").next())
         .and_then(|n| n.trim().parse().ok())
         .unwrap_or_else(|| panic!("no count of poses past 3× in {table}"));
-    assert!(past <= 14, "{past} poses past 3×");
+    assert!(past <= 9, "{past} poses past 3×");
     // Each character's row: `| name | joints | poses | median … max | … | NaN | …`.
     let rows: Vec<Vec<&str>> = table
         .lines()
@@ -111,7 +111,7 @@ fn the_downloads_poses_hold_what_benchmarks_says() {
                 .is_some_and(|m| m <= 3.0)
         })
         .count();
-    assert!(within >= 38, "{within} of 45 within 3× on every pose");
+    assert!(within >= 40, "{within} of 45 within 3× on every pose");
     assert!(rows.iter().all(|r| r[11] == "0"), "a NaN: {table}");
 }
 
