@@ -1,4 +1,4 @@
-//! Micro-benchmarks of the simulation step on the standard scenario (`puppet::scenario`):
+//! Micro-benchmarks of the simulation step on the standard scenario (`puppet::bench::scenario`):
 //! Spot (2,930 vertices) and Spot Loop-subdivided twice (46,850 vertices).
 //! `cargo bench --bench step`.
 //!
@@ -9,9 +9,9 @@
 //! * `reference-f64`: one step of the f64 reference solver.
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use puppet::bench::scenario::{reference::Reference, Scenario};
 use puppet::joints::PoseScratch;
 use puppet::mesh::{parse_obj, subdivide_loop_values, vertex_normals};
-use puppet::scenario::{reference::Reference, Scenario};
 use puppet::sim::{Constraint, Options, Params, Pose, Simulation};
 use std::hint::black_box;
 

@@ -6,8 +6,9 @@
 //! Data flows one way through the core:
 //!
 //! [`mesh`] → [`skeleton`] (on [`delaunay`] and [`geom`]) → [`rig`] → [`sim`] ← [`joints`];
-//! [`anim`], [`puppet`], [`scenario`], [`session`], [`export`] and [`controls`] (live
-//! devices mapped to sections) on top.
+//! [`anim`], [`puppet`], [`session`], [`export`] and [`controls`] (live devices mapped to
+//! sections) on top; [`bench`] holds what only measurement uses (scenarios, references,
+//! labels).
 //!
 //! The shell (`render`, `ui`, `app`, behind the default `gui` feature, and the command line
 //! in the binary) only reads the core. The core never imports a GPU or windowing crate: they
@@ -17,6 +18,7 @@
 #![warn(missing_docs)]
 
 pub mod anim;
+pub mod bench;
 pub mod controls;
 pub mod delaunay;
 pub mod export;
@@ -28,7 +30,6 @@ pub mod progress;
 pub mod puppet;
 pub mod random;
 pub mod rig;
-pub mod scenario;
 pub mod session;
 pub mod sim;
 pub mod skeleton;

@@ -2,10 +2,11 @@
 
 mod common;
 use common::{approx, puppet, scratch, test_mesh};
+use puppet::bench::truth;
 use puppet::geom::inside::InsideTest;
 use puppet::mesh::{load, parse_obj, shapes, vertex_normals};
 use puppet::progress::silent;
-use puppet::skeleton::{build, truth, Method, SkeletonParams};
+use puppet::skeleton::{build, Method, SkeletonParams};
 
 fn params(method: Method) -> SkeletonParams {
     SkeletonParams {
@@ -266,7 +267,8 @@ fn every_test_meshs_skeletal_points_stay_inside_with_the_default_method() {
 /// small Spot's balls and 75 of the bunny's were too large, by up to 65 %.
 #[test]
 fn the_fitted_ball_is_its_definition_on_the_test_meshes() {
-    use puppet::skeleton::{truth::fitted_balls_by_brute_force, SETTLE_SLACK};
+    use puppet::bench::truth::fitted_balls_by_brute_force;
+    use puppet::skeleton::SETTLE_SLACK;
     for name in ["spot-small", "bunny", "scorpion"] {
         let mesh = load(&test_mesh(&format!("{name}.obj"))).unwrap().0;
         let normals = vertex_normals(&mesh).unwrap();

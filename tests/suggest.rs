@@ -4,7 +4,7 @@
 mod common;
 
 use common::{puppet, scratch, test_mesh};
-use puppet::joints::suggest::labels::Labels;
+use puppet::bench::labels::Labels;
 use puppet::mesh::orientation::Up;
 use puppet::{mesh, Puppet, RigFile};
 use std::path::Path;
@@ -525,7 +525,7 @@ fn a_small_part_lying_apart_changes_no_name() {
 #[test]
 fn a_body_s_arms_are_not_its_digits() {
     use glam::DVec3;
-    use puppet::joints::suggest::labels::TOLERANCE;
+    use puppet::bench::labels::TOLERANCE;
     let (labels, p) = labelled("robot");
     let tolerance = TOLERANCE * p.mesh.longest_side();
     for side in ["L", "R"] {
@@ -561,7 +561,7 @@ fn a_body_s_arms_are_not_its_digits() {
 #[test]
 fn thighs_that_touch_are_cut_at_the_hip() {
     use glam::DVec3;
-    use puppet::joints::suggest::labels::TOLERANCE;
+    use puppet::bench::labels::TOLERANCE;
     let (labels, p) = labelled("human");
     let tolerance = TOLERANCE * p.mesh.longest_side();
     for side in ["L", "R"] {
@@ -605,7 +605,7 @@ fn thighs_that_touch_are_cut_at_the_hip() {
 #[test]
 fn shoulders_and_hips_turn_inside_the_trunk() {
     use glam::DVec3;
-    use puppet::joints::suggest::labels::TOLERANCE;
+    use puppet::bench::labels::TOLERANCE;
     for name in ["teddy", "bigears"] {
         let (labels, p) = labelled(name);
         let tolerance = TOLERANCE * p.mesh.longest_side();

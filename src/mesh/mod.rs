@@ -23,11 +23,9 @@
 //! * `shapes`, `subdivide`: test shapes, refinement;
 //! * `groups`: the file's named groups (materials), carried to the loaded vertices;
 //! * `measure`: areas, volumes and extents of a surface;
-//! * `orientation`: a character's mirror plane, flat base, up, front and left;
-//! * `decimate`: quadric edge collapse, for the rough copies the benchmarks make.
+//! * `orientation`: a character's mirror plane, flat base, up, front and left.
 
 mod attachments;
-mod decimate;
 mod edges;
 mod fill;
 mod fit;
@@ -52,7 +50,6 @@ mod validate;
 mod weld;
 
 pub use attachments::attachments;
-pub use decimate::decimate;
 pub use fit::{fit_surface, SurfaceFit};
 pub use groups::{FaceGroups, Groups};
 pub use load::{

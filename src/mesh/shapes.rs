@@ -1,5 +1,5 @@
 //! Analytic test shapes whose vertices lie exactly on known surfaces, so the skeleton can be
-//! compared with the true medial radius (see `skeleton::truth`). Also a cube grid: the
+//! compared with the true medial radius (see `bench::truth`). Also a cube grid: the
 //! coplanar, cocircular worst case for Delaunay code.
 
 use super::Mesh;

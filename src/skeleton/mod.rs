@@ -38,14 +38,13 @@
 //!
 //! Files: `build` (the stages, run together), `shrinking_ball` (the balls on the
 //! tetrahedralization's edge hook), `voronoi` (stages 2–3 for the classifying methods),
-//! `thickness` (stage 4), `cache` (skeletons cached by mesh content), `truth` (analytic
-//! shapes with known medial radii, for the accuracy report).
+//! `thickness` (stage 4), `cache` (skeletons cached by mesh content). The analytic shapes
+//! with known medial radii it is measured against are `crate::bench::truth`.
 
 mod build;
 pub mod cache;
 mod shrinking_ball;
 mod thickness;
-pub mod truth;
 mod voronoi;
 
 pub use build::build;
@@ -269,7 +268,7 @@ mod tests {
         let sk = build(&mesh, &normals, &SkeletonParams::default(), &none).unwrap();
         assert_eq!(sk.fallback, 0);
         let start = crate::mesh::fit_surface(&mesh, &normals).fitted_radius;
-        let brute = truth::fitted_balls_by_brute_force(&mesh, &normals);
+        let brute = crate::bench::truth::fitted_balls_by_brute_force(&mesh, &normals);
         let pts = &mesh.positions;
         let (mut largest, mut started) = (0, 0);
         for (i, (&d, &brute)) in sk.distance.iter().zip(&brute).enumerate() {

@@ -2,7 +2,7 @@
 //!
 //! The scenario: the standard scenario on the input (the limb swings for 1 s, then holds for
 //! 1 s; 120 frames at 60 frames/s). For each constraint:
-//! 1. **Reference.** The same equations in `f64` ([`puppet::scenario::reference`]) with
+//! 1. **Reference.** The same equations in `f64` ([`puppet::bench::scenario::reference`]) with
 //!    the step halved from h₀/8 until the largest difference between two successive
 //!    refinements, over every vertex and frame, is below 1e-6 of the bounding-box diagonal
 //!    (or h₀/256), then extrapolated (Richardson, first order: the change halves with
@@ -25,8 +25,8 @@ use super::{median_p95, Base, Input};
 use crate::cli::LoadArgs;
 use anyhow::{bail, Result};
 use glam::DVec3;
-use puppet::scenario::reference::Reference;
-use puppet::scenario::Scenario;
+use puppet::bench::scenario::reference::Reference;
+use puppet::bench::scenario::Scenario;
 use puppet::sim::{Constraint, Options, Params, Simulation};
 
 const FRAMES: usize = 120;

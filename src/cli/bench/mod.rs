@@ -1,7 +1,7 @@
 //! `puppet bench MODE`: every measurement in `BENCHMARKS.md` and
 //! `docs/engine-benchmarks.md`, headless, one subcommand per mode:
 //!
-//! * `throughput`: step throughput on the standard scenario ([`puppet::scenario`]), and the
+//! * `throughput`: step throughput on the standard scenario ([`puppet::bench::scenario`]), and the
 //!   largest Loop subdivision of the input that still holds 60 steps/s ([`throughput`]);
 //! * `accuracy`: run time against error for each configuration, against a converged `f64`
 //!   reference, with the Pareto front ([`accuracy`]);
@@ -40,8 +40,8 @@ mod throughput;
 
 use super::{load_mesh, LoadArgs};
 use anyhow::{anyhow, bail, Result};
+use puppet::bench::scenario::Scenario;
 use puppet::mesh::{subdivide_loop_values, vertex_normals, Mesh};
-use puppet::scenario::Scenario;
 use std::path::PathBuf;
 
 /// `puppet bench MODE`: one subcommand per measurement.

@@ -4,8 +4,9 @@
 
 use crate::cli::{load_mesh, FileError, LoadArgs};
 use anyhow::{bail, Result};
+use puppet::bench::truth;
 use puppet::mesh::{self, subdivide_loop, vertex_normals, write_obj};
-use puppet::skeleton::{self, truth, Method, SkeletonParams};
+use puppet::skeleton::{self, Method, SkeletonParams};
 use puppet::stats::median;
 use std::time::Instant;
 

@@ -29,10 +29,10 @@
 
 use anyhow::{bail, Result};
 use glam::{DQuat, DVec3, Vec3};
+use puppet::bench::scenario::Scenario;
 use puppet::joints::{Cut, Joints, Local, Shape, ROOT};
 use puppet::mesh::{self, shapes, subdivide_loop, Mesh};
 use puppet::random::SplitMix;
-use puppet::scenario::Scenario;
 use puppet::sim::{
     Constraint, Layer, Material, Params, Regions, Simulation, Solver, World, MAX_GRAVITY,
     MAX_STIFFENING, MAX_STIFFNESS, REFERENCE_STEP,

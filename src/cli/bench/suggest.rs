@@ -1,11 +1,11 @@
 //! `puppet bench suggest`: the suggested joints of each labelled character against its
-//! labels (see `puppet::joints::suggest::labels`): recall of the required joints,
+//! labels (see `puppet::bench::labels`): recall of the required joints,
 //! spurious cuts, names, up and front, RigNet's joint-to-joint distance, and the time
 //! taken; totals per half of the population (`Half`), which must agree.
 
 use crate::cli::LoadArgs;
 use anyhow::{anyhow, bail, Result};
-use puppet::joints::suggest::labels::{Half, Labels, Score, TOLERANCE};
+use puppet::bench::labels::{Half, Labels, Score, TOLERANCE};
 use puppet::mesh::orientation::Up;
 use puppet::{Puppet, RigFile};
 use std::path::{Path, PathBuf};

@@ -8,8 +8,8 @@
 use super::{median_p95, Base, Input};
 use crate::cli::LoadArgs;
 use anyhow::Result;
+use puppet::bench::scenario::Scenario;
 use puppet::mesh::subdivide_loop_values;
-use puppet::scenario::Scenario;
 use puppet::sim::Constraint;
 use puppet::sim::{Layer, Material, Options, Params, Regions, Simulation, REFERENCE_STEP};
 

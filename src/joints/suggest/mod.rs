@@ -32,7 +32,8 @@
 //!//!
 //! Two or more characters in one file (bodies apart from each other) each run the stages
 //! on their own (`characters`). `puppet bench suggest` scores the suggestion against the
-//! labelled characters of `tests/data/characters` and `tests/data/population` (`labels`).
+//! labelled characters of `tests/data/characters` and `tests/data/population`
+//! (`crate::bench::labels`).
 //!
 //! # Where things are
 //! * `rules`: the thresholds, in one place;
@@ -44,14 +45,12 @@
 //! * `fit`: stage 6 (`pairs`, `body` and `slice`, `head`);
 //! * `seams`: the cuts applied, and those that would tear taken back;
 //! * `characters`: two or more characters in one file;
-//! * `labels`: a labelled character's joints, and a suggestion's score against them;
 //! * `union_find`: the sweep's sets, a slice's loops;
 //! * `fixture` (tests only): the repository's characters the stages' unit tests run on.
 
 mod body;
 pub mod characters;
 mod fit;
-pub mod labels;
 mod limbs;
 mod names;
 mod place;

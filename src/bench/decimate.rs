@@ -1,10 +1,10 @@
 //! Quadric-error decimation by half-edge collapses (Garland & Heckbert's error, but each
 //! edge collapses into one of its ends, so every vertex left is one of the input's: a
 //! decimated analytic shape keeps its vertices exactly on the surface). Used for the
-//! uneven test shapes of `skeleton::truth`: its triangles are as uneven as those of a
+//! uneven test shapes of `bench::truth`: its triangles are as uneven as those of a
 //! decimated scan or a game character.
 
-use super::Mesh;
+use crate::mesh::Mesh;
 use glam::DVec3;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;

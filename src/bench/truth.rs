@@ -8,8 +8,9 @@
 //! `n·(q − p) < 0` (the ball through `p` and `q` tangent at `p`), found by dense sampling
 //! plus local refinement.
 
-use super::{build, Method, SkeletonParams};
-use crate::mesh::{decimate, shapes, vertex_normals, Mesh};
+use super::decimate;
+use crate::mesh::{shapes, vertex_normals, Mesh};
+use crate::skeleton::{build, Method, SkeletonParams};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
@@ -306,12 +307,12 @@ pub fn accuracy(cases: &[Case], methods: &[Method], sliver_ratio: f64) -> Vec<Ac
 
 /// The fitted ball of every vertex by its definition, brute force over all vertices (no
 /// Delaunay edges; O(n²), for tests): from the fitted radius, lowered by every
-/// vertex off the patch ([`super::Tangent::lower`]). What the default method computes
-/// before the thickness clamp, up to [`super::SETTLE_SLACK`].
+/// vertex off the patch ([`crate::skeleton::Tangent::lower`]). What the default method computes
+/// before the thickness clamp, up to [`crate::skeleton::SETTLE_SLACK`].
 pub fn fitted_balls_by_brute_force(mesh: &Mesh, normals: &[DVec3]) -> Vec<f64> {
     let fit = crate::mesh::fit_surface(mesh, normals);
     let pts = &mesh.positions;
-    super::Tangent::fitted(&fit)
+    crate::skeleton::Tangent::fitted(&fit)
         .par_iter()
         .enumerate()
         .map(|(i, t)| {
