@@ -21,6 +21,7 @@
 //!    by another precision, step, sleeping or SIMD choice; the command fails if it is (the
 //!    sweep of reduction iterations is shown but not held against it).
 
+use super::table::{self, Column, Table};
 use super::{median_p95, Base, Input};
 use crate::cli::LoadArgs;
 use anyhow::{bail, Result};
@@ -353,7 +354,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         }
     }
     if args.json {
-        println!("{}", serde_json::to_string(&report)?);
+        table::json(&report)?;
     } else {
         println!(
             "{}: {} vertices, standard scenario, {} frames at 60 frames/s; errors relative to the bounding-box diagonal",
@@ -362,34 +363,44 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         println!();
         println!("Reference convergence (f64, successive halvings of the step):");
         println!();
-        println!("| constraint | steps compared | RMS change, swing | max change, swing | RMS change, all | max change, all |");
-        println!("|---|---|---:|---:|---:|---:|");
+        let mut convergence = Table::new(&[
+            Column::Text("constraint"),
+            Column::Text("steps compared"),
+            Column::Figure("RMS change, swing"),
+            Column::Figure("max change, swing"),
+            Column::Figure("RMS change, all"),
+            Column::Figure("max change, all"),
+        ]);
+        convergence.start();
         for c in &report.convergence {
-            println!(
-                "| {} | {} | {:.1e} | {:.1e} | {:.1e} | {:.1e} |",
-                c.method,
-                c.step,
-                c.swing_rms_change,
-                c.swing_max_change,
-                c.rms_change,
-                c.max_change
-            );
+            convergence.row(&[
+                c.method.to_string(),
+                c.step.to_string(),
+                format!("{:.1e}", c.swing_rms_change),
+                format!("{:.1e}", c.swing_max_change),
+                format!("{:.1e}", c.rms_change),
+                format!("{:.1e}", c.max_change),
+            ]);
         }
         println!();
-        println!(
-            "| constraint | configuration | ms per frame | RMS error | max error | Pareto front |"
-        );
-        println!("|---|---|---:|---:|---:|---|");
+        let mut table = Table::new(&[
+            Column::Text("constraint"),
+            Column::Text("configuration"),
+            Column::Figure("ms per frame"),
+            Column::Figure("RMS error"),
+            Column::Figure("max error"),
+            Column::Text("Pareto front"),
+        ]);
+        table.start();
         for r in &report.rows {
-            println!(
-                "| {} | {} | {:.3} | {:.2e} | {:.2e} | {} |",
-                r.method,
-                r.config,
-                r.ms_per_frame,
-                r.rms_error,
-                r.max_error,
-                if r.pareto { "**yes**" } else { "" }
-            );
+            table.row(&[
+                r.method.to_string(),
+                r.config.to_string(),
+                format!("{:.3}", r.ms_per_frame),
+                format!("{:.2e}", r.rms_error),
+                format!("{:.2e}", r.max_error),
+                if r.pareto { "**yes**" } else { "" }.to_string(),
+            ]);
         }
     }
     if let Some(r) = report.rows.iter().find(|r| r.beaten) {

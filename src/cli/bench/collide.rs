@@ -2,6 +2,7 @@
 //! collision off and on, turned by a hand and by an animation: faces crossing, the deepest
 //! penetration, section volumes, and the step's cost.
 
+use super::table::{self, Column, Table};
 use crate::cli::LoadArgs;
 use anyhow::{anyhow, Result};
 use puppet::puppet::press::{Drive, Pressed, PRESSES};
@@ -42,6 +43,7 @@ struct Row {
 
 pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     let mut rows = Vec::new();
+    let mut table = Table::new(&COLUMNS);
     // Both settings checked before any press runs.
     puppet::sim::World {
         collision: true,
@@ -102,26 +104,37 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                 pressed,
             };
             if !args.json {
-                print_row(&row, rows.is_empty());
+                table.row(&cells(&row));
             }
             rows.push(row);
         }
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&rows)?);
+        table::json(&rows)?;
     }
     Ok(())
 }
 
-fn print_row(r: &Row, header: bool) {
-    if header {
-        println!("| pose | collision | turned by | reached | new crossing faces | deepest (% diagonal) | vertices inside | body dent / part squashed (% diagonal) | section volumes | step (ms) | awake tiles at the end |");
-        println!("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|");
-    }
+/// The columns of `bench collide`'s table.
+const COLUMNS: [Column; 11] = [
+    Column::Text("pose"),
+    Column::Text("collision"),
+    Column::Text("turned by"),
+    Column::Figure("reached"),
+    Column::Figure("new crossing faces"),
+    Column::Figure("deepest (% diagonal)"),
+    Column::Figure("vertices inside"),
+    Column::Figure("body dent / part squashed (% diagonal)"),
+    Column::Figure("section volumes"),
+    Column::Figure("step (ms)"),
+    Column::Figure("awake tiles at the end"),
+];
+
+/// A row's cells, as its table prints them.
+fn cells(r: &Row) -> Vec<String> {
     let p = &r.pressed;
-    println!(
-        "| {} | {} | {} | {:.0}° | {} of {} | {:.2} | {} | {:.2} / {:.2} | {:+.1} % … {:+.1} % | {:.2} | {} of {} |",
-        r.press,
+    vec![
+        r.press.to_string(),
         match (r.collision, r.flesh > 0.0) {
             (false, _) => "off".to_string(),
             (true, false) => "on".to_string(),
@@ -130,18 +143,19 @@ fn print_row(r: &Row, header: bool) {
         match r.drive {
             Drive::Hand => "hand",
             Drive::Animation => "animation",
-        },
-        p.reached,
-        p.crossing,
-        p.faces,
-        p.deepest,
-        p.inside,
-        p.dent[0],
-        p.dent[1],
-        100.0 * p.volume[0],
-        100.0 * p.volume[1],
-        p.step_ms,
-        p.awake[0],
-        p.awake[1]
-    );
+        }
+        .to_string(),
+        format!("{:.0}°", p.reached),
+        format!("{} of {}", p.crossing, p.faces),
+        format!("{:.2}", p.deepest),
+        p.inside.to_string(),
+        format!("{:.2} / {:.2}", p.dent[0], p.dent[1]),
+        format!(
+            "{:+.1} % … {:+.1} %",
+            100.0 * p.volume[0],
+            100.0 * p.volume[1]
+        ),
+        format!("{:.2}", p.step_ms),
+        format!("{} of {}", p.awake[0], p.awake[1]),
+    ]
 }

@@ -10,6 +10,7 @@
 //! is late); the bench fails (exit status 2) when it does not hold.
 
 use super::median_p95;
+use super::table::{self, Column, Table};
 use anyhow::{Context, Result};
 use puppet::controls::{glove, osc, Controls, ControlsFile, Event};
 use puppet::session::Session;
@@ -144,22 +145,27 @@ pub fn run(args: &Args) -> Result<()> {
         budget_ms: 1000.0 / 60.0 + step_median,
     };
     if args.json {
-        println!("{}", serde_json::to_string(&report)?);
+        table::json(&report)?;
     } else {
-        println!(
-            "| packets | received | latency median | p95 | max | step | one frame + one step |"
-        );
-        println!("|---:|---:|---:|---:|---:|---:|---:|");
-        println!(
-            "| {} | {} | {:.2} ms | {:.2} ms | {:.2} ms | {:.2} ms | {:.2} ms |",
-            report.packets,
-            report.received,
-            report.latency_ms_median,
-            report.latency_ms_p95,
-            report.latency_ms_max,
-            report.step_ms_median,
-            report.budget_ms
-        );
+        let mut table = Table::new(&[
+            Column::Figure("packets"),
+            Column::Figure("received"),
+            Column::Figure("latency median"),
+            Column::Figure("p95"),
+            Column::Figure("max"),
+            Column::Figure("step"),
+            Column::Figure("one frame + one step"),
+        ]);
+        let ms = |v: f64| format!("{v:.2} ms");
+        table.row(&[
+            report.packets.to_string(),
+            report.received.to_string(),
+            ms(report.latency_ms_median),
+            ms(report.latency_ms_p95),
+            ms(report.latency_ms_max),
+            ms(report.step_ms_median),
+            ms(report.budget_ms),
+        ]);
     }
     // The claim this bench holds: a packet shows within one frame plus one step (at the
     // 95th percentile of all sent, a lost one never).

@@ -11,6 +11,7 @@
 //! them alike. Exit status 2 when the window's default on this adapter (the ground, with
 //! anti-aliasing on a GPU) draws fewer than `--min-fps` frames a second.
 
+use super::table::{self, Column, Table};
 use super::Input;
 use crate::cli::LoadArgs;
 use anyhow::{bail, Result};
@@ -200,7 +201,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         rows,
     };
     if args.json {
-        println!("{}", serde_json::to_string(&report)?);
+        table::json(&report)?;
     } else {
         println!(
             "{} subdivided {}×: {} vertices, {} triangles; {} × {} pixels on {}; {} frames each, the head nodding",
@@ -214,22 +215,29 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             report.frames
         );
         println!();
-        println!("| configuration | samples | ground and shadow | ms per frame (median) | p95 | frames/s |");
-        println!("|---|---:|---|---:|---:|---:|");
+        let mut table = Table::new(&[
+            Column::Text("configuration"),
+            Column::Figure("samples"),
+            Column::Text("ground and shadow"),
+            Column::Figure("ms per frame (median)"),
+            Column::Figure("p95"),
+            Column::Figure("frames/s"),
+        ]);
+        table.start();
         for r in &report.rows {
             let name = if r.window_default {
                 format!("**{} (the window's default here)**", r.config)
             } else {
                 r.config.to_string()
             };
-            println!(
-                "| {name} | {} | {} | {:.2} | {:.2} | {:.0} |",
-                r.samples,
-                if r.ground { "yes" } else { "no" },
-                r.ms_per_frame,
-                r.ms_p95,
-                r.fps
-            );
+            table.row(&[
+                name,
+                r.samples.to_string(),
+                if r.ground { "yes" } else { "no" }.to_string(),
+                format!("{:.2}", r.ms_per_frame),
+                format!("{:.2}", r.ms_p95),
+                format!("{:.0}", r.fps),
+            ]);
         }
     }
     let default = report.rows.iter().find(|r| r.window_default);

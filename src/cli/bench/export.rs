@@ -5,6 +5,7 @@
 //! to a scratch folder (removed afterwards), timed from the frames in memory to the file
 //! closed.
 
+use super::table::{self, Column, Table};
 use super::{Base, Input};
 use crate::cli::LoadArgs;
 use anyhow::{Context, Result};
@@ -225,29 +226,33 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         rows,
     };
     if args.json {
-        println!("{}", serde_json::to_string(&report)?);
-        return Ok(());
+        return table::json(&report);
     }
     println!(
         "{} Loop-subdivided {}x ({} vertices), {} frames",
         report.mesh, args.subdivisions, report.vertices, report.frames
     );
     println!();
-    println!("| format | seconds | MB | files | largest error (of the diagonal) |");
-    println!("|---|---:|---:|---:|---:|");
+    let mut table = Table::new(&[
+        Column::Text("format"),
+        Column::Figure("seconds"),
+        Column::Figure("MB"),
+        Column::Figure("files"),
+        Column::Figure("largest error (of the diagonal)"),
+    ]);
+    table.start();
     for r in &report.rows {
-        println!(
-            "| {} | {:.2} | {:.1} | {} | {} |",
-            r.format,
-            r.seconds,
-            r.bytes as f64 / 1e6,
-            r.files,
+        table.row(&[
+            r.format.to_string(),
+            format!("{:.2}", r.seconds),
+            format!("{:.1}", r.bytes as f64 / 1e6),
+            r.files.to_string(),
             if r.largest_error == 0.0 {
                 "exact".to_string()
             } else {
                 format!("{:.1e}", r.largest_error)
-            }
-        );
+            },
+        ]);
     }
     Ok(())
 }

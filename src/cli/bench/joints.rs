@@ -2,6 +2,7 @@
 //! (see `puppet::puppet::bend`): faces crossing, volume change, the largest dihedral angle
 //! in the joint region, for each joint of `puppet::puppet::bend::JOINTS` at each angle.
 
+use super::table::{self, Column, Table};
 use anyhow::{anyhow, bail, Result};
 use puppet::puppet::bend::{Bent, JOINTS};
 use std::path::PathBuf;
@@ -48,6 +49,16 @@ pub fn run(args: &Args) -> Result<()> {
         }
     }
     let mut rows = Vec::new();
+    let mut table = Table::new(&[
+        Column::Text("joint"),
+        Column::Figure("band"),
+        Column::Figure("bend"),
+        Column::Figure("faces crossing"),
+        Column::Figure("volume"),
+        Column::Figure("region volume"),
+        Column::Figure("largest dihedral (rest)"),
+        Column::Figure("crease (bones alone)"),
+    ]);
     for joint in JOINTS.iter().filter(|j| {
         args.only
             .as_ref()
@@ -68,39 +79,32 @@ pub fn run(args: &Args) -> Result<()> {
                     bent,
                 };
                 if !args.json {
-                    print_row(&row, rows.is_empty());
+                    table.row(&cells(&row));
                 }
                 rows.push(row);
             }
         }
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&rows)?);
+        table::json(&rows)?;
     }
     Ok(())
 }
 
-fn print_row(r: &Row, header: bool) {
-    if header {
-        println!("| joint | band | bend | faces crossing | volume | region volume | largest dihedral (rest) | crease (bones alone) |");
-        println!("|---|---:|---:|---:|---:|---:|---:|---:|");
-    }
-    println!(
-        "| {} | {} | {}° | {} of {} | {:+.2} % | {:+.2} % | {:.0}° ({:.0}°) | {:+.0}° ({:+.0}°) |",
-        r.joint,
+/// A row's cells, as its table prints them.
+fn cells(r: &Row) -> Vec<String> {
+    vec![
+        r.joint.to_string(),
         if r.band == 0.0 {
             "hinge".to_string()
         } else {
             format!("{}", r.band)
         },
-        r.bent.degrees,
-        r.bent.crossing,
-        r.bent.region_faces,
-        100.0 * r.bent.volume,
-        100.0 * r.bent.region_volume,
-        r.bent.dihedral,
-        r.bent.rest_dihedral,
-        r.bent.crease,
-        r.bent.target_crease
-    );
+        format!("{}°", r.bent.degrees),
+        format!("{} of {}", r.bent.crossing, r.bent.region_faces),
+        format!("{:+.2} %", 100.0 * r.bent.volume),
+        format!("{:+.2} %", 100.0 * r.bent.region_volume),
+        format!("{:.0}° ({:.0}°)", r.bent.dihedral, r.bent.rest_dihedral),
+        format!("{:+.0}° ({:+.0}°)", r.bent.crease, r.bent.target_crease),
+    ]
 }

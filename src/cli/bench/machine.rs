@@ -8,6 +8,7 @@
 //!   store. No bones, Verlet or constraint: a floor for what one core does per spring.
 
 use super::median_p95;
+use super::table;
 use anyhow::Result;
 use rayon::prelude::*;
 
@@ -126,7 +127,7 @@ pub fn run(args: &Args) -> Result<()> {
         plain_loop_springs_per_second: springs as f64 / (ms * 1e-3),
     };
     if args.json {
-        println!("{}", serde_json::to_string(&r)?);
+        table::json(&r)?;
     } else {
         println!(
             "copy bandwidth: {one:.1} GB/s with 1 thread, {all:.1} GB/s with {threads} (read + write, median of 7)"

@@ -21,6 +21,9 @@
 //! * `machine`: copy bandwidth and a plain scalar spring loop, as yardsticks ([`machine`]);
 //! * `controls`: live input latency, an OSC packet to the step that shows it ([`controls`]);
 //! * `draw`: a viewport frame's cost, and what each part of the look adds ([`draw`]).
+//!
+//! Each prints its rows through one writer, `table`: a Markdown table a row at a time, or
+//! the report as one line of JSON.
 
 mod accuracy;
 mod collide;
@@ -36,6 +39,7 @@ mod skeleton;
 mod skip;
 mod stress;
 mod suggest;
+mod table;
 mod throughput;
 
 use super::{load_mesh, LoadArgs};

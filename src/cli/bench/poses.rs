@@ -4,6 +4,7 @@
 //! new crossing faces, each section's volume change, NaN, and the time. Fails when a pose
 //! misses a target given on the command line.
 
+use super::table::{self, Column, Table};
 use crate::cli::LoadArgs;
 use anyhow::{anyhow, bail, Result};
 use puppet::joints::Local;
@@ -244,19 +245,11 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     let mut failures = Vec::new();
     // The table's head, printed with its first row: a file that fails to load before it
     // leaves only its error line.
-    let mut head = Some(());
-    let mut print_head = || {
-        if head.take().is_none() {
-            return;
-        }
-        if args.compare {
-            println!("| character | joints | poses | new crossing faces off → on (median; max) | worst stretch off → on (max) | farthest behind off → on (max, medial radii) | poses worse on | turn reached on (median; least %) | step off → on (median ms) | step while moving off → on, pose limit included (median ms) | pose limit while moving (median; max ms) |");
-            println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
-        } else {
-            println!("| character | joints | poses | worst stretch (median … max) | p99 stretch (max) | edges over 1.5× (max %) | edges over 2× (max %) | new crossing faces (median … max) | section volume (% min … max) | whole volume (% min … max) | NaN | step (ms) | pose (s) | open (s) |");
-            println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
-        }
-    };
+    let mut table = Table::new(if args.compare {
+        &COMPARISON
+    } else {
+        &CHARACTER
+    });
     for (name, path) in characters {
         if args
             .only
@@ -381,7 +374,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                     failures.push(format!("{name} seed {seed}: {}", missed.join(", ")));
                 }
                 if args.json {
-                    println!("{}", serde_json::to_string(&row)?);
+                    table::json(&row)?;
                 }
                 mine.push((row, seconds));
             }
@@ -405,12 +398,11 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             }
         }
         if !args.json && !mine.is_empty() {
-            print_head();
-            if args.compare {
-                print_comparison(&name, joints, &mine);
+            table.row(&if args.compare {
+                comparison_cells(&name, joints, &mine)
             } else {
-                print_character(&name, joints, &mine);
-            }
+                character_cells(&name, joints, &mine)
+            });
         }
         rows.extend(mine.into_iter().map(|(r, _)| r));
     }
@@ -487,7 +479,8 @@ fn beyond(value: f64, limit: f64) -> bool {
     value.is_nan() || value > limit
 }
 
-fn print_character(name: &str, joints: usize, rows: &[(Row, f64)]) {
+/// A character's cells in the table per character.
+fn character_cells(name: &str, joints: usize, rows: &[(Row, f64)]) -> Vec<String> {
     let at = |q: f64, f: &dyn Fn(&Row) -> f64| {
         let mut v: Vec<f64> = rows.iter().map(|(r, _)| f(r)).collect();
         quantile(&mut v, q).unwrap_or(f64::NAN)
@@ -504,37 +497,38 @@ fn print_character(name: &str, joints: usize, rows: &[(Row, f64)]) {
         .map(|(r, _)| r.surface.volume[1])
         .fold(f64::NEG_INFINITY, f64::max);
     let mut secs: Vec<f64> = rows.iter().map(|(_, s)| *s).collect();
-    println!(
-        "| {name} | {joints} | {} | {:.2} … {:.2} | {:.2} | {:.2} | {:.2} | {:.0} … {:.0} | {:+.1} … {:+.1} | {:+.1} … {:+.1} | {} | {:.3} | {:.2} | {:.2} |",
-        rows.len(),
-        at(0.5, &worst),
-        at(1.0, &worst),
-        max(&|r| r.surface.p99),
-        100.0 * max(&|r| r.surface.over_1_5),
-        100.0 * max(&|r| r.surface.over_2),
-        at(0.5, &crossing),
-        at(1.0, &crossing),
-        100.0 * lo,
-        100.0 * hi,
-        100.0
-            * rows
-                .iter()
-                .map(|(r, _)| r.surface.whole)
-                .fold(f64::INFINITY, f64::min),
-        100.0
-            * rows
-                .iter()
-                .map(|(r, _)| r.surface.whole)
-                .fold(f64::NEG_INFINITY, f64::max),
-        rows.iter().filter(|(r, _)| r.surface.nan).count(),
-        at(0.5, &|r| r.step_ms),
-        median(&mut secs).unwrap_or(f64::NAN),
-        rows.first().map_or(f64::NAN, |(r, _)| r.open_s),
-    );
+    let min_max = |f: &dyn Fn(&Row) -> f64| {
+        rows.iter()
+            .map(|(r, _)| f(r))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                (a.min(v), b.max(v))
+            })
+    };
+    let whole = min_max(&|r| r.surface.whole);
+    vec![
+        name.to_string(),
+        joints.to_string(),
+        rows.len().to_string(),
+        format!("{:.2} … {:.2}", at(0.5, &worst), at(1.0, &worst)),
+        format!("{:.2}", max(&|r| r.surface.p99)),
+        format!("{:.2}", 100.0 * max(&|r| r.surface.over_1_5)),
+        format!("{:.2}", 100.0 * max(&|r| r.surface.over_2)),
+        format!("{:.0} … {:.0}", at(0.5, &crossing), at(1.0, &crossing)),
+        format!("{:+.1} … {:+.1}", 100.0 * lo, 100.0 * hi),
+        format!("{:+.1} … {:+.1}", 100.0 * whole.0, 100.0 * whole.1),
+        rows.iter()
+            .filter(|(r, _)| r.surface.nan)
+            .count()
+            .to_string(),
+        format!("{:.3}", at(0.5, &|r| r.step_ms)),
+        format!("{:.2}", median(&mut secs).unwrap_or(f64::NAN)),
+        format!("{:.2}", rows.first().map_or(f64::NAN, |(r, _)| r.open_s)),
+    ]
 }
 
 /// A character's poses with collision off and on (rows alternate: off, on).
-fn print_comparison(name: &str, joints: usize, rows: &[(Row, f64)]) {
+/// A character's cells in the table with collision off and on.
+fn comparison_cells(name: &str, joints: usize, rows: &[(Row, f64)]) -> Vec<String> {
     let side = |on: bool| -> Vec<&Row> {
         rows.iter()
             .map(|(r, _)| r)
@@ -554,27 +548,83 @@ fn print_comparison(name: &str, joints: usize, rows: &[(Row, f64)]) {
         .zip(&on)
         .filter(|(a, b)| !worse(&a.surface, &b.surface).is_empty())
         .count();
-    println!(
-        "| {name} | {joints} | {} | {:.0} → {:.0}; {:.0} → {:.0} | {:.2} → {:.2} | {:.2} → {:.2} | {worse_poses} | {:.0}; {:.0} | {:.3} → {:.3} | {:.3} → {:.3} | {:.3}; {:.2} |",
-        off.len(),
-        median(&off, &crossing),
-        median(&on, &crossing),
-        max(&off, &crossing),
-        max(&on, &crossing),
-        max(&off, &|r| r.surface.worst),
-        max(&on, &|r| r.surface.worst),
-        max(&off, &|r| r.surface.behind),
-        max(&on, &|r| r.surface.behind),
-        100.0 * median(&on, &|r| r.reached),
-        100.0 * on.iter().map(|r| r.reached).fold(1.0, f64::min),
-        median(&off, &|r| r.step_ms),
-        median(&on, &|r| r.step_ms),
-        median(&off, &|r| r.moving_ms),
-        median(&on, &|r| r.moving_ms),
-        median(&on, &|r| r.limit_ms[0]),
-        max(&on, &|r| r.limit_ms[1]),
-    );
+    vec![
+        name.to_string(),
+        joints.to_string(),
+        off.len().to_string(),
+        format!(
+            "{:.0} → {:.0}; {:.0} → {:.0}",
+            median(&off, &crossing),
+            median(&on, &crossing),
+            max(&off, &crossing),
+            max(&on, &crossing)
+        ),
+        format!(
+            "{:.2} → {:.2}",
+            max(&off, &|r| r.surface.worst),
+            max(&on, &|r| r.surface.worst)
+        ),
+        format!(
+            "{:.2} → {:.2}",
+            max(&off, &|r| r.surface.behind),
+            max(&on, &|r| r.surface.behind)
+        ),
+        worse_poses.to_string(),
+        format!(
+            "{:.0}; {:.0}",
+            100.0 * median(&on, &|r| r.reached),
+            100.0 * on.iter().map(|r| r.reached).fold(1.0, f64::min)
+        ),
+        format!(
+            "{:.3} → {:.3}",
+            median(&off, &|r| r.step_ms),
+            median(&on, &|r| r.step_ms)
+        ),
+        format!(
+            "{:.3} → {:.3}",
+            median(&off, &|r| r.moving_ms),
+            median(&on, &|r| r.moving_ms)
+        ),
+        format!(
+            "{:.3}; {:.2}",
+            median(&on, &|r| r.limit_ms[0]),
+            max(&on, &|r| r.limit_ms[1])
+        ),
+    ]
 }
+
+/// The columns of the table per character.
+const CHARACTER: [Column; 14] = [
+    Column::Text("character"),
+    Column::Figure("joints"),
+    Column::Figure("poses"),
+    Column::Figure("worst stretch (median … max)"),
+    Column::Figure("p99 stretch (max)"),
+    Column::Figure("edges over 1.5× (max %)"),
+    Column::Figure("edges over 2× (max %)"),
+    Column::Figure("new crossing faces (median … max)"),
+    Column::Figure("section volume (% min … max)"),
+    Column::Figure("whole volume (% min … max)"),
+    Column::Figure("NaN"),
+    Column::Figure("step (ms)"),
+    Column::Figure("pose (s)"),
+    Column::Figure("open (s)"),
+];
+
+/// The columns of the table per character with collision off and on (`--compare`).
+const COMPARISON: [Column; 11] = [
+    Column::Text("character"),
+    Column::Figure("joints"),
+    Column::Figure("poses"),
+    Column::Figure("new crossing faces off → on (median; max)"),
+    Column::Figure("worst stretch off → on (max)"),
+    Column::Figure("farthest behind off → on (max, medial radii)"),
+    Column::Figure("poses worse on"),
+    Column::Figure("turn reached on (median; least %)"),
+    Column::Figure("step off → on (median ms)"),
+    Column::Figure("step while moving off → on, pose limit included (median ms)"),
+    Column::Figure("pose limit while moving (median; max ms)"),
+];
 
 #[cfg(test)]
 mod tests {

@@ -7,6 +7,7 @@
 //! relative to the bounding-box diagonal. Exit status 2 when a preset does not settle
 //! within the time limit or a value is not finite.
 
+use super::table::{self, Column, Table};
 use super::{Base, Input};
 use crate::cli::LoadArgs;
 use anyhow::{bail, Result};
@@ -108,25 +109,29 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         presets: rows,
     };
     if args.json {
-        println!("{}", serde_json::to_string(&report)?);
-        return Ok(());
+        return table::json(&report);
     }
     println!(
         "{} ({} vertices), gravity {} g down, sleeping on, from the least sag to the most",
         report.mesh, report.vertices, report.gravity
     );
     println!();
-    println!("| preset | sag (of the diagonal) | settled after (simulated s) | wall ms | steps |");
-    println!("|---|---:|---:|---:|---:|");
+    let mut table = Table::new(&[
+        Column::Text("preset"),
+        Column::Figure("sag (of the diagonal)"),
+        Column::Figure("settled after (simulated s)"),
+        Column::Figure("wall ms"),
+        Column::Figure("steps"),
+    ]);
+    table.start();
     for r in &report.presets {
-        println!(
-            "| {} | {:.4} % | {:.2} | {:.0} | {} |",
-            r.material,
-            100.0 * r.sag,
-            r.settle_seconds,
-            r.settle_wall_ms,
-            r.steps
-        );
+        table.row(&[
+            r.material.to_string(),
+            format!("{:.4} %", 100.0 * r.sag),
+            format!("{:.2}", r.settle_seconds),
+            format!("{:.0}", r.settle_wall_ms),
+            r.steps.to_string(),
+        ]);
     }
     Ok(())
 }

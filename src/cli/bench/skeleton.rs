@@ -2,6 +2,7 @@
 //! time from a file to its skeleton, per stage, on a mesh Loop-subdivided 0..=N times, the
 //! time to write the skeletal OBJ against the disk's own speed, and peak memory).
 
+use super::table::{self, Column, Table};
 use crate::cli::{load_mesh, FileError, LoadArgs};
 use anyhow::{bail, Result};
 use puppet::bench::truth;
@@ -49,23 +50,30 @@ pub fn accuracy(args: &AccuracyArgs) -> Result<()> {
     let cases = truth::cases(args.levels);
     let rows = truth::accuracy(&cases, &Method::ALL, SkeletonParams::default().sliver_ratio);
     if args.json {
-        println!("{}", serde_json::to_string(&rows)?);
-        return Ok(());
+        return table::json(&rows);
     }
-    println!("| shape | resolution | vertices | method | median rel. error | p95 rel. error | fallback | clamped |");
-    println!("|---|---|---:|---|---:|---:|---:|---:|");
+    let mut table = Table::new(&[
+        Column::Text("shape"),
+        Column::Text("resolution"),
+        Column::Figure("vertices"),
+        Column::Text("method"),
+        Column::Figure("median rel. error"),
+        Column::Figure("p95 rel. error"),
+        Column::Figure("fallback"),
+        Column::Figure("clamped"),
+    ]);
+    table.start();
     for r in &rows {
-        println!(
-            "| {} | {} | {} | {} | {:.4} | {:.4} | {} | {} |",
-            r.shape,
-            r.resolution,
-            r.vertices,
-            r.method,
-            r.median_rel_error,
-            r.p95_rel_error,
-            r.fallback,
-            r.clamped
-        );
+        table.row(&[
+            r.shape.to_string(),
+            r.resolution.to_string(),
+            r.vertices.to_string(),
+            r.method.to_string(),
+            format!("{:.4}", r.median_rel_error),
+            format!("{:.4}", r.p95_rel_error),
+            r.fallback.to_string(),
+            r.clamped.to_string(),
+        ]);
     }
     Ok(())
 }
@@ -213,7 +221,7 @@ pub fn speed(args: &SpeedArgs, load: &LoadArgs) -> Result<()> {
     }
     drop(scratch);
     if args.json {
-        println!("{}", serde_json::to_string(&rows)?);
+        table::json(&rows)?;
     } else {
         print_speed(&name, runs, &rows);
     }
@@ -245,29 +253,41 @@ fn print_speed(name: &str, runs: usize, rows: &[SpeedRow]) {
         "from file to skeleton on {name} (Loop-subdivided, each size read from an OBJ file), default parameters, median of {runs} runs"
     );
     println!();
-    println!("| vertices | file MiB | total ms | load ms | skeleton ms | load / skeleton | stages (ms) | write ms (disk ms) | peak RSS MiB |");
-    println!("|---:|---:|---:|---:|---:|---:|---|---:|---:|");
+    let mut table = Table::new(&[
+        Column::Figure("vertices"),
+        Column::Figure("file MiB"),
+        Column::Figure("total ms"),
+        Column::Figure("load ms"),
+        Column::Figure("skeleton ms"),
+        Column::Figure("load / skeleton"),
+        Column::Text("stages (ms)"),
+        Column::Figure("write ms (disk ms)"),
+        Column::Figure("peak RSS MiB"),
+    ]);
+    table.start();
     for r in rows {
         let st: Vec<String> = r
             .stages_median
             .iter()
             .map(|(s, v)| format!("{s} {:.1}", v * 1e3))
             .collect();
-        println!(
-            "| {} | {:.1} | {:.1} | {:.1} | {:.1} | {:.2} | {} | {:.1} ({:.1}) | {} |",
-            r.vertices,
-            r.file_mib,
-            r.seconds_median * 1e3,
-            r.load_median * 1e3,
-            r.skeleton_median * 1e3,
-            r.load_ratio,
+        table.row(&[
+            r.vertices.to_string(),
+            format!("{:.1}", r.file_mib),
+            format!("{:.1}", r.seconds_median * 1e3),
+            format!("{:.1}", r.load_median * 1e3),
+            format!("{:.1}", r.skeleton_median * 1e3),
+            format!("{:.2}", r.load_ratio),
             st.join(", "),
-            r.write_median * 1e3,
-            r.raw_write_median * 1e3,
+            format!(
+                "{:.1} ({:.1})",
+                r.write_median * 1e3,
+                r.raw_write_median * 1e3
+            ),
             r.peak_rss_mib
                 .map(|m| format!("{m:.0}"))
-                .unwrap_or_else(|| "?".into())
-        );
+                .unwrap_or_else(|| "?".into()),
+        ]);
     }
 }
 
@@ -377,26 +397,36 @@ pub fn change(args: &ChangeArgs, load: &LoadArgs) -> Result<()> {
         });
     }
     if args.json {
-        println!("{}", serde_json::to_string(&rows)?);
+        table::json(&rows)?;
     } else {
         println!("{} -> {to}", args.from);
         println!();
-        println!("| mesh | vertices | points moved | median move / d | p95 move / d | largest move / d | largest move / diagonal | outside (newly) |");
-        println!("|---|---:|---:|---:|---:|---:|---:|---:|");
+        let mut table = Table::new(&[
+            Column::Text("mesh"),
+            Column::Figure("vertices"),
+            Column::Figure("points moved"),
+            Column::Figure("median move / d"),
+            Column::Figure("p95 move / d"),
+            Column::Figure("largest move / d"),
+            Column::Figure("largest move / diagonal"),
+            Column::Figure("outside (newly)"),
+        ]);
+        table.start();
         for r in &rows {
-            println!(
-                "| {} | {} | {} ({:.1} %) | {:.4} | {:.4} | {:.3} | {:.5} | {} ({}) |",
-                r.mesh,
-                r.vertices,
-                r.moved,
-                100.0 * r.moved as f64 / r.vertices.max(1) as f64,
-                r.median_rel_move,
-                r.p95_rel_move,
-                r.max_rel_move,
-                r.max_move_of_diagonal,
-                r.outside,
-                r.newly_outside
-            );
+            table.row(&[
+                r.mesh.to_string(),
+                r.vertices.to_string(),
+                format!(
+                    "{} ({:.1} %)",
+                    r.moved,
+                    100.0 * r.moved as f64 / r.vertices.max(1) as f64
+                ),
+                format!("{:.4}", r.median_rel_move),
+                format!("{:.4}", r.p95_rel_move),
+                format!("{:.3}", r.max_rel_move),
+                format!("{:.5}", r.max_move_of_diagonal),
+                format!("{} ({})", r.outside, r.newly_outside),
+            ]);
         }
     }
     let outside: usize = rows.iter().map(|r| r.newly_outside).sum();

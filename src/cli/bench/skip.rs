@@ -4,6 +4,7 @@
 //! shared machine hits them alike. Error: distance of every vertex to the full run at every
 //! step, RMS and max, relative to the bounding-box diagonal.
 
+use super::table::{self, Column, Table};
 use super::{median_p95, Base, Input};
 use crate::cli::LoadArgs;
 use anyhow::{bail, Result};
@@ -167,7 +168,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         rows,
     };
     if args.json {
-        println!("{}", serde_json::to_string(&report)?);
+        table::json(&report)?;
     } else {
         println!(
             "{} subdivided {}x: {} vertices, {} springs, limb {} vertices; {} steps ({} swinging, then holding); {} constraint",
@@ -181,20 +182,28 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             args.constraint
         );
         println!();
-        println!("| configuration | ms/step swing | ms/step hold | ms/step all | tiles awake swing | hold | RMS error | max error |");
-        println!("|---|---:|---:|---:|---:|---:|---:|---:|");
+        let mut table = Table::new(&[
+            Column::Text("configuration"),
+            Column::Figure("ms/step swing"),
+            Column::Figure("ms/step hold"),
+            Column::Figure("ms/step all"),
+            Column::Figure("tiles awake swing"),
+            Column::Figure("hold"),
+            Column::Figure("RMS error"),
+            Column::Figure("max error"),
+        ]);
+        table.start();
         for r in &report.rows {
-            println!(
-                "| {} | {:.3} | {:.3} | {:.3} | {:.0} % | {:.0} % | {:.1e} | {:.1e} |",
-                r.config,
-                r.ms_per_step_swing,
-                r.ms_per_step_hold,
-                r.ms_per_step_all,
-                100.0 * r.awake_share_swing,
-                100.0 * r.awake_share_hold,
-                r.rms_error,
-                r.max_error
-            );
+            table.row(&[
+                r.config.to_string(),
+                format!("{:.3}", r.ms_per_step_swing),
+                format!("{:.3}", r.ms_per_step_hold),
+                format!("{:.3}", r.ms_per_step_all),
+                format!("{:.0} %", 100.0 * r.awake_share_swing),
+                format!("{:.0} %", 100.0 * r.awake_share_hold),
+                format!("{:.1e}", r.rms_error),
+                format!("{:.1e}", r.max_error),
+            ]);
         }
     }
     let default_tile = Options::default().tile.min(n);

@@ -27,6 +27,7 @@
 //! (2 to 6 joints, every vertex weighted to its four nearest) instead of random cuts: its
 //! joints as skin cuts, its weights mixing the sections (`joints::skin`).
 
+use super::table;
 use anyhow::{bail, Result};
 use glam::{DQuat, DVec3, Vec3};
 use puppet::bench::scenario::Scenario;
@@ -248,7 +249,7 @@ pub fn run(args: &Args) -> Result<()> {
     }
     report.seconds = started.elapsed().as_secs_f64();
     if args.json {
-        println!("{}", serde_json::to_string(&report)?);
+        table::json(&report)?;
     } else {
         println!(
             "stress (seed {}): {} scenarios ({} joint bands bent as arcs, {} as fans, {} rigged by a skin), {} steps, {} vertex-steps in {:.1} s: no NaN, every point inside its constraint, motion bounded",

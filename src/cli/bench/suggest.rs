@@ -3,6 +3,7 @@
 //! spurious cuts, names, up and front, RigNet's joint-to-joint distance, and the time
 //! taken; totals per half of the population (`Half`), which must agree.
 
+use super::table::{self, Column, Table};
 use crate::cli::LoadArgs;
 use anyhow::{anyhow, bail, Result};
 use puppet::bench::labels::{Half, Labels, Score, TOLERANCE};
@@ -112,6 +113,7 @@ fn label_files(dir: &Path) -> Result<Vec<(String, PathBuf)>> {
 
 pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     let mut rows = Vec::new();
+    let mut table = Table::new(&COLUMNS);
     super::image_folder(args.images.as_ref())?;
     let mut files = Vec::new();
     for set in &args.set {
@@ -149,7 +151,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             },
         };
         if !args.json {
-            print_row(&row, rows.is_empty());
+            table.row(&cells(&row));
         }
         rows.push(row);
     }
@@ -169,14 +171,10 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         )))
         .collect();
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&rows)?);
+        table::json(&rows)?;
     } else {
         for (name, t) in &totals {
-            println!(
-                "| **{name}** | | | {}/{} right | {}/{} ({:.0} %) | {}/{} ({:.0} %) | {}/{} | {:.1} | | | {}/{} fronts right |",
-                t.ups, t.characters, t.found, t.required, t.recall(), t.spurious, t.cuts,
-                t.spurious_share(), t.named, t.matched, t.j2j, t.fronts, t.characters
-            );
+            table.row(&total_cells(name, t));
         }
         println!(
             "\nA cut matches a joint within {:.0} % of the height (the longest side of the bounding box).",
@@ -314,35 +312,67 @@ impl Totals {
     }
 }
 
-fn print_row(r: &Row, header: bool) {
-    if header {
-        println!("| character | kind | vertices | up found | required found | spurious cuts | named as the role | CD-J2J (% height) | skeleton (ms) | suggestion (ms) | front found | half | missed; spurious |");
-        println!("|---|---|---:|---|---:|---:|---:|---:|---:|---:|---|---|---|");
-    }
+/// The columns of `bench suggest`'s table.
+const COLUMNS: [Column; 13] = [
+    Column::Text("character"),
+    Column::Text("kind"),
+    Column::Figure("vertices"),
+    Column::Text("up found"),
+    Column::Figure("required found"),
+    Column::Figure("spurious cuts"),
+    Column::Figure("named as the role"),
+    Column::Figure("CD-J2J (% height)"),
+    Column::Figure("skeleton (ms)"),
+    Column::Figure("suggestion (ms)"),
+    Column::Text("front found"),
+    Column::Text("half"),
+    Column::Text("missed; spurious"),
+];
+
+/// A character's cells, as its table prints them.
+fn cells(r: &Row) -> Vec<String> {
     let s = &r.score;
-    println!(
-        "| {} | {} | {} | {}{} | {}/{} | {}/{} | {}/{} | {:.1} | {:.0} | {:.1} | {}{} | {} | {}; {} |",
-        r.character,
-        r.kind,
-        r.vertices,
-        r.up,
-        if r.up_right { "" } else { " (wrong)" },
-        s.found,
-        s.required,
-        s.spurious,
-        s.cuts,
-        s.named,
-        s.matched,
-        s.j2j,
-        r.ms_skeleton,
-        r.ms_suggest,
-        r.front,
-        if r.front_right { "" } else { " (wrong)" },
-        r.half.name(),
-        s.missed.join(", "),
-        match &r.refused {
-            Some(why) => format!("refused: {why}"),
-            None => s.extra.join(", "),
-        }
-    );
+    let wrong = |right: bool| if right { "" } else { " (wrong)" };
+    vec![
+        r.character.to_string(),
+        r.kind.to_string(),
+        r.vertices.to_string(),
+        format!("{}{}", r.up, wrong(r.up_right)),
+        format!("{}/{}", s.found, s.required),
+        format!("{}/{}", s.spurious, s.cuts),
+        format!("{}/{}", s.named, s.matched),
+        format!("{:.1}", s.j2j),
+        format!("{:.0}", r.ms_skeleton),
+        format!("{:.1}", r.ms_suggest),
+        format!("{}{}", r.front, wrong(r.front_right)),
+        r.half.name().to_string(),
+        format!(
+            "{}; {}",
+            s.missed.join(", "),
+            match &r.refused {
+                Some(why) => format!("refused: {why}"),
+                None => s.extra.join(", "),
+            }
+        ),
+    ]
+}
+
+/// A half's (or all's) totals, in the table's columns.
+fn total_cells(name: &str, t: &Totals) -> Vec<String> {
+    let empty = String::new;
+    vec![
+        format!("**{name}**"),
+        empty(),
+        empty(),
+        format!("{}/{} right", t.ups, t.characters),
+        format!("{}/{} ({:.0} %)", t.found, t.required, t.recall()),
+        format!("{}/{} ({:.0} %)", t.spurious, t.cuts, t.spurious_share()),
+        format!("{}/{}", t.named, t.matched),
+        format!("{:.1}", t.j2j),
+        empty(),
+        empty(),
+        format!("{}/{} fronts right", t.fronts, t.characters),
+        empty(),
+        empty(),
+    ]
 }

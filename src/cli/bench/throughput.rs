@@ -5,6 +5,7 @@
 //! integrates every spring: this is the full cost, not the cost of a scenario at rest
 //! (`--skip` measures what sleeping saves).
 
+use super::table::{self, Column, Table};
 use super::{median_p95, Base, Input};
 use crate::cli::LoadArgs;
 use anyhow::Result;
@@ -302,8 +303,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             largest_at_60_steps_per_second: largest,
             sizes: rows,
         };
-        println!("{}", serde_json::to_string(&report)?);
-        return Ok(());
+        return table::json(&report);
     }
     println!(
         "standard scenario on {} (Loop-subdivided), {} constraint, {} threads, SIMD {}, median/p95 of {} steps, sleeping off",
@@ -314,22 +314,30 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         args.frames
     );
     println!();
-    println!("| vertices | springs | ms/step median | p95 | fused pass ms (median / p95) | wake + sleep ms | springs/s | steps/s | fused GB/s |");
-    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    let mut table = Table::new(&[
+        Column::Figure("vertices"),
+        Column::Figure("springs"),
+        Column::Figure("ms/step median"),
+        Column::Figure("p95"),
+        Column::Figure("fused pass ms (median / p95)"),
+        Column::Figure("wake + sleep ms"),
+        Column::Figure("springs/s"),
+        Column::Figure("steps/s"),
+        Column::Figure("fused GB/s"),
+    ]);
+    table.start();
     for r in &rows {
-        println!(
-            "| {} | {} | {:.3} | {:.3} | {:.3} / {:.3} | {:.3} | {:.2e} | {:.0} | {:.2} |",
-            r.vertices,
-            r.springs,
-            r.ms_per_step_median,
-            r.ms_per_step_p95,
-            r.fused_ms_median,
-            r.fused_ms_p95,
-            r.wake_ms_median + r.sleep_ms_median,
-            r.springs_per_second,
-            r.steps_per_second,
-            r.gb_per_second
-        );
+        table.row(&[
+            r.vertices.to_string(),
+            r.springs.to_string(),
+            format!("{:.3}", r.ms_per_step_median),
+            format!("{:.3}", r.ms_per_step_p95),
+            format!("{:.3} / {:.3}", r.fused_ms_median, r.fused_ms_p95),
+            format!("{:.3}", r.wake_ms_median + r.sleep_ms_median),
+            format!("{:.2e}", r.springs_per_second),
+            format!("{:.0}", r.steps_per_second),
+            format!("{:.2}", r.gb_per_second),
+        ]);
     }
     println!();
     match largest {
