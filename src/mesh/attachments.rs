@@ -26,6 +26,8 @@ struct Piece {
     part: usize,
     grid: Grid,
     winding: Winding,
+    /// Its vertices' longest reach.
+    far: f64,
     /// Its box, grown by its longest edge.
     lo: DVec3,
     hi: DVec3,
@@ -132,6 +134,7 @@ impl Parts {
                     part: k,
                     grid: Grid::new(positions, &members[k]),
                     winding: Winding::new(positions, &faces[k]),
+                    far,
                     lo: lo - DVec3::splat(far),
                     hi: hi + DVec3::splat(far),
                 }
@@ -151,10 +154,23 @@ impl Parts {
                         if b.part == a.part || p.cmplt(b.lo).any() || p.cmpgt(b.hi).any() {
                             return None;
                         }
-                        let (d2, w) = b.grid.nearest(positions, p)?;
-                        let touch = 0.25 * (reach[v as usize] + reach[w as usize]);
-                        (d2 <= touch * touch || b.winding.at(p) > 0.5)
-                            .then_some((v.min(w), v.max(w)))
+                        // A vertex touches at most this far (the reach of the farthest
+                        // reaching of the piece's): the nearest is looked for that far
+                        // first, and farther only when `p` lies inside the piece.
+                        let most = 0.25 * (reach[v as usize] + b.far);
+                        let near = b.grid.nearest_within(positions, p, most * most);
+                        if let Some((d2, w)) = near {
+                            let touch = 0.25 * (reach[v as usize] + reach[w as usize]);
+                            if d2 <= touch * touch {
+                                return Some((v.min(w), v.max(w)));
+                            }
+                        }
+                        if b.winding.at(p) <= 0.5 {
+                            return None;
+                        }
+                        // (Found within the bound, it is the nearest of all.)
+                        let (_, w) = near.or_else(|| b.grid.nearest(positions, p))?;
+                        Some((v.min(w), v.max(w)))
                     })
                 })
             })

@@ -129,7 +129,8 @@ impl Parts {
             if !self.rider[part] {
                 continue;
             }
-            if let Some((d, h)) = grid.nearest(positions, positions[v]) {
+            // (Only nearer than the part's best so far counts.)
+            if let Some((d, h)) = grid.nearest_within(positions, positions[v], best[part].0) {
                 if d < best[part].0 {
                     best[part] = (d, h);
                 }
@@ -296,8 +297,21 @@ impl Grid {
         }
     }
 
-    /// The nearest grid point to `q` and its squared distance.
+    /// The nearest grid point to `q` and its squared distance (of two as near, the lower
+    /// index).
     pub(super) fn nearest(&self, positions: &[DVec3], q: DVec3) -> Option<(f64, u32)> {
+        self.nearest_within(positions, q, f64::INFINITY)
+    }
+
+    /// [`Grid::nearest`] among the points whose squared distance to `q` is at most
+    /// `limit`: `None` when there is none. A search with a limit stops at the cells that
+    /// lie farther, where one without searches on until it finds a point.
+    pub(super) fn nearest_within(
+        &self,
+        positions: &[DVec3],
+        q: DVec3,
+        limit: f64,
+    ) -> Option<(f64, u32)> {
         if self.points.is_empty() {
             return None;
         }
@@ -305,27 +319,39 @@ impl Grid {
             (((q[k] - self.lo[k]) / self.cell).floor() as i64).clamp(0, self.dims[k] as i64 - 1)
         });
         let mut best = (f64::INFINITY, u32::MAX);
+        let visit = |cc: [i64; 3], best: &mut (f64, u32)| {
+            if (0..3).any(|k| cc[k] < 0 || cc[k] >= self.dims[k] as i64) {
+                return;
+            }
+            let id =
+                (cc[2] as usize * self.dims[1] + cc[1] as usize) * self.dims[0] + cc[0] as usize;
+            for &v in &self.points[self.start[id] as usize..self.start[id + 1] as usize] {
+                let d = positions[v as usize].distance_squared(q);
+                if d <= limit && (d < best.0 || (d == best.0 && v < best.1)) {
+                    *best = (d, v);
+                }
+            }
+        };
         // Grow shells of cells until the best is closer than anything beyond the shell.
         let max_r = self.dims.iter().max().copied().unwrap_or(1) as i64;
         for r in 0..=max_r {
+            // Every cell of shell r lies at least r - 1 cells from q.
+            let gap = (r - 1).max(0) as f64 * self.cell;
+            if gap * gap > limit {
+                break;
+            }
+            // The shell's cells only: all of its two faces across z and y, and the two
+            // ends across x of the rows between.
             for dz in -r..=r {
                 for dy in -r..=r {
-                    for dx in -r..=r {
-                        if dx.abs().max(dy.abs()).max(dz.abs()) != r {
-                            continue;
+                    if dz.abs() == r || dy.abs() == r {
+                        for dx in -r..=r {
+                            visit([c[0] + dx, c[1] + dy, c[2] + dz], &mut best);
                         }
-                        let cc = [c[0] + dx, c[1] + dy, c[2] + dz];
-                        if (0..3).any(|k| cc[k] < 0 || cc[k] >= self.dims[k] as i64) {
-                            continue;
-                        }
-                        let id = (cc[2] as usize * self.dims[1] + cc[1] as usize) * self.dims[0]
-                            + cc[0] as usize;
-                        for &v in &self.points[self.start[id] as usize..self.start[id + 1] as usize]
-                        {
-                            let d = positions[v as usize].distance_squared(q);
-                            if d < best.0 || (d == best.0 && v < best.1) {
-                                best = (d, v);
-                            }
+                    } else {
+                        visit([c[0] - r, c[1] + dy, c[2] + dz], &mut best);
+                        if r > 0 {
+                            visit([c[0] + r, c[1] + dy, c[2] + dz], &mut best);
                         }
                     }
                 }
@@ -391,11 +417,19 @@ mod tests {
             let brute = all
                 .iter()
                 .map(|&v| (m.positions[v as usize].distance_squared(q), v))
-                .fold(
-                    (f64::INFINITY, u32::MAX),
-                    |a, b| if b.0 < a.0 { b } else { a },
-                );
-            assert_eq!(grid.nearest(&m.positions, q).map(|b| b.0), Some(brute.0));
+                .fold((f64::INFINITY, u32::MAX), |a, b| {
+                    if b.0 < a.0 || (b.0 == a.0 && b.1 < a.1) {
+                        b
+                    } else {
+                        a
+                    }
+                });
+            assert_eq!(grid.nearest(&m.positions, q), Some(brute));
+            // Within a bound: the same point when it is that near, else none.
+            for limit in [0.0, 0.01, 0.1, 0.5, 2.0, 10.0] {
+                let within = grid.nearest_within(&m.positions, q, limit);
+                assert_eq!(within, (brute.0 <= limit).then_some(brute), "{q} {limit}");
+            }
         }
     }
 }
