@@ -526,8 +526,8 @@ fn character_cells(name: &str, joints: usize, rows: &[(Row, f64)]) -> Vec<String
     ]
 }
 
-/// A character's poses with collision off and on (rows alternate: off, on).
-/// A character's cells in the table with collision off and on.
+/// A character's cells in the table with collision off and on, from its poses (rows
+/// alternate: off, on).
 fn comparison_cells(name: &str, joints: usize, rows: &[(Row, f64)]) -> Vec<String> {
     let side = |on: bool| -> Vec<&Row> {
         rows.iter()
