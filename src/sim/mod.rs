@@ -35,7 +35,7 @@
 //! * [`regions`]: several materials on one puppet (layers with a weight per vertex) and
 //!   pinning;
 //! * [`pose`]: the [`Pose`] a step takes and the [`Positions`] it leaves;
-//! * [`options`]: solver [`Options`] (sleeping, tile size, SIMD);
+//! * [`options`]: run [`Options`] (sleeping, tile size, SIMD: a step's cost, not its physics);
 //! * [`contact`]: sections colliding through their medial balls (stage 4c), and the floor;
 //! * `step`: [`Simulation::step`], its numbered stages, and sleeping;
 //! * [`layout`]: the solver's Hilbert-ordered slots and tiles;
@@ -260,12 +260,12 @@ impl Simulation {
         &self.params
     }
 
-    /// The solver options in force.
+    /// The run options in force.
     pub fn options(&self) -> &Options {
         &self.options
     }
 
-    /// Changes the solver options (a new tile size renumbers nothing but re-cuts the
+    /// Changes the run options (a new tile size renumbers nothing but re-cuts the
     /// tiles). Every tile wakes.
     pub fn set_options(&mut self, options: Options) {
         let tile = options.tile.max(1);

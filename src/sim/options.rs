@@ -1,7 +1,8 @@
-//! Solver options: what changes the cost of a step, not its physics (beyond the error of
+//! Run options: how a step is run (sleeping, tile size, SIMD), which changes its cost, not
+//! its physics (the solver's settings are [`super::Solver`]; beyond the error of
 //! sleeping, which `puppet bench skip` measures).
 
-/// Solver options.
+/// Run options: how a step is run, not what it computes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Options {
     /// Let tiles that stopped moving sleep (see [`super::Simulation::step`], stage 5).
