@@ -79,11 +79,7 @@ impl Joints {
     /// plane far from the seam, and a band level there turns them about a pivot many
     /// edges away, so a step of one level tears (4.3× on a downloaded spider). Kept as
     /// they are where the child has no seam (a piece that only passes into its parent).
-    pub(super) fn joined_to_seam(
-        &self,
-        child: usize,
-        members: Vec<(usize, f64)>,
-    ) -> Vec<(usize, f64)> {
+    fn joined_to_seam(&self, child: usize, members: Vec<(usize, f64)>) -> Vec<(usize, f64)> {
         let n = self.section_of.len();
         let moves = self.moves_with(child);
         let in_child = |i: usize| usize::from(self.section_of[i]) == child;

@@ -117,12 +117,12 @@ pub(crate) const FOREIGN: f64 = 0.25;
 /// its pivot (a spider's leg tip, a thumb cut with the fingers) or a grandchild touching
 /// its grandparent (a witch's hand cut in three) 3.5–5.5×. Chosen on the development half
 /// (every other character of `bench poses` and of `tests/data/pieces`, the population's
-/// development half) from 6, 5, 4, 3.5 and 3: at 3.5 its settled poses past 3× fall 14 →
-/// 10 of 860 for 2 of 279 joints found (with 8 trials); 3 finds as many and tears 7, but the trial poses
-/// then sit on the pose target itself, and joints that bend well lose their cuts by the
-/// draw (the labelled horse's tail, the toy's arm turned toward its body, one of two
-/// like characters in a file but not the other). The held-out half: 21 → 7 of 780, 52 →
-/// 50 of 156 found (`docs/performance-log.md`).
+/// development half) from 6, 5, 4, 3.5 and 3, with 8 trial poses: at 3.5 its settled
+/// poses past 3× fall 14 → 10 of 860 for 2 of 279 joints found; 3 finds as many and tears
+/// 7, but the trial poses then sit on the pose target itself, and joints that bend well
+/// lose their cuts by the draw (the labelled horse's tail, the toy's arm turned toward its
+/// body, one of two like characters in a file but not the other). The held-out half: 21 →
+/// 7 of 780, 52 → 50 of 156 found (`docs/performance-log.md`).
 pub(crate) const TEAR: f64 = 3.5;
 
 /// Random poses each suggestion is turned through to find tears. A tear that only some
