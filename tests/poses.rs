@@ -61,8 +61,8 @@ fn random_poses_of_the_shipped_characters_keep_the_skin_whole() {
 /// BENCHMARKS' claim: every one of the 500 poses of `bench poses` (the 25 shipped
 /// characters, 20 seeds each, settled) keeps its worst edge within 3×, with no NaN (the
 /// lion statue's hind legs on its pedestal reached 3.83× before `rules::TWICE`), and at
-/// most 54 change a section's volume by more than 5 % (67 when a slide was held at half
-/// a radius). The bench itself fails off the stretch bound; a minute in CI.
+/// most 50 change a section's volume by more than 5 % (67 when a slide was held at half
+/// a radius and a trunk did not swell). The bench itself fails off the stretch bound; a minute in CI.
 #[test]
 fn every_pose_of_the_shipped_population_stays_within_three_times() {
     let out = puppet(&["bench", "poses", "--max-stretch", "3"]);
@@ -71,7 +71,7 @@ fn every_pose_of_the_shipped_population_stays_within_three_times() {
     assert!(table.contains("500 poses of 25 characters"), "{table}");
     let beyond = beyond_volume(&table);
     assert!(
-        beyond <= 54,
+        beyond <= 50,
         "{beyond} poses with a section's volume beyond ±5 %"
     );
 }
@@ -91,20 +91,21 @@ fn beyond_volume(table: &str) -> usize {
 /// settled, the joints suggested from the skeleton): no pose gives a NaN, no edge
 /// stretches past 4.5× (the adventurer's body, 4.08×; 5.47× before the tear check took
 /// back joints past 3.5×), at most 7 poses pass 3×, 40 characters stay within 3× on
-/// every pose, and at most 403 poses change a section's volume by more than 5 % (461
-/// when a slide was held at half a radius). Half a minute in CI.
+/// every pose, and at most 372 poses change a section's volume by more than 5 % (461
+/// when a slide was held at half a radius and a trunk did not swell). Half a minute in CI.
 #[test]
 fn the_downloads_poses_hold_what_benchmarks_says() {
-    holds("tests/data/population", 45, 4.5, 7, 40, 403);
+    holds("tests/data/population", 45, 4.5, 7, 40, 372);
 }
 
 /// BENCHMARKS' claims on the 12 characters in pieces of `tests/data/pieces` (20 seeds
 /// each, settled): no NaN, no edge past 3.6× (the larger mech, 3.56×), at most 2 poses
-/// past 3×, 10 characters within 3× on every pose, and at most 98 poses change a
-/// section's volume by more than 5 % (114 when a slide was held at half a radius).
+/// past 3×, 10 characters within 3× on every pose, and at most 94 poses change a
+/// section's volume by more than 5 % (114 when a slide was held at half a radius and a
+/// trunk did not swell).
 #[test]
 fn the_pieces_poses_hold_what_benchmarks_says() {
-    holds("tests/data/pieces", 12, 3.6, 2, 10, 98);
+    holds("tests/data/pieces", 12, 3.6, 2, 10, 94);
 }
 
 /// Runs `bench poses --ignore-skin` on `folder`'s `characters` and holds it to its
@@ -673,6 +674,52 @@ fn a_fan_keeps_both_sides_volumes_either_way_it_turns() {
     );
 }
 
+/// A trunk keeps its volume as a limb turns on it (`joints::slide`, *A trunk's side*):
+/// turned alone by ±60° about four axes across its cut, each fan hanging from the root
+/// whose trunk side swells (the penguin's, the cat's, the lizard's, the scorpion's and
+/// the goat's head's limbs, heads, ears and tails) changes the trunk's capped volume by
+/// 0.001 % oddly at the median turn, 0.91 % at the worst (the goat's ear, its swell held
+/// at `joints::slide::MAX_SWELL`); without the swell 0.096 % and 1.00 % (the penguin's
+/// head).
+#[test]
+fn a_trunk_swells_to_keep_its_volume_as_a_limb_turns() {
+    let files = [
+        "tests/data/meshes/penguin.obj",
+        "tests/data/meshes/cat.obj",
+        "tests/data/characters/lizard.obj",
+        "tests/data/meshes/scorpion.obj",
+        "tests/data/poses/goathead.obj",
+    ];
+    let mut worst = Worst::default();
+    let mut odd = Vec::new();
+    let checked = fan_turns_of(
+        &files,
+        60.0,
+        |band| band.swell != glam::DVec3::ZERO,
+        |path, p, band, [plus, minus]| {
+            let change = |now: &[glam::DVec3]| volume_change(p, band.parent, now);
+            let o = 0.5 * (change(plus) - change(minus));
+            odd.push(o.abs());
+            worst.see(o, || {
+                format!(
+                    "{}'s trunk (turning {})",
+                    stem(path),
+                    p.joints.sections()[band.child].name
+                )
+            });
+        },
+    );
+    odd.sort_by(f64::total_cmp);
+    let median = odd.get(odd.len() / 2).copied().unwrap_or(0.0);
+    assert!(checked >= 60, "only {checked} turns");
+    assert!(
+        worst.0.abs() <= 0.95 && median <= 0.01,
+        "{} changed by {:+.2} % oddly, the median turn {median:.3} % ({checked} turns)",
+        worst.1,
+        worst.0
+    );
+}
+
 /// A fan turned far keeps its child's volume (`joints::slide`): each side slides along
 /// the normal turned with its share of the turn, the way a neck lengthens along itself.
 /// Turned alone by ±80° about four axes across its cut, each sliding fan's child (the
@@ -734,15 +781,26 @@ fn volume_change(p: &Puppet, s: usize, now: &[glam::DVec3]) -> f64 {
 fn fan_turns(
     degrees: f64,
     keep: impl Fn(&puppet::joints::Band) -> bool,
+    visit: impl FnMut(&Path, &Puppet, &puppet::joints::Band, [&[glam::DVec3]; 2]),
+) -> usize {
+    let files = [
+        "tests/data/poses/koala_low_resolution.obj",
+        "tests/data/characters/dog.obj",
+        "tests/data/characters/teddy.obj",
+    ];
+    fan_turns_of(&files, degrees, keep, visit)
+}
+
+/// [`fan_turns`] on the characters of `files` (paths in the repository).
+fn fan_turns_of(
+    files: &[&str],
+    degrees: f64,
+    keep: impl Fn(&puppet::joints::Band) -> bool,
     mut visit: impl FnMut(&Path, &Puppet, &puppet::joints::Band, [&[glam::DVec3]; 2]),
 ) -> usize {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut checked = 0;
-    for path in [
-        root.join("tests/data/poses/koala_low_resolution.obj"),
-        root.join("tests/data/characters/dog.obj"),
-        root.join("tests/data/characters/teddy.obj"),
-    ] {
+    for path in files.iter().map(|f| root.join(f)) {
         let p = suggested(&path);
         for band in p.joints.bands().iter().flatten() {
             if band.arc || !keep(band) || section_region(&p, band.child).1.abs() < 1e-12 {

@@ -230,6 +230,10 @@ pub struct Band {
     /// A fan's parent side's slide per unit of turn (see [`super::slide`]), the child's
     /// side and the child moving with it whole; zero for an arc and on a trunk.
     pub parent_slide: DVec3,
+    /// A fan's trunk side's swell per unit of turn (see [`super::slide`]): where its
+    /// parent is the root, whose side does not slide, its levels on the parent's side of
+    /// the cut scale about the pivot by `1 − Φ a · swell` times their [`super::slide::bump`].
+    pub swell: DVec3,
     /// Where this band's child section is bent by two bands at once (its own and a
     /// child's, overlapping on a short section): the second-order change of its volume
     /// those bends make together, `Σ a_xᵀ C a_y` over pairs of sections' rotation
@@ -610,6 +614,7 @@ impl Joints {
                 first_contact: 0,
                 slide: DVec3::ZERO,
                 parent_slide: DVec3::ZERO,
+                swell: DVec3::ZERO,
                 cross: Vec::new(),
                 cross_slide: [0.0; 2],
             });

@@ -327,9 +327,16 @@ impl Bending<'_> {
                 slide,
             } => {
                 let turned = DQuat::IDENTITY.slerp(local.rotation, w);
-                DAffine3::from_translation(
+                let moved = DAffine3::from_translation(
                     *pivot + local.translation * w + band.slid(turned, *slide, w),
-                ) * DAffine3::from_quat(turned)
+                ) * DAffine3::from_quat(turned);
+                if slide.swell == 0.0 {
+                    return moved * DAffine3::from_translation(-*pivot);
+                }
+                let swell = 1.0
+                    + slide.swell * super::slide::bump(band.cut_share(), super::slide::along(w));
+                moved
+                    * DAffine3::from_scale(DVec3::splat(swell))
                     * DAffine3::from_translation(-*pivot)
             }
             Bending::Arc {

@@ -49,6 +49,24 @@
 //! well (the koala's ear +24.6 % against −11.9 %; `bench poses`: 139 poses of 500 with a
 //! section beyond ±5 % against 124).
 //!
+//! # A trunk's side
+//! A trunk's side of the band (the root's, which does not slide) swells instead: its
+//! levels on the parent's side of the cut scale about the pivot by `1 + s b(x)`, `b`
+//! ([`bump`]) 0 at the band's parent end and at the cut and 1 halfway, so the limb and
+//! the trunk beyond the band stay where they were and the skin around the limb's root
+//! moves out from the pivot (or in) by what keeps the trunk's capped volume. A swell `s`
+//! changes it by `s K′`, `K′ = Σᵢ b(xᵢ) qᵢ · ∂V′/∂pᵢ` over the trunk's vertices in the
+//! band, and the child's by `s K` over the child's vertices on that side of the cut, so
+//! the swell and the child's slide are solved together, `[K′ H′_c; K H] [s σ] = −Φ a ·
+//! [G′ G]`, once per rig ([`Band::swell`]), and a pose costs a dot product more, `s = −Φ
+//! a · swell`, at most [`MAX_SWELL`] either way. The bone points of a swollen level
+//! spread by the same share. A band whose strip holds a third section's vertices (a
+//! sibling's seam: the ant's and the cow's legs side by side) or carries one does not
+//! swell: the sibling would scale with it (the ant's legs changed by up to 15 %). Turned
+//! alone by its own turns of `bench poses`' seeds 1–20, 75 of the downloads' 552 joints
+//! changed some section by more than 5 % alone, 22 of them their trunk; with the swell
+//! 72 and 19 (most of those bands hold a sibling's seam; swelling every band, 8).
+//!
 //! # Two bends on one section
 //! Where a section is bent at both ends by bands that overlap on it (a short thigh between
 //! the hip's fan and the knee's band, an upper arm, a tail between two joints), each band
@@ -160,6 +178,22 @@ pub(super) fn rise(at_cut: f64, x: f64) -> f64 {
     (x / at_cut.max(1e-9)).clamp(0.0, 1.0)
 }
 
+/// The trunk side's swell's share at `x` across a band (`0..=1`) whose cut lies at
+/// `at_cut` of its length: 0 at the band's parent end and at the cut, 1 halfway between,
+/// 0 on the child's side.
+pub(super) fn bump(at_cut: f64, x: f64) -> f64 {
+    let u = (x / at_cut.max(1e-9)).clamp(0.0, 1.0);
+    4.0 * u * (1.0 - u)
+}
+
+/// Largest swell of a trunk's side (a share of its size about the pivot; see the module
+/// docs, *A trunk's side*). Chosen by `puppet bench poses` (20 seeds) on the development
+/// half of the shipped, in-pieces and downloaded characters from 0.05, 0.1, 0.15 and
+/// 0.25: poses with a section beyond ±5 % 244, 240, 240, 239 of 860 (258 without), 4
+/// past 3× at each, the worst stretch's 90th percentile 2.159, 2.164, 2.172, 2.243; the
+/// held-out half is in `docs/performance-log.md`.
+pub const MAX_SWELL: f64 = 0.1;
+
 /// How far a fan band's two sides slide along its normal in a pose (see the module
 /// docs), in mesh units.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -168,6 +202,8 @@ pub struct Slide {
     pub parent: f64,
     /// The child's side (`σ`), rising from the cut to the band's child end.
     pub child: f64,
+    /// A trunk's side's swell about the pivot (a share), by its [`bump`].
+    pub swell: f64,
 }
 
 impl Band {
@@ -197,7 +233,10 @@ impl Band {
     /// ([`Band::cross`]): each at most [`MAX_SLIDE`] local radii either way; nothing at
     /// rest.
     pub fn slide_for(&self, rotation: DQuat, cross: f64) -> Slide {
-        if self.slide == DVec3::ZERO && self.parent_slide == DVec3::ZERO {
+        if self.slide == DVec3::ZERO
+            && self.parent_slide == DVec3::ZERO
+            && self.swell == DVec3::ZERO
+        {
             return Slide::default();
         }
         let a = turn(rotation);
@@ -208,6 +247,7 @@ impl Band {
         Slide {
             parent: by(self.parent_slide, self.cross_slide[0]),
             child: by(self.slide, self.cross_slide[1]),
+            swell: (-a.dot(self.swell)).clamp(-MAX_SWELL, MAX_SWELL),
         }
     }
 }
@@ -253,6 +293,9 @@ impl Joints {
         }
         // Per slot, its vertices on each side with their levels.
         let mut by_slot: Vec<[Vec<(u32, u16)>; 2]> = vec![[Vec::new(), Vec::new()]; slots.len()];
+        // Whether a slot's band moves a vertex of a third section (a sibling's seam in its
+        // strip): a trunk's swell would scale that section's skin too.
+        let mut third = vec![false; slots.len()];
         for &(i, slot, level) in entries {
             let Some(band) = self.bands[slots[usize::from(slot)]].as_ref() else {
                 continue;
@@ -263,6 +306,7 @@ impl Joints {
             } else if s == band.parent {
                 0
             } else {
+                third[usize::from(slot)] = true;
                 continue;
             };
             by_slot[usize::from(slot)][side].push((i, level));
@@ -297,7 +341,8 @@ impl Joints {
         for &k in slots {
             if let Some(band) = sliding(k) {
                 wanted[band.child] = true;
-                wanted[band.parent] |= parent_slides(k, band);
+                wanted[band.parent] |=
+                    parent_slides(k, band) || self.sections[band.parent].parent.is_none();
             }
             if let Some(band) = arc_sliding(k) {
                 wanted[band.child] = true;
@@ -321,6 +366,7 @@ impl Joints {
             // a vertex of either section may lie at a level across the cut).
             let mut turn = [DVec3::ZERO; 2];
             let mut slide = [[0.0; 2]; 2];
+            let mut swell = [0.0; 2];
             for side in 0..2 {
                 for &(i, level) in &by_slot[slot][side] {
                     let w = f64::from(level) / LEVELS as f64;
@@ -333,6 +379,7 @@ impl Joints {
                     let normal = band.normal.dot(dv);
                     slide[side][0] += (rise(at_cut, x) - against) * normal;
                     slide[side][1] += (profile(at_cut, x) - against) * normal;
+                    swell[side] += bump(at_cut, x) * q.dot(dv);
                 }
             }
             // Both slides together keep both volumes: `H [σ′, σ] = −Φ a · [G′, G]`.
@@ -363,12 +410,32 @@ impl Joints {
                 [0.0, 1.0 / d]
             }
             .map(|x| if x.is_finite() { x } else { 0.0 });
-            measured.push((k, per_turn, cross_slide));
+            // A trunk's side swells instead (the child's slide moves its volume too).
+            // Solved with the child's slide: `[K′ H′_c; K H] [s, σ] = −Φ a · [G′ G]`.
+            let carries = self.carried.iter().any(|c| c.iter().any(|&(b, _)| b == k));
+            let trunk = self.sections[band.parent].parent.is_none() && !third[slot] && !carries;
+            let [kp, kc] = swell;
+            let det = kp * d - b * kc;
+            let (per_turn, swell) = if trunk && det.abs() > 1e-6 * (kp * d).abs() {
+                let s = (turn[0] * d - turn[1] * b) / det;
+                let sigma = (turn[1] * kp - turn[0] * kc) / det;
+                if s.is_finite() && sigma.is_finite() {
+                    (
+                        [DVec3::ZERO, sigma.clamp_length_max(MAX_RATE * band.radius)],
+                        s,
+                    )
+                } else {
+                    (per_turn, DVec3::ZERO)
+                }
+            } else {
+                (per_turn, DVec3::ZERO)
+            };
+            measured.push((k, per_turn, cross_slide, swell));
         }
         let mut scratch = (body.rest.clone(), vec![false; n]);
         let crosses: Vec<Vec<Cross>> = measured
             .iter()
-            .map(|&(k, _, _)| self.measure_cross(k, &faces, &by_slot, slots, &mut scratch))
+            .map(|&(k, _, _, _)| self.measure_cross(k, &faces, &by_slot, slots, &mut scratch))
             .collect();
         let arcs: Vec<(usize, DVec3)> = slots
             .iter()
@@ -378,9 +445,10 @@ impl Joints {
                 Some((k, self.arc_slide(band, &by_slot[slot][1], &gradient)))
             })
             .collect();
-        for ((k, per_turn, cross_slide), cross) in measured.into_iter().zip(crosses) {
+        for ((k, per_turn, cross_slide, swell), cross) in measured.into_iter().zip(crosses) {
             if let Some(band) = self.bands[k].as_mut() {
                 [band.parent_slide, band.slide] = per_turn;
+                band.swell = swell;
                 band.cross = cross;
                 band.cross_slide = cross_slide;
             }

@@ -353,6 +353,7 @@ fn arc_band() -> Band {
         first_contact: 0,
         slide: DVec3::ZERO,
         parent_slide: DVec3::ZERO,
+        swell: DVec3::ZERO,
         cross: Vec::new(),
         cross_slide: [0.0; 2],
     }

@@ -62,7 +62,7 @@ impl Simulation {
     /// 0. **Wake**: sections whose transform differs from the last step wake the tiles that
     ///    hold their vertices (a parameter or section change wakes all).
     /// 1. **Bone transforms**: each slot's rest position, normal and bone points are moved
-    ///    rigidly with its section's transform.
+    ///    with its section's transform (rigid, but for a trunk's swell: `joints::slide`).
     /// 2. **Forces**: each mass point gathers its surface springs (CSR neighbours) and its
     ///    two bone springs (Hooke, `stretch × direction`).
     /// 3. **Verlet** with velocity damping:
