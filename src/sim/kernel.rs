@@ -11,8 +11,9 @@
 //!    their neighbour is the slot itself) and `sum += factor × d`, in two phases per chunk
 //!    of rows (gathers and squared lengths, then roots, divisions and sums) so that the
 //!    divider always has independent work;
-//! 2. the posed rest position, normal and bone points (one affine transform per lane, the
-//!    same for all lanes of a single-section tile) and the two bone-spring forces;
+//! 2. the posed rest position, normal (made unit again) and bone points (one affine
+//!    transform per lane, the same for all lanes of a single-section tile) and the two
+//!    bone-spring forces;
 //! 3. Verlet with velocity damping;
 //! 4. the constraint: the circumsphere projection or the iterated spring reduction, both in
 //!    lanes.
@@ -299,6 +300,15 @@ unsafe fn group<V: Lanes, const EXTRAS: bool>(
         x: t[0] * m0 + t[3] * m1 + t[6] * m2,
         y: t[1] * m0 + t[4] * m1 + t[7] * m2,
         z: t[2] * m0 + t[5] * m1 + t[8] * m2,
+    };
+    // Kept unit: a trunk's swollen level scales its slots (`joints::slide`), and bone
+    // points spread by the scale would leave no rest position within a strict material's
+    // bone-spring bounds.
+    let unit = V::splat(1.0) / (nrm.x * nrm.x + nrm.y * nrm.y + nrm.z * nrm.z).sqrt();
+    let nrm = V3 {
+        x: nrm.x * unit,
+        y: nrm.y * unit,
+        z: nrm.z * unit,
     };
     // Stage 2b: bone springs. inner = r − L n, outer = r + L n, as `bones` computes them.
     let lb = slots.load::<V>(&s.bone_length);

@@ -476,7 +476,7 @@ impl Simulation {
         let (s, k) = (&self.layout.slots, self.layout.slot[i] as usize);
         kernel::bones(
             t.transform_point3(s.rest.get(k)),
-            t.transform_vector3(s.normal.get(k)),
+            t.transform_vector3(s.normal.get(k)).normalize_or_zero(),
             s.bone_length[k],
         )
     }

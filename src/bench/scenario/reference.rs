@@ -99,7 +99,7 @@ impl Reference {
                 .copied()
                 .unwrap_or(DAffine3::IDENTITY);
             let r = t.transform_point3(this.rest[i]);
-            let n = t.transform_vector3(this.normal[i]);
+            let n = t.transform_vector3(this.normal[i]).normalize_or_zero();
             let l = this.bone_length[i];
             let (bi, bo) = (r - l * n, r + l * n);
             let x = this.cur[i];
