@@ -218,6 +218,11 @@ impl Lanes8 {
 /// Rows of springs per phase of [`group`]'s two-phase loop.
 const CHUNK: usize = 8;
 
+/// A posed normal whose squared length is within `√RIGID` of 1 was moved rigidly (a
+/// swell, `joints::slide::MAX_SWELL` at most, scales it by far more where it matters): it
+/// is not normalised again.
+const RIGID: f32 = 1e-12;
+
 /// What [`group`] starts from: the current and previous positions of its slots, their
 /// transforms ([`TileTransforms`]) and the span of its spring rows.
 struct Group<V> {
@@ -303,8 +308,11 @@ unsafe fn group<V: Lanes, const EXTRAS: bool>(
     };
     // Kept unit: a trunk's swollen level scales its slots (`joints::slide`), and bone
     // points spread by the scale would leave no rest position within a strict material's
-    // bone-spring bounds.
-    let unit = V::splat(1.0) / (nrm.x * nrm.x + nrm.y * nrm.y + nrm.z * nrm.z).sqrt();
+    // bone-spring bounds. A normal a rigid transform moved is left as it is (unit to
+    // rounding), so a rig at rest stays exactly at rest.
+    let nn = nrm.x * nrm.x + nrm.y * nrm.y + nrm.z * nrm.z;
+    let off = nn - V::splat(1.0);
+    let unit = (off * off).le_select(V::splat(RIGID), V::splat(1.0), V::splat(1.0) / nn.sqrt());
     let nrm = V3 {
         x: nrm.x * unit,
         y: nrm.y * unit,
