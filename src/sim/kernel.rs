@@ -140,6 +140,7 @@ fn tile_body<V: Lanes, const EXTRAS: bool>(
     let cur = &ctx.cur.0[..];
     let g0 = range.start / l.tile * l.groups_per_tile();
     let tile_transforms = TileTransforms::<V>::of(ctx, range.start / l.tile);
+    let scaled = scaled(ctx, range.start / l.tile);
     // The layout keeps every neighbour offset + 4 ≤ 4 × `l.len()` (its invariant), so with
     // this the gathers need no bounds checks (and no scan of the offsets every step).
     assert_eq!(cur.len(), l.len(), "positions and layout disagree");
@@ -156,6 +157,7 @@ fn tile_body<V: Lanes, const EXTRAS: bool>(
             x: v3(V::load3(cur, k0)),
             before: v3(V::load3(points, j0)),
             t: transform(ctx, &tile_transforms, k0, LANES),
+            scaled,
             rows: rows(gi),
         };
         // SAFETY: `cur.len() == l.len()` (asserted above) and the layout's invariant.
@@ -180,6 +182,7 @@ fn tile_body<V: Lanes, const EXTRAS: bool>(
             x: v3(V::gather3(cur, &own)),
             before: v3(V::gather3(points, &local)),
             t: transform(ctx, &tile_transforms, k0, n),
+            scaled,
             rows: rows(full),
         };
         // SAFETY: `cur.len() == l.len()` (asserted above) and the layout's invariant.
@@ -218,17 +221,19 @@ impl Lanes8 {
 /// Rows of springs per phase of [`group`]'s two-phase loop.
 const CHUNK: usize = 8;
 
-/// A posed normal whose squared length is within `√RIGID` of 1 was moved rigidly (a
-/// swell, `joints::slide::MAX_SWELL` at most, scales it by far more where it matters): it
-/// is not normalised again.
+/// A transform whose first column's squared length is within `√RIGID` of 1 is rigid (a
+/// swell, `joints::slide::MAX_SWELL` at most, scales one by far more where it matters):
+/// the normals it moves are not normalised again.
 const RIGID: f32 = 1e-12;
 
 /// What [`group`] starts from: the current and previous positions of its slots, their
-/// transforms ([`TileTransforms`]) and the span of its spring rows.
+/// transforms ([`TileTransforms`]), whether one of the tile's transforms scales
+/// ([`scaled`]) and the span of its spring rows.
 struct Group<V> {
     x: V3<V>,
     before: V3<V>,
     t: [V; 12],
+    scaled: bool,
     rows: Range<usize>,
 }
 
@@ -241,7 +246,13 @@ struct Group<V> {
 unsafe fn group<V: Lanes, const EXTRAS: bool>(
     ctx: &Ctx,
     cur: &[[f32; 4]],
-    Group { x, before, t, rows }: Group<V>,
+    Group {
+        x,
+        before,
+        t,
+        scaled,
+        rows,
+    }: Group<V>,
     slots: Lanes8,
     buf: &mut [[V; 4]; CHUNK],
 ) -> (V3<V>, V) {
@@ -306,17 +317,22 @@ unsafe fn group<V: Lanes, const EXTRAS: bool>(
         y: t[1] * m0 + t[4] * m1 + t[7] * m2,
         z: t[2] * m0 + t[5] * m1 + t[8] * m2,
     };
-    // Kept unit: a trunk's swollen level scales its slots (`joints::slide`), and bone
-    // points spread by the scale would leave no rest position within a strict material's
-    // bone-spring bounds. A normal a rigid transform moved is left as it is (unit to
-    // rounding), so a rig at rest stays exactly at rest.
-    let nn = nrm.x * nrm.x + nrm.y * nrm.y + nrm.z * nrm.z;
-    let off = nn - V::splat(1.0);
-    let unit = (off * off).le_select(V::splat(RIGID), V::splat(1.0), V::splat(1.0) / nn.sqrt());
-    let nrm = V3 {
-        x: nrm.x * unit,
-        y: nrm.y * unit,
-        z: nrm.z * unit,
+    // Kept unit where a transform scales: a trunk's swollen level scales its slots
+    // (`joints::slide`), and bone points spread by the scale would leave no rest position
+    // within a strict material's bone-spring bounds. Only in a tile that holds such a
+    // level (the root and division cost 7–20 % of an in-cache step), and a normal a rigid
+    // transform moved is left as it is there too (unit to rounding).
+    let nrm = if scaled {
+        let nn = nrm.x * nrm.x + nrm.y * nrm.y + nrm.z * nrm.z;
+        let off = nn - V::splat(1.0);
+        let unit = (off * off).le_select(V::splat(RIGID), V::splat(1.0), V::splat(1.0) / nn.sqrt());
+        V3 {
+            x: nrm.x * unit,
+            y: nrm.y * unit,
+            z: nrm.z * unit,
+        }
+    } else {
+        nrm
     };
     // Stage 2b: bone springs. inner = r − L n, outer = r + L n, as `bones` computes them.
     let lb = slots.load::<V>(&s.bone_length);
@@ -456,6 +472,16 @@ fn transform<V: Lanes>(ctx: &Ctx, tile: &TileTransforms<V>, k0: usize, n: usize)
     }
 }
 
+/// Whether a transform of tile `t`'s sections scales (its [`Rows`]' flag, [`rows_of`]).
+#[inline(always)]
+fn scaled(ctx: &Ctx, t: usize) -> bool {
+    ctx.layout.sections_of_tile(t).iter().any(|&s| {
+        ctx.transforms
+            .get(4 * s as usize)
+            .is_some_and(|r| r[3] != 0.0)
+    })
+}
+
 /// How a tile's groups get their lanes' transforms.
 enum TileTransforms<V> {
     /// One section in the whole tile: its coefficients, splatted once.
@@ -492,7 +518,7 @@ impl<V: Lanes> TileTransforms<V> {
 }
 
 /// A transform as the kernel gathers it: its matrix columns, then its translation, each
-/// as four floats (the fourth 0).
+/// as four floats (the fourth 0 but the first row's, whether it scales: [`rows_of`]).
 pub(super) type Rows = [[f32; 4]; 4];
 
 /// The identity as [`Rows`]: a section that has not moved.
@@ -503,7 +529,8 @@ pub(super) const IDENTITY_ROWS: Rows = [
     [0.0, 0.0, 0.0, 0.0],
 ];
 
-/// `t` as [`Rows`].
+/// `t` as [`Rows`]; the first row's fourth float is 1 where `t` scales (not rigid to
+/// [`RIGID`]), else 0.
 pub(super) fn rows_of(t: &Affine3A) -> Rows {
     let (a, b, c, d) = (
         t.matrix3.x_axis,
@@ -511,8 +538,10 @@ pub(super) fn rows_of(t: &Affine3A) -> Rows {
         t.matrix3.z_axis,
         t.translation,
     );
+    let off = a.length_squared() - 1.0;
+    let scales = if off * off > RIGID { 1.0 } else { 0.0 };
     [
-        [a.x, a.y, a.z, 0.0],
+        [a.x, a.y, a.z, scales],
         [b.x, b.y, b.z, 0.0],
         [c.x, c.y, c.z, 0.0],
         [d.x, d.y, d.z, 0.0],
