@@ -75,8 +75,8 @@ fn colliding() -> Params {
     p
 }
 
-/// The figures `puppet bench collide` reports for BENCHMARKS.md, held as the table gives
-/// them: arms turned down 95° and 105° past the body's sides (and with square shoulder
+/// The figures `puppet bench collide` reports (BENCHMARKS.md's *Collision*, its table per
+/// press in `docs/engine-benchmarks.md`), held as the table gives them: arms turned down 95° and 105° past the body's sides (and with square shoulder
 /// cuts), a leg crossed over the other, the head bent into a shoulder, a finger curled into
 /// the palm, the cow's head turned into its flank: the crossing faces at most the table's,
 /// and the angle reached within 3° of the table's (a part frozen at rest fails). Without
