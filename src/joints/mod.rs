@@ -628,8 +628,23 @@ impl Joints {
             .collect()
     }
 
+    /// Whether section `s` hangs from section `a`, however deep (not from itself).
+    ///
+    /// # Panics
+    /// If `s` or a section above it is not a section.
+    pub fn hangs_from(&self, mut s: usize, a: usize) -> bool {
+        for _ in 0..self.sections.len() {
+            match self.sections[s].parent {
+                Some(p) if p == a => return true,
+                Some(p) => s = p,
+                None => return false,
+            }
+        }
+        false
+    }
+
     /// Per section, whether it moves with section `s`: `s` itself and every section
-    /// hanging from it, however deep.
+    /// [hanging from it](Joints::hangs_from), however deep, all at once.
     pub(super) fn moves_with(&self, s: usize) -> Vec<bool> {
         let mut moves = vec![false; self.sections.len()];
         for &k in &self.order {

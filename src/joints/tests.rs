@@ -29,6 +29,18 @@ fn a_cut_moves_the_positive_side_to_a_new_section() {
     assert!(close(j.sections()[1].pivot, DVec3::new(0.0, 1.05, 0.0)));
 }
 
+/// A chain root → arm → forearm: each hangs from those above it, not from itself nor
+/// from those below, and moves with them.
+#[test]
+fn a_section_hangs_from_every_section_above_it() {
+    let mut j = Joints::new(&line(), ROOT);
+    let arm = j.add_cut(cut("arm", ROOT, 1.05)).unwrap();
+    let forearm = j.add_cut(cut("forearm", "arm", 2.05)).unwrap();
+    assert!(j.hangs_from(forearm, arm) && j.hangs_from(forearm, 0) && j.hangs_from(arm, 0));
+    assert!(!j.hangs_from(arm, forearm) && !j.hangs_from(arm, arm) && !j.hangs_from(0, arm));
+    assert_eq!(j.moves_with(arm), vec![false, true, true]);
+}
+
 #[test]
 fn bad_cuts_are_refused_and_change_nothing() {
     let mut j = Joints::new(&line(), ROOT);

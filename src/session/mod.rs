@@ -226,17 +226,6 @@ impl Session {
         self.revision += 1;
     }
 
-    fn is_ancestor(&self, a: usize, mut s: usize) -> bool {
-        let sections = self.puppet.joints.sections();
-        while let Some(p) = sections[s].parent {
-            if p == a {
-                return true;
-            }
-            s = p;
-        }
-        false
-    }
-
     /// Rotates every selected section by `rotation` (world space) about its current pivot.
     /// A section whose ancestor is also selected is carried by it, not turned twice.
     pub fn rotate_selected(&mut self, rotation: DQuat) {
@@ -247,7 +236,10 @@ impl Session {
         let before = self.local.clone();
         let sel = self.selection.clone();
         for &s in &sel {
-            if sel.iter().any(|&a| a != s && self.is_ancestor(a, s)) {
+            if sel
+                .iter()
+                .any(|&a| a != s && self.puppet.joints.hangs_from(s, a))
+            {
                 continue;
             }
             self.touch(&[s]);
