@@ -11,9 +11,10 @@
 //!    their neighbour is the slot itself) and `sum += factor × d`, in two phases per chunk
 //!    of rows (gathers and squared lengths, then roots, divisions and sums) so that the
 //!    divider always has independent work;
-//! 2. the posed rest position, normal (made unit again) and bone points (one affine
-//!    transform per lane, the same for all lanes of a single-section tile) and the two
-//!    bone-spring forces;
+//! 2. the posed rest position, normal (made unit again in a tile whose transforms
+//!    include one that scales, a trunk's swell) and bone points (one affine transform per
+//!    lane, the same for all lanes of a single-section tile) and the two bone-spring
+//!    forces;
 //! 3. Verlet with velocity damping;
 //! 4. the constraint: the circumsphere projection or the iterated spring reduction, both in
 //!    lanes.
