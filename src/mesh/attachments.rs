@@ -9,7 +9,7 @@
 //! have hosts instead. The suggestion walks the mesh's edges and its attachments as one graph,
 //! and connected cuts and whole sections take a piece with what is attached to it.
 
-use super::parts::Grid;
+use super::grid::Grid;
 use super::{Mesh, Parts};
 use crate::geom::winding::Winding;
 use glam::DVec3;

@@ -30,6 +30,7 @@ mod edges;
 mod fill;
 mod fit;
 mod gltf;
+mod grid;
 mod groups;
 mod guard;
 mod load;

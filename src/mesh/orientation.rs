@@ -30,6 +30,7 @@
 //!   lie ahead of the shins ([`TOES`]) or else the limbs' tips point, else the convention
 //!   (+z for y up, −y for z up).
 //!   **Left** = up × front: a character's own left, as `.L` in Blender's names.
+use crate::mesh::grid::Grid;
 use crate::mesh::Mesh;
 use glam::DVec3;
 
@@ -198,7 +199,9 @@ pub fn mirror_plane(positions: &[DVec3]) -> Option<(DVec3, f64)> {
         return None;
     }
     let centroid = positions.iter().sum::<DVec3>() / positions.len() as f64;
-    let grid = Grid::new(positions, lo, size / 48.0);
+    let cell = size / 48.0;
+    let all: Vec<u32> = (0..positions.len() as u32).collect();
+    let grid = Grid::with_cell(positions, &all, cell);
     let step = (positions.len() / 1500).max(1);
     let mut best: Option<(f64, DVec3, f64)> = None;
     for n in [DVec3::X, DVec3::Y, DVec3::Z] {
@@ -210,7 +213,9 @@ pub fn mirror_plane(positions: &[DVec3]) -> Option<(DVec3, f64)> {
             let mut shifts = Vec::new();
             for p in positions.iter().step_by(step) {
                 let m = image((n, offset), *p);
-                let (q, d) = grid.nearest(positions, m);
+                let (q, d) = grid
+                    .nearest_around(positions, m, 2.0 * cell)
+                    .map_or((m, 2.0 * cell), |(d, v)| (positions[v as usize], d));
                 gaps.push(d);
                 shifts.push((q - m).dot(n));
             }
@@ -223,83 +228,6 @@ pub fn mirror_plane(positions: &[DVec3]) -> Option<(DVec3, f64)> {
     }
     let (median, n, offset) = best?;
     (median <= MIRRORED * size).then_some((n, offset))
-}
-
-/// A grid of vertices for nearest-vertex queries within a cell or two: the vertices of
-/// each cell, in index order, as one flat list indexed by cell, so a query reads 27 slices
-/// and hashes nothing.
-struct Grid {
-    lo: DVec3,
-    cell: f64,
-    /// Cells along each axis.
-    dims: [i64; 3],
-    /// The vertices of cell `c` are `vertices[start[c]..start[c + 1]]`.
-    start: Vec<u32>,
-    vertices: Vec<u32>,
-}
-
-impl Grid {
-    /// (`cell` is a 48th of the bounds' longest side: at most 49³ cells.)
-    fn new(positions: &[DVec3], lo: DVec3, cell: f64) -> Grid {
-        let (_, hi) = crate::mesh::bounds(positions);
-        let dims = (((hi - lo) / cell).floor().as_i64vec3() + 1).to_array();
-        let mut grid = Grid {
-            lo,
-            cell,
-            dims,
-            start: vec![0; (dims[0] * dims[1] * dims[2]) as usize + 1],
-            vertices: vec![0; positions.len()],
-        };
-        let cells: Vec<usize> = positions
-            .iter()
-            .map(|&p| grid.index(grid.key(p)).unwrap_or(0))
-            .collect();
-        for &c in &cells {
-            grid.start[c + 1] += 1;
-        }
-        for c in 1..grid.start.len() {
-            grid.start[c] += grid.start[c - 1];
-        }
-        let mut fill = grid.start.clone();
-        for (i, &c) in cells.iter().enumerate() {
-            grid.vertices[fill[c] as usize] = i as u32;
-            fill[c] += 1;
-        }
-        grid
-    }
-
-    fn key(&self, p: DVec3) -> [i64; 3] {
-        ((p - self.lo) / self.cell).floor().as_i64vec3().to_array()
-    }
-
-    /// The cell's place in `start`, if it is in the grid.
-    fn index(&self, k: [i64; 3]) -> Option<usize> {
-        let inside = (0..3).all(|a| (0..self.dims[a]).contains(&k[a]));
-        inside.then(|| ((k[2] * self.dims[1] + k[1]) * self.dims[0] + k[0]) as usize)
-    }
-
-    /// The nearest vertex within about two cells, and its distance (two cells when none).
-    fn nearest(&self, positions: &[DVec3], p: DVec3) -> (DVec3, f64) {
-        let k = self.key(p);
-        let mut best = (p, 2.0 * self.cell);
-        for dx in -1..=1 {
-            for dy in -1..=1 {
-                for dz in -1..=1 {
-                    let Some(c) = self.index([k[0] + dx, k[1] + dy, k[2] + dz]) else {
-                        continue;
-                    };
-                    let list = &self.vertices[self.start[c] as usize..self.start[c + 1] as usize];
-                    for &i in list {
-                        let d = positions[i as usize].distance(p);
-                        if d < best.1 {
-                            best = (positions[i as usize], d);
-                        }
-                    }
-                }
-            }
-        }
-        best
-    }
 }
 
 /// The outward normal of the mesh's flat base, if it has one: of the six axis directions,
@@ -626,45 +554,6 @@ pub fn head_of(midline: &[&Reach], thickest: f64, up: DVec3) -> Option<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_grid_finds_the_nearest_vertex_within_its_reach() {
-        let points: Vec<DVec3> = (0..2000)
-            .map(|i| {
-                let t = i as f64;
-                DVec3::new((t * 0.37).sin(), (t * 0.11).cos() * 2.0, (t * 0.013).sin())
-            })
-            .collect();
-        let (lo, hi) = crate::mesh::bounds(&points);
-        let cell = (hi - lo).max_element() / 48.0;
-        let grid = Grid::new(&points, lo, cell);
-        // Queries inside the bounds and past them (a mirror image can fall outside).
-        for i in 0..500 {
-            let t = i as f64;
-            let p = DVec3::new(
-                (t * 0.7).sin() * 1.3,
-                (t * 0.3).cos() * 2.4,
-                (t * 0.05).cos(),
-            );
-            let (q, d) = grid.nearest(&points, p);
-            let brute = points
-                .iter()
-                .map(|x| x.distance(p))
-                .fold(f64::INFINITY, f64::min);
-            if brute < cell {
-                // Within a cell the nearest vertex is always among the 27 cells searched.
-                assert_eq!(d, brute, "{p}");
-                assert_eq!(q.distance(p), d);
-            } else {
-                // Farther: a vertex no nearer than the nearest, or none and two cells.
-                let none = q == p && d == 2.0 * cell;
-                assert!(
-                    none || (d >= brute && d < 2.0 * cell),
-                    "{p}: {d} vs {brute}"
-                );
-            }
-        }
-    }
 
     #[test]
     fn up_reads_and_writes_as_an_axis() {
