@@ -383,3 +383,76 @@ fn the_ground_shows_the_puppet_s_shadow_and_redraws_it_only_when_it_moves() {
     shot(&gpu, &mut renderer, &session, &cam, Overlays::default());
     assert_eq!(renderer.shadow_passes, passes + 1, "the head turned");
 }
+
+/// A closed surface is drawn without its back faces, and looks the same as with them; an
+/// open one (a bowl looked into) is drawn with both sides, its inside showing.
+#[test]
+fn back_faces_are_skipped_only_where_they_never_show() {
+    let gpu = Gpu::headless().expect("a graphics adapter");
+    let session = spot_session(RigFile::default());
+    let cam = camera(&session);
+    let mut skipping = SceneRenderer::with_samples(&gpu, OFFSCREEN_FORMAT, 1);
+    let mut both = SceneRenderer::with_samples(&gpu, OFFSCREEN_FORMAT, 1);
+    both.draw_back_faces(true);
+    let a = shot(&gpu, &mut skipping, &session, &cam, Overlays::default());
+    let b = shot(&gpu, &mut both, &session, &cam, Overlays::default());
+    assert!(skipping.skips_back_faces() && !both.skips_back_faces());
+    let d = a.mean_abs_diff(&b).unwrap();
+    assert!(d < 0.01, "the closed Spot differs by {d:.3} per channel");
+
+    // A sphere less its top cap, looked into from above: its inside is its back faces.
+    let sphere = puppet::mesh::shapes::uv_sphere(1.0, 16, 24);
+    let top = |t: &[u32; 3]| t.iter().all(|&v| sphere.positions[v as usize].y > 0.6);
+    let kept: Vec<[u32; 3]> = sphere
+        .triangles
+        .iter()
+        .filter(|t| !top(t))
+        .copied()
+        .collect();
+    let mut index = vec![u32::MAX; sphere.positions.len()];
+    let mut positions = Vec::new();
+    for &v in kept.iter().flatten() {
+        if index[v as usize] == u32::MAX {
+            index[v as usize] = positions.len() as u32;
+            positions.push(sphere.positions[v as usize]);
+        }
+    }
+    let bowl = puppet::mesh::Mesh {
+        triangles: kept.iter().map(|t| t.map(|v| index[v as usize])).collect(),
+        positions,
+    };
+    assert!(!bowl.is_closed_outward());
+    let session = Session::new(
+        Puppet::build(bowl, RigFile::default(), puppet::progress::silent()).unwrap(),
+        "bowl",
+    );
+    let cam = Camera {
+        pitch: 1.4,
+        ..camera(&session)
+    };
+    let bare = Overlays {
+        ground: false,
+        pivots: false,
+        ..Overlays::default()
+    };
+    let mut open = SceneRenderer::with_samples(&gpu, OFFSCREEN_FORMAT, 1);
+    let img = shot(&gpu, &mut open, &session, &cam, bare);
+    assert!(!open.skips_back_faces());
+    // The middle of the image is the bowl's inside (its faces turned away from the eye),
+    // seen through the opening: with them skipped it would be the background.
+    let bg = background();
+    let (mut inside, mut all) = (0, 0);
+    for y in H / 2 - 10..H / 2 + 10 {
+        for x in W / 2 - 10..W / 2 + 10 {
+            let p = &img.rgba[((y * W + x) * 4) as usize..][..3];
+            all += 1;
+            if (0..3).any(|k| p[k].abs_diff(bg[k]) > 8) {
+                inside += 1;
+            }
+        }
+    }
+    assert_eq!(
+        inside, all,
+        "the bowl's inside shows at the middle of the image"
+    );
+}

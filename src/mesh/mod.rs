@@ -185,6 +185,24 @@ impl Mesh {
         }
     }
 
+    /// Is the surface closed, every edge shared by two faces running opposite ways, with
+    /// every part turned outward (positive volume)? Seen from outside, such a surface
+    /// shows only the faces turned towards the eye: a renderer may skip the others (see
+    /// `render::SceneRenderer`). An open sheet, a hole left open (`--fill-holes 0`) or a
+    /// part inside out says no.
+    pub fn is_closed_outward(&self) -> bool {
+        if self.triangles.is_empty() {
+            return false;
+        }
+        let half = edges::HalfEdges::new(self.positions.len(), &self.triangles);
+        half.is_closed_manifold()
+            && parts::Parts::measured(self)
+                .1
+                .volume
+                .iter()
+                .all(|&v| v > 0.0)
+    }
+
     /// Signed volume (positive for an outward-oriented closed mesh).
     pub fn signed_volume(&self) -> f64 {
         self.triangles
@@ -294,6 +312,28 @@ pub fn unique_edges(triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
 mod tests {
     use super::unique_edges;
     use glam::DVec3;
+
+    #[test]
+    fn closed_outward_means_no_boundary_and_every_part_turned_out() {
+        let sphere = super::shapes::uv_sphere(1.0, 8, 12);
+        assert!(sphere.is_closed_outward());
+        let mut two = sphere.clone();
+        let far = super::shapes::uv_sphere(0.5, 6, 8);
+        let n = two.positions.len() as u32;
+        two.positions
+            .extend(far.positions.iter().map(|&p| p + 3.0 * DVec3::X));
+        two.triangles
+            .extend(far.triangles.iter().map(|t| t.map(|v| v + n)));
+        assert!(two.is_closed_outward(), "two closed parts");
+        // The small part inside out: the whole volume stays positive, the part's is not.
+        let k = sphere.triangles.len();
+        two.triangles[k..].iter_mut().for_each(|t| t.swap(1, 2));
+        assert!(!two.is_closed_outward(), "a part inside out");
+        let mut open = sphere.clone();
+        open.triangles.pop();
+        assert!(!open.is_closed_outward(), "a hole");
+        assert!(!super::Mesh::default().is_closed_outward(), "nothing");
+    }
 
     #[test]
     fn the_volume_centroid_is_a_cubes_centre_however_meshed_and_wherever_it_is() {

@@ -16,7 +16,12 @@ const SHADE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
 /// The pipelines and their uniforms.
 pub(super) struct Pipelines {
+    /// The surface with both sides of its faces drawn (an open sheet shows its inside).
     pub surface: wgpu::RenderPipeline,
+    /// The surface with the faces turned away from the eye skipped: a closed surface
+    /// turned outward never shows them, and on a software rasterizer every triangle costs
+    /// (`bench draw`: 46,850 vertices at 1280 × 800, see BENCHMARKS).
+    pub closed_surface: wgpu::RenderPipeline,
     pub ground: wgpu::RenderPipeline,
     pub lines: wgpu::RenderPipeline,
     pub top: wgpu::RenderPipeline,
@@ -174,43 +179,45 @@ impl Pipelines {
         };
         let surface_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
         let color_attributes = wgpu::vertex_attr_array![2 => Float32x4];
-        let surface_pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("surface"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_surface"),
-                compilation_options: Default::default(),
-                buffers: &[
-                    Some(wgpu::VertexBufferLayout {
-                        array_stride: std::mem::size_of::<SurfaceVertex>() as u64,
-                        step_mode: wgpu::VertexStepMode::Vertex,
-                        attributes: &surface_attributes,
-                    }),
-                    Some(wgpu::VertexBufferLayout {
-                        array_stride: 16,
-                        step_mode: wgpu::VertexStepMode::Vertex,
-                        attributes: &color_attributes,
-                    }),
-                ],
-            },
-            primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::TriangleList,
-                front_face: wgpu::FrontFace::Ccw,
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: depth(true, wgpu::CompareFunction::Less),
-            multisample,
-            fragment: Some(wgpu::FragmentState {
-                module: &shader,
-                entry_point: Some("fs_surface"),
-                compilation_options: Default::default(),
-                targets: &[target(format, None)],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let surface_pipeline = |label: &str, cull_mode| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(&pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &shader,
+                    entry_point: Some("vs_surface"),
+                    compilation_options: Default::default(),
+                    buffers: &[
+                        Some(wgpu::VertexBufferLayout {
+                            array_stride: std::mem::size_of::<SurfaceVertex>() as u64,
+                            step_mode: wgpu::VertexStepMode::Vertex,
+                            attributes: &surface_attributes,
+                        }),
+                        Some(wgpu::VertexBufferLayout {
+                            array_stride: 16,
+                            step_mode: wgpu::VertexStepMode::Vertex,
+                            attributes: &color_attributes,
+                        }),
+                    ],
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    front_face: wgpu::FrontFace::Ccw,
+                    cull_mode,
+                    ..Default::default()
+                },
+                depth_stencil: depth(true, wgpu::CompareFunction::Less),
+                multisample,
+                fragment: Some(wgpu::FragmentState {
+                    module: &shader,
+                    entry_point: Some("fs_surface"),
+                    compilation_options: Default::default(),
+                    targets: &[target(format, None)],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
         let line_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x4];
         let lines = |label: &str, compare: wgpu::CompareFunction| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -309,7 +316,8 @@ impl Pipelines {
             cache: None,
         });
         Pipelines {
-            surface: surface_pipeline,
+            surface: surface_pipeline("surface", None),
+            closed_surface: surface_pipeline("closed surface", Some(wgpu::Face::Back)),
             ground,
             lines: lines_pipeline,
             top: top_pipeline,

@@ -5,6 +5,9 @@
 //! A frame is two passes: the shadow map (the surface's depth seen down the ground's up,
 //! only when the surface or the ground moved), then the scene into a multisampled target
 //! ([`MSAA`] samples where the adapter has them, else one) resolved into the caller's.
+//! A closed surface turned outward (most puppets: loading closes holes and turns parts
+//! inside out the right way) is drawn without the faces turned away from the eye, which
+//! never show; an open one with both sides, its inside lit as seen.
 
 use super::buffers::{GrowBuffer, LineVertex, SurfaceVertex, Uniforms};
 use super::pipelines::Pipelines;
@@ -63,6 +66,10 @@ pub struct SceneRenderer {
     colors: GrowBuffer,
     indices: GrowBuffer,
     index_count: u32,
+    /// The surface is closed and turned outward: its back faces are skipped.
+    closed: bool,
+    /// Draw the back faces of a closed surface too ([`SceneRenderer::draw_back_faces`]).
+    back_faces: bool,
     /// The surface coarsened for the shadow map ([`shadow_triangles`]).
     shadow_indices: GrowBuffer,
     shadow_count: u32,
@@ -111,6 +118,8 @@ impl SceneRenderer {
             colors: GrowBuffer::new(device, "surface colours", vertex),
             indices: GrowBuffer::new(device, "surface indices", wgpu::BufferUsages::INDEX),
             index_count: 0,
+            closed: false,
+            back_faces: false,
             shadow_indices: GrowBuffer::new(
                 device,
                 "shadow map indices",
@@ -223,6 +232,7 @@ impl SceneRenderer {
             let indices: Vec<u32> = view.triangles().iter().flatten().copied().collect();
             self.indices.write(gpu, bytemuck::cast_slice(&indices));
             self.index_count = indices.len() as u32;
+            self.closed = view.closed();
             let coarse = shadow_triangles(view);
             self.shadow_indices
                 .write(gpu, bytemuck::cast_slice(&coarse));
@@ -272,13 +282,29 @@ impl SceneRenderer {
         }
     }
 
+    /// Whether the surface's faces turned away from the eye are skipped: it is closed and
+    /// turned outward, and [`SceneRenderer::draw_back_faces`] is off.
+    pub fn skips_back_faces(&self) -> bool {
+        self.closed && !self.back_faces
+    }
+
+    /// Draws the faces turned away from the eye even on a closed surface (a camera inside
+    /// the puppet then sees its inside, at the cost of drawing every face).
+    pub fn draw_back_faces(&mut self, on: bool) {
+        self.back_faces = on;
+    }
+
     /// Records the scene into `pass` (cleared colour and depth are the caller's, and the
     /// shadow map is [`SceneRenderer::render_shadow`]'s).
     pub fn paint(&self, pass: &mut wgpu::RenderPass<'_>) {
         let p = &self.pipelines;
         pass.set_bind_group(0, &p.bind_group, &[]);
         if self.index_count > 0 {
-            pass.set_pipeline(&p.surface);
+            pass.set_pipeline(if self.skips_back_faces() {
+                &p.closed_surface
+            } else {
+                &p.surface
+            });
             pass.set_vertex_buffer(0, self.vertices.buffer.slice(..));
             pass.set_vertex_buffer(1, self.colors.buffer.slice(..));
             pass.set_index_buffer(self.indices.buffer.slice(..), wgpu::IndexFormat::Uint32);

@@ -217,6 +217,12 @@ impl View<'_> {
         &self.session.puppet.mesh.triangles
     }
 
+    /// Is the puppet's surface closed and turned outward ([`crate::mesh::Mesh::is_closed_outward`]):
+    /// its back faces never show from outside.
+    pub fn closed(&self) -> bool {
+        self.session.puppet.mesh.is_closed_outward()
+    }
+
     /// The current surface positions.
     pub fn positions(&self) -> Positions<'_> {
         self.session.puppet.sim.positions()
