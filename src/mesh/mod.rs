@@ -15,6 +15,7 @@
 //!   a refined constrained Delaunay patch, faired);
 //! * `split`: sheets that touch at a vertex or along an edge, each given its own copies;
 //! * `parts`: the connected pieces, body and riders; `attachments`: where body parts meet;
+//! * `grid`: the nearest-point grid riders, attachments and the mirror plane query;
 //! * `validate`: the checks, and turning inside-out parts;
 //! * `load`: the pipeline, its options and its report;
 //! * `normals`, `fit`: angle-weighted vertex normals, and the local surface fit that
