@@ -19,10 +19,10 @@ struct Uniforms {
     shadow_proj: mat4x4<f32>,
     // xyz: camera position.
     eye: vec4<f32>,
-    // xyz: direction towards the key light; w: 1 when the target is not sRGB and the
+    // xyz: unit direction towards the key light; w: 1 when the target is not sRGB and the
     // shader must encode gamma itself.
     key: vec4<f32>,
-    // xyz: towards the fill light, and towards the rim light.
+    // xyz: unit, towards the fill light, and towards the rim light.
     fill: vec4<f32>,
     rim: vec4<f32>,
     // xyz: the world's up; w: 1 when the ground is drawn.
@@ -78,18 +78,28 @@ fn fs_surface(f: SurfaceOut, @builtin(front_facing) front: bool) -> @location(0)
     if (!front) {
         n = -n;
     }
-    let key = normalize(u.key.xyz);
+    // The lights' directions come unit (`SceneRenderer::prepare`), and the powers are
+    // products: on a software rasterizer a pixel's shading is most of a frame.
+    let key = u.key.xyz;
     let view = normalize(u.eye.xyz - f.world);
     let h = normalize(key + view);
     let hemi = 0.5 + 0.5 * dot(n, u.up.xyz);
     let ambient = mix(vec3<f32>(0.06, 0.055, 0.05), vec3<f32>(0.17, 0.19, 0.22), hemi);
     let lit = ambient
         + vec3<f32>(0.72, 0.68, 0.62) * max(dot(n, key), 0.0)
-        + vec3<f32>(0.16, 0.19, 0.24) * max(dot(n, normalize(u.fill.xyz)), 0.0);
+        + vec3<f32>(0.16, 0.19, 0.24) * max(dot(n, u.fill.xyz), 0.0);
     // The rim: a light behind the puppet, seen where the surface turns away from the eye.
-    let edge = pow(1.0 - max(dot(n, view), 0.0), 3.0);
-    let rim = edge * smoothstep(-0.3, 0.6, dot(n, normalize(u.rim.xyz))) * 0.45;
-    let specular = pow(max(dot(n, h), 0.0), 48.0) * 0.18;
+    let away = 1.0 - max(dot(n, view), 0.0);
+    let edge = away * away * away;
+    let rim = edge * smoothstep(-0.3, 0.6, dot(n, u.rim.xyz)) * 0.45;
+    // max(n·h, 0)^48 = ((x^3)^2)^2)^2)^2.
+    let x = max(dot(n, h), 0.0);
+    var s = x * x * x;
+    s = s * s;
+    s = s * s;
+    s = s * s;
+    s = s * s;
+    let specular = s * 0.18;
     let c = f.color.rgb * lit + vec3<f32>(0.80, 0.88, 1.0) * rim + vec3<f32>(specular);
     return vec4<f32>(encode(c), 1.0);
 }
