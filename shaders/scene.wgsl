@@ -92,7 +92,7 @@ fn fs_surface(f: SurfaceOut, @builtin(front_facing) front: bool) -> @location(0)
     let away = 1.0 - max(dot(n, view), 0.0);
     let edge = away * away * away;
     let rim = edge * smoothstep(-0.3, 0.6, dot(n, u.rim.xyz)) * 0.45;
-    // max(n·h, 0)^48 = ((x^3)^2)^2)^2)^2.
+    // max(n·h, 0)^48 = ((((x^3)^2)^2)^2)^2.
     let x = max(dot(n, h), 0.0);
     var s = x * x * x;
     s = s * s;

@@ -72,6 +72,13 @@ impl Grid {
         }
     }
 
+    /// The place in `start` of the cell at `c` (in cells from `lo`), if it is in the grid.
+    fn cell_id(&self, c: [i64; 3]) -> Option<usize> {
+        let inside = (0..3).all(|k| (0..self.dims[k] as i64).contains(&c[k]));
+        inside
+            .then(|| (c[2] as usize * self.dims[1] + c[1] as usize) * self.dims[0] + c[0] as usize)
+    }
+
     /// The nearest point to `q` nearer than `reach` among the 27 cells around `q`'s
     /// (those in the grid; none when `q`'s own lies outside it and no neighbour is in),
     /// and its distance; of two as near, the one listed first, cell by cell. A quick
@@ -88,12 +95,9 @@ impl Grid {
         for dx in -1..=1 {
             for dy in -1..=1 {
                 for dz in -1..=1 {
-                    let c = [key[0] + dx, key[1] + dy, key[2] + dz];
-                    if (0..3).any(|k| c[k] < 0 || c[k] >= self.dims[k] as i64) {
+                    let Some(id) = self.cell_id([key[0] + dx, key[1] + dy, key[2] + dz]) else {
                         continue;
-                    }
-                    let id = (c[2] as usize * self.dims[1] + c[1] as usize) * self.dims[0]
-                        + c[0] as usize;
+                    };
                     for &v in &self.points[self.start[id] as usize..self.start[id + 1] as usize] {
                         let d = positions[v as usize].distance(q);
                         if d < best.0 {
@@ -129,11 +133,9 @@ impl Grid {
         });
         let mut best = (f64::INFINITY, u32::MAX);
         let visit = |cc: [i64; 3], best: &mut (f64, u32)| {
-            if (0..3).any(|k| cc[k] < 0 || cc[k] >= self.dims[k] as i64) {
+            let Some(id) = self.cell_id(cc) else {
                 return;
-            }
-            let id =
-                (cc[2] as usize * self.dims[1] + cc[1] as usize) * self.dims[0] + cc[0] as usize;
+            };
             for &v in &self.points[self.start[id] as usize..self.start[id + 1] as usize] {
                 let d = positions[v as usize].distance_squared(q);
                 if d <= limit && (d < best.0 || (d == best.0 && v < best.1)) {
