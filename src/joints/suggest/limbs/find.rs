@@ -7,7 +7,8 @@ use super::profile::{fill, is_limb, smooth, Profile};
 use super::Limb;
 use crate::joints::suggest::body::Tree;
 use crate::joints::suggest::rules::{
-    BASE, BODY_THICK, ELONGATED, HEAD, MATCHED, NARROW, PROTRUDES, SLENDER, SMALL, SOCKET, THINNER,
+    BASE, BODY_THICK, DIP, ELONGATED, HEAD, MATCHED, NARROW, PAIR_THINNER, PROTRUDES, SLENDER,
+    SMALL, SOCKET, THINNER,
 };
 use glam::DVec3;
 
@@ -35,7 +36,9 @@ impl Tree<'_> {
         let n = self.segments.len();
         let mut base: Vec<Option<Limb>> = (0..n)
             .map(|k| match self.segments[k].parent {
-                Some(p) if !self.segments[k].vertices.is_empty() => self.base_cut(k, p, children),
+                Some(p) if !self.segments[k].vertices.is_empty() => {
+                    self.base_cut(k, p, children, mirror)
+                }
                 _ => None,
             })
             .collect();
@@ -254,6 +257,7 @@ impl Tree<'_> {
         k: usize,
         parent: usize,
         children: &[Vec<usize>],
+        mirror: Option<(DVec3, f64)>,
     ) -> Option<Limb> {
         let seg = &self.segments[k].vertices;
         let whole = self.subtree(k, children);
@@ -290,7 +294,16 @@ impl Tree<'_> {
         } else {
             self.size(&below)
         };
-        if !is_limb(own, parent_size, high - low, r) {
+        // One of a mirrored pair that splits the trunk between them (two legs at a
+        // crotch) is measured against the pair's share of it: two touching rings side by
+        // side are 4/pi of one's size together, so a pair that does not narrow at all
+        // stands at 0.79 of the trunk.
+        let thinner = if self.split_in_pair(k, parent, children, mirror) {
+            PAIR_THINNER
+        } else {
+            THINNER
+        };
+        if !is_limb(own, parent_size, high - low, r, thinner) {
             return None;
         }
         // Growing right from the core and forking within a few radii (a pelvis that
@@ -320,6 +333,44 @@ impl Tree<'_> {
                 socket: if inward > 0.0 { SOCKET * r } else { 0.0 },
                 ..cut
             }
+        })
+    }
+
+    /// Is segment `k`, growing from `parent`, one of a mirrored pair that split the trunk
+    /// between them (two legs at a crotch): off the plane `mirror`, with a sibling that is
+    /// its mirror image (their rings one to three radii out within [`MATCHED`] of the
+    /// mesh's size of each other's image, and as wide within [`DIP`])?
+    pub(crate) fn split_in_pair(
+        &self,
+        k: usize,
+        parent: usize,
+        children: &[Vec<usize>],
+        mirror: Option<(DVec3, f64)>,
+    ) -> bool {
+        let Some(plane) = mirror else {
+            return false;
+        };
+        let ring_of = |s: usize| {
+            let seg = &self.segments[s].vertices;
+            let low = self.lowest(seg);
+            self.ring(seg, low + 1.0, low + 3.0)
+        };
+        let own = ring_of(k);
+        if own.len() < 3 {
+            return false;
+        }
+        let (centre, size) = (self.centre(&own).0, self.size(&own));
+        let tolerance = MATCHED * self.size_of_mesh;
+        if (centre.dot(plane.0) - plane.1).abs() < tolerance {
+            return false;
+        }
+        let image = crate::mesh::orientation::image(plane, centre);
+        children[parent].iter().any(|&o| {
+            let ring = ring_of(o);
+            o != k
+                && ring.len() >= 3
+                && self.centre(&ring).0.distance(image) <= tolerance
+                && (self.size(&ring) - size).abs() <= DIP * size
         })
     }
 

@@ -2,7 +2,8 @@
 //! cut.
 //!
 //! A segment that hangs from a fork, is narrower than the trunk below it
-//! (`THINNER`, by the rings' sizes), longer than wide, and sticks out of the trunk's
+//! (`THINNER`, by the rings' sizes; `PAIR_THINNER` for one of a mirrored pair that split
+//! the trunk between them, two legs at a crotch), longer than wide, and sticks out of the trunk's
 //! thickest medial ball by `PROTRUDES` of its size and `SMALL` of the mesh (an ear on a
 //! head, a face, a nose, an eye do not: they are bumps, and get no cuts at all) is a
 //! *limb*: it is cut at its base, and turns about a point half its radius in from the

@@ -2,7 +2,7 @@
 //! and centre) and where a part with that profile is cut.
 
 use crate::joints::suggest::rules::{
-    BASE, BEND, DIGIT, DIP, ELONGATED, FLAT, LONG, LONG_TO_WRIST, SOCKET, THINNER, WRIST,
+    BASE, BEND, DIGIT, DIP, ELONGATED, FLAT, LONG, LONG_TO_WRIST, SOCKET, WRIST,
 };
 use glam::DVec3;
 
@@ -173,12 +173,13 @@ impl Profile {
     }
 }
 
-/// Is a protrusion a limb? Its ring `own` wide (the size of [`Tree::size`]) must be thinner
-/// than the `trunk` it grows from ([`THINNER`]) and longer than it is wide: `length` (in
-/// local radii, `radius` its medial radius) at least [`ELONGATED`] times its width in
-/// radii. A nose is neither; a finger on a palm is both.
-pub(crate) fn is_limb(own: f64, trunk: f64, length: f64, radius: f64) -> bool {
-    own > 0.0 && own <= THINNER * trunk && length >= ELONGATED * own / radius
+/// Is a protrusion a limb? Its ring `own` wide (the size of [`Tree::size`]) must be at most
+/// `thinner` of the `trunk` it grows from ([`THINNER`], or [`PAIR_THINNER`] for one of a
+/// pair that splits the trunk) and longer than it is wide: `length` (in local radii,
+/// `radius` its medial radius) at least [`ELONGATED`] times its width in radii. A nose is
+/// neither; a finger on a palm is both.
+pub(crate) fn is_limb(own: f64, trunk: f64, length: f64, radius: f64, thinner: f64) -> bool {
+    own > 0.0 && own <= thinner * trunk && length >= ELONGATED * own / radius
 }
 
 /// Empty bins (NaN) take the value of the nearest bins on either side; `None` if all are.

@@ -2,7 +2,7 @@
 //! human; `tests/suggest.rs` holds what the stages do together on the shipped meshes.
 
 use super::profile::{fill, is_limb, smooth, Profile};
-use crate::joints::suggest::rules::{DIP, LONG, SOCKET};
+use crate::joints::suggest::rules::{DIP, LONG, PAIR_THINNER, SOCKET, THINNER};
 
 /// A profile of `d` (the skeletal distance per bin) with the ring sizes the same shape,
 /// along a straight axis a unit per bin.
@@ -71,10 +71,28 @@ fn empty_bins_are_filled_from_their_neighbours() {
 
 #[test]
 fn a_limb_is_thinner_than_its_trunk_and_longer_than_wide() {
-    assert!(is_limb(1.0, 2.0, 5.0, 1.0), "an arm");
-    assert!(!is_limb(1.9, 2.0, 5.0, 1.0), "as wide as its trunk");
-    assert!(!is_limb(1.0, 2.0, 1.0, 1.0), "a bump: shorter than wide");
-    assert!(!is_limb(0.0, 2.0, 5.0, 1.0), "no ring");
+    assert!(is_limb(1.0, 2.0, 5.0, 1.0, THINNER), "an arm");
+    assert!(
+        !is_limb(1.9, 2.0, 5.0, 1.0, THINNER),
+        "as wide as its trunk"
+    );
+    assert!(
+        !is_limb(1.0, 2.0, 1.0, 1.0, THINNER),
+        "a bump: shorter than wide"
+    );
+    assert!(!is_limb(0.0, 2.0, 5.0, 1.0, THINNER), "no ring");
+    // Two touching rings side by side are 4/pi of one's size: each leg of a pair that
+    // splits the trunk without narrowing is a limb of it, one thigh beside a trunk
+    // as thick is not.
+    let pair = std::f64::consts::PI / 4.0;
+    assert!(
+        is_limb(pair, 1.0, 5.0, 0.5, PAIR_THINNER),
+        "a leg at a crotch"
+    );
+    assert!(
+        !is_limb(pair, 1.0, 5.0, 0.5, THINNER),
+        "a lone bulge as wide"
+    );
 }
 
 #[test]
