@@ -270,7 +270,8 @@ impl Tree<'_> {
         // Thinner than the parent just below the fork: by the rings' sizes, not their
         // medial radii (a finger is as thick as the flat palm it grows from, not as wide).
         // (Its own ring one to three radii out: at the fork itself it is not round.)
-        let own = self.size(&self.ring(seg, low + 1.0, low + 3.0));
+        let ring = self.ring(seg, low + 1.0, low + 3.0);
+        let own = self.size(&ring);
         // The trunk it grows from, one to three of its radii below the fork (through short
         // forks where other limbs join close by, like the webs between fingers).
         let below = self.trunk_ring(parent, low - 3.0, low - 1.0);
@@ -297,8 +298,9 @@ impl Tree<'_> {
         // One of a mirrored pair that splits the trunk between them (two legs at a
         // crotch) is measured against the pair's share of it: two touching rings side by
         // side are 4/pi of one's size together, so a pair that does not narrow at all
-        // stands at 0.79 of the trunk.
-        let thinner = if self.split_in_pair(k, parent, children, mirror) {
+        // stands at 0.79 of the trunk. (Looked for only where it decides.)
+        let between = own > THINNER * parent_size && own <= PAIR_THINNER * parent_size;
+        let thinner = if between && self.split_in_pair(k, &ring, parent, children, mirror) {
             PAIR_THINNER
         } else {
             THINNER
@@ -336,13 +338,14 @@ impl Tree<'_> {
         })
     }
 
-    /// Is segment `k`, growing from `parent`, one of a mirrored pair that split the trunk
-    /// between them (two legs at a crotch): off the plane `mirror`, with a sibling that is
-    /// its mirror image (their rings one to three radii out within [`MATCHED`] of the
-    /// mesh's size of each other's image, and as wide within [`DIP`])?
-    pub(crate) fn split_in_pair(
+    /// Is segment `k` (its ring `own` one to three radii out), growing from `parent`, one
+    /// of a mirrored pair that split the trunk between them (two legs at a crotch): off
+    /// the plane `mirror`, with a sibling that is its mirror image (their rings within
+    /// [`MATCHED`] of the mesh's size of each other's image, and as wide within [`DIP`])?
+    fn split_in_pair(
         &self,
         k: usize,
+        own: &[u32],
         parent: usize,
         children: &[Vec<usize>],
         mirror: Option<(DVec3, f64)>,
@@ -355,11 +358,10 @@ impl Tree<'_> {
             let low = self.lowest(seg);
             self.ring(seg, low + 1.0, low + 3.0)
         };
-        let own = ring_of(k);
         if own.len() < 3 {
             return false;
         }
-        let (centre, size) = (self.centre(&own).0, self.size(&own));
+        let (centre, size) = (self.centre(own).0, self.size(own));
         let tolerance = MATCHED * self.size_of_mesh;
         if (centre.dot(plane.0) - plane.1).abs() < tolerance {
             return false;
