@@ -33,6 +33,9 @@ pub(crate) const THINNER: f64 = 0.75;
 /// 50 -> 54 of 156 (a farmer's and a spacesuit's hips), spurious 61/272 -> 61/277
 /// (`docs/performance-log.md`).
 pub(crate) const PAIR_THINNER: f64 = 0.8;
+/// The two of such a pair are as wide within this share of one's size (the shipped
+/// human's thighs 0.7 % apart; as [`DIP`], a clear difference in width).
+pub(crate) const PAIR_WIDTH: f64 = 0.12;
 /// A limb is cut this many of its radii out from the fork.
 pub(crate) const BASE: f64 = 0.5;
 /// A shoulder's or a hip's pivot (a limb root named `arm` or `leg`) sits this many more of

@@ -7,8 +7,8 @@ use super::profile::{fill, is_limb, smooth, Profile};
 use super::Limb;
 use crate::joints::suggest::body::Tree;
 use crate::joints::suggest::rules::{
-    BASE, BODY_THICK, DIP, ELONGATED, HEAD, MATCHED, NARROW, PAIR_THINNER, PROTRUDES, SLENDER,
-    SMALL, SOCKET, THINNER,
+    BASE, BODY_THICK, ELONGATED, HEAD, MATCHED, NARROW, PAIR_THINNER, PAIR_WIDTH, PROTRUDES,
+    SLENDER, SMALL, SOCKET, THINNER,
 };
 use glam::DVec3;
 
@@ -340,9 +340,10 @@ impl Tree<'_> {
 
     /// Is segment `k` (its ring `own` one to three radii out), growing from `parent`, one
     /// of a mirrored pair that split the trunk between them (two legs at a crotch): off
-    /// the plane `mirror`, with a sibling that is its mirror image (their rings within
-    /// [`MATCHED`] of the mesh's size of each other's image, and as wide within [`DIP`])?
-    fn split_in_pair(
+    /// the plane `mirror` by half its ring's size, with a sibling that is its mirror image
+    /// (their rings within [`MATCHED`] of the mesh's size of each other's image, and as
+    /// wide within [`PAIR_WIDTH`])?
+    pub(super) fn split_in_pair(
         &self,
         k: usize,
         own: &[u32],
@@ -362,17 +363,20 @@ impl Tree<'_> {
             return false;
         }
         let (centre, size) = (self.centre(own).0, self.size(own));
-        let tolerance = MATCHED * self.size_of_mesh;
-        if (centre.dot(plane.0) - plane.1).abs() < tolerance {
+        // (Off the plane by half its own size at least: a ring across it is the trunk's.
+        // Two legs side by side stand a whole size off it, closer than the mesh's
+        // `MATCHED`: the human's, 4.7 % of its height.)
+        if (centre.dot(plane.0) - plane.1).abs() < 0.5 * size {
             return false;
         }
+        let tolerance = MATCHED * self.size_of_mesh;
         let image = crate::mesh::orientation::image(plane, centre);
         children[parent].iter().any(|&o| {
             let ring = ring_of(o);
             o != k
                 && ring.len() >= 3
                 && self.centre(&ring).0.distance(image) <= tolerance
-                && (self.size(&ring) - size).abs() <= DIP * size
+                && (self.size(&ring) - size).abs() <= PAIR_WIDTH * size
         })
     }
 
