@@ -53,6 +53,12 @@ pub const FRONT_END: f64 = 0.15;
 /// share above 0.0006 (the head on its own, whose "soles" are its neck) gives the same
 /// fronts, all right; 0.01 is a round one in that range.
 pub const TOES: f64 = 0.01;
+/// The one part on the mirror plane, ending thinner than this share of the median end of
+/// the root's limbs off the plane, is a tail: it leans back, not forward. (A head ends in
+/// a bulb as thick as the limbs.) On the development half of the labelled characters with
+/// one part on the plane, heads end at 0.51-4.3 of the limbs (a mech's small head the
+/// least) and a rat's tail at 0.13; 0.25 lies between.
+pub const TAIL_END: f64 = 0.25;
 /// A flat face of the mesh at its far end along an axis (faces within 5° of the axis and
 /// within 1 % of the mesh's size of that end) covering at least this share of its area is
 /// a base it stands on (a bust's, a statue's): where no limb off the mirror plane says
@@ -479,7 +485,11 @@ pub fn frame(positions: &[DVec3], cues: Cues, limbs: &[Reach], up: Option<DVec3>
             .max_by(|a, b| a.abs().total_cmp(&b.abs()))
             .unwrap_or(0.0)
     });
-    let lean = head.map_or(0.0, |h| h.direction().dot(axis));
+    // (A lone part on the plane much thinner than the limbs is a tail, leaning back.)
+    let mut ends: Vec<f64> = off.iter().map(|l| l.end).collect();
+    let limbs_end = crate::stats::median(&mut ends).unwrap_or(0.0);
+    let tail = midline.len() == 1 && head.is_some_and(|h| h.end < TAIL_END * limbs_end);
+    let lean = head.map_or(0.0, |h| h.direction().dot(axis)) * if tail { -1.0 } else { 1.0 };
     let feet: f64 = limbs
         .iter()
         .filter(|l| l.direction().dot(up) < -0.5)
@@ -712,5 +722,47 @@ mod tests {
             frame(&without, cues, &limbs, Some(DVec3::Y)).front,
             DVec3::NEG_Z
         );
+    }
+
+    /// A four-legged figure with one part on its mirror plane, reaching back along -z: thin
+    /// (a rat's tail, a tenth of the legs' ends), it is a tail and the figure faces +z;
+    /// ending as thick as the legs (a head on a long neck), the figure faces where it leans.
+    #[test]
+    fn a_lone_thin_part_on_the_plane_is_a_tail_that_leans_back() {
+        let positions: Vec<DVec3> = (0..=20)
+            .flat_map(|i| {
+                let z = -1.6 + 0.12 * i as f64;
+                [DVec3::new(-0.4, 0.0, z), DVec3::new(0.4, 1.0, z)]
+            })
+            .collect();
+        let leg = |x: f64, z: f64| Reach {
+            pivot: DVec3::new(x, 0.5, z),
+            tip: DVec3::new(x, 0.0, z),
+            end: 0.2,
+            paired: false,
+        };
+        let part = |end: f64| Reach {
+            pivot: DVec3::new(0.0, 0.6, -0.8),
+            tip: DVec3::new(0.0, 0.7, -1.6),
+            end,
+            paired: false,
+        };
+        let cues = Cues {
+            mirror: Some((DVec3::X, 0.0)),
+            base: None,
+        };
+        let legs = [
+            leg(0.3, 0.5),
+            leg(-0.3, 0.5),
+            leg(0.3, -0.5),
+            leg(-0.3, -0.5),
+        ];
+        let with = |end: f64| {
+            let limbs: Vec<Reach> = legs.iter().copied().chain([part(end)]).collect();
+            frame(&positions, cues, &limbs, Some(DVec3::Y)).front
+        };
+        assert_eq!(with(0.02), DVec3::Z);
+        assert_eq!(with(TAIL_END * 0.2 * 1.1), DVec3::NEG_Z);
+        assert_eq!(with(0.2), DVec3::NEG_Z);
     }
 }
