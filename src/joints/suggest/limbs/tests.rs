@@ -195,9 +195,9 @@ fn the_human_s_limbs_come_parent_first_in_mirrored_pairs() {
 
 /// The human's legs split its trunk at the crotch: the segment of each leg, from where it
 /// leaves the pelvis, is one of a mirrored pair of siblings (`Tree::split_in_pair`), the
-/// other being the other leg; with no mirror plane, no segment is. (Each thigh's ring lies
-/// 4.7 % of the height off the plane, inside the 5 % that counted as on it before this
-/// test: only one of the two was found one of a pair.)
+/// other being the other leg; with no mirror plane, no segment is. (The thighs' rings lie
+/// 4.8 % and 5.0 % of the height off the plane, at the 5 % that counted as on it before
+/// this test: only one of the two was found one of a pair.)
 #[test]
 fn the_human_s_legs_are_a_pair_that_splits_the_trunk() {
     let (mesh, skeleton) = crate::joints::suggest::fixture::human();
