@@ -313,8 +313,10 @@ pub struct Reach {
     /// How thick its far half is: the largest skeletal distance there (a head ends in a
     /// bulb, a tail in a point).
     pub end: f64,
-    /// It carries a part of its own off the mirror plane (a head's ears, horns, antennae).
-    pub paired: bool,
+    /// The way the parts it carries off the mirror plane point (their mean unit direction,
+    /// from each one's pivot to its tip), if it carries any: a head's ears, horns or
+    /// antennae, or the legs of a body's end.
+    pub carried: Option<DVec3>,
 }
 
 impl Reach {
@@ -328,11 +330,15 @@ impl Reach {
         self.direction().dot(up) > 0.5 && (self.pivot - centre).dot(up) > 0.0
     }
 
-    /// How much it looks like a head, leaning along `towards`: its far half's thickness,
-    /// more when it leans that way, twice that when it carries parts of its own off the
-    /// mirror plane (an ant's head with its antennae, not the thicker abdomen).
+    /// How much it looks like a head, leaning along `towards` (up): its far half's
+    /// thickness, more when it leans that way, twice that when it carries parts of its own
+    /// off the mirror plane that do not hang down (an ant's head with its antennae, not the
+    /// thicker abdomen; not a dog's hindquarters with its hind legs).
     fn head_score(&self, towards: DVec3) -> f64 {
-        let pair = if self.paired { 2.0 } else { 1.0 };
+        let pair = match self.carried {
+            Some(d) if d.dot(towards) >= -0.5 => 2.0,
+            _ => 1.0,
+        };
         pair * self.end * (1.0 + self.direction().dot(towards))
     }
 }
@@ -658,7 +664,7 @@ mod tests {
             pivot: DVec3::new(x, y, 0.0),
             tip: DVec3::new(x, y, -1.0),
             end: 0.1,
-            paired: false,
+            carried: None,
         };
         let limbs = [leg(0.5, 0.2), leg(1.5, 0.2), leg(0.5, 1.8), leg(1.5, 1.8)];
         let cues = Cues {
@@ -676,7 +682,7 @@ mod tests {
             pivot: DVec3::new(x, y, 0.0),
             tip: DVec3::new(x + s, y, -0.3),
             end: 0.1,
-            paired: false,
+            carried: None,
         };
         let limbs = [sprawl(0.5, 0.2, -1.0), sprawl(1.5, 0.2, 1.0)];
         assert_eq!(frame(&plane, cues, &limbs, None).up, DVec3::Y);
@@ -706,7 +712,7 @@ mod tests {
             pivot: DVec3::new(x, 0.9, 0.0),
             tip: DVec3::new(x, 0.0, -0.05),
             end: 0.05,
-            paired: false,
+            carried: None,
         };
         let limbs = [leg(0.1), leg(-0.1)];
         let cues = Cues {
@@ -739,13 +745,13 @@ mod tests {
             pivot: DVec3::new(x, 0.5, z),
             tip: DVec3::new(x, 0.0, z),
             end: 0.2,
-            paired: false,
+            carried: None,
         };
         let part = |end: f64| Reach {
             pivot: DVec3::new(0.0, 0.6, -0.8),
             tip: DVec3::new(0.0, 0.7, -1.6),
             end,
-            paired: false,
+            carried: None,
         };
         let cues = Cues {
             mirror: Some((DVec3::X, 0.0)),
@@ -764,5 +770,24 @@ mod tests {
         assert_eq!(with(0.02), DVec3::Z);
         assert_eq!(with(TAIL_END * 0.2 * 1.1), DVec3::NEG_Z);
         assert_eq!(with(0.2), DVec3::NEG_Z);
+    }
+
+    /// Of two parts on the mirror plane about as thick and leaning up alike, the one carrying
+    /// parts that point up (ears) is the head; carrying parts that hang (a dog's hind legs
+    /// on its hindquarters), it is not: the other, carrying nothing, is.
+    #[test]
+    fn a_part_carrying_legs_is_no_head_and_one_carrying_ears_is() {
+        let part = |z: f64, end: f64, carried: Option<DVec3>| Reach {
+            pivot: DVec3::new(0.0, 1.0, z),
+            tip: DVec3::new(0.0, 1.8, 2.0 * z),
+            end,
+            carried,
+        };
+        let with = |carried| {
+            let (a, b) = (part(0.5, 0.3, None), part(-0.5, 0.29, carried));
+            head_of(&[&a, &b], 0.0, DVec3::Y)
+        };
+        assert_eq!(with(Some(DVec3::NEG_Y)), Some(0));
+        assert_eq!(with(Some(DVec3::new(0.7, 0.7, 0.0))), Some(1));
     }
 }

@@ -68,11 +68,26 @@ impl Naming<'_> {
             .filter(|&v| self.mesh.positions[v].distance(pivot) >= 0.5 * reach)
             .map(|v| self.radius[v])
             .fold(0.0, f64::max);
+        // (What it carries off the plane, by the way each part points.)
+        let carried = (!off.is_empty()).then(|| {
+            off.iter()
+                .map(|&c| {
+                    let from = self.sections[c].pivot;
+                    let tip = self.within[c]
+                        .iter()
+                        .map(|&v| self.mesh.positions[v])
+                        .max_by(|a, b| a.distance(from).total_cmp(&b.distance(from)))
+                        .unwrap_or(from);
+                    (tip - from).normalize_or_zero()
+                })
+                .sum::<DVec3>()
+                .normalize_or_zero()
+        });
         Reach {
             pivot,
             tip,
             end,
-            paired: !off.is_empty(),
+            carried,
         }
     }
 
