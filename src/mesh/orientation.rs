@@ -492,9 +492,11 @@ pub fn frame(positions: &[DVec3], cues: Cues, limbs: &[Reach], up: Option<DVec3>
             .unwrap_or(0.0)
     });
     // (A lone part on the plane much thinner than the limbs is a tail, leaning back.)
-    let mut ends: Vec<f64> = off.iter().map(|l| l.end).collect();
-    let limbs_end = crate::stats::median(&mut ends).unwrap_or(0.0);
-    let tail = midline.len() == 1 && head.is_some_and(|h| h.end < TAIL_END * limbs_end);
+    let limbs_end = || {
+        let mut ends: Vec<f64> = off.iter().map(|l| l.end).collect();
+        crate::stats::median(&mut ends).unwrap_or(0.0)
+    };
+    let tail = midline.len() == 1 && head.is_some_and(|h| h.end < TAIL_END * limbs_end());
     let lean = head.map_or(0.0, |h| h.direction().dot(axis)) * if tail { -1.0 } else { 1.0 };
     let feet: f64 = limbs
         .iter()

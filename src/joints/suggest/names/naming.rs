@@ -69,17 +69,10 @@ impl Naming<'_> {
             .map(|v| self.radius[v])
             .fold(0.0, f64::max);
         // (What it carries off the plane, by the way each part points.)
+        // (Each is off the plane: its own reach carries nothing in turn.)
         let carried = (!off.is_empty()).then(|| {
             off.iter()
-                .map(|&c| {
-                    let from = self.sections[c].pivot;
-                    let tip = self.within[c]
-                        .iter()
-                        .map(|&v| self.mesh.positions[v])
-                        .max_by(|a, b| a.distance(from).total_cmp(&b.distance(from)))
-                        .unwrap_or(from);
-                    (tip - from).normalize_or_zero()
-                })
+                .map(|&c| self.reach(c).direction())
                 .sum::<DVec3>()
                 .normalize_or_zero()
         });
