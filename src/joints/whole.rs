@@ -10,7 +10,9 @@
 //!
 //! So once the joints have a surface ([`Joints::set_surface`]: a puppet's do), each
 //! section keeps
-//! * its largest connected piece of surface (through mesh edges between its own vertices),
+//! * its largest connected piece of surface (through mesh edges between its own vertices)
+//!   on each part of the body (a surface connected through mesh edges and attachments:
+//!   two characters in one file are two parts, and each keeps its root),
 //! * every other piece that borders the section's parent (two legs cut by one plane are
 //!   two pieces, each on the body), and
 //! * every piece that borders no other section (a separate part of the mesh);
@@ -27,6 +29,7 @@
 //! skeleton's sections.
 
 use super::Joints;
+use std::collections::HashMap;
 
 /// Passes at most: a piece that moves can leave pieces of its new section to move in the
 /// next pass.
@@ -45,6 +48,27 @@ impl Joints {
         let own = |i: usize| !body.is_rider(i);
         const NONE: u32 = u32::MAX;
         let mut moved = 0;
+        // Each vertex's part of the body: its connected surface through mesh edges and
+        // attachments, whatever the sections (two characters in one file are two parts).
+        let mut part = vec![NONE; n];
+        let mut stack: Vec<u32> = Vec::new();
+        let mut parts = 0;
+        for seed in 0..n {
+            if part[seed] != NONE || !own(seed) {
+                continue;
+            }
+            part[seed] = parts;
+            stack.push(seed as u32);
+            while let Some(v) = stack.pop() {
+                for &w in body.neighbours(v as usize) {
+                    if part[w as usize] == NONE && own(w as usize) {
+                        part[w as usize] = parts;
+                        stack.push(w);
+                    }
+                }
+            }
+            parts += 1;
+        }
         let mut piece = vec![NONE; n];
         // Vertices piece by piece, and where each piece starts in it.
         let mut order: Vec<u32> = Vec::with_capacity(n);
@@ -76,13 +100,14 @@ impl Joints {
             }
             starts.push(order.len());
             let pieces = starts.len() - 1;
-            // Each section's largest piece.
-            let mut largest: Vec<Option<(usize, usize)>> = vec![None; self.sections.len()];
+            // Each section's largest piece on each part of the body.
+            let mut largest: HashMap<(u16, u32), (usize, usize)> = HashMap::new();
             for p in 0..pieces {
                 let size = starts[p + 1] - starts[p];
-                let s = usize::from(self.section_of[order[starts[p]] as usize]);
-                if largest[s].is_none_or(|(_, m)| size > m) {
-                    largest[s] = Some((p, size));
+                let v = order[starts[p]] as usize;
+                let key = (self.section_of[v], part[v]);
+                if largest.get(&key).is_none_or(|&(_, m)| size > m) {
+                    largest.insert(key, (p, size));
                 }
             }
             let mut changed = false;
@@ -90,7 +115,8 @@ impl Joints {
             for p in 0..pieces {
                 let vertices = &order[starts[p]..starts[p + 1]];
                 let s = self.section_of[vertices[0] as usize];
-                if largest[usize::from(s)].is_some_and(|(q, _)| q == p) {
+                let key = (s, part[vertices[0] as usize]);
+                if largest.get(&key).is_some_and(|&(q, _)| q == p) {
                     continue;
                 }
                 borders.clear();
