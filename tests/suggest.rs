@@ -471,6 +471,17 @@ fn two_characters_in_one_file_each_get_their_own_joints() {
         }
     }
     assert!(names(&p).contains(&"arm.L".to_string()));
+    // Each section of the copy is its original's, vertex for vertex: the file's root
+    // holds both bodies, and the copy's was taken for a stray piece of it and moved
+    // into the copy's left leg (1169 vertices turning with its hip, 207 in the robot's).
+    let sections = p.joints.sections();
+    let alone = single.joints.sections();
+    assert_eq!(sections[0].vertices, 2 * alone[0].vertices, "the root");
+    for s in &alone[1..] {
+        for name in [s.name.clone(), format!("{}.001", s.name)] {
+            assert_eq!(sections[section(&p, &name)].vertices, s.vertices, "{name}");
+        }
+    }
     // `--json` gives the copy's cuts their role and the character they are of.
     let dir = scratch("two_characters");
     let file = dir.join("two.obj");
