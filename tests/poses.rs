@@ -108,6 +108,24 @@ fn the_pieces_poses_hold_what_benchmarks_says() {
     holds("tests/data/pieces", 12, 3.1, 1, 11, 95);
 }
 
+/// BENCHMARKS' claim on collision over the 12 characters in pieces, which nobody tuned it
+/// on: with collision on, no pose of three is worse than off (`--never-worse` fails the
+/// command when one is).
+#[test]
+fn collision_on_the_pieces_is_never_worse() {
+    let out = puppet(&[
+        "bench",
+        "poses",
+        "--compare",
+        "--never-worse",
+        "--poses",
+        "3",
+        "--ignore-skin",
+        "tests/data/pieces",
+    ]);
+    ok(&out);
+}
+
 /// Runs `bench poses --ignore-skin` on `folder`'s `characters` and holds it to its
 /// figures: no NaN, no edge past `stretch`, at most `past` poses past 3×, at least
 /// `within` characters within 3× on every pose, at most `beyond` poses with a section's
