@@ -130,6 +130,22 @@ use super::blend::{Guess, Hold};
 use super::{Cut, Joints};
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 
+/// One cut's band as [`Joints::compute_band`] finds it, before it is numbered.
+struct Computed {
+    radius: f64,
+    child: usize,
+    parent: usize,
+    width: f64,
+    reach: f64,
+    pivot: DVec3,
+    normal: DVec3,
+    arc: bool,
+    /// Each of its vertices with its level.
+    levels: Vec<(u32, u16)>,
+    /// The sections it carries, each at its level.
+    carried: Vec<(usize, u16)>,
+}
+
 /// Band half-width in local medial radii when a cut does not say, chosen by
 /// `puppet bench joints` (no face crossing at 45–135° on the measured joints; the widest
 /// band smooths the bend the most, `BENCHMARKS.md`).
@@ -483,6 +499,108 @@ impl Joints {
         true
     }
 
+    /// Cut `k`'s band on its own (its local radius `radius`, each cut's rank by thickness
+    /// `rank`, and each section's `rank_of_section`): `None` where it has none.
+    fn compute_band(
+        &self,
+        k: usize,
+        radius: Option<(f64, usize, usize)>,
+        rank: &[usize],
+        rank_of_section: &(dyn Fn(usize) -> usize + Sync),
+    ) -> Option<Computed> {
+        let mut carries: Vec<(usize, u16)> = Vec::new();
+        // A skin cut's vertices blend by the file's weights instead ([`super::skin`]).
+        if self.cuts[k].shape == super::Shape::Skin && self.body.skin.is_some() {
+            return None;
+        }
+        let factor = self.cuts[k].band_factor();
+        if factor <= 0.0 {
+            return None;
+        }
+        let (radius, child, parent) = radius?;
+        // No wider than the child reaches beyond the cut, so its far end turns whole (a
+        // short section: a jaw, a head on a short neck).
+        let width = (factor * radius).min(self.depth(k, child));
+        if !(width.is_finite() && width > 0.0) {
+            return None;
+        }
+        // The child's side: no farther than the child stays a limb.
+        let reach = self.tube(k, child, radius).clamp(0.5 * width, width);
+        // Two limbs bend as an arc; a limb on a trunk turns as a fan, and so does a
+        // part that turns about a hinge it shares (a jaw and its head, which must stay
+        // at the hinge).
+        let (pivot, normal) = self.cut_frame(k);
+        let arc = !self.cuts[k].shared_pivot
+            && self.sections[child].pivot == pivot
+            && self.spread(k, parent, radius, width) <= ARC_SPREAD;
+        // The band's vertices by their skeletal points, then blended over the surface
+        // around the seam (`blend`).
+        let guess: Vec<Guess> = self
+            .near_cut(k, radius, width)
+            .into_iter()
+            .filter(|&(_, d)| d < reach)
+            .map(|(vertex, d)| Guess {
+                vertex,
+                x: ((d + width) / (width + reach)).clamp(0.0, 1.0),
+            })
+            .collect();
+        // An arc's levels are places along its bent centre line, which a vertex's
+        // weight must match (on a limb its skeletal point does, and is continuous);
+        // a fan's blend over the surface.
+        // The share of the turn the seam moves with: where the cut lies along the band.
+        let at_cut = width / (width + reach);
+        let seam = if arc { at_cut } else { weight(at_cut) };
+        let hold = if arc {
+            Hold::Exact {
+                span: width + reach,
+                smooth: SMOOTH * radius,
+                seam,
+            }
+        } else {
+            Hold::Soft {
+                reach,
+                smooth: SMOOTH * radius,
+                seam,
+            }
+        };
+        let share = |x: f64| if arc { x } else { weight(x) };
+        let mut weights = self.blend(child, parent, pivot, normal, hold, &guess, &[]);
+        // The parent's thinner children whose seams the band moves ride on it whole
+        // (see the module docs: carried).
+        let carried: Vec<(usize, f64)> = self
+            .seam_positions(child, parent, &weights, |s| rank_of_section(s) > rank[k])
+            .into_iter()
+            .filter(|&(_, x)| share(x) >= CARRY_MIN)
+            .collect();
+        if !carried.is_empty() {
+            weights = self.blend(child, parent, pivot, normal, hold, &guess, &carried);
+            for &(s, x) in &carried {
+                let level = (share(x).clamp(0.0, 1.0) * LEVELS as f64).round() as u16;
+                carries.push((s, level));
+            }
+        }
+        // Each vertex's share of the motion, rounded to the band's levels.
+        let shares: Vec<(usize, f64)> = weights.into_iter().map(|(i, x)| (i, share(x))).collect();
+        let levels = self.levels(&shares);
+        let levels = shares
+            .iter()
+            .zip(levels)
+            .map(|(&(i, _), level)| (i as u32, level))
+            .collect();
+        Some(Computed {
+            radius,
+            child,
+            parent,
+            width,
+            reach,
+            pivot,
+            normal,
+            arc,
+            levels,
+            carried: carries,
+        })
+    }
+
     /// Recomputes the bands and every vertex's transform (after the cuts changed).
     pub(super) fn refresh_bands(&mut self) {
         self.changing();
@@ -518,98 +636,40 @@ impl Joints {
         let rank_of_section = |s: usize| section_rank.get(s).copied().unwrap_or(usize::MAX);
         // (carried section, carrying cut, level)
         let mut carries: Vec<(usize, usize, u16)> = Vec::new();
-        for (k, &radius) in radii.iter().enumerate() {
-            // A skin cut's vertices blend by the file's weights instead ([`super::skin`]).
-            if self.cuts[k].shape == super::Shape::Skin && self.body.skin.is_some() {
-                continue;
-            }
-            let factor = self.cuts[k].band_factor();
+        // Each cut's band on its own (in parallel: each reads the joints only), then
+        // numbered in the cuts' order.
+        let computed: Vec<Option<Computed>> = {
+            use rayon::prelude::*;
+            (0..self.cuts.len())
+                .into_par_iter()
+                .map(|k| self.compute_band(k, radii[k], &rank, &rank_of_section))
+                .collect()
+        };
+        for (k, c) in computed.into_iter().enumerate() {
             let first = sections + slot * (LEVELS - 1);
-            if factor <= 0.0 || first + LEVELS - 1 > MAX_TRANSFORMS {
+            if first + LEVELS - 1 > MAX_TRANSFORMS {
                 continue;
             }
-            let Some((radius, child, parent)) = radius else {
+            let Some(c) = c else {
                 continue;
             };
-            // No wider than the child reaches beyond the cut, so its far end turns whole (a
-            // short section: a jaw, a head on a short neck).
-            let width = (factor * radius).min(self.depth(k, child));
-            if !(width.is_finite() && width > 0.0) {
-                continue;
+            for &(s, level) in &c.carried {
+                carries.push((s, k, level));
             }
-            // The child's side: no farther than the child stays a limb.
-            let reach = self.tube(k, child, radius).clamp(0.5 * width, width);
-            // Two limbs bend as an arc; a limb on a trunk turns as a fan, and so does a
-            // part that turns about a hinge it shares (a jaw and its head, which must stay
-            // at the hinge).
-            let (pivot, normal) = self.cut_frame(k);
-            let arc = !self.cuts[k].shared_pivot
-                && self.sections[child].pivot == pivot
-                && self.spread(k, parent, radius, width) <= ARC_SPREAD;
-            // The band's vertices by their skeletal points, then blended over the surface
-            // around the seam (`blend`).
-            let guess: Vec<Guess> = self
-                .near_cut(k, radius, width)
-                .into_iter()
-                .filter(|&(_, d)| d < reach)
-                .map(|(vertex, d)| Guess {
-                    vertex,
-                    x: ((d + width) / (width + reach)).clamp(0.0, 1.0),
-                })
-                .collect();
-            // An arc's levels are places along its bent centre line, which a vertex's
-            // weight must match (on a limb its skeletal point does, and is continuous);
-            // a fan's blend over the surface.
-            // The share of the turn the seam moves with: where the cut lies along the band.
-            let at_cut = width / (width + reach);
-            let seam = if arc { at_cut } else { weight(at_cut) };
-            let hold = if arc {
-                Hold::Exact {
-                    span: width + reach,
-                    smooth: SMOOTH * radius,
-                    seam,
-                }
-            } else {
-                Hold::Soft {
-                    reach,
-                    smooth: SMOOTH * radius,
-                    seam,
-                }
-            };
-            let share = |x: f64| if arc { x } else { weight(x) };
-            let mut weights = self.blend(child, parent, pivot, normal, hold, &guess, &[]);
-            // The parent's thinner children whose seams the band moves ride on it whole
-            // (see the module docs: carried).
-            let carried: Vec<(usize, f64)> = self
-                .seam_positions(child, parent, &weights, |s| rank_of_section(s) > rank[k])
-                .into_iter()
-                .filter(|&(_, x)| share(x) >= CARRY_MIN)
-                .collect();
-            if !carried.is_empty() {
-                weights = self.blend(child, parent, pivot, normal, hold, &guess, &carried);
-                for &(s, x) in &carried {
-                    let level = (share(x).clamp(0.0, 1.0) * LEVELS as f64).round() as u16;
-                    carries.push((s, k, level));
-                }
-            }
-            // Each vertex's share of the motion, rounded to the band's levels.
-            let shares: Vec<(usize, f64)> =
-                weights.into_iter().map(|(i, x)| (i, share(x))).collect();
-            let levels = self.levels(&shares);
-            for (&(i, _), level) in shares.iter().zip(levels) {
-                entries.push((i as u32, slot as u16, level));
+            for &(i, level) in &c.levels {
+                entries.push((i, slot as u16, level));
             }
             slots.push(k);
             self.bands[k] = Some(Band {
-                child,
-                parent,
-                width,
-                child_width: reach,
-                radius,
-                pivot,
-                normal,
+                child: c.child,
+                parent: c.parent,
+                width: c.width,
+                child_width: c.reach,
+                radius: c.radius,
+                pivot: c.pivot,
+                normal: c.normal,
                 first_level: first,
-                arc,
+                arc: c.arc,
                 contacts: Vec::new(),
                 first_contact: 0,
                 slide: DVec3::ZERO,

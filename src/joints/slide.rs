@@ -432,11 +432,20 @@ impl Joints {
             };
             measured.push((k, per_turn, cross_slide, swell));
         }
-        let mut scratch = (body.rest.clone(), vec![false; n]);
-        let crosses: Vec<Vec<Cross>> = measured
-            .iter()
-            .map(|&(k, _, _, _)| self.measure_cross(k, &faces, &by_slot, slots, &mut scratch))
-            .collect();
+        // Each band's cross terms on their own (in parallel: each reads the joints only,
+        // with a scratch of its thread's, which it leaves as it found it).
+        let crosses: Vec<Vec<Cross>> = {
+            use rayon::prelude::*;
+            measured
+                .par_iter()
+                .map_init(
+                    || (body.rest.clone(), vec![false; n]),
+                    |scratch, &(k, _, _, _)| {
+                        self.measure_cross(k, &faces, &by_slot, slots, scratch)
+                    },
+                )
+                .collect()
+        };
         let arcs: Vec<(usize, DVec3)> = slots
             .iter()
             .enumerate()

@@ -686,3 +686,49 @@ fn a_limb_curling_back_to_its_cut_turns_whole_where_it_comes_back() {
         }
     }
 }
+
+#[test]
+fn bands_found_on_one_thread_or_many_pose_alike() {
+    // The bands are found cut by cut in parallel and numbered in the cuts' order, so the
+    // number of threads changes nothing: the human with its suggested cuts, posed at random.
+    let (mesh, _) = crate::joints::suggest::fixture::human();
+    let mut puppet = crate::puppet::Puppet::build(
+        mesh.clone(),
+        crate::puppet::RigFile::default(),
+        crate::progress::silent(),
+    )
+    .expect("the human builds");
+    puppet.suggest_joints().expect("its joints");
+    let banded = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a thread pool");
+        pool.install(|| {
+            let mut joints = puppet.joints.clone();
+            joints.refresh_bands();
+            joints
+        })
+    };
+    let (one, many) = (banded(1), banded(4));
+    assert!(one.bands().iter().flatten().count() >= 9);
+    let differ = (one.transform_of().iter())
+        .zip(many.transform_of())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(differ, 0, "vertices whose transform differs");
+    for seed in 0..4 {
+        let pose = |joints: &Joints| {
+            let local = crate::joints::spread::random_pose(
+                joints,
+                crate::joints::spread::Spread::default(),
+                &mut crate::random::SplitMix(seed),
+            );
+            joints
+                .pose_into(&local, &mut PoseScratch::default())
+                .transforms
+                .clone()
+        };
+        assert_eq!(pose(&one), pose(&many), "seed {seed}");
+    }
+}

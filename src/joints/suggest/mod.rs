@@ -59,7 +59,7 @@ pub mod seams;
 mod union_find;
 
 #[cfg(test)]
-mod fixture;
+pub(crate) mod fixture;
 
 pub use names::other_side;
 
