@@ -132,14 +132,8 @@ use glam::{DAffine3, DMat3, DQuat, DVec3};
 
 /// One cut's band as [`Joints::compute_band`] finds it, before it is numbered.
 struct Computed {
-    radius: f64,
-    child: usize,
-    parent: usize,
-    width: f64,
-    reach: f64,
-    pivot: DVec3,
-    normal: DVec3,
-    arc: bool,
+    /// The band, its `first_level` not yet given.
+    band: Band,
     /// Each of its vertices with its level.
     levels: Vec<(u32, u16)>,
     /// The sections it carries, each at its level.
@@ -508,7 +502,6 @@ impl Joints {
         rank: &[usize],
         rank_of_section: &(dyn Fn(usize) -> usize + Sync),
     ) -> Option<Computed> {
-        let mut carries: Vec<(usize, u16)> = Vec::new();
         // A skin cut's vertices blend by the file's weights instead ([`super::skin`]).
         if self.cuts[k].shape == super::Shape::Skin && self.body.skin.is_some() {
             return None;
@@ -574,11 +567,11 @@ impl Joints {
             .collect();
         if !carried.is_empty() {
             weights = self.blend(child, parent, pivot, normal, hold, &guess, &carried);
-            for &(s, x) in &carried {
-                let level = (share(x).clamp(0.0, 1.0) * LEVELS as f64).round() as u16;
-                carries.push((s, level));
-            }
         }
+        let carried = carried
+            .into_iter()
+            .map(|(s, x)| (s, (share(x).clamp(0.0, 1.0) * LEVELS as f64).round() as u16))
+            .collect();
         // Each vertex's share of the motion, rounded to the band's levels.
         let shares: Vec<(usize, f64)> = weights.into_iter().map(|(i, x)| (i, share(x))).collect();
         let levels = self.levels(&shares);
@@ -588,16 +581,26 @@ impl Joints {
             .map(|(&(i, _), level)| (i as u32, level))
             .collect();
         Some(Computed {
-            radius,
-            child,
-            parent,
-            width,
-            reach,
-            pivot,
-            normal,
-            arc,
+            band: Band {
+                child,
+                parent,
+                width,
+                child_width: reach,
+                radius,
+                pivot,
+                normal,
+                first_level: 0,
+                arc,
+                contacts: Vec::new(),
+                first_contact: 0,
+                slide: DVec3::ZERO,
+                parent_slide: DVec3::ZERO,
+                swell: DVec3::ZERO,
+                cross: Vec::new(),
+                cross_slide: [0.0; 2],
+            },
             levels,
-            carried: carries,
+            carried,
         })
     }
 
@@ -661,22 +664,8 @@ impl Joints {
             }
             slots.push(k);
             self.bands[k] = Some(Band {
-                child: c.child,
-                parent: c.parent,
-                width: c.width,
-                child_width: c.reach,
-                radius: c.radius,
-                pivot: c.pivot,
-                normal: c.normal,
                 first_level: first,
-                arc: c.arc,
-                contacts: Vec::new(),
-                first_contact: 0,
-                slide: DVec3::ZERO,
-                parent_slide: DVec3::ZERO,
-                swell: DVec3::ZERO,
-                cross: Vec::new(),
-                cross_slide: [0.0; 2],
+                ..c.band
             });
             slot += 1;
         }
