@@ -204,8 +204,8 @@ pub struct Blend {
 /// Most bands a vertex blends.
 pub const MAX_BLEND: usize = 8;
 
-/// One cut's band.
-#[derive(Clone, Debug, PartialEq)]
+/// One cut's band (by default none: zero wide, nothing measured yet).
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Band {
     /// The section the cut made.
     pub child: usize,
@@ -589,15 +589,8 @@ impl Joints {
                 radius,
                 pivot,
                 normal,
-                first_level: 0,
                 arc,
-                contacts: Vec::new(),
-                first_contact: 0,
-                slide: DVec3::ZERO,
-                parent_slide: DVec3::ZERO,
-                swell: DVec3::ZERO,
-                cross: Vec::new(),
-                cross_slide: [0.0; 2],
+                ..Band::default()
             },
             levels,
             carried,

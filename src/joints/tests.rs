@@ -361,13 +361,7 @@ fn arc_band() -> Band {
         normal: DVec3::Y,
         first_level: 2,
         arc: true,
-        contacts: Vec::new(),
-        first_contact: 0,
-        slide: DVec3::ZERO,
-        parent_slide: DVec3::ZERO,
-        swell: DVec3::ZERO,
-        cross: Vec::new(),
-        cross_slide: [0.0; 2],
+        ..Band::default()
     }
 }
 
