@@ -91,12 +91,13 @@ fn beyond_volume(table: &str) -> usize {
 /// settled, the joints suggested from the skeleton): no pose gives a NaN, no edge
 /// stretches past 4.5× (the adventurer's body, 4.08×; 5.47× before the tear check took
 /// back joints past 3.5×), at most 6 poses pass 3×, 41 characters stay within 3× on
-/// every pose, and at most 375 poses change a section's volume by more than 5 % (372
-/// before two people's hips were cut, 461 when a slide was held at half a radius and a
-/// trunk did not swell). Half a minute in CI.
+/// every pose, and at most 374 poses change a section's volume by more than 5 % (375
+/// before the horse's front came from its file, 372 before two people's hips were cut,
+/// 461 when a slide was held at half a radius and a trunk did not swell). Half a minute
+/// in CI.
 #[test]
 fn the_downloads_poses_hold_what_benchmarks_says() {
-    holds("tests/data/population", 45, 4.5, 6, 41, 375);
+    holds("tests/data/population", 45, 4.5, 6, 41, 374);
 }
 
 /// BENCHMARKS' claims on the 12 characters in pieces of `tests/data/pieces` (20 seeds

@@ -23,7 +23,8 @@
 //!   all when one of them reaches the mesh's far end that way (a biped's legs stand on the
 //!   ground while its arms are held out and its ears raised; a lizard's sprawled hind legs
 //!   reach no farther back than its tail).
-//! * **Front.** Across up and the mirror plane: the end of the body that the part on the
+//! * **Front.** Across up and the mirror plane: given (a glTF file's +z, as the format
+//!   declares, [`Axes::GLTF`]) where it lies along that line; else the end of the body that the part on the
 //!   plane most like a head grows from (with ears on the body, the one nearest them), away
 //!   from another part on the plane, a tail ([`FRONT_END`]: a cat stretching looks up and
 //!   back); else the way that part leans, else, with limbs hanging down, the way the soles
@@ -179,6 +180,59 @@ impl Default for Frame {
             front: DVec3::Z,
             left: DVec3::X,
             mirror: None,
+        }
+    }
+}
+
+/// What a suggestion takes as given instead of finding it (each `None` to be found): up (a
+/// rig file's, `--up`, a file format's), and the way the character faces (a file format's,
+/// [`Axes::given`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Given {
+    /// Up.
+    pub up: Option<DVec3>,
+    /// The way the character faces: taken where it lies along the line across up and the
+    /// mirror plane ([`frame`]).
+    pub front: Option<DVec3>,
+}
+
+impl Given {
+    /// Up given, the front to be found.
+    pub fn with_up(up: DVec3) -> Given {
+        Given {
+            up: Some(up),
+            front: None,
+        }
+    }
+}
+
+/// The axes a file format declares its models in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Axes {
+    /// Up.
+    pub up: Up,
+    /// The way a model faces.
+    pub front: Up,
+}
+
+impl Axes {
+    /// glTF 2.0's (*Coordinate System and Units*): "glTF defines +Y as up, +Z as forward
+    /// … the front of a glTF asset faces +Z".
+    pub const GLTF: Axes = Axes {
+        up: Up::PosY,
+        front: Up::PosZ,
+    };
+
+    /// What a suggestion takes as given from a file declaring `format` and a rig (or
+    /// `--up`) giving `up`: the rig's up over the file's, and the file's front only where
+    /// up is the file's own (its front is declared for its up).
+    pub fn given(format: Option<Axes>, up: Option<Up>) -> Given {
+        let up = up.or(format.map(|f| f.up));
+        Given {
+            up: up.map(Up::vector),
+            front: format
+                .filter(|f| Some(f.up) == up)
+                .map(|f| f.front.vector()),
         }
     }
 }
@@ -344,8 +398,8 @@ impl Reach {
 }
 
 /// The frame of a mesh with the cues `cues` whose root has `limbs` (see the module docs);
-/// `up` when given.
-pub fn frame(positions: &[DVec3], cues: Cues, limbs: &[Reach], up: Option<DVec3>) -> Frame {
+/// up and front as far as `given`.
+pub fn frame(positions: &[DVec3], cues: Cues, limbs: &[Reach], given: Given) -> Frame {
     let Cues { mirror, base } = cues;
     let size = crate::mesh::longest_side(positions);
     let centre = positions.iter().sum::<DVec3>() / positions.len().max(1) as f64;
@@ -358,7 +412,7 @@ pub fn frame(positions: &[DVec3], cues: Cues, limbs: &[Reach], up: Option<DVec3>
     let base_up = base
         .map(|b| -b)
         .filter(|u| mirror.is_none_or(|(n, _)| u.dot(n).abs() < 0.5));
-    let up = match (up, mirror) {
+    let up = match (given.up, mirror) {
         (Some(u), _) => u.normalize_or(DVec3::Y),
         (None, None) => base_up.unwrap_or(DVec3::Y),
         (None, Some(_)) if base_up.is_some() && off.is_empty() => base_up.unwrap_or(DVec3::Y),
@@ -504,7 +558,12 @@ pub fn frame(positions: &[DVec3], cues: Cues, limbs: &[Reach], up: Option<DVec3>
         .map(|l| (l.tip - l.pivot).dot(axis))
         .sum();
     let toes = || toes(positions, up, axis) / size.max(f64::MIN_POSITIVE);
-    let sign = if placed.abs() > FRONT_END * size {
+    // (A front given along the plane's normal, a model facing across its own mirror
+    // plane, is the file's mistake: the cues decide.)
+    let declared = given.front.map(|f| f.dot(axis)).filter(|d| d.abs() > 0.5);
+    let sign = if let Some(declared) = declared {
+        declared.signum()
+    } else if placed.abs() > FRONT_END * size {
         placed.signum()
     } else if lean.abs() > 0.3 {
         lean.signum()
@@ -647,13 +706,19 @@ mod tests {
         let cues = Cues::of(&bust);
         assert_eq!(cues.base, Some(DVec3::NEG_Z));
         assert_eq!(cues.mirror, Some((n, o)));
-        let f = frame(&bust.positions, cues, &[], None);
+        let f = frame(&bust.positions, cues, &[], Given::default());
         assert_eq!(f.up, DVec3::Z);
         // A given up wins, and without a base the convention stays.
-        let given = frame(&bust.positions, cues, &[], Some(DVec3::X));
+        let given = frame(&bust.positions, cues, &[], Given::with_up(DVec3::X));
         assert_eq!(given.up, DVec3::X);
         assert_eq!(
-            frame(&bust.positions, Cues { base: None, ..cues }, &[], None).up,
+            frame(
+                &bust.positions,
+                Cues { base: None, ..cues },
+                &[],
+                Given::default()
+            )
+            .up,
             DVec3::Y
         );
     }
@@ -673,12 +738,15 @@ mod tests {
             mirror: mirror_plane(&plane),
             base: None,
         };
-        let f = frame(&plane, cues, &limbs, None);
+        let f = frame(&plane, cues, &limbs, Given::default());
         assert_eq!(f.up, DVec3::Z);
         assert!(f.front.dot(DVec3::Y).abs() > 0.99);
         assert!((f.left - f.up.cross(f.front)).length() < 1e-12);
         // Given, up is kept.
-        assert_eq!(frame(&plane, cues, &limbs, Some(DVec3::Y)).up, DVec3::Y);
+        assert_eq!(
+            frame(&plane, cues, &limbs, Given::with_up(DVec3::Y)).up,
+            DVec3::Y
+        );
         // Sprawled legs say little: +y stays.
         let sprawl = |x: f64, y: f64, s: f64| Reach {
             pivot: DVec3::new(x, y, 0.0),
@@ -687,7 +755,7 @@ mod tests {
             carried: None,
         };
         let limbs = [sprawl(0.5, 0.2, -1.0), sprawl(1.5, 0.2, 1.0)];
-        assert_eq!(frame(&plane, cues, &limbs, None).up, DVec3::Y);
+        assert_eq!(frame(&plane, cues, &limbs, Given::default()).up, DVec3::Y);
     }
 
     /// A standing figure whose legs' tips (the heels, farthest from the hips) lie behind:
@@ -723,13 +791,55 @@ mod tests {
         };
         let with = figure(true);
         assert!(toes(&with, DVec3::Y, DVec3::Z) > TOES * 1.7);
-        assert_eq!(frame(&with, cues, &limbs, Some(DVec3::Y)).front, DVec3::Z);
+        assert_eq!(
+            frame(&with, cues, &limbs, Given::with_up(DVec3::Y)).front,
+            DVec3::Z
+        );
         let without = figure(false);
         assert_eq!(toes(&without, DVec3::Y, DVec3::Z), 0.0);
         assert_eq!(
-            frame(&without, cues, &limbs, Some(DVec3::Y)).front,
+            frame(&without, cues, &limbs, Given::with_up(DVec3::Y)).front,
             DVec3::NEG_Z
         );
+    }
+
+    /// The front a file declares wins over the cues where it lies across up and the
+    /// mirror plane (the figure's limbs say −z; a glTF file says +z), and not where it lies
+    /// along the plane's normal (a model facing across its own mirror plane): there the
+    /// cues decide. Taken only with the file's own up.
+    #[test]
+    fn a_front_the_file_declares_is_taken_along_the_line_the_cues_allow() {
+        let leg = |x: f64| Reach {
+            pivot: DVec3::new(x, 0.9, 0.0),
+            tip: DVec3::new(x, 0.0, -0.05),
+            end: 0.05,
+            carried: None,
+        };
+        let limbs = [leg(0.1), leg(-0.1)];
+        let cues = Cues {
+            mirror: Some((DVec3::X, 0.0)),
+            base: None,
+        };
+        let figure: Vec<DVec3> = (0..=170)
+            .flat_map(|i| [-0.1, 0.1].map(|x| DVec3::new(x, i as f64 * 0.01, 0.0)))
+            .collect();
+        let found = frame(&figure, cues, &limbs, Given::with_up(DVec3::Y));
+        assert_eq!(found.front, DVec3::NEG_Z);
+        let gltf = Axes::given(Some(Axes::GLTF), None);
+        assert_eq!(gltf.up, Some(DVec3::Y));
+        let declared = frame(&figure, cues, &limbs, gltf);
+        assert_eq!(declared.front, DVec3::Z);
+        assert_eq!(declared.left, DVec3::X);
+        let across = Given {
+            front: Some(DVec3::X),
+            ..gltf
+        };
+        assert_eq!(frame(&figure, cues, &limbs, across).front, DVec3::NEG_Z);
+        // A rig's own up sets the file's front aside; the file's up again keeps it.
+        let rig = Axes::given(Some(Axes::GLTF), Some(Up::PosZ));
+        assert_eq!((rig.up, rig.front), (Some(DVec3::Z), None));
+        assert_eq!(Axes::given(Some(Axes::GLTF), Some(Up::PosY)), gltf);
+        assert_eq!(Axes::given(None, None), Given::default());
     }
 
     /// A four-legged figure with one part on its mirror plane, reaching back along -z: thin
@@ -767,7 +877,7 @@ mod tests {
         ];
         let with = |end: f64| {
             let limbs: Vec<Reach> = legs.iter().copied().chain([part(end)]).collect();
-            frame(&positions, cues, &limbs, Some(DVec3::Y)).front
+            frame(&positions, cues, &limbs, Given::with_up(DVec3::Y)).front
         };
         assert_eq!(with(0.02), DVec3::Z);
         assert_eq!(with(TAIL_END * 0.2 * 1.1), DVec3::NEG_Z);

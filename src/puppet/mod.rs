@@ -82,9 +82,10 @@ pub struct Puppet {
     pressing_found: bool,
     /// Up, front and left, as the last suggestion found them.
     frame: Option<crate::mesh::orientation::Frame>,
-    /// The up the mesh file's format fixes (glTF's +y, by its specification), taken as
-    /// given where the rig file gives none.
-    format_up: Option<crate::mesh::orientation::Up>,
+    /// The axes the mesh file's format declares (glTF's +y up and +z front, by its
+    /// specification): up taken as given where the rig file gives none, the front where
+    /// up is the file's ([`crate::mesh::orientation::Axes::given`]).
+    format_axes: Option<crate::mesh::orientation::Axes>,
     /// Suggest joints from the skeleton even when the mesh file has a skin.
     pub ignore_skin: bool,
 }
@@ -150,9 +151,9 @@ impl Puppet {
             stopped: None,
             pressing_found: false,
             frame: None,
-            format_up: report
+            format_axes: report
                 .is_some_and(|r| r.format == mesh::Format::Gltf)
-                .then_some(crate::mesh::orientation::Up::PosY),
+                .then_some(crate::mesh::orientation::Axes::GLTF),
             ignore_skin: false,
         };
         let regions = puppet.regions(true).map_err(BuildError::Regions)?;
@@ -265,9 +266,9 @@ impl Puppet {
     /// returns how many. On error nothing changes.
     pub fn suggest_joints(&mut self) -> Result<usize, JointError> {
         let mut root = self.joints.sections()[0].name.clone();
-        let up = self.rig_file.up.or(self.format_up).map(|u| u.vector());
+        let given = crate::mesh::orientation::Axes::given(self.format_axes, self.rig_file.up);
         let (mut cuts, frame) =
-            crate::joints::suggest::suggest(&self.mesh, &self.skeleton, &root, up);
+            crate::joints::suggest::suggest(&self.mesh, &self.skeleton, &root, given);
         self.frame = Some(frame);
         let mut skinned = false;
         if let Some(skin) = self.skin_joints() {
@@ -297,6 +298,14 @@ impl Puppet {
         self.joints.skin_joints()
     }
 
+    /// Sets aside the axes the mesh file's format declares ([`Puppet::up`] and the next
+    /// suggestion find up and front from the shape alone): what the suggestion's own cues
+    /// do on a glTF file.
+    pub fn ignore_format_axes(&mut self) {
+        self.format_axes = None;
+        self.sim.set_up(self.up().as_vec3());
+    }
+
     /// Up, front and left as the last suggestion found them (`None` before one).
     pub fn frame(&self) -> Option<crate::mesh::orientation::Frame> {
         self.frame
@@ -305,7 +314,10 @@ impl Puppet {
     /// The mesh's up direction: the rig file's, or the file format's (glTF's +y), or as the
     /// last suggestion found it, or +y.
     pub fn up(&self) -> DVec3 {
-        match (self.rig_file.up.or(self.format_up), self.frame) {
+        match (
+            self.rig_file.up.or(self.format_axes.map(|a| a.up)),
+            self.frame,
+        ) {
             (Some(u), _) => u.vector(),
             (None, Some(f)) => f.up,
             (None, None) => DVec3::Y,

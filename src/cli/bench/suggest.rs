@@ -49,6 +49,10 @@ pub struct Args {
     /// The seed of `--jitter`.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// Find up and front from the shape alone: set aside the axes a file's format declares
+    /// (a glTF file's +y up and +z front), to measure the suggestion's own cues.
+    #[arg(long)]
+    ignore_format_axes: bool,
     /// Print JSON instead of a Markdown table.
     #[arg(long)]
     json: bool,
@@ -233,6 +237,10 @@ fn measure(name: &str, labels: &Labels, file: &Path, args: &Args, load: &LoadArg
     )
     .map_err(|e| anyhow!("{shown}: {e}"))?;
     let ms_skeleton = t.elapsed().as_secs_f64() * 1e3;
+    let mut built = built;
+    if args.ignore_format_axes {
+        built.ignore_format_axes();
+    }
     let (puppet, ms_suggest) = median_of_three(|| {
         let mut puppet = built.clone();
         puppet

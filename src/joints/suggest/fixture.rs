@@ -66,6 +66,14 @@ impl Staged {
     pub(crate) fn named(&self, up: Option<glam::DVec3>) -> Named {
         let body = &self.body;
         let radius = &self.skeleton.distance;
-        names::name(&body.character, radius, &self.placed, up, body.cues, "root")
+        let given = crate::mesh::orientation::Given { up, front: None };
+        names::name(
+            &body.character,
+            radius,
+            &self.placed,
+            given,
+            body.cues,
+            "root",
+        )
     }
 }

@@ -64,31 +64,25 @@ pub(crate) mod fixture;
 pub use names::other_side;
 
 use crate::joints::Cut;
-use crate::mesh::orientation::Frame;
+use crate::mesh::orientation::{Frame, Given};
 use crate::mesh::Mesh;
 use crate::skeleton::Skeleton;
 use body::Body;
-use glam::DVec3;
 
 /// Cuts where the protrusions of `mesh` narrow, organised parent-first as a section tree
 /// under the root section `root`, named by role where one fits, and the frame (up, front,
-/// left) they were named in: `up` when given, else found. Every cut applies, in order, to
+/// left) they were named in: up and front as far as `given`, the rest found. Every cut applies, in order, to
 /// joints without cuts. Two or more characters in the file (body parts apart from each
 /// other) each get their own cuts, the largest's names as they are and the others' with
 /// `.001`, `.002`… (see `characters`); the frame is the largest's.
-pub fn suggest(
-    mesh: &Mesh,
-    skeleton: &Skeleton,
-    root: &str,
-    up: Option<DVec3>,
-) -> (Vec<Cut>, Frame) {
+pub fn suggest(mesh: &Mesh, skeleton: &Skeleton, root: &str, given: Given) -> (Vec<Cut>, Frame) {
     let Some(characters) = characters::of(mesh, skeleton) else {
-        return suggest_one(mesh, skeleton, root, up);
+        return suggest_one(mesh, skeleton, root, given);
     };
     let mut all = Vec::new();
     let mut first = None;
     for (k, c) in characters.iter().enumerate() {
-        let (cuts, frame) = suggest_one(&c.mesh, &c.skeleton, root, up);
+        let (cuts, frame) = suggest_one(&c.mesh, &c.skeleton, root, given);
         first.get_or_insert(frame);
         let named = |n: &str| characters::name(n, k, root);
         all.extend(cuts.into_iter().map(|cut| Cut {
@@ -99,17 +93,12 @@ pub fn suggest(
     }
     match first {
         Some(frame) => (all, frame),
-        None => suggest_one(mesh, skeleton, root, up),
+        None => suggest_one(mesh, skeleton, root, given),
     }
 }
 
 /// [`suggest`] for one character: the six stages of the module docs.
-fn suggest_one(
-    mesh: &Mesh,
-    skeleton: &Skeleton,
-    root: &str,
-    up: Option<DVec3>,
-) -> (Vec<Cut>, Frame) {
+fn suggest_one(mesh: &Mesh, skeleton: &Skeleton, root: &str, given: Given) -> (Vec<Cut>, Frame) {
     // 1. Orientation: the body apart from its riders, its mirror plane and flat base.
     let body = Body::of(mesh, skeleton);
     let mirror = body.cues.mirror;
@@ -124,7 +113,7 @@ fn suggest_one(
         &body.character,
         &skeleton.distance,
         &placed,
-        up,
+        given,
         body.cues,
         root,
     );

@@ -38,9 +38,8 @@ mod naming;
 
 use super::place::Placed;
 use crate::joints::{Cut, Joints};
-use crate::mesh::orientation::{frame, Cues, Frame, Reach};
+use crate::mesh::orientation::{frame, Cues, Frame, Given, Reach};
 use crate::mesh::Mesh;
-use glam::DVec3;
 use naming::Naming;
 use std::collections::HashMap;
 
@@ -57,18 +56,18 @@ pub(crate) struct Named {
 }
 
 /// The cuts of `placed` named by role in the frame found from the root's limbs, on
-/// `character` (each rider where its host is) of skeletal distances `radius`; `up` when
-/// given; `cues`, the body's; `root`, the root section's name.
+/// `character` (each rider where its host is) of skeletal distances `radius`; up and front
+/// as far as `given`; `cues`, the body's; `root`, the root section's name.
 pub(crate) fn name(
     character: &Mesh,
     radius: &[f64],
     placed: &Placed,
-    up: Option<DVec3>,
+    given: Given,
     cues: Cues,
     root: &str,
 ) -> Named {
     // Names by role; a name taken twice, and a cut no role fits, keep their numbers.
-    let roles = roles(character, radius, &placed.joints, up, cues);
+    let roles = roles(character, radius, &placed.joints, given, cues);
     let mut cuts = placed.cuts.clone();
     let sockets = &placed.sockets;
     let frame = roles.frame;
@@ -128,7 +127,7 @@ pub(crate) fn roles(
     mesh: &Mesh,
     radius: &[f64],
     joints: &Joints,
-    up: Option<DVec3>,
+    given: Given,
     cues: Cues,
 ) -> Roles {
     let Cues { mirror, base } = cues;
@@ -170,7 +169,7 @@ pub(crate) fn roles(
         .map(|&s| (s, naming.reach(s)))
         .collect();
     let reaches: Vec<Reach> = limbs.iter().map(|l| l.1).collect();
-    naming.frame = frame(&mesh.positions, cues, &reaches, up);
+    naming.frame = frame(&mesh.positions, cues, &reaches, given);
     naming.root(&limbs);
     Roles {
         names: naming.names,
@@ -219,6 +218,7 @@ fn tagged(base: &str, tag: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::DVec3;
 
     #[test]
     fn a_side_s_name_has_its_other_side_and_a_shoulder_or_a_hip_is_a_ball() {
