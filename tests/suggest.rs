@@ -1433,6 +1433,26 @@ fn a_gltf_file_is_y_up_as_its_specification_says() {
     );
 }
 
+/// `bench suggest` over `tests/data/population` with `extra` arguments: its rows.
+fn population(extra: &[&str]) -> Vec<serde_json::Value> {
+    let mut args = vec![
+        "bench",
+        "suggest",
+        "--set",
+        "tests/data/population",
+        "--json",
+    ];
+    args.extend_from_slice(extra);
+    let out = puppet(&args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    rows.as_array().unwrap().clone()
+}
+
 /// What BENCHMARKS says of the population (`bench suggest`, both halves), held: no file
 /// refused (the stag's stray face and fin repaired), up right on every file, fronts right
 /// with glTF's declared axes and with the shape alone, each half's
@@ -1440,20 +1460,7 @@ fn a_gltf_file_is_y_up_as_its_specification_says() {
 /// points below the development half (rules chosen on one half carry over to the other).
 #[test]
 fn the_population_scores_as_benchmarks_says() {
-    let out = puppet(&[
-        "bench",
-        "suggest",
-        "--set",
-        "tests/data/population",
-        "--json",
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    let rows = rows.as_array().unwrap();
+    let rows = &population(&[]);
     assert_eq!(rows.len(), 45);
     let refused: Vec<&str> = rows
         .iter()
@@ -1490,17 +1497,7 @@ fn the_population_scores_as_benchmarks_says() {
     );
     // The shape alone (the file's axes set aside): up right on 23 and 17, fronts on 20
     // and 12.
-    let out = puppet(&[
-        "bench",
-        "suggest",
-        "--set",
-        "tests/data/population",
-        "--json",
-        "--ignore-format-axes",
-    ]);
-    assert!(out.status.success());
-    let alone: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    let alone = alone.as_array().unwrap();
+    let alone = &population(&["--ignore-format-axes"]);
     let figures = ["up_right", "front_right"]
         .map(|what| ["development", "held-out"].map(|half| right(alone, half, what)));
     assert!(

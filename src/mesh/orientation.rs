@@ -758,6 +758,22 @@ mod tests {
         assert_eq!(frame(&plane, cues, &limbs, Given::default()).up, DVec3::Y);
     }
 
+    /// Two legs standing either side of the mirror plane x = 0, their tips (the heels)
+    /// a little behind (−z), and the cues that plane gives.
+    fn standing_legs() -> ([Reach; 2], Cues) {
+        let leg = |x: f64| Reach {
+            pivot: DVec3::new(x, 0.9, 0.0),
+            tip: DVec3::new(x, 0.0, -0.05),
+            end: 0.05,
+            carried: None,
+        };
+        let cues = Cues {
+            mirror: Some((DVec3::X, 0.0)),
+            base: None,
+        };
+        ([leg(0.1), leg(-0.1)], cues)
+    }
+
     /// A standing figure whose legs' tips (the heels, farthest from the hips) lie behind:
     /// its soles, reaching forward of its shins, tell the front (+z); without soles ahead
     /// of the shins the limbs' tips do (−z).
@@ -778,17 +794,7 @@ mod tests {
             }
             p
         };
-        let leg = |x: f64| Reach {
-            pivot: DVec3::new(x, 0.9, 0.0),
-            tip: DVec3::new(x, 0.0, -0.05),
-            end: 0.05,
-            carried: None,
-        };
-        let limbs = [leg(0.1), leg(-0.1)];
-        let cues = Cues {
-            mirror: Some((DVec3::X, 0.0)),
-            base: None,
-        };
+        let (limbs, cues) = standing_legs();
         let with = figure(true);
         assert!(toes(&with, DVec3::Y, DVec3::Z) > TOES * 1.7);
         assert_eq!(
@@ -809,17 +815,7 @@ mod tests {
     /// cues decide. Taken only with the file's own up.
     #[test]
     fn a_front_the_file_declares_is_taken_along_the_line_the_cues_allow() {
-        let leg = |x: f64| Reach {
-            pivot: DVec3::new(x, 0.9, 0.0),
-            tip: DVec3::new(x, 0.0, -0.05),
-            end: 0.05,
-            carried: None,
-        };
-        let limbs = [leg(0.1), leg(-0.1)];
-        let cues = Cues {
-            mirror: Some((DVec3::X, 0.0)),
-            base: None,
-        };
+        let (limbs, cues) = standing_legs();
         let figure: Vec<DVec3> = (0..=170)
             .flat_map(|i| [-0.1, 0.1].map(|x| DVec3::new(x, i as f64 * 0.01, 0.0)))
             .collect();
