@@ -832,6 +832,57 @@ fn up_given_is_kept_in_the_rig_file_and_overrides_what_is_found() {
     assert!(err.contains("up = 'sideways' is not one of"), "{err}");
 }
 
+/// A front given names left and right (`.L` on the character's own left, up × front), is
+/// written into the rig file and read back; one along up is refused, from the command line
+/// and from a rig file, with the file named and exit status 2.
+#[test]
+fn front_given_names_left_and_right_and_is_kept_in_the_rig_file() {
+    let dir = scratch("suggest-front");
+    let dog = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/characters/dog.obj");
+    let dog = dog.to_str().unwrap();
+    let arm_l = |report: &serde_json::Value| {
+        let cut = report["cuts"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["name"] == "arm.L")
+            .cloned()
+            .unwrap();
+        (0..3)
+            .map(|k| cut["pivot"][k].as_f64().unwrap())
+            .collect::<Vec<f64>>()
+    };
+    let found = suggest_json(&[dog]);
+    assert_eq!(found["front"], serde_json::json!([0.0, 0.0, 1.0]));
+    let [x, _, z] = arm_l(&found)[..] else {
+        panic!()
+    };
+    assert!(x > 0.0 && z > 0.0, "found: arm.L at {x} {z}");
+    let rig = dir.join("dog.rig.toml");
+    let turned = suggest_json(&[dog, "--front=-z", "-o", rig.to_str().unwrap()]);
+    assert_eq!(turned["front"], serde_json::json!([0.0, 0.0, -1.0]));
+    // Facing −z, its own left is −x and its fore legs are the ones at −z.
+    let [x, _, z] = arm_l(&turned)[..] else {
+        panic!()
+    };
+    assert!(x < 0.0 && z < 0.0, "turned: arm.L at {x} {z}");
+    assert_eq!(RigFile::load(&rig).unwrap().front, Some(Up::NegZ));
+    let out = puppet(&["suggest", dog, "--up=+y", "--front=-y"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("error: ") && err.contains("dog.obj: --front -y lies along --up +y"),
+        "{err}"
+    );
+    let bad = dir.join("bad.rig.toml");
+    std::fs::write(&bad, "up = \"+y\"\nfront = \"+y\"\n").unwrap();
+    let err = RigFile::load(&bad).unwrap_err().to_string();
+    assert!(
+        err.contains("front = \"+y\" lies along up = \"+y\""),
+        "{err}"
+    );
+}
+
 /// A suggested puppet's mirror plane, its size and its cuts' pivots.
 fn mirror_and_pivots(p: &Puppet) -> ((glam::DVec3, f64), f64, Vec<(String, glam::DVec3)>) {
     let mirror = p.frame().unwrap().mirror.expect("a mirror plane");

@@ -29,6 +29,11 @@ pub struct Args {
     /// from its shape; written into the rig file when given).
     #[arg(long, value_name = "AXIS", allow_hyphen_values = true)]
     pub up: Option<puppet::mesh::orientation::Up>,
+    /// The way the character faces, across up: +x, -x, +y, -y, +z or -z (default: a glTF
+    /// file's +z, else found from its shape; written into the rig file when given). It
+    /// names left and right: `.L` is the character's own left.
+    #[arg(long, value_name = "AXIS", allow_hyphen_values = true)]
+    pub front: Option<puppet::mesh::orientation::Up>,
     /// Suggest joints from the skeleton even when the file has a skin (a skinned glTF's
     /// joints are used by default).
     #[arg(long)]
@@ -90,6 +95,16 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         rig.method = method;
     }
     rig.up = args.up;
+    rig.front = args.front;
+    if let (Some(up), Some(front)) = (args.up, args.front) {
+        if up.vector().dot(front.vector()) != 0.0 {
+            return Err(FileError::new(
+                &name,
+                format!("--front {front} lies along --up {up}: a front lies across up"),
+            )
+            .into());
+        }
+    }
     let mut puppet = Puppet::build_loaded(mesh, Some(&report), rig, &|s, f| bar.update(s, f))
         .map_err(|e| FileError::new(&name, e))?;
     puppet.ignore_skin = args.ignore_skin;

@@ -224,15 +224,14 @@ impl Axes {
     };
 
     /// What a suggestion takes as given from a file declaring `format` and a rig (or
-    /// `--up`) giving `up`: the rig's up over the file's, and the file's front only where
-    /// up is the file's own (its front is declared for its up).
-    pub fn given(format: Option<Axes>, up: Option<Up>) -> Given {
+    /// `--up`, `--front`) giving `up` and `front`: the rig's over the file's, and the
+    /// file's front only where up is the file's own (its front is declared for its up).
+    pub fn given(format: Option<Axes>, up: Option<Up>, front: Option<Up>) -> Given {
         let up = up.or(format.map(|f| f.up));
+        let declared = format.filter(|f| Some(f.up) == up).map(|f| f.front);
         Given {
             up: up.map(Up::vector),
-            front: format
-                .filter(|f| Some(f.up) == up)
-                .map(|f| f.front.vector()),
+            front: front.or(declared).map(Up::vector),
         }
     }
 }
@@ -821,7 +820,7 @@ mod tests {
             .collect();
         let found = frame(&figure, cues, &limbs, Given::with_up(DVec3::Y));
         assert_eq!(found.front, DVec3::NEG_Z);
-        let gltf = Axes::given(Some(Axes::GLTF), None);
+        let gltf = Axes::given(Some(Axes::GLTF), None, None);
         assert_eq!(gltf.up, Some(DVec3::Y));
         let declared = frame(&figure, cues, &limbs, gltf);
         assert_eq!(declared.front, DVec3::Z);
@@ -832,10 +831,17 @@ mod tests {
         };
         assert_eq!(frame(&figure, cues, &limbs, across).front, DVec3::NEG_Z);
         // A rig's own up sets the file's front aside; the file's up again keeps it.
-        let rig = Axes::given(Some(Axes::GLTF), Some(Up::PosZ));
+        let rig = Axes::given(Some(Axes::GLTF), Some(Up::PosZ), None);
         assert_eq!((rig.up, rig.front), (Some(DVec3::Z), None));
-        assert_eq!(Axes::given(Some(Axes::GLTF), Some(Up::PosY)), gltf);
-        assert_eq!(Axes::given(None, None), Given::default());
+        assert_eq!(Axes::given(Some(Axes::GLTF), Some(Up::PosY), None), gltf);
+        assert_eq!(Axes::given(None, None, None), Given::default());
+        // A rig's front over the file's.
+        let turned = Axes::given(Some(Axes::GLTF), None, Some(Up::NegZ));
+        assert_eq!(frame(&figure, cues, &limbs, turned).front, DVec3::NEG_Z);
+        assert_eq!(
+            Axes::given(None, Some(Up::PosZ), Some(Up::PosX)).front,
+            Some(DVec3::X)
+        );
     }
 
     /// A four-legged figure with one part on its mirror plane, reaching back along -z: thin

@@ -266,7 +266,11 @@ impl Puppet {
     /// returns how many. On error nothing changes.
     pub fn suggest_joints(&mut self) -> Result<usize, JointError> {
         let mut root = self.joints.sections()[0].name.clone();
-        let given = crate::mesh::orientation::Axes::given(self.format_axes, self.rig_file.up);
+        let given = crate::mesh::orientation::Axes::given(
+            self.format_axes,
+            self.rig_file.up,
+            self.rig_file.front,
+        );
         let (mut cuts, frame) =
             crate::joints::suggest::suggest(&self.mesh, &self.skeleton, &root, given);
         self.frame = Some(frame);

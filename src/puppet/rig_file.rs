@@ -194,6 +194,8 @@ struct RigEntry {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     up: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    front: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     params: Option<toml::Table>,
     #[serde(default)]
     cut: Vec<CutEntry>,
@@ -232,6 +234,9 @@ pub struct RigFile {
     /// The up direction the mesh is modelled with, when the file says (else it is found
     /// from the mesh's shape when joints are suggested).
     pub up: Option<Up>,
+    /// The way the character faces, when the file says (else the mesh file's format's, or
+    /// found from the shape): it names left and right. Across up.
+    pub front: Option<Up>,
     /// Cuts in order.
     pub cuts: Vec<Cut>,
     /// Material regions, blended over the base material in order.
@@ -249,6 +254,7 @@ impl Default for RigFile {
             params: Params::default(),
             root: ROOT.into(),
             up: None,
+            front: None,
             cuts: Vec::new(),
             regions: Vec::new(),
             pin: Paint::default(),
@@ -372,8 +378,23 @@ impl RigFile {
             ),
             None => None,
         };
+        let front = match &entry.front {
+            Some(text) => Some(
+                text.parse::<Up>()
+                    .map_err(|e| RigError(format!("front = {e}")))?,
+            ),
+            None => None,
+        };
+        if let (Some(up), Some(front)) = (up, front) {
+            if up.vector().dot(front.vector()) != 0.0 {
+                return Err(RigError(format!(
+                    "front = \"{front}\" lies along up = \"{up}\": a front lies across up"
+                )));
+            }
+        }
         Ok(RigFile {
             up,
+            front,
             mesh: entry.mesh.map(|m| base.join(m)),
             method: entry.skeleton.unwrap_or_default(),
             preset: base_preset,
@@ -423,6 +444,7 @@ impl RigFile {
             constraint: Some(self.params.solver.constraint),
             root: Some(self.root.clone()),
             up: self.up.map(|u| u.to_string()),
+            front: self.front.map(|f| f.to_string()),
             params: Some(params),
             cut: self
                 .cuts
