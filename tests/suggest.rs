@@ -867,6 +867,11 @@ fn front_given_names_left_and_right_and_is_kept_in_the_rig_file() {
     };
     assert!(x < 0.0 && z < 0.0, "turned: arm.L at {x} {z}");
     assert_eq!(RigFile::load(&rig).unwrap().front, Some(Up::NegZ));
+    // Along the dog's mirror plane's normal, a front is overruled, and said so.
+    let out = puppet(&["suggest", dog, "--front=+x"]);
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--front +x does not lie across"), "{err}");
     let out = puppet(&["suggest", dog, "--up=+y", "--front=-y"]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);

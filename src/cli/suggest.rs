@@ -97,7 +97,7 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     rig.up = args.up;
     rig.front = args.front;
     if let (Some(up), Some(front)) = (args.up, args.front) {
-        if up.vector().dot(front.vector()) != 0.0 {
+        if !up.is_across(front) {
             return Err(FileError::new(
                 &name,
                 format!("--front {front} lies along --up {up}: a front lies across up"),
@@ -116,6 +116,15 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         .suggest_joints()
         .map_err(|e| FileError::new(&name, e))?;
     let seconds_suggest = t.elapsed().as_secs_f64();
+    // A front given along the mirror plane's normal, or along the up found, is overruled.
+    if let (Some(given), Some(frame)) = (args.front, puppet.frame()) {
+        if given.vector() != frame.front {
+            let found = puppet::mesh::orientation::Up::nearest(frame.front);
+            log::warn!(
+                "{name}: --front {given} does not lie across up and the mirror plane: {found} is taken"
+            );
+        }
+    }
     let joints = &puppet.joints;
     let sections = joints.sections().to_vec();
     let cuts: Vec<CutRow> = joints

@@ -23,9 +23,9 @@
 //!   all when one of them reaches the mesh's far end that way (a biped's legs stand on the
 //!   ground while its arms are held out and its ears raised; a lizard's sprawled hind legs
 //!   reach no farther back than its tail).
-//! * **Front.** Across up and the mirror plane: given (a glTF file's +z, as the format
-//!   declares, [`Axes::GLTF`]) where it lies along that line; else the end of the body that the part on the
-//!   plane most like a head grows from (with ears on the body, the one nearest them), away
+//! * **Front.** Across up and the mirror plane: given (a rig's `front`, a glTF file's +z
+//!   as the format declares, [`Axes::GLTF`]) where it lies along that line; else the end
+//!   of the body that the part on the plane most like a head grows from (with ears on the body, the one nearest them), away
 //!   from another part on the plane, a tail ([`FRONT_END`]: a cat stretching looks up and
 //!   back); else the way that part leans, else, with limbs hanging down, the way the soles
 //!   lie ahead of the shins ([`TOES`]) or else the limbs' tips point, else the convention
@@ -107,6 +107,11 @@ impl Up {
         } else {
             Up::PosZ
         }
+    }
+
+    /// Whether `other` lies across this axis (a front across up), not along it.
+    pub fn is_across(self, other: Up) -> bool {
+        self.vector().dot(other.vector()) == 0.0
     }
 
     /// The unit vector.

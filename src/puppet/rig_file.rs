@@ -386,7 +386,7 @@ impl RigFile {
             None => None,
         };
         if let (Some(up), Some(front)) = (up, front) {
-            if up.vector().dot(front.vector()) != 0.0 {
+            if !up.is_across(front) {
                 return Err(RigError(format!(
                     "front = \"{front}\" lies along up = \"{up}\": a front lies across up"
                 )));

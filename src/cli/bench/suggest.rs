@@ -229,7 +229,7 @@ fn measure(name: &str, labels: &Labels, file: &Path, args: &Args, load: &LoadArg
     // The skeleton and rig's time, once (a second build would find the skeleton in
     // `skeleton::cache`), then the suggestion's, the median of three.
     let t = Instant::now();
-    let built = Puppet::build_loaded(
+    let mut built = Puppet::build_loaded(
         mesh,
         Some(&report),
         RigFile::default(),
@@ -237,7 +237,6 @@ fn measure(name: &str, labels: &Labels, file: &Path, args: &Args, load: &LoadArg
     )
     .map_err(|e| anyhow!("{shown}: {e}"))?;
     let ms_skeleton = t.elapsed().as_secs_f64() * 1e3;
-    let mut built = built;
     if args.ignore_format_axes {
         built.ignore_format_axes();
     }

@@ -71,8 +71,8 @@ use body::Body;
 
 /// Cuts where the protrusions of `mesh` narrow, organised parent-first as a section tree
 /// under the root section `root`, named by role where one fits, and the frame (up, front,
-/// left) they were named in: up and front as far as `given`, the rest found. Every cut applies, in order, to
-/// joints without cuts. Two or more characters in the file (body parts apart from each
+/// left) they were named in: up and front as far as `given`, the rest found. Every cut
+/// applies, in order, to joints without cuts. Two or more characters in the file (body parts apart from each
 /// other) each get their own cuts, the largest's names as they are and the others' with
 /// `.001`, `.002`… (see `characters`); the frame is the largest's.
 pub fn suggest(mesh: &Mesh, skeleton: &Skeleton, root: &str, given: Given) -> (Vec<Cut>, Frame) {
