@@ -762,5 +762,6 @@ impl Joints {
                 self.transform_of[i] = self.transform_of[h as usize];
             }
         }
+        self.measure_kept(&entries, &slots);
     }
 }

@@ -58,6 +58,7 @@
 //! * `blend`: a band's weight blended over the surface around its seam;
 //! * `carry`: the siblings a band carries whole, and the order bands compose in;
 //! * `slide`: a fan's skin slid along its normal so the child keeps its volume;
+//! * `volume`: each section's volume measured in a pose, and given back by swelling bands;
 //! * `levels`: a band's weights rounded to its levels, short edges on one;
 //! * `reach`: where a band reaches: the vertices near a cut, its radius, its flesh;
 //! * `pose`: composing a pose down the section tree;
@@ -85,6 +86,7 @@ pub mod skin;
 mod slide;
 pub mod spread;
 pub mod suggest;
+mod volume;
 mod whole;
 
 pub use band::{Band, DEFAULT_BAND, MAX_BAND};
@@ -343,6 +345,9 @@ pub struct Joints {
     /// Blends of sections by the skin's weights, their transforms after the contacts'
     /// ([`skin::Mix`]).
     mixes: Vec<skin::Mix>,
+    /// The sections whose volume a pose keeps, with the bands that swell them
+    /// ([`volume`]), kept with the bands.
+    kept: Vec<volume::Kept>,
     /// Which content this is ([`Stamp`]): a pose asked for again of the same content is
     /// read from [`PoseScratch`] instead of made again.
     stamp: Stamp,
@@ -447,6 +452,7 @@ impl Joints {
             flesh: Vec::new(),
             blends: Vec::new(),
             mixes: Vec::new(),
+            kept: Vec::new(),
             stamp: Stamp::fresh(),
         }
     }
@@ -549,6 +555,7 @@ impl Joints {
             flesh: Vec::new(),
             blends: Vec::new(),
             mixes: Vec::new(),
+            kept: Vec::new(),
             stamp: Stamp::fresh(),
         };
         // (No cuts: no bands, and no joint has flesh.)

@@ -82,10 +82,37 @@ impl Joints {
         if scratch.made == Some(self.stamp.0) && scratch.made_of == local {
             return &scratch.pose;
         }
+        if scratch.made != Some(self.stamp.0) {
+            // Positions another rig's pose left (see `keep_volumes`).
+            scratch.positions.clear();
+        }
         scratch.made = Some(self.stamp.0);
         scratch.made_of.clear();
         scratch.made_of.extend_from_slice(local);
         self.world_into(local, &mut scratch.world);
+        scratch.keep.clear();
+        scratch
+            .keep
+            .resize(self.bands.iter().flatten().count(), [0.0; 4]);
+        self.levels_into(local, scratch);
+        // Each section's volume measured, and the bands swollen to keep it (`volume`).
+        if scratch.keep_volumes
+            && self.keep_volumes(
+                &scratch.world,
+                &scratch.pose.transforms,
+                &mut scratch.positions,
+                &mut scratch.keep,
+            )
+        {
+            self.keep_into(local, scratch);
+        }
+        &scratch.pose
+    }
+
+    /// The pose's transforms after the sections' (`scratch.world`, made): each band's
+    /// levels with its sides swollen by `scratch.keep`, where bands overlap, contacts,
+    /// the skin's mixes.
+    fn levels_into(&self, local: &[Local], scratch: &mut PoseScratch) {
         let transforms = &mut scratch.pose.transforms;
         transforms.clear();
         transforms.extend(scratch.world.iter().map(to_f32));
@@ -93,7 +120,7 @@ impl Joints {
         // contacts), and its levels' transforms.
         let motions = &mut scratch.motions;
         motions.clear();
-        for band in self.bands.iter().flatten() {
+        for (band, &keep) in self.bands.iter().flatten().zip(&scratch.keep) {
             let l = local.get(band.child).copied().unwrap_or_default();
             let parent = scratch.world[band.parent];
             let child = self.own_motion(band.child, local);
@@ -101,13 +128,44 @@ impl Joints {
             let bending = self.bending(band, &l, &child, slide);
             for level in 0..=LEVELS {
                 let w = level as f64 / LEVELS as f64;
-                let own = bending.at(w);
+                let own = band.kept(bending.at(w), keep, w);
                 if (1..LEVELS).contains(&level) {
                     transforms.push(to_f32(&(parent * own)));
                 }
                 motions.push(own);
             }
         }
+        self.overlaps_into(local, scratch);
+    }
+
+    /// Swells each band's levels by `scratch.keep`, on the motions [`Joints::levels_into`]
+    /// made unswollen (no band turned again), then makes what composes them again.
+    fn keep_into(&self, local: &[Local], scratch: &mut PoseScratch) {
+        let mut end = self.sections.len();
+        for (b, (band, &keep)) in self.bands.iter().flatten().zip(&scratch.keep).enumerate() {
+            end = band.first_level + LEVELS - 1;
+            if keep == [0.0; 4] {
+                continue;
+            }
+            let parent = scratch.world[band.parent];
+            for level in 0..=LEVELS {
+                let w = level as f64 / LEVELS as f64;
+                let m = &mut scratch.motions[b * (LEVELS + 1) + level];
+                *m = band.kept(*m, keep, w);
+                if (1..LEVELS).contains(&level) {
+                    scratch.pose.transforms[band.first_level + level - 1] = to_f32(&(parent * *m));
+                }
+            }
+        }
+        scratch.pose.transforms.truncate(end);
+        self.overlaps_into(local, scratch);
+    }
+
+    /// The transforms after the bands' levels: where bands overlap, contacts, the skin's
+    /// mixes.
+    fn overlaps_into(&self, local: &[Local], scratch: &mut PoseScratch) {
+        let transforms = &mut scratch.pose.transforms;
+        let motions = &scratch.motions;
         // Where bands overlap, the bands composed (see `band::Blend`).
         for blend in &self.blends {
             let mut t = scratch.world[usize::from(blend.base)];
@@ -174,7 +232,6 @@ impl Joints {
                 .map(|&(s, w)| (&scratch.world[usize::from(s)], w as f64));
             transforms.push(to_f32(&super::skin::blend_rigid(parts)));
         }
-        &scratch.pose
     }
 }
 
@@ -537,6 +594,26 @@ pub struct PoseScratch {
     /// The joints' stamp and the local poses `pose` was made for (none yet).
     made: Option<u64>,
     made_of: Vec<Local>,
+    /// Per band, its sides' swells that keep their sections' volumes (see `volume`).
+    keep: Vec<[f64; 4]>,
+    /// The kept sections' vertices in their own frames, the rest positions elsewhere
+    /// (empty until a pose needs them).
+    positions: Vec<DVec3>,
+    /// Whether its poses keep each section's volume (see `volume`): all but the
+    /// suggestion's trials ([`PoseScratch::first_order`]).
+    keep_volumes: bool,
+}
+
+impl PoseScratch {
+    /// Storage whose poses leave each section's volume to the slides alone (first
+    /// order), without measuring it and swelling the bands (see `volume`): what the
+    /// suggestion's tear check poses, so that a cut is judged by its band's own bend.
+    pub fn first_order() -> PoseScratch {
+        PoseScratch {
+            keep_volumes: false,
+            ..PoseScratch::default()
+        }
+    }
 }
 
 impl Default for PoseScratch {
@@ -548,6 +625,9 @@ impl Default for PoseScratch {
             wanted: Vec::new(),
             made: None,
             made_of: Vec::new(),
+            keep: Vec::new(),
+            positions: Vec::new(),
+            keep_volumes: true,
         }
     }
 }

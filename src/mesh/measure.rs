@@ -172,6 +172,7 @@ pub fn capped_volume_gradient(positions: &[DVec3], faces: &[[u32; 3]]) -> Vec<(u
 
 /// A region's faces and the loops of its boundary, each closed by a cap (see
 /// [`capped_volume`]): found once, its volume measured for any positions.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Capped {
     faces: Vec<[u32; 3]>,
     /// Boundary edges (a, b) with their loop.

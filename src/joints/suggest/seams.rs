@@ -140,7 +140,7 @@ fn torn(joints: &Joints) -> Option<String> {
     let rank = joints.contact_ranks();
     let transform_of = joints.transform_of();
     let mut blame = vec![0usize; joints.sections().len()];
-    let mut scratch = PoseScratch::default();
+    let mut scratch = PoseScratch::first_order();
     let mut now = vec![DVec3::ZERO; n];
     for trial in 0..TRIALS {
         let local = random_pose(joints, Spread::default(), &mut SplitMix(FIRST_SEED + trial));

@@ -1,0 +1,312 @@
+//! Each section's volume kept in a pose, measured: the slides ([`super::slide`]) keep it
+//! to first order from rates found once per rig, and what they leave (large turns, three
+//! bends on one section, a trunk whose side neither slides nor swells, a slide held at its
+//! largest) is measured in the pose and given back by swelling the bands' levels.
+//!
+//! A band's side swells in two ways, each by a bump `b(x)` 0 at the band's end and at the
+//! cut and 1 halfway ([`bump`] on the parent's side, [`child_bump`] on the child's), so
+//! nothing beyond the band moves: across the band's line (the line through its pivot
+//! along its normal) its levels scale by `1 + f b(x)`, and along the normal they move by
+//! `f b(x)` of the band's radius. The flesh around a bent elbow or a turned hip bulges
+//! (or thins) by what its section lost (or gained). A section's capped volume `V` (as
+//! `bench poses` measures it) changes by `f K` to first order, `K = Σᵢ b(xᵢ) dᵢ · ∂V/∂pᵢ`
+//! over the section's vertices on that side of the band (`dᵢ` the vertex's motion per
+//! unit of swell: its offset across the line, or the radius along the normal), found
+//! once per rig ([`Kept`]).
+//!
+//! In a pose, once the levels are made, each kept section's volume is measured where the
+//! bones hold its surface (only its faces that touch a vertex not moving with it, seen
+//! from the section's own frame, against the same at rest), and one Newton step swells
+//! the sides that bound it, `Δf = −ΔV K / Σ K²` over its sides, for what lies beyond
+//! [`TOLERANCE`] of its size (its volume, or a hundredth of the whole's for one that
+//! holds little: a sheet, a fin). Each side's swell is held to [`MAX_KEEP`], and below it
+//! to what the side's width allows: neighbours at levels apart move apart by up to the
+//! bump's slope times a vertex's motion, so a wide child on a short band (the
+//! stegosaurus's body) swells little. The swollen bands' levels, and what composes them,
+//! are made again from the motions already made.
+//!
+//! A band is not swollen where its strip holds a third section's vertices, where it
+//! carries a sibling, or where a rider's host lies in it: the sibling or the rider would
+//! scale with it, or ride a level that no longer matches its seam. The suggestion's tear
+//! check poses without swelling ([`super::PoseScratch::first_order`]).
+
+use super::band::LEVELS;
+use super::slide::{along, bump};
+use super::{Band, Joints};
+use crate::mesh::measure::{capped_volume_gradient, Capped};
+use glam::{DAffine3, DMat3, DVec3};
+
+/// Largest swell a side of a band is given to keep its section's volume: a share of
+/// each vertex's distance from the band's line (across it), or of the band's radius
+/// (along it), and no more than the side's width allows a vertex to move (see
+/// [`Kept`]). Chosen with [`TOLERANCE`].
+pub const MAX_KEEP: f64 = 0.25;
+
+/// The share of a section's volume it may gain or lose before a pose gives it back:
+/// within it nothing swells. Chosen with [`MAX_KEEP`] by `puppet bench poses` (20
+/// seeds) on the development half of the shipped, in-pieces and downloaded characters
+/// from 1, 2 and 3 % (and 0.15, 0.25 and 0.4): the fewest poses with a section beyond
+/// ±5 % whose worst stretch held (no more poses past 3×, its 90th percentile within
+/// 0.5 %, no more poses with 1 % of their edges past 1.5×). The held-out half is in
+/// `docs/performance-log.md`.
+pub const TOLERANCE: f64 = 0.01;
+
+/// The share of the whole's volume below which a section counts as that small (as
+/// `bench poses` measures a section's change against).
+const SMALL: f64 = 0.01;
+
+/// The child side's swell's share at `x` across a band (`0..=1`) whose cut lies at
+/// `at_cut` of its length: 0 at the cut and at the band's child end, 1 halfway between,
+/// 0 on the parent's side.
+pub(super) fn child_bump(at_cut: f64, x: f64) -> f64 {
+    let u = ((x - at_cut) / (1.0 - at_cut).max(1e-9)).clamp(0.0, 1.0);
+    4.0 * u * (1.0 - u)
+}
+
+/// One section whose volume a pose keeps (see the module docs).
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Kept {
+    /// The section.
+    section: usize,
+    /// Its faces that touch a vertex not moving with it, each cut across them capped.
+    around: Capped,
+    /// The point their volume is measured from, in the section's own frame.
+    apex: DVec3,
+    /// Their volume from `apex` at rest.
+    rest: f64,
+    /// The section's whole capped volume at rest (its size).
+    size: f64,
+    /// Its vertices that move with another transform than the section's.
+    moved: Vec<u32>,
+    /// The band sides that swell it: (band, by its index among the bands that exist;
+    /// mode: 0 and 1 the parent's and the child's side across the band's line, 2 and 3
+    /// the same along its normal; `K`, its volume per unit of swell; its largest swell).
+    sides: Vec<(u16, u8, f64, f64)>,
+    /// `Σ K²` over `sides`.
+    norm: f64,
+}
+
+impl Band {
+    /// The share of a side's swell at weight `w` of the band, for (parent's, child's).
+    pub(super) fn keep_shares(&self, w: f64) -> [f64; 2] {
+        let x = if self.arc {
+            w.clamp(0.0, 1.0)
+        } else {
+            along(w)
+        };
+        let at_cut = self.cut_share();
+        [bump(at_cut, x), child_bump(at_cut, x)]
+    }
+
+    /// The motion `own` at weight `w` of the band with its sides swollen by `keep`
+    /// (see the module docs): across the band's line by the parent's and child's
+    /// shares `keep[0]`, `keep[1]`, and along its normal by `keep[2]`, `keep[3]` of its
+    /// radius, before `own`.
+    pub(super) fn kept(&self, own: DAffine3, keep: [f64; 4], w: f64) -> DAffine3 {
+        if keep == [0.0; 4] {
+            return own;
+        }
+        let [p, c] = self.keep_shares(w);
+        let f = keep[0] * p + keep[1] * c;
+        let along = (keep[2] * p + keep[3] * c) * self.radius;
+        if f == 0.0 && along == 0.0 {
+            return own;
+        }
+        let n = self.normal;
+        let across = DMat3::IDENTITY * (1.0 + f) - DMat3::from_cols(n * n.x, n * n.y, n * n.z) * f;
+        own * DAffine3::from_translation(self.pivot + n * along)
+            * DAffine3::from_mat3(across)
+            * DAffine3::from_translation(-self.pivot)
+    }
+}
+
+impl Joints {
+    /// Finds the sections a pose keeps the volume of, and the rates their bands' sides
+    /// swell them by (see the module docs), from the levels every vertex got (`entries`:
+    /// vertex, band slot, level; `slots`: each slot's cut). Once every vertex has its
+    /// transform.
+    pub(super) fn measure_kept(&mut self, entries: &[(u32, u16, u16)], slots: &[usize]) {
+        self.kept.clear();
+        let body = self.body.clone();
+        let n = self.section_of.len();
+        if body.triangles.is_empty() || body.rest.len() != n {
+            return;
+        }
+        // Which bands may swell: none whose strip holds a third section's vertices, none
+        // that carries a sibling.
+        let mut may = vec![true; slots.len()];
+        let mut hosts = vec![false; n];
+        for &h in body.host.iter().filter(|&&h| h != super::NO_HOST) {
+            hosts[h as usize] = true;
+        }
+        for &(i, slot, _) in entries {
+            if hosts[i as usize] {
+                may[usize::from(slot)] = false;
+            }
+            let Some(band) = self.bands[slots[usize::from(slot)]].as_ref() else {
+                continue;
+            };
+            let s = usize::from(self.section_of[i as usize]);
+            if s != band.child && s != band.parent {
+                may[usize::from(slot)] = false;
+            }
+        }
+        for (slot, &k) in slots.iter().enumerate() {
+            if self.carried.iter().any(|c| c.iter().any(|&(b, _)| b == k)) {
+                may[slot] = false;
+            }
+        }
+        // Each section's faces, and the gradient of its capped volume where it may swell.
+        let sections = self.sections.len();
+        let mut faces: Vec<Vec<[u32; 3]>> = vec![Vec::new(); sections];
+        for t in &body.triangles {
+            let s = self.section_of[t[0] as usize];
+            if t.iter().all(|&i| self.section_of[i as usize] == s) {
+                faces[usize::from(s)].push(*t);
+            }
+        }
+        let mut wanted = vec![false; sections];
+        for (slot, &k) in slots.iter().enumerate() {
+            if let Some(band) = self.bands[k].as_ref().filter(|_| may[slot]) {
+                wanted[band.parent] = true;
+                wanted[band.child] = true;
+            }
+        }
+        let mut gradient = vec![DVec3::ZERO; n];
+        for (_, f) in faces.iter().enumerate().filter(|(s, _)| wanted[*s]) {
+            for (v, g) in capped_volume_gradient(&body.rest, f) {
+                gradient[v as usize] = g;
+            }
+        }
+        // Per section, the sides that swell it and their rates.
+        let mut sides: Vec<Vec<(u16, u8, f64, f64)>> = vec![Vec::new(); sections];
+        let mut rates = vec![[0.0f64; 4]; slots.len()];
+        // Per band side, its farthest vertex from the band's line.
+        let mut reach = vec![[0.0f64; 2]; slots.len()];
+        for &(i, slot, level) in entries {
+            let Some(band) = self.bands[slots[usize::from(slot)]]
+                .as_ref()
+                .filter(|_| may[usize::from(slot)])
+            else {
+                continue;
+            };
+            let s = usize::from(self.section_of[i as usize]);
+            let side = usize::from(s == band.child);
+            let share = band.keep_shares(f64::from(level) / LEVELS as f64)[side];
+            let q = body.rest[i as usize] - band.pivot;
+            let across = q - band.normal * q.dot(band.normal);
+            let g = gradient[i as usize];
+            rates[usize::from(slot)][side] += share * across.dot(g);
+            rates[usize::from(slot)][side + 2] += share * band.radius * band.normal.dot(g);
+            if share > 0.0 {
+                let r = &mut reach[usize::from(slot)][side];
+                *r = r.max(across.length());
+            }
+        }
+        for (slot, &k) in slots.iter().enumerate() {
+            let Some(band) = self.bands[k].as_ref().filter(|_| may[slot]) else {
+                continue;
+            };
+            for (side, s) in [band.parent, band.child, band.parent, band.child]
+                .into_iter()
+                .enumerate()
+            {
+                let rate = rates[slot][side];
+                // A swell moves a vertex by its share of it; neighbours at levels apart
+                // move apart by up to the bump's slope times that: held to what the side's
+                // width allows.
+                let width = if side % 2 == 0 {
+                    band.width
+                } else {
+                    band.child_width
+                };
+                let moves = if side < 2 {
+                    reach[slot][side]
+                } else {
+                    band.radius
+                };
+                let cap = MAX_KEEP * (width / moves.max(f64::MIN_POSITIVE)).min(1.0);
+                if rate.is_finite() && rate.abs() > f64::MIN_POSITIVE {
+                    sides[s].push((slot as u16, side as u8, rate, cap));
+                }
+            }
+        }
+        // A section's size: its volume, or a share of the whole's for one that holds
+        // little (a sheet, a fin), whose volume no swell should chase.
+        let whole = Capped::from_faces(body.triangles.clone())
+            .volume(&body.rest)
+            .abs();
+        for (s, sides) in sides.into_iter().enumerate() {
+            if sides.is_empty() {
+                continue;
+            }
+            let moved = |v: u32| usize::from(self.transform_of[v as usize]) != s;
+            let around = Capped::from_faces(faces[s].clone()).around(moved);
+            let mut moved_vertices: Vec<u32> = (0..n as u32)
+                .filter(|&v| usize::from(self.section_of[v as usize]) == s && moved(v))
+                .collect();
+            moved_vertices.shrink_to_fit();
+            let apex = self.sections[s].pivot;
+            let rest = around.volume_from(&body.rest, apex);
+            let size = Capped::from_faces(faces[s].clone())
+                .volume(&body.rest)
+                .abs()
+                .max(SMALL * whole);
+            let norm = sides.iter().map(|x| x.2 * x.2).sum();
+            self.kept.push(Kept {
+                section: s,
+                around,
+                apex,
+                rest,
+                size,
+                moved: moved_vertices,
+                sides,
+                norm,
+            });
+        }
+    }
+
+    /// Measures each kept section's volume in the pose whose section transforms are
+    /// `world` and whose transforms (the simulation's) are `transforms`, and adds to
+    /// `keep` (per band, its sides' swells) one Newton step towards the volume each had
+    /// at rest. `positions`: scratch, the rest positions once grown. Returns whether a
+    /// swell changed.
+    pub(super) fn keep_volumes(
+        &self,
+        world: &[DAffine3],
+        transforms: &[glam::Affine3A],
+        positions: &mut Vec<DVec3>,
+        keep: &mut [[f64; 4]],
+    ) -> bool {
+        if self.kept.is_empty() {
+            return false;
+        }
+        let rest = &self.body.rest;
+        if positions.len() != rest.len() {
+            positions.clone_from(rest);
+        }
+        let mut changed = false;
+        for kept in &self.kept {
+            let back = world[kept.section].inverse();
+            for &v in &kept.moved {
+                let t = transforms[usize::from(self.transform_of[v as usize])];
+                let at = t.transform_point3(rest[v as usize].as_vec3()).as_dvec3();
+                positions[v as usize] = back.transform_point3(at);
+            }
+            let change = kept.around.volume_from(positions, kept.apex) - kept.rest;
+            // Only what lies beyond the tolerance is given back.
+            let tolerance = TOLERANCE * kept.size;
+            let change = change.signum() * (change.abs() - tolerance).max(0.0);
+            if !change.is_finite() || kept.norm <= 0.0 {
+                continue;
+            }
+            for &(band, side, rate, cap) in &kept.sides {
+                let k = &mut keep[usize::from(band)][usize::from(side)];
+                let next = (*k - change * rate / kept.norm).clamp(-cap, cap);
+                changed |= (next - *k).abs() > 1e-6;
+                *k = next;
+            }
+        }
+        changed
+    }
+}
