@@ -61,9 +61,11 @@ fn random_poses_of_the_shipped_characters_keep_the_skin_whole() {
 /// BENCHMARKS' claim: every one of the 500 poses of `bench poses` (the 25 shipped
 /// characters, 20 seeds each, settled) keeps its worst edge within 3×, with no NaN (the
 /// lion statue's hind legs on its pedestal reached 3.83× before `rules::TWICE`), and at
-/// most 19 change a section's volume by more than 5 % (50 before a pose gave back what
+/// most 9 change a section's volume by more than 5 % (50 before a pose gave back what
 /// the slides leave, 67 when a slide was held at half a radius and a trunk did not
-/// swell). The bench itself fails off the stretch bound; a minute in CI.
+/// swell), and 18 characters keep 99 % of their edges within 1.5× on every pose (20
+/// before: the cow's and the dino's 99th percentile edge went from 1.44 and 1.4997 to
+/// 1.51 and 1.5004). The bench itself fails off the stretch bound; a minute in CI.
 #[test]
 fn every_pose_of_the_shipped_population_stays_within_three_times() {
     let out = puppet(&["bench", "poses", "--max-stretch", "3"]);
@@ -72,8 +74,19 @@ fn every_pose_of_the_shipped_population_stays_within_three_times() {
     assert!(table.contains("500 poses of 25 characters"), "{table}");
     let beyond = beyond_volume(&table);
     assert!(
-        beyond <= 19,
+        beyond <= 9,
         "{beyond} poses with a section's volume beyond ±5 %"
+    );
+    // Each character's row: `| name | joints | poses | worst | p99 (max) | …`.
+    let within = table
+        .lines()
+        .filter(|l| l.starts_with("| ") && !l.starts_with("| character"))
+        .filter_map(|l| l.split('|').map(str::trim).nth(5)?.parse::<f64>().ok())
+        .filter(|&p99| p99 <= 1.5)
+        .count();
+    assert!(
+        within >= 18,
+        "{within} characters keep 99 % of their edges within 1.5×"
     );
 }
 
@@ -91,22 +104,22 @@ fn beyond_volume(table: &str) -> usize {
 /// BENCHMARKS' claims on the 45 downloads of `tests/data/population` (20 seeds each,
 /// settled, the joints suggested from the skeleton): no pose gives a NaN, no edge
 /// stretches past 4.5× (the adventurer's body, 4.08×; 5.47× before the tear check took
-/// back joints past 3.5×), at most 6 poses pass 3×, 41 characters stay within 3× on
-/// every pose, and at most 240 poses change a section's volume by more than 5 % (374
+/// back joints past 3.5×), at most 5 poses pass 3×, 41 characters stay within 3× on
+/// every pose, and at most 205 poses change a section's volume by more than 5 % (374
 /// before a pose gave back what the slides leave, 461 when a slide was held at half a
 /// radius and a trunk did not swell). Half a minute in CI.
 #[test]
 fn the_downloads_poses_hold_what_benchmarks_says() {
-    holds("tests/data/population", 45, 4.5, 6, 41, 240);
+    holds("tests/data/population", 45, 4.5, 5, 41, 205);
 }
 
 /// BENCHMARKS' claims on the 12 characters in pieces of `tests/data/pieces` (20 seeds
 /// each, settled): no NaN, no edge past 3.1× (the man in a suit, 3.05×), at most 1 pose
-/// past 3×, 11 characters within 3× on every pose, and at most 37 poses change a
+/// past 3×, 11 characters within 3× on every pose, and at most 35 poses change a
 /// section's volume by more than 5 % (95 before a pose gave back what the slides leave).
 #[test]
 fn the_pieces_poses_hold_what_benchmarks_says() {
-    holds("tests/data/pieces", 12, 3.1, 1, 11, 37);
+    holds("tests/data/pieces", 12, 3.1, 1, 11, 35);
 }
 
 /// BENCHMARKS' claim on collision over the 12 characters in pieces, which nobody tuned it
