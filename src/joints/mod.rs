@@ -29,6 +29,8 @@
 //! `T(shift(R_s))` on the left of its own motion: along an arc (two limbs meeting: an
 //! elbow, a knee) the bent limb keeps its length ([`band`]); at a fan, and at an arc
 //! too, the child slides along the cut's normal by what keeps its volume ([`slide`]).
+//! What the slides leave of a section's volume is measured in the pose and given back by
+//! swelling the bands' levels (`volume`).
 //!
 //! # Shared pivots
 //! The paper's pivot is "the rotation center for the two generated joint sections". A
