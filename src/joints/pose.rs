@@ -139,14 +139,19 @@ impl Joints {
     }
 
     /// Swells each band's levels by `scratch.keep`, on the motions [`Joints::levels_into`]
-    /// made unswollen (no band turned again), then makes what composes them again.
+    /// made unswollen (no band turned again), then makes again what composes a swollen
+    /// band: the blends it is part of and its contacts (the rest read no swollen motion).
     fn keep_into(&self, local: &[Local], scratch: &mut PoseScratch) {
+        let mut swollen = std::mem::take(&mut scratch.swollen);
+        swollen.clear();
+        swollen.resize(scratch.keep.len(), false);
         let mut end = self.sections.len();
         for (b, (band, &keep)) in self.bands.iter().flatten().zip(&scratch.keep).enumerate() {
             end = band.first_level + LEVELS - 1;
             if keep == [0.0; 4] {
                 continue;
             }
+            swollen[b] = true;
             let parent = scratch.world[band.parent];
             for level in 0..=LEVELS {
                 let w = level as f64 / LEVELS as f64;
@@ -157,72 +162,49 @@ impl Joints {
                 }
             }
         }
-        scratch.pose.transforms.truncate(end);
-        self.overlaps_into(local, scratch);
+        let transforms = &mut scratch.pose.transforms;
+        for (k, blend) in self.blends.iter().enumerate() {
+            let parts = &blend.parts[..usize::from(blend.count)];
+            if parts.iter().any(|&(slot, _)| swollen[usize::from(slot)]) {
+                transforms[end + k] = self.blended(blend, &scratch.world, &scratch.motions);
+            }
+        }
+        for (b, band) in self.bands.iter().flatten().enumerate() {
+            if swollen[b] && !band.contacts.is_empty() {
+                let at = Some(band.first_contact);
+                let (world, motions) = (&scratch.world, &scratch.motions);
+                self.contacts_into(b, band, local, (world, motions), transforms, at);
+            }
+        }
+        scratch.swollen = swollen;
+    }
+
+    /// Blend `blend`'s transform: its bands' motions composed on its base's world
+    /// transform.
+    fn blended(
+        &self,
+        blend: &super::band::Blend,
+        world: &[DAffine3],
+        motions: &[DAffine3],
+    ) -> Affine3A {
+        let mut t = world[usize::from(blend.base)];
+        for &(slot, level) in &blend.parts[..usize::from(blend.count)] {
+            t *= motions[usize::from(slot) * (LEVELS + 1) + usize::from(level)];
+        }
+        to_f32(&t)
     }
 
     /// The transforms after the bands' levels: where bands overlap, contacts, the skin's
     /// mixes.
     fn overlaps_into(&self, local: &[Local], scratch: &mut PoseScratch) {
         let transforms = &mut scratch.pose.transforms;
-        let motions = &scratch.motions;
+        let (world, motions) = (&scratch.world, &scratch.motions);
         // Where bands overlap, the bands composed (see `band::Blend`).
         for blend in &self.blends {
-            let mut t = scratch.world[usize::from(blend.base)];
-            for &(slot, level) in &blend.parts[..usize::from(blend.count)] {
-                t *= motions[usize::from(slot) * (LEVELS + 1) + usize::from(level)];
-            }
-            transforms.push(to_f32(&t));
+            transforms.push(self.blended(blend, world, motions));
         }
         for (b, band) in self.bands.iter().flatten().enumerate() {
-            let l = local.get(band.child).copied().unwrap_or_default();
-            let parent = scratch.world[band.parent];
-            let plane = if band.arc {
-                let child = motions[b * (LEVELS + 1) + LEVELS];
-                let at_cut = band.motion(l.rotation, &child, band.cut_share());
-                contact_plane(
-                    band,
-                    &l,
-                    at_cut.transform_point3(band.pivot),
-                    at_cut.matrix3 * band.normal,
-                )
-            } else {
-                let turned = motions[b * (LEVELS + 1) + LEVELS];
-                let point = (band.pivot + turned.transform_point3(band.pivot)) * 0.5;
-                contact_plane(band, &l, point, band.normal + l.rotation * band.normal)
-            };
-            let swell = BULGE * bend_angle(band.normal, l.rotation);
-            let pivot = band.pivot;
-            // The child's side rides on what carries the child.
-            let carried = parent * self.carry(band.child, local);
-            for c in &band.contacts {
-                let base = match c.level {
-                    0 => band.parent,
-                    l if l >= LEVELS => band.child,
-                    l => band.first_level + l - 1,
-                };
-                let w = c.level as f64 / LEVELS as f64;
-                let rest = self.body.rest[c.vertex as usize];
-                let mut own = motions[b * (LEVELS + 1) + c.level];
-                // The swelling (see `band`): a translation away from the pivot's line, so
-                // the vertex's bone points keep their spacing.
-                let swelling = swell * 4.0 * w * (1.0 - w);
-                if swelling > 0.0 {
-                    let v = rest - pivot;
-                    let away = (v - band.normal * v.dot(band.normal)) * swelling;
-                    own = DAffine3::from_translation(own.matrix3 * away) * own;
-                }
-                // Only an arc's two limbs meet on its plane; a fan's trunk is not pushed.
-                let push = plane
-                    .filter(|_| band.arc)
-                    .and_then(|plane| plane.push(&own, rest, c));
-                let frame = if c.level >= LEVELS { carried } else { parent };
-                transforms.push(match push {
-                    Some(v) => to_f32(&(frame * DAffine3::from_translation(v) * own)),
-                    None if swelling <= 0.0 => transforms[base],
-                    None => to_f32(&(frame * own)),
-                });
-            }
+            self.contacts_into(b, band, local, (world, motions), transforms, None);
         }
         // The skin's mixes: the sections' motions blended by weight, as dual quaternions so
         // the blend stays rigid (see `skin`).
@@ -231,6 +213,71 @@ impl Joints {
                 .iter()
                 .map(|&(s, w)| (&scratch.world[usize::from(s)], w as f64));
             transforms.push(to_f32(&super::skin::blend_rigid(parts)));
+        }
+    }
+
+    /// Band `b`'s contacts' transforms (see `band`), pushed onto `transforms`, or written
+    /// from index `at` on; `world` and `motions` as [`PoseScratch`] holds them.
+    fn contacts_into(
+        &self,
+        b: usize,
+        band: &Band,
+        local: &[Local],
+        (world, motions): (&[DAffine3], &[DAffine3]),
+        transforms: &mut Vec<Affine3A>,
+        at: Option<usize>,
+    ) {
+        let l = local.get(band.child).copied().unwrap_or_default();
+        let parent = world[band.parent];
+        let plane = if band.arc {
+            let child = motions[b * (LEVELS + 1) + LEVELS];
+            let at_cut = band.motion(l.rotation, &child, band.cut_share());
+            contact_plane(
+                band,
+                &l,
+                at_cut.transform_point3(band.pivot),
+                at_cut.matrix3 * band.normal,
+            )
+        } else {
+            let turned = motions[b * (LEVELS + 1) + LEVELS];
+            let point = (band.pivot + turned.transform_point3(band.pivot)) * 0.5;
+            contact_plane(band, &l, point, band.normal + l.rotation * band.normal)
+        };
+        let swell = BULGE * bend_angle(band.normal, l.rotation);
+        let pivot = band.pivot;
+        // The child's side rides on what carries the child.
+        let carried = parent * self.carry(band.child, local);
+        for (j, c) in band.contacts.iter().enumerate() {
+            let base = match c.level {
+                0 => band.parent,
+                l if l >= LEVELS => band.child,
+                l => band.first_level + l - 1,
+            };
+            let w = c.level as f64 / LEVELS as f64;
+            let rest = self.body.rest[c.vertex as usize];
+            let mut own = motions[b * (LEVELS + 1) + c.level];
+            // The swelling (see `band`): a translation away from the pivot's line, so
+            // the vertex's bone points keep their spacing.
+            let swelling = swell * 4.0 * w * (1.0 - w);
+            if swelling > 0.0 {
+                let v = rest - pivot;
+                let away = (v - band.normal * v.dot(band.normal)) * swelling;
+                own = DAffine3::from_translation(own.matrix3 * away) * own;
+            }
+            // Only an arc's two limbs meet on its plane; a fan's trunk is not pushed.
+            let push = plane
+                .filter(|_| band.arc)
+                .and_then(|plane| plane.push(&own, rest, c));
+            let frame = if c.level >= LEVELS { carried } else { parent };
+            let t = match push {
+                Some(v) => to_f32(&(frame * DAffine3::from_translation(v) * own)),
+                None if swelling <= 0.0 => transforms[base],
+                None => to_f32(&(frame * own)),
+            };
+            match at {
+                Some(first) => transforms[first + j] = t,
+                None => transforms.push(t),
+            }
         }
     }
 }
@@ -602,6 +649,8 @@ pub struct PoseScratch {
     /// Whether its poses keep each section's volume (see `volume`): all but the
     /// suggestion's trials ([`PoseScratch::first_order`]).
     keep_volumes: bool,
+    /// Per band, whether a pose swelled it (`keep_into`'s).
+    swollen: Vec<bool>,
 }
 
 impl PoseScratch {
@@ -628,6 +677,7 @@ impl Default for PoseScratch {
             keep: Vec::new(),
             positions: Vec::new(),
             keep_volumes: true,
+            swollen: Vec::new(),
         }
     }
 }
@@ -654,4 +704,50 @@ pub(super) fn parents_first(sections: &[Section]) -> Vec<usize> {
         stack.extend(children[s].iter().rev());
     }
     order
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A pose that swells some bands makes again only what composes them (`keep_into`),
+    /// and gets every transform a whole remake of the blends, contacts and mixes gets:
+    /// the human with its suggested cuts, posed at random.
+    #[test]
+    fn a_swollen_pose_remakes_what_its_swells_change_and_matches_a_whole_remake() {
+        let (mesh, _) = crate::joints::suggest::fixture::human();
+        let mut puppet = crate::puppet::Puppet::build(
+            mesh.clone(),
+            crate::puppet::RigFile::default(),
+            crate::progress::silent(),
+        )
+        .expect("the human builds");
+        puppet.suggest_joints().expect("its joints");
+        let joints = &puppet.joints;
+        assert!(!joints.blends.is_empty(), "bands overlap somewhere");
+        let contacts = joints.bands.iter().flatten().map(|b| b.contacts.len());
+        assert!(contacts.sum::<usize>() > 0, "contacts");
+        let mut swelled = 0;
+        for seed in 0..6 {
+            let local = crate::joints::spread::random_pose(
+                joints,
+                crate::joints::spread::Spread::default(),
+                &mut crate::random::SplitMix(seed),
+            );
+            let mut scratch = PoseScratch::default();
+            let made = joints.pose_into(&local, &mut scratch).transforms.clone();
+            let some = scratch.swollen.iter().filter(|&&s| s).count();
+            swelled += some;
+            // The whole remake, on the same swollen motions.
+            let levels =
+                joints.sections.len() + joints.bands.iter().flatten().count() * (LEVELS - 1);
+            scratch.pose.transforms.truncate(levels);
+            joints.overlaps_into(&local, &mut scratch);
+            assert_eq!(
+                made, scratch.pose.transforms,
+                "seed {seed} ({some} bands swollen)"
+            );
+        }
+        assert!(swelled > 0, "some pose swells a band");
+    }
 }
