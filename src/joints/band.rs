@@ -705,7 +705,8 @@ impl Joints {
         let slot_rank = super::carry::carriers_first(slots.len(), &carry_edges);
         let mut next = sections + slot * (LEVELS - 1);
         self.assign_levels(&mut entries, &slots, &slot_rank, &mut next);
-        self.measure_slides(&entries, &slots);
+        let surfaces = self.capped_sections();
+        self.measure_slides(&entries, &slots, &surfaces);
         self.band_of = vec![None; sections];
         for (k, band) in self.bands.iter().enumerate() {
             if let Some(slot) = band.as_ref().and_then(|b| self.band_of.get_mut(b.child)) {
@@ -762,6 +763,6 @@ impl Joints {
                 self.transform_of[i] = self.transform_of[h as usize];
             }
         }
-        self.measure_kept(&entries, &slots);
+        self.measure_kept(&entries, &slots, &surfaces);
     }
 }

@@ -302,6 +302,9 @@ struct Body {
     radius: Vec<f64>,
     /// Rest position of each surface vertex (with `radius`; empty when unknown).
     rest: Vec<DVec3>,
+    /// The whole surface's capped volume at rest (0 until `rest` is known): what a
+    /// section too small to keep is measured against ([`volume`]).
+    whole: f64,
     /// The skeleton the mesh file came with, its `vertex_joint` one per vertex (skin cuts
     /// take their vertices from it).
     skin: Option<Arc<crate::mesh::Skin>>,
@@ -420,6 +423,7 @@ impl Joints {
                 host,
                 radius: Vec::new(),
                 rest: Vec::new(),
+                whole: 0.0,
                 skin: None,
             },
             root,
@@ -504,6 +508,13 @@ impl Joints {
         let body = Arc::make_mut(&mut self.body);
         body.rest = positions.to_vec();
         body.radius = radii.to_vec();
+        body.whole = if body.triangles.is_empty() {
+            0.0
+        } else {
+            crate::mesh::measure::Capped::from_faces(body.triangles.clone())
+                .volume(&body.rest)
+                .abs()
+        };
         self.assign_sections(true);
         self.refresh_bands();
     }

@@ -109,7 +109,7 @@
 
 use super::band::{axis_angle, weight, Cross, LEVELS};
 use super::{Band, Joints};
-use crate::mesh::measure::{capped_volume_gradient, Capped};
+use crate::mesh::measure::Capped;
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 
 /// Largest slide, in local medial radii of the band: where the first order overshoots
@@ -276,20 +276,17 @@ impl Joints {
     /// Measures every fan band's two slides per unit of turn (see the module docs) from
     /// the levels its vertices got (`entries`: vertex, band slot, level; `slots`: each slot's cut).
     /// Nothing without the mesh's triangles and rest positions.
-    pub(super) fn measure_slides(&mut self, entries: &[(u32, u16, u16)], slots: &[usize]) {
+    pub(super) fn measure_slides(
+        &mut self,
+        entries: &[(u32, u16, u16)],
+        slots: &[usize],
+        surfaces: &[Capped],
+    ) {
         self.changing();
         let n = self.section_of.len();
         let body = self.body.clone();
         if body.triangles.is_empty() || body.rest.len() != n {
             return;
-        }
-        // Each section's faces, and each slot's vertices on either side with their levels.
-        let mut faces: Vec<Vec<[u32; 3]>> = vec![Vec::new(); self.sections.len()];
-        for t in &body.triangles {
-            let s = self.section_of[t[0] as usize];
-            if t.iter().all(|&i| self.section_of[i as usize] == s) {
-                faces[usize::from(s)].push(*t);
-            }
         }
         // Per slot, its vertices on each side with their levels.
         let mut by_slot: Vec<[Vec<(u32, u16)>; 2]> = vec![[Vec::new(), Vec::new()]; slots.len()];
@@ -348,8 +345,8 @@ impl Joints {
                 wanted[band.child] = true;
             }
         }
-        for (faces, _) in faces.iter().zip(&wanted).filter(|(_, &w)| w) {
-            for (v, g) in capped_volume_gradient(&body.rest, faces) {
+        for (capped, _) in surfaces.iter().zip(&wanted).filter(|(_, &w)| w) {
+            for (v, g) in capped.volume_gradient(&body.rest) {
                 gradient[v as usize] = g;
             }
         }
@@ -441,7 +438,7 @@ impl Joints {
                 .map_init(
                     || (body.rest.clone(), vec![false; n]),
                     |scratch, &(k, _, _, _)| {
-                        self.measure_cross(k, &faces, &by_slot, slots, scratch)
+                        self.measure_cross(k, surfaces, &by_slot, slots, scratch)
                     },
                 )
                 .collect()
@@ -524,12 +521,12 @@ impl Joints {
     /// [`Band::cross`]): each pair of bands that moves some of its vertices both (its own
     /// band's child side and a child's band's parent side, or two children's), with the
     /// second-order change they make together, measured by turning the two by
-    /// ±[`CROSS_AT`] about each pair of axes. `faces`: each section's faces; `by_slot`:
+    /// ±[`CROSS_AT`] about each pair of axes. `surfaces`: each section's, capped; `by_slot`:
     /// each slot's vertices on its parent's and child's side with their levels.
     fn measure_cross(
         &self,
         k: usize,
-        faces: &[Vec<[u32; 3]>],
+        surfaces: &[Capped],
         by_slot: &[[Vec<(u32, u16)>; 2]],
         slots: &[usize],
         scratch: &mut (Vec<DVec3>, Vec<bool>),
@@ -564,7 +561,9 @@ impl Joints {
         if bends.len() < 2 {
             return Vec::new();
         }
-        let region = Capped::from_faces(faces[section].clone());
+        let Some(region) = surfaces.get(section) else {
+            return Vec::new();
+        };
         let body = &self.body;
         let (at, is_moved) = scratch;
         // The motion of bend `e` turned by the rotation vector `v` at each level,

@@ -38,7 +38,7 @@
 use super::band::LEVELS;
 use super::slide::{along, bump};
 use super::{Band, Joints};
-use crate::mesh::measure::{capped_volume_gradient, Capped};
+use crate::mesh::measure::Capped;
 use glam::{DAffine3, DMat3, DVec3};
 
 /// Largest swell a side of a band is given to keep its section's volume: a share of
@@ -130,7 +130,12 @@ impl Joints {
     /// swell them by (see the module docs), from the levels every vertex got (`entries`:
     /// vertex, band slot, level; `slots`: each slot's cut). Once every vertex has its
     /// transform.
-    pub(super) fn measure_kept(&mut self, entries: &[(u32, u16, u16)], slots: &[usize]) {
+    pub(super) fn measure_kept(
+        &mut self,
+        entries: &[(u32, u16, u16)],
+        slots: &[usize],
+        surfaces: &[Capped],
+    ) {
         self.kept.clear();
         let body = self.body.clone();
         let n = self.section_of.len();
@@ -155,15 +160,8 @@ impl Joints {
                 may[slot] = false;
             }
         }
-        // Each section's faces, and the gradient of its capped volume where it may swell.
+        // The gradient of each section's capped volume where it may swell.
         let sections = self.sections.len();
-        let mut faces: Vec<Vec<[u32; 3]>> = vec![Vec::new(); sections];
-        for t in &body.triangles {
-            let s = self.section_of[t[0] as usize];
-            if t.iter().all(|&i| self.section_of[i as usize] == s) {
-                faces[usize::from(s)].push(*t);
-            }
-        }
         let mut wanted = vec![false; sections];
         for (slot, &k) in slots.iter().enumerate() {
             if let Some(band) = self.bands[k].as_ref().filter(|_| may[slot]) {
@@ -172,8 +170,8 @@ impl Joints {
             }
         }
         let mut gradient = vec![DVec3::ZERO; n];
-        for (_, f) in faces.iter().enumerate().filter(|(s, _)| wanted[*s]) {
-            for (v, g) in capped_volume_gradient(&body.rest, f) {
+        for (_, capped) in surfaces.iter().enumerate().filter(|(s, _)| wanted[*s]) {
+            for (v, g) in capped.volume_gradient(&body.rest) {
                 gradient[v as usize] = g;
             }
         }
@@ -235,25 +233,28 @@ impl Joints {
         }
         // A section's size: its volume, or a share of the whole's for one that holds
         // little (a sheet, a fin), whose volume no swell should chase.
-        let whole = Capped::from_faces(body.triangles.clone())
-            .volume(&body.rest)
-            .abs();
+        let whole = body.whole;
+        // Per section, its vertices that move with another transform than its own.
+        let mut moved_of: Vec<Vec<u32>> = vec![Vec::new(); sections];
+        for (v, &s) in self.section_of.iter().enumerate() {
+            let s = usize::from(s);
+            if !sides[s].is_empty() && usize::from(self.transform_of[v]) != s {
+                moved_of[s].push(v as u32);
+            }
+        }
         for (s, sides) in sides.into_iter().enumerate() {
             if sides.is_empty() {
                 continue;
             }
             let moved = |v: u32| usize::from(self.transform_of[v as usize]) != s;
-            let around = Capped::from_faces(faces[s].clone()).around(moved);
-            let mut moved_vertices: Vec<u32> = (0..n as u32)
-                .filter(|&v| usize::from(self.section_of[v as usize]) == s && moved(v))
-                .collect();
-            moved_vertices.shrink_to_fit();
+            let Some(capped) = surfaces.get(s) else {
+                continue;
+            };
+            let size = capped.volume(&body.rest).abs().max(SMALL * whole);
+            let around = capped.around(moved);
+            let moved_vertices = std::mem::take(&mut moved_of[s]);
             let apex = self.sections[s].pivot;
             let rest = around.volume_from(&body.rest, apex);
-            let size = Capped::from_faces(faces[s].clone())
-                .volume(&body.rest)
-                .abs()
-                .max(SMALL * whole);
             let norm = sides.iter().map(|x| x.2 * x.2).sum();
             self.kept.push(Kept {
                 section: s,
@@ -266,6 +267,21 @@ impl Joints {
                 norm,
             });
         }
+    }
+
+    /// Each section's surface at rest: its faces (those whose three vertices it holds),
+    /// each cut across them capped. Found once per [`Joints::refresh_bands`], for the
+    /// slides' rates and the swells'.
+    pub(super) fn capped_sections(&self) -> Vec<Capped> {
+        use rayon::prelude::*;
+        let mut faces: Vec<Vec<[u32; 3]>> = vec![Vec::new(); self.sections.len()];
+        for t in &self.body.triangles {
+            let s = self.section_of[t[0] as usize];
+            if t.iter().all(|&i| self.section_of[i as usize] == s) {
+                faces[usize::from(s)].push(*t);
+            }
+        }
+        faces.into_par_iter().map(Capped::from_faces).collect()
     }
 
     /// Measures each kept section's volume in the pose whose section transforms are

@@ -126,48 +126,7 @@ pub fn capped_volume(positions: &[DVec3], triangles: &[[u32; 3]], region: &[bool
 /// # Panics
 /// If a face names a vertex beyond `positions`.
 pub fn capped_volume_gradient(positions: &[DVec3], faces: &[[u32; 3]]) -> Vec<(u32, DVec3)> {
-    let capped = Capped::from_faces(faces.to_vec());
-    let Some(origin) = capped.faces.first().map(|t| positions[t[0] as usize]) else {
-        return Vec::new();
-    };
-    let at = |i: u32| positions[i as usize] - origin;
-    let vertices = capped
-        .faces
-        .iter()
-        .flatten()
-        .max()
-        .map_or(0, |&v| v as usize + 1);
-    let mut gradient = vec![DVec3::ZERO; vertices];
-    // d(a·(b×c))/da = b×c, and cyclically.
-    let mut add = |v: u32, g: DVec3| gradient[v as usize] += g / 6.0;
-    for t in &capped.faces {
-        let [a, b, c] = t.map(at);
-        add(t[0], b.cross(c));
-        add(t[1], c.cross(a));
-        add(t[2], a.cross(b));
-    }
-    let centres: Vec<DVec3> = capped
-        .centres(positions)
-        .into_iter()
-        .map(|c| c - origin)
-        .collect();
-    let mut at_centre = vec![DVec3::ZERO; centres.len()];
-    for &(a, b, l) in &capped.boundary {
-        // The cap's triangle (b, a, centre).
-        let (pb, pa, c) = (at(b), at(a), centres[l]);
-        add(b, pa.cross(c));
-        add(a, c.cross(pb));
-        at_centre[l] += pb.cross(pa);
-    }
-    for &(v, l) in &capped.loop_of_vertex {
-        add(v, at_centre[l] / capped.loops[l] as f64);
-    }
-    let mut used: Vec<u32> = capped.faces.iter().flatten().copied().collect();
-    used.sort_unstable();
-    used.dedup();
-    used.into_iter()
-        .map(|v| (v, gradient[v as usize]))
-        .collect()
+    Capped::from_faces(faces.to_vec()).volume_gradient(positions)
 }
 
 /// A region's faces and the loops of its boundary, each closed by a cap (see
@@ -194,6 +153,55 @@ impl Capped {
                 .map(|(t, _)| *t)
                 .collect(),
         )
+    }
+
+    /// The gradient of its capped volume ([`capped_volume_gradient`]) at `positions`.
+    ///
+    /// # Panics
+    /// If a face names a vertex beyond `positions`.
+    pub fn volume_gradient(&self, positions: &[DVec3]) -> Vec<(u32, DVec3)> {
+        let capped = self;
+        let Some(origin) = capped.faces.first().map(|t| positions[t[0] as usize]) else {
+            return Vec::new();
+        };
+        let at = |i: u32| positions[i as usize] - origin;
+        let vertices = capped
+            .faces
+            .iter()
+            .flatten()
+            .max()
+            .map_or(0, |&v| v as usize + 1);
+        let mut gradient = vec![DVec3::ZERO; vertices];
+        // d(a·(b×c))/da = b×c, and cyclically.
+        let mut add = |v: u32, g: DVec3| gradient[v as usize] += g / 6.0;
+        for t in &capped.faces {
+            let [a, b, c] = t.map(at);
+            add(t[0], b.cross(c));
+            add(t[1], c.cross(a));
+            add(t[2], a.cross(b));
+        }
+        let centres: Vec<DVec3> = capped
+            .centres(positions)
+            .into_iter()
+            .map(|c| c - origin)
+            .collect();
+        let mut at_centre = vec![DVec3::ZERO; centres.len()];
+        for &(a, b, l) in &capped.boundary {
+            // The cap's triangle (b, a, centre).
+            let (pb, pa, c) = (at(b), at(a), centres[l]);
+            add(b, pa.cross(c));
+            add(a, c.cross(pb));
+            at_centre[l] += pb.cross(pa);
+        }
+        for &(v, l) in &capped.loop_of_vertex {
+            add(v, at_centre[l] / capped.loops[l] as f64);
+        }
+        let mut used: Vec<u32> = capped.faces.iter().flatten().copied().collect();
+        used.sort_unstable();
+        used.dedup();
+        used.into_iter()
+            .map(|v| (v, gradient[v as usize]))
+            .collect()
     }
 
     /// The region made of `faces`.
