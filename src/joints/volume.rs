@@ -83,12 +83,24 @@ pub(super) struct Kept {
     size: f64,
     /// Its vertices that move with another transform than the section's.
     moved: Vec<u32>,
-    /// The band sides that swell it: (band, by its index among the bands that exist;
-    /// mode: 0 and 1 the parent's and the child's side across the band's line, 2 and 3
-    /// the same along its normal; `K`, its volume per unit of swell; its largest swell).
-    sides: Vec<(u16, u8, f64, f64)>,
+    /// The band sides that swell it.
+    sides: Vec<Side>,
     /// `Σ K²` over `sides`.
     norm: f64,
+}
+
+/// One side of a band that swells a kept section, one way (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Side {
+    /// The band, by its index among the bands that exist.
+    band: u16,
+    /// 0 and 1: the parent's and the child's side, across the band's line; 2 and 3: the
+    /// same along its normal (the index into a band's swells).
+    mode: u8,
+    /// `K`: the section's volume per unit of swell.
+    rate: f64,
+    /// Its largest swell.
+    cap: f64,
 }
 
 impl Band {
@@ -176,7 +188,7 @@ impl Joints {
             }
         }
         // Per section, the sides that swell it and their rates.
-        let mut sides: Vec<Vec<(u16, u8, f64, f64)>> = vec![Vec::new(); sections];
+        let mut sides: Vec<Vec<Side>> = vec![Vec::new(); sections];
         let mut rates = vec![[0.0f64; 4]; slots.len()];
         // Per band side, its farthest vertex from the band's line.
         let mut reach = vec![[0.0f64; 2]; slots.len()];
@@ -227,7 +239,12 @@ impl Joints {
                 };
                 let cap = MAX_KEEP * (width / moves.max(f64::MIN_POSITIVE)).min(1.0);
                 if rate.is_finite() && rate.abs() > f64::MIN_POSITIVE {
-                    sides[s].push((slot as u16, side as u8, rate, cap));
+                    sides[s].push(Side {
+                        band: slot as u16,
+                        mode: side as u8,
+                        rate,
+                        cap,
+                    });
                 }
             }
         }
@@ -255,7 +272,7 @@ impl Joints {
             let moved_vertices = std::mem::take(&mut moved_of[s]);
             let apex = self.sections[s].pivot;
             let rest = around.volume_from(&body.rest, apex);
-            let norm = sides.iter().map(|x| x.2 * x.2).sum();
+            let norm = sides.iter().map(|x| x.rate * x.rate).sum();
             self.kept.push(Kept {
                 section: s,
                 around,
@@ -318,8 +335,14 @@ impl Joints {
             if !change.is_finite() || kept.norm <= 0.0 {
                 continue;
             }
-            for &(band, side, rate, cap) in &kept.sides {
-                let k = &mut keep[usize::from(band)][usize::from(side)];
+            for &Side {
+                band,
+                mode,
+                rate,
+                cap,
+            } in &kept.sides
+            {
+                let k = &mut keep[usize::from(band)][usize::from(mode)];
                 let next = (*k - change * rate / kept.norm).clamp(-cap, cap);
                 changed |= (next - *k).abs() > 1e-6;
                 *k = next;
