@@ -715,14 +715,7 @@ mod tests {
     /// the human with its suggested cuts, posed at random.
     #[test]
     fn a_swollen_pose_remakes_what_its_swells_change_and_matches_a_whole_remake() {
-        let (mesh, _) = crate::joints::suggest::fixture::human();
-        let mut puppet = crate::puppet::Puppet::build(
-            mesh.clone(),
-            crate::puppet::RigFile::default(),
-            crate::progress::silent(),
-        )
-        .expect("the human builds");
-        puppet.suggest_joints().expect("its joints");
+        let puppet = crate::joints::suggest::fixture::suggested_human();
         let joints = &puppet.joints;
         assert!(!joints.blends.is_empty(), "bands overlap somewhere");
         let contacts = joints.bands.iter().flatten().map(|b| b.contacts.len());

@@ -685,14 +685,7 @@ fn a_limb_curling_back_to_its_cut_turns_whole_where_it_comes_back() {
 fn bands_found_on_one_thread_or_many_pose_alike() {
     // The bands are found cut by cut in parallel and numbered in the cuts' order, so the
     // number of threads changes nothing: the human with its suggested cuts, posed at random.
-    let (mesh, _) = crate::joints::suggest::fixture::human();
-    let mut puppet = crate::puppet::Puppet::build(
-        mesh.clone(),
-        crate::puppet::RigFile::default(),
-        crate::progress::silent(),
-    )
-    .expect("the human builds");
-    puppet.suggest_joints().expect("its joints");
+    let puppet = crate::joints::suggest::fixture::suggested_human();
     let banded = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)

@@ -33,6 +33,22 @@ pub(crate) fn human() -> &'static (Mesh, Skeleton) {
     character("tests/data/meshes/human.obj")
 }
 
+/// The shipped human as a puppet with its suggested joints.
+///
+/// # Panics
+/// When it does not build or its joints are not suggested: it is the repository's own.
+pub(crate) fn suggested_human() -> crate::puppet::Puppet {
+    let (mesh, _) = human();
+    let mut puppet = crate::puppet::Puppet::build(
+        mesh.clone(),
+        crate::puppet::RigFile::default(),
+        crate::progress::silent(),
+    )
+    .expect("the human builds");
+    puppet.suggest_joints().expect("its joints");
+    puppet
+}
+
 /// The shipped human run through the stages up to the one a test is of.
 pub(crate) struct Staged {
     pub(crate) mesh: &'static Mesh,
