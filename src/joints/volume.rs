@@ -288,14 +288,25 @@ impl Joints {
 
     /// Each section's surface at rest: its faces (those whose three vertices it holds),
     /// each cut across them capped. Found once per [`Joints::refresh_bands`], for the
-    /// slides' rates and the swells'.
+    /// slides' rates and the swells'; empty for a section no band ends on or starts from
+    /// (neither reads it), and for every section while the rest positions are unknown.
     pub(super) fn capped_sections(&self) -> Vec<Capped> {
         use rayon::prelude::*;
+        let mut banded = vec![false; self.sections.len()];
+        if self.body.rest.len() == self.section_of.len() {
+            for band in self.bands.iter().flatten() {
+                banded[band.parent] = true;
+                banded[band.child] = true;
+            }
+        }
         let mut faces: Vec<Vec<[u32; 3]>> = vec![Vec::new(); self.sections.len()];
         for t in &self.body.triangles {
-            let s = self.section_of[t[0] as usize];
-            if t.iter().all(|&i| self.section_of[i as usize] == s) {
-                faces[usize::from(s)].push(*t);
+            let s = usize::from(self.section_of[t[0] as usize]);
+            if banded[s]
+                && t.iter()
+                    .all(|&i| usize::from(self.section_of[i as usize]) == s)
+            {
+                faces[s].push(*t);
             }
         }
         faces.into_par_iter().map(Capped::from_faces).collect()

@@ -160,12 +160,11 @@ impl Capped {
     /// # Panics
     /// If a face names a vertex beyond `positions`.
     pub fn volume_gradient(&self, positions: &[DVec3]) -> Vec<(u32, DVec3)> {
-        let capped = self;
-        let Some(origin) = capped.faces.first().map(|t| positions[t[0] as usize]) else {
+        let Some(origin) = self.faces.first().map(|t| positions[t[0] as usize]) else {
             return Vec::new();
         };
         let at = |i: u32| positions[i as usize] - origin;
-        let vertices = capped
+        let vertices = self
             .faces
             .iter()
             .flatten()
@@ -174,29 +173,29 @@ impl Capped {
         let mut gradient = vec![DVec3::ZERO; vertices];
         // d(a·(b×c))/da = b×c, and cyclically.
         let mut add = |v: u32, g: DVec3| gradient[v as usize] += g / 6.0;
-        for t in &capped.faces {
+        for t in &self.faces {
             let [a, b, c] = t.map(at);
             add(t[0], b.cross(c));
             add(t[1], c.cross(a));
             add(t[2], a.cross(b));
         }
-        let centres: Vec<DVec3> = capped
+        let centres: Vec<DVec3> = self
             .centres(positions)
             .into_iter()
             .map(|c| c - origin)
             .collect();
         let mut at_centre = vec![DVec3::ZERO; centres.len()];
-        for &(a, b, l) in &capped.boundary {
+        for &(a, b, l) in &self.boundary {
             // The cap's triangle (b, a, centre).
             let (pb, pa, c) = (at(b), at(a), centres[l]);
             add(b, pa.cross(c));
             add(a, c.cross(pb));
             at_centre[l] += pb.cross(pa);
         }
-        for &(v, l) in &capped.loop_of_vertex {
-            add(v, at_centre[l] / capped.loops[l] as f64);
+        for &(v, l) in &self.loop_of_vertex {
+            add(v, at_centre[l] / self.loops[l] as f64);
         }
-        let mut used: Vec<u32> = capped.faces.iter().flatten().copied().collect();
+        let mut used: Vec<u32> = self.faces.iter().flatten().copied().collect();
         used.sort_unstable();
         used.dedup();
         used.into_iter()
