@@ -96,15 +96,35 @@ impl Joints {
             .resize(self.bands.iter().flatten().count(), [0.0; 4]);
         self.levels_into(local, scratch);
         // Each section's volume measured, and the bands swollen to keep it (`volume`).
-        if scratch.keep_volumes
-            && self.keep_volumes(
+        if scratch.keep_volumes {
+            scratch.newton.first = true;
+            if self.keep_volumes(
                 &scratch.world,
                 &scratch.pose.transforms,
                 &mut scratch.positions,
                 &mut scratch.keep,
-            )
-        {
-            self.keep_into(local, scratch);
+                &mut scratch.newton,
+            ) {
+                // The levels as the slides left them, for each step to swell afresh.
+                scratch.unswollen.clone_from(&scratch.motions);
+                scratch.swollen.clear();
+                scratch.newton.first = false;
+                let steps = scratch.newton_steps;
+                for step in 1..=steps {
+                    self.keep_into(local, scratch);
+                    if step == steps
+                        || !self.keep_volumes(
+                            &scratch.world,
+                            &scratch.pose.transforms,
+                            &mut scratch.positions,
+                            &mut scratch.keep,
+                            &mut scratch.newton,
+                        )
+                    {
+                        break;
+                    }
+                }
+            }
         }
         &scratch.pose
     }
@@ -138,25 +158,28 @@ impl Joints {
         self.overlaps_into(local, scratch);
     }
 
-    /// Swells each band's levels by `scratch.keep`, on the motions [`Joints::levels_into`]
-    /// made unswollen (no band turned again), then makes again what composes a swollen
-    /// band: the blends it is part of and its contacts (the rest read no swollen motion).
+    /// Swells the levels of each band whose swells the last Newton step changed
+    /// (`scratch.newton.changed`) by `scratch.keep`, on the motions [`Joints::levels_into`]
+    /// made unswollen (`scratch.unswollen`: no band turned again), then makes again what
+    /// composes such a band: the blends it is part of and its contacts (the rest read no
+    /// swollen motion).
     fn keep_into(&self, local: &[Local], scratch: &mut PoseScratch) {
         let mut swollen = std::mem::take(&mut scratch.swollen);
-        swollen.clear();
         swollen.resize(scratch.keep.len(), false);
+        let changed = &scratch.newton.changed;
         let mut end = self.sections.len();
         for (b, (band, &keep)) in self.bands.iter().flatten().zip(&scratch.keep).enumerate() {
             end = band.first_level + LEVELS - 1;
-            if keep == [0.0; 4] {
+            if !changed[b] {
                 continue;
             }
             swollen[b] = true;
             let parent = scratch.world[band.parent];
             for level in 0..=LEVELS {
                 let w = level as f64 / LEVELS as f64;
-                let m = &mut scratch.motions[b * (LEVELS + 1) + level];
-                *m = band.kept(*m, keep, w);
+                let k = b * (LEVELS + 1) + level;
+                let m = &mut scratch.motions[k];
+                *m = band.kept(scratch.unswollen[k], keep, w);
                 if (1..LEVELS).contains(&level) {
                     scratch.pose.transforms[band.first_level + level - 1] = to_f32(&(parent * *m));
                 }
@@ -165,12 +188,12 @@ impl Joints {
         let transforms = &mut scratch.pose.transforms;
         for (k, blend) in self.blends.iter().enumerate() {
             let parts = &blend.parts[..usize::from(blend.count)];
-            if parts.iter().any(|&(slot, _)| swollen[usize::from(slot)]) {
+            if parts.iter().any(|&(slot, _)| changed[usize::from(slot)]) {
                 transforms[end + k] = self.blended(blend, &scratch.world, &scratch.motions);
             }
         }
         for (b, band) in self.bands.iter().flatten().enumerate() {
-            if swollen[b] && !band.contacts.is_empty() {
+            if changed[b] && !band.contacts.is_empty() {
                 let at = Some(band.first_contact);
                 let (world, motions) = (&scratch.world, &scratch.motions);
                 self.contacts_into(b, band, local, (world, motions), transforms, at);
@@ -352,6 +375,7 @@ impl Joints {
                 pivot: self.sections[band.child].pivot,
                 local: *local,
                 slide,
+                turn: fan_turn(local.rotation),
             };
         }
         // What the arc does not give (the child's translation, less the slide, which rises
@@ -407,6 +431,10 @@ enum Bending<'a> {
         pivot: DVec3,
         local: Local,
         slide: Slide,
+        /// `R`'s axis and angle (the short way), to make `Q(w)` at each level from one
+        /// sine and cosine instead of a slerp's arc cosine and three sines; `None` for a
+        /// turn too small to have an axis.
+        turn: Option<(DVec3, f64)>,
     },
     /// Turned by share `w` of the rotation about the point of the bent centre line at
     /// `w` ([`Band::motion`]), and slid along the normal turned with it by the band's
@@ -429,8 +457,12 @@ impl Bending<'_> {
                 pivot,
                 local,
                 slide,
+                turn,
             } => {
-                let turned = DQuat::IDENTITY.slerp(local.rotation, w);
+                let turned = match turn {
+                    Some((axis, angle)) => DQuat::from_axis_angle(*axis, angle * w),
+                    None => DQuat::IDENTITY.slerp(local.rotation, w),
+                };
                 let moved = DAffine3::from_translation(
                     *pivot + local.translation * w + band.slid(turned, *slide, w),
                 ) * DAffine3::from_quat(turned);
@@ -525,6 +557,23 @@ impl Bent {
     pub(super) fn turned(&self, w: f64) -> DQuat {
         DQuat::from_axis_angle(self.axis, self.angle * w)
     }
+}
+
+/// The axis and angle of `rotation` the short way (as `slerp` from the identity turns),
+/// `None` where it is too small to have an axis (the slerp's own threshold, or an axis
+/// shorter than that).
+fn fan_turn(rotation: DQuat) -> Option<(DVec3, f64)> {
+    let q = if rotation.w < 0.0 {
+        -rotation
+    } else {
+        rotation
+    };
+    let v = q.xyz();
+    let sin = v.length();
+    if q.w > 1.0 - f64::EPSILON || sin < 1e-12 || !sin.is_finite() {
+        return None;
+    }
+    Some((v / sin, 2.0 * sin.atan2(q.w)))
 }
 
 /// Each section's rotation in the pose `local` (at rest where it has none).
@@ -651,6 +700,12 @@ pub struct PoseScratch {
     keep_volumes: bool,
     /// Per band, whether a pose swelled it (`keep_into`'s).
     swollen: Vec<bool>,
+    /// Each band's motions before any swell (`keep_into`'s).
+    unswollen: Vec<DAffine3>,
+    /// What a Newton step towards the volumes leaves for the next (`volume`).
+    newton: super::volume::Newton,
+    /// How many it takes at most ([`super::volume::NEWTON_STEPS`]).
+    newton_steps: usize,
 }
 
 impl PoseScratch {
@@ -678,6 +733,9 @@ impl Default for PoseScratch {
             positions: Vec::new(),
             keep_volumes: true,
             swollen: Vec::new(),
+            unswollen: Vec::new(),
+            newton: Default::default(),
+            newton_steps: super::volume::NEWTON_STEPS,
         }
     }
 }
@@ -742,5 +800,59 @@ mod tests {
             );
         }
         assert!(swelled > 0, "some pose swells a band");
+    }
+
+    /// The worst section's volume change (`bench poses`' measure) where the bones of
+    /// `puppet` hold its surface in `pose`.
+    fn worst_volume(puppet: &crate::puppet::Puppet, pose: &Pose) -> f64 {
+        let transform_of = puppet.joints.transform_of();
+        let at: Vec<DVec3> = puppet
+            .mesh
+            .positions
+            .iter()
+            .zip(transform_of)
+            .map(|(&x, &t)| {
+                let m = pose.transforms[usize::from(t)];
+                m.transform_point3(x.as_vec3()).as_dvec3()
+            })
+            .collect();
+        let [lo, hi] = crate::puppet::press::section_volumes(puppet, &at);
+        (-lo).max(hi)
+    }
+
+    #[test]
+    fn a_second_newton_step_gives_back_what_the_first_leaves() {
+        // A low-poly fish whose tail and fins, turned up to 90° at the root, take up to
+        // a third of its body's volume with them.
+        let (mesh, _) =
+            crate::joints::suggest::fixture::character("tests/data/population/fish3.glb");
+        let mut puppet = crate::puppet::Puppet::build(
+            mesh.clone(),
+            crate::puppet::RigFile::default(),
+            crate::progress::silent(),
+        )
+        .expect("the fish builds");
+        puppet.suggest_joints().expect("its joints");
+        let (mut one_sum, mut two_sum) = (0.0, 0.0);
+        for seed in 0..20 {
+            let local = crate::joints::spread::random_pose(
+                &puppet.joints,
+                crate::joints::spread::Spread::default(),
+                &mut crate::random::SplitMix(seed),
+            );
+            let mut one = PoseScratch {
+                newton_steps: 1,
+                ..PoseScratch::default()
+            };
+            let mut two = PoseScratch::default();
+            let a = worst_volume(&puppet, puppet.joints.pose_into(&local, &mut one));
+            let b = worst_volume(&puppet, puppet.joints.pose_into(&local, &mut two));
+            assert!(b <= a + 1e-3, "seed {seed}: {b} against {a}");
+            one_sum += a;
+            two_sum += b;
+        }
+        // Over 20 poses the worst sections keep 3 % of their volume more in all (2.42
+        // against 2.39): the largest changes are held by their sides' bounds.
+        assert!(two_sum < one_sum - 0.02, "{two_sum} against {one_sum}");
     }
 }

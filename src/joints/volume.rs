@@ -23,7 +23,11 @@
 //! to what the side's width allows: neighbours at levels apart move apart by up to the
 //! bump's slope times a vertex's motion, so a wide child on a short band (the
 //! stegosaurus's body) swells little. The swollen bands' levels, and what composes them,
-//! are made again from the motions already made.
+//! are made again from the motions the slides left. The step is first order, so a
+//! second ([`NEWTON_STEPS`]) measures again the sections the first found changed by
+//! more than [`AGAIN`] of their size, and swells their sides by what is left: what a
+//! large change's square leaves, and what a side held at its largest leaves to the
+//! others.
 //!
 //! A band is not swollen where it carries a sibling, or where a rider's host lies in it:
 //! the sibling would ride a level that no longer matches its seam, and the rider (an
@@ -46,6 +50,31 @@ use glam::{DAffine3, DMat3, DVec3};
 /// (along it), and no more than the side's width allows a vertex to move (see
 /// [`Kept`]). Chosen with [`TOLERANCE`].
 pub const MAX_KEEP: f64 = 0.25;
+
+/// Newton steps a pose takes towards its sections' volumes at most: the first measures
+/// every kept section, a later one those the first found changed by more than [`AGAIN`]
+/// of their size (the step is first order: what a large change leaves, and what a side
+/// held at its largest leaves to the others, a second step gives back). Chosen on the
+/// development half of `puppet bench poses`' three corpora (20 seeds): poses with a
+/// section beyond ±5 % 111 with one step, 100 with two measuring every section again,
+/// 103 and 104 measuring again those past 2 % and 5 %, 100 with three; the stretch the
+/// same to the third digit. Measuring again only those past [`AGAIN`] keeps the pose's
+/// cost (`docs/performance-log.md`).
+pub const NEWTON_STEPS: usize = 2;
+
+/// See [`NEWTON_STEPS`].
+pub const AGAIN: f64 = 0.05;
+
+/// What one Newton step of [`Joints::keep_volumes`] leaves for the next.
+#[derive(Clone, Debug, Default)]
+pub struct Newton {
+    /// This is a pose's first newton.
+    pub(super) first: bool,
+    /// Per kept section, whether a later step measures it again.
+    pub(super) again: Vec<bool>,
+    /// Per band, whether this step changed its swells.
+    pub(super) changed: Vec<bool>,
+}
 
 /// The share of a section's volume it may gain or lose before a pose gives it back:
 /// within it nothing swells. Chosen with [`MAX_KEEP`] by `puppet bench poses` (20
@@ -315,14 +344,18 @@ impl Joints {
     /// Measures each kept section's volume in the pose whose section transforms are
     /// `world` and whose transforms (the simulation's) are `transforms`, and adds to
     /// `keep` (per band, its sides' swells) one Newton step towards the volume each had
-    /// at rest. `positions`: scratch, the rest positions once grown. Returns whether a
-    /// swell changed.
+    /// at rest. `positions`: scratch, the rest positions once grown. `newton`: on the
+    /// first, every kept section is measured, and those that changed by more than
+    /// [`AGAIN`] of their size are marked in `newton.again`; on a later step, only those.
+    /// Marks in `newton.changed` each band whose swells changed, and returns whether any
+    /// did.
     pub(super) fn keep_volumes(
         &self,
         world: &[DAffine3],
         transforms: &[glam::Affine3A],
         positions: &mut Vec<DVec3>,
         keep: &mut [[f64; 4]],
+        newton: &mut Newton,
     ) -> bool {
         if self.kept.is_empty() {
             return false;
@@ -331,8 +364,18 @@ impl Joints {
         if positions.len() != rest.len() {
             positions.clone_from(rest);
         }
+        let first = newton.again.len() != self.kept.len() || newton.first;
+        if first {
+            newton.again.clear();
+            newton.again.resize(self.kept.len(), false);
+        }
+        newton.changed.clear();
+        newton.changed.resize(keep.len(), false);
         let mut changed = false;
-        for kept in &self.kept {
+        for (n, kept) in self.kept.iter().enumerate() {
+            if !first && !newton.again[n] {
+                continue;
+            }
             let back = world[kept.section].inverse();
             for &v in &kept.moved {
                 let t = transforms[usize::from(self.transform_of[v as usize])];
@@ -340,6 +383,9 @@ impl Joints {
                 positions[v as usize] = back.transform_point3(at);
             }
             let change = kept.around.volume_from(positions, kept.apex) - kept.rest;
+            if first {
+                newton.again[n] = change.abs() > AGAIN * kept.size;
+            }
             // Only what lies beyond the tolerance is given back.
             let tolerance = TOLERANCE * kept.size;
             let change = change.signum() * (change.abs() - tolerance).max(0.0);
@@ -356,6 +402,7 @@ impl Joints {
                 let k = &mut keep[usize::from(band)][usize::from(mode)];
                 let next = (*k - change * rate / kept.norm).clamp(-cap, cap);
                 changed |= (next - *k).abs() > 1e-6;
+                newton.changed[usize::from(band)] |= next != *k;
                 *k = next;
             }
         }
