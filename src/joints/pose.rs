@@ -824,15 +824,7 @@ mod tests {
     fn a_second_newton_step_gives_back_what_the_first_leaves() {
         // A low-poly fish whose tail and fins, turned up to 90° at the root, take up to
         // a third of its body's volume with them.
-        let (mesh, _) =
-            crate::joints::suggest::fixture::character("tests/data/population/fish3.glb");
-        let mut puppet = crate::puppet::Puppet::build(
-            mesh.clone(),
-            crate::puppet::RigFile::default(),
-            crate::progress::silent(),
-        )
-        .expect("the fish builds");
-        puppet.suggest_joints().expect("its joints");
+        let puppet = crate::joints::suggest::fixture::suggested("tests/data/population/fish3.glb");
         let (mut one_sum, mut two_sum) = (0.0, 0.0);
         for seed in 0..20 {
             let local = crate::joints::spread::random_pose(

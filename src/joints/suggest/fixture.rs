@@ -38,13 +38,22 @@ pub(crate) fn human() -> &'static (Mesh, Skeleton) {
 /// # Panics
 /// When it does not build or its joints are not suggested: it is the repository's own.
 pub(crate) fn suggested_human() -> crate::puppet::Puppet {
-    let (mesh, _) = human();
+    suggested("tests/data/meshes/human.obj")
+}
+
+/// The mesh at `path` (from the repository's root) as a puppet with its suggested joints
+/// (a skinned file's own joints replaced).
+///
+/// # Panics
+/// When it does not build or its joints are not suggested: it is the repository's own.
+pub(crate) fn suggested(path: &str) -> crate::puppet::Puppet {
+    let (mesh, _) = character(path);
     let mut puppet = crate::puppet::Puppet::build(
         mesh.clone(),
         crate::puppet::RigFile::default(),
         crate::progress::silent(),
     )
-    .expect("the human builds");
+    .expect("the character builds");
     puppet.suggest_joints().expect("its joints");
     puppet
 }
