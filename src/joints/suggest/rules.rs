@@ -94,13 +94,6 @@ pub(crate) const ANTENNA: f64 = 5.0;
 /// A left and a right cut whose pivots lie within this share of the mesh's size of each
 /// other's mirror image are made to mirror each other exactly.
 pub(crate) const PAIRED: f64 = 0.02;
-/// With no mirror plane across the whole mesh, the root's limbs' cuts pair up across one
-/// when each one's mirror image lies within this share of the mesh's size of another's (a
-/// creature caught mid-stride: its shoulders and hips move less than its feet). Chosen
-/// by `puppet bench suggest` on the development half from 0.02, 0.04, 0.06, 0.1 and
-/// 0.15: named as the role 159, 159, 162, 162 and 157 of its matched cuts (0.15 turns
-/// one character's up); the held-out half 40 of 91 at each.
-pub(crate) const POSED_PAIR: f64 = 0.06;
 /// A cut with no cut within this share of the mesh's size of its mirror image is copied
 /// there (on a limb whose mirror image is cut).
 pub(crate) const MATCHED: f64 = 0.05;

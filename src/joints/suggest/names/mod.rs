@@ -27,10 +27,7 @@
 //!   aside), is the head's end, no joint, and the neck is the `head`.
 //!   A head's parts off the plane are ears; with two on a side, the one pointing most up
 //!   is a horn; one long and round (`ANTENNA`) is an antenna.
-//!   Side suffixes come from the side of the mirror plane (with none across the whole
-//!   mesh, a creature caught mid-stride, the plane the root's limbs leave the body in
-//!   mirrored pairs across, `POSED_PAIR`; a hand's thumb has no pair, and a hand is named
-//!   as one); what fits no role keeps a
+//!   Side suffixes come from the side of the mirror plane; what fits no role keeps a
 //!
 //! * `naming`: what naming reads (the section tree, each subtree, the frame) and the root's
 //!   limbs: ears, arms, legs, the neck, the tail;
@@ -40,11 +37,9 @@ mod chains;
 mod naming;
 
 use super::place::Placed;
-use super::rules::{OFF_PLANE, POSED_PAIR};
 use crate::joints::{Cut, Joints};
 use crate::mesh::orientation::{frame, Cues, Frame, Given, Reach};
 use crate::mesh::Mesh;
-use glam::DVec3;
 use naming::Naming;
 use std::collections::HashMap;
 
@@ -169,34 +164,16 @@ pub(crate) fn roles(
         size: mesh.longest_side().max(1e-12),
         base,
     };
-    let mut limbs: Vec<(usize, Reach)> = naming.children[0]
+    let limbs: Vec<(usize, Reach)> = naming.children[0]
         .iter()
         .map(|&s| (s, naming.reach(s)))
         .collect();
-    // With no mirror plane across the whole mesh (a creature caught mid-stride, its legs,
-    // neck and tail swung off its symmetry), the root's limbs may still leave its body in
-    // mirrored pairs: it is named across their plane, not as a hand.
-    let mut named_by = cues;
-    if mirror.is_none() {
-        let pivots: Vec<DVec3> = limbs.iter().map(|l| l.1.pivot).collect();
-        if let Some(plane) = paired_plane(&pivots, naming.size) {
-            named_by.mirror = Some(plane);
-            naming.frame.mirror = Some(plane);
-            for l in &mut limbs {
-                l.1 = naming.reach(l.0);
-            }
-        }
-    }
     let reaches: Vec<Reach> = limbs.iter().map(|l| l.1).collect();
-    naming.frame = frame(&mesh.positions, named_by, &reaches, given);
+    naming.frame = frame(&mesh.positions, cues, &reaches, given);
     naming.root(&limbs);
     Roles {
         names: naming.names,
-        // The fit mirrors cuts across the mesh's own plane only.
-        frame: Frame {
-            mirror,
-            ..naming.frame
-        },
+        frame: naming.frame,
         ends: naming.ends,
     }
 }
@@ -236,57 +213,6 @@ fn tagged(base: &str, tag: &str) -> String {
     } else {
         format!("{base}.{tag}")
     }
-}
-
-/// The plane across one of the axes that the root's limbs' cuts (`pivots`) leave the body
-/// in mirrored pairs across, on a mesh `size` long: every pivot off it by [`OFF_PLANE`]
-/// of the size has its mirror image within [`POSED_PAIR`] of the size of another's, and
-/// there are at least two pairs (four legs, or arms and legs; a hand's thumb has no
-/// pair). Of the axes that do, the one whose pairs mirror closest.
-fn paired_plane(pivots: &[DVec3], size: f64) -> Option<(DVec3, f64)> {
-    let mut best: Option<(f64, DVec3, f64)> = None;
-    for n in [DVec3::X, DVec3::Y, DVec3::Z] {
-        let mut along: Vec<f64> = pivots.iter().map(|p| p.dot(n)).collect();
-        let Some(mut o) = crate::stats::median(&mut along) else {
-            continue;
-        };
-        let mut worst = f64::INFINITY;
-        let mut pairs = 0;
-        // Twice: the second time through the pairs' mean midpoint.
-        for _ in 0..2 {
-            let off: Vec<DVec3> = pivots
-                .iter()
-                .copied()
-                .filter(|p| (p.dot(n) - o).abs() >= OFF_PLANE * size)
-                .collect();
-            worst = 0.0;
-            let mut middle = 0.0;
-            for &p in &off {
-                let image = crate::mesh::orientation::image((n, o), p);
-                let nearest = off
-                    .iter()
-                    .filter(|q| (q.dot(n) - o) * (p.dot(n) - o) < 0.0)
-                    .map(|&q| (q.distance(image), q))
-                    .min_by(|a, b| a.0.total_cmp(&b.0));
-                match nearest {
-                    Some((d, q)) => {
-                        worst = worst.max(d);
-                        middle += 0.5 * (p + q).dot(n);
-                    }
-                    None => worst = f64::INFINITY,
-                }
-            }
-            pairs = off.len() / 2;
-            if off.is_empty() || !worst.is_finite() {
-                break;
-            }
-            o = middle / off.len() as f64;
-        }
-        if pairs >= 2 && worst <= POSED_PAIR * size && best.is_none_or(|b| worst < b.0) {
-            best = Some((worst, n, o));
-        }
-    }
-    best.map(|(_, n, o)| (n, o))
 }
 
 #[cfg(test)]
@@ -344,33 +270,5 @@ mod tests {
         // Up given is up kept.
         let given = staged.named(Some(DVec3::Z));
         assert_eq!(given.frame.up, DVec3::Z);
-    }
-
-    #[test]
-    fn limbs_in_mirrored_pairs_give_a_plane_and_a_hands_do_not() {
-        // A quadruped caught mid-stride, 10 long: its shoulders and hips off the plane
-        // x = 0.1 by 1, one of each pair moved by 0.3 along it; a neck and a tail on it.
-        let body = [
-            DVec3::new(1.1, 2.0, 3.0),
-            DVec3::new(-0.9, 2.2, 2.7),
-            DVec3::new(1.1, 2.0, -3.0),
-            DVec3::new(-0.9, 1.9, -3.3),
-            DVec3::new(0.1, 3.0, 4.0),
-            DVec3::new(0.1, 2.5, -4.5),
-        ];
-        let (n, o) = paired_plane(&body, 10.0).expect("the legs pair up");
-        assert_eq!(n, DVec3::X);
-        assert!((o - 0.1).abs() < 1e-9, "{o}");
-        // A hand's five digits: the thumb has no pair across any axis.
-        let hand = [
-            DVec3::new(-1.5, 0.0, 0.0),
-            DVec3::new(-0.5, 0.0, 0.0),
-            DVec3::new(0.5, 0.0, 0.0),
-            DVec3::new(1.5, 0.0, 0.0),
-            DVec3::new(-2.0, -1.5, 1.0),
-        ];
-        assert_eq!(paired_plane(&hand, 5.0), None);
-        // One pair is not enough (two ears).
-        assert_eq!(paired_plane(&body[..2], 10.0), None);
     }
 }
