@@ -107,7 +107,6 @@ impl Joints {
             ) {
                 // The levels as the slides left them, for each step to swell afresh.
                 scratch.unswollen.clone_from(&scratch.motions);
-                scratch.swollen.clear();
                 scratch.newton.first = false;
                 let steps = scratch.newton_steps;
                 for step in 1..=steps {
@@ -164,8 +163,6 @@ impl Joints {
     /// composes such a band: the blends it is part of and its contacts (the rest read no
     /// swollen motion).
     fn keep_into(&self, local: &[Local], scratch: &mut PoseScratch) {
-        let mut swollen = std::mem::take(&mut scratch.swollen);
-        swollen.resize(scratch.keep.len(), false);
         let changed = &scratch.newton.changed;
         let mut end = self.sections.len();
         for (b, (band, &keep)) in self.bands.iter().flatten().zip(&scratch.keep).enumerate() {
@@ -173,7 +170,6 @@ impl Joints {
             if !changed[b] {
                 continue;
             }
-            swollen[b] = true;
             let parent = scratch.world[band.parent];
             for level in 0..=LEVELS {
                 let w = level as f64 / LEVELS as f64;
@@ -199,7 +195,6 @@ impl Joints {
                 self.contacts_into(b, band, local, (world, motions), transforms, at);
             }
         }
-        scratch.swollen = swollen;
     }
 
     /// Blend `blend`'s transform: its bands' motions composed on its base's world
@@ -698,8 +693,6 @@ pub struct PoseScratch {
     /// Whether its poses keep each section's volume (see `volume`): all but the
     /// suggestion's trials ([`PoseScratch::first_order`]).
     keep_volumes: bool,
-    /// Per band, whether a pose swelled it (`keep_into`'s).
-    swollen: Vec<bool>,
     /// Each band's motions before any swell (`keep_into`'s).
     unswollen: Vec<DAffine3>,
     /// What a Newton step towards the volumes leaves for the next (`volume`).
@@ -732,7 +725,6 @@ impl Default for PoseScratch {
             keep: Vec::new(),
             positions: Vec::new(),
             keep_volumes: true,
-            swollen: Vec::new(),
             unswollen: Vec::new(),
             newton: Default::default(),
             newton_steps: super::volume::NEWTON_STEPS,
@@ -787,7 +779,7 @@ mod tests {
             );
             let mut scratch = PoseScratch::default();
             let made = joints.pose_into(&local, &mut scratch).transforms.clone();
-            let some = scratch.swollen.iter().filter(|&&s| s).count();
+            let some = scratch.keep.iter().filter(|&&k| k != [0.0; 4]).count();
             swelled += some;
             // The whole remake, on the same swollen motions.
             let levels =

@@ -23,7 +23,7 @@
 //! to what the side's width allows: neighbours at levels apart move apart by up to the
 //! bump's slope times a vertex's motion, so a wide child on a short band (the
 //! stegosaurus's body) swells little. The swollen bands' levels, and what composes them,
-//! are made again from the motions the slides left. The step is first order, so a
+//! are made again from the motions the slides left. The Newton step is first order, so a
 //! second ([`NEWTON_STEPS`]) measures again the sections the first found changed by
 //! more than [`AGAIN`] of their size, and swells their sides by what is left: what a
 //! large change's square leaves, and what a side held at its largest leaves to the
@@ -68,7 +68,7 @@ pub const AGAIN: f64 = 0.05;
 /// What one Newton step of [`Joints::keep_volumes`] leaves for the next.
 #[derive(Clone, Debug, Default)]
 pub struct Newton {
-    /// This is a pose's first newton.
+    /// This is a pose's first step.
     pub(super) first: bool,
     /// Per kept section, whether a later step measures it again.
     pub(super) again: Vec<bool>,
