@@ -36,16 +36,24 @@ pub fn add(joints: &mut Joints, cuts: Vec<Cut>) -> Result<Vec<String>, JointErro
     let mut removed = Vec::new();
     if added.is_ok() {
         removed = remove_while(joints, foreign, Joints::remove_cut_unbanded);
-        removed.extend(remove_while(
-            joints,
-            joined_twice,
-            Joints::remove_cut_unbanded,
-        ));
+        let twice = remove_while(joints, joined_twice, Joints::remove_cut_unbanded);
+        log_taken_back("it meets a section it is not joined to", &removed);
+        log_taken_back("it meets its parent twice", &twice);
+        removed.extend(twice);
     }
     joints.refresh_bands();
     added?;
-    removed.extend(keep_whole(joints));
+    let torn = keep_whole(joints);
+    log_taken_back("its skin tears in random poses", &torn);
+    removed.extend(torn);
     Ok(removed)
+}
+
+/// Says at debug level which suggested cuts were taken back, and why.
+fn log_taken_back(why: &str, names: &[String]) {
+    if !names.is_empty() {
+        log::debug!("suggested joints taken back ({why}): {names:?}");
+    }
 }
 
 /// The name of the section that loses its cut next, if any.
@@ -82,7 +90,7 @@ fn foreign(joints: &Joints) -> Option<String> {
             }
         }
     }
-    let ((a, b), _) = shared
+    let ((a, b), share) = shared
         .into_iter()
         .map(|(pair, n)| {
             (
@@ -93,6 +101,12 @@ fn foreign(joints: &Joints) -> Option<String> {
         .filter(|&(_, share)| share >= FOREIGN)
         .max_by(|x, y| x.1.total_cmp(&y.1).then(x.0.cmp(&y.0)))?;
     let deeper = if (depth(b), b) > (depth(a), a) { b } else { a };
+    log::debug!(
+        "'{}' and '{}' meet over {:.0} % of the shorter seam",
+        sections[a].name,
+        sections[b].name,
+        100.0 * share
+    );
     // The root has no cut to lose (it is never the deeper of an unrelated pair).
     parent(deeper).map(|_| sections[deeper].name.clone())
 }
