@@ -6,7 +6,7 @@ use super::band::{axis_angle, Band, BULGE, LEVELS};
 use super::slide::Slide;
 use super::{Joints, Local, Section};
 use crate::sim::Pose;
-use glam::{Affine3A, DAffine3, DQuat, DVec3};
+use glam::{Affine3A, DAffine3, DMat3, DQuat, DVec3};
 
 impl Joints {
     /// World transform of every section for the given local poses (one per section; missing
@@ -280,7 +280,7 @@ impl Joints {
             if swelling > 0.0 {
                 let v = rest - pivot;
                 let away = (v - band.normal * v.dot(band.normal)) * swelling;
-                own = DAffine3::from_translation(own.matrix3 * away) * own;
+                own.translation += own.matrix3 * away;
             }
             // Only an arc's two limbs meet on its plane; a fan's trunk is not pushed.
             let push = plane
@@ -288,7 +288,12 @@ impl Joints {
                 .and_then(|plane| plane.push(&own, rest, c));
             let frame = if c.level >= LEVELS { carried } else { parent };
             let t = match push {
-                Some(v) => to_f32(&(frame * DAffine3::from_translation(v) * own)),
+                // `frame * T(v) * own` as one product.
+                Some(v) => to_f32(&DAffine3 {
+                    matrix3: frame.matrix3 * own.matrix3,
+                    translation: frame.matrix3 * own.translation
+                        + (frame.matrix3 * v + frame.translation),
+                }),
                 None if swelling <= 0.0 => transforms[base],
                 None => to_f32(&(frame * own)),
             };
@@ -458,17 +463,21 @@ impl Bending<'_> {
                     Some((axis, angle)) => DQuat::from_axis_angle(*axis, angle * w),
                     None => DQuat::IDENTITY.slerp(local.rotation, w),
                 };
-                let moved = DAffine3::from_translation(
-                    *pivot + local.translation * w + band.slid(turned, *slide, w),
-                ) * DAffine3::from_quat(turned);
-                if slide.swell == 0.0 {
-                    return moved * DAffine3::from_translation(-*pivot);
+                // Turned (and swollen) about the pivot, then moved: the products of a
+                // translation, the turn, the swell and the pivot's translation back, as
+                // one transform (glam's products give the same bits).
+                let moved = *pivot + local.translation * w + band.slid(turned, *slide, w);
+                let mut matrix3 = DMat3::from_quat(turned);
+                if slide.swell != 0.0 {
+                    let swell = 1.0
+                        + slide.swell
+                            * super::slide::bump(band.cut_share(), super::slide::along(w));
+                    matrix3 = matrix3 * DMat3::from_diagonal(DVec3::splat(swell));
                 }
-                let swell = 1.0
-                    + slide.swell * super::slide::bump(band.cut_share(), super::slide::along(w));
-                moved
-                    * DAffine3::from_scale(DVec3::splat(swell))
-                    * DAffine3::from_translation(-*pivot)
+                DAffine3 {
+                    matrix3,
+                    translation: matrix3 * -*pivot + moved,
+                }
             }
             Bending::Arc {
                 band,
@@ -476,8 +485,9 @@ impl Bending<'_> {
                 spread,
                 slide,
             } => {
-                DAffine3::from_translation(band.slid(bent.turned(w), *slide, w))
-                    * bent.motion(w, *spread)
+                let mut motion = bent.motion(w, *spread);
+                motion.translation += band.slid(bent.turned(w), *slide, w);
+                motion
             }
         }
     }

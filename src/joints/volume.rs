@@ -160,9 +160,13 @@ impl Band {
         }
         let n = self.normal;
         let across = DMat3::IDENTITY * (1.0 + f) - DMat3::from_cols(n * n.x, n * n.y, n * n.z) * f;
-        own * DAffine3::from_translation(self.pivot + n * along)
-            * DAffine3::from_mat3(across)
-            * DAffine3::from_translation(-self.pivot)
+        // `own * T(pivot + n along) * across * T(-pivot)` as one product (the same bits).
+        let matrix3 = own.matrix3 * across;
+        DAffine3 {
+            matrix3,
+            translation: matrix3 * -self.pivot
+                + (own.matrix3 * (self.pivot + n * along) + own.translation),
+        }
     }
 }
 
