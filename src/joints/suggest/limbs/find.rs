@@ -2,7 +2,7 @@
 //! where a limb or a part of the body is cut: at its base, at narrowings, where it widens
 //! into an extremity, along a digit, in the middle of a long stretch.
 
-use super::limb::put_first;
+use super::limb::{parents_first, put_first};
 use super::profile::{fill, is_limb, smooth, Profile};
 use super::Limb;
 use crate::joints::suggest::body::Tree;
@@ -138,7 +138,8 @@ impl Tree<'_> {
 
     /// A cut off the mirror plane `(n, o)` with no cut near its mirror image, on a limb
     /// whose mirror image is cut (or on the body), is copied there: a knee found on one leg
-    /// only.
+    /// only. The copy carries the cuts there that mirror what hangs below the cut it
+    /// copies (that leg's ankle), which hung from its parent beside it.
     fn copy_to_the_other_side(&self, out: &mut Vec<Limb>, (n, o): (DVec3, f64)) {
         let image = |p: DVec3| crate::mesh::orientation::image((n, o), p);
         let size = self.size_of_mesh;
@@ -155,6 +156,7 @@ impl Tree<'_> {
             })
             .collect();
         let mut copies = Vec::new();
+        let mut sources = Vec::new();
         for (i, l) in out.iter().enumerate() {
             if partner[i].is_some() || (l.pivot.dot(n) - o).abs() < MATCHED * size {
                 continue;
@@ -168,6 +170,7 @@ impl Tree<'_> {
                 },
                 None => None,
             };
+            sources.push(i);
             copies.push(Limb {
                 parent,
                 point: image(l.point),
@@ -176,7 +179,39 @@ impl Tree<'_> {
                 ..*l
             });
         }
+        let first = out.len();
         out.extend(copies);
+        // A copy takes its place in the chain: the cuts on the other side that mirror what
+        // hangs from the cut it copies (an ankle below a knee found on one leg only) hang
+        // from it, not beside it from its parent.
+        let parents: Vec<Option<usize>> = out.iter().map(|l| l.parent).collect();
+        let below = |mut d: usize, i: usize| loop {
+            if d == i {
+                return true;
+            }
+            match parents[d] {
+                Some(p) => d = p,
+                None => return false,
+            }
+        };
+        let mut moved = false;
+        for (c, &i) in sources.iter().enumerate() {
+            let copy = first + c;
+            let Some(parent) = out[copy].parent else {
+                continue;
+            };
+            for m in 0..first {
+                if out[m].parent == Some(parent)
+                    && partner[m].is_some_and(|d| d != i && below(d, i))
+                {
+                    out[m].parent = Some(copy);
+                    moved = true;
+                }
+            }
+        }
+        if moved {
+            parents_first(out);
+        }
     }
 
     /// Visits segment `k` (whose limb, the nearest cut below it, is `limb`), adding the

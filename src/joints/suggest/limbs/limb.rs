@@ -59,3 +59,35 @@ pub(crate) fn put_first(limbs: &mut Vec<Limb>, neck: Limb) {
     }
     limbs.insert(0, neck);
 }
+
+/// Orders `limbs` parent-first again (a parent moved after its children), keeping their
+/// order otherwise: each limb comes at its first chance once its parent has.
+pub(crate) fn parents_first(limbs: &mut Vec<Limb>) {
+    let n = limbs.len();
+    let mut at = vec![usize::MAX; n];
+    let mut order = Vec::with_capacity(n);
+    while order.len() < n {
+        let before = order.len();
+        for i in 0..n {
+            if at[i] == usize::MAX && limbs[i].parent.is_none_or(|p| at[p] != usize::MAX) {
+                at[i] = order.len();
+                order.push(i);
+            }
+        }
+        if order.len() == before {
+            // A loop of parents (none is made here): leave the rest as they are.
+            for i in 0..n {
+                if at[i] == usize::MAX {
+                    at[i] = order.len();
+                    order.push(i);
+                }
+            }
+            break;
+        }
+    }
+    let mut out: Vec<Limb> = order.iter().map(|&i| limbs[i]).collect();
+    for l in &mut out {
+        l.parent = l.parent.map(|p| at[p]);
+    }
+    *limbs = out;
+}

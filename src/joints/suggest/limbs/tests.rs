@@ -245,3 +245,66 @@ fn the_human_s_legs_are_a_pair_that_splits_the_trunk() {
     assert_eq!(parent(left), parent(right));
     assert!(paired(None).is_empty());
 }
+
+/// The two sides' chains mirror each other once a cut found on one side only is copied to
+/// the other (a knee found on one leg): the copy carries the cuts that mirror what hangs
+/// below the one it copies (the ankle), not beside them from its parent. Before, the copy
+/// left them its siblings on six downloaded characters and three in pieces (an elbow and
+/// a wrist both hanging from the shoulder's cut). (The frog's copies still do not: its
+/// nearest images pair its legs' cuts across two depths.)
+#[test]
+fn a_copied_cut_carries_what_mirrors_the_cuts_below_its_source() {
+    let mut checked = 0;
+    for path in [
+        "tests/data/population/man-farmer.glb",
+        "tests/data/population/woman-casual.glb",
+        "tests/data/pieces/man-swat.obj",
+        "tests/data/meshes/human.obj",
+    ] {
+        let (mesh, skeleton) = crate::joints::suggest::fixture::character(path);
+        let body = crate::joints::suggest::body::Body::of(mesh, skeleton);
+        let Some((n, o)) = body.cues.mirror else {
+            continue;
+        };
+        let limbs = super::of(&body.tree(), Some((n, o)));
+        let near = crate::joints::suggest::rules::MATCHED * mesh.longest_side();
+        // The cut nearest the image of `k`'s pivot, within MATCHED.
+        let partner = |k: usize| {
+            let image = crate::mesh::orientation::image((n, o), limbs[k].pivot);
+            (0..limbs.len())
+                .map(|j| (j, limbs[j].pivot.distance(image)))
+                .filter(|&(_, d)| d <= near)
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .map(|(j, _)| j)
+        };
+        for (k, l) in limbs.iter().enumerate() {
+            assert!(
+                l.parent.is_none_or(|p| p < k),
+                "{path}: limb {k} before its parent"
+            );
+        }
+        // A copy and its source are exact images of each other; what hangs from the one
+        // and pairs with a cut on the other side hangs from the other.
+        let exact = |k: usize| {
+            let image = crate::mesh::orientation::image((n, o), limbs[k].pivot);
+            (0..limbs.len()).find(|&j| j != k && limbs[j].pivot.distance(image) < 1e-6 * near)
+        };
+        for k in 0..limbs.len() {
+            let Some(j) = exact(k) else {
+                continue;
+            };
+            for d in (0..limbs.len()).filter(|&d| limbs[d].parent == Some(j)) {
+                let Some(m) = partner(d).filter(|&m| m != d && partner(m) == Some(d)) else {
+                    continue;
+                };
+                checked += 1;
+                assert_eq!(
+                    limbs[m].parent,
+                    Some(k),
+                    "{path}: limb {m}, the image of {d} below {j}, does not hang from {j}'s image {k}"
+                );
+            }
+        }
+    }
+    assert!(checked > 0);
+}
