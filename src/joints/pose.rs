@@ -472,7 +472,7 @@ impl Bending<'_> {
                     let swell = 1.0
                         + slide.swell
                             * super::slide::bump(band.cut_share(), super::slide::along(w));
-                    matrix3 = matrix3 * DMat3::from_diagonal(DVec3::splat(swell));
+                    matrix3 *= DMat3::from_diagonal(DVec3::splat(swell));
                 }
                 DAffine3 {
                     matrix3,

@@ -76,9 +76,9 @@ pub(crate) fn parents_first(limbs: &mut Vec<Limb>) {
         }
         if order.len() == before {
             // A loop of parents (none is made here): leave the rest as they are.
-            for i in 0..n {
-                if at[i] == usize::MAX {
-                    at[i] = order.len();
+            for (i, a) in at.iter_mut().enumerate() {
+                if *a == usize::MAX {
+                    *a = order.len();
                     order.push(i);
                 }
             }
