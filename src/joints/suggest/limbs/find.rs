@@ -139,7 +139,7 @@ impl Tree<'_> {
     /// A cut off the mirror plane `(n, o)` with no cut near its mirror image, on a limb
     /// whose mirror image is cut (or on the body), is copied there: a knee found on one leg
     /// only. The copy carries the cuts there that mirror what hangs below the cut it
-    /// copies (that leg's ankle), which hung from its parent beside it.
+    /// copies (that leg's ankle), which hung beside it from its parent or from higher up.
     fn copy_to_the_other_side(&self, out: &mut Vec<Limb>, (n, o): (DVec3, f64)) {
         let image = |p: DVec3| crate::mesh::orientation::image((n, o), p);
         let size = self.size_of_mesh;
@@ -183,7 +183,7 @@ impl Tree<'_> {
         out.extend(copies);
         // A copy takes its place in the chain: the cuts on the other side that mirror what
         // hangs from the cut it copies (an ankle below a knee found on one leg only) hang
-        // from it, not beside it from its parent.
+        // from it, not beside it from its parent or from higher up.
         let parents: Vec<Option<usize>> = out.iter().map(|l| l.parent).collect();
         let below = |mut d: usize, i: usize| loop {
             if d == i {
@@ -197,13 +197,16 @@ impl Tree<'_> {
         let mut moved = false;
         for (c, &i) in sources.iter().enumerate() {
             let copy = first + c;
-            let Some(parent) = out[copy].parent else {
-                continue;
-            };
+            let parent = out[copy].parent;
             for m in 0..first {
-                if out[m].parent == Some(parent)
-                    && partner[m].is_some_and(|d| d != i && below(d, i))
-                {
+                // It hangs from the copy's parent or from a cut (or the body) above that.
+                let above = match (out[m].parent, parent) {
+                    (a, b) if a == b => true,
+                    (Some(a), Some(b)) => below(b, a),
+                    (None, Some(_)) => true,
+                    _ => false,
+                };
+                if above && partner[m].is_some_and(|d| d != i && below(d, i)) {
                     out[m].parent = Some(copy);
                     moved = true;
                 }
