@@ -206,7 +206,9 @@ impl Tree<'_> {
                     (None, Some(_)) => true,
                     _ => false,
                 };
-                if above && partner[m].is_some_and(|d| d != i && below(d, i)) {
+                // (Never a cut the copy hangs below: that would close a loop.)
+                let under = parent.is_some_and(|b| below(b, m));
+                if above && !under && partner[m].is_some_and(|d| d != i && below(d, i)) {
                     out[m].parent = Some(copy);
                     moved = true;
                 }
