@@ -7,8 +7,8 @@
 //! first. The simulation's contacts (`sim::contact`) and the pose limit
 //! (`joints::collide`) test the same balls.
 
+use crate::geom::cells::Cells;
 use glam::DVec3;
-use std::collections::HashMap;
 
 /// A ball is dropped when a bigger ball of its part kept so far leaves less than this share
 /// of its radius outside: along a limb, balls about half a radius apart are kept, whose
@@ -39,44 +39,58 @@ pub fn neighbours(distance: f64, radius: f64, own: f64) -> bool {
     distance < radius + NEIGHBOURS * radius.min(own)
 }
 
+/// A kept ball is listed in every grid cell its box meets while that is at most this many
+/// cells; a bigger one is tested against every ball that follows.
+const MOST_CELLS: f64 = 512.0;
+
 /// The balls kept (indices into `centers`), largest first: a ball is dropped when a bigger
 /// ball of the same `part` kept before it covers all but [`THIN`] of its radius. Balls with
 /// a radius that is not finite and positive are dropped.
+///
+/// A ball that covers another contains its centre, so each kept ball is listed in the grid
+/// cells (twice the 90th percentile radius, [`cell`]) its box meets, and a ball looks only in
+/// its centre's cell: on a statue whose plinth's balls are twenty times a limb's, one grid
+/// of cells as wide as the largest ball put every ball in a few cells and tested each
+/// against nearly all kept before it.
 pub fn thin(centers: &[DVec3], radii: &[f64], part: &[u16]) -> Vec<usize> {
     let mut order: Vec<usize> = (0..centers.len().min(radii.len()))
         .filter(|&i| radii[i].is_finite() && radii[i] > 0.0 && centers[i].is_finite())
         .collect();
     order.sort_by(|&a, &b| radii[b].total_cmp(&radii[a]).then(a.cmp(&b)));
-    let Some(&largest) = order.first() else {
-        return Vec::new();
-    };
+    let sorted: Vec<f64> = order.iter().rev().map(|&i| radii[i]).collect();
+    let cell = cell(&sorted);
     let part = |i: usize| part.get(i).copied().unwrap_or(0);
-    // A grid of cells twice the largest radius: a covering ball is in a neighbouring cell.
-    let cell = (2.0 * radii[largest]).max(f64::MIN_POSITIVE);
     let key = |p: DVec3| {
         let k = (p / cell).floor();
         [k.x as i64, k.y as i64, k.z as i64]
     };
-    let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
+    let mut grid: Cells<[i64; 3], Vec<usize>> = Cells::default();
+    let mut huge: Vec<usize> = Vec::new();
     let mut kept = Vec::new();
     for i in order {
-        let (c, r, k) = (centers[i], radii[i], key(centers[i]));
-        let covered = (-1..=1).any(|dx| {
-            (-1..=1).any(|dy| {
-                (-1..=1).any(|dz| {
-                    grid.get(&[k[0] + dx, k[1] + dy, k[2] + dz])
-                        .is_some_and(|list| {
-                            list.iter().any(|&j| {
-                                part(j) == part(i)
-                                    && centers[j].distance(c) + r <= radii[j] + THIN * r
-                            })
-                        })
-                })
-            })
-        });
-        if !covered {
-            grid.entry(k).or_default().push(i);
-            kept.push(i);
+        let (c, r) = (centers[i], radii[i]);
+        let covers =
+            |&j: &usize| part(j) == part(i) && centers[j].distance(c) + r <= radii[j] + THIN * r;
+        let covered =
+            huge.iter().any(covers) || grid.get(&key(c)).is_some_and(|l| l.iter().any(covers));
+        if covered {
+            continue;
+        }
+        kept.push(i);
+        let (lo, hi) = (key(c - r), key(c + r));
+        let cells: f64 = (0..3)
+            .map(|a| (hi[a] as f64 - lo[a] as f64) + 1.0)
+            .product();
+        if cells > MOST_CELLS {
+            huge.push(i);
+            continue;
+        }
+        for x in lo[0]..=hi[0] {
+            for y in lo[1]..=hi[1] {
+                for z in lo[2]..=hi[2] {
+                    grid.entry([x, y, z]).or_default().push(i);
+                }
+            }
         }
     }
     kept
@@ -99,6 +113,44 @@ mod tests {
         // The second is inside the first; the third sticks out by more than half its
         // radius; the fourth is another part's; the fifth is no ball.
         assert_eq!(thin(&centers, &radii, &[0, 0, 0, 1, 0]), [0, 2, 3]);
+    }
+
+    /// The grid finds what testing every kept ball finds, on balls of radii a thousand
+    /// times apart in a few parts, some of them too big for the grid.
+    #[test]
+    fn thinning_by_grid_keeps_what_testing_every_ball_keeps() {
+        fn every(centers: &[DVec3], radii: &[f64], part: &[u16]) -> Vec<usize> {
+            let mut order: Vec<usize> = (0..centers.len()).collect();
+            order.sort_by(|&a, &b| radii[b].total_cmp(&radii[a]).then(a.cmp(&b)));
+            let mut kept: Vec<usize> = Vec::new();
+            for i in order {
+                let covered = kept.iter().any(|&j| {
+                    part[j] == part[i]
+                        && centers[j].distance(centers[i]) + radii[i] <= radii[j] + THIN * radii[i]
+                });
+                if !covered {
+                    kept.push(i);
+                }
+            }
+            kept
+        }
+        let mut rng = crate::random::SplitMix(7);
+        let mut unit = move || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        for round in 0..20 {
+            let n = 300 + 100 * round;
+            let centers: Vec<DVec3> = (0..n)
+                .map(|_| DVec3::new(unit(), unit(), unit()) * 10.0)
+                .collect();
+            // A few of them far bigger than the grid's cells (a plinth's).
+            let radii: Vec<f64> = (0..n)
+                .map(|_| 10f64.powf(-3.0 * unit()) * if unit() < 0.02 { 30.0 } else { 1.0 })
+                .collect();
+            let part: Vec<u16> = (0..n).map(|_| (unit() * 3.0) as u16).collect();
+            assert_eq!(
+                thin(&centers, &radii, &part),
+                every(&centers, &radii, &part)
+            );
+        }
     }
 
     #[test]

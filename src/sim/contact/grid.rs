@@ -16,6 +16,8 @@ pub(super) struct Set {
     pub(super) moved: bool,
     /// The others by grid cell.
     grid: Cells<[i32; 3], Vec<u32>>,
+    /// Per ball of the set (by its place in `balls`): the box of cells it is listed in.
+    at: Vec<Option<([i32; 3], [i32; 3])>>,
 }
 
 impl Set {
@@ -28,17 +30,43 @@ impl Set {
             big,
             moved: false,
             grid: Cells::default(),
+            at: Vec::new(),
         }
     }
 
     /// Empties the grid (the balls stay in the set).
     pub(super) fn clear(&mut self) {
         self.grid.clear();
+        self.at.clear();
+        self.at.resize(self.balls.len(), None);
     }
 
-    /// Puts ball `b`, at `c` and reaching `r`, in every cell of size `cell` its box meets.
-    pub(super) fn insert(&mut self, b: u32, c: Vec3, r: f32, cell: f32) {
+    /// Lists the set's `i`-th ball, `b`, at `c` and reaching `r`, in every cell of size
+    /// `cell` its box meets, and in no other: a ball that stays in the cells it was listed
+    /// in costs a comparison (a limb's band turning beside a still body moves only its own
+    /// balls, and most of those by less than a cell).
+    pub(super) fn place(&mut self, i: usize, b: u32, c: Vec3, r: f32, cell: f32) {
         let (lo, hi) = (key(c - r, cell), key(c + r, cell));
+        if self.at.len() <= i {
+            self.at.resize(self.balls.len().max(i + 1), None);
+        }
+        if self.at[i] == Some((lo, hi)) {
+            return;
+        }
+        if let Some((a, e)) = self.at[i].take() {
+            for x in a[0]..=e[0] {
+                for y in a[1]..=e[1] {
+                    for z in a[2]..=e[2] {
+                        if let Some(list) = self.grid.get_mut(&[x, y, z]) {
+                            if let Some(k) = list.iter().position(|&o| o == b) {
+                                list.swap_remove(k);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        self.at[i] = Some((lo, hi));
         for x in lo[0]..=hi[0] {
             for y in lo[1]..=hi[1] {
                 for z in lo[2]..=hi[2] {

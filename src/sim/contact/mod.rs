@@ -393,8 +393,10 @@ impl Colliders {
     /// Forgets the contacts (a step without collision).
     pub fn clear(&mut self) {
         self.held.fill(false);
-        // (The points move unwatched: what each tile kept of them is forgotten.)
+        // (The points move unwatched: what each tile kept of them is forgotten. So do the
+        // balls: each is posed again, and listed again, at the next resolve.)
         self.forget_lists();
+        self.stale = true;
     }
 
     /// Number of balls kept.
@@ -752,9 +754,17 @@ impl Colliders {
             }
             moved = true;
             set.moved = true;
-            set.clear();
+            if stale {
+                set.clear();
+            }
             for i in 0..set.balls.len() {
                 let b = set.balls[i] as usize;
+                let turned = stage.changed.get(usize::from(self.transform[b])) == Some(&true);
+                if !stale && !turned {
+                    // Its transform still: where it was is where it is, and its cells stay.
+                    self.before[b] = self.posed[b];
+                    continue;
+                }
                 let t = stage
                     .transforms
                     .get(self.transform[b] as usize)
@@ -764,13 +774,13 @@ impl Colliders {
                 self.before[b] = if stale { now } else { self.posed[b] };
                 self.posed[b] = now;
                 motion = motion.max(now.distance(self.before[b]));
-                if stage.changed.get(usize::from(self.transform[b])) == Some(&true) {
+                if turned {
                     if let Some(m) = self.moving.get_mut(usize::from(self.section[b])) {
                         *m = true;
                     }
                 }
                 if self.radius[b] <= 2.0 * self.cell {
-                    set.insert(b as u32, now, self.reach(b), self.cell);
+                    set.place(i, b as u32, now, self.reach(b), self.cell);
                 }
             }
         }
