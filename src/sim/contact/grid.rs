@@ -118,3 +118,60 @@ pub(super) fn cells(a: [i32; 3], b: [i32; 3]) -> i64 {
         .map(|i| i64::from(b[i]) - i64::from(a[i]) + 1)
         .product()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each cell's balls, sorted, over the cells `a..=b`.
+    fn listed(set: &Set, a: [i32; 3], b: [i32; 3]) -> Vec<([i32; 3], Vec<u32>)> {
+        let mut out = Vec::new();
+        for x in a[0]..=b[0] {
+            for y in a[1]..=b[1] {
+                for z in a[2]..=b[2] {
+                    let mut balls = Vec::new();
+                    set.gather([x, y, z], [x, y, z], &mut balls);
+                    balls.sort_unstable();
+                    out.push(([x, y, z], balls));
+                }
+            }
+        }
+        out
+    }
+
+    /// Balls placed again one by one, some moved far, some a little, some not at all,
+    /// are listed in the cells a set listed anew puts them in, and in no other.
+    #[test]
+    fn a_ball_placed_again_is_listed_where_a_new_set_lists_it() {
+        let n = 200u32;
+        let mut rng = crate::random::SplitMix(11);
+        let mut unit = move || (rng.next_u64() >> 40) as f32 / (1u32 << 24) as f32;
+        let (cell, r) = (1.0f32, 0.3f32);
+        let mut at: Vec<Vec3> = (0..n)
+            .map(|_| Vec3::new(unit(), unit(), unit()) * 6.0)
+            .collect();
+        let mut kept = Set::new((0..n).collect(), vec![true], Vec::new());
+        kept.clear();
+        for (i, &c) in at.iter().enumerate() {
+            kept.place(i, i as u32, c, r, cell);
+        }
+        for round in 0..10 {
+            for (i, c) in at.iter_mut().enumerate() {
+                let step = match (i + round) % 3 {
+                    0 => 0.0,
+                    1 => 0.05,
+                    _ => 2.5,
+                };
+                *c += (Vec3::new(unit(), unit(), unit()) - 0.5) * step;
+                kept.place(i, i as u32, *c, r, cell);
+            }
+            let mut fresh = Set::new((0..n).collect(), vec![true], Vec::new());
+            fresh.clear();
+            for (i, &c) in at.iter().enumerate() {
+                fresh.place(i, i as u32, c, r, cell);
+            }
+            let (a, b) = ([-3; 3], [9; 3]);
+            assert_eq!(listed(&kept, a, b), listed(&fresh, a, b), "round {round}");
+        }
+    }
+}
