@@ -57,8 +57,7 @@ pub fn thin(centers: &[DVec3], radii: &[f64], part: &[u16]) -> Vec<usize> {
         .filter(|&i| radii[i].is_finite() && radii[i] > 0.0 && centers[i].is_finite())
         .collect();
     order.sort_by(|&a, &b| radii[b].total_cmp(&radii[a]).then(a.cmp(&b)));
-    let sorted: Vec<f64> = order.iter().rev().map(|&i| radii[i]).collect();
-    let cell = cell(&sorted);
+    let cell = cell(&order.iter().map(|&i| radii[i]).collect::<Vec<_>>());
     let part = |i: usize| part.get(i).copied().unwrap_or(0);
     let key = |p: DVec3| {
         let k = (p / cell).floor();
