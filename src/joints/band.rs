@@ -186,6 +186,43 @@ const SMOOTH: f64 = 1.0;
 /// Most transforms the simulation can index (it stores a `u16` per vertex).
 const MAX_TRANSFORMS: usize = u16::MAX as usize + 1;
 
+/// A rider's transform (see the module docs of [`super`]: riders): the motion of the
+/// transform its host moves with (a band's level, a blend, a contact, a mix), made rigid
+/// about the host. A level swollen to keep a section's volume ([`super::volume`])
+/// scales the flesh across the band's line; the rider keeps its shape and follows its
+/// host's place and turn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Twin {
+    /// The transform the host moves with.
+    pub(super) source: u16,
+    /// The host at rest.
+    pub(super) anchor: glam::Vec3,
+}
+
+impl Twin {
+    /// The rigid motion closest to `t` that moves the anchor where `t` does: `t`'s
+    /// rotation by polar decomposition (Newton's iteration on `(M + M⁻ᵀ) / 2`), and the
+    /// translation that puts the anchor at `t(anchor)`. `t` itself where it is not
+    /// invertible.
+    pub(super) fn rigid(&self, t: &glam::Affine3A) -> glam::Affine3A {
+        let mut r = glam::Mat3::from(t.matrix3);
+        for _ in 0..8 {
+            let det = r.determinant();
+            if !det.is_finite() || det.abs() < 1e-12 {
+                return *t;
+            }
+            let next = (r + r.inverse().transpose()) * 0.5;
+            let done = (next - r).abs_diff_eq(glam::Mat3::ZERO, 1e-7);
+            r = next;
+            if done {
+                break;
+            }
+        }
+        let at = t.transform_point3(self.anchor);
+        glam::Affine3A::from_mat3_translation(r, at - r * self.anchor)
+    }
+}
+
 /// A vertex where two or more bands overlap (a short thigh between the hip's band and the
 /// knee's, the body between a neck's band and a shoulder's): it moves with the bands
 /// composed, `W(base) · M_above(w) · Π M_below(w)`, each band's motion at its level there
@@ -597,6 +634,43 @@ impl Joints {
         })
     }
 
+    /// Gives each rider (see the module docs of [`super`]) its host's transform: its
+    /// section's as it is, a band's level's (or a blend's, a contact's, a mix's) as a
+    /// [`Twin`] numbered from `next`, one per host, made rigid about the host. Where the
+    /// transforms would run out, the host's own.
+    fn ride(&mut self, next: usize) {
+        self.twins.clear();
+        let sections = self.sections.len();
+        let placed = self.body.rest.len() == self.section_of.len();
+        // Per host that moves with more than its section: its twin.
+        let mut twin_of: std::collections::HashMap<u32, usize> = Default::default();
+        for &h in &self.body.host {
+            let source = self.transform_of.get(h as usize).copied().unwrap_or(0);
+            if h == super::NO_HOST || usize::from(source) < sections || !placed {
+                continue;
+            }
+            twin_of.entry(h).or_insert_with(|| {
+                self.twins.push(Twin {
+                    source,
+                    anchor: self.body.rest[h as usize].as_vec3(),
+                });
+                self.twins.len() - 1
+            });
+        }
+        if next + self.twins.len() > MAX_TRANSFORMS {
+            self.twins.clear();
+            twin_of.clear();
+        }
+        for i in 0..self.body.host.len() {
+            let h = self.body.host[i];
+            if h != super::NO_HOST {
+                self.transform_of[i] = twin_of
+                    .get(&h)
+                    .map_or(self.transform_of[h as usize], |&k| (next + k) as u16);
+            }
+        }
+    }
+
     /// Recomputes the bands and every vertex's transform (after the cuts changed).
     pub(super) fn refresh_bands(&mut self) {
         self.changing();
@@ -756,13 +830,8 @@ impl Joints {
             }
             next += contacts.len();
         }
-        self.refresh_mixes(next, MAX_TRANSFORMS);
-        // Riders move with their host.
-        for i in 0..n {
-            if let Some(&h) = self.body.host.get(i).filter(|&&h| h != super::NO_HOST) {
-                self.transform_of[i] = self.transform_of[h as usize];
-            }
-        }
+        let next = self.refresh_mixes(next, MAX_TRANSFORMS);
+        self.ride(next);
         self.measure_kept(&entries, &slots, &surfaces);
     }
 }

@@ -50,7 +50,9 @@
 //! # Riders
 //! Small separate closed parts (eyes, teeth) have no skeleton of their own worth the name:
 //! each of their vertices rides with the section of a *host* vertex of the body (the one
-//! nearest to it), whatever the cuts.
+//! nearest to it), whatever the cuts. A rider whose host moves with a band's level rides
+//! on that level's motion made rigid about its hosts ([`band::Twin`]): a swell that
+//! keeps a section's volume does not scale an eye or a backpack with the flesh.
 //!
 //! # Files
 //! * this file: the types, and the joints of one puppet;
@@ -350,6 +352,8 @@ pub struct Joints {
     /// Blends of sections by the skin's weights, their transforms after the contacts'
     /// ([`skin::Mix`]).
     mixes: Vec<skin::Mix>,
+    /// The riders' own transforms, after the mixes' ([`band::Twin`]).
+    twins: Vec<band::Twin>,
     /// The sections whose volume a pose keeps, with the bands that swell them
     /// ([`volume`]), kept with the bands.
     kept: Vec<volume::Kept>,
@@ -458,6 +462,7 @@ impl Joints {
             flesh: Vec::new(),
             blends: Vec::new(),
             mixes: Vec::new(),
+            twins: Vec::new(),
             kept: Vec::new(),
             stamp: Stamp::fresh(),
         }
@@ -568,6 +573,7 @@ impl Joints {
             flesh: Vec::new(),
             blends: Vec::new(),
             mixes: Vec::new(),
+            twins: Vec::new(),
             kept: Vec::new(),
             stamp: Stamp::fresh(),
         };

@@ -195,6 +195,12 @@ impl Joints {
                 self.contacts_into(b, band, local, (world, motions), transforms, at);
             }
         }
+        // The riders' twins, numbered last.
+        let first = transforms.len() - self.twins.len();
+        for (k, twin) in self.twins.iter().enumerate() {
+            let t = transforms[usize::from(twin.source)];
+            transforms[first + k] = twin.rigid(&t);
+        }
     }
 
     /// Blend `blend`'s transform: its bands' motions composed on its base's world
@@ -231,6 +237,11 @@ impl Joints {
                 .iter()
                 .map(|&(s, w)| (&scratch.world[usize::from(s)], w as f64));
             transforms.push(to_f32(&super::skin::blend_rigid(parts)));
+        }
+        // The riders' twins (see `band::Twin`).
+        for twin in &self.twins {
+            let t = transforms[usize::from(twin.source)];
+            transforms.push(twin.rigid(&t));
         }
     }
 
