@@ -273,7 +273,7 @@ fn short_stress_run_passes() {
     let mut poses = 0;
     let (mut held, mut toggled) = (0, 0);
     let mut ups = [0; 6];
-    let (mut skins, mut mixes, mut pieces) = (0, 0, 0);
+    let (mut skins, mut mixes, mut pieces, mut riders, mut twins) = (0, 0, 0, 0, 0);
     let mut drawn: std::collections::BTreeMap<String, u64> = Default::default();
     for seed in ["1", "2", "3"] {
         let report = ok_json(&[
@@ -297,6 +297,8 @@ fn short_stress_run_passes() {
         skins += report["skins"].as_u64().unwrap();
         mixes += report["mixes"].as_u64().unwrap();
         pieces += report["pieces"].as_u64().unwrap();
+        riders += report["riders"].as_u64().unwrap();
+        twins += report["twins"].as_u64().unwrap();
         for (k, n) in ups.iter_mut().enumerate() {
             *n += report["up"][k].as_u64().unwrap();
         }
@@ -312,6 +314,8 @@ fn short_stress_run_passes() {
     assert!(skins >= 1 && mixes >= 1, "{skins} skins, {mixes} mixes");
     // Meshes in pieces, attached where they meet (`mesh::attachments`), were drawn.
     assert!(pieces >= 1, "{pieces}");
+    // Riders were drawn, some on a host that moves with a band (`joints::band::Twin`).
+    assert!(riders >= 1 && twins >= 1, "{riders} riders, {twins} twins");
     // Poses held back by collision, and up along several axis directions, were drawn.
     assert!(held >= 1, "{held}");
     // Collision was turned on and off mid-scenario.

@@ -634,6 +634,12 @@ impl Joints {
         })
     }
 
+    /// How many riders' hosts move with a band (a level, a blend, a contact, a mix), each
+    /// rider of theirs on a [`Twin`], numbered after every other transform.
+    pub fn twins(&self) -> usize {
+        self.twins.len()
+    }
+
     /// Gives each rider (see the module docs of [`super`]) its host's transform: its
     /// section's as it is, a band's level's (or a blend's, a contact's, a mix's) as a
     /// [`Twin`] numbered from `next`, one per host, made rigid about the host. Where the

@@ -140,7 +140,8 @@ impl Joints {
         joints(self.body.skin.as_ref()?, |v| !self.body.is_rider(v))
     }
 
-    /// The mixes (see the module docs), their transforms numbered after every other.
+    /// The mixes (see the module docs), their transforms numbered after every other but
+    /// the riders' twins.
     pub fn mixes(&self) -> &[Mix] {
         &self.mixes
     }

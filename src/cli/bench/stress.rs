@@ -113,6 +113,11 @@ struct Report {
     mixes: usize,
     /// Scenarios on a mesh in pieces, its parts attached where they meet.
     pieces: usize,
+    /// Scenarios on a mesh with riders (small separate parts that go with a host), and
+    /// the riders' transforms made rigid about a host that moves with a band
+    /// (`joints::band::Twin`) they had.
+    riders: usize,
+    twins: usize,
     /// How many scenarios drew each option (so a run can show every one was tried).
     drawn: Drawn,
     seconds: f64,
@@ -171,7 +176,9 @@ fn bases() -> Result<Vec<Base>> {
 }
 
 /// A character in three pieces, each pushed into the next: a body, an upper arm, a
-/// forearm (attached where they meet, `mesh::attachments`).
+/// forearm (attached where they meet, `mesh::attachments`), and two riders, small
+/// separate spheres beside the shoulder and on the upper arm (each goes with its host,
+/// rigid where the host's band swells: `joints::band::Twin`).
 fn pieces() -> Mesh {
     let mut out = shapes::capsule(0.3, 0.5, 6, 6, 12);
     let piece = shapes::capsule(0.12, 0.3, 4, 4, 10);
@@ -186,6 +193,17 @@ fn pieces() -> Mesh {
         );
         out.triangles
             .extend(piece.triangles.iter().map(|t| t.map(|v| v + base)));
+    }
+    for (centre, radius) in [
+        (DVec3::new(0.0, 0.3, 0.34), 0.03),
+        (DVec3::new(0.6, 0.45, 0.0), 0.025),
+    ] {
+        let rider = shapes::icosphere(radius, 1);
+        let base = out.positions.len() as u32;
+        out.positions
+            .extend(rider.positions.iter().map(|&p| p + centre));
+        out.triangles
+            .extend(rider.triangles.iter().map(|t| t.map(|v| v + base)));
     }
     out
 }
@@ -418,7 +436,15 @@ fn run_scenario(
         .map(|((p, n), d)| *p - *d * *n)
         .collect();
     // With the mesh, so the bands blend over the surface (`joints::blend`).
-    let mut joints = Joints::with_mesh(&points, &scenario.mesh.triangles, &[], ROOT);
+    // Riders go with their hosts, as a loaded character's do.
+    let parts = mesh::Parts::of(&scenario.mesh);
+    let hosts = if parts.riders() > 0 {
+        report.riders += 1;
+        parts.hosts(&scenario.mesh.positions)
+    } else {
+        Vec::new()
+    };
+    let mut joints = Joints::with_mesh(&points, &scenario.mesh.triangles, &hosts, ROOT);
     let attachments = mesh::attachments(&scenario.mesh);
     if !attachments.is_empty() {
         report.pieces += 1;
@@ -467,6 +493,7 @@ fn run_scenario(
             shared_pivot: rng.below(3) == 0,
         });
     }
+    report.twins += joints.twins();
     for band in joints.bands().iter().flatten() {
         if band.arc {
             report.arcs += 1;
