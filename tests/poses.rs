@@ -1029,22 +1029,7 @@ fn a_pose_gives_back_the_volume_its_slides_leave() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/population");
     let (mut kept_beyond, mut first_beyond) = (0, 0);
     for name in ["man-farmer", "man-casual2", "trex", "triceratops", "alpaca"] {
-        let path = root.join(format!("{name}.glb"));
-        let (mesh, report) = puppet::mesh::load_with(
-            &path,
-            &puppet::mesh::LoadOptions::default(),
-            puppet::progress::silent(),
-        )
-        .unwrap_or_else(|e| panic!("{name}: {e}"));
-        let mut p = Puppet::build_loaded(
-            mesh,
-            Some(&report),
-            puppet::RigFile::default(),
-            puppet::progress::silent(),
-        )
-        .expect("a puppet");
-        p.ignore_skin = true;
-        p.suggest_joints().expect("suggested joints");
+        let p = common::suggested_from_shape(&root.join(format!("{name}.glb")));
         let transform_of = p.joints.transform_of().to_vec();
         for seed in 1..=10 {
             let local = poses::random_pose(&p.joints, Spread::default(), &mut SplitMix(seed));
@@ -1089,22 +1074,7 @@ fn a_pose_gives_back_the_volume_its_slides_leave() {
 fn riders_keep_their_shape_where_their_hosts_swell() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/population");
     for name in ["man-king", "man-adventurer", "mech-george"] {
-        let path = root.join(format!("{name}.glb"));
-        let (mesh, report) = puppet::mesh::load_with(
-            &path,
-            &puppet::mesh::LoadOptions::default(),
-            puppet::progress::silent(),
-        )
-        .unwrap_or_else(|e| panic!("{name}: {e}"));
-        let mut p = Puppet::build_loaded(
-            mesh,
-            Some(&report),
-            puppet::RigFile::default(),
-            puppet::progress::silent(),
-        )
-        .expect("a puppet");
-        p.ignore_skin = true;
-        p.suggest_joints().expect("suggested joints");
+        let p = common::suggested_from_shape(&root.join(format!("{name}.glb")));
         let rest = &p.mesh.positions;
         let hosts = puppet::mesh::Parts::of(&p.mesh).hosts(rest);
         let transform_of = p.joints.transform_of();

@@ -431,19 +431,33 @@ pub fn data_objs(folder: &str) -> Vec<PathBuf> {
 /// The mesh at `path` loaded as the app loads it, built into a puppet with its suggested
 /// joints.
 pub fn suggested(path: &Path) -> puppet::Puppet {
+    let mut p = built(path);
+    p.suggest_joints().expect("suggested joints");
+    p
+}
+
+/// As [`suggested`], the joints suggested from the skeleton even where the file has a
+/// skin (`--ignore-skin`, as `bench poses` poses the downloads).
+pub fn suggested_from_shape(path: &Path) -> puppet::Puppet {
+    let mut p = built(path);
+    p.ignore_skin = true;
+    p.suggest_joints().expect("suggested joints");
+    p
+}
+
+/// The puppet of the mesh at `path`, loaded and repaired as the window opens it.
+fn built(path: &Path) -> puppet::Puppet {
     let (mesh, report) = puppet::mesh::load_with(
         path,
         &puppet::mesh::LoadOptions::default(),
         puppet::progress::silent(),
     )
     .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut p = puppet::Puppet::build_loaded(
+    puppet::Puppet::build_loaded(
         mesh,
         Some(&report),
         puppet::RigFile::default(),
         puppet::progress::silent(),
     )
-    .expect("a puppet");
-    p.suggest_joints().expect("suggested joints");
-    p
+    .expect("a puppet")
 }
