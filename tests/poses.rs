@@ -103,28 +103,30 @@ fn beyond_volume(table: &str) -> usize {
 
 /// BENCHMARKS' claims on the 45 downloads of `tests/data/population` (20 seeds each,
 /// settled, the joints suggested from the skeleton): no pose gives a NaN, no edge
-/// stretches past 4.5× (the adventurer's body, 3.99×; 5.47× before the tear check took
+/// stretches past 4.5× (the adventurer's body, 3.97×; 5.47× before the tear check took
 /// back joints past 3.5×), at most 4 poses pass 3× (3 while a band where a rider's host
-/// lies did not swell), 43 characters stay within 3× on every pose, and at most 157
-/// poses change a section's volume by more than 5 % (188 while a band where a rider's
+/// lies did not swell), 43 characters stay within 3× on every pose, and at most 143
+/// poses change a section's volume by more than 5 % (157 with a side's swell held at a
+/// quarter, not three tenths, of its reach, 188 while a band where a rider's
 /// host lies did not swell, 193 before a cut copied to the other side carried the cuts
 /// below it, 205 with one Newton step towards the volumes, 374 before a pose gave back
 /// what the slides leave, 461 when a slide was held at half a radius and a trunk did not
 /// swell). Half a minute in CI.
 #[test]
 fn the_downloads_poses_hold_what_benchmarks_says() {
-    holds("tests/data/population", 45, 4.5, 4, 43, 157);
+    holds("tests/data/population", 45, 4.5, 4, 43, 143);
 }
 
 /// BENCHMARKS' claims on the 12 characters in pieces of `tests/data/pieces` (20 seeds
 /// each, settled): no NaN, no edge past 3.1× (the man in a suit, 3.05×), at most 1 pose
-/// past 3×, 11 characters within 3× on every pose, and at most 19 poses change a
-/// section's volume by more than 5 % (33 while a band where a rider's host lies did not
+/// past 3×, 11 characters within 3× on every pose, and at most 17 poses change a
+/// section's volume by more than 5 % (19 with a side's swell held at a quarter of its
+/// reach, 33 while a band where a rider's host lies did not
 /// swell, 34 before a copied cut carried the cuts below it, 35 with one Newton step
 /// towards the volumes, 95 before a pose gave back what the slides leave).
 #[test]
 fn the_pieces_poses_hold_what_benchmarks_says() {
-    holds("tests/data/pieces", 12, 3.1, 1, 11, 19);
+    holds("tests/data/pieces", 12, 3.1, 1, 11, 17);
 }
 
 /// BENCHMARKS' claim on collision over the 12 characters in pieces, which nobody tuned it
