@@ -650,9 +650,14 @@ impl Joints {
         let placed = self.body.rest.len() == self.section_of.len();
         // Per host that moves with more than its section: its twin.
         let mut twin_of: std::collections::HashMap<u32, usize> = Default::default();
-        for &h in &self.body.host {
-            let source = self.transform_of.get(h as usize).copied().unwrap_or(0);
-            if h == super::NO_HOST || usize::from(source) < sections || !placed {
+        for &h in self
+            .body
+            .host
+            .iter()
+            .filter(|&&h| h != super::NO_HOST && placed)
+        {
+            let source = self.transform_of[h as usize];
+            if usize::from(source) < sections {
                 continue;
             }
             twin_of.entry(h).or_insert_with(|| {

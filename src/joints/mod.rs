@@ -51,7 +51,7 @@
 //! Small separate closed parts (eyes, teeth) have no skeleton of their own worth the name:
 //! each of their vertices rides with the section of a *host* vertex of the body (the one
 //! nearest to it), whatever the cuts. A rider whose host moves with a band's level rides
-//! on that level's motion made rigid about its hosts ([`band::Twin`]): a swell that
+//! on that level's motion made rigid about its host ([`band::Twin`]): a swell that
 //! keeps a section's volume does not scale an eye or a backpack with the flesh.
 //!
 //! # Files

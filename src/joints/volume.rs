@@ -35,13 +35,10 @@
 //! given back in its turn: measured on `bench poses`, leaving those bands out kept 130
 //! and 166 poses of the development and held-out halves beyond ±5 % against 111 and
 //! 138, with a pose more past 3× on the development half. A band where a rider's host
-//! lies swells too: the rider (an eye, a crown, a backpack) rides on its host's motion
-//! made rigid ([`super::band::Twin`]), where it would scale with the level about a line
-//! it may lie far from. Left out, those bands kept the downloads' development and
-//! held-out halves at 79 and 109 poses beyond ±5 % (58 and 99 swollen), the pieces' at
-//! 22 and 11 (16 and 3); the downloads' poses past 3× 3 → 4 (the king's seed 7, a short
-//! edge where two blends meet, 2.92 → 3.37), the largest 4.08 → 3.99.
-//! half. The suggestion's tear check poses without swelling
+//! lies swells like any other: the rider (an eye, a crown, a backpack) rides on its
+//! host's motion made rigid ([`super::band::Twin`]), not scaled with the level about a
+//! line it may lie far from (what swelling those bands gives: `docs/performance-log.md`,
+//! seventh session of 2026-12-04). The suggestion's tear check poses without swelling
 //! ([`super::PoseScratch::first_order`]).
 
 use super::band::LEVELS;
