@@ -1536,9 +1536,7 @@ fn the_population_scores_as_benchmarks_says() {
         (sum("found"), sum("required"))
     };
     let (dev, held) = (recall("development"), recall("held-out"));
-    // (Held-out 54 until a cut copied to the bull's other side carried what hangs below
-    // it: its right shin's cut moved 12 → 14 % off the artist's, its poses stretch less.)
-    assert!(dev.0 >= 53 && held.0 >= 53, "{dev:?} {held:?}");
+    assert!(dev.0 >= 53 && held.0 >= 56, "{dev:?} {held:?}");
     // Fronts right, as BENCHMARKS says: 23 of 24 and 21 of 21 with the front glTF
     // declares (the wasp faces +x).
     let right = |rows: &[serde_json::Value], half: &str, what: &str| {
@@ -1553,19 +1551,19 @@ fn the_population_scores_as_benchmarks_says() {
         fronts("development"),
         fronts("held-out")
     );
-    // The shape alone (the file's axes set aside): up right on 23 and 17, fronts on 20
-    // and 12.
+    // The shape alone (the file's axes set aside): up right on 23 and 18, fronts on 20
+    // and 11.
     let alone = &population(&["--ignore-format-axes"]);
     let figures = ["up_right", "front_right"]
         .map(|what| ["development", "held-out"].map(|half| right(alone, half, what)));
     assert!(
-        figures[0][0] >= 23 && figures[0][1] >= 17 && figures[1][0] >= 20 && figures[1][1] >= 12,
+        figures[0][0] >= 23 && figures[0][1] >= 18 && figures[1][0] >= 20 && figures[1][1] >= 11,
         "the shape alone: up right {:?}, fronts right {:?}",
         figures[0],
         figures[1]
     );
     // Rules chosen on the development half carry over: the held-out half finds no
-    // fewer than five points below it. (It finds more, 35 % against 29 %: a pair of legs
+    // fewer than five points below it. (It finds more, 36 % against 29 %: a pair of legs
     // split at a crotch found two held-out people's hips and none of the development
     // half's.)
     let share = |(f, r): (u64, u64)| 100.0 * f as f64 / r as f64;

@@ -33,6 +33,8 @@ pub(crate) struct Tree<'a> {
     pub(crate) size_of_mesh: f64,
     /// Rooted on a flat base the body stands on: the body is what stands there.
     pub(crate) standing: bool,
+    /// The mesh's edges in local radii (see `graph`).
+    pub(crate) graph: Graph,
 }
 
 impl<'a> Tree<'a> {
@@ -40,7 +42,6 @@ impl<'a> Tree<'a> {
     pub(crate) fn rooted(mesh: &'a Mesh, skeleton: &'a Skeleton, root: Option<usize>) -> Tree<'a> {
         let points = &skeleton.points;
         let n = points.len();
-        let graph = Graph::new(mesh, &mesh.positions, &skeleton.distance);
         let mut tree = Tree {
             mesh,
             skeleton,
@@ -50,10 +51,12 @@ impl<'a> Tree<'a> {
             core: (DVec3::ZERO, 0.0),
             size_of_mesh: mesh.longest_side(),
             standing: false,
+            graph: Graph::new(mesh, &mesh.positions, &skeleton.distance),
         };
         if n < 4 {
             return tree;
         }
+        let graph = &tree.graph;
         // 1. The root: the thickest point on the middle fifth of the path between two far
         // tips (the middle of the body, not its thickest end).
         let (d0, _) = graph.distances(0);
@@ -119,7 +122,7 @@ impl<'a> Tree<'a> {
         let (g, _) = graph.distances_from(&core);
         tree.g = g;
         tree.core = (centre, reach);
-        tree.segments = tree.sweep(&graph);
+        tree.segments = tree.sweep(&tree.graph);
         tree.children = tree.children();
         tree
     }
@@ -222,6 +225,31 @@ impl<'a> Tree<'a> {
             .copied()
             .filter(|&v| (lo..hi).contains(&self.g[v as usize]))
             .collect()
+    }
+
+    /// The ring of a segment where `g` crosses `at`: its vertices within `half` of it,
+    /// or, where fewer than three lie that near and the segment reaches across `at` (a
+    /// low-poly limb, whose edges span more than a radius each), those at or above `at`
+    /// with a neighbour below it: the row of vertices just past the level, which a window
+    /// narrower than an edge misses.
+    pub(crate) fn level(&self, segment: &[u32], at: f64, half: f64) -> Vec<u32> {
+        let near = self.ring(segment, at - half, at + half);
+        if near.len() >= 3 || !(self.lowest(segment)..=self.highest(segment)).contains(&at) {
+            return near;
+        }
+        let g = &self.g;
+        let crossing: Vec<u32> = segment
+            .iter()
+            .copied()
+            .filter(|&v| {
+                g[v as usize] >= at && self.graph.neighbours(v as usize).any(|(w, _)| g[w] < at)
+            })
+            .collect();
+        if crossing.is_empty() {
+            near
+        } else {
+            crossing
+        }
     }
 
     /// Median skeletal distance of `vertices`.

@@ -614,8 +614,17 @@ impl Tree<'_> {
         let seg = &self.segments[k].vertices;
         let half = 0.25;
         let ring = self.ring(seg, at - half, at + half);
-        let below = self.ring(seg, at - 1.0 - half, at - 1.0 + half);
-        let above = self.ring(seg, at + 1.0 - half, at + 1.0 + half);
+        let (mut below, mut above) = (
+            self.ring(seg, at - 1.0 - half, at - 1.0 + half),
+            self.ring(seg, at + 1.0 - half, at + 1.0 + half),
+        );
+        // On a low-poly limb, whose edges span more than a radius each, both windows a
+        // radius either side can be empty, and the cut would have no normal: the rows
+        // of vertices just past those levels give it (`Tree::level`).
+        if below.is_empty() && above.is_empty() {
+            below = self.level(seg, at - 1.0, half);
+            above = self.level(seg, at + 1.0, half);
+        }
         if ring.is_empty() {
             return None;
         }

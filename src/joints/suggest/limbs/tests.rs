@@ -309,3 +309,41 @@ fn a_copied_cut_carries_what_mirrors_the_cuts_below_its_source() {
     }
     assert!(checked > 0);
 }
+
+/// On low-poly characters (about a thousand vertices, whose edges span more than a local
+/// radius), a cut's windows of `g` a radius either side of it can both be empty: the cut
+/// still gets a normal, from the rows of vertices just past those levels, wherever its own
+/// ring is found and the segment reaches a radius past it (before, such a limb had no base
+/// cut and was cut at its ankle: a wolf's hips 20 % of its height off).
+#[test]
+fn a_cut_on_a_low_poly_limb_gets_a_normal_from_the_rows_past_its_windows() {
+    use crate::joints::suggest::body::Body;
+    use crate::joints::suggest::rules::BASE;
+    let mut tried = 0;
+    for name in ["deer", "wolf", "velociraptor", "parasaurolophus"] {
+        let path = format!("tests/data/population/{name}.glb");
+        let (mesh, skeleton) = crate::joints::suggest::fixture::character(&path);
+        let body = Body::of(mesh, skeleton);
+        let tree = body.tree();
+        for (k, segment) in tree.segments.iter().enumerate() {
+            let seg = &segment.vertices;
+            if seg.is_empty() || segment.parent.is_none() {
+                continue;
+            }
+            let at = tree.lowest(seg) + BASE;
+            let has_ring = !tree.ring(seg, at - 0.25, at + 0.25).is_empty();
+            let windows_empty = tree.ring(seg, at - 1.25, at - 0.75).is_empty()
+                && tree.ring(seg, at + 0.75, at + 1.25).is_empty();
+            if !has_ring || !windows_empty || tree.highest(seg) < at + 1.0 {
+                continue;
+            }
+            tried += 1;
+            let cut = tree.cut_at(k, at);
+            assert!(
+                cut.is_some_and(|c| c.normal.is_normalized()),
+                "{name}: segment {k} at g = {at:.2} has no cut"
+            );
+        }
+    }
+    assert!(tried > 0, "no low-poly cut with both windows empty");
+}
