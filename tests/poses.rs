@@ -106,8 +106,7 @@ fn beyond_volume(table: &str) -> usize {
 /// stretches past 4.5× (the adventurer's body, 3.97×; 5.47× before the tear check took
 /// back joints past 3.5×), at most 4 poses pass 3× (3 while a band where a rider's host
 /// lies did not swell), 43 characters stay within 3× on every pose, and at most 140
-/// poses change a section's volume by more than 5 % (143 before a cut on a low-poly limb
-/// took its normal from the rows of vertices past its windows, 157 with a side's swell held at a
+/// poses change a section's volume by more than 5 % (157 with a side's swell held at a
 /// quarter, not three tenths, of its reach, 188 while a band where a rider's
 /// host lies did not swell, 193 before a cut copied to the other side carried the cuts
 /// below it, 205 with one Newton step towards the volumes, 374 before a pose gave back
@@ -119,9 +118,8 @@ fn the_downloads_poses_hold_what_benchmarks_says() {
 }
 
 /// BENCHMARKS' claims on the 12 characters in pieces of `tests/data/pieces` (20 seeds
-/// each, settled): no NaN, no edge past 3× (the man on the beach, 2.85×; the man in a
-/// suit 3.05× before a cut on a low-poly limb took its normal from the rows of vertices
-/// past its windows), all 12 characters within 3× on every pose, and at most 17 poses change a
+/// each, settled): no NaN, no edge past 3× (the man on the beach, 2.85×), all 12
+/// characters within 3× on every pose, and at most 17 poses change a
 /// section's volume by more than 5 % (19 with a side's swell held at a quarter of its
 /// reach, 33 while a band where a rider's host lies did not
 /// swell, 34 before a copied cut carried the cuts below it, 35 with one Newton step

@@ -227,29 +227,22 @@ impl<'a> Tree<'a> {
             .collect()
     }
 
-    /// The ring of a segment where `g` crosses `at`: its vertices within `half` of it,
-    /// or, where fewer than three lie that near and the segment reaches across `at` (a
-    /// low-poly limb, whose edges span more than a radius each), those at or above `at`
-    /// with a neighbour below it: the row of vertices just past the level, which a window
-    /// narrower than an edge misses.
-    pub(crate) fn level(&self, segment: &[u32], at: f64, half: f64) -> Vec<u32> {
-        let near = self.ring(segment, at - half, at + half);
-        if near.len() >= 3 || !(self.lowest(segment)..=self.highest(segment)).contains(&at) {
-            return near;
+    /// The row of a segment's vertices just past the level `at` of `g`: those at or above
+    /// it with a neighbour below it (none when the segment does not reach across `at`).
+    /// On a low-poly limb, whose edges span more than a radius each, a window of `g`
+    /// narrower than an edge ([`Tree::ring`]) can hold no vertex where this row does.
+    pub(crate) fn past_level(&self, segment: &[u32], at: f64) -> Vec<u32> {
+        if !(self.lowest(segment)..=self.highest(segment)).contains(&at) {
+            return Vec::new();
         }
         let g = &self.g;
-        let crossing: Vec<u32> = segment
+        segment
             .iter()
             .copied()
             .filter(|&v| {
                 g[v as usize] >= at && self.graph.neighbours(v as usize).any(|(w, _)| g[w] < at)
             })
-            .collect();
-        if crossing.is_empty() {
-            near
-        } else {
-            crossing
-        }
+            .collect()
     }
 
     /// Median skeletal distance of `vertices`.

@@ -620,10 +620,10 @@ impl Tree<'_> {
         );
         // On a low-poly limb, whose edges span more than a radius each, both windows a
         // radius either side can be empty, and the cut would have no normal: the rows
-        // of vertices just past those levels give it (`Tree::level`).
+        // of vertices just past those levels give it (`Tree::past_level`).
         if below.is_empty() && above.is_empty() {
-            below = self.level(seg, at - 1.0, half);
-            above = self.level(seg, at + 1.0, half);
+            below = self.past_level(seg, at - 1.0);
+            above = self.past_level(seg, at + 1.0);
         }
         if ring.is_empty() {
             return None;
