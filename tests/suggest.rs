@@ -1512,8 +1512,9 @@ fn population(extra: &[&str]) -> Vec<serde_json::Value> {
 /// What BENCHMARKS says of the population (`bench suggest`, both halves), held: no file
 /// refused (the stag's stray face and fin repaired), up right on every file, fronts right
 /// with glTF's declared axes and with the shape alone, each half's
-/// required joints found at least as today and the held-out half no more than five
-/// points below the development half (rules chosen on one half carry over to the other).
+/// required joints found and named as their role at least as today, and the held-out
+/// half no more than five points below the development half (rules chosen on one half
+/// carry over to the other).
 #[test]
 fn the_population_scores_as_benchmarks_says() {
     let rows = &population(&[]);
@@ -1536,9 +1537,24 @@ fn the_population_scores_as_benchmarks_says() {
         (sum("found"), sum("required"))
     };
     let (dev, held) = (recall("development"), recall("held-out"));
-    assert!(dev.0 >= 53 && held.0 >= 56, "{dev:?} {held:?}");
-    // Fronts right, as BENCHMARKS says: 23 of 24 and 21 of 21 with the front glTF
-    // declares (the wasp faces +x).
+    assert!(dev.0 >= 55 && held.0 >= 55, "{dev:?} {held:?}");
+    // Named as their role: 47 of the development half's matched cuts, 47 held out (the
+    // mirror planes of a low-poly alpaca with its head turned, a trex and a velociraptor
+    // are read against the surface: without them, they read as hands).
+    let named = |half: &str| {
+        rows.iter()
+            .filter(|r| r["half"] == half)
+            .map(|r| r["named"].as_u64().unwrap())
+            .sum::<u64>()
+    };
+    assert!(
+        named("development") >= 47 && named("held-out") >= 47,
+        "named as the role: {} and {}",
+        named("development"),
+        named("held-out")
+    );
+    // Fronts right, as BENCHMARKS says: every one with the front glTF declares, or the
+    // shape's where the file says otherwise (the wasp faces +x).
     let right = |rows: &[serde_json::Value], half: &str, what: &str| {
         rows.iter()
             .filter(|r| r["half"] == half && r[what] == true)
@@ -1546,7 +1562,7 @@ fn the_population_scores_as_benchmarks_says() {
     };
     let fronts = |half: &str| right(rows, half, "front_right");
     assert!(
-        fronts("development") >= 23 && fronts("held-out") >= 21,
+        fronts("development") >= 24 && fronts("held-out") >= 21,
         "fronts right: {} and {}",
         fronts("development"),
         fronts("held-out")
@@ -1563,8 +1579,8 @@ fn the_population_scores_as_benchmarks_says() {
         figures[1]
     );
     // Rules chosen on the development half carry over: the held-out half finds no
-    // fewer than five points below it. (It finds more, 36 % against 29 %: a pair of legs
-    // split at a crotch found two held-out people's hips and none of the development
+    // fewer than five points below it. (It finds more, 35 % against 30 %: a pair of legs
+    // split at a crotch finds two held-out people's hips and none of the development
     // half's.)
     let share = |(f, r): (u64, u64)| 100.0 * f as f64 / r as f64;
     assert!(

@@ -6,7 +6,12 @@
 //! * **Mirror plane.** The mesh is mirrored through the plane across each axis through its
 //!   centroid; the plane is kept where the mirrored vertices land, at the median, within
 //!   [`MIRRORED`] of the mesh's size of a vertex (a character in T-pose or on all fours; a
-//!   curled tail or a raised arm moves few vertices).
+//!   curled tail or a raised arm moves few vertices). With up given, only the two planes
+//!   that hold it are tried, and a mirrored vertex counts as near as the surface it lands
+//!   on (a low-poly side triangulated one way on the left and another on the right, a
+//!   head turned a little). Without it, a vertex: the surface is the looser test, and a
+//!   flat-bodied fish is nearly as alike above and below as left and right, so it could
+//!   pass for a plane across up where its left and right, bent as it swims, do not.
 //! * **Up.** Given (`--up`, the rig file's `up`, a glTF file's +y: `Puppet` passes it), or
 //!   found: of the axis directions along
 //!   the mirror plane, the one opposite to where the tips of the root's limbs off the
@@ -253,7 +258,15 @@ pub fn reflect(n: DVec3, v: DVec3) -> DVec3 {
 }
 
 /// The mirror plane across one of the axes, if the mesh has one (see the module docs).
-pub fn mirror_plane(positions: &[DVec3]) -> Option<(DVec3, f64)> {
+///
+/// How far a mirrored vertex lands from the surface is read off the triangles around
+/// the nearest vertex (`triangles` empty: from that vertex).
+/// With `up` given, only a plane that holds it.
+pub fn mirror_plane(
+    positions: &[DVec3],
+    triangles: &[[u32; 3]],
+    up: Option<DVec3>,
+) -> Option<(DVec3, f64)> {
     if positions.len() < 8 {
         return None;
     }
@@ -266,9 +279,13 @@ pub fn mirror_plane(positions: &[DVec3]) -> Option<(DVec3, f64)> {
     let cell = size / 48.0;
     let all: Vec<u32> = (0..positions.len() as u32).collect();
     let grid = Grid::with_cell(positions, &all, cell);
+    let around = Around::new(positions.len(), triangles);
     let step = (positions.len() / 1500).max(1);
     let mut best: Option<(f64, DVec3, f64)> = None;
     for n in [DVec3::X, DVec3::Y, DVec3::Z] {
+        if up.is_some_and(|u| u.dot(n).abs() > 0.5) {
+            continue;
+        }
         let mut offset = centroid.dot(n);
         let mut median = f64::INFINITY;
         // Twice: the second time through the plane the first pairs put halfway.
@@ -277,9 +294,15 @@ pub fn mirror_plane(positions: &[DVec3]) -> Option<(DVec3, f64)> {
             let mut shifts = Vec::new();
             for p in positions.iter().step_by(step) {
                 let m = image((n, offset), *p);
-                let (q, d) = grid
-                    .nearest_around(positions, m, 2.0 * cell)
-                    .map_or((m, 2.0 * cell), |(d, v)| (positions[v as usize], d));
+                let (q, d) = grid.nearest_around(positions, m, 2.0 * cell).map_or(
+                    (m, 2.0 * cell),
+                    |(d, v)| {
+                        (
+                            positions[v as usize],
+                            around.gap(positions, triangles, v, m, d),
+                        )
+                    },
+                );
                 gaps.push(d);
                 shifts.push((q - m).dot(n));
             }
@@ -292,6 +315,50 @@ pub fn mirror_plane(positions: &[DVec3]) -> Option<(DVec3, f64)> {
     }
     let (median, n, offset) = best?;
     (median <= MIRRORED * size).then_some((n, offset))
+}
+
+/// The triangles around each vertex (compressed rows).
+struct Around {
+    start: Vec<u32>,
+    faces: Vec<u32>,
+}
+
+impl Around {
+    fn new(vertices: usize, triangles: &[[u32; 3]]) -> Around {
+        let mut start = vec![0u32; vertices + 1];
+        for &v in triangles.iter().flatten() {
+            if let Some(s) = start.get_mut(v as usize + 1) {
+                *s += 1;
+            }
+        }
+        for k in 0..vertices {
+            start[k + 1] += start[k];
+        }
+        let mut next = start.clone();
+        let mut faces = vec![0u32; start[vertices] as usize];
+        for (f, t) in triangles.iter().enumerate() {
+            for &v in t {
+                if let Some(n) = next.get_mut(v as usize) {
+                    faces[*n as usize] = f as u32;
+                    *n += 1;
+                }
+            }
+        }
+        Around { start, faces }
+    }
+
+    /// How far `q` lies from the triangles around vertex `v` (at most `d`, its distance
+    /// from `v`).
+    fn gap(&self, positions: &[DVec3], triangles: &[[u32; 3]], v: u32, q: DVec3, d: f64) -> f64 {
+        let v = v as usize;
+        let (a, b) = (self.start[v] as usize, self.start[v + 1] as usize);
+        self.faces[a..b]
+            .iter()
+            .filter_map(|&f| triangles.get(f as usize))
+            .filter(|t| t.iter().all(|&i| (i as usize) < positions.len()))
+            .map(|t| crate::geom::point_triangle(q, t.map(|i| positions[i as usize])))
+            .fold(d, f64::min)
+    }
 }
 
 /// The outward normal of the mesh's flat base, if it has one: of the six axis directions,
@@ -342,10 +409,12 @@ pub struct Cues {
 }
 
 impl Cues {
-    /// The cues of `mesh`.
-    pub fn of(mesh: &Mesh) -> Cues {
+    /// The cues of `mesh`, standing along `up` where that is given: its mirror plane then
+    /// holds up, and is read against the surface (see the module docs).
+    pub fn of(mesh: &Mesh, up: Option<DVec3>) -> Cues {
+        let surface: &[[u32; 3]] = if up.is_some() { &mesh.triangles } else { &[] };
         Cues {
-            mirror: mirror_plane(&mesh.positions),
+            mirror: mirror_plane(&mesh.positions, surface, up),
             base: flat_base(mesh),
         }
     }
@@ -673,11 +742,11 @@ mod tests {
 
     #[test]
     fn the_mirror_plane_is_found_across_the_axis_it_mirrors() {
-        let (n, o) = mirror_plane(&figure(false)).unwrap();
+        let (n, o) = mirror_plane(&figure(false), &[], None).unwrap();
         assert_eq!(n, DVec3::X);
         assert!((o - 1.0).abs() < 0.02, "{o}");
         // A few points off the plane (a curled tail) move nothing.
-        let (n, o) = mirror_plane(&figure(true)).unwrap();
+        let (n, o) = mirror_plane(&figure(true), &[], None).unwrap();
         assert_eq!(n, DVec3::X);
         assert!((o - 1.0).abs() < 0.02, "{o}");
         // A lopsided cloud has none.
@@ -691,7 +760,36 @@ mod tests {
                 )
             })
             .collect();
-        assert!(mirror_plane(&lopsided).is_none());
+        assert!(mirror_plane(&lopsided, &[], None).is_none());
+    }
+
+    #[test]
+    fn a_surface_mirrored_but_not_its_vertices_has_its_plane() {
+        // A sphere bent so that only x = 0 mirrors it, its longitudes turned by a quarter
+        // of their spacing: each vertex's mirror image lands on the surface between two
+        // vertices, a sixtieth of the size from the nearest.
+        let mut body = crate::mesh::shapes::uv_sphere(1.0, 24, 48);
+        let turn = glam::DQuat::from_rotation_y(std::f64::consts::TAU / 48.0 * 0.25);
+        for p in &mut body.positions {
+            let q = turn * *p;
+            *p = DVec3::new(q.x, q.y + 0.3 * q.z * q.z, q.z + 0.2 * q.y * q.y);
+        }
+        let (n, o) = mirror_plane(&body.positions, &body.triangles, None).expect("mirrored");
+        assert_eq!(n, DVec3::X);
+        assert!(o.abs() < 0.01, "{o}");
+        // Read off the vertices alone, it is not.
+        assert_eq!(mirror_plane(&body.positions, &[], None), None);
+        // With up given along x, a plane must hold it: none does.
+        assert_eq!(
+            mirror_plane(&body.positions, &body.triangles, Some(DVec3::X)),
+            None
+        );
+        // With up along y, the plane holds it.
+        let up = Some(DVec3::Y);
+        assert_eq!(
+            mirror_plane(&body.positions, &body.triangles, up).map(|(n, _)| n),
+            Some(DVec3::X)
+        );
     }
 
     #[test]
@@ -704,10 +802,10 @@ mod tests {
         assert_eq!(flat_base(&bust), Some(DVec3::NEG_Z));
         // Round all over, or flat where it is not at the far end, there is none.
         assert_eq!(flat_base(&crate::mesh::shapes::icosphere(1.0, 3)), None);
-        let (n, o) = mirror_plane(&bust.positions).unwrap();
+        let (n, o) = mirror_plane(&bust.positions, &bust.triangles, None).unwrap();
         assert!(n.dot(DVec3::Z).abs() < 0.5, "{n}");
         // Its cues: the plane along the axis, the base below.
-        let cues = Cues::of(&bust);
+        let cues = Cues::of(&bust, None);
         assert_eq!(cues.base, Some(DVec3::NEG_Z));
         assert_eq!(cues.mirror, Some((n, o)));
         let f = frame(&bust.positions, cues, &[], Given::default());
@@ -739,7 +837,7 @@ mod tests {
         };
         let limbs = [leg(0.5, 0.2), leg(1.5, 0.2), leg(0.5, 1.8), leg(1.5, 1.8)];
         let cues = Cues {
-            mirror: mirror_plane(&plane),
+            mirror: mirror_plane(&plane, &[], None),
             base: None,
         };
         let f = frame(&plane, cues, &limbs, Given::default());

@@ -21,6 +21,7 @@
 use super::{BuildError, Puppet, RigFile};
 use crate::anim::{Animation, Ease, Key, Track};
 use crate::geom::intersect::new_crossings;
+use crate::geom::point_triangle;
 use crate::geom::winding::Winding;
 use crate::joints::{Cut, Local, Shape};
 use crate::mesh::measure::{capped_volume, cone_volume};
@@ -484,56 +485,4 @@ pub fn section_volume_extremes(p: &Puppet, now: &[DVec3]) -> [(f64, Option<usize
         }
     }
     volume
-}
-
-/// The distance from `p` to the triangle `t`.
-pub fn point_triangle(p: DVec3, t: [DVec3; 3]) -> f64 {
-    let [a, b, c] = t;
-    let (ab, ac, ap) = (b - a, c - a, p - a);
-    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
-    if d1 <= 0.0 && d2 <= 0.0 {
-        return ap.length();
-    }
-    let bp = p - b;
-    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
-    if d3 >= 0.0 && d4 <= d3 {
-        return bp.length();
-    }
-    let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        let v = d1 / (d1 - d3);
-        return (p - (a + ab * v)).length();
-    }
-    let cp = p - c;
-    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
-    if d6 >= 0.0 && d5 <= d6 {
-        return cp.length();
-    }
-    let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        let w = d2 / (d2 - d6);
-        return (p - (a + ac * w)).length();
-    }
-    let va = d3 * d6 - d5 * d4;
-    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return (p - (b + (c - b) * w)).length();
-    }
-    let denom = 1.0 / (va + vb + vc);
-    let (v, w) = (vb * denom, vc * denom);
-    (p - (a + ab * v + ac * w)).length()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn point_triangle_distance_matches_the_cases() {
-        let t = [DVec3::ZERO, DVec3::X, DVec3::Y];
-        assert!((point_triangle(DVec3::new(0.2, 0.2, 1.0), t) - 1.0).abs() < 1e-12);
-        assert!((point_triangle(DVec3::new(-1.0, -1.0, 0.0), t) - 2f64.sqrt()).abs() < 1e-12);
-        assert!((point_triangle(DVec3::new(0.5, -1.0, 0.0), t) - 1.0).abs() < 1e-12);
-        assert!((point_triangle(DVec3::new(1.0, 1.0, 0.0), t) - 0.5f64.sqrt()).abs() < 1e-12);
-    }
 }

@@ -100,7 +100,7 @@ pub fn suggest(mesh: &Mesh, skeleton: &Skeleton, root: &str, given: Given) -> (V
 /// [`suggest`] for one character: the six stages of the module docs.
 fn suggest_one(mesh: &Mesh, skeleton: &Skeleton, root: &str, given: Given) -> (Vec<Cut>, Frame) {
     // 1. Orientation: the body apart from its riders, its mirror plane and flat base.
-    let body = Body::of(mesh, skeleton);
+    let body = Body::of(mesh, skeleton, given.up);
     let mirror = body.cues.mirror;
     // 2. The tree of the body's protrusions.
     let tree = body.tree();

@@ -58,15 +58,16 @@ pub(crate) struct Body<'a> {
 }
 
 impl<'a> Body<'a> {
-    /// The body of `mesh`, whose skeleton is `skeleton`.
-    pub(crate) fn of(mesh: &'a Mesh, skeleton: &'a Skeleton) -> Body<'a> {
+    /// The body of `mesh`, whose skeleton is `skeleton`, standing along `up` where that is
+    /// given (its mirror plane then holds up: [`Cues::of`]).
+    pub(crate) fn of(mesh: &'a Mesh, skeleton: &'a Skeleton, up: Option<DVec3>) -> Body<'a> {
         if skeleton.riders == 0 {
             return Body {
                 mesh: Cow::Borrowed(mesh),
                 skeleton: Cow::Borrowed(skeleton),
                 hosts: Vec::new(),
                 character: Cow::Borrowed(mesh),
-                cues: Cues::of(mesh),
+                cues: Cues::of(mesh, up),
             };
         }
         let parts = crate::mesh::Parts::of(mesh);
@@ -88,7 +89,7 @@ impl<'a> Body<'a> {
         } else {
             Cow::Borrowed(mesh)
         };
-        let cues = Cues::of(&body);
+        let cues = Cues::of(&body, up);
         Body {
             mesh: Cow::Owned(body),
             skeleton: Cow::Owned(body_skeleton),
@@ -134,7 +135,7 @@ mod tests {
     fn the_body_is_the_mesh_less_its_riders_and_its_cues_are_the_body_s() {
         // No riders: the mesh itself, mirrored across x.
         let (mesh, skeleton) = fixture::human();
-        let body = Body::of(mesh, skeleton);
+        let body = Body::of(mesh, skeleton, None);
         assert!(matches!(body.mesh, Cow::Borrowed(_)));
         assert!(body.hosts.is_empty());
         let (n, _) = body.cues.mirror.expect("the human is mirrored");
@@ -144,11 +145,11 @@ mod tests {
         // the character for naming has each eye's vertex where its host is.
         let (mesh, skeleton) = fixture::character("tests/data/population/snake.glb");
         assert!(skeleton.riders > 0);
-        let body = Body::of(mesh, skeleton);
+        let body = Body::of(mesh, skeleton, None);
         let n = mesh.positions.len();
         assert_eq!(body.mesh.positions.len(), n - skeleton.riders);
         assert_eq!(body.skeleton.points.len(), body.mesh.positions.len());
-        assert_eq!(body.cues, Cues::of(&body.mesh));
+        assert_eq!(body.cues, Cues::of(&body.mesh, None));
         let riding = (0..n).filter(|&v| body.hosts[v].is_some()).count();
         assert_eq!(riding, skeleton.riders);
         for v in 0..n {
@@ -160,7 +161,7 @@ mod tests {
     #[test]
     fn the_tree_grows_from_a_core_in_the_trunk_and_every_vertex_is_reached() {
         let (mesh, skeleton) = fixture::human();
-        let body = Body::of(mesh, skeleton);
+        let body = Body::of(mesh, skeleton, None);
         let tree = body.tree();
         assert!(!tree.standing);
         // The core's ball sits in the trunk: on the mirror plane, between hips and neck.
