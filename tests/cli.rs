@@ -622,8 +622,8 @@ fn a_successful_render_without_a_runtime_dir_prints_no_error() {
 
 /// `bench controls` holds live input to one frame plus one step at the 95th percentile of
 /// the packets sent: it passes on localhost, and fails when packets are lost (a lost packet
-/// is never shown; before, only the packets that arrived were counted, and losing 599 of
-/// 600 passed).
+/// is never shown, so it counts as late: were only the packets that arrived counted,
+/// losing 599 of 600 would pass).
 #[test]
 fn controls_bench_passes_and_fails_when_packets_are_lost() {
     let out = puppet(&["bench", "controls", "--packets", "30", "--json"]);

@@ -168,9 +168,7 @@ fn arms_hanging_by_the_body_stop_when_turned_into_it() {
         let off = press.press(&m, Params::default()).unwrap();
         assert!(off.crossing >= 100, "{name}: the pose presses: {off:?}");
         let on = press.press(&m, colliding()).unwrap();
-        // (At most 2 before the joint bands blended the trunk's skin around the
-        // shoulder, 8 before each seam vertex reached by its own radius: the teddy's
-        // armpit fold now crosses 11 faces, `BENCHMARKS.md`.)
+        // (The teddy's armpit fold crosses 11 faces, `BENCHMARKS.md`.)
         assert!(on.crossing <= 11, "{name}: {on:?}");
         assert!(on.deepest <= 0.5, "{name}: {on:?}");
         assert!(on.reached < 100.0, "{name}: {on:?}");
@@ -801,9 +799,8 @@ fn kept_contact_lists_change_nothing() {
 /// cut where `puppet suggest` cuts it, asked 20° about each axis both ways, gets at least
 /// 15° in five of the six and 5° in the sixth (nodding down, its mane meets its chest).
 /// Its neck's crease, balls of both sides a few hundredths of a radius apart all round
-/// the cut, closes as the head turns: before the neck (`NECK` in `joints::collide`), the
-/// first pair to touch held the head at 0° in every direction, and a random pose's turn
-/// reached 0 %.
+/// the cut, closes as the head turns: without the neck (`NECK` in `joints::collide`), the
+/// first pair to touch would hold the head at 0° in every direction.
 #[test]
 fn a_thick_neck_turns_with_collision_on() {
     let mut lion = common::suggested(

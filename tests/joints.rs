@@ -236,8 +236,8 @@ fn the_frog_jaw_folds_without_nan_or_escape() {
                 longest = longest.max(ratio);
             }
         }
-        // (The jaw's band, blended over the face, spreads the fold over more springs
-        // than it did: 0.83 at most now, 0.8 before.)
+        // (The jaw's band, blended over the face, spreads the fold over many springs:
+        // 0.83 at most.)
         assert!(
             shortest < 0.9,
             "{constraint:?}: no fold (shortest spring at {shortest})"

@@ -529,8 +529,8 @@ fn a_small_part_lying_apart_changes_no_name() {
 /// A body's arms and legs are no digits, though four or more hang from it: a digit (a
 /// finger of a palm, about as thick as the palm) is cut at 45 % and 72 % of its length, an
 /// arm in the middle of its bone. The robot (generated with its bones, CC0) has no narrowing
-/// at its left elbow; cut as a finger, that arm got a cut past its elbow and one before
-/// its wrist. Each arm now turns at its shoulder, its elbow and its wrist, each within the
+/// at its left elbow; cut as a finger, that arm would get a cut past its elbow and one
+/// before its wrist. Each arm turns at its shoulder, its elbow and its wrist, each within the
 /// labelled set's tolerance, and every required joint of the robot is found. The hand's
 /// fingers keep their two joints (`the_hand_gets_each_finger_and_its_joints`).
 #[test]

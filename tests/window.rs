@@ -628,8 +628,8 @@ fn an_elbow_bent_with_the_mouse_bends_and_settles() {
 
 /// A head nodded with the mouse keeps its skin whole: the human with its suggested joints
 /// (the head's cut runs across the face), the head dragged about 45°, settled; no edge of
-/// the surface stretches past 3× (the pose issue measured 46× at the lips before the
-/// bands blended over the surface, `joints::blend`).
+/// the surface stretches past 3× (without the bands blended over the surface,
+/// `joints::blend`, the lips tear).
 #[test]
 fn a_head_nodded_with_the_mouse_keeps_its_skin_whole() {
     let dir = common::scratch("window-nod");
