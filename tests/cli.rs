@@ -590,9 +590,22 @@ fn pose_bench_passes_and_fails_on_its_bounds() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        err.contains("hand: the step with collision on costs"),
+        err.contains("hand: the step with collision on (held) costs")
+            && err.contains("hand: the step with collision on (moving) costs"),
         "{err}"
     );
+    // `--drag`: one joint a pose, so the turn reached is the whole of it, and the
+    // surface stretches no more than with every joint turned.
+    let dragged = records(&["--drag"]);
+    let every = records(&[]);
+    assert_eq!(dragged.len(), every.len());
+    for (d, e) in dragged.iter().zip(&every) {
+        assert!(d["reached"].as_f64().unwrap() > 0.999, "{d}");
+        assert!(
+            d["over_1_5"].as_f64().unwrap() <= e["over_1_5"].as_f64().unwrap(),
+            "{d}\n{e}"
+        );
+    }
     let out = puppet(&["bench", "poses", hand, "--max-collision-cost", "25"]);
     assert_eq!(out.status.code(), Some(2));
 }

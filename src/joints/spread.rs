@@ -50,6 +50,24 @@ pub fn random_pose(joints: &Joints, spread: Spread, rng: &mut SplitMix) -> Vec<L
     local
 }
 
+/// Keeps one of `pose`'s turned sections, drawn from `rng`, and puts the rest at rest:
+/// what a mouse drag turns (the sections past it follow it). A pose with none turned
+/// stays as it is.
+pub fn one_turned(pose: &mut [Local], rng: &mut SplitMix) {
+    let turned: Vec<usize> = (0..pose.len())
+        .filter(|&s| pose[s] != Local::default())
+        .collect();
+    if turned.is_empty() {
+        return;
+    }
+    let keep = turned[(rng.next_u64() % turned.len() as u64) as usize];
+    for (s, l) in pose.iter_mut().enumerate() {
+        if s != keep {
+            *l = Local::default();
+        }
+    }
+}
+
 /// A number in `0..1` from `rng`.
 fn unit(rng: &mut SplitMix) -> f64 {
     (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64
@@ -95,5 +113,33 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_drag_keeps_one_turned_section_of_a_pose() {
+        let turned = |a: f64| Local::axis_angle(DVec3::X, a);
+        let pose = vec![
+            Local::default(),
+            turned(10.0),
+            Local::default(),
+            turned(20.0),
+            turned(30.0),
+        ];
+        let mut kept = std::collections::BTreeSet::new();
+        for seed in 0..40 {
+            let mut one = pose.clone();
+            one_turned(&mut one, &mut SplitMix(seed));
+            let moved: Vec<usize> = (0..one.len())
+                .filter(|&s| one[s] != Local::default())
+                .collect();
+            assert_eq!(moved.len(), 1, "{one:?}");
+            assert_eq!(one[moved[0]], pose[moved[0]]);
+            kept.insert(moved[0]);
+        }
+        // Each turned section is drawn, none at rest.
+        assert_eq!(kept.into_iter().collect::<Vec<_>>(), vec![1, 3, 4]);
+        let mut rest = vec![Local::default(); 3];
+        one_turned(&mut rest, &mut SplitMix(1));
+        assert_eq!(rest, vec![Local::default(); 3]);
     }
 }

@@ -18,7 +18,7 @@
 use super::press::section_volume_extremes;
 use super::Puppet;
 use crate::geom::intersect::new_crossings;
-pub use crate::joints::spread::{random_pose, Spread};
+pub use crate::joints::spread::{one_turned, random_pose, Spread};
 use crate::joints::{Local, PoseScratch};
 use crate::mesh::measure::cone_volume;
 use glam::{DQuat, DVec3};
