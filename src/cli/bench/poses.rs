@@ -476,10 +476,14 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         }
     }
     if !failures.is_empty() {
+        // (With `--compare`, each pose is a row off and a row on.)
+        let poses = rows.len() / if args.compare { 2 } else { 1 };
         bail!(
-            "{} of {} poses missed a target:\n  {}",
-            failures.len(),
-            rows.len(),
+            "{} missed over {poses} poses:\n  {}",
+            match failures.len() {
+                1 => "1 target".to_string(),
+                n => format!("{n} targets"),
+            },
             failures.join("\n  ")
         );
     }
