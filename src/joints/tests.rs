@@ -555,13 +555,30 @@ fn a_section_meeting_its_parent_along_two_loops_is_joined_twice() {
     let j = arch_or_strip(true);
     assert_eq!(super::suggest::seams::joined_twice(&j), Some("arm".into()));
     let mut bare = j.uncut();
-    let removed = super::suggest::seams::add(&mut bare, j.cuts().to_vec()).unwrap();
+    let removed = super::suggest::seams::add(&mut bare, j.cuts().to_vec());
     assert_eq!(removed, vec!["arm".to_string()]);
     // The strip meets it along one.
     assert_eq!(
         super::suggest::seams::joined_twice(&arch_or_strip(false)),
         None
     );
+}
+
+#[test]
+fn a_suggested_cut_that_does_not_fit_is_taken_back_and_its_cuts_go_to_its_section() {
+    // On the strip: `hand` leaves the side its normal points to empty; `finger`, cut
+    // from it, goes to `arm`, the section `hand` would have cut.
+    let mut bare = arch_or_strip(false).uncut();
+    let cuts = vec![
+        cut("arm", ROOT, 1.05),
+        cut("hand", "arm", 99.0),
+        cut("finger", "hand", 4.05),
+    ];
+    let removed = super::suggest::seams::add(&mut bare, cuts);
+    assert_eq!(removed, vec!["hand".to_string()]);
+    let names: Vec<&str> = bare.sections().iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(names, [ROOT, "arm", "finger"]);
+    assert_eq!(bare.sections()[2].parent, Some(1));
 }
 
 #[test]

@@ -286,7 +286,7 @@ impl Puppet {
         if skinned {
             joints.add_cuts(cuts)?;
         } else {
-            crate::joints::suggest::seams::add(&mut joints, cuts)?;
+            crate::joints::suggest::seams::add(&mut joints, cuts);
         }
         let count = joints.cuts().len();
         self.joints = joints;

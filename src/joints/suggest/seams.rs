@@ -29,24 +29,34 @@ use glam::DVec3;
 /// [`FOREIGN`], then of each section joined to its parent twice ([`TWICE`]), and then
 /// those [`keep_whole`] removes; returns the names taken back.
 /// The bands are worked out once the seams are settled (those need only the sections),
-/// then again for each cut a tear takes back. On error (a cut that does not fit) the
-/// cuts before it stay, as with [`Joints::add_cuts`], and none is taken back.
-pub fn add(joints: &mut Joints, cuts: Vec<Cut>) -> Result<Vec<String>, JointError> {
-    let added = joints.add_cuts_unbanded(cuts);
+/// then again for each cut a tear takes back. A cut that does not fit (a side left empty:
+/// a character of a file with several, fitted on its own mesh) is taken back first, and
+/// the cuts of the section it would have made go to the section it cuts: a suggestion
+/// always applies.
+pub fn add(joints: &mut Joints, cuts: Vec<Cut>) -> Vec<String> {
     let mut removed = Vec::new();
-    if added.is_ok() {
-        removed = remove_while(joints, foreign, Joints::remove_cut_unbanded);
-        let twice = remove_while(joints, joined_twice, Joints::remove_cut_unbanded);
-        log_taken_back("it meets a section it is not joined to", &removed);
-        log_taken_back("it meets its parent twice", &twice);
-        removed.extend(twice);
+    let mut instead: std::collections::HashMap<String, String> = Default::default();
+    for mut cut in cuts {
+        if let Some(section) = instead.get(&cut.section) {
+            cut.section = section.clone();
+        }
+        if joints.add_cut_unbanded(cut.clone()).is_err() {
+            instead.insert(cut.name.clone(), cut.section);
+            removed.push(cut.name);
+        }
     }
+    log_taken_back("it does not fit", &removed);
+    let foreign = remove_while(joints, foreign, Joints::remove_cut_unbanded);
+    let twice = remove_while(joints, joined_twice, Joints::remove_cut_unbanded);
+    log_taken_back("it meets a section it is not joined to", &foreign);
+    log_taken_back("it meets its parent twice", &twice);
+    removed.extend(foreign);
+    removed.extend(twice);
     joints.refresh_bands();
-    added?;
     let torn = keep_whole(joints);
     log_taken_back("its skin tears in random poses", &torn);
     removed.extend(torn);
-    Ok(removed)
+    removed
 }
 
 /// Says at debug level which suggested cuts were taken back, and why.
