@@ -135,6 +135,39 @@ fn collision_on_the_pieces_is_never_worse() {
     ok(&out);
 }
 
+/// BENCHMARKS' claim on drags: one joint turned a pose (`--drag`, as a mouse drag turns
+/// it), none of the 250 poses of the shipped characters is worse with collision on than
+/// off, and crossing faces go to 0 on most characters.
+#[test]
+fn collision_on_a_drag_is_never_worse() {
+    let out = puppet(&[
+        "bench",
+        "poses",
+        "--compare",
+        "--drag",
+        "--never-worse",
+        "--poses",
+        "10",
+        "--json",
+    ]);
+    ok(&out);
+    let rows: Vec<serde_json::Value> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(rows.len(), 500);
+    // Per character, the most faces a pose crosses with collision on.
+    let mut most = std::collections::BTreeMap::new();
+    for r in rows.iter().filter(|r| r["collision"] == true) {
+        let m = most
+            .entry(r["character"].as_str().unwrap().to_string())
+            .or_insert(0);
+        *m = r["crossing"].as_u64().unwrap().max(*m);
+    }
+    let none = most.values().filter(|&&m| m == 0).count();
+    assert!(none >= 17, "{most:?}");
+}
+
 /// Runs `bench poses --ignore-skin` on `folder`'s `characters` and holds it to its
 /// figures: no NaN, no edge past `stretch`, at most `past` poses past 3×, at least
 /// `within` characters within 3× on every pose, at most `beyond` poses with a section's
