@@ -24,7 +24,7 @@
 //! * `shapes`, `subdivide`: test shapes, refinement;
 //! * `groups`: the file's named groups (materials), carried to the loaded vertices;
 //! * `measure`: areas, volumes and extents of a surface;
-//! * `orientation`: a character's mirror plane, flat base, up, front and left.
+//! * `orientation`: a character's flat base, up, front and left; `mirror`: its mirror plane.
 
 mod attachments;
 mod edges;
@@ -36,6 +36,7 @@ mod groups;
 mod guard;
 mod load;
 pub mod measure;
+pub mod mirror;
 mod normals;
 mod obj;
 pub mod orientation;
