@@ -3,8 +3,8 @@
 //! base first (its stage 1), and up and front once the root's limbs are cut (its stage 5),
 //! from how they hang ([`Reach`]); its names by role read the frame.
 //!
-//! * **Mirror plane** ([`crate::mesh::mirror`]). The mesh is mirrored through the plane across each axis through its
-//!   centroid; the plane is kept where the mirrored vertices land, at the median, within
+//! * **Mirror plane** ([`crate::mesh::mirror`]). The mesh is mirrored through the plane
+//!   across each axis through its centroid; the plane is kept where the mirrored vertices land, at the median, within
 //!   [`MIRRORED`] of the mesh's size of a vertex (a character in T-pose or on all fours; a
 //!   curled tail or a raised arm moves few vertices). With up given, only the two planes
 //!   that hold it are tried, and a mirrored vertex counts as near as the surface it lands
