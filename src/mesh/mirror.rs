@@ -2,7 +2,8 @@
 //! across each axis through its centroid, kept where the mirrored vertices land near the
 //! mesh (see `orientation`, whose first cue it is).
 
-use crate::mesh::grid::Grid;
+use super::edges::{target, third, HalfEdges};
+use super::grid::Grid;
 use glam::DVec3;
 
 /// The mirrored vertices lie within this share of the mesh's size of a vertex (median).
@@ -21,8 +22,8 @@ pub fn reflect(n: DVec3, v: DVec3) -> DVec3 {
 
 /// The mirror plane across one of the axes, if the mesh has one (see the module docs).
 ///
-/// How far a mirrored vertex lands from the surface is read off the triangles around
-/// the nearest vertex (`triangles` empty: from that vertex).
+/// How far a mirrored vertex lands from the surface is read off the faces around the
+/// nearest vertex (their half-edges, `edges`; `triangles` empty: from that vertex).
 /// With `up` given, only a plane that holds it.
 pub fn mirror_plane(
     positions: &[DVec3],
@@ -41,7 +42,7 @@ pub fn mirror_plane(
     let cell = size / 48.0;
     let all: Vec<u32> = (0..positions.len() as u32).collect();
     let grid = Grid::with_cell(positions, &all, cell);
-    let around = Around::new(positions.len(), triangles);
+    let around = HalfEdges::new(positions.len(), triangles);
     let step = (positions.len() / 1500).max(1);
     let mut best: Option<(f64, DVec3, f64)> = None;
     for n in [DVec3::X, DVec3::Y, DVec3::Z] {
@@ -56,15 +57,11 @@ pub fn mirror_plane(
             let mut shifts = Vec::new();
             for p in positions.iter().step_by(step) {
                 let m = image((n, offset), *p);
-                let (q, d) = grid.nearest_around(positions, m, 2.0 * cell).map_or(
-                    (m, 2.0 * cell),
-                    |(d, v)| {
-                        (
-                            positions[v as usize],
-                            around.gap(positions, triangles, v, m, d),
-                        )
-                    },
-                );
+                let (q, d) = grid
+                    .nearest_around(positions, m, 2.0 * cell)
+                    .map_or((m, 2.0 * cell), |(d, v)| {
+                        (positions[v as usize], gap(&around, positions, v, m, d))
+                    });
                 gaps.push(d);
                 shifts.push((q - m).dot(n));
             }
@@ -79,48 +76,16 @@ pub fn mirror_plane(
     (median <= MIRRORED * size).then_some((n, offset))
 }
 
-/// The triangles around each vertex (compressed rows).
-struct Around {
-    start: Vec<u32>,
-    faces: Vec<u32>,
-}
-
-impl Around {
-    fn new(vertices: usize, triangles: &[[u32; 3]]) -> Around {
-        let mut start = vec![0u32; vertices + 1];
-        for &v in triangles.iter().flatten() {
-            if let Some(s) = start.get_mut(v as usize + 1) {
-                *s += 1;
-            }
-        }
-        for k in 0..vertices {
-            start[k + 1] += start[k];
-        }
-        let mut next = start.clone();
-        let mut faces = vec![0u32; start[vertices] as usize];
-        for (f, t) in triangles.iter().enumerate() {
-            for &v in t {
-                if let Some(n) = next.get_mut(v as usize) {
-                    faces[*n as usize] = f as u32;
-                    *n += 1;
-                }
-            }
-        }
-        Around { start, faces }
-    }
-
-    /// How far `q` lies from the triangles around vertex `v` (at most `d`, its distance
-    /// from `v`).
-    fn gap(&self, positions: &[DVec3], triangles: &[[u32; 3]], v: u32, q: DVec3, d: f64) -> f64 {
-        let v = v as usize;
-        let (a, b) = (self.start[v] as usize, self.start[v + 1] as usize);
-        self.faces[a..b]
-            .iter()
-            .filter_map(|&f| triangles.get(f as usize))
-            .filter(|t| t.iter().all(|&i| (i as usize) < positions.len()))
-            .map(|t| crate::geom::point_triangle(q, t.map(|i| positions[i as usize])))
-            .fold(d, f64::min)
-    }
+/// How far `q` lies from the faces around vertex `v` (at most `d`, its distance from `v`).
+fn gap(around: &HalfEdges, positions: &[DVec3], v: u32, q: DVec3, d: f64) -> f64 {
+    around
+        .row(v)
+        .iter()
+        .map(|&e| {
+            let t = [v, target(e), third(e)].map(|i| positions[i as usize]);
+            crate::geom::point_triangle(q, t)
+        })
+        .fold(d, f64::min)
 }
 
 #[cfg(test)]
