@@ -310,7 +310,7 @@ impl Tree<'_> {
         // Thinner than the parent just below the fork: by the rings' sizes, not their
         // medial radii (a finger is as thick as the flat palm it grows from, not as wide).
         // (Its own ring one to three radii out: at the fork itself it is not round.)
-        let ring = self.ring(seg, low + 1.0, low + 3.0);
+        let ring = self.own_ring(seg, low);
         let own = self.size(&ring);
         // The trunk it grows from, one to three of its radii below the fork (through short
         // forks where other limbs join close by, like the webs between fingers).
@@ -606,6 +606,20 @@ impl Tree<'_> {
             .into_iter()
             .filter_map(|b| self.cut_at(k, p.low + (b as f64 + 0.5) * p.step))
             .collect()
+    }
+
+    /// A limb's own ring past its fork at `low` (the lowest `g` of its segment `seg`):
+    /// its vertices one to three radii out, where it is round; on a low-poly limb whose
+    /// edges span more than two radii that window can hold none, and it is then the row
+    /// of vertices just past its start ([`Tree::past_level`]). Empty only where the
+    /// segment does not reach a radius past its fork.
+    pub(crate) fn own_ring(&self, seg: &[u32], low: f64) -> Vec<u32> {
+        let ring = self.ring(seg, low + 1.0, low + 3.0);
+        if ring.is_empty() {
+            self.past_level(seg, low + 1.0)
+        } else {
+            ring
+        }
     }
 
     /// A cut through the ring of `seg` at level `at`, across the axis (from the centre of

@@ -347,3 +347,38 @@ fn a_cut_on_a_low_poly_limb_gets_a_normal_from_the_rows_past_its_windows() {
     }
     assert!(tried > 0, "no low-poly cut with both windows empty");
 }
+
+/// On low-poly characters a limb's window of `g` one to three radii past its fork can
+/// hold no vertex (a cylinder in a few long bands: a segmented mannequin's arm, a
+/// low-poly dinosaur's tail): its own ring is then the row just past the window's start,
+/// so it is measured against its trunk instead of counting as no width at all (before,
+/// such a limb was never one: a mannequin of capsules in five bands each got 0 joints).
+/// Every segment that reaches a radius past its fork has a ring.
+#[test]
+fn a_limb_whose_window_holds_no_vertex_is_measured_by_the_row_past_it() {
+    use crate::joints::suggest::body::Body;
+    let mut empty_windows = 0;
+    for name in ["velociraptor", "parasaurolophus", "trex", "wasp"] {
+        let path = format!("tests/data/population/{name}.glb");
+        let (mesh, skeleton) = crate::joints::suggest::fixture::character(&path);
+        let body = Body::of(mesh, skeleton, None);
+        let tree = body.tree();
+        for segment in &tree.segments {
+            let seg = &segment.vertices;
+            if seg.is_empty() || segment.parent.is_none() {
+                continue;
+            }
+            let low = tree.lowest(seg);
+            if tree.highest(seg) < low + 1.0 {
+                continue;
+            }
+            empty_windows += usize::from(tree.ring(seg, low + 1.0, low + 3.0).is_empty());
+            assert!(
+                !tree.own_ring(seg, low).is_empty(),
+                "{name}: a segment from g = {low:.2} to {:.2} has no ring",
+                tree.highest(seg)
+            );
+        }
+    }
+    assert!(empty_windows > 0, "no segment with an empty window");
+}
