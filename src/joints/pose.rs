@@ -19,12 +19,27 @@ impl Joints {
 
     /// [`Joints::world`] into existing storage.
     pub fn world_into(&self, local: &[Local], world: &mut Vec<DAffine3>) {
+        let (mut turns, mut slides) = (Vec::new(), Vec::new());
+        self.world_slid_into(local, world, (&mut turns, &mut slides));
+    }
+
+    /// [`Joints::world_into`] with storage for each section's turn and the slide of the
+    /// band that ends in it ([`Joints::slides_into`]), which it leaves filled.
+    fn world_slid_into(
+        &self,
+        local: &[Local],
+        world: &mut Vec<DAffine3>,
+        (turns, slides): (&mut Vec<DVec3>, &mut Vec<Slide>),
+    ) {
+        self.slides_into(local, turns, slides);
         world.clear();
         world.resize(self.sections.len(), DAffine3::IDENTITY);
         for &s in &self.order {
-            let own = self.own_motion(s, local);
+            let own = self.own_motion_slid(s, local, slides[s]);
             world[s] = match self.sections[s].parent {
-                Some(p) if self.is_carried(s) => world[p] * self.carry(s, local) * own,
+                Some(p) if self.is_carried(s) => {
+                    world[p] * self.carry_with(s, local, |b| slides[b.child]) * own
+                }
                 Some(p) => world[p] * own,
                 None => own,
             };
@@ -41,14 +56,19 @@ impl Joints {
     /// that carry it, each at its level, carriers first (the identity for most; see
     /// [`super::band`]: *carried*).
     fn carry(&self, s: usize, local: &[Local]) -> DAffine3 {
+        self.carry_with(s, local, |band| self.slide(band, rotation_in(local)))
+    }
+
+    /// [`Joints::carry`] with each band's slide from `slide_of`.
+    fn carry_with(&self, s: usize, local: &[Local], slide_of: impl Fn(&Band) -> Slide) -> DAffine3 {
         let mut t = DAffine3::IDENTITY;
         for &(k, level) in self.carried.get(s).map_or(&[][..], Vec::as_slice) {
             let Some(band) = self.bands.get(k).and_then(Option::as_ref) else {
                 continue;
             };
             let l = local.get(band.child).copied().unwrap_or_default();
-            let child = self.own_motion(band.child, local);
-            let slide = self.slide(band, rotation_in(local));
+            let slide = slide_of(band);
+            let child = self.own_motion_slid(band.child, local, slide);
             t *= self.band_motion(band, &l, &child, slide, f64::from(level) / LEVELS as f64);
         }
         t
@@ -89,7 +109,8 @@ impl Joints {
         scratch.made = Some(self.stamp.0);
         scratch.made_of.clear();
         scratch.made_of.extend_from_slice(local);
-        self.world_into(local, &mut scratch.world);
+        let slid = (&mut scratch.turns, &mut scratch.slides);
+        self.world_slid_into(local, &mut scratch.world, slid);
         scratch.keep.clear();
         scratch
             .keep
@@ -142,8 +163,8 @@ impl Joints {
         for (band, &keep) in self.bands.iter().flatten().zip(&scratch.keep) {
             let l = local.get(band.child).copied().unwrap_or_default();
             let parent = scratch.world[band.parent];
-            let child = self.own_motion(band.child, local);
-            let slide = self.slide(band, rotation_in(local));
+            let slide = scratch.slides[band.child];
+            let child = self.own_motion_slid(band.child, local, slide);
             let bending = self.bending(band, &l, &child, slide);
             for level in 0..=LEVELS {
                 let w = level as f64 / LEVELS as f64;
@@ -344,16 +365,22 @@ impl Joints {
     /// its pivot and its translation, and, at the end of a band, the band's
     /// [`Band::shift`].
     fn own_motion(&self, s: usize, local: &[Local]) -> DAffine3 {
+        let slide = self
+            .band_ending_in(s)
+            .map_or_else(Slide::default, |band| self.slide(band, rotation_in(local)));
+        self.own_motion_slid(s, local, slide)
+    }
+
+    /// [`Joints::own_motion`] where the band that ends in `s` (if one does) slides by
+    /// `slide`.
+    fn own_motion_slid(&self, s: usize, local: &[Local], slide: Slide) -> DAffine3 {
         let l = local.get(s).copied().unwrap_or_default();
         let pivot = self.sections[s].pivot;
         let own = DAffine3::from_translation(pivot + l.translation)
             * DAffine3::from_quat(l.rotation)
             * DAffine3::from_translation(-pivot);
         match self.band_ending_in(s) {
-            Some(band) => {
-                let slide = self.slide(band, rotation_in(local));
-                DAffine3::from_translation(band.shift(l.rotation, slide)) * own
-            }
+            Some(band) => DAffine3::from_translation(band.shift(l.rotation, slide)) * own,
             None => own,
         }
     }
@@ -425,7 +452,7 @@ impl Joints {
     }
 
     /// The band that ends in section `s` (the band of the cut that made it), if any.
-    fn band_ending_in(&self, s: usize) -> Option<&Band> {
+    pub(super) fn band_ending_in(&self, s: usize) -> Option<&Band> {
         let k = (*self.band_of.get(s)?)?;
         self.bands.get(k)?.as_ref().filter(|b| b.child == s)
     }
@@ -698,6 +725,10 @@ pub fn bend_angle(n: DVec3, rotation: DQuat) -> f64 {
 #[derive(Clone, Debug)]
 pub struct PoseScratch {
     world: Vec<DAffine3>,
+    /// Per section, its turn (a rotation vector) and the slide of the band that ends in
+    /// it ([`Joints::slides_into`]).
+    turns: Vec<DVec3>,
+    slides: Vec<Slide>,
     /// Per band, its motion at each of the `LEVELS + 1` weight steps.
     motions: Vec<DAffine3>,
     pose: Pose,
@@ -738,6 +769,8 @@ impl Default for PoseScratch {
     fn default() -> Self {
         PoseScratch {
             world: Vec::new(),
+            turns: Vec::new(),
+            slides: Vec::new(),
             motions: Vec::new(),
             pose: Pose::rest(1),
             wanted: Vec::new(),

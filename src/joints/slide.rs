@@ -108,7 +108,7 @@
 //! [`capped_volume_gradient`]: crate::mesh::measure::capped_volume_gradient
 
 use super::band::{axis_angle, weight, Cross, LEVELS};
-use super::{Band, Joints};
+use super::{Band, Joints, Local};
 use crate::mesh::measure::Capped;
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 
@@ -233,13 +233,20 @@ impl Band {
     /// ([`Band::cross`]): each at most [`MAX_SLIDE`] local radii either way; nothing at
     /// rest.
     pub fn slide_for(&self, rotation: DQuat, cross: f64) -> Slide {
-        if self.slide == DVec3::ZERO
-            && self.parent_slide == DVec3::ZERO
-            && self.swell == DVec3::ZERO
-        {
-            return Slide::default();
+        if self.slides() {
+            self.slide_turned(turn(rotation), cross)
+        } else {
+            Slide::default()
         }
-        let a = turn(rotation);
+    }
+
+    /// Whether the band's sides slide or swell in any pose.
+    fn slides(&self) -> bool {
+        self.slide != DVec3::ZERO || self.parent_slide != DVec3::ZERO || self.swell != DVec3::ZERO
+    }
+
+    /// [`Band::slide_for`] from the child's turn as a rotation vector ([`turn`]).
+    fn slide_turned(&self, a: DVec3, cross: f64) -> Slide {
         let limit = MAX_SLIDE * self.radius;
         let by = |per_turn: DVec3, per_cross: f64| {
             (-a.dot(per_turn) - cross * per_cross).clamp(-limit, limit)
@@ -269,6 +276,34 @@ impl Joints {
             .map(|c| turn(rotation_of(c.x)).dot(c.coefficient * turn(rotation_of(c.y))))
             .sum();
         band.slide_for(rotation_of(band.child), cross)
+    }
+
+    /// [`Joints::slide`] of every band in the pose `local`, each section's turn found
+    /// once (a band's cross terms read two sections' turns each): per section, the
+    /// slide of the band that ends in it (nothing where none does). `turns` and
+    /// `slides` are storage, refilled.
+    pub(super) fn slides_into(
+        &self,
+        local: &[Local],
+        turns: &mut Vec<DVec3>,
+        slides: &mut Vec<Slide>,
+    ) {
+        let n = self.sections.len();
+        turns.clear();
+        turns.extend((0..n).map(|s| turn(local.get(s).map_or(DQuat::IDENTITY, |l| l.rotation))));
+        slides.clear();
+        slides.resize(n, Slide::default());
+        for s in 0..n {
+            let Some(band) = self.band_ending_in(s).filter(|b| b.slides()) else {
+                continue;
+            };
+            let cross = band
+                .cross
+                .iter()
+                .map(|c| turns[c.x].dot(c.coefficient * turns[c.y]))
+                .sum();
+            slides[s] = band.slide_turned(turns[s], cross);
+        }
     }
 }
 
