@@ -352,7 +352,8 @@ fn a_cut_on_a_low_poly_limb_gets_a_normal_from_the_rows_past_its_windows() {
 /// hold no vertex (a cylinder in a few long bands: a segmented mannequin's arm, a
 /// low-poly dinosaur's tail): its own ring is then the row just past the window's start,
 /// so it is measured against its trunk instead of counting as no width at all (before,
-/// such a limb was never one: a mannequin of capsules in five bands each got 0 joints).
+/// such a limb was never one: a mannequin of capsules, each cylinder one band, got 0
+/// joints).
 /// Every segment that reaches a radius past its fork has a ring.
 #[test]
 fn a_limb_whose_window_holds_no_vertex_is_measured_by_the_row_past_it() {
