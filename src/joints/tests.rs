@@ -736,3 +736,37 @@ fn bands_found_on_one_thread_or_many_pose_alike() {
         assert_eq!(pose(&one), pose(&many), "seed {seed}");
     }
 }
+
+/// The slides a pose's world transforms read, each section's turn and each band's slide
+/// found once per pose (`Joints::slides_into`), are those each band gives on its own
+/// (`Joints::slide`, its cross terms turning their two sections each time), to the bit,
+/// on the suggested human in random poses: finding them once changes no pose.
+#[test]
+fn slides_found_once_per_pose_are_each_band_s_own() {
+    let puppet = crate::joints::suggest::fixture::suggested_human();
+    let joints = &puppet.joints;
+    let (mut turns, mut slides) = (Vec::new(), Vec::new());
+    let (mut crossed, mut slid) = (0, 0);
+    for seed in 1..=10 {
+        let mut rng = crate::random::SplitMix(seed);
+        let local = super::spread::random_pose(joints, Default::default(), &mut rng);
+        joints.slides_into(&local, &mut turns, &mut slides);
+        assert_eq!(slides.len(), joints.sections().len());
+        for (s, &once) in slides.iter().enumerate() {
+            let own = joints
+                .band_ending_in(s)
+                .map_or_else(Default::default, |band| {
+                    crossed += usize::from(!band.cross.is_empty());
+                    joints.slide(band, |k| {
+                        local.get(k).map_or(DQuat::IDENTITY, |l| l.rotation)
+                    })
+                });
+            assert_eq!(once, own, "seed {seed}, section {s}");
+            slid += usize::from(own != Default::default());
+        }
+    }
+    assert!(
+        crossed > 0 && slid > 0,
+        "no band with cross terms, or none slides"
+    );
+}
