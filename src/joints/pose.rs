@@ -17,7 +17,8 @@ impl Joints {
         world
     }
 
-    /// [`Joints::world`] into existing storage.
+    /// [`Joints::world`] into existing storage (the sections' turns and slides it reads
+    /// in storage of its own; [`Joints::pose_into`] keeps theirs).
     pub fn world_into(&self, local: &[Local], world: &mut Vec<DAffine3>) {
         let (mut turns, mut slides) = (Vec::new(), Vec::new());
         self.world_slid_into(local, world, (&mut turns, &mut slides));

@@ -245,6 +245,15 @@ impl Band {
         self.slide != DVec3::ZERO || self.parent_slide != DVec3::ZERO || self.swell != DVec3::ZERO
     }
 
+    /// How the bends overlapping on the child change its volume together
+    /// ([`Band::cross`]), each section's turn (a rotation vector, [`turn`]) from `turn_of`.
+    fn cross_turned(&self, turn_of: impl Fn(usize) -> DVec3) -> f64 {
+        self.cross
+            .iter()
+            .map(|c| turn_of(c.x).dot(c.coefficient * turn_of(c.y)))
+            .sum()
+    }
+
     /// [`Band::slide_for`] from the child's turn as a rotation vector ([`turn`]).
     fn slide_turned(&self, a: DVec3, cross: f64) -> Slide {
         let limit = MAX_SLIDE * self.radius;
@@ -270,11 +279,7 @@ impl Joints {
     /// How far the two sides of `band` slide in a pose whose sections turn by
     /// `rotation_of(section)` ([`Band::slide_for`], with its bends' [`Band::cross`]).
     pub fn slide(&self, band: &Band, rotation_of: impl Fn(usize) -> DQuat) -> Slide {
-        let cross = band
-            .cross
-            .iter()
-            .map(|c| turn(rotation_of(c.x)).dot(c.coefficient * turn(rotation_of(c.y))))
-            .sum();
+        let cross = band.cross_turned(|s| turn(rotation_of(s)));
         band.slide_for(rotation_of(band.child), cross)
     }
 
@@ -297,12 +302,7 @@ impl Joints {
             let Some(band) = self.band_ending_in(s).filter(|b| b.slides()) else {
                 continue;
             };
-            let cross = band
-                .cross
-                .iter()
-                .map(|c| turns[c.x].dot(c.coefficient * turns[c.y]))
-                .sum();
-            slides[s] = band.slide_turned(turns[s], cross);
+            slides[s] = band.slide_turned(turns[s], band.cross_turned(|k| turns[k]));
         }
     }
 }
