@@ -26,7 +26,7 @@ impl Joints {
 
     /// [`Joints::world_into`] with storage for each section's turn and the slide of the
     /// band that ends in it ([`Joints::slides_into`]), which it leaves filled.
-    fn world_slid_into(
+    pub(super) fn world_slid_into(
         &self,
         local: &[Local],
         world: &mut Vec<DAffine3>,

@@ -458,11 +458,11 @@ impl Balls {
             jumps = jumps.max(moved / (0.5 * r));
         }
         let samples = (jumps.ceil() as usize).clamp(1, MAX_SAMPLES);
-        let world_at = |s: f64| joints.world(&between(from, to, s));
-        let mut last = start;
+        let mut along = Along::new(joints, from, to);
+        let (mut last, mut now, mut probe) = (start, Vec::new(), Vec::new());
         // Listed (when need be) with the first step's speeds.
-        let mut next = Some(world_at(1.0 / samples as f64));
-        near.cover(self, &last, next.as_deref().unwrap_or(&last));
+        along.world_into(1.0 / samples as f64, &mut now);
+        near.cover(self, &last, &now);
         let already = near
             .deepest(self, &group, &last, f64::INFINITY)
             .0
@@ -471,25 +471,29 @@ impl Balls {
         let mut good = 0.0;
         for k in 1..=samples {
             let s = k as f64 / samples as f64;
-            let now = next.take().unwrap_or_else(|| world_at(s));
+            if k > 1 {
+                along.world_into(s, &mut now);
+            }
             near.cover(self, &last, &now);
             if allowed(near.deepest(self, &group, &now, already + 1e-9).0) {
                 good = s;
-                last = now;
+                std::mem::swap(&mut last, &mut now);
                 continue;
             }
             let mut bad = s;
             for _ in 0..BISECTIONS {
                 let mid = 0.5 * (good + bad);
-                if allowed(near.deepest(self, &group, &world_at(mid), already + 1e-9).0) {
+                along.world_into(mid, &mut probe);
+                if allowed(near.deepest(self, &group, &probe, already + 1e-9).0) {
                     good = mid;
                 } else {
                     bad = mid;
                 }
             }
             // The pair that presses deepest past the bisection's last allowed pose.
+            along.world_into(bad, &mut probe);
             let pressed = near
-                .deepest(self, &group, &world_at(bad), f64::INFINITY)
+                .deepest(self, &group, &probe, f64::INFINITY)
                 .1
                 .map(|(a, b)| (self.section[a], self.section[b]));
             // A creep of less than a hundredth of a ball is no move: a limb held against
@@ -528,14 +532,53 @@ struct Reach {
 /// The pose a share `s` of the way from `from` to `to`: each section's rotation slerped,
 /// its translation lerped.
 pub fn between(from: &[Local], to: &[Local], s: f64) -> Vec<Local> {
-    (0..from.len().max(to.len()))
-        .map(|k| {
-            let a = from.get(k).copied().unwrap_or_default();
-            let b = to.get(k).copied().unwrap_or_default();
-            Local {
-                rotation: a.rotation.slerp(b.rotation, s).normalize(),
-                translation: a.translation.lerp(b.translation, s),
-            }
-        })
-        .collect()
+    let mut out = Vec::new();
+    between_into(from, to, s, &mut out);
+    out
+}
+
+/// [`between`] into existing storage.
+fn between_into(from: &[Local], to: &[Local], s: f64, out: &mut Vec<Local>) {
+    out.clear();
+    out.extend((0..from.len().max(to.len())).map(|k| {
+        let a = from.get(k).copied().unwrap_or_default();
+        let b = to.get(k).copied().unwrap_or_default();
+        Local {
+            rotation: a.rotation.slerp(b.rotation, s).normalize(),
+            translation: a.translation.lerp(b.translation, s),
+        }
+    }));
+}
+
+/// The poses along a move that `Balls::reach` samples, each section's world transform
+/// made in storage kept from sample to sample (a move takes up to [`MAX_SAMPLES`] and
+/// its bisections, every step of a drag).
+struct Along<'a> {
+    joints: &'a Joints,
+    from: &'a [Local],
+    to: &'a [Local],
+    local: Vec<Local>,
+    turns: Vec<DVec3>,
+    slides: Vec<crate::joints::Slide>,
+}
+
+impl<'a> Along<'a> {
+    fn new(joints: &'a Joints, from: &'a [Local], to: &'a [Local]) -> Self {
+        Along {
+            joints,
+            from,
+            to,
+            local: Vec::new(),
+            turns: Vec::new(),
+            slides: Vec::new(),
+        }
+    }
+
+    /// The world transforms `s` (0..1) along the move into `world`
+    /// ([`Joints::world`] of [`between`]).
+    fn world_into(&mut self, s: f64, world: &mut Vec<DAffine3>) {
+        between_into(self.from, self.to, s, &mut self.local);
+        self.joints
+            .world_slid_into(&self.local, world, (&mut self.turns, &mut self.slides));
+    }
 }
