@@ -1,10 +1,12 @@
 // The 3D scene: the puppet's surface, the ground under it and the overlay lines. One file
 // so every pipeline shares the uniform block that `render::Uniforms` mirrors.
 //
-// Surface: per-vertex position and normal (uploaded when the simulation moved), per-vertex
-// section colour (uploaded when sections or the selection change); studio lighting that
-// reads shape: a warm key, a cool fill from the other side, a rim from behind, a
-// hemispheric ambient along the world's up and a small specular highlight.
+// Surface: per-vertex position, normal and occlusion (uploaded when the simulation moved),
+// per-vertex section colour (uploaded when sections or the selection change); studio
+// lighting that reads shape: a warm key, a cool fill from the other side, a rim from
+// behind, a hemispheric ambient along the world's up and a small specular highlight, the
+// ambient, fill and rim dimmed in creases by how much of the sky the body's own medial
+// balls hide there (`geom::occlusion`), the key by more than half.
 // Shadow: the surface's depth seen from above along the up (the shadow map), then how dark
 // its soft shadow is over the ground (the shade), both drawn only when the surface moved.
 // Ground: a square across the up under the puppet, with a faint grid and the puppet's soft
@@ -53,6 +55,7 @@ struct SurfaceIn {
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) color: vec4<f32>,
+    @location(3) occlusion: f32,
 };
 
 struct SurfaceOut {
@@ -60,6 +63,7 @@ struct SurfaceOut {
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) color: vec4<f32>,
+    @location(3) occlusion: f32,
 };
 
 @vertex
@@ -69,6 +73,7 @@ fn vs_surface(v: SurfaceIn) -> SurfaceOut {
     out.world = v.position;
     out.normal = v.normal;
     out.color = v.color;
+    out.occlusion = v.occlusion;
     return out;
 }
 
@@ -84,14 +89,16 @@ fn fs_surface(f: SurfaceOut, @builtin(front_facing) front: bool) -> @location(0)
     let view = normalize(u.eye.xyz - f.world);
     let h = normalize(key + view);
     let hemi = 0.5 + 0.5 * dot(n, u.up.xyz);
+    // The sky a crease leaves open: the ambient, fill and rim light come from all around,
+    // the key from one side, so a crease dims them fully and the key by more than half.
+    let open = 1.0 - f.occlusion;
     let ambient = mix(vec3<f32>(0.06, 0.055, 0.05), vec3<f32>(0.17, 0.19, 0.22), hemi);
-    let lit = ambient
-        + vec3<f32>(0.72, 0.68, 0.62) * max(dot(n, key), 0.0)
-        + vec3<f32>(0.16, 0.19, 0.24) * max(dot(n, u.fill.xyz), 0.0);
+    let lit = (ambient + vec3<f32>(0.16, 0.19, 0.24) * max(dot(n, u.fill.xyz), 0.0)) * open
+        + vec3<f32>(0.72, 0.68, 0.62) * max(dot(n, key), 0.0) * (1.0 - 0.6 * f.occlusion);
     // The rim: a light behind the puppet, seen where the surface turns away from the eye.
     let away = 1.0 - max(dot(n, view), 0.0);
     let edge = away * away * away;
-    let rim = edge * smoothstep(-0.3, 0.6, dot(n, u.rim.xyz)) * 0.45;
+    let rim = edge * smoothstep(-0.3, 0.6, dot(n, u.rim.xyz)) * 0.45 * open;
     // max(n·h, 0)^48 = ((((x^3)^2)^2)^2)^2.
     let x = max(dot(n, h), 0.0);
     var s = x * x * x;

@@ -149,6 +149,64 @@ fn a_turned_section_shows_in_the_image() {
     );
 }
 
+/// Creases are shaded: Spot with its head turned down onto its chest, drawn with and
+/// without the occlusion of its medial balls. With it, the skin in its creases (the neck
+/// folded under the head, where the legs meet the body, the ears' roots) is darker, a small
+/// share of the puppet, and nothing is lighter.
+#[test]
+fn creases_are_darker_where_the_body_hides_the_sky() {
+    let gpu = Gpu::headless().expect("a graphics adapter");
+    let mut renderer = SceneRenderer::new(&gpu, OFFSCREEN_FORMAT);
+    let mut session = jaw_session();
+    let head = session.puppet.joints.find("head").unwrap();
+    session.select(Some(head), false);
+    session.rotate_selected(glam::DQuat::from_rotation_x(0.6));
+    for _ in 0..30 {
+        session.advance(1.0 / 60.0, 1);
+    }
+    let cam = camera(&session);
+    let plain = Overlays {
+        pivots: false,
+        ..Overlays::default()
+    };
+    let shaded = shot(&gpu, &mut renderer, &session, &cam, plain);
+    let flat = shot(
+        &gpu,
+        &mut renderer,
+        &session,
+        &cam,
+        Overlays {
+            occlusion: false,
+            ..plain
+        },
+    );
+    let bg = luminance([background()[0], background()[1], background()[2], 255]);
+    let (mut puppet, mut darker, mut lighter) = (0usize, 0usize, 0usize);
+    for (a, b) in shaded.rgba.chunks(4).zip(flat.rgba.chunks(4)) {
+        let (a, b) = (
+            luminance([a[0], a[1], a[2], a[3]]),
+            luminance([b[0], b[1], b[2], b[3]]),
+        );
+        if (b - bg).abs() > 4.0 {
+            puppet += 1;
+        }
+        if a < b - 4.0 {
+            darker += 1;
+        }
+        if a > b + 1.0 {
+            lighter += 1;
+        }
+    }
+    assert!(
+        darker as f64 > 0.01 * puppet as f64 && (darker as f64) < 0.4 * puppet as f64,
+        "{darker} of the puppet's {puppet} pixels are darker with creases shaded"
+    );
+    assert!(
+        lighter * 1000 < puppet,
+        "{lighter} pixels are lighter with creases shaded"
+    );
+}
+
 /// The human's elbow bent 90°, seen from above, as a hinge and with the default joint band:
 /// the guide's before/after pictures (`docs/images/elbow-90-hinge.png`,
 /// `docs/images/elbow-90-band.png`), regenerated with `PUPPET_BLESS=1`.
@@ -337,11 +395,16 @@ fn the_ground_shows_the_puppet_s_shadow_and_redraws_it_only_when_it_moves() {
         pitch: 0.6,
         ..camera(&session)
     };
-    let off = Overlays {
-        ground: false,
+    // (Creases unshaded: a deep one may be darker than the background.)
+    let on = Overlays {
+        occlusion: false,
         ..Overlays::default()
     };
-    let with = shot(&gpu, &mut renderer, &session, &cam, Overlays::default());
+    let off = Overlays {
+        ground: false,
+        ..on
+    };
+    let with = shot(&gpu, &mut renderer, &session, &cam, on);
     let without = shot(&gpu, &mut renderer, &session, &cam, off);
     let bg = luminance([background()[0], background()[1], background()[2], 255]);
     let (mut ground, mut shadow, mut darker_without) = (0usize, 0usize, 0usize);

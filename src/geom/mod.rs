@@ -7,7 +7,8 @@
 //! * `bvh`: a bounding volume hierarchy over triangles for ray casts;
 //! * `inside`, `winding`: inside or outside, exact or by winding number;
 //! * `intersect`: faces crossing other faces;
-//! * `balls`, `cells`: medial balls as colliders, and the grid their maps hash.
+//! * `balls`, `cells`: medial balls as colliders, and the grid their maps hash;
+//! * `occlusion`: how much of the sky the medial balls hide from each vertex (creases).
 
 pub mod balls;
 pub mod bvh;
@@ -16,6 +17,7 @@ pub mod exact;
 pub mod hilbert;
 pub mod inside;
 pub mod intersect;
+pub mod occlusion;
 pub mod predicates;
 pub mod winding;
 

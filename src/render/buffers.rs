@@ -31,6 +31,8 @@ pub(super) struct Uniforms {
 pub(super) struct SurfaceVertex {
     pub position: [f32; 3],
     pub normal: [f32; 3],
+    /// How much of the sky the body hides here (0: open; see `geom::occlusion`).
+    pub occlusion: f32,
 }
 
 #[repr(C)]

@@ -177,7 +177,8 @@ impl Pipelines {
             count: samples,
             ..Default::default()
         };
-        let surface_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+        let surface_attributes =
+            wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 3 => Float32];
         let color_attributes = wgpu::vertex_attr_array![2 => Float32x4];
         let surface_pipeline = |label: &str, cull_mode| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {

@@ -12,6 +12,7 @@
 use super::buffers::{GrowBuffer, LineVertex, SurfaceVertex, Uniforms};
 use super::pipelines::Pipelines;
 use super::{Gpu, BACKGROUND, DEPTH_FORMAT};
+use crate::geom::occlusion::Occluders;
 use crate::session::view::{Ground, Line, Revisions};
 use crate::session::{Camera, View};
 use glam::{Mat4, Vec3};
@@ -86,6 +87,13 @@ pub struct SceneRenderer {
     pub shadow_passes: usize,
     cpu_vertices: Vec<SurfaceVertex>,
     cpu_normals: Vec<Vec3>,
+    /// The medial balls that shade creases, made for each new puppet while the view asks
+    /// for them, and the surface's positions and occlusion for them.
+    occluders: Option<Occluders>,
+    /// Whether the vertices last uploaded were shaded in creases.
+    occluding: bool,
+    cpu_positions: Vec<Vec3>,
+    cpu_occlusion: Vec<f32>,
     cpu_colors: Vec<[f32; 4]>,
     cpu_lines: Vec<Line>,
     cpu_top: Vec<Line>,
@@ -136,6 +144,10 @@ impl SceneRenderer {
             shadow_passes: 0,
             cpu_vertices: Vec::new(),
             cpu_normals: Vec::new(),
+            occluders: None,
+            occluding: false,
+            cpu_positions: Vec::new(),
+            cpu_occlusion: Vec::new(),
             cpu_colors: Vec::new(),
             cpu_lines: Vec::new(),
             cpu_top: Vec::new(),
@@ -239,7 +251,16 @@ impl SceneRenderer {
             self.shadow_count = coarse.len() as u32;
             self.last_uploads += 1;
         }
-        if new_puppet || changed(|r| r.surface) {
+        if new_puppet || changed(|r| r.layout) {
+            self.occluders = None;
+        }
+        if self.occluders.is_none() && view.shades_creases() {
+            self.occluders = Some(view.occluders());
+        }
+        // Creases shaded or not: the vertices again (the shadow map stays).
+        let occluding = view.shades_creases();
+        if new_puppet || changed(|r| r.surface) || occluding != self.occluding {
+            self.occluding = occluding;
             self.update_vertices(view);
             self.vertices
                 .write(gpu, bytemuck::cast_slice(&self.cpu_vertices));
@@ -260,7 +281,8 @@ impl SceneRenderer {
         }
     }
 
-    /// Positions and area-weighted normals of the current surface.
+    /// Positions, area-weighted normals and (while the view shades creases) occlusion of
+    /// the current surface.
     fn update_vertices(&mut self, view: &View) {
         let x = view.positions();
         let n = x.len();
@@ -277,8 +299,20 @@ impl SceneRenderer {
             }
         }
         for (i, v) in self.cpu_vertices.iter_mut().enumerate() {
+            normals[i] = normals[i].normalize_or(Vec3::Y);
             v.position = x.get(i).to_array();
-            v.normal = normals[i].normalize_or(Vec3::Y).to_array();
+            v.normal = normals[i].to_array();
+        }
+        match &mut self.occluders {
+            Some(occluders) if view.shades_creases() => {
+                self.cpu_positions.clear();
+                self.cpu_positions.extend((0..n).map(|i| x.get(i)));
+                occluders.shade(&self.cpu_positions, normals, &mut self.cpu_occlusion);
+                for (v, &o) in self.cpu_vertices.iter_mut().zip(&self.cpu_occlusion) {
+                    v.occlusion = o;
+                }
+            }
+            _ => {}
         }
     }
 

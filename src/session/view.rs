@@ -29,6 +29,9 @@ pub struct Overlays {
     pub repairs: bool,
     /// The ground under the puppet with its soft shadow and a faint grid ([`Ground`]).
     pub ground: bool,
+    /// Creases shaded by how much of the sky the body's own medial balls hide
+    /// ([`crate::geom::occlusion`]): armpits, a mouth, a bent joint's inside.
+    pub occlusion: bool,
 }
 
 impl Default for Overlays {
@@ -42,6 +45,7 @@ impl Default for Overlays {
             pivots: true,
             repairs: false,
             ground: true,
+            occlusion: true,
         }
     }
 }
@@ -104,6 +108,8 @@ pub struct Revisions {
     pub surface: u64,
     /// Vertex colours changed (sections, selection, the cut draft).
     pub colours: u64,
+    /// The sections changed (a cut made, moved or undone).
+    pub layout: u64,
     /// Overlay lines changed.
     pub overlays: u64,
 }
@@ -208,6 +214,7 @@ impl View<'_> {
             puppet: s.id,
             surface: s.revision,
             colours: colours.0,
+            layout: s.layout_revision,
             overlays: overlays.0,
         }
     }
@@ -226,6 +233,25 @@ impl View<'_> {
     /// The current surface positions.
     pub fn positions(&self) -> Positions<'_> {
         self.session.puppet.sim.positions()
+    }
+
+    /// Whether creases are shaded ([`Overlays::occlusion`]).
+    pub fn shades_creases(&self) -> bool {
+        self.overlays.occlusion
+    }
+
+    /// The medial balls creases are shaded from ([`crate::geom::occlusion`]), made from
+    /// the rest surface, its skeleton and the sections now (made again when they change:
+    /// [`Revisions::layout`]).
+    pub fn occluders(&self) -> crate::geom::occlusion::Occluders {
+        let p = &self.session.puppet;
+        crate::geom::occlusion::Occluders::new(
+            &p.mesh.positions,
+            &p.mesh.triangles,
+            &p.skeleton.points,
+            &p.skeleton.distance,
+            p.joints.section_of(),
+        )
     }
 
     /// The ground under the puppet, when it is shown (see [`Ground`]).

@@ -20,6 +20,10 @@ pub(super) fn overlay_section(
             .on_hover_text("filled holes (orange edges) and split vertices (magenta)");
         ui.checkbox(&mut o.ground, "ground")
             .on_hover_text("the ground under the puppet, its soft shadow and a faint grid");
+        ui.checkbox(&mut o.occlusion, "creases").on_hover_text(
+            "shade creases (armpits, a mouth, a bent joint) by how much of the sky the body \
+             hides there",
+        );
         if let Some(on) = &mut state.anti_aliasing {
             ui.checkbox(on, "anti-aliasing").on_hover_text(
                 "smooth edges (4 samples a pixel); off by default on a software renderer, \

@@ -57,6 +57,8 @@ struct Row {
     config: &'static str,
     samples: u32,
     ground: bool,
+    /// Creases shaded ([`Overlays::occlusion`]).
+    creases: bool,
     /// What the window draws on this adapter by default.
     window_default: bool,
     ms_per_frame: f64,
@@ -117,16 +119,18 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     } else {
         1
     };
-    let mut configs: Vec<(&'static str, SceneRenderer, bool)> = [
-        ("anti-aliasing and ground", msaa, true),
-        ("ground, no anti-aliasing", 1, true),
-        ("anti-aliasing, no ground", msaa, false),
-        ("neither", 1, false),
+    // (name, renderer, ground, creases)
+    let mut configs: Vec<(&'static str, SceneRenderer, bool, bool)> = [
+        ("anti-aliasing and ground", msaa, true, true),
+        ("ground, no anti-aliasing", 1, true, true),
+        ("ground, no anti-aliasing, creases unshaded", 1, true, false),
+        ("anti-aliasing, no ground", msaa, false, true),
+        ("neither", 1, false, true),
     ]
     .into_iter()
-    .map(|(name, samples, ground)| {
+    .map(|(name, samples, ground, creases)| {
         let renderer = SceneRenderer::with_samples(&gpu, OFFSCREEN_FORMAT, samples);
-        (name, renderer, ground)
+        (name, renderer, ground, creases)
     })
     .collect();
     let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
@@ -156,9 +160,10 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             session.rotate_selected(glam::DQuat::from_rotation_x(0.05 * sign));
             session.advance(1.0 / 60.0, 1);
         }
-        for (k, (_, renderer, ground)) in configs.iter_mut().enumerate() {
+        for (k, (_, renderer, ground, creases)) in configs.iter_mut().enumerate() {
             let overlays = Overlays {
                 ground: *ground,
+                occlusion: *creases,
                 ..Overlays::default()
             };
             let started = Instant::now();
@@ -177,13 +182,14 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     let rows: Vec<Row> = configs
         .iter()
         .zip(times)
-        .map(|((config, renderer, ground), t)| {
+        .map(|((config, renderer, ground, creases), t)| {
             let (ms, p95) = median_p95(t);
             Row {
                 config,
                 samples: renderer.samples(),
                 ground: *ground,
-                window_default: *ground && renderer.samples() == window,
+                creases: *creases,
+                window_default: *ground && *creases && renderer.samples() == window,
                 ms_per_frame: ms,
                 ms_p95: p95,
                 fps: 1e3 / ms.max(1e-9),
@@ -219,6 +225,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             Column::Text("configuration"),
             Column::Figure("samples"),
             Column::Text("ground and shadow"),
+            Column::Text("creases shaded"),
             Column::Figure("ms per frame (median)"),
             Column::Figure("p95"),
             Column::Figure("frames/s"),
@@ -234,6 +241,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                 name,
                 r.samples.to_string(),
                 if r.ground { "yes" } else { "no" }.to_string(),
+                if r.creases { "yes" } else { "no" }.to_string(),
                 format!("{:.2}", r.ms_per_frame),
                 format!("{:.2}", r.ms_p95),
                 format!("{:.0}", r.fps),
