@@ -332,45 +332,42 @@ impl Occluders {
         self.huge.clear();
         // Counted, then listed in ball order (so by section within a bucket).
         for (b, c) in centre.iter().enumerate() {
-            if !c.is_finite() {
-                continue;
-            }
-            if huge(b) {
+            if c.is_finite() && huge(b) {
                 self.huge.push(b as u32);
-                continue;
             }
-            let (lo, hi, grid) = cells_of(b);
-            for_cells(lo, hi, |k| {
-                let at = hashed.cell(k, grid);
-                if self.last[at] != b as u32 {
-                    self.last[at] = b as u32;
-                    self.start[at + 1] += 1;
-                }
-            });
         }
+        // Calls `f` with each (ball, bucket) once, `last` the last ball met per bucket.
+        let listings = |last: &mut [u32], f: &mut dyn FnMut(usize, usize)| {
+            last.iter_mut().for_each(|l| *l = u32::MAX);
+            for (b, c) in centre.iter().enumerate() {
+                if !c.is_finite() || huge(b) {
+                    continue;
+                }
+                let (lo, hi, grid) = cells_of(b);
+                for_cells(lo, hi, |k| {
+                    let at = hashed.cell(k, grid);
+                    if last[at] != b as u32 {
+                        last[at] = b as u32;
+                        f(b, at);
+                    }
+                });
+            }
+        };
+        let start = &mut self.start;
+        listings(&mut self.last, &mut |_, at| start[at + 1] += 1);
         for at in 0..buckets {
             self.start[at + 1] += self.start[at];
         }
         let total = self.start[buckets] as usize;
         self.entries.clear();
         self.entries.resize(total, 0);
-        self.last.iter_mut().for_each(|l| *l = u32::MAX);
         self.fill.clear();
         self.fill.extend_from_slice(&self.start[..buckets]);
-        for (b, c) in centre.iter().enumerate() {
-            if !c.is_finite() || huge(b) {
-                continue;
-            }
-            let (lo, hi, grid) = cells_of(b);
-            for_cells(lo, hi, |k| {
-                let at = hashed.cell(k, grid);
-                if self.last[at] != b as u32 {
-                    self.last[at] = b as u32;
-                    self.entries[self.fill[at] as usize] = b as u32;
-                    self.fill[at] += 1;
-                }
-            });
-        }
+        let (entries, fill) = (&mut self.entries, &mut self.fill);
+        listings(&mut self.last, &mut |b, at| {
+            entries[fill[at] as usize] = b as u32;
+            fill[at] += 1;
+        });
         // Each entry's run of its section within its bucket: where it ends.
         self.run_end.clear();
         self.run_end.resize(total, 0);
