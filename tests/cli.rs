@@ -780,9 +780,9 @@ fn export_machine_and_joints_benches_run_and_refuse_bad_input() {
     }
 }
 
-/// `bench draw` times the viewport offscreen in its four configurations (anti-aliasing and
+/// `bench draw` times the viewport offscreen in its five configurations (anti-aliasing and
 /// the ground first; on this software adapter the window's default is the ground without
-/// anti-aliasing), fails below `--min-fps` (exit 2, one line) and refuses a bound that is
+/// anti-aliasing, creases shaded; one row without the creases), fails below `--min-fps` (exit 2, one line) and refuses a bound that is
 /// not a number.
 #[test]
 fn draw_bench_reports_each_part_of_the_look_and_fails_below_its_bound() {
@@ -800,15 +800,18 @@ fn draw_bench_reports_each_part_of_the_look_and_fails_below_its_bound() {
     ];
     let report = ok_json(&[&small[..], &["--json", "--min-fps", "0"]].concat());
     let rows = report["rows"].as_array().unwrap();
-    assert_eq!(rows.len(), 4, "{report}");
+    assert_eq!(rows.len(), 5, "{report}");
     assert_eq!(rows[0]["samples"], 4, "{report}");
     assert_eq!(rows[0]["ground"], true, "{report}");
+    let unshaded = rows.iter().filter(|r| r["creases"] == false).count();
+    assert_eq!(unshaded, 1, "{report}");
     let defaults: Vec<_> = rows
         .iter()
         .filter(|r| r["window_default"] == true)
         .collect();
     assert_eq!(defaults.len(), 1, "{report}");
     assert_eq!(defaults[0]["ground"], true, "{report}");
+    assert_eq!(defaults[0]["creases"], true, "{report}");
     for row in rows {
         let ms = row["ms_per_frame"].as_f64().unwrap_or(f64::NAN);
         assert!(ms.is_finite() && ms > 0.0, "{row}");
