@@ -251,15 +251,18 @@ impl SceneRenderer {
             self.shadow_count = coarse.len() as u32;
             self.last_uploads += 1;
         }
-        if new_puppet || changed(|r| r.layout) {
+        // Other sections: other balls shade each part (see `geom::occlusion`).
+        let layout = changed(|r| r.layout);
+        if new_puppet || layout {
             self.occluders = None;
         }
         if self.occluders.is_none() && view.shades_creases() {
             self.occluders = Some(view.occluders());
         }
-        // Creases shaded or not: the vertices again (the shadow map stays).
+        // Creases shaded or not, or from other sections: the vertices again (the shadow
+        // map stays).
         let occluding = view.shades_creases();
-        if new_puppet || changed(|r| r.surface) || occluding != self.occluding {
+        if new_puppet || changed(|r| r.surface) || layout || occluding != self.occluding {
             self.occluding = occluding;
             self.update_vertices(view);
             self.vertices
