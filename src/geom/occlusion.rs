@@ -80,7 +80,18 @@ pub struct Occluders {
     cell: f32,
     grids: usize,
     grid_of: Vec<u8>,
-    /// The balls posed by the last [`Occluders::shade`]: centres.
+    /// The points where the balls are added up (see the module docs), and each vertex's
+    /// nearest of them in its section with their weights.
+    samples: Vec<u32>,
+    near: Vec<[(u32, f32); NEAR]>,
+    /// What a frame reuses.
+    scratch: Scratch,
+}
+
+/// Storage [`Occluders::shade`] reuses from frame to frame (nothing in it outlives a call).
+#[derive(Clone, Debug, Default)]
+struct Scratch {
+    /// The balls posed for the surface now: centres.
     centre: Vec<Vec3>,
     /// The bucket table: each bucket's first entry in `entries`, and the balls listed
     /// (by section within a bucket), each with the entry after its section's run there.
@@ -91,13 +102,9 @@ pub struct Occluders {
     /// bucket: it is listed there once), and where the next goes.
     last: Vec<u32>,
     fill: Vec<u32>,
-    /// The balls too big for the grid.
+    /// The balls too big for the grids.
     huge: Vec<u32>,
-    /// The points where the other sections' balls are added up (see the module docs),
-    /// each vertex's nearest of them in its section with their weights, and what the
-    /// last frame found at each.
-    samples: Vec<u32>,
-    near: Vec<[(u32, f32); NEAR]>,
+    /// What the other sections' balls hide at each sample.
     sampled: Vec<f32>,
 }
 
@@ -128,7 +135,8 @@ impl Occluders {
         let mut kept = super::balls::thin(&points[..n], &radius[..n], &[]);
         kept.sort_by_key(|&i| (section(i), i));
         let positions: Vec<Vec3> = rest.iter().map(|p| p.as_vec3()).collect();
-        let normals = vertex_normals(&positions, triangles);
+        let mut normals = Vec::new();
+        crate::mesh::area_normals_into(&positions, triangles, &mut normals);
         let reach = |i: usize| REACH * radius[i] as f32;
         let mut reaches: Vec<f32> = kept.iter().map(|&i| reach(i)).collect();
         reaches.sort_by(f32::total_cmp);
@@ -176,15 +184,15 @@ impl Occluders {
         (occluders.samples, occluders.near) =
             samples(&positions, &occluders.vertex_section, &spacing);
         // What the sections' own balls hide, at the samples, spread to every vertex.
-        let (mut at_samples, samples) = (Vec::new(), std::mem::take(&mut occluders.samples));
+        let (mut scratch, mut at_samples) = (Scratch::default(), Vec::new());
         occluders.add_up(
-            &positions,
-            &normals,
-            (Whose::Own, Some(&samples)),
+            &mut scratch,
+            (&positions, &normals),
+            (Whose::Own, Some(&occluders.samples)),
             &mut at_samples,
         );
-        occluders.samples = samples;
         occluders.own = occluders.spread(&at_samples).collect();
+        occluders.scratch = scratch;
         occluders
     }
 
@@ -198,31 +206,20 @@ impl Occluders {
         })
     }
 
-    /// How many balls shade.
-    pub fn len(&self) -> usize {
-        self.vertex.len()
-    }
-
-    /// Whether no ball shades (a mesh without a skeleton).
-    pub fn is_empty(&self) -> bool {
-        self.vertex.is_empty()
-    }
-
     /// Each vertex's occlusion (see the module docs) into `out`, for the surface with
     /// `positions` and unit `normals` now (one each, as at rest; a ball whose vertex lies
     /// beyond them shades nothing).
     pub fn shade(&mut self, positions: &[Vec3], normals: &[Vec3], out: &mut Vec<f32>) {
         let n = positions.len().min(normals.len());
-        let mut sampled = std::mem::take(&mut self.sampled);
+        let mut scratch = std::mem::take(&mut self.scratch);
+        let mut sampled = std::mem::take(&mut scratch.sampled);
         if self.sections {
-            let samples = std::mem::take(&mut self.samples);
             self.add_up(
-                positions,
-                normals,
-                (Whose::Others, Some(&samples)),
+                &mut scratch,
+                (positions, normals),
+                (Whose::Others, Some(&self.samples)),
                 &mut sampled,
             );
-            self.samples = samples;
         } else {
             sampled.clear();
         }
@@ -234,15 +231,17 @@ impl Occluders {
                 .map(|(others, own)| 1.0 - (-(others + own)).exp()),
         );
         out.resize(n, 0.0);
-        self.sampled = sampled;
+        scratch.sampled = sampled;
+        self.scratch = scratch;
     }
 
     /// Per point (each of `at`, or every one), the sum of the shares `whose` balls hide
-    /// (see the module docs) into `out`, the balls posed for `positions` and `normals`.
+    /// (see the module docs) into `out`, the balls posed for the surface's `positions` and
+    /// `normals`, in `scratch`.
     fn add_up(
-        &mut self,
-        positions: &[Vec3],
-        normals: &[Vec3],
+        &self,
+        scratch: &mut Scratch,
+        (positions, normals): (&[Vec3], &[Vec3]),
         (whose, at): (Whose, Option<&[u32]>),
         out: &mut Vec<f32>,
     ) {
@@ -250,19 +249,19 @@ impl Occluders {
         out.clear();
         out.resize(at.map_or(n, <[u32]>::len), 0.0);
         // The balls where the surface is now.
-        self.centre.clear();
-        for b in 0..self.vertex.len() {
+        scratch.centre.clear();
+        scratch.centre.extend((0..self.vertex.len()).map(|b| {
             let v = self.vertex[b] as usize;
-            self.centre.push(if v < n {
+            if v < n {
                 positions[v] + Quat::from_rotation_arc(self.normal[b], normals[v]) * self.offset[b]
             } else {
                 Vec3::NAN
-            });
-        }
-        self.grid();
-        let buckets = self.start.len() - 1;
-        let bucket = hash(buckets, self.cell);
-        let (centre, radius, section) = (&self.centre, &self.radius, &self.section);
+            }
+        }));
+        self.grid(scratch);
+        let scratch = &*scratch;
+        let bucket = Hash::new(scratch.start.len() - 1, self.cell);
+        let (centre, radius, section) = (&scratch.centre, &self.radius, &self.section);
         let fade = 1.0 / (REACH * REACH);
         let share = |b: usize, i: usize, p: Vec3, normal: Vec3| {
             let d = centre[b] - p;
@@ -285,12 +284,12 @@ impl Occluders {
             let counts = |b: usize| (section[b] == own) == (whose == Whose::Own);
             let mut sum = 0.0;
             for grid in 0..self.grids {
-                let at = bucket.call(p, grid);
-                let (mut k, end) = (self.start[at] as usize, self.start[at + 1] as usize);
+                let at = bucket.of_point(p, grid);
+                let (mut k, end) = (scratch.start[at] as usize, scratch.start[at + 1] as usize);
                 while k < end {
-                    let b = self.entries[k] as usize;
+                    let b = scratch.entries[k] as usize;
                     if !counts(b) {
-                        k = self.run_end[k] as usize;
+                        k = scratch.run_end[k] as usize;
                         continue;
                     }
                     // (A bucket may hold another grid's cells too: each ball counts in
@@ -301,7 +300,7 @@ impl Occluders {
                     k += 1;
                 }
             }
-            for &b in &self.huge {
+            for &b in &scratch.huge {
                 let b = b as usize;
                 if counts(b) {
                     sum += share(b, i, p, normal);
@@ -313,27 +312,27 @@ impl Occluders {
 
     /// Lists each posed ball in the buckets of the cells its reach meets in its grid (see
     /// the module docs), or among the huge ones.
-    fn grid(&mut self) {
+    fn grid(&self, s: &mut Scratch) {
         let balls = self.vertex.len();
         let buckets = (8 * balls).next_power_of_two().max(64);
         let cell = self.cell;
-        let (centre, radius, grid_of) = (&self.centre, &self.radius, &self.grid_of);
+        let (centre, radius, grid_of) = (&s.centre, &self.radius, &self.grid_of);
         let huge = |b: usize| usize::from(grid_of[b]) >= GRIDS;
         let cells_of = |b: usize| {
             let (reach, grid) = (REACH * radius[b], i32::from(grid_of[b]));
             let key = |p: Vec3| (p / (cell * (1 << grid) as f32)).floor().as_ivec3();
             (key(centre[b] - reach), key(centre[b] + reach), grid)
         };
-        let hashed = hash(buckets, cell);
-        self.start.clear();
-        self.start.resize(buckets + 1, 0);
-        self.last.clear();
-        self.last.resize(buckets, u32::MAX);
-        self.huge.clear();
+        let hashed = Hash::new(buckets, cell);
+        s.start.clear();
+        s.start.resize(buckets + 1, 0);
+        s.last.clear();
+        s.last.resize(buckets, u32::MAX);
+        s.huge.clear();
         // Counted, then listed in ball order (so by section within a bucket).
         for (b, c) in centre.iter().enumerate() {
             if c.is_finite() && huge(b) {
-                self.huge.push(b as u32);
+                s.huge.push(b as u32);
             }
         }
         // Calls `f` with each (ball, bucket) once, `last` the last ball met per bucket.
@@ -353,35 +352,35 @@ impl Occluders {
                 });
             }
         };
-        let start = &mut self.start;
-        listings(&mut self.last, &mut |_, at| start[at + 1] += 1);
+        let start = &mut s.start;
+        listings(&mut s.last, &mut |_, at| start[at + 1] += 1);
         for at in 0..buckets {
-            self.start[at + 1] += self.start[at];
+            s.start[at + 1] += s.start[at];
         }
-        let total = self.start[buckets] as usize;
-        self.entries.clear();
-        self.entries.resize(total, 0);
-        self.fill.clear();
-        self.fill.extend_from_slice(&self.start[..buckets]);
-        let (entries, fill) = (&mut self.entries, &mut self.fill);
-        listings(&mut self.last, &mut |b, at| {
+        let total = s.start[buckets] as usize;
+        s.entries.clear();
+        s.entries.resize(total, 0);
+        s.fill.clear();
+        s.fill.extend_from_slice(&s.start[..buckets]);
+        let (entries, fill) = (&mut s.entries, &mut s.fill);
+        listings(&mut s.last, &mut |b, at| {
             entries[fill[at] as usize] = b as u32;
             fill[at] += 1;
         });
         // Each entry's run of its section within its bucket: where it ends.
-        self.run_end.clear();
-        self.run_end.resize(total, 0);
+        s.run_end.clear();
+        s.run_end.resize(total, 0);
         for at in 0..buckets {
-            let (first, end) = (self.start[at] as usize, self.start[at + 1] as usize);
+            let (first, end) = (s.start[at] as usize, s.start[at + 1] as usize);
             let mut next = end;
             for k in (first..end).rev() {
                 if k + 1 < end
-                    && self.section[self.entries[k] as usize]
-                        != self.section[self.entries[k + 1] as usize]
+                    && self.section[s.entries[k] as usize]
+                        != self.section[s.entries[k + 1] as usize]
                 {
                     next = k + 1;
                 }
-                self.run_end[k] = next as u32;
+                s.run_end[k] = next as u32;
             }
         }
     }
@@ -412,12 +411,11 @@ fn samples(
         [k.x, k.y, k.z]
     };
     type Grid = super::cells::Cells<[i32; 3], Vec<u32>>;
-    // Calls `f` with every sample listed within `reach` of `p` (and some farther).
+    // Calls `f` with every sample listed within `reach` of `p` (and some farther); a
+    // reach of more than 4 cells (a plinth's vertex on a statue) is read as 4.
     let around = |grid: &Grid, p: Vec3, reach: f32, f: &mut dyn FnMut(u32)| {
+        let reach = reach.min(4.0 * cell);
         let (lo, hi) = (key(p - reach), key(p + reach));
-        if (0..3).any(|a| hi[a] - lo[a] > 64) {
-            return;
-        }
         for_cells(IVec3::from(lo), IVec3::from(hi), |k| {
             if let Some(list) = grid.get(&k.to_array()) {
                 list.iter().for_each(|&s| f(s));
@@ -478,14 +476,15 @@ struct Hash {
     cell: f32,
 }
 
-fn hash(buckets: usize, cell: f32) -> Hash {
-    Hash {
-        mask: buckets - 1,
-        cell,
-    }
-}
-
 impl Hash {
+    /// `buckets` buckets (a power of two), the first grid's cells `cell` wide.
+    fn new(buckets: usize, cell: f32) -> Hash {
+        Hash {
+            mask: buckets - 1,
+            cell,
+        }
+    }
+
     /// The bucket of cell `k` of grid `grid`.
     fn cell(&self, k: IVec3, grid: i32) -> usize {
         let h = (k.x as u32).wrapping_mul(73_856_093)
@@ -496,27 +495,10 @@ impl Hash {
     }
 
     /// The bucket of the cell of grid `grid` that holds `p`.
-    fn call(&self, p: Vec3, grid: usize) -> usize {
+    fn of_point(&self, p: Vec3, grid: usize) -> usize {
         let k = (p / (self.cell * (1u32 << grid) as f32)).floor().as_ivec3();
         self.cell(k, grid as i32)
     }
-}
-
-/// Area-weighted unit normals of the surface `positions` with faces `triangles` (a vertex
-/// of no face: up). Faces naming a vertex beyond `positions` are skipped.
-pub fn vertex_normals(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<Vec3> {
-    let mut normals = vec![Vec3::ZERO; positions.len()];
-    for t in triangles {
-        if t.iter().any(|&i| i as usize >= positions.len()) {
-            continue;
-        }
-        let [a, b, c] = t.map(|i| positions[i as usize]);
-        let face = (b - a).cross(c - a);
-        for &i in t {
-            normals[i as usize] += face;
-        }
-    }
-    normals.iter().map(|n| n.normalize_or(Vec3::Y)).collect()
 }
 
 /// Calls `f` for every cell from `lo` to `hi` (inclusive).
@@ -540,7 +522,9 @@ mod tests {
     }
 
     fn normals(m: &crate::mesh::Mesh, positions: &[Vec3]) -> Vec<Vec3> {
-        vertex_normals(positions, &m.triangles)
+        let mut out = Vec::new();
+        crate::mesh::area_normals_into(positions, &m.triangles, &mut out);
+        out
     }
 
     /// A sphere alone is open everywhere; a second sphere (another section) pressed
@@ -640,11 +624,22 @@ mod tests {
             .collect();
         let rest: Vec<DVec3> = positions.iter().map(|p| p.as_dvec3()).collect();
         let sections: Vec<u16> = (0..n).map(|i| (i % 3) as u16).collect();
-        let mut occluders = Occluders::new(&rest, &[], &points, &radii, &sections);
+        let occluders = Occluders::new(&rest, &[], &points, &radii, &sections);
         let (mut own_sums, mut others) = (Vec::new(), Vec::new());
         let up = vec![Vec3::Y; n];
-        occluders.add_up(&positions, &up, (Whose::Own, None), &mut own_sums);
-        occluders.add_up(&positions, &normals, (Whose::Others, None), &mut others);
+        let mut scratch = Scratch::default();
+        occluders.add_up(
+            &mut scratch,
+            (&positions, &up),
+            (Whose::Own, None),
+            &mut own_sums,
+        );
+        occluders.add_up(
+            &mut scratch,
+            (&positions, &normals),
+            (Whose::Others, None),
+            &mut others,
+        );
         let fade = 1.0 / (REACH * REACH);
         for i in 0..n {
             let (mut own_sum, mut others_sum) = (0.0, 0.0);
@@ -655,7 +650,7 @@ mod tests {
                 let (centre, normal) = if own {
                     (points[v].as_vec3(), Vec3::Y)
                 } else {
-                    (occluders.centre[b], normals[i])
+                    (scratch.centre[b], normals[i])
                 };
                 let d = centre - positions[i];
                 let along = d.dot(normal);
@@ -682,11 +677,11 @@ mod tests {
         }
         let out = others;
         assert!(
-            !occluders.huge.is_empty() && occluders.grids > 4 && out.iter().any(|&o| o > 0.1),
+            !scratch.huge.is_empty() && occluders.grids > 4 && out.iter().any(|&o| o > 0.1),
             "{} huge, {} grids, {} balls",
-            occluders.huge.len(),
+            scratch.huge.len(),
             occluders.grids,
-            occluders.len()
+            occluders.vertex.len()
         );
     }
 }

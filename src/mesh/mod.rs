@@ -59,7 +59,7 @@ pub use load::{
     file_mesh, load, load_with, parse, parse_file_mesh, parse_obj, Format, LoadOptions, LoadReport,
     RepairMarks, FILL_HOLES, WELD_TOLERANCE,
 };
-pub use normals::vertex_normals;
+pub use normals::{area_normals_into, vertex_normals};
 pub use obj::write as write_obj;
 pub use parts::{Parts, RIDER_AREA};
 pub use skin::Skin;

@@ -7,7 +7,7 @@
 //! whatever the number of threads.
 
 use super::{Mesh, MeshError};
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 /// Unit outward normal per vertex.
@@ -50,6 +50,25 @@ pub fn vertex_normals(mesh: &Mesh) -> Result<Vec<DVec3>, MeshError> {
         ))),
         None => Ok(normals),
     }
+}
+
+/// Area-weighted unit normals of the surface `positions` with faces `triangles` into
+/// `out`, what the viewport shades with (a vertex of no face, or whose faces cancel: up).
+/// Faces naming a vertex beyond `positions` are skipped.
+pub fn area_normals_into(positions: &[Vec3], triangles: &[[u32; 3]], out: &mut Vec<Vec3>) {
+    out.clear();
+    out.resize(positions.len(), Vec3::ZERO);
+    for t in triangles {
+        if t.iter().any(|&i| i as usize >= positions.len()) {
+            continue;
+        }
+        let [a, b, c] = t.map(|i| positions[i as usize]);
+        let face = (b - a).cross(c - a);
+        for &i in t {
+            out[i as usize] += face;
+        }
+    }
+    out.iter_mut().for_each(|n| *n = n.normalize_or(Vec3::Y));
 }
 
 /// The normals of vertices `lo..hi` into `out`; the first vertex without one, if any.

@@ -87,8 +87,8 @@ pub struct SceneRenderer {
     pub shadow_passes: usize,
     cpu_vertices: Vec<SurfaceVertex>,
     cpu_normals: Vec<Vec3>,
-    /// The medial balls that shade creases, made for each new puppet while the view asks
-    /// for them, and the surface's positions and occlusion for them.
+    /// The medial balls that shade creases, made for each new puppet (and its sections)
+    /// while the view asks for them, and the surface's occlusion.
     occluders: Option<Occluders>,
     /// Whether the vertices last uploaded were shaded in creases.
     occluding: bool,
@@ -288,29 +288,25 @@ impl SceneRenderer {
     /// the current surface.
     fn update_vertices(&mut self, view: &View) {
         let x = view.positions();
-        let n = x.len();
+        self.cpu_positions.clear();
+        self.cpu_positions.extend((0..x.len()).map(|i| x.get(i)));
+        let (positions, normals) = (&self.cpu_positions, &mut self.cpu_normals);
+        crate::mesh::area_normals_into(positions, view.triangles(), normals);
         self.cpu_vertices.clear();
-        self.cpu_vertices.resize(n, SurfaceVertex::default());
-        let normals = &mut self.cpu_normals;
-        normals.clear();
-        normals.resize(n, Vec3::ZERO);
-        for t in view.triangles() {
-            let [a, b, c] = t.map(|i| x.get(i as usize));
-            let face = (b - a).cross(c - a);
-            for &i in t {
-                normals[i as usize] += face;
-            }
-        }
-        for (i, v) in self.cpu_vertices.iter_mut().enumerate() {
-            normals[i] = normals[i].normalize_or(Vec3::Y);
-            v.position = x.get(i).to_array();
-            v.normal = normals[i].to_array();
-        }
+        self.cpu_vertices
+            .extend(
+                positions
+                    .iter()
+                    .zip(normals.iter())
+                    .map(|(p, n)| SurfaceVertex {
+                        position: p.to_array(),
+                        normal: n.to_array(),
+                        occlusion: 0.0,
+                    }),
+            );
         match &mut self.occluders {
             Some(occluders) if view.shades_creases() => {
-                self.cpu_positions.clear();
-                self.cpu_positions.extend((0..n).map(|i| x.get(i)));
-                occluders.shade(&self.cpu_positions, normals, &mut self.cpu_occlusion);
+                occluders.shade(positions, normals, &mut self.cpu_occlusion);
                 for (v, &o) in self.cpu_vertices.iter_mut().zip(&self.cpu_occlusion) {
                     v.occlusion = o;
                 }
