@@ -6,7 +6,8 @@
 // lighting that reads shape: a warm key, a cool fill from the other side, a rim from
 // behind, a hemispheric ambient along the world's up and a small specular highlight, the
 // ambient, fill and rim dimmed in creases by how much of the sky the body's own medial
-// balls hide there (`geom::occlusion`), the key by more than half.
+// balls hide there (`geom::occlusion`), the key by more than half. Or a matcap
+// (`fs_matcap`): light fixed to the camera, read from the normal in the camera's frame.
 // Shadow: the surface's depth seen from above along the up (the shadow map), then how dark
 // its soft shadow is over the ground (the shade), both drawn only when the surface moved.
 // Ground: a square across the up under the puppet, with a faint grid and the puppet's soft
@@ -35,6 +36,15 @@ struct Uniforms {
     // over which an occluder's shadow fades.
     across_a: vec4<f32>,
     across_b: vec4<f32>,
+    // The camera's right and up in the world; the right's w: how much of the matcap's rim
+    // takes the part's colour.
+    camera_right: vec4<f32>,
+    camera_up: vec4<f32>,
+    // The matcap's light in the camera's frame (x right, y up, z towards the eye); w: how
+    // far its light wraps round the shape.
+    matcap_light: vec4<f32>,
+    // The matcap's ambient, rim, highlight, and the highlight's exponent.
+    matcap_terms: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> u: Uniforms;
@@ -108,6 +118,36 @@ fn fs_surface(f: SurfaceOut, @builtin(front_facing) front: bool) -> @location(0)
     s = s * s;
     let specular = s * 0.18;
     let c = f.color.rgb * lit + vec3<f32>(0.80, 0.88, 1.0) * rim + vec3<f32>(specular);
+    return vec4<f32>(encode(c), 1.0);
+}
+
+// A matcap: the shade of a normal as the camera sees it, whatever side of the puppet
+// that is. A light from `matcap_light` wrapped round the shape, an ambient, a rim where
+// the surface turns away from the eye (white, or the part's own colour: light through
+// jelly) and a highlight; creases dim all but the highlight.
+@fragment
+fn fs_matcap(f: SurfaceOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    var w = normalize(f.normal);
+    if (!front) {
+        w = -w;
+    }
+    let right = u.camera_right.xyz;
+    let up = u.camera_up.xyz;
+    let n = normalize(vec3<f32>(dot(w, right), dot(w, up), dot(w, cross(right, up))));
+    let light = u.matcap_light.xyz;
+    let wrap = u.matcap_light.w;
+    let terms = u.matcap_terms;
+    let open = 1.0 - 0.8 * f.occlusion;
+    // The light's fall-off eased (smoothstep): a matcap's tones turn over the form, not
+    // flat across the side that faces the light.
+    let d = clamp((dot(n, light) + wrap) / (1.0 + wrap), 0.0, 1.0);
+    let diffuse = terms.x + (1.0 - terms.x) * d * d * (3.0 - 2.0 * d);
+    let away = 1.0 - max(n.z, 0.0);
+    let rim = terms.y * away * away;
+    let tint = mix(vec3<f32>(1.0), f.color.rgb, u.camera_right.w);
+    let h = normalize(light + vec3<f32>(0.0, 0.0, 1.0));
+    let highlight = terms.z * pow(max(dot(n, h), 0.0), terms.w);
+    let c = (f.color.rgb * diffuse + tint * rim) * open + vec3<f32>(highlight);
     return vec4<f32>(encode(c), 1.0);
 }
 

@@ -780,10 +780,11 @@ fn export_machine_and_joints_benches_run_and_refuse_bad_input() {
     }
 }
 
-/// `bench draw` times the viewport offscreen in its five configurations (anti-aliasing and
+/// `bench draw` times the viewport offscreen in its six configurations (anti-aliasing and
 /// the ground first; on this software adapter the window's default is the ground without
-/// anti-aliasing, creases shaded; one row without the creases), fails below `--min-fps` (exit 2, one line) and refuses a bound that is
-/// not a number.
+/// anti-aliasing, creases shaded, the studio's lights; one row without the creases, one
+/// under the clay matcap), fails below `--min-fps` (exit 2, one line) and refuses a bound
+/// that is not a number.
 #[test]
 fn draw_bench_reports_each_part_of_the_look_and_fails_below_its_bound() {
     let small = [
@@ -800,11 +801,16 @@ fn draw_bench_reports_each_part_of_the_look_and_fails_below_its_bound() {
     ];
     let report = ok_json(&[&small[..], &["--json", "--min-fps", "0"]].concat());
     let rows = report["rows"].as_array().unwrap();
-    assert_eq!(rows.len(), 5, "{report}");
+    assert_eq!(rows.len(), 6, "{report}");
     assert_eq!(rows[0]["samples"], 4, "{report}");
     assert_eq!(rows[0]["ground"], true, "{report}");
     let unshaded = rows.iter().filter(|r| r["creases"] == false).count();
     assert_eq!(unshaded, 1, "{report}");
+    let matcap = rows
+        .iter()
+        .filter(|r| r["lighting"] == "clay matcap")
+        .count();
+    assert_eq!(matcap, 1, "{report}");
     let defaults: Vec<_> = rows
         .iter()
         .filter(|r| r["window_default"] == true)
@@ -812,6 +818,7 @@ fn draw_bench_reports_each_part_of_the_look_and_fails_below_its_bound() {
     assert_eq!(defaults.len(), 1, "{report}");
     assert_eq!(defaults[0]["ground"], true, "{report}");
     assert_eq!(defaults[0]["creases"], true, "{report}");
+    assert_eq!(defaults[0]["lighting"], "studio", "{report}");
     for row in rows {
         let ms = row["ms_per_frame"].as_f64().unwrap_or(f64::NAN);
         assert!(ms.is_finite() && ms > 0.0, "{row}");

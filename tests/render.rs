@@ -152,7 +152,7 @@ fn a_turned_section_shows_in_the_image() {
 /// Creases are shaded: Spot with its head turned down onto its chest, drawn with and
 /// without the occlusion of its medial balls. With it, the skin in its creases (the neck
 /// folded under the head, where the legs meet the body, the ears' roots) is darker, a small
-/// share of the puppet, and nothing is lighter.
+/// share of the puppet, and nothing is lighter; under the studio's lights and under each matcap.
 #[test]
 fn creases_are_darker_where_the_body_hides_the_sky() {
     let gpu = Gpu::headless().expect("a graphics adapter");
@@ -165,16 +165,30 @@ fn creases_are_darker_where_the_body_hides_the_sky() {
         session.advance(1.0 / 60.0, 1);
     }
     let cam = camera(&session);
+    for lighting in puppet::session::Lighting::ALL {
+        creases_darker(&gpu, &mut renderer, &session, &cam, lighting);
+    }
+}
+
+/// [`creases_are_darker_where_the_body_hides_the_sky`] under one lighting.
+fn creases_darker(
+    gpu: &Gpu,
+    renderer: &mut SceneRenderer,
+    session: &Session,
+    cam: &Camera,
+    lighting: puppet::session::Lighting,
+) {
     let plain = Overlays {
         pivots: false,
+        lighting,
         ..Overlays::default()
     };
-    let shaded = shot(&gpu, &mut renderer, &session, &cam, plain);
+    let shaded = shot(gpu, renderer, session, cam, plain);
     let flat = shot(
-        &gpu,
-        &mut renderer,
-        &session,
-        &cam,
+        gpu,
+        renderer,
+        session,
+        cam,
         Overlays {
             occlusion: false,
             ..plain
@@ -199,11 +213,104 @@ fn creases_are_darker_where_the_body_hides_the_sky() {
     }
     assert!(
         darker as f64 > 0.01 * puppet as f64 && (darker as f64) < 0.4 * puppet as f64,
-        "{darker} of the puppet's {puppet} pixels are darker with creases shaded"
+        "{lighting:?}: {darker} of the puppet's {puppet} pixels are darker with creases shaded"
     );
     assert!(
         lighter * 1000 < puppet,
-        "{lighter} pixels are lighter with creases shaded"
+        "{lighting:?}: {lighter} pixels are lighter with creases shaded"
+    );
+}
+
+/// A matcap lights the surface from the camera: a sphere looks the same from above as from
+/// the side under one (its light turns with the eye), where the studio's sky stays above
+/// the world and the sphere reads differently; on Spot each matcap keeps the silhouette
+/// and gives the surface its own tones (the jelly a near-white highlight the clay lacks).
+#[test]
+fn a_matcap_lights_the_shape_from_the_camera_in_its_own_tones() {
+    use puppet::session::Lighting;
+    let gpu = Gpu::headless().expect("a graphics adapter");
+    let mut renderer = SceneRenderer::new(&gpu, OFFSCREEN_FORMAT);
+    let sphere = Session::new(
+        Puppet::build(
+            puppet::mesh::shapes::icosphere(1.0, 4),
+            RigFile::default(),
+            puppet::progress::silent(),
+        )
+        .unwrap(),
+        "sphere",
+    );
+    let side = camera(&sphere);
+    let above = Camera {
+        pitch: 1.2,
+        yaw: side.yaw + 0.7,
+        ..side
+    };
+    let mean_difference = |a: &Image, b: &Image| {
+        a.rgba
+            .iter()
+            .zip(&b.rgba)
+            .map(|(x, y)| x.abs_diff(*y) as f64)
+            .sum::<f64>()
+            / a.rgba.len() as f64
+    };
+    let bare = |lighting| Overlays {
+        pivots: false,
+        ground: false,
+        lighting,
+        ..Overlays::default()
+    };
+    let turned: Vec<f64> = Lighting::ALL
+        .iter()
+        .map(|&l| {
+            let a = shot(&gpu, &mut renderer, &sphere, &side, bare(l));
+            let b = shot(&gpu, &mut renderer, &sphere, &above, bare(l));
+            mean_difference(&a, &b)
+        })
+        .collect();
+    let (studio, matcaps) = (turned[0], &turned[1..]);
+    assert!(
+        matcaps.iter().all(|&m| m < 0.1) && studio > 0.3,
+        "the sphere from the side and from above differ by {studio:.2} a channel (over \
+         the image) in the studio, {matcaps:.2?} under the matcaps"
+    );
+    let session = spot_session(RigFile::default());
+    let cam = camera(&session);
+    let bg = background();
+    let is_bg = |p: &[u8]| (0..3).all(|k| p[k].abs_diff(bg[k]) <= 8);
+    let shots: Vec<Image> = Lighting::ALL
+        .iter()
+        .map(|&l| shot(&gpu, &mut renderer, &session, &cam, bare(l)))
+        .collect();
+    let brightest = |img: &Image| {
+        img.rgba
+            .chunks(4)
+            .map(|p| luminance([p[0], p[1], p[2], p[3]]))
+            .fold(0.0, f64::max)
+    };
+    for (k, l) in Lighting::ALL.iter().enumerate().skip(1) {
+        let (studio, matcap) = (&shots[0], &shots[k]);
+        let outline = studio
+            .rgba
+            .chunks(4)
+            .zip(matcap.rgba.chunks(4))
+            .filter(|(a, b)| is_bg(a) != is_bg(b))
+            .count();
+        let model = studio.rgba.chunks(4).filter(|p| !is_bg(p)).count();
+        assert!(
+            outline * 100 < model,
+            "{l:?}: {outline} of {model} pixels change between background and puppet"
+        );
+        let d = mean_difference(studio, matcap) * (W * H) as f64 / model as f64;
+        assert!(
+            d > 4.0,
+            "{l:?}: the puppet differs by {d:.2} a channel from the studio's"
+        );
+        assert!(luminance_spread(matcap) > 10.0, "{l:?} reads flat");
+    }
+    let (clay, jelly) = (brightest(&shots[1]), brightest(&shots[2]));
+    assert!(
+        jelly > 235.0 && jelly > clay + 15.0,
+        "brightest pixel: jelly {jelly:.0}, clay {clay:.0}"
     );
 }
 

@@ -75,6 +75,8 @@ pub struct Options {
     pub hooks: TestHooks,
     /// Live controls (`--controls`, `--listen`), if any.
     pub live: Option<LiveOptions>,
+    /// How the surface is lit at first (`--lighting`; the panel changes it).
+    pub lighting: crate::session::Lighting,
 }
 
 /// Everything the open window holds: the window and its GPU surface, egui, and the

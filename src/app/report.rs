@@ -70,6 +70,8 @@ pub struct Report {
     pub samples: u32,
     /// The ground and its shadow are drawn.
     pub ground: bool,
+    /// How the surface is lit (`studio`, `clay matcap`, `jelly matcap`).
+    pub lighting: String,
     /// The process, and the X display and authority it draws on (for scripts that drive
     /// the window with `xdotool`).
     pub pid: u32,
@@ -97,6 +99,7 @@ impl WindowState {
             adapter: self.gpu.adapter.get_info().name,
             samples: self.scene.samples(),
             ground: self.panel.overlays.ground,
+            lighting: self.panel.overlays.lighting.label().to_string(),
             pid: std::process::id(),
             display: std::env::var("DISPLAY").ok(),
             xauthority: std::env::var("XAUTHORITY").ok(),

@@ -100,6 +100,10 @@ impl WindowState {
             },
             camera: Camera::default(),
             panel: PanelState {
+                overlays: crate::session::Overlays {
+                    lighting: options.lighting,
+                    ..Default::default()
+                },
                 anti_aliasing: can_msaa.then_some(msaa),
                 ..PanelState::default()
             },

@@ -56,6 +56,10 @@ pub struct Cli {
     /// Frames to draw before the screenshot.
     #[arg(long, default_value_t = 30)]
     pub frames: u32,
+    /// How the surface is lit: the studio's lights, or a matcap, light fixed to the camera
+    /// (`clay`: matte; `jelly`: glossy). The panel's Show section changes it.
+    #[arg(long, value_enum, default_value_t = puppet::session::Lighting::Studio)]
+    pub lighting: puppet::session::Lighting,
     /// Test hook: drag the last section with synthetic mouse events before the screenshot.
     #[arg(long, hide = true)]
     pub drive_test: bool,
@@ -231,6 +235,14 @@ impl Cli {
                 "{flag} before `puppet {name}` is an option of the window (see `puppet {name} --help` for the command's own)"
             ));
         }
+        if self.lighting != puppet::session::Lighting::Studio {
+            match command {
+                Command::Simulate(a) => a.lighting = self.lighting,
+                _ => usage(format!(
+                    "--lighting before `puppet {name}` is an option of the window (`puppet simulate` lights its video with it)"
+                )),
+            }
+        }
         if self.ignore_skin {
             match command {
                 Command::Suggest(a) => a.ignore_skin = true,
@@ -354,6 +366,7 @@ fn open(cli: &Cli) -> Result<()> {
             cli.report.clone(),
         ),
         live,
+        lighting: cli.lighting,
     })?;
     if let Some(report) = report {
         println!("{}", serde_json::to_string(&report)?);

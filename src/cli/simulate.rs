@@ -64,6 +64,10 @@ pub struct Args {
     /// A video's size in pixels, `WIDTHxHEIGHT`, both even (with `--out TAKE.mp4`).
     #[arg(long, default_value = "1280x720")]
     pub video_size: String,
+    /// How a video's surface is lit (with `--out TAKE.mp4`): the window's studio lights,
+    /// or a matcap, light fixed to the camera (`clay`: matte; `jelly`: glossy).
+    #[arg(long, value_enum, default_value_t = puppet::session::Lighting::Studio)]
+    pub lighting: puppet::session::Lighting,
     /// Export every Nth frame (with `--out TAKE.glb | TAKE.pc2 | DIR/`).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
     pub frame_step: u64,
@@ -234,6 +238,7 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         Out::Video(path) => Some(VideoTake::create(
             path,
             &args.video_size,
+            args.lighting,
             args.fps / range.step as f64,
         )?),
         _ => None,
@@ -441,6 +446,7 @@ fn print_summary(s: &Summary) {
 struct VideoTake {
     gpu: puppet::render::Gpu,
     renderer: puppet::render::SceneRenderer,
+    lighting: puppet::session::Lighting,
     camera: Option<puppet::session::Camera>,
     video: puppet::render::video::Video,
     size: (u32, u32),
@@ -449,7 +455,12 @@ struct VideoTake {
 #[cfg(feature = "gui")]
 impl VideoTake {
     /// Checks the size, finds the GPU and starts the video at `fps`.
-    fn create(path: &Path, size: &str, fps: f64) -> Result<VideoTake> {
+    fn create(
+        path: &Path,
+        size: &str,
+        lighting: puppet::session::Lighting,
+        fps: f64,
+    ) -> Result<VideoTake> {
         let size = video_size(size)?;
         let gpu = puppet::render::Gpu::headless()?;
         let renderer = puppet::render::SceneRenderer::new(&gpu, puppet::render::OFFSCREEN_FORMAT);
@@ -458,6 +469,7 @@ impl VideoTake {
         Ok(VideoTake {
             gpu,
             renderer,
+            lighting,
             camera: None,
             video,
             size,
@@ -478,6 +490,7 @@ impl VideoTake {
         });
         let overlays = puppet::session::Overlays {
             pivots: false,
+            lighting: self.lighting,
             ..Default::default()
         };
         let image = puppet::render::render_image(
@@ -515,7 +528,7 @@ struct VideoTake;
 
 #[cfg(not(feature = "gui"))]
 impl VideoTake {
-    fn create(path: &Path, size: &str, _: f64) -> Result<VideoTake> {
+    fn create(path: &Path, size: &str, _: puppet::session::Lighting, _: f64) -> Result<VideoTake> {
         video_size(size)?;
         Err(FileError::new(
             path.display().to_string(),

@@ -24,6 +24,14 @@ pub(super) struct Uniforms {
     /// units) above the ground an occluder's shadow fades.
     pub across_a: [f32; 4],
     pub across_b: [f32; 4],
+    /// The camera's right and up in the world (a matcap reads the normal in their frame);
+    /// the right's w: how much of the matcap's rim takes the part's colour (0: white).
+    pub camera_right: [f32; 4],
+    pub camera_up: [f32; 4],
+    /// The matcap's light in the camera's frame; w: how far it wraps round the shape.
+    pub matcap_light: [f32; 4],
+    /// The matcap's ambient, rim, highlight and the highlight's exponent.
+    pub matcap_terms: [f32; 4],
 }
 
 #[repr(C)]

@@ -1,4 +1,5 @@
-//! The render pipelines of the scene (lit surface, ground, depth-tested lines, lines on top,
+//! The render pipelines of the scene (the surface lit by the studio's lights or a matcap,
+//! ground, depth-tested lines, lines on top,
 //! and the shadow map's depth) and the uniform buffer they share, created once per target
 //! format and sample count.
 
@@ -22,6 +23,9 @@ pub(super) struct Pipelines {
     /// turned outward never shows them, and on a software rasterizer every triangle costs
     /// (`bench draw`: 46,850 vertices at 1280 × 800, see BENCHMARKS).
     pub closed_surface: wgpu::RenderPipeline,
+    /// The same two lit by a matcap (`fs_matcap`).
+    pub matcap: wgpu::RenderPipeline,
+    pub closed_matcap: wgpu::RenderPipeline,
     pub ground: wgpu::RenderPipeline,
     pub lines: wgpu::RenderPipeline,
     pub top: wgpu::RenderPipeline,
@@ -180,7 +184,7 @@ impl Pipelines {
         let surface_attributes =
             wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 3 => Float32];
         let color_attributes = wgpu::vertex_attr_array![2 => Float32x4];
-        let surface_pipeline = |label: &str, cull_mode| {
+        let surface_pipeline = |label: &str, cull_mode, fragment: &str| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
                 layout: Some(&pipeline_layout),
@@ -211,7 +215,7 @@ impl Pipelines {
                 multisample,
                 fragment: Some(wgpu::FragmentState {
                     module: &shader,
-                    entry_point: Some("fs_surface"),
+                    entry_point: Some(fragment),
                     compilation_options: Default::default(),
                     targets: &[target(format, None)],
                 }),
@@ -317,8 +321,18 @@ impl Pipelines {
             cache: None,
         });
         Pipelines {
-            surface: surface_pipeline("surface", None),
-            closed_surface: surface_pipeline("closed surface", Some(wgpu::Face::Back)),
+            surface: surface_pipeline("surface", None, "fs_surface"),
+            closed_surface: surface_pipeline(
+                "closed surface",
+                Some(wgpu::Face::Back),
+                "fs_surface",
+            ),
+            matcap: surface_pipeline("surface, matcap", None, "fs_matcap"),
+            closed_matcap: surface_pipeline(
+                "closed surface, matcap",
+                Some(wgpu::Face::Back),
+                "fs_matcap",
+            ),
             ground,
             lines: lines_pipeline,
             top: top_pipeline,

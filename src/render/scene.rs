@@ -13,7 +13,7 @@ use super::buffers::{GrowBuffer, LineVertex, SurfaceVertex, Uniforms};
 use super::pipelines::Pipelines;
 use super::{Gpu, BACKGROUND, DEPTH_FORMAT};
 use crate::geom::occlusion::Occluders;
-use crate::session::view::{Ground, Line, Revisions};
+use crate::session::view::{Ground, Lighting, Line, Revisions};
 use crate::session::{Camera, View};
 use glam::{Mat4, Vec3};
 
@@ -46,6 +46,44 @@ const KEY: Vec3 = Vec3::new(0.4, 0.8, 0.6);
 const FILL: Vec3 = Vec3::new(-0.7, 0.1, 0.5);
 const RIM: Vec3 = Vec3::new(-0.2, 0.5, -1.0);
 
+/// A matcap's look ([`Lighting`]): its light in the camera's frame, how far the light
+/// wraps round the shape, the ambient, the rim, the highlight and its exponent, and how
+/// much of the rim takes the part's colour.
+struct Matcap {
+    light: Vec3,
+    wrap: f32,
+    ambient: f32,
+    rim: f32,
+    highlight: f32,
+    exponent: f32,
+    tint: f32,
+}
+
+/// The matcap a lighting reads from (`None`: the studio's lights).
+fn matcap(lighting: Lighting) -> Option<Matcap> {
+    match lighting {
+        Lighting::Studio => None,
+        Lighting::Clay => Some(Matcap {
+            light: Vec3::new(-0.65, 0.55, 0.5),
+            wrap: 0.0,
+            ambient: 0.14,
+            rim: 0.12,
+            highlight: 0.08,
+            exponent: 20.0,
+            tint: 0.0,
+        }),
+        Lighting::Jelly => Some(Matcap {
+            light: Vec3::new(-0.4, 0.6, 0.7),
+            wrap: 0.5,
+            ambient: 0.08,
+            rim: 0.55,
+            highlight: 0.6,
+            exponent: 90.0,
+            tint: 1.0,
+        }),
+    }
+}
+
 /// How far above the ground (in the ground's half sides) an occluder's shadow has
 /// faded to its lightest.
 const SHADOW_FADE: f32 = 0.75;
@@ -61,6 +99,8 @@ pub struct SceneRenderer {
     /// The ground of the last `prepare`, whether the shadow map shows the surface as it is
     /// now, and the ground it was drawn for.
     ground: Option<Ground>,
+    /// The surface is lit by a matcap (the last `prepare`'s [`Lighting`]).
+    matcap: bool,
     shadow_fresh: bool,
     shadow_ground: Option<Ground>,
     vertices: GrowBuffer,
@@ -120,6 +160,7 @@ impl SceneRenderer {
             pipelines: Pipelines::new(device, format, samples),
             target: None,
             ground: None,
+            matcap: false,
             shadow_fresh: false,
             shadow_ground: None,
             vertices: GrowBuffer::new(device, "surface vertices", vertex),
@@ -217,6 +258,7 @@ impl SceneRenderer {
             half: 1.0,
             spacing: 1.0,
         });
+        let look = matcap(view.lighting());
         let u = Uniforms {
             view_proj: camera.view_proj(aspect).to_cols_array_2d(),
             shadow_proj: shadow_proj(&g).to_cols_array_2d(),
@@ -234,7 +276,26 @@ impl SceneRenderer {
             ground: g.centre.extend(g.half).to_array(),
             across_a: g.across[0].extend(g.spacing).to_array(),
             across_b: g.across[1].extend(SHADOW_FADE * g.half).to_array(),
+            camera_right: to_world
+                .transform_vector3(Vec3::X)
+                .normalize()
+                .extend(look.as_ref().map_or(0.0, |m| m.tint))
+                .to_array(),
+            camera_up: to_world
+                .transform_vector3(Vec3::Y)
+                .normalize()
+                .extend(0.0)
+                .to_array(),
+            matcap_light: look
+                .as_ref()
+                .map_or(Vec3::Z, |m| m.light.normalize())
+                .extend(look.as_ref().map_or(0.0, |m| m.wrap))
+                .to_array(),
+            matcap_terms: look
+                .as_ref()
+                .map_or([0.0; 4], |m| [m.ambient, m.rim, m.highlight, m.exponent]),
         };
+        self.matcap = look.is_some();
         gpu.queue
             .write_buffer(&self.pipelines.uniforms, 0, bytemuck::bytes_of(&u));
         if new_puppet || changed(|r| r.surface) {
@@ -333,10 +394,11 @@ impl SceneRenderer {
         let p = &self.pipelines;
         pass.set_bind_group(0, &p.bind_group, &[]);
         if self.index_count > 0 {
-            pass.set_pipeline(if self.skips_back_faces() {
-                &p.closed_surface
-            } else {
-                &p.surface
+            pass.set_pipeline(match (self.skips_back_faces(), self.matcap) {
+                (true, false) => &p.closed_surface,
+                (false, false) => &p.surface,
+                (true, true) => &p.closed_matcap,
+                (false, true) => &p.matcap,
             });
             pass.set_vertex_buffer(0, self.vertices.buffer.slice(..));
             pass.set_vertex_buffer(1, self.colors.buffer.slice(..));

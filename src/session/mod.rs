@@ -36,7 +36,7 @@ pub use paint_tool::PaintTool;
 pub use pick::Hit;
 pub use playback::Playback;
 pub use recording::Recorder;
-pub use view::{Ground, Line, Overlays, View};
+pub use view::{Ground, Lighting, Line, Overlays, View};
 
 use crate::joints::{Local, PoseScratch};
 use crate::mesh::RepairMarks;

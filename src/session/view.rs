@@ -32,6 +32,37 @@ pub struct Overlays {
     /// Creases shaded by how much of the sky the body's own medial balls hide
     /// ([`crate::geom::occlusion`]): armpits, a mouth, a bent joint's inside.
     pub occlusion: bool,
+    /// How the surface is lit.
+    pub lighting: Lighting,
+}
+
+/// How the surface is lit: studio lights placed around the puppet, or a matcap, light
+/// fixed to the camera and read from the normal as the eye sees it (the same shape reads
+/// the same from every side, as sculptors' viewports light it).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, clap::ValueEnum)]
+pub enum Lighting {
+    /// A warm key, a cool fill, a rim from behind and a small highlight.
+    #[default]
+    Studio,
+    /// A matte matcap: a soft light from the upper left and a pale rim.
+    Clay,
+    /// A glossy matcap: a sharp highlight and edges that glow in the part's own colour,
+    /// as light through jelly or latex.
+    Jelly,
+}
+
+impl Lighting {
+    /// Every lighting, in the panel's order.
+    pub const ALL: [Lighting; 3] = [Lighting::Studio, Lighting::Clay, Lighting::Jelly];
+
+    /// Its name in the panel.
+    pub fn label(self) -> &'static str {
+        match self {
+            Lighting::Studio => "studio",
+            Lighting::Clay => "clay matcap",
+            Lighting::Jelly => "jelly matcap",
+        }
+    }
 }
 
 impl Default for Overlays {
@@ -46,6 +77,7 @@ impl Default for Overlays {
             repairs: false,
             ground: true,
             occlusion: true,
+            lighting: Lighting::Studio,
         }
     }
 }
@@ -238,6 +270,11 @@ impl View<'_> {
     /// Whether creases are shaded ([`Overlays::occlusion`]).
     pub fn shades_creases(&self) -> bool {
         self.overlays.occlusion
+    }
+
+    /// How the surface is lit ([`Overlays::lighting`]).
+    pub fn lighting(&self) -> Lighting {
+        self.overlays.lighting
     }
 
     /// The medial balls creases are shaded from ([`crate::geom::occlusion`]), made from

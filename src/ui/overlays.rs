@@ -1,6 +1,7 @@
 //! The Show section: which overlays are drawn.
 
 use super::{Action, PanelState};
+use crate::session::Lighting;
 
 pub(super) fn overlay_section(
     ui: &mut egui::Ui,
@@ -30,6 +31,23 @@ pub(super) fn overlay_section(
                  where it costs two to three times the frame",
             );
         }
+    });
+    ui.horizontal(|ui| {
+        ui.label("lighting");
+        let lighting = &mut state.overlays.lighting;
+        egui::ComboBox::from_id_salt("lighting")
+            .selected_text(lighting.label())
+            .show_ui(ui, |ui| {
+                for l in Lighting::ALL {
+                    ui.selectable_value(lighting, l, l.label());
+                }
+            })
+            .response
+            .on_hover_text(
+                "studio: lights placed around the puppet; a matcap: light fixed to the \
+                 camera, so a shape reads the same from every side (clay: matte; jelly: \
+                 glossy, its edges glowing in the part's colour)",
+            );
     });
     if ui.button("Frame model (F)").clicked() {
         actions.push(Action::Frame);

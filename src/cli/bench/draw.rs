@@ -7,7 +7,8 @@
 //! uploads the moved surface and redraws the shadow map, as the window does while the
 //! puppet moves. A frame is timed from `prepare` to the GPU being done with it (the
 //! simulation's step is not counted). The configurations alternate frame by frame
-//! (anti-aliasing and the ground; each alone; neither), so load on the shared machine hits
+//! (anti-aliasing and the ground; each alone; neither; the creases unshaded; the clay
+//! matcap instead of the studio's lights), so load on the shared machine hits
 //! them alike. Exit status 2 when the window's default on this adapter (the ground, with
 //! anti-aliasing on a GPU) draws fewer than `--min-fps` frames a second.
 
@@ -18,7 +19,7 @@ use anyhow::{bail, Result};
 use puppet::joints::Cut;
 use puppet::render::scene::{msaa_supported, window_msaa, MSAA};
 use puppet::render::{Gpu, SceneRenderer, OFFSCREEN_FORMAT};
-use puppet::session::{Camera, Overlays, Session};
+use puppet::session::{Camera, Lighting, Overlays, Session};
 use puppet::stats::median_p95;
 use puppet::{Puppet, RigFile};
 use std::time::Instant;
@@ -59,6 +60,8 @@ struct Row {
     ground: bool,
     /// Creases shaded ([`Overlays::occlusion`]).
     creases: bool,
+    /// How the surface is lit ([`Overlays::lighting`]).
+    lighting: &'static str,
     /// What the window draws on this adapter by default.
     window_default: bool,
     ms_per_frame: f64,
@@ -119,18 +122,32 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     } else {
         1
     };
-    // (name, renderer, ground, creases)
-    let mut configs: Vec<(&'static str, SceneRenderer, bool, bool)> = [
-        ("anti-aliasing and ground", msaa, true, true),
-        ("ground, no anti-aliasing", 1, true, true),
-        ("ground, no anti-aliasing, creases unshaded", 1, true, false),
-        ("anti-aliasing, no ground", msaa, false, true),
-        ("neither", 1, false, true),
+    let studio = Lighting::Studio;
+    // (name, renderer, ground, creases, lighting)
+    let mut configs: Vec<(&'static str, SceneRenderer, bool, bool, Lighting)> = [
+        ("anti-aliasing and ground", msaa, true, true, studio),
+        ("ground, no anti-aliasing", 1, true, true, studio),
+        (
+            "ground, no anti-aliasing, creases unshaded",
+            1,
+            true,
+            false,
+            studio,
+        ),
+        (
+            "ground, no anti-aliasing, clay matcap",
+            1,
+            true,
+            true,
+            Lighting::Clay,
+        ),
+        ("anti-aliasing, no ground", msaa, false, true, studio),
+        ("neither", 1, false, true, studio),
     ]
     .into_iter()
-    .map(|(name, samples, ground, creases)| {
+    .map(|(name, samples, ground, creases, lighting)| {
         let renderer = SceneRenderer::with_samples(&gpu, OFFSCREEN_FORMAT, samples);
-        (name, renderer, ground, creases)
+        (name, renderer, ground, creases, lighting)
     })
     .collect();
     let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
@@ -160,10 +177,11 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             session.rotate_selected(glam::DQuat::from_rotation_x(0.05 * sign));
             session.advance(1.0 / 60.0, 1);
         }
-        for (k, (_, renderer, ground, creases)) in configs.iter_mut().enumerate() {
+        for (k, (_, renderer, ground, creases, lighting)) in configs.iter_mut().enumerate() {
             let overlays = Overlays {
                 ground: *ground,
                 occlusion: *creases,
+                lighting: *lighting,
                 ..Overlays::default()
             };
             let started = Instant::now();
@@ -182,14 +200,18 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     let rows: Vec<Row> = configs
         .iter()
         .zip(times)
-        .map(|((config, renderer, ground, creases), t)| {
+        .map(|((config, renderer, ground, creases, lighting), t)| {
             let (ms, p95) = median_p95(t);
             Row {
                 config,
                 samples: renderer.samples(),
                 ground: *ground,
                 creases: *creases,
-                window_default: *ground && *creases && renderer.samples() == window,
+                lighting: lighting.label(),
+                window_default: *ground
+                    && *creases
+                    && *lighting == Lighting::Studio
+                    && renderer.samples() == window,
                 ms_per_frame: ms,
                 ms_p95: p95,
                 fps: 1e3 / ms.max(1e-9),
@@ -226,6 +248,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             Column::Figure("samples"),
             Column::Text("ground and shadow"),
             Column::Text("creases shaded"),
+            Column::Text("lighting"),
             Column::Figure("ms per frame (median)"),
             Column::Figure("p95"),
             Column::Figure("frames/s"),
@@ -242,6 +265,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                 r.samples.to_string(),
                 if r.ground { "yes" } else { "no" }.to_string(),
                 if r.creases { "yes" } else { "no" }.to_string(),
+                r.lighting.to_string(),
                 format!("{:.2}", r.ms_per_frame),
                 format!("{:.2}", r.ms_p95),
                 format!("{:.0}", r.fps),
