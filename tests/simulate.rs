@@ -273,7 +273,8 @@ fn jaw_video<'a>(out: &'a str, frames: &'a str, rig: &'a str, anim: &'a str) -> 
 
 #[cfg(feature = "gui")]
 /// A take to video without `ffmpeg`: one PNG a frame in `TAKE-frames/`, the `ffmpeg` line
-/// that makes the video, no video file; the pictures follow the take (the jaw opens). With
+/// that makes the video, no video file; the pictures follow the take (the jaw opens), lit as
+/// `--lighting` says. With
 /// `ffmpeg` (installed by `scripts/setup.sh`; under CI it must be here): a video of as many
 /// frames, as long as the take, and each frame showing what the PNG of that frame shows.
 #[test]
@@ -306,6 +307,18 @@ fn a_take_renders_to_a_video_or_to_png_frames_without_ffmpeg() {
         moved > 0.5,
         "the jaw moves between frames 1 and 30 ({moved:.2})"
     );
+    // `--lighting jelly`: the same take under the matcap, its pictures lit otherwise.
+    let jelly = dir.join("jelly.mp4");
+    let args = [
+        &jaw_video(jelly.to_str().unwrap(), "1", &rig, &anim)[..],
+        &["--lighting", "jelly"],
+    ]
+    .concat();
+    ok(&simulate_with(Some(""), &args));
+    let lit = puppet::render::Image::load_png(&dir.join("jelly-frames/frame_00001.png"))
+        .expect("the matcap's first frame");
+    let relit = lit.mean_abs_diff(&png(1)).unwrap();
+    assert!(relit > 2.0, "the matcap's frame differs by {relit:.2}");
 
     let probe = std::process::Command::new("ffprobe")
         .arg("-version")
