@@ -726,8 +726,8 @@ fn a_skinned_file_opens_with_its_joints_and_plays_a_clip() {
 
 /// The window's look as a user meets it on this software renderer: the ground on and no
 /// anti-aliasing by default (it would cost two to three times the frame here), and
-/// anti-aliasing on when the settings say the user turned it on; the studio's lights, or
-/// the matcap `--lighting` names.
+/// anti-aliasing on when the settings say the user turned it on; the studio's lights, the
+/// matcap the settings remember, or the one `--lighting` names for one run.
 #[test]
 fn the_window_draws_the_ground_and_anti_aliases_when_the_user_asked() {
     let dir = common::scratch("window-look");
@@ -741,13 +741,20 @@ fn the_window_draws_the_ground_and_anti_aliases_when_the_user_asked() {
     assert_eq!(r["lighting"], "studio", "{r}");
     let config = w.config.clone();
     assert!(w.quit().success());
-    std::fs::write(config.join("settings.toml"), "anti_aliasing = true\n").unwrap();
-    let w = common::Window::open_with(&dir, &["--lighting", "jelly"], &config);
+    let settings = config.join("settings.toml");
+    std::fs::write(&settings, "anti_aliasing = true\nlighting = \"clay\"\n").unwrap();
+    let w = common::Window::open_with(&dir, &[], &config);
     let r = w.state().unwrap();
     assert_eq!(
         (r["samples"].as_u64(), r["lighting"].as_str()),
-        (Some(4), Some("jelly matcap")),
+        (Some(4), Some("clay matcap")),
         "{r}"
     );
     assert!(w.quit().success());
+    // `--lighting` for one run: the settings keep the panel's choice.
+    let w = common::Window::open_with(&dir, &["--lighting", "jelly"], &config);
+    assert_eq!(w.state().unwrap()["lighting"], "jelly matcap");
+    assert!(w.quit().success());
+    let kept = std::fs::read_to_string(&settings).unwrap();
+    assert!(kept.contains("lighting = \"clay\""), "{kept}");
 }

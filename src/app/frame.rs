@@ -102,6 +102,12 @@ impl WindowState {
                 self.settings.save();
             }
         }
+        // Another lighting picked in the panel: remembered for the next run.
+        if self.panel.overlays.lighting != self.lighting {
+            self.lighting = self.panel.overlays.lighting;
+            self.settings.lighting = Some(self.lighting);
+            self.settings.save();
+        }
         if let Some(s) = &self.session {
             let view = s.view(self.panel.overlays);
             self.scene.prepare(&self.gpu, &view, &self.camera, aspect);

@@ -75,8 +75,9 @@ pub struct Options {
     pub hooks: TestHooks,
     /// Live controls (`--controls`, `--listen`), if any.
     pub live: Option<LiveOptions>,
-    /// How the surface is lit at first (`--lighting`; the panel changes it).
-    pub lighting: crate::session::Lighting,
+    /// How the surface is lit at first (`--lighting`; without it, as the settings
+    /// remember; the panel changes it).
+    pub lighting: Option<crate::session::Lighting>,
 }
 
 /// Everything the open window holds: the window and its GPU surface, egui, and the
@@ -108,6 +109,9 @@ struct WindowState {
     repaint_at: Option<Instant>,
     /// What the app remembers between runs.
     settings: settings::Settings,
+    /// The lighting the panel showed last: when the puppeteer picks another, the
+    /// settings remember it.
+    lighting: crate::session::Lighting,
     /// A file dialog being shown.
     dialog: Option<dialog::Dialog>,
     hooks: TestHooks,

@@ -1,5 +1,5 @@
 //! What the app remembers between runs: recent files, whether the first-run hint was
-//! followed, and anti-aliasing turned on or off. Kept in `settings.toml` under `$PUPPET_CONFIG_DIR`, else
+//! followed, anti-aliasing turned on or off, and the lighting chosen. Kept in `settings.toml` under `$PUPPET_CONFIG_DIR`, else
 //! `$XDG_CONFIG_HOME/puppet`, else `~/.config/puppet`; best effort (a settings file that
 //! cannot be read or written is logged and otherwise ignored).
 
@@ -19,6 +19,9 @@ pub struct Settings {
     /// Anti-aliasing as last set in the panel; unset: the adapter's default (on a GPU,
     /// off on a software renderer).
     pub anti_aliasing: Option<bool>,
+    /// The lighting as last chosen in the panel (`studio`, `clay`, `jelly`); unset: the
+    /// studio's. `--lighting` overrides it for one run without changing it.
+    pub lighting: Option<crate::session::Lighting>,
 }
 
 impl Settings {

@@ -63,6 +63,7 @@ impl WindowState {
         surface.configure(&gpu.device, &config);
         let view_format = config.format.add_srgb_suffix();
         let settings = Settings::load();
+        let lighting = options.lighting.or(settings.lighting).unwrap_or_default();
         let can_msaa = crate::render::scene::msaa_supported(&gpu, view_format);
         let msaa = can_msaa
             && settings
@@ -101,7 +102,7 @@ impl WindowState {
             camera: Camera::default(),
             panel: PanelState {
                 overlays: crate::session::Overlays {
-                    lighting: options.lighting,
+                    lighting,
                     ..Default::default()
                 },
                 anti_aliasing: can_msaa.then_some(msaa),
@@ -116,6 +117,7 @@ impl WindowState {
             meter: (Instant::now(), 0, 0, 0.0),
             repaint_at: None,
             settings,
+            lighting,
             dialog: None,
             load: options.load,
             hooks: options.hooks,

@@ -57,9 +57,10 @@ pub struct Cli {
     #[arg(long, default_value_t = 30)]
     pub frames: u32,
     /// How the surface is lit: the studio's lights, or a matcap, light fixed to the camera
-    /// (`clay`: matte; `jelly`: glossy). The panel's Show section changes it.
-    #[arg(long, value_enum, default_value_t = puppet::session::Lighting::Studio)]
-    pub lighting: puppet::session::Lighting,
+    /// (`clay`: matte; `jelly`: glossy); without it, as last chosen in the panel's Show
+    /// section.
+    #[arg(long, value_enum)]
+    pub lighting: Option<puppet::session::Lighting>,
     /// Test hook: drag the last section with synthetic mouse events before the screenshot.
     #[arg(long, hide = true)]
     pub drive_test: bool,
@@ -235,9 +236,9 @@ impl Cli {
                 "{flag} before `puppet {name}` is an option of the window (see `puppet {name} --help` for the command's own)"
             ));
         }
-        if self.lighting != puppet::session::Lighting::Studio {
+        if let Some(lighting) = self.lighting {
             match command {
-                Command::Simulate(a) => a.lighting = self.lighting,
+                Command::Simulate(a) => a.lighting = lighting,
                 _ => usage(format!(
                     "--lighting before `puppet {name}` is an option of the window (`puppet simulate` lights its video with it)"
                 )),

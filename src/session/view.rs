@@ -39,7 +39,19 @@ pub struct Overlays {
 /// How the surface is lit: studio lights placed around the puppet, or a matcap, light
 /// fixed to the camera and read from the normal as the eye sees it (the same shape reads
 /// the same from every side, as sculptors' viewports light it).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, clap::ValueEnum)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    Hash,
+    clap::ValueEnum,
+    serde::Serialize,
+    serde::Deserialize,
+)]
+#[serde(rename_all = "lowercase")]
 pub enum Lighting {
     /// A warm key, a cool fill, a rim from behind and a small highlight.
     #[default]
