@@ -783,8 +783,8 @@ fn export_machine_and_joints_benches_run_and_refuse_bad_input() {
 /// `bench draw` times the viewport offscreen in its six configurations (anti-aliasing and
 /// the ground first; on this software adapter the window's default is the ground without
 /// anti-aliasing, creases shaded, the studio's lights; one row without the creases, one
-/// under the clay matcap), fails below `--min-fps` (exit 2, one line) and refuses a bound
-/// that is not a number.
+/// under the clay matcap), fails below `--min-fps` and above `--max-matcap-cost` (exit 2,
+/// one line) and refuses a bound that is not a number.
 #[test]
 fn draw_bench_reports_each_part_of_the_look_and_fails_below_its_bound() {
     let small = [
@@ -830,6 +830,15 @@ fn draw_bench_reports_each_part_of_the_look_and_fails_below_its_bound() {
         err.starts_with("error: the viewport draws") && err.lines().count() == 1,
         "{err}"
     );
+    let out = puppet(&[&small[..], &["--max-matcap-cost=-100"]].concat());
+    assert_eq!(out.status.code(), Some(2), "--max-matcap-cost -100");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.starts_with("error: the clay matcap costs") && err.lines().count() == 1,
+        "{err}"
+    );
+    let out = puppet(&[&small[..], &["--max-matcap-cost", "1e9"]].concat());
+    assert!(out.status.success(), "--max-matcap-cost 1e9");
     let out = puppet(&[&small[..], &["--min-fps", "nan"]].concat());
     assert_eq!(out.status.code(), Some(2), "--min-fps nan");
     let err = String::from_utf8_lossy(&out.stderr);

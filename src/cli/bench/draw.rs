@@ -48,6 +48,10 @@ pub struct Args {
     /// Fail when the window's default on this adapter draws fewer frames a second.
     #[arg(long, value_parser = super::bound)]
     min_fps: Option<f64>,
+    /// Fail when the clay matcap's frame costs more than this share (%) over the studio's
+    /// lights with the same ground, creases and anti-aliasing.
+    #[arg(long, value_parser = super::bound)]
+    max_matcap_cost: Option<f64>,
     /// Print JSON instead of a Markdown table.
     #[arg(long)]
     json: bool,
@@ -280,6 +284,31 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                 default.fps,
                 default.config
             );
+        }
+    }
+    if let Some(max) = args.max_matcap_cost {
+        let studio = |r: &Row| {
+            report.rows.iter().find(|s| {
+                s.lighting == Lighting::Studio.label()
+                    && (s.samples, s.ground, s.creases) == (r.samples, r.ground, r.creases)
+            })
+        };
+        for r in report
+            .rows
+            .iter()
+            .filter(|r| r.lighting != Lighting::Studio.label())
+        {
+            if let Some(s) = studio(r) {
+                let cost = 100.0 * (r.ms_per_frame / s.ms_per_frame - 1.0);
+                if cost > max || cost.is_nan() {
+                    bail!(
+                        "the {} costs {cost:+.1} % over the studio's lights ({:.2} against {:.2} ms a frame), above --max-matcap-cost {max}",
+                        r.lighting,
+                        r.ms_per_frame,
+                        s.ms_per_frame
+                    );
+                }
+            }
         }
     }
     Ok(())
