@@ -165,7 +165,10 @@ fn creases_are_darker_where_the_body_hides_the_sky() {
         session.advance(1.0 / 60.0, 1);
     }
     let cam = camera(&session);
-    for lighting in puppet::session::Lighting::ALL {
+    for lighting in <puppet::session::Lighting as clap::ValueEnum>::value_variants()
+        .iter()
+        .copied()
+    {
         creases_darker(&gpu, &mut renderer, &session, &cam, lighting);
     }
 }
@@ -259,7 +262,7 @@ fn a_matcap_lights_the_shape_from_the_camera_in_its_own_tones() {
         lighting,
         ..Overlays::default()
     };
-    let turned: Vec<f64> = Lighting::ALL
+    let turned: Vec<f64> = <Lighting as clap::ValueEnum>::value_variants()
         .iter()
         .map(|&l| {
             let a = shot(&gpu, &mut renderer, &sphere, &side, bare(l));
@@ -277,7 +280,7 @@ fn a_matcap_lights_the_shape_from_the_camera_in_its_own_tones() {
     let cam = camera(&session);
     let bg = background();
     let is_bg = |p: &[u8]| (0..3).all(|k| p[k].abs_diff(bg[k]) <= 8);
-    let shots: Vec<Image> = Lighting::ALL
+    let shots: Vec<Image> = <Lighting as clap::ValueEnum>::value_variants()
         .iter()
         .map(|&l| shot(&gpu, &mut renderer, &session, &cam, bare(l)))
         .collect();
@@ -287,7 +290,11 @@ fn a_matcap_lights_the_shape_from_the_camera_in_its_own_tones() {
             .map(|p| luminance([p[0], p[1], p[2], p[3]]))
             .fold(0.0, f64::max)
     };
-    for (k, l) in Lighting::ALL.iter().enumerate().skip(1) {
+    for (k, l) in <Lighting as clap::ValueEnum>::value_variants()
+        .iter()
+        .enumerate()
+        .skip(1)
+    {
         let (studio, matcap) = (&shots[0], &shots[k]);
         let outline = studio
             .rgba

@@ -20,8 +20,28 @@ pub struct Settings {
     /// off on a software renderer).
     pub anti_aliasing: Option<bool>,
     /// The lighting as last chosen in the panel (`studio`, `clay`, `jelly`); unset: the
-    /// studio's. `--lighting` overrides it for one run without changing it.
+    /// studio's. `--lighting` overrides it for one run without changing it. A value this
+    /// version does not know (another version's lighting) reads as unset, with a warning,
+    /// instead of losing the rest of the file.
+    #[serde(deserialize_with = "known_lighting")]
     pub lighting: Option<crate::session::Lighting>,
+}
+
+/// A lighting by its name, or none for a value that names no lighting here.
+fn known_lighting<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<Option<crate::session::Lighting>, D::Error> {
+    use clap::ValueEnum;
+    let value = <Option<toml::Value> as serde::Deserialize>::deserialize(d)?;
+    Ok(value.and_then(|v| {
+        let known = v
+            .as_str()
+            .and_then(|s| crate::session::Lighting::from_str(s, true).ok());
+        if known.is_none() {
+            log::warn!("settings.toml: lighting = {v}: not a lighting here, ignored");
+        }
+        known
+    }))
 }
 
 impl Settings {
@@ -71,5 +91,31 @@ impl Settings {
         self.recent.insert(0, path);
         self.recent.truncate(RECENT);
         self.save();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::session::Lighting;
+
+    /// The lighting is written by name and read back; one this version does not know is
+    /// dropped alone, the recent files kept.
+    #[test]
+    fn the_lighting_round_trips_and_an_unknown_one_loses_nothing_else() {
+        let kept = Settings {
+            recent: vec![PathBuf::from("/a/b.obj")],
+            lighting: Some(Lighting::Jelly),
+            ..Settings::default()
+        };
+        let text = toml::to_string_pretty(&kept).unwrap();
+        assert!(text.contains("lighting = \"jelly\""), "{text}");
+        assert_eq!(toml::from_str::<Settings>(&text).unwrap(), kept);
+        for other in ["\"metal\"", "3"] {
+            let read: Settings =
+                toml::from_str(&format!("recent = [\"/a/b.obj\"]\nlighting = {other}\n")).unwrap();
+            assert_eq!(read.lighting, None, "{other}");
+            assert_eq!(read.recent, kept.recent, "{other}");
+        }
     }
 }

@@ -64,9 +64,6 @@ pub enum Lighting {
 }
 
 impl Lighting {
-    /// Every lighting, in the panel's order.
-    pub const ALL: [Lighting; 3] = [Lighting::Studio, Lighting::Clay, Lighting::Jelly];
-
     /// Its name in the panel.
     pub fn label(self) -> &'static str {
         match self {

@@ -38,7 +38,7 @@ pub(super) fn overlay_section(
         egui::ComboBox::from_id_salt("lighting")
             .selected_text(lighting.label())
             .show_ui(ui, |ui| {
-                for l in Lighting::ALL {
+                for &l in <Lighting as clap::ValueEnum>::value_variants() {
                     ui.selectable_value(lighting, l, l.label());
                 }
             })
