@@ -18,5 +18,7 @@ cargo clippy --release --all-targets -- -D warnings
 # The core alone: lints, then its unit tests, without the gui feature.
 cargo clippy --release --no-default-features --all-targets -- -D warnings
 cargo test --release --no-default-features --lib
+# The shell's own unit tests (its modules exist only with the gui feature).
+cargo test --release --lib -- app:: render:: ui::
 # Everything else with the window (the core's unit tests ran above).
 cargo test --release --bins --test '*' --benches
