@@ -20,31 +20,44 @@ pub struct Settings {
     /// off on a software renderer).
     pub anti_aliasing: Option<bool>,
     /// The lighting as last chosen in the panel (`studio`, `clay`, `jelly`); unset: the
-    /// studio's. `--lighting` overrides it for one run without changing it. A value this
-    /// version does not know (another version's lighting) reads as unset, with a warning,
-    /// instead of losing the rest of the file.
-    #[serde(deserialize_with = "known_lighting")]
+    /// studio's. `--lighting` overrides it for one run without changing it.
     pub lighting: Option<crate::session::Lighting>,
 }
 
-/// A lighting by its name, or none for a value that names no lighting here.
-fn known_lighting<'de, D: serde::Deserializer<'de>>(
-    d: D,
-) -> Result<Option<crate::session::Lighting>, D::Error> {
-    use clap::ValueEnum;
-    let value = <Option<toml::Value> as serde::Deserialize>::deserialize(d)?;
-    Ok(value.and_then(|v| {
-        let known = v
-            .as_str()
-            .and_then(|s| crate::session::Lighting::from_str(s, true).ok());
-        if known.is_none() {
-            log::warn!("settings.toml: lighting = {v}: not a lighting here, ignored");
-        }
-        known
-    }))
-}
-
 impl Settings {
+    /// The settings a file's text says. A setting this version cannot read (another
+    /// version's lighting, `anti_aliasing = "yes"`) reads as unset, with a warning naming
+    /// it, and the others are kept: a save after a bad value must not lose the recent
+    /// files. Text that is not TOML at all gives the defaults, with a warning.
+    pub fn parse(text: &str, path: &Path) -> Settings {
+        let table: toml::Table = match text.parse() {
+            Ok(table) => table,
+            Err(e) => {
+                log::warn!("{}: ignored: {}", path.display(), e.message());
+                return Settings::default();
+            }
+        };
+        // Each entry alone, so that one bad value drops only itself.
+        let readable: toml::Table = table
+            .into_iter()
+            .filter(|(key, value)| {
+                let alone = toml::Table::from_iter([(key.clone(), value.clone())]);
+                match toml::Value::Table(alone).try_into::<Settings>() {
+                    Ok(_) => true,
+                    Err(e) => {
+                        log::warn!(
+                            "{}: {key} = {value}: ignored: {}",
+                            path.display(),
+                            e.message()
+                        );
+                        false
+                    }
+                }
+            })
+            .collect();
+        toml::Value::Table(readable).try_into().unwrap_or_default()
+    }
+
     /// The folder the settings live in, if one can be named.
     fn dir() -> Option<PathBuf> {
         let var = |k: &str| {
@@ -63,10 +76,7 @@ impl Settings {
             return Settings::default();
         };
         match std::fs::read_to_string(&path) {
-            Ok(text) => toml::from_str(&text).unwrap_or_else(|e| {
-                log::warn!("{}: ignored: {}", path.display(), e.message());
-                Settings::default()
-            }),
+            Ok(text) => Settings::parse(&text, &path),
             Err(_) => Settings::default(),
         }
     }
@@ -99,23 +109,58 @@ mod tests {
     use super::*;
     use crate::session::Lighting;
 
-    /// The lighting is written by name and read back; one this version does not know is
-    /// dropped alone, the recent files kept.
+    /// The lighting is written by name and read back; a value this version cannot read,
+    /// in any setting, is dropped alone, the recent files kept.
     #[test]
-    fn the_lighting_round_trips_and_an_unknown_one_loses_nothing_else() {
+    fn settings_round_trip_and_a_bad_value_loses_nothing_else() {
         let kept = Settings {
             recent: vec![PathBuf::from("/a/b.obj")],
+            hint_done: true,
+            anti_aliasing: Some(false),
             lighting: Some(Lighting::Jelly),
-            ..Settings::default()
         };
         let text = toml::to_string_pretty(&kept).unwrap();
         assert!(text.contains("lighting = \"jelly\""), "{text}");
-        assert_eq!(toml::from_str::<Settings>(&text).unwrap(), kept);
-        for other in ["\"metal\"", "3"] {
-            let read: Settings =
-                toml::from_str(&format!("recent = [\"/a/b.obj\"]\nlighting = {other}\n")).unwrap();
-            assert_eq!(read.lighting, None, "{other}");
-            assert_eq!(read.recent, kept.recent, "{other}");
+        assert_eq!(Settings::parse(&text, Path::new("s.toml")), kept);
+        for (key, bad) in [
+            ("lighting", "\"metal\""),
+            ("lighting", "3"),
+            ("anti_aliasing", "\"yes\""),
+            ("hint_done", "[1]"),
+        ] {
+            let text = text
+                .lines()
+                .map(|l| {
+                    if l.starts_with(key) {
+                        format!("{key} = {bad}")
+                    } else {
+                        l.to_string()
+                    }
+                })
+                .collect::<Vec<_>>()
+                .join("\n");
+            let read = Settings::parse(&text, Path::new("s.toml"));
+            assert_eq!(read.recent, kept.recent, "{key} = {bad}");
+            let unset = Settings::default();
+            let expect = match key {
+                "lighting" => Settings {
+                    lighting: unset.lighting,
+                    ..kept.clone()
+                },
+                "anti_aliasing" => Settings {
+                    anti_aliasing: unset.anti_aliasing,
+                    ..kept.clone()
+                },
+                _ => Settings {
+                    hint_done: unset.hint_done,
+                    ..kept.clone()
+                },
+            };
+            assert_eq!(read, expect, "{key} = {bad}");
         }
+        assert_eq!(
+            Settings::parse("recent = [", Path::new("s.toml")),
+            Settings::default()
+        );
     }
 }
