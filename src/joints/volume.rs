@@ -92,7 +92,7 @@ pub const TOLERANCE: f64 = 0.01;
 
 /// The share of the whole's volume below which a section counts as that small (as
 /// `bench poses` measures a section's change against).
-const SMALL: f64 = 0.01;
+pub(super) const SMALL: f64 = 0.01;
 
 /// The child side's swell's share at `x` across a band (`0..=1`) whose cut lies at
 /// `at_cut` of its length: 0 at the cut and at the band's child end, 1 halfway between,

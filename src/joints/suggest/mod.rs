@@ -28,8 +28,11 @@
 //! its cut too: turned about one, it tears the other. Then the joints are turned through
 //! `TRIALS` random poses; a section
 //! whose skin tears there (an edge past `TEAR` times its length where the bones hold
-//! it: a body standing on a pedestal by four legs, turned about one) loses its cut.
-//!//!
+//! it: a body standing on a pedestal by four legs, turned about one) loses its cut. Last,
+//! a joint that, turned alone, changes its section's volume or its parent's by more than
+//! `BALLOON` of its size (a pivot far off its seam) loses its cut
+//! (`balloon`).
+//!
 //! Two or more characters in one file (bodies apart from each other) each run the stages
 //! on their own (`characters`). `puppet bench suggest` scores the suggestion against the
 //! labelled characters of `tests/data/characters` and `tests/data/population`
@@ -44,10 +47,12 @@
 //! * `names`: stage 5 (`naming`: the root's limbs; `chains`: down a limb, and digits);
 //! * `fit`: stage 6 (`pairs`, `body` and `slice`, `head`);
 //! * `seams`: the cuts applied, and those that would tear taken back;
+//! * `balloon`: those whose turn would balloon a section taken back;
 //! * `characters`: two or more characters in one file;
 //! * `union_find`: the sweep's sets, a slice's loops;
 //! * `fixture` (tests only): the repository's characters the stages' unit tests run on.
 
+mod balloon;
 mod body;
 pub mod characters;
 mod fit;

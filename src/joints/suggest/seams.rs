@@ -17,17 +17,22 @@
 //! band that should blend it. Each torn edge counts against the deeper of its two
 //! sections; the section with the most loses its cut, and the poses are drawn again until
 //! none tears.
+//!
+//! Last, **balloons** ([`super::balloon`]): a joint that, turned alone, changes its own
+//! section's volume or its parent's by more than [`super::rules::BALLOON`] of its size
+//! loses its cut, the largest first.
 
 use super::rules::{FOREIGN, TEAR, TRIALS, TWICE};
 use crate::joints::spread::{random_pose, Spread};
-use crate::joints::{Cut, JointError, Joints, PoseScratch};
+use crate::joints::{Cut, JointError, Joints, Local, PoseScratch};
 use crate::random::SplitMix;
 use glam::DVec3;
 
 /// Adds the suggested `cuts` to `joints`, then takes back, one at a time, the cut of the
 /// deeper section of the unrelated pair with the largest shared seam at or above
-/// [`FOREIGN`], then of each section joined to its parent twice ([`TWICE`]), and then
-/// those [`keep_whole`] removes; returns the names taken back.
+/// [`FOREIGN`], then of each section joined to its parent twice ([`TWICE`]), then those
+/// [`keep_whole`] removes, and then those that balloon ([`super::balloon`]); returns the
+/// names taken back.
 /// The bands are worked out once the seams are settled (those need only the sections),
 /// then again for each cut a tear takes back. A cut that does not fit (a side left empty:
 /// a character of a file with several, fitted on its own mesh) is taken back first, and
@@ -56,6 +61,9 @@ pub fn add(joints: &mut Joints, cuts: Vec<Cut>) -> Vec<String> {
     let torn = keep_whole(joints);
     log_taken_back("its skin tears in random poses", &torn);
     removed.extend(torn);
+    let ballooned = remove_while(joints, super::balloon::ballooned, Joints::remove_cut);
+    log_taken_back("turned, a section's volume balloons", &ballooned);
+    removed.extend(ballooned);
     removed
 }
 
@@ -162,21 +170,12 @@ fn torn(joints: &Joints) -> Option<String> {
         return None;
     }
     let rank = joints.contact_ranks();
-    let transform_of = joints.transform_of();
     let mut blame = vec![0usize; joints.sections().len()];
     let mut scratch = PoseScratch::first_order();
     let mut now = vec![DVec3::ZERO; n];
     for trial in 0..TRIALS {
         let local = random_pose(joints, Spread::default(), &mut SplitMix(FIRST_SEED + trial));
-        let pose = joints.pose_into(&local, &mut scratch);
-        for (i, x) in now.iter_mut().enumerate() {
-            *x = pose
-                .transforms
-                .get(usize::from(transform_of[i]))
-                .map_or(rest[i], |m| {
-                    m.transform_point3(rest[i].as_vec3()).as_dvec3()
-                });
-        }
+        held(joints, &local, &mut scratch, &mut now);
         for a in 0..n {
             for &b in body.neighbours(a) {
                 let b = b as usize;
@@ -196,6 +195,22 @@ fn torn(joints: &Joints) -> Option<String> {
     // The root has no cut to lose.
     let worst = (1..blame.len()).max_by_key(|&s| (blame[s], s))?;
     (blame[worst] > 0).then(|| joints.sections()[worst].name.clone())
+}
+
+/// The surface where the bones of the pose `local` hold it, each vertex moved by its
+/// transform, into `now` (one per vertex, from the rest positions).
+pub(super) fn held(joints: &Joints, local: &[Local], scratch: &mut PoseScratch, now: &mut [DVec3]) {
+    let rest = &joints.body.rest;
+    let transform_of = joints.transform_of();
+    let pose = joints.pose_into(local, scratch);
+    for (i, x) in now.iter_mut().enumerate() {
+        *x = pose
+            .transforms
+            .get(usize::from(transform_of[i]))
+            .map_or(rest[i], |m| {
+                m.transform_point3(rest[i].as_vec3()).as_dvec3()
+            });
+    }
 }
 
 /// The name of the section joined to its parent in two places ([`TWICE`]) that loses its
