@@ -162,10 +162,10 @@ fn turn(joints: &Joints, k: usize, way: usize) -> Local {
     Local::axis_angle([a, b, -a, -b][way % 4], degrees)
 }
 
-/// The surface where the bones of the pose `local` hold it ([`super::seams::held`]).
+/// The surface where the bones of the pose `local` hold it ([`Joints::held_surface`]).
 fn surface(joints: &Joints, local: &[Local], scratch: &mut PoseScratch) -> Vec<DVec3> {
     let mut now = joints.body.rest.clone();
-    super::seams::held(joints, local, scratch, &mut now);
+    joints.held_surface(local, scratch, &mut now);
     now
 }
 

@@ -24,7 +24,7 @@
 
 use super::rules::{FOREIGN, TEAR, TRIALS, TWICE};
 use crate::joints::spread::{random_pose, Spread};
-use crate::joints::{Cut, JointError, Joints, Local, PoseScratch};
+use crate::joints::{Cut, JointError, Joints, PoseScratch};
 use crate::random::SplitMix;
 use glam::DVec3;
 
@@ -175,7 +175,8 @@ fn torn(joints: &Joints) -> Option<String> {
     let mut now = vec![DVec3::ZERO; n];
     for trial in 0..TRIALS {
         let local = random_pose(joints, Spread::default(), &mut SplitMix(FIRST_SEED + trial));
-        held(joints, &local, &mut scratch, &mut now);
+        now.copy_from_slice(rest);
+        joints.held_surface(&local, &mut scratch, &mut now);
         for a in 0..n {
             for &b in body.neighbours(a) {
                 let b = b as usize;
@@ -195,22 +196,6 @@ fn torn(joints: &Joints) -> Option<String> {
     // The root has no cut to lose.
     let worst = (1..blame.len()).max_by_key(|&s| (blame[s], s))?;
     (blame[worst] > 0).then(|| joints.sections()[worst].name.clone())
-}
-
-/// The surface where the bones of the pose `local` hold it, each vertex moved by its
-/// transform, into `now` (one per vertex, from the rest positions).
-pub(super) fn held(joints: &Joints, local: &[Local], scratch: &mut PoseScratch, now: &mut [DVec3]) {
-    let rest = &joints.body.rest;
-    let transform_of = joints.transform_of();
-    let pose = joints.pose_into(local, scratch);
-    for (i, x) in now.iter_mut().enumerate() {
-        *x = pose
-            .transforms
-            .get(usize::from(transform_of[i]))
-            .map_or(rest[i], |m| {
-                m.transform_point3(rest[i].as_vec3()).as_dvec3()
-            });
-    }
 }
 
 /// The name of the section joined to its parent in two places ([`TWICE`]) that loses its
