@@ -27,6 +27,21 @@ impl Default for Spread {
     }
 }
 
+/// Two unit axes across section `s`'s cut (square to its normal), and how far `spread`
+/// turns it either way: [`Spread::root`] for a section hanging from the root, else
+/// [`Spread::limb`]. `None` for the root, which has no cut.
+pub fn across(joints: &Joints, s: usize, spread: Spread) -> Option<(DVec3, DVec3, f64)> {
+    let parent = joints.sections().get(s)?.parent?;
+    let cut = joints.cuts().get(s.checked_sub(1)?)?;
+    let (a, b) = cut.normal.normalize_or(DVec3::Y).any_orthonormal_pair();
+    let limit = if parent == 0 {
+        spread.root
+    } else {
+        spread.limb
+    };
+    Some((a, b, limit))
+}
+
 /// A random pose of `joints` (one [`Local`] per section, the root at rest), drawn from
 /// `rng` (see the module docs).
 pub fn random_pose(joints: &Joints, spread: Spread, rng: &mut SplitMix) -> Vec<Local> {
@@ -36,15 +51,11 @@ pub fn random_pose(joints: &Joints, spread: Spread, rng: &mut SplitMix) -> Vec<L
         let Some(s) = joints.find(&cut.name) else {
             continue;
         };
-        let normal = cut.normal.normalize_or(DVec3::Y);
-        let (a, b) = normal.any_orthonormal_pair();
+        let Some((a, b, limit)) = across(joints, s, spread) else {
+            continue;
+        };
         let turn = std::f64::consts::TAU * unit(rng);
         let axis = a * turn.cos() + b * turn.sin();
-        let limit = if sections[s].parent == Some(0) {
-            spread.root
-        } else {
-            spread.limb
-        };
         local[s] = Local::axis_angle(axis, limit * (2.0 * unit(rng) - 1.0));
     }
     local

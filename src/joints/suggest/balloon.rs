@@ -29,7 +29,7 @@
 //! check's 16) missed one: a whale's head balloons in 2 of `bench poses`' 20.
 
 use super::rules::BALLOON;
-use crate::joints::spread::Spread;
+use crate::joints::spread::{across, Spread};
 use crate::joints::{Joints, Local, PoseScratch};
 use crate::mesh::measure::Capped;
 use glam::DVec3;
@@ -148,18 +148,10 @@ impl Volumes {
 /// are not alike, and the turn that closes one can balloon where the other does not).
 /// The root does not turn.
 fn turn(joints: &Joints, k: usize, way: usize) -> Local {
-    let Some(parent) = joints.sections()[k].parent else {
-        return Local::default();
-    };
-    let spread = Spread::default();
-    let normal = joints.cuts()[k - 1].normal.normalize_or(DVec3::Y);
-    let (a, b) = normal.any_orthonormal_pair();
-    let degrees = if parent == 0 {
-        spread.root
-    } else {
-        spread.limb
-    };
-    Local::axis_angle([a, b, -a, -b][way % 4], degrees)
+    match across(joints, k, Spread::default()) {
+        Some((a, b, degrees)) => Local::axis_angle([a, b, -a, -b][way % 4], degrees),
+        None => Local::default(),
+    }
 }
 
 /// The surface where the bones of the pose `local` hold it ([`Joints::held_surface`]).

@@ -141,11 +141,10 @@ pub(crate) const TEAR: f64 = 3.5;
 /// or its parent's before it loses its cut ([`super::balloon`]). Over the downloads'
 /// 578 suggested joints the change is 1.0 % at the median and 2.2 % at the 90th
 /// percentile; 11 pass 0.2, and the 8 past 0.3 (0.33–0.62) are a frog's trunk cut with
-/// its pivot at its side, fins, a slantwise hind leg, a husky's arm, a whale's head and two
-/// of a stegosaurus's cuts. Chosen on the
-/// development half (every other character of `tests/data/pieces` and of the shipped
-/// meshes, the population's development half) from 0.15, 0.2, 0.25 and 0.35, as the
-/// smallest that takes back no required joint: the downloads' settled poses with a
+/// its pivot at its side, fins, a slantwise hind leg, a husky's arm, a whale's head and
+/// two of a stegosaurus's cuts. Chosen on the development half (every other character of
+/// `tests/data/pieces` and of the shipped meshes, the population's development half) from
+/// 0.15, 0.2, 0.25 and 0.35, as the smallest that takes back no required joint: the downloads' settled poses with a
 /// section beyond ±5 % 52 → 20, 28, 28, 29 of 480 (none more past 3×; the shipped and
 /// in-pieces halves unchanged), required joints found 143 → 142, 143, 143, 143 of 279,
 /// spurious cuts 87 → 82, 84, 84, 85. The held-out half: `docs/performance-log.md`.

@@ -34,10 +34,10 @@ use glam::DVec3;
 /// [`keep_whole`] removes, and then those that balloon ([`super::balloon`]); returns the
 /// names taken back.
 /// The bands are worked out once the seams are settled (those need only the sections),
-/// then again for each cut a tear or a balloon takes back. A cut that does not fit (a side left empty:
-/// a character of a file with several, fitted on its own mesh) is taken back first, and
-/// the cuts of the section it would have made go to the section it cuts: a suggestion
-/// always applies.
+/// then again for each cut a tear or a balloon takes back. A cut that does not fit (a
+/// side left empty: a character of a file with several, fitted on its own mesh) is taken
+/// back first, and the cuts of the section it would have made go to the section it cuts:
+/// a suggestion always applies.
 pub fn add(joints: &mut Joints, cuts: Vec<Cut>) -> Vec<String> {
     let mut removed = Vec::new();
     let mut instead: std::collections::HashMap<String, String> = Default::default();
