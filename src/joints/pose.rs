@@ -907,4 +907,25 @@ mod tests {
         // against 0.272): the largest changes are held by their sides' bounds.
         assert!(two_sum < one_sum - 0.02, "{two_sum} against {one_sum}");
     }
+
+    #[test]
+    fn a_section_at_the_other_end_of_a_swollen_band_is_measured_again() {
+        // Spot: where its trunk's sides swell, its arms lose what their seams give the
+        // trunk, though the first step left them within `AGAIN`. Measured again in the
+        // second step, every section of `bench poses`' 20 poses stays within ±6 % where
+        // the bones hold it (−10.9 … +7.8 % when only the sections past `AGAIN` were).
+        let puppet = crate::joints::suggest::fixture::suggested("assets/spot.obj");
+        let mut worst: f64 = 0.0;
+        for seed in 1..=20 {
+            let local = crate::joints::spread::random_pose(
+                &puppet.joints,
+                crate::joints::spread::Spread::default(),
+                &mut crate::random::SplitMix(seed),
+            );
+            let mut scratch = PoseScratch::default();
+            let change = worst_volume(&puppet, puppet.joints.pose_into(&local, &mut scratch));
+            worst = worst.max(change);
+        }
+        assert!(worst < 0.06, "{worst}");
+    }
 }

@@ -324,22 +324,21 @@ impl Joints {
                 norm,
             });
         }
-        // Each side's band's other end, among the kept sections (sorted by section).
-        let of: Vec<(usize, usize)> = (self.kept.iter().map(|k| k.section))
-            .enumerate()
-            .map(|(n, s)| (s, n))
-            .collect();
-        let bands: Vec<(usize, usize)> = (self.bands.iter().flatten())
-            .map(|b| (b.parent, b.child))
+        // Each side's band's other end, among the kept sections.
+        let mut kept_of = vec![None; sections];
+        for (n, kept) in self.kept.iter().enumerate() {
+            kept_of[kept.section] = u16::try_from(n).ok();
+        }
+        let ends: Vec<Option<(usize, usize)>> = (slots.iter())
+            .map(|&k| self.bands[k].as_ref().map(|b| (b.parent, b.child)))
             .collect();
         for kept in &mut self.kept {
             for side in &mut kept.sides {
-                let (parent, child) = bands[usize::from(side.band)];
+                let Some(&Some((parent, child))) = ends.get(usize::from(side.band)) else {
+                    continue;
+                };
                 let end = if side.mode % 2 == 0 { child } else { parent };
-                side.other = of
-                    .binary_search_by_key(&end, |&(s, _)| s)
-                    .ok()
-                    .map(|i| of[i].1 as u16);
+                side.other = kept_of.get(end).copied().flatten();
             }
         }
     }
