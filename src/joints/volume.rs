@@ -25,9 +25,10 @@
 //! stegosaurus's body) swells little. The swollen bands' levels, and what composes them,
 //! are made again from the motions the slides left. The Newton step is first order, so a
 //! second ([`NEWTON_STEPS`]) measures again the sections the first found changed by
-//! more than [`AGAIN`] of their size, and swells their sides by what is left: what a
-//! large change's square leaves, and what a side held at its largest leaves to the
-//! others.
+//! more than [`AGAIN`] of their size, and the sections at their bands' other ends (a
+//! side's swell moves the seam both are capped across), and swells their sides by what
+//! is left: what a large change's square leaves, what a side held at its largest leaves
+//! to the others, and what one end's swell took from the other.
 //!
 //! A band is not swollen where it carries a sibling: the sibling would ride a level
 //! that no longer matches its seam. A sibling's seam in its strip swells with it (the
