@@ -431,8 +431,9 @@ fn collision_is_off_unless_a_rig_turns_it_on() {
 /// turned, is such a section.
 #[test]
 fn a_small_section_s_volume_is_measured_against_the_whole() {
+    use puppet::joints::SMALL_SECTION;
     use puppet::mesh::measure::{capped_volume, cone_volume};
-    use puppet::puppet::press::{measure, Turn, SMALL_SECTION};
+    use puppet::puppet::press::{measure, Turn};
     let hand = mesh("hand.obj");
     static TIP: [Turn; 1] = [Turn {
         point: glam::DVec3::new(0.03, 0.90, 0.06),

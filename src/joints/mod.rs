@@ -97,6 +97,7 @@ pub use band::{Band, DEFAULT_BAND, MAX_BAND};
 pub use pose::{to_f32, PoseScratch};
 pub use shape::Shape;
 pub use slide::{Slide, MAX_SLIDE};
+pub use volume::{section_size, SMALL_SECTION};
 
 use glam::{DQuat, DVec3};
 use std::sync::Arc;

@@ -97,9 +97,17 @@ pub struct Newton {
 /// `docs/performance-log.md`.
 pub const TOLERANCE: f64 = 0.01;
 
-/// The share of the whole's volume below which a section counts as that small (as
-/// `bench poses` measures a section's change against).
-pub(super) const SMALL: f64 = 0.01;
+/// A section's volume change is measured against at least this share of the whole
+/// mesh's volume (a small section's change is small beside the character, whatever its
+/// share): see [`section_size`].
+pub const SMALL_SECTION: f64 = 0.01;
+
+/// A section's size, what its volume change is measured against (by `bench poses`, the
+/// presses, the swells and the suggestion's balloon check alike): its `volume` at rest,
+/// or [`SMALL_SECTION`] of the `whole` mesh's for one that holds little (a sheet, a fin).
+pub fn section_size(volume: f64, whole: f64) -> f64 {
+    volume.abs().max(SMALL_SECTION * whole)
+}
 
 /// The child side's swell's share at `x` across a band (`0..=1`) whose cut lies at
 /// `at_cut` of its length: 0 at the cut and at the band's child end, 1 halfway between,
@@ -308,7 +316,7 @@ impl Joints {
             let Some(capped) = surfaces.get(s) else {
                 continue;
             };
-            let size = capped.volume(&body.rest).abs().max(SMALL * whole);
+            let size = section_size(capped.volume(&body.rest), whole);
             let around = capped.around(moved);
             let moved_vertices = std::mem::take(&mut moved_of[s]);
             let apex = self.sections[s].pivot;

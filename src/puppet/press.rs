@@ -8,8 +8,8 @@
 //!   nearest face of the other sections, in % of the diagonal;
 //! * each section's volume change (the volume its faces enclose with each cut across it
 //!   closed, [`capped_volume`]: what the piece holds, which no rigid motion changes),
-//!   relative to that volume or to [`SMALL_SECTION`] of the whole mesh's, whichever is
-//!   larger: the extremes;
+//!   relative to its size ([`section_size`]: that volume or a hundredth of the whole
+//!   mesh's, whichever is larger): the extremes;
 //! * the dents: how far a vertex of the body (the root section) and of a turned part lies
 //!   inside where its bones hold it (its target, along the target surface's inward
 //!   normal), in % of the diagonal: soft flesh dents the body, hard flesh squashes the
@@ -17,13 +17,14 @@
 //!
 //! [`intersecting_faces`]: crate::geom::intersect::intersecting_faces
 //! [`capped_volume`]: crate::mesh::measure::capped_volume
+//! [`section_size`]: crate::joints::section_size
 
 use super::{BuildError, Puppet, RigFile};
 use crate::anim::{Animation, Ease, Key, Track};
 use crate::geom::intersect::new_crossings;
 use crate::geom::point_triangle;
 use crate::geom::winding::Winding;
-use crate::joints::{Cut, Local, Shape};
+use crate::joints::{section_size, Cut, Local, Shape};
 use crate::mesh::measure::{capped_volume, cone_volume};
 use crate::mesh::{self, Mesh};
 use crate::sim::Params;
@@ -169,10 +170,6 @@ pub const PRESSES: [Press; 8] = [
         turns: &COW,
     },
 ];
-
-/// A section's volume change is measured against at least this share of the whole mesh's
-/// volume (a small section's change is small beside the character, whatever its share).
-pub const SMALL_SECTION: f64 = 0.01;
 
 /// What a settled press measured.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -448,7 +445,8 @@ pub fn measure(p: &Puppet) -> Pressed {
 /// The smallest and largest relative volume change of a section of `p` whose surface is at
 /// `now`: each section's faces with every cut across it closed by a fan from the cut's
 /// loop's centroid ([`capped_volume`]), at rest and now, against that volume or
-/// [`SMALL_SECTION`] of the whole mesh's, whichever is larger.
+/// [`SMALL_SECTION`](crate::joints::SMALL_SECTION) of the whole mesh's, whichever is
+/// larger ([`section_size`]).
 ///
 /// Not the cone from the section's pivot: closed at its pivot, a section counts a far cut
 /// that tilts as volume lost or gained (a tube bent 60° as an arc holds what it held,
@@ -472,7 +470,7 @@ pub fn section_volume_extremes(p: &Puppet, now: &[DVec3]) -> [(f64, Option<usize
             .map(|t| t.iter().all(|&i| usize::from(section_of[i as usize]) == s))
             .collect();
         let a = capped_volume(rest, triangles, &faces);
-        let against = a.abs().max(SMALL_SECTION * whole);
+        let against = section_size(a, whole);
         if against < 1e-12 {
             continue;
         }

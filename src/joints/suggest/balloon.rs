@@ -69,7 +69,7 @@ impl Volumes {
         let rest: Vec<f64> = surfaces.iter().map(|s| s.volume(&body.rest)).collect();
         let size = rest
             .iter()
-            .map(|v| v.abs().max(crate::joints::volume::SMALL * body.whole))
+            .map(|&v| crate::joints::section_size(v, body.whole))
             .collect();
         Some(Volumes {
             surfaces,
