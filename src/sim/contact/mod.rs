@@ -42,8 +42,8 @@
 //!   the same (`tests/collide.rs`).
 //! * **Response** (`response`). A point inside a ball goes to its surface (plus the margin, at most a
 //!   quarter of the point's own medial radius: `response::MARGIN_SHARE`) along the line from the
-//!   centre, but never more than one of its edges farther from where its bones hold it
-//!   than the step left it (`slot_edge`): the pose limit keeps the parts apart, and a
+//!   centre, but never more than half its shortest edge farther from where its bones hold
+//!   it than the step left it (`response::PUSH`): the pose limit keeps the parts apart, and a
 //!   contact only fixes what is left at their surfaces. Its motion into the ball is
 //!   dropped and its sliding motion keeps `1 − friction` (the floor's friction). It is a
 //!   projection, so a limb posed deep into the body squashes against it and nothing gains
@@ -135,8 +135,8 @@ pub struct Colliders {
     /// when it has only one.
     slot_section: Vec<u16>,
     slot_radius: Vec<f32>,
-    /// Per slot, its shortest rest edge: a contact moves a point at most that much
-    /// farther from where its bones hold it than the step left it. The pose limit keeps
+    /// Per slot, its shortest rest edge: a contact moves a point at most a share of it
+    /// (`response::PUSH`) farther from where its bones hold it than the step left it. The pose limit keeps
     /// the parts apart, and a contact fixes what is left at their surfaces; one that
     /// pulled a point farther (a cow's tail pressed 5° into its rump pulled a vertex of
     /// its band two edges off) tore the skin between it and its neighbours (3.24×).
