@@ -135,6 +135,43 @@ fn collision_on_the_pieces_is_never_worse() {
     ok(&out);
 }
 
+/// BENCHMARKS' claim on collision over the 45 downloads (6 seeds each): at most 5 of the
+/// 270 poses worse with collision on than off, and at most 3 of them still worse against
+/// the pose they reached settled with collision off (the JSON's `worse`: `pose` or
+/// `collision`).
+#[test]
+fn collision_on_the_downloads_is_worse_on_few_poses() {
+    let out = puppet(&[
+        "bench",
+        "poses",
+        "--compare",
+        "--poses",
+        "6",
+        "--json",
+        "--ignore-skin",
+        "tests/data/population",
+    ]);
+    ok(&out);
+    let rows: Vec<serde_json::Value> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(rows.len(), 540);
+    let on: Vec<&serde_json::Value> = rows.iter().filter(|r| r["collision"] == true).collect();
+    let poses = |what: &str| -> Vec<String> {
+        on.iter()
+            .filter(|r| r["worse"] == what)
+            .map(|r| format!("{} {}", r["character"], r["seed"]))
+            .collect()
+    };
+    let (not, pose, collision) = (poses("not"), poses("pose"), poses("collision"));
+    assert_eq!(not.len() + pose.len() + collision.len(), 270);
+    assert!(
+        pose.len() + collision.len() <= 5 && collision.len() <= 3,
+        "worse on than off: {pose:?} (as much off at the pose reached), {collision:?}"
+    );
+}
+
 /// BENCHMARKS' claim on drags: one joint turned a pose (`--drag`, as a mouse drag turns
 /// it), none of the 250 poses of the shipped characters is worse with collision on than
 /// off, and crossing faces go to 0 on most characters.

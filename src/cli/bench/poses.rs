@@ -115,13 +115,25 @@ struct Row {
     /// collision off, less where parts stopped at each other.
     reached: f64,
     /// With `--compare`, on the row with collision on: whether it is worse than off
-    /// ([`worse`]) also against the pose it reached settled with collision off; a pose
-    /// worse only against the pose asked for crosses or stretches as much without
-    /// collision where its parts stopped (a bent joint's crease, not the contacts).
+    /// ([`Worse`]).
     #[serde(skip_serializing_if = "Option::is_none")]
-    worse_at_reached: Option<bool>,
+    worse: Option<Worse>,
     /// How long the character took to open, from its file to its suggested joints (s).
     open_s: f64,
+}
+
+/// Whether a pose is worse with collision on than off ([`worse`]), and what makes it so.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+enum Worse {
+    /// Not worse.
+    Not,
+    /// Worse than off at the pose asked for, but not than the pose it reached settled with
+    /// collision off: the pose its parts stopped at crosses or stretches as much without
+    /// collision (a bent joint's crease), not the contacts.
+    Pose,
+    /// Worse also than off at the pose it reached.
+    Collision,
 }
 
 /// `base` settled into `target` with collision on or off ([`poses::settle`]): each step's
@@ -358,7 +370,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                     ],
                     moving_ms: moving(&times, ramp as usize),
                     reached: got,
-                    worse_at_reached: None,
+                    worse: None,
                     open_s,
                 };
                 pair.push(surface);
@@ -368,8 +380,11 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                         // Is it collision, or the pose it stopped at? That pose settled
                         // with collision off.
                         let there = posed.as_deref().map(|g| settled(&base, false, g).1);
-                        row.worse_at_reached =
-                            Some(there.is_none_or(|t| !worse(&t, &on).is_empty()));
+                        row.worse = Some(if there.is_none_or(|t| !worse(&t, &on).is_empty()) {
+                            Worse::Collision
+                        } else {
+                            Worse::Pose
+                        });
                         if args.never_worse {
                             let there = there.map_or_else(String::new, |t| {
                                 format!(
@@ -383,7 +398,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                             ));
                         }
                     } else {
-                        row.worse_at_reached = Some(false);
+                        row.worse = Some(Worse::Not);
                     }
                 }
                 let s = &row.surface;
@@ -593,15 +608,13 @@ fn comparison_cells(name: &str, joints: usize, rows: &[(Row, f64)]) -> Vec<Strin
     let max =
         |rows: &[&Row], f: &dyn Fn(&Row) -> f64| rows.iter().map(|r| f(r)).fold(0.0, f64::max);
     let crossing = |r: &Row| r.surface.crossing as f64;
-    let worse_poses = off
-        .iter()
-        .zip(&on)
-        .filter(|(a, b)| !worse(&a.surface, &b.surface).is_empty())
-        .count();
-    let worse_there = on
-        .iter()
-        .filter(|r| r.worse_at_reached == Some(true))
-        .count();
+    let count = |w: &[Worse]| {
+        on.iter()
+            .filter(|r| r.worse.is_some_and(|x| w.contains(&x)))
+            .count()
+    };
+    let worse_poses = count(&[Worse::Pose, Worse::Collision]);
+    let worse_there = count(&[Worse::Collision]);
     vec![
         name.to_string(),
         joints.to_string(),
