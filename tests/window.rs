@@ -252,6 +252,44 @@ fn an_animation_plays_pauses_steps_and_restarts() {
     assert!(w.quit().success());
 }
 
+/// The still frame: on this software renderer the window draws without anti-aliasing
+/// while anything moves (an animation playing), and once nothing does (paused), the scene
+/// once more with 4 samples a pixel, which the frames after copy until the view changes.
+#[test]
+fn a_still_view_is_anti_aliased_and_a_moving_one_is_not() {
+    let dir = common::scratch("window-still");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples");
+    let rig = root.join("spot-jaw.rig.toml");
+    let anim = root.join("spot-jaw.anim.toml");
+    let mut w = common::Window::open(
+        &dir,
+        &[
+            "--rig",
+            rig.to_str().unwrap(),
+            "--anim",
+            anim.to_str().unwrap(),
+        ],
+    );
+    w.hover([120.0, 400.0]);
+    w.key("Home");
+    let r = w.wait(
+        |r| r["playing"] == false && r["drawn_samples"] == 4,
+        "the still frame, anti-aliased",
+    );
+    assert_eq!(r["samples"], 1, "the moving view is drawn with one sample: {r}");
+    w.key("space");
+    w.wait(
+        |r| r["playing"] == true && r["drawn_samples"] == 1,
+        "a frame of the animation drawn with one sample",
+    );
+    w.key("space");
+    w.wait(
+        |r| r["playing"] == false && r["drawn_samples"] == 4,
+        "paused, the still frame again",
+    );
+    assert!(w.quit().success());
+}
+
 /// Recording with the mouse: Ctrl+R records, a drag on a part turns it, Ctrl+R stops and
 /// the take plays with a track for that part; Ctrl+Z takes the take back.
 #[test]

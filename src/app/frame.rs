@@ -1,7 +1,7 @@
 //! One frame: poll the loader, step the simulation for the time that passed, run the
 //! panels, upload what changed and draw the scene and the panels.
 
-use super::{Report, WindowState};
+use super::{still, Report, WindowState};
 use crate::render::{self, SceneRenderer};
 use crate::session::loader::Status;
 use crate::session::Session;
@@ -108,9 +108,36 @@ impl WindowState {
             self.settings.lighting = Some(self.lighting);
             self.settings.save();
         }
+        self.still_frame = false;
         if let Some(s) = &self.session {
             let view = s.view(self.panel.overlays);
-            self.scene.prepare(&self.gpu, &view, &self.camera, aspect);
+            let size = [self.config.width, self.config.height];
+            let key = still::Key::of(&view, &self.camera, self.panel.overlays, size);
+            // The still frame: where the window draws without anti-aliasing though it
+            // could, once nothing moves and the view is what it was at the frame before.
+            let at_rest = self.panel.anti_aliasing == Some(false)
+                && self.copies
+                && !s.is_running()
+                && !s.is_playing()
+                && !s.is_recording()
+                && self.loader.is_none()
+                && self.pointer.drag == crate::session::pointer::Drag::None;
+            if at_rest && self.last_key == Some(key) {
+                let format = self.config.format;
+                let still = self
+                    .still
+                    .get_or_insert_with(|| still::Still::new(&self.gpu, format));
+                still.image(&self.gpu, &view, &self.camera, key, format);
+                self.still_frame = true;
+            } else {
+                self.scene.prepare(&self.gpu, &view, &self.camera, aspect);
+                if at_rest {
+                    // Drawn again once it stayed so.
+                    let at = Instant::now() + still::STILL_AFTER;
+                    self.repaint_at = Some(self.repaint_at.map_or(at, |r| r.min(at)));
+                }
+            }
+            self.last_key = Some(key);
         }
         let take_shot = self.hooks.exit_after.is_some_and(|n| self.frames + 1 >= n)
             && self.session.is_some()
@@ -227,7 +254,19 @@ impl WindowState {
             ..Default::default()
         });
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
-        if self.session.is_some() {
+        let image = self
+            .still
+            .as_ref()
+            .and_then(|s| s.kept())
+            .filter(|_| self.still_frame);
+        if let Some(image) = image {
+            encoder.copy_texture_to_texture(
+                image.as_image_copy(),
+                texture.as_image_copy(),
+                image.size(),
+            );
+            self.drawn_samples = crate::render::scene::MSAA;
+        } else if self.session.is_some() {
             self.scene.render_to(
                 &self.gpu,
                 &mut encoder,
@@ -235,6 +274,7 @@ impl WindowState {
                 self.config.width,
                 self.config.height,
             );
+            self.drawn_samples = self.scene.samples();
         }
         let extra = self.egui.renderer.update_buffers(
             &self.gpu.device,

@@ -9,6 +9,7 @@
 //! * `actions`: keys and panel actions (open, save, export, undo);
 //! * `screenshot`, `report`: `--screenshot`, and what the window shows as data (`--report`);
 //! * `settings`: what the app remembers between runs (recent files, the first-run hint);
+//! * `still`: the still frame, anti-aliased once nothing moves where frames are not;
 //! * `hooks`, `drive`: what tests ask of the window ([`TestHooks`]), the synthetic drag;
 //! * `dialog`: the system's file dialog, on a thread;
 //! * `live`: live input devices (OSC, MIDI, gamepads) feeding the session.
@@ -29,6 +30,7 @@ mod live;
 mod report;
 mod screenshot;
 mod settings;
+mod still;
 mod window;
 
 pub use hooks::TestHooks;
@@ -88,6 +90,17 @@ struct WindowState {
     config: wgpu::SurfaceConfiguration,
     gpu: Gpu,
     scene: SceneRenderer,
+    /// The still frame's renderer (`still`), made the first time the view stands still
+    /// while the window draws without anti-aliasing.
+    still: Option<still::Still>,
+    /// The surface takes copies (the still frame is copied under the panels).
+    copies: bool,
+    /// What the scene's image depended on at the frame before (`still::Key`).
+    last_key: Option<still::Key>,
+    /// Samples a pixel the last frame's scene was drawn with.
+    drawn_samples: u32,
+    /// The frame being drawn copies the still frame instead of drawing the scene.
+    still_frame: bool,
     egui: Egui,
     /// The panels' own state (messages, recent files, what is shown).
     panel: PanelState,

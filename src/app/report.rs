@@ -68,6 +68,9 @@ pub struct Report {
     pub adapter: String,
     /// Samples a pixel the view is drawn with (1: no anti-aliasing).
     pub samples: u32,
+    /// Samples a pixel the last frame's scene was drawn with: [`crate::render::scene::MSAA`]
+    /// for the still frame where the view is otherwise drawn with one (`app::still`).
+    pub drawn_samples: u32,
     /// The ground and its shadow are drawn.
     pub ground: bool,
     /// How the surface is lit (`studio`, `clay matcap`, `jelly matcap`).
@@ -98,6 +101,7 @@ impl WindowState {
             message: self.panel.message.as_ref().map(|(m, _)| m.clone()),
             adapter: self.gpu.adapter.get_info().name,
             samples: self.scene.samples(),
+            drawn_samples: self.drawn_samples,
             ground: self.panel.overlays.ground,
             lighting: self.panel.overlays.lighting.label().to_string(),
             pid: std::process::id(),

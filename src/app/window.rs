@@ -52,6 +52,11 @@ impl WindowState {
             .unwrap_or(config.format);
         config.format = base;
         config.view_formats = vec![base.add_srgb_suffix()];
+        // The still frame is copied into the window's texture (`still`).
+        let copies = caps.usages.contains(wgpu::TextureUsages::COPY_DST);
+        if copies {
+            config.usage |= wgpu::TextureUsages::COPY_DST;
+        }
         config.present_mode = if caps.present_modes.contains(&wgpu::PresentMode::Fifo) {
             wgpu::PresentMode::Fifo
         } else {
@@ -94,6 +99,11 @@ impl WindowState {
             config,
             gpu,
             scene,
+            still: None,
+            copies,
+            last_key: None,
+            drawn_samples: 1,
+            still_frame: false,
             egui: Egui {
                 ctx: egui_ctx,
                 state: egui_state,

@@ -1,0 +1,107 @@
+//! The still frame: where the window draws without anti-aliasing (a software rasterizer,
+//! on which [`MSAA`] samples cost two to three times the frame, `puppet bench draw`), the
+//! scene is drawn once more with [`MSAA`] samples as soon as nothing in it changed for a
+//! frame (the puppet settled, the camera let go), into an image kept until the view
+//! changes again. Every frame in between copies that image under the panels: a hover over
+//! the panel redraws the panel, not the scene. While anything moves the window draws as
+//! fast as before; [`STILL_AFTER`] after the last change, the still frame.
+
+use crate::render::scene::MSAA;
+use crate::render::{Gpu, SceneRenderer};
+use crate::session::view::{Overlays, Revisions};
+use crate::session::{Camera, View};
+use std::time::Duration;
+
+/// How long after the last frame that changed the view the still frame is drawn.
+pub(super) const STILL_AFTER: Duration = Duration::from_millis(150);
+
+/// What the scene's image depends on: when none of it changed since the frame before,
+/// the view is still.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Key {
+    revisions: Revisions,
+    camera: Camera,
+    overlays: Overlays,
+    size: [u32; 2],
+}
+
+impl Key {
+    pub(super) fn of(view: &View, camera: &Camera, overlays: Overlays, size: [u32; 2]) -> Key {
+        Key {
+            revisions: view.revisions(),
+            camera: *camera,
+            overlays,
+            size,
+        }
+    }
+}
+
+/// The anti-aliased renderer and the image it drew last.
+pub(super) struct Still {
+    scene: SceneRenderer,
+    image: Option<(wgpu::Texture, Key)>,
+}
+
+impl Still {
+    /// A renderer with [`MSAA`] samples for images of `format` (drawn through its sRGB
+    /// view, as the window draws the scene).
+    pub(super) fn new(gpu: &Gpu, format: wgpu::TextureFormat) -> Still {
+        Still {
+            scene: SceneRenderer::with_samples(gpu, format.add_srgb_suffix(), MSAA),
+            image: None,
+        }
+    }
+
+    /// The image drawn last, if any.
+    pub(super) fn kept(&self) -> Option<&wgpu::Texture> {
+        self.image.as_ref().map(|(t, _)| t)
+    }
+
+    /// The scene of `view` as `camera` sees it, anti-aliased, `key.size` pixels in
+    /// `format`: drawn when the image kept is of another key, else the image kept.
+    pub(super) fn image(
+        &mut self,
+        gpu: &Gpu,
+        view: &View,
+        camera: &Camera,
+        key: Key,
+        format: wgpu::TextureFormat,
+    ) -> &wgpu::Texture {
+        let [width, height] = key.size.map(|s| s.max(1));
+        let fresh = match &self.image {
+            Some((texture, k)) if *k == key => Some(texture.clone()),
+            _ => None,
+        };
+        let texture = fresh.unwrap_or_else(|| {
+            let texture = match self.image.take() {
+                Some((t, _)) if t.width() == width && t.height() == height => t,
+                _ => gpu.device.create_texture(&wgpu::TextureDescriptor {
+                    label: Some("still frame"),
+                    size: wgpu::Extent3d {
+                        width,
+                        height,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                    view_formats: &[format.add_srgb_suffix()],
+                }),
+            };
+            let srgb = texture.create_view(&wgpu::TextureViewDescriptor {
+                format: Some(format.add_srgb_suffix()),
+                ..Default::default()
+            });
+            self.scene
+                .prepare(gpu, view, camera, width as f32 / height as f32);
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            self.scene
+                .render_to(gpu, &mut encoder, &srgb, width, height);
+            gpu.queue.submit(Some(encoder.finish()));
+            texture
+        });
+        &self.image.insert((texture, key)).0
+    }
+}
