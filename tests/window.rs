@@ -216,18 +216,7 @@ fn the_brush_paints_pinning_with_a_drag_and_undo_takes_it_back() {
 #[test]
 fn an_animation_plays_pauses_steps_and_restarts() {
     let dir = common::scratch("window-anim");
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples");
-    let rig = root.join("spot-jaw.rig.toml");
-    let anim = root.join("spot-jaw.anim.toml");
-    let mut w = common::Window::open(
-        &dir,
-        &[
-            "--rig",
-            rig.to_str().unwrap(),
-            "--anim",
-            anim.to_str().unwrap(),
-        ],
-    );
+    let mut w = with_the_jaw_animation(&dir);
     // It plays from the start (it may have finished by the time the window is up).
     w.wait(
         |r| r["animation_time"].as_f64().is_some_and(|t| t > 0.0),
@@ -252,31 +241,39 @@ fn an_animation_plays_pauses_steps_and_restarts() {
     assert!(w.quit().success());
 }
 
-/// The still frame: on this software renderer the window draws without anti-aliasing
-/// while anything moves (an animation playing), and once nothing does (paused), the scene
-/// once more with 4 samples a pixel, which the frames after copy until the view changes.
-#[test]
-fn a_still_view_is_anti_aliased_and_a_moving_one_is_not() {
-    let dir = common::scratch("window-still");
+/// The window on Spot with the example rig and its jaw's animation playing.
+fn with_the_jaw_animation(dir: &Path) -> common::Window {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/examples");
     let rig = root.join("spot-jaw.rig.toml");
     let anim = root.join("spot-jaw.anim.toml");
-    let mut w = common::Window::open(
-        &dir,
+    common::Window::open(
+        dir,
         &[
             "--rig",
             rig.to_str().unwrap(),
             "--anim",
             anim.to_str().unwrap(),
         ],
-    );
+    )
+}
+
+/// The still frame: on this software renderer the window draws without anti-aliasing
+/// while anything moves (an animation playing), and once nothing does (paused), the scene
+/// once more with 4 samples a pixel, which the frames after copy until the view changes.
+#[test]
+fn a_still_view_is_anti_aliased_and_a_moving_one_is_not() {
+    let dir = common::scratch("window-still");
+    let mut w = with_the_jaw_animation(&dir);
     w.hover([120.0, 400.0]);
     w.key("Home");
     let r = w.wait(
         |r| r["playing"] == false && r["drawn_samples"] == 4,
         "the still frame, anti-aliased",
     );
-    assert_eq!(r["samples"], 1, "the moving view is drawn with one sample: {r}");
+    assert_eq!(
+        r["samples"], 1,
+        "the moving view is drawn with one sample: {r}"
+    );
     w.key("space");
     w.wait(
         |r| r["playing"] == true && r["drawn_samples"] == 1,

@@ -75,20 +75,14 @@ impl Still {
         let texture = fresh.unwrap_or_else(|| {
             let texture = match self.image.take() {
                 Some((t, _)) if t.width() == width && t.height() == height => t,
-                _ => gpu.device.create_texture(&wgpu::TextureDescriptor {
-                    label: Some("still frame"),
-                    size: wgpu::Extent3d {
-                        width,
-                        height,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
+                _ => crate::render::colour_target(
+                    gpu,
+                    "still frame",
+                    [width, height],
                     format,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                    view_formats: &[format.add_srgb_suffix()],
-                }),
+                    wgpu::TextureUsages::COPY_SRC,
+                    &[format.add_srgb_suffix()],
+                ),
             };
             let srgb = texture.create_view(&wgpu::TextureViewDescriptor {
                 format: Some(format.add_srgb_suffix()),

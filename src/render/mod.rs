@@ -45,8 +45,34 @@ pub fn render_image(
     width: u32,
     height: u32,
 ) -> Result<Image, RenderError> {
-    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("offscreen"),
+    let texture = colour_target(
+        gpu,
+        "offscreen",
+        [width, height],
+        OFFSCREEN_FORMAT,
+        wgpu::TextureUsages::COPY_SRC,
+        &[],
+    );
+    let target = texture.create_view(&Default::default());
+    renderer.prepare(gpu, view, camera, width as f32 / height as f32);
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    renderer.render_to(gpu, &mut encoder, &target, width, height);
+    gpu.queue.submit([encoder.finish()]);
+    image::read_texture(gpu, &texture)
+}
+
+/// A texture of `size` pixels in `format` (one sample) to draw into, with `usage` besides,
+/// viewable as `view_formats` too.
+pub fn colour_target(
+    gpu: &Gpu,
+    label: &str,
+    [width, height]: [u32; 2],
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+    view_formats: &[wgpu::TextureFormat],
+) -> wgpu::Texture {
+    gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
         size: wgpu::Extent3d {
             width,
             height,
@@ -55,16 +81,10 @@ pub fn render_image(
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
-        format: OFFSCREEN_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
-    let target = texture.create_view(&Default::default());
-    renderer.prepare(gpu, view, camera, width as f32 / height as f32);
-    let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    renderer.render_to(gpu, &mut encoder, &target, width, height);
-    gpu.queue.submit([encoder.finish()]);
-    image::read_texture(gpu, &texture)
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | usage,
+        view_formats,
+    })
 }
 
 /// Begins a pass that draws into `view` alone (no depth), loading it as `load` says.
