@@ -27,8 +27,9 @@ pub(super) fn overlay_section(
         );
         if let Some(on) = &mut state.anti_aliasing {
             ui.checkbox(on, "anti-aliasing").on_hover_text(
-                "smooth edges (4 samples a pixel); off by default on a software renderer, \
-                 where it costs two to three times the frame",
+                "smooth edges (4 samples a pixel) while the puppet moves too; off by default \
+                 on a software renderer, where it costs two to three times the frame. Off, \
+                 a still view is smoothed once it stops",
             );
         }
     });
