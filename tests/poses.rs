@@ -152,10 +152,7 @@ fn collision_on_the_downloads_is_worse_on_few_poses() {
         "tests/data/population",
     ]);
     ok(&out);
-    let rows: Vec<serde_json::Value> = String::from_utf8_lossy(&out.stdout)
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
+    let rows = json_rows(&out);
     assert_eq!(rows.len(), 540);
     let on: Vec<&serde_json::Value> = rows.iter().filter(|r| r["collision"] == true).collect();
     let poses = |what: &str| -> Vec<String> {
@@ -188,10 +185,7 @@ fn collision_on_a_drag_is_never_worse() {
         "--json",
     ]);
     ok(&out);
-    let rows: Vec<serde_json::Value> = String::from_utf8_lossy(&out.stdout)
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
+    let rows = json_rows(&out);
     assert_eq!(rows.len(), 500);
     // Per character, the most faces a pose crosses with collision on.
     let mut most = std::collections::BTreeMap::new();
@@ -203,6 +197,14 @@ fn collision_on_a_drag_is_never_worse() {
     }
     let none = most.values().filter(|&&m| m == 0).count();
     assert!(none >= 17, "{most:?}");
+}
+
+/// The records of a `--json` run, one a line.
+fn json_rows(out: &std::process::Output) -> Vec<serde_json::Value> {
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect()
 }
 
 /// Runs `bench poses --ignore-skin` on `folder`'s `characters` and holds it to its
