@@ -127,7 +127,7 @@ impl WindowState {
                 let still = self
                     .still
                     .get_or_insert_with(|| still::Still::new(&self.gpu, format));
-                still.image(&self.gpu, &view, &self.camera, key, format);
+                still.draw(&self.gpu, &view, &self.camera, key, format);
                 self.still_frame = true;
             } else {
                 self.scene.prepare(&self.gpu, &view, &self.camera, aspect);

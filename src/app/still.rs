@@ -57,45 +57,41 @@ impl Still {
         self.image.as_ref().map(|(t, _)| t)
     }
 
-    /// The scene of `view` as `camera` sees it, anti-aliased, `key.size` pixels in
-    /// `format`: drawn when the image kept is of another key, else the image kept.
-    pub(super) fn image(
+    /// Draws the scene of `view` as `camera` sees it, anti-aliased, `key.size` pixels in
+    /// `format`, unless the picture kept ([`Still::kept`]) is already of `key`.
+    pub(super) fn draw(
         &mut self,
         gpu: &Gpu,
         view: &View,
         camera: &Camera,
         key: Key,
         format: wgpu::TextureFormat,
-    ) -> &wgpu::Texture {
+    ) {
+        if self.image.as_ref().is_some_and(|(_, k)| *k == key) {
+            return;
+        }
         let [width, height] = key.size.map(|s| s.max(1));
-        let fresh = match &self.image {
-            Some((texture, k)) if *k == key => Some(texture.clone()),
-            _ => None,
+        let texture = match self.image.take() {
+            Some((t, _)) if t.width() == width && t.height() == height => t,
+            _ => crate::render::colour_target(
+                gpu,
+                "still frame",
+                [width, height],
+                format,
+                wgpu::TextureUsages::COPY_SRC,
+                &[format.add_srgb_suffix()],
+            ),
         };
-        let texture = fresh.unwrap_or_else(|| {
-            let texture = match self.image.take() {
-                Some((t, _)) if t.width() == width && t.height() == height => t,
-                _ => crate::render::colour_target(
-                    gpu,
-                    "still frame",
-                    [width, height],
-                    format,
-                    wgpu::TextureUsages::COPY_SRC,
-                    &[format.add_srgb_suffix()],
-                ),
-            };
-            let srgb = texture.create_view(&wgpu::TextureViewDescriptor {
-                format: Some(format.add_srgb_suffix()),
-                ..Default::default()
-            });
-            self.scene
-                .prepare(gpu, view, camera, width as f32 / height as f32);
-            let mut encoder = gpu.device.create_command_encoder(&Default::default());
-            self.scene
-                .render_to(gpu, &mut encoder, &srgb, width, height);
-            gpu.queue.submit(Some(encoder.finish()));
-            texture
+        let srgb = texture.create_view(&wgpu::TextureViewDescriptor {
+            format: Some(format.add_srgb_suffix()),
+            ..Default::default()
         });
-        &self.image.insert((texture, key)).0
+        self.scene
+            .prepare(gpu, view, camera, width as f32 / height as f32);
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        self.scene
+            .render_to(gpu, &mut encoder, &srgb, width, height);
+        gpu.queue.submit(Some(encoder.finish()));
+        self.image = Some((texture, key));
     }
 }
