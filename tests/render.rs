@@ -497,6 +497,77 @@ fn silhouettes_are_anti_aliased() {
     );
 }
 
+/// FXAA, the window's anti-aliasing while the puppet moves on a software renderer: one
+/// sample a pixel, the silhouettes then smoothed, nearly as soft as with 4 samples.
+#[test]
+fn fxaa_smooths_silhouettes() {
+    let gpu = Gpu::headless().expect("a graphics adapter");
+    let session = spot_session(RigFile::default());
+    let cam = camera(&session);
+    let bare = Overlays {
+        ground: false,
+        pivots: false,
+        ..Overlays::default()
+    };
+    let mut fxaa = SceneRenderer::with_fxaa(&gpu, OFFSCREEN_FORMAT);
+    assert!(fxaa.fxaa() && fxaa.samples() == 1);
+    let mut one = SceneRenderer::with_samples(&gpu, OFFSCREEN_FORMAT, 1);
+    let smoothed = soft_silhouette(&shot(&gpu, &mut fxaa, &session, &cam, bare));
+    let stepped = soft_silhouette(&shot(&gpu, &mut one, &session, &cam, bare));
+    assert!(
+        smoothed > 0.3 && stepped < 0.2,
+        "partly covered silhouette pixels: {smoothed:.2} with FXAA, {stepped:.2} without"
+    );
+}
+
+/// FXAA smooths the surface, not the overlays: the cut planes, pivots and skeleton are
+/// drawn after it, as crisp as without it (FXAA run over them blurs their one-pixel
+/// lines).
+#[test]
+fn fxaa_leaves_the_overlays_crisp() {
+    let gpu = Gpu::headless().expect("a graphics adapter");
+    let session = jaw_session();
+    let cam = camera(&session);
+    let with = Overlays {
+        ground: false,
+        cuts: true,
+        pivots: true,
+        skeleton: true,
+        ..Overlays::default()
+    };
+    let without = Overlays {
+        cuts: false,
+        pivots: false,
+        skeleton: false,
+        ..with
+    };
+    let mut fxaa = SceneRenderer::with_fxaa(&gpu, OFFSCREEN_FORMAT);
+    let mut one = SceneRenderer::with_samples(&gpu, OFFSCREEN_FORMAT, 1);
+    let lines = shot(&gpu, &mut one, &session, &cam, with);
+    let bare = shot(&gpu, &mut one, &session, &cam, without);
+    let smoothed = shot(&gpu, &mut fxaa, &session, &cam, with);
+    // The overlays' pixels: where they changed the one-sample picture.
+    let (mut count, mut off) = (0usize, 0.0f64);
+    for ((a, b), c) in lines
+        .rgba
+        .chunks(4)
+        .zip(bare.rgba.chunks(4))
+        .zip(smoothed.rgba.chunks(4))
+    {
+        let px = |p: &[u8]| [p[0], p[1], p[2], p[3]];
+        if (luminance(px(a)) - luminance(px(b))).abs() > 24.0 {
+            count += 1;
+            off += (luminance(px(a)) - luminance(px(c))).abs();
+        }
+    }
+    let mean = off / count.max(1) as f64;
+    assert!(count > 500, "{count} overlay pixels");
+    assert!(
+        mean < 4.0,
+        "the overlays' pixels differ by {mean:.1} levels of luminance with FXAA"
+    );
+}
+
 /// The ground: a soft shadow under the puppet, darker than the background (nothing else on
 /// the ground is), and gone with the ground; the shadow map is drawn again only when the
 /// surface moved.

@@ -257,11 +257,12 @@ fn with_the_jaw_animation(dir: &Path) -> common::Window {
     )
 }
 
-/// The still frame: on this software renderer the window draws without anti-aliasing
-/// while anything moves (an animation playing), and once nothing does (paused), the scene
-/// once more with 4 samples a pixel, which the frames after copy until the view changes.
+/// The still frame: on this software renderer the window draws one sample a pixel while
+/// anything moves (an animation playing), its edges smoothed after (FXAA, the default
+/// here), and once nothing does (paused), the scene once more with 4 samples a pixel,
+/// which the frames after copy until the view changes.
 #[test]
-fn a_still_view_is_anti_aliased_and_a_moving_one_is_not() {
+fn a_still_view_has_4_samples_and_a_moving_one_is_smoothed() {
     let dir = common::scratch("window-still");
     let mut w = with_the_jaw_animation(&dir);
     w.hover([120.0, 400.0]);
@@ -271,13 +272,14 @@ fn a_still_view_is_anti_aliased_and_a_moving_one_is_not() {
         "the still frame, anti-aliased",
     );
     assert_eq!(
-        r["samples"], 1,
-        "the moving view is drawn with one sample: {r}"
+        (&r["samples"], &r["anti_aliasing"]),
+        (&serde_json::json!(1), &serde_json::json!("fxaa")),
+        "the moving view is drawn with one sample and smoothed: {r}"
     );
     w.key("space");
     w.wait(
-        |r| r["playing"] == true && r["drawn_samples"] == 1,
-        "a frame of the animation drawn with one sample",
+        |r| r["playing"] == true && r["drawn_samples"] == 1 && r["drawn_fxaa"] == true,
+        "a frame of the animation drawn with one sample, smoothed",
     );
     w.key("space");
     w.wait(
@@ -759,9 +761,10 @@ fn a_skinned_file_opens_with_its_joints_and_plays_a_clip() {
     assert!((raised - 70.0).abs() < 5.0, "the arm turned {raised}°: {r}");
 }
 
-/// The window's look as a user meets it on this software renderer: the ground on and no
-/// anti-aliasing by default (it would cost two to three times the frame here), and
-/// anti-aliasing on when the settings say the user turned it on; the studio's lights, the
+/// The window's look as a user meets it on this software renderer: the ground on and one
+/// sample a pixel smoothed by FXAA by default (4 samples would cost two to three times the
+/// frame here), and 4 samples when the settings say the user turned them on (an earlier
+/// version's `anti_aliasing = true`); the studio's lights, the
 /// matcap the settings remember, or the one `--lighting` names for one run.
 #[test]
 fn the_window_draws_the_ground_and_anti_aliases_when_the_user_asked() {
@@ -774,6 +777,7 @@ fn the_window_draws_the_ground_and_anti_aliases_when_the_user_asked() {
         "{r}"
     );
     assert_eq!(r["lighting"], "studio", "{r}");
+    assert_eq!(r["anti_aliasing"], "fxaa", "{r}");
     let config = w.config.clone();
     assert!(w.quit().success());
     let settings = config.join("settings.toml");

@@ -2,7 +2,7 @@
 //! panels, upload what changed and draw the scene and the panels.
 
 use super::{still, Report, WindowState};
-use crate::render::{self, SceneRenderer};
+use crate::render::{self, AntiAliasing};
 use crate::session::loader::Status;
 use crate::session::Session;
 use anyhow::{anyhow, Result};
@@ -91,14 +91,13 @@ impl WindowState {
             _ => None,
         };
         let aspect = self.config.width as f32 / self.config.height.max(1) as f32;
-        // Anti-aliasing turned on or off in the panel: a renderer with the other sample
-        // count (it uploads everything again).
-        if let Some(on) = self.panel.anti_aliasing {
-            if on != (self.scene.samples() > 1) {
-                let samples = if on { render::scene::MSAA } else { 1 };
+        // Another anti-aliasing chosen in the panel: a renderer for it (it uploads
+        // everything again).
+        if let Some(chosen) = self.panel.anti_aliasing {
+            if chosen != AntiAliasing::of(&self.scene) {
                 let format = self.config.format.add_srgb_suffix();
-                self.scene = SceneRenderer::with_samples(&self.gpu, format, samples);
-                self.settings.anti_aliasing = Some(on);
+                self.scene = chosen.renderer(&self.gpu, format);
+                self.settings.anti_aliasing = Some(chosen);
                 self.settings.save();
             }
         }
@@ -113,9 +112,10 @@ impl WindowState {
             let view = s.view(self.panel.overlays);
             let size = [self.config.width, self.config.height];
             let key = still::Key::of(&view, &self.camera, self.panel.overlays, size);
-            // The still frame: where the window draws without anti-aliasing though it
-            // could, once nothing moves and the view is what it was at the frame before.
-            let at_rest = self.panel.anti_aliasing == Some(false)
+            // The still frame: where the window draws with fewer samples than it could,
+            // once nothing moves and the view is what it was at the frame before.
+            let at_rest = self.scene.samples() < render::scene::MSAA
+                && self.can_msaa
                 && self.copies
                 && !s.is_running()
                 && !s.is_playing()
@@ -249,10 +249,6 @@ impl WindowState {
         screen: &egui_wgpu::ScreenDescriptor,
     ) {
         let plain = texture.create_view(&Default::default());
-        let srgb = texture.create_view(&wgpu::TextureViewDescriptor {
-            format: Some(self.config.format.add_srgb_suffix()),
-            ..Default::default()
-        });
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
         let image = self
             .still
@@ -266,15 +262,11 @@ impl WindowState {
                 image.size(),
             );
             self.drawn_samples = crate::render::scene::MSAA;
+            self.drawn_fxaa = false;
         } else if self.session.is_some() {
-            self.scene.render_to(
-                &self.gpu,
-                &mut encoder,
-                &srgb,
-                self.config.width,
-                self.config.height,
-            );
+            self.scene.render_to(&self.gpu, &mut encoder, texture);
             self.drawn_samples = self.scene.samples();
+            self.drawn_fxaa = self.scene.fxaa();
         }
         let extra = self.egui.renderer.update_buffers(
             &self.gpu.device,

@@ -95,10 +95,15 @@ struct WindowState {
     still: Option<still::Still>,
     /// The surface takes copies (the still frame is copied under the panels).
     copies: bool,
+    /// The adapter draws [`crate::render::scene::MSAA`] samples into the surface's format
+    /// (the still frame's).
+    can_msaa: bool,
     /// What the scene's image depended on at the frame before (`still::Key`).
     last_key: Option<still::Key>,
-    /// Samples a pixel the last frame's scene was drawn with.
+    /// Samples a pixel the last frame's scene was drawn with, and whether its edges were
+    /// smoothed after (FXAA).
     drawn_samples: u32,
+    drawn_fxaa: bool,
     /// The frame being drawn copies the still frame instead of drawing the scene.
     still_frame: bool,
     egui: Egui,

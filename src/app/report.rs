@@ -71,6 +71,11 @@ pub struct Report {
     /// Samples a pixel the last frame's scene was drawn with: [`crate::render::scene::MSAA`]
     /// for the still frame where the view is otherwise drawn with one (`app::still`).
     pub drawn_samples: u32,
+    /// The last frame's scene was drawn with one sample and its edges smoothed after
+    /// (FXAA).
+    pub drawn_fxaa: bool,
+    /// How the moving view's edges are smoothed, as chosen (`msaa`, `fxaa`, `off`).
+    pub anti_aliasing: crate::render::AntiAliasing,
     /// The ground and its shadow are drawn.
     pub ground: bool,
     /// How the surface is lit (`studio`, `clay matcap`, `jelly matcap`).
@@ -102,6 +107,8 @@ impl WindowState {
             adapter: self.gpu.adapter.get_info().name,
             samples: self.scene.samples(),
             drawn_samples: self.drawn_samples,
+            drawn_fxaa: self.drawn_fxaa,
+            anti_aliasing: crate::render::AntiAliasing::of(&self.scene),
             ground: self.panel.overlays.ground,
             lighting: self.panel.overlays.lighting.label().to_string(),
             pid: std::process::id(),

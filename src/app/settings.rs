@@ -16,9 +16,10 @@ pub struct Settings {
     pub recent: Vec<PathBuf>,
     /// The puppeteer has turned a section once: no more first-run hint.
     pub hint_done: bool,
-    /// Anti-aliasing as last set in the panel; unset: the adapter's default (on a GPU,
-    /// off on a software renderer).
-    pub anti_aliasing: Option<bool>,
+    /// Anti-aliasing as last chosen in the panel (`msaa`, `fxaa`, `off`; a version's
+    /// `true` and `false` read as `msaa` and `off`); unset: the adapter's default (on a
+    /// GPU 4 samples, on a software renderer FXAA).
+    pub anti_aliasing: Option<crate::render::AntiAliasing>,
     /// The lighting as last chosen in the panel (`studio`, `clay`, `jelly`); unset: the
     /// studio's. `--lighting` overrides it for one run without changing it.
     pub lighting: Option<crate::session::Lighting>,
@@ -107,6 +108,7 @@ impl Settings {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::AntiAliasing;
     use crate::session::Lighting;
 
     /// The lighting is written by name and read back; a value this version cannot read,
@@ -116,11 +118,17 @@ mod tests {
         let kept = Settings {
             recent: vec![PathBuf::from("/a/b.obj")],
             hint_done: true,
-            anti_aliasing: Some(false),
+            anti_aliasing: Some(AntiAliasing::Fxaa),
             lighting: Some(Lighting::Jelly),
         };
         let text = toml::to_string_pretty(&kept).unwrap();
         assert!(text.contains("lighting = \"jelly\""), "{text}");
+        assert!(text.contains("anti_aliasing = \"fxaa\""), "{text}");
+        // The switch of earlier versions.
+        for (old, now) in [("true", AntiAliasing::Msaa), ("false", AntiAliasing::Off)] {
+            let read = Settings::parse(&format!("anti_aliasing = {old}"), Path::new("s.toml"));
+            assert_eq!(read.anti_aliasing, Some(now), "anti_aliasing = {old}");
+        }
         assert_eq!(Settings::parse(&text, Path::new("s.toml")), kept);
         for (key, bad) in [
             ("lighting", "\"metal\""),

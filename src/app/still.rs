@@ -1,7 +1,7 @@
-//! The still frame: where the window draws without anti-aliasing (a software rasterizer,
-//! on which [`MSAA`] samples cost two to three times the frame, `puppet bench draw`), the
-//! scene is drawn once more with [`MSAA`] samples as soon as nothing in it changed for a
-//! frame (the puppet settled, the camera let go), into an image kept until the view
+//! The still frame: where the window draws one sample a pixel (a software rasterizer, on
+//! which [`MSAA`] samples cost two to three times the frame, `puppet bench draw`; its
+//! edges smoothed by FXAA or not), the scene is drawn once more with [`MSAA`] samples as
+//! soon as nothing in it changed for a frame (the puppet settled, the camera let go), into an image kept until the view
 //! changes again. Every frame in between copies that image under the panels: a hover over
 //! the panel redraws the panel, not the scene. While anything moves the window draws as
 //! fast as before; [`STILL_AFTER`] after the last change, the still frame.
@@ -82,15 +82,10 @@ impl Still {
                 &[format.add_srgb_suffix()],
             ),
         };
-        let srgb = texture.create_view(&wgpu::TextureViewDescriptor {
-            format: Some(format.add_srgb_suffix()),
-            ..Default::default()
-        });
         self.scene
             .prepare(gpu, view, camera, width as f32 / height as f32);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        self.scene
-            .render_to(gpu, &mut encoder, &srgb, width, height);
+        self.scene.render_to(gpu, &mut encoder, &texture);
         gpu.queue.submit(Some(encoder.finish()));
         self.image = Some((texture, key));
     }

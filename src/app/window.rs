@@ -3,7 +3,7 @@
 
 use super::settings::Settings;
 use super::{Egui, Options, WindowState};
-use crate::render::{Gpu, SceneRenderer};
+use crate::render::{AntiAliasing, Gpu};
 use crate::session::loader::Loader;
 use crate::session::pointer::Pointer;
 use crate::session::Camera;
@@ -57,6 +57,11 @@ impl WindowState {
         if copies {
             config.usage |= wgpu::TextureUsages::COPY_DST;
         }
+        // FXAA copies the pixels it reads out of it.
+        let gives_copies = caps.usages.contains(wgpu::TextureUsages::COPY_SRC);
+        if gives_copies {
+            config.usage |= wgpu::TextureUsages::COPY_SRC;
+        }
         config.present_mode = if caps.present_modes.contains(&wgpu::PresentMode::Fifo) {
             wgpu::PresentMode::Fifo
         } else {
@@ -70,15 +75,26 @@ impl WindowState {
         let settings = Settings::load();
         let lighting = options.lighting.or(settings.lighting).unwrap_or_default();
         let can_msaa = crate::render::scene::msaa_supported(&gpu, view_format);
-        let msaa = can_msaa
-            && settings
-                .anti_aliasing
-                .unwrap_or_else(|| crate::render::scene::window_msaa(&gpu, view_format));
-        let scene = SceneRenderer::with_samples(
-            &gpu,
-            view_format,
-            if msaa { crate::render::scene::MSAA } else { 1 },
-        );
+        let offered: Vec<AntiAliasing> = AntiAliasing::ALL
+            .into_iter()
+            .filter(|a| match a {
+                AntiAliasing::Msaa => can_msaa,
+                AntiAliasing::Fxaa => gives_copies,
+                AntiAliasing::Off => true,
+            })
+            .collect();
+        let default = if crate::render::scene::window_msaa(&gpu, view_format) {
+            AntiAliasing::Msaa
+        } else if gives_copies {
+            AntiAliasing::Fxaa
+        } else {
+            AntiAliasing::Off
+        };
+        let anti_aliasing = settings
+            .anti_aliasing
+            .filter(|a| offered.contains(a))
+            .unwrap_or(default);
+        let scene = anti_aliasing.renderer(&gpu, view_format);
         let egui_ctx = egui::Context::default();
         let egui_state = egui_winit::State::new(
             egui_ctx.clone(),
@@ -101,8 +117,10 @@ impl WindowState {
             scene,
             still: None,
             copies,
+            can_msaa,
             last_key: None,
             drawn_samples: 1,
+            drawn_fxaa: false,
             still_frame: false,
             egui: Egui {
                 ctx: egui_ctx,
@@ -115,7 +133,8 @@ impl WindowState {
                     lighting,
                     ..Default::default()
                 },
-                anti_aliasing: can_msaa.then_some(msaa),
+                anti_aliasing: Some(anti_aliasing),
+                anti_aliasing_offered: offered,
                 ..PanelState::default()
             },
             session: None,

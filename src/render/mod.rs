@@ -4,12 +4,14 @@
 //!
 //! * [`gpu`]: the device, created once;
 //! * `pipelines`, `buffers`: the pipelines of `shaders/scene.wgsl` and the buffers they read;
+//! * `fxaa`: edges smoothed after a one-sample scene (`shaders/fxaa.wgsl`);
 //! * [`scene`]: [`SceneRenderer`] (`new` creates, `prepare` uploads what changed, `paint`
 //!   draws);
 //! * [`image`]: images read back from the GPU, PNG files, comparisons for tests;
 //! * [`video`]: a take's frames into `ffmpeg`, or PNG files without it.
 
 mod buffers;
+mod fxaa;
 pub mod gpu;
 pub mod image;
 mod pipelines;
@@ -21,6 +23,81 @@ pub use image::Image;
 pub use scene::SceneRenderer;
 
 use crate::session::{Camera, View};
+
+/// How the window smooths edges while the view moves (a still view is drawn once more
+/// with [`scene::MSAA`] samples whichever, where the adapter has them).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum AntiAliasing {
+    /// [`scene::MSAA`] samples a pixel: the best edges, two to three times the frame on
+    /// a software rasterizer.
+    Msaa,
+    /// One sample, the edges smoothed after (FXAA) over the surface's box on screen.
+    Fxaa,
+    /// One sample, the edges stepped while anything moves.
+    #[default]
+    Off,
+}
+
+impl AntiAliasing {
+    /// Every choice, in the panel's order.
+    pub const ALL: [AntiAliasing; 3] = [AntiAliasing::Msaa, AntiAliasing::Fxaa, AntiAliasing::Off];
+
+    /// What the panel calls it.
+    pub fn label(self) -> &'static str {
+        match self {
+            AntiAliasing::Msaa => "4 samples",
+            AntiAliasing::Fxaa => "smoothed (FXAA)",
+            AntiAliasing::Off => "off while moving",
+        }
+    }
+
+    /// A renderer for the moving view into targets of `format` (FXAA's targets give
+    /// copies: see [`SceneRenderer::render_to`]).
+    pub fn renderer(self, gpu: &Gpu, format: wgpu::TextureFormat) -> SceneRenderer {
+        match self {
+            AntiAliasing::Msaa => SceneRenderer::with_samples(gpu, format, scene::MSAA),
+            AntiAliasing::Fxaa => SceneRenderer::with_fxaa(gpu, format),
+            AntiAliasing::Off => SceneRenderer::with_samples(gpu, format, 1),
+        }
+    }
+
+    /// What `renderer` draws with.
+    pub fn of(renderer: &SceneRenderer) -> AntiAliasing {
+        if renderer.samples() > 1 {
+            AntiAliasing::Msaa
+        } else if renderer.fxaa() {
+            AntiAliasing::Fxaa
+        } else {
+            AntiAliasing::Off
+        }
+    }
+}
+
+/// Reads the names [`AntiAliasing`] is written as, and the settings of versions that had
+/// a switch (`true`: [`AntiAliasing::Msaa`], `false`: [`AntiAliasing::Off`]).
+impl<'de> serde::Deserialize<'de> for AntiAliasing {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(serde::Deserialize)]
+        #[serde(untagged)]
+        enum Written {
+            Switch(bool),
+            Name(String),
+        }
+        match Written::deserialize(d)? {
+            Written::Switch(true) => Ok(AntiAliasing::Msaa),
+            Written::Switch(false) => Ok(AntiAliasing::Off),
+            Written::Name(name) => match name.as_str() {
+                "msaa" => Ok(AntiAliasing::Msaa),
+                "fxaa" => Ok(AntiAliasing::Fxaa),
+                "off" => Ok(AntiAliasing::Off),
+                _ => Err(serde::de::Error::custom(format!(
+                    "unknown anti-aliasing `{name}` (msaa, fxaa or off)"
+                ))),
+            },
+        }
+    }
+}
 
 /// Format of the depth buffer.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -51,12 +128,12 @@ pub fn render_image(
         [width, height],
         OFFSCREEN_FORMAT,
         wgpu::TextureUsages::COPY_SRC,
-        &[],
+        // (FXAA writes through the plain format.)
+        &[OFFSCREEN_FORMAT.remove_srgb_suffix()],
     );
-    let target = texture.create_view(&Default::default());
     renderer.prepare(gpu, view, camera, width as f32 / height as f32);
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    renderer.render_to(gpu, &mut encoder, &target, width, height);
+    renderer.render_to(gpu, &mut encoder, &texture);
     gpu.queue.submit([encoder.finish()]);
     image::read_texture(gpu, &texture)
 }

@@ -5,11 +5,15 @@
 //! A frame is two passes: the shadow map (the surface's depth seen down the ground's up,
 //! only when the surface or the ground moved), then the scene into a multisampled target
 //! ([`MSAA`] samples where the adapter has them, else one) resolved into the caller's.
+//! A renderer made [`SceneRenderer::with_fxaa`] draws one sample and smooths the edges
+//! after: the surface and the ground into a texture of its own, that picture smoothed into
+//! the caller's target, then the overlays over it, crisp.
 //! A closed surface turned outward (most puppets: loading closes holes and turns parts
 //! inside out the right way) is drawn without the faces turned away from the eye, which
 //! never show; an open one with both sides, its inside lit as seen.
 
 use super::buffers::{GrowBuffer, LineVertex, SurfaceVertex, Uniforms};
+use super::fxaa::Fxaa;
 use super::pipelines::Pipelines;
 use super::{Gpu, BACKGROUND, DEPTH_FORMAT};
 use crate::geom::occlusion::Occluders;
@@ -31,10 +35,11 @@ pub fn msaa_supported(gpu: &Gpu, format: wgpu::TextureFormat) -> bool {
     supported(format) && supported(DEPTH_FORMAT)
 }
 
-/// Whether the window anti-aliases by default: where the adapter supports it and is a
-/// GPU. A software rasterizer (llvmpipe) covers every sample of every triangle, and
-/// [`MSAA`] samples cost it two to three times the frame (`puppet bench draw`), so there
-/// it starts off and the panel can turn it on.
+/// Whether the window draws [`MSAA`] samples by default: where the adapter supports them
+/// and is a GPU. A software rasterizer (llvmpipe) covers every sample of every triangle,
+/// and [`MSAA`] samples cost it two to three times the frame (`puppet bench draw`), so
+/// there it smooths the moving view's edges with FXAA instead
+/// ([`crate::render::AntiAliasing`]) and the panel can choose samples.
 pub fn window_msaa(gpu: &Gpu, format: wgpu::TextureFormat) -> bool {
     gpu.adapter.get_info().device_type != wgpu::DeviceType::Cpu && msaa_supported(gpu, format)
 }
@@ -93,6 +98,13 @@ pub struct SceneRenderer {
     encode_gamma: bool,
     format: wgpu::TextureFormat,
     samples: u32,
+    /// Edges smoothed after a one-sample scene ([`SceneRenderer::with_fxaa`]).
+    fxaa: Option<Fxaa>,
+    /// The surface's triangles (kept with FXAA, which finds the edges to smooth on
+    /// them), and the last `prepare`'s camera: its eye and its view and projection.
+    cpu_triangles: Vec<[u32; 3]>,
+    eye: Vec3,
+    view_proj: Mat4,
     pipelines: Pipelines,
     /// The multisampled colour target (with more than one sample).
     target: Option<(wgpu::Texture, wgpu::TextureView)>,
@@ -157,6 +169,10 @@ impl SceneRenderer {
             encode_gamma: !format.is_srgb(),
             format,
             samples,
+            fxaa: None,
+            cpu_triangles: Vec::new(),
+            eye: Vec3::ZERO,
+            view_proj: Mat4::IDENTITY,
             pipelines: Pipelines::new(device, format, samples),
             target: None,
             ground: None,
@@ -196,9 +212,24 @@ impl SceneRenderer {
         }
     }
 
+    /// A renderer that draws one sample a pixel and smooths the edges after (FXAA): the
+    /// anti-aliasing a software rasterizer affords while the puppet moves (`puppet bench
+    /// draw`).
+    pub fn with_fxaa(gpu: &Gpu, format: wgpu::TextureFormat) -> SceneRenderer {
+        SceneRenderer {
+            fxaa: Some(Fxaa::new(&gpu.device, format)),
+            ..SceneRenderer::with_samples(gpu, format, 1)
+        }
+    }
+
     /// Samples a pixel this renderer draws with.
     pub fn samples(&self) -> u32 {
         self.samples
+    }
+
+    /// Whether this renderer smooths edges after drawing ([`SceneRenderer::with_fxaa`]).
+    pub fn fxaa(&self) -> bool {
+        self.fxaa.is_some()
     }
 
     /// The depth buffer and, with more than one sample, the multisampled colour target
@@ -259,8 +290,9 @@ impl SceneRenderer {
             spacing: 1.0,
         });
         let look = matcap(view.lighting());
+        let view_proj = camera.view_proj(aspect);
         let u = Uniforms {
-            view_proj: camera.view_proj(aspect).to_cols_array_2d(),
+            view_proj: view_proj.to_cols_array_2d(),
             shadow_proj: shadow_proj(&g).to_cols_array_2d(),
             eye: eye.extend(1.0).to_array(),
             key: light(KEY)
@@ -303,6 +335,10 @@ impl SceneRenderer {
         }
         if new_puppet {
             let indices: Vec<u32> = view.triangles().iter().flatten().copied().collect();
+            self.cpu_triangles.clear();
+            if self.fxaa.is_some() {
+                self.cpu_triangles.extend_from_slice(view.triangles());
+            }
             self.indices.write(gpu, bytemuck::cast_slice(&indices));
             self.index_count = indices.len() as u32;
             self.closed = view.closed();
@@ -343,6 +379,7 @@ impl SceneRenderer {
             self.top_count = upload_lines(gpu, &mut self.top, &self.cpu_top, &mut self.gpu_lines);
             self.last_uploads += 1;
         }
+        (self.eye, self.view_proj) = (eye, view_proj);
     }
 
     /// Positions, area-weighted normals and (while the view shades creases) occlusion of
@@ -391,6 +428,17 @@ impl SceneRenderer {
     /// Records the scene into `pass` (cleared colour and depth are the caller's, and the
     /// shadow map is [`SceneRenderer::render_shadow`]'s).
     pub fn paint(&self, pass: &mut wgpu::RenderPass<'_>) {
+        self.paint_surface(pass);
+        self.paint_overlays(pass);
+    }
+
+    /// Whether the view has overlay lines to draw.
+    fn has_overlays(&self) -> bool {
+        self.line_count > 0 || self.top_count > 0
+    }
+
+    /// Records the surface and the ground into `pass`.
+    fn paint_surface(&self, pass: &mut wgpu::RenderPass<'_>) {
         let p = &self.pipelines;
         pass.set_bind_group(0, &p.bind_group, &[]);
         if self.index_count > 0 {
@@ -409,6 +457,12 @@ impl SceneRenderer {
             pass.set_pipeline(&p.ground);
             pass.draw(0..6, 0..1);
         }
+    }
+
+    /// Records the overlay lines into `pass`, tested against the surface's depth.
+    fn paint_overlays(&self, pass: &mut wgpu::RenderPass<'_>) {
+        let p = &self.pipelines;
+        pass.set_bind_group(0, &p.bind_group, &[]);
         if self.line_count > 0 {
             pass.set_pipeline(&p.lines);
             pass.set_vertex_buffer(0, self.lines.buffer.slice(..));
@@ -465,55 +519,128 @@ impl SceneRenderer {
         pass.draw(0..3, 0..1);
     }
 
-    /// Renders the shadow map if it is stale, then begins a pass on `color` (cleared to
-    /// the background; through the multisampled target, resolved into `color`) with this
-    /// renderer's depth buffer and paints the scene.
+    /// Renders the shadow map if it is stale, then draws the scene into `target` (cleared
+    /// to the background; through the multisampled target, resolved into it) with this
+    /// renderer's depth buffer. `target` is viewable in this renderer's format. With
+    /// [`SceneRenderer::with_fxaa`] the surface and the ground go through the smoothing
+    /// pass first, then the overlays are drawn over them, and `target` also gives copies
+    /// and is viewable in its plain format.
     pub fn render_to(
         &mut self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
-        color: &wgpu::TextureView,
-        width: u32,
-        height: u32,
+        target: &wgpu::Texture,
     ) {
+        let (width, height) = (target.width(), target.height());
         self.render_shadow(encoder);
         self.size_targets(gpu, width, height);
+        let color = target.create_view(&wgpu::TextureViewDescriptor {
+            format: Some(self.format),
+            ..Default::default()
+        });
+        if let Some(mut fxaa) = self.fxaa.take() {
+            self.render_smoothed(gpu, encoder, &mut fxaa, target, &color);
+            self.fxaa = Some(fxaa);
+            return;
+        }
         let Some((_, depth)) = &self.depth else {
             return;
         };
         let (view, resolve_target) = match &self.target {
-            Some((_, multisampled)) if self.samples > 1 => (multisampled, Some(color)),
-            _ => (color, None),
+            Some((_, multisampled)) if self.samples > 1 => (multisampled, Some(&color)),
+            _ => (&color, None),
         };
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("scene"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view,
-                resolve_target,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(BACKGROUND),
-                    store: if resolve_target.is_some() {
-                        wgpu::StoreOp::Discard
-                    } else {
-                        wgpu::StoreOp::Store
-                    },
-                },
-                depth_slice: None,
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Discard,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let clear = (wgpu::LoadOp::Clear(BACKGROUND), wgpu::LoadOp::Clear(1.0));
+        let mut pass = scene_pass(
+            encoder,
+            "scene",
+            (view, resolve_target),
+            depth,
+            clear,
+            false,
+        );
         self.paint(&mut pass);
     }
+
+    /// [`SceneRenderer::render_to`] through `fxaa`: the surface and the ground into
+    /// `target` through `color`, smoothed along the surface's edges, the overlays
+    /// over that (tested against the surface's depth, kept from the first pass only when
+    /// there are overlays).
+    fn render_smoothed(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        fxaa: &mut Fxaa,
+        target: &wgpu::Texture,
+        color: &wgpu::TextureView,
+    ) {
+        let Some((_, depth)) = &self.depth else {
+            return;
+        };
+        let (width, height) = (target.width(), target.height());
+        let overlays = self.has_overlays();
+        {
+            let clear = (wgpu::LoadOp::Clear(BACKGROUND), wgpu::LoadOp::Clear(1.0));
+            let mut pass = scene_pass(encoder, "scene", (color, None), depth, clear, overlays);
+            self.paint_surface(&mut pass);
+        }
+        let rects = super::fxaa::edge_rects(
+            &self.cpu_positions,
+            &self.cpu_normals,
+            &self.cpu_triangles,
+            self.view_proj,
+            self.eye,
+            [width, height],
+        );
+        fxaa.smooth(gpu, encoder, target, &rects);
+        if overlays {
+            let load = (wgpu::LoadOp::Load, wgpu::LoadOp::Load);
+            let mut pass = scene_pass(encoder, "overlays", (color, None), depth, load, false);
+            self.paint_overlays(&mut pass);
+        }
+    }
+}
+
+/// Begins a pass of the scene on `view` (resolved into `resolve` when multisampled), its
+/// colour and depth loaded as `load` says, the depth kept after it when `keep_depth`.
+fn scene_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    (view, resolve_target): (&wgpu::TextureView, Option<&wgpu::TextureView>),
+    depth: &wgpu::TextureView,
+    load: (wgpu::LoadOp<wgpu::Color>, wgpu::LoadOp<f32>),
+    keep_depth: bool,
+) -> wgpu::RenderPass<'e> {
+    let keep = |kept| {
+        if kept {
+            wgpu::StoreOp::Store
+        } else {
+            wgpu::StoreOp::Discard
+        }
+    };
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view,
+            resolve_target,
+            ops: wgpu::Operations {
+                load: load.0,
+                store: keep(resolve_target.is_none()),
+            },
+            depth_slice: None,
+        })],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: depth,
+            depth_ops: Some(wgpu::Operations {
+                load: load.1,
+                store: keep(keep_depth),
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
 }
 
 /// Cells across the bounding-box diagonal that the shadow's surface is coarsened to.

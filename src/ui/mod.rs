@@ -78,8 +78,10 @@ pub struct Stats {
 pub struct PanelState {
     /// The overlays shown.
     pub overlays: Overlays,
-    /// The view is anti-aliased (multisampled); `None` where the adapter cannot.
-    pub anti_aliasing: Option<bool>,
+    /// How the moving view's edges are smoothed; `None` before a window has a choice.
+    pub anti_aliasing: Option<crate::render::AntiAliasing>,
+    /// The choices this adapter and window offer.
+    pub anti_aliasing_offered: Vec<crate::render::AntiAliasing>,
     /// The path field (for a typed path when there is no file dialog).
     pub path: String,
     /// Files opened recently, the latest first.
@@ -109,6 +111,7 @@ impl Default for PanelState {
         PanelState {
             overlays: Overlays::default(),
             anti_aliasing: None,
+            anti_aliasing_offered: Vec::new(),
             path: String::new(),
             recent: Vec::new(),
             source: None,

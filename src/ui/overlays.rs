@@ -25,14 +25,27 @@ pub(super) fn overlay_section(
             "shade creases (armpits, a mouth, a bent joint) by how much of the sky the body \
              hides there",
         );
-        if let Some(on) = &mut state.anti_aliasing {
-            ui.checkbox(on, "anti-aliasing").on_hover_text(
-                "smooth edges (4 samples a pixel) while the puppet moves too; off by default \
-                 on a software renderer, where it costs two to three times the frame. Off, \
-                 a still view is smoothed once it stops",
-            );
-        }
     });
+    if let Some(chosen) = &mut state.anti_aliasing {
+        ui.horizontal(|ui| {
+            ui.label("anti-aliasing");
+            egui::ComboBox::from_id_salt("anti-aliasing")
+                .selected_text(chosen.label())
+                .show_ui(ui, |ui| {
+                    for &a in &state.anti_aliasing_offered {
+                        ui.selectable_value(chosen, a, a.label());
+                    }
+                })
+                .response
+                .on_hover_text(
+                    "how edges are smoothed while the puppet or the camera moves. 4 samples: \
+                     the best, but two to three times the frame on a software renderer; \
+                     smoothed (FXAA): a pass over the puppet's edges, the default there; off \
+                     while moving: the fastest. Whichever, a still view is drawn once more \
+                     with 4 samples as soon as it stops",
+                );
+        });
+    }
     ui.horizontal(|ui| {
         ui.label("lighting");
         let lighting = &mut state.overlays.lighting;

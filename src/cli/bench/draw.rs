@@ -7,10 +7,11 @@
 //! uploads the moved surface and redraws the shadow map, as the window does while the
 //! puppet moves. A frame is timed from `prepare` to the GPU being done with it (the
 //! simulation's step is not counted). The configurations alternate frame by frame
-//! (anti-aliasing and the ground; each alone; neither; the creases unshaded; the clay
-//! matcap instead of the studio's lights), so load on the shared machine hits
-//! them alike. Exit status 2 when the window's default on this adapter (the ground, with
-//! anti-aliasing on a GPU) draws fewer than `--min-fps` frames a second.
+//! (anti-aliasing and the ground; FXAA and the ground; each alone; neither; the creases
+//! unshaded; the clay matcap instead of the studio's lights), so load on the shared
+//! machine hits them alike. Exit status 2 when the window's default on this adapter (the
+//! ground, with 4 samples on a GPU, FXAA on a software renderer) draws fewer than
+//! `--min-fps` frames a second.
 
 use super::table::{self, Column, Table};
 use super::Input;
@@ -18,11 +19,14 @@ use crate::cli::LoadArgs;
 use anyhow::{bail, Result};
 use puppet::joints::Cut;
 use puppet::render::scene::{msaa_supported, window_msaa, MSAA};
-use puppet::render::{Gpu, SceneRenderer, OFFSCREEN_FORMAT};
+use puppet::render::{AntiAliasing, Gpu, SceneRenderer, OFFSCREEN_FORMAT};
 use puppet::session::{Camera, Lighting, Overlays, Session};
 use puppet::stats::median_p95;
 use puppet::{Puppet, RigFile};
 use std::time::Instant;
+
+/// A configuration's samples that stand for one sample and the smoothing pass.
+const FXAA: u32 = 0;
 
 /// `puppet bench draw`.
 #[derive(clap::Args, Debug)]
@@ -61,6 +65,8 @@ pub struct Args {
 struct Row {
     config: &'static str,
     samples: u32,
+    /// Edges smoothed after drawing (FXAA).
+    fxaa: bool,
     ground: bool,
     /// Creases shaded ([`Overlays::occlusion`]).
     creases: bool,
@@ -122,14 +128,15 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     };
     // The window's choice on this adapter (see `render::scene::window_msaa`).
     let window = if window_msaa(&gpu, OFFSCREEN_FORMAT) {
-        msaa
+        AntiAliasing::Msaa
     } else {
-        1
+        AntiAliasing::Fxaa
     };
     let studio = Lighting::Studio;
     // (name, renderer, ground, creases, lighting)
     let mut configs: Vec<(&'static str, SceneRenderer, bool, bool, Lighting)> = [
         ("anti-aliasing and ground", msaa, true, true, studio),
+        ("ground, fxaa", FXAA, true, true, studio),
         ("ground, no anti-aliasing", 1, true, true, studio),
         (
             "ground, no anti-aliasing, creases unshaded",
@@ -150,7 +157,11 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
     ]
     .into_iter()
     .map(|(name, samples, ground, creases, lighting)| {
-        let renderer = SceneRenderer::with_samples(&gpu, OFFSCREEN_FORMAT, samples);
+        let renderer = if samples == FXAA {
+            SceneRenderer::with_fxaa(&gpu, OFFSCREEN_FORMAT)
+        } else {
+            SceneRenderer::with_samples(&gpu, OFFSCREEN_FORMAT, samples)
+        };
         (name, renderer, ground, creases, lighting)
     })
     .collect();
@@ -165,10 +176,10 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format: OFFSCREEN_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-        view_formats: &[],
+        // (Copied from and viewed plain by the smoothing pass.)
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[OFFSCREEN_FORMAT.remove_srgb_suffix()],
     });
-    let target = texture.create_view(&Default::default());
     let aspect = args.width as f32 / args.height as f32;
     let mut times = vec![Vec::new(); configs.len()];
     // One frame each first: pipelines and buffers warm.
@@ -191,7 +202,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             let started = Instant::now();
             renderer.prepare(&gpu, &session.view(overlays), &camera, aspect);
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
-            renderer.render_to(&gpu, &mut encoder, &target, args.width, args.height);
+            renderer.render_to(&gpu, &mut encoder, &texture);
             gpu.queue.submit([encoder.finish()]);
             gpu.device
                 .poll(wgpu::PollType::wait_indefinitely())
@@ -209,13 +220,14 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             Row {
                 config,
                 samples: renderer.samples(),
+                fxaa: renderer.fxaa(),
                 ground: *ground,
                 creases: *creases,
                 lighting: lighting.label(),
                 window_default: *ground
                     && *creases
                     && *lighting == Lighting::Studio
-                    && renderer.samples() == window,
+                    && AntiAliasing::of(renderer) == window,
                 ms_per_frame: ms,
                 ms_p95: p95,
                 fps: 1e3 / ms.max(1e-9),
@@ -250,6 +262,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         let mut table = Table::new(&[
             Column::Text("configuration"),
             Column::Figure("samples"),
+            Column::Text("fxaa"),
             Column::Text("ground and shadow"),
             Column::Text("creases shaded"),
             Column::Text("lighting"),
@@ -267,6 +280,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             table.row(&[
                 name,
                 r.samples.to_string(),
+                if r.fxaa { "yes" } else { "no" }.to_string(),
                 if r.ground { "yes" } else { "no" }.to_string(),
                 if r.creases { "yes" } else { "no" }.to_string(),
                 r.lighting.to_string(),
@@ -290,7 +304,8 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
         let studio = |r: &Row| {
             report.rows.iter().find(|s| {
                 s.lighting == Lighting::Studio.label()
-                    && (s.samples, s.ground, s.creases) == (r.samples, r.ground, r.creases)
+                    && (s.samples, s.fxaa, s.ground, s.creases)
+                        == (r.samples, r.fxaa, r.ground, r.creases)
             })
         };
         for r in report
