@@ -342,5 +342,17 @@ mod tests {
         for &[x, y, w, h] in &rects {
             assert!(w > 0 && h > 0 && x + w <= 640 && y + h <= 400);
         }
+        // A surface gone to NaN, or partly behind the eye, or far off screen: cells
+        // within the target, no panic.
+        let mut broken = positions.clone();
+        broken[7] = Vec3::NAN;
+        let behind = positions.iter().map(|&p| p + eye * 1.5).collect::<Vec<_>>();
+        let far = positions.iter().map(|&p| p * 1e30).collect::<Vec<_>>();
+        for (what, p) in [("NaN", &broken), ("behind", &behind), ("far", &far)] {
+            let rects = edge_rects(p, &normals, &mesh.triangles, view_proj, eye, size);
+            for &[x, y, w, h] in &rects {
+                assert!(w > 0 && h > 0 && x + w <= 640 && y + h <= 400, "{what}");
+            }
+        }
     }
 }
