@@ -780,11 +780,11 @@ fn export_machine_and_joints_benches_run_and_refuse_bad_input() {
     }
 }
 
-/// `bench draw` times the viewport offscreen in its six configurations (anti-aliasing and
-/// the ground first; on this software adapter the window's default is the ground without
-/// anti-aliasing, creases shaded, the studio's lights; one row without the creases, one
-/// under the clay matcap), fails below `--min-fps` and above `--max-matcap-cost` (exit 2,
-/// one line) and refuses a bound that is not a number.
+/// `bench draw` times the viewport offscreen in its seven configurations (anti-aliasing
+/// and the ground first; on this software adapter the window's default is the ground with
+/// one sample and FXAA, creases shaded, the studio's lights; one row without the creases,
+/// one under the clay matcap), fails below `--min-fps` and above `--max-matcap-cost` (exit
+/// 2, one line) and refuses a bound that is not a number.
 #[test]
 fn draw_bench_reports_each_part_of_the_look_and_fails_below_its_bound() {
     let small = [
@@ -801,7 +801,7 @@ fn draw_bench_reports_each_part_of_the_look_and_fails_below_its_bound() {
     ];
     let report = ok_json(&[&small[..], &["--json", "--min-fps", "0"]].concat());
     let rows = report["rows"].as_array().unwrap();
-    assert_eq!(rows.len(), 6, "{report}");
+    assert_eq!(rows.len(), 7, "{report}");
     assert_eq!(rows[0]["samples"], 4, "{report}");
     assert_eq!(rows[0]["ground"], true, "{report}");
     let unshaded = rows.iter().filter(|r| r["creases"] == false).count();
@@ -819,6 +819,11 @@ fn draw_bench_reports_each_part_of_the_look_and_fails_below_its_bound() {
     assert_eq!(defaults[0]["ground"], true, "{report}");
     assert_eq!(defaults[0]["creases"], true, "{report}");
     assert_eq!(defaults[0]["lighting"], "studio", "{report}");
+    assert_eq!(
+        (&defaults[0]["samples"], &defaults[0]["fxaa"]),
+        (&serde_json::json!(1), &serde_json::json!(true)),
+        "{report}"
+    );
     for row in rows {
         let ms = row["ms_per_frame"].as_f64().unwrap_or(f64::NAN);
         assert!(ms.is_finite() && ms > 0.0, "{row}");
