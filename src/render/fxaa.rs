@@ -23,6 +23,8 @@ pub(super) struct Fxaa {
     /// The cells the pass draws, two triangles each, in normalized device coordinates.
     cells: GrowBuffer,
     cpu_cells: Vec<[f32; 2]>,
+    /// Where the last frame's edges are ([`Fxaa::find`]).
+    found: Cells,
 }
 
 impl Fxaa {
@@ -77,20 +79,34 @@ impl Fxaa {
             scene: None,
             cells: GrowBuffer::new(device, "fxaa cells", wgpu::BufferUsages::VERTEX),
             cpu_cells: Vec::new(),
+            found: Cells::default(),
         }
     }
 
-    /// Records the pass over `rects` of `target`'s pixels (x, y, width, height: where
-    /// there are edges to smooth, [`edge_rects`]), which holds the scene (of its size,
-    /// viewable in the plain format, with `COPY_SRC`): the pixels the pass reads are
-    /// copied out first, then those of `rects` are written back smoothed.
+    /// Finds the cells with edges of the surface to smooth ([`edge_rects`]) on a target
+    /// of `size`, for the next [`Fxaa::smooth`].
+    pub(super) fn find(
+        &mut self,
+        (positions, normals, triangles): (&[Vec3], &[Vec3], &[[u32; 3]]),
+        view_proj: Mat4,
+        eye: Vec3,
+        size: [u32; 2],
+    ) {
+        let found = &mut self.found;
+        edge_rects(positions, normals, triangles, view_proj, eye, size, found);
+    }
+
+    /// Records the pass over the cells [`Fxaa::find`] found of `target`'s pixels, which
+    /// holds the scene (of their size, viewable in the plain format, with `COPY_SRC`):
+    /// the pixels the pass reads are copied out first, then the cells' are written back
+    /// smoothed.
     pub(super) fn smooth(
         &mut self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
         target: &wgpu::Texture,
-        rects: &[[u32; 4]],
     ) {
+        let rects = &self.found.rects;
         let size = [target.width(), target.height()];
         let inside =
             |&[x, y, w, h]: &[u32; 4]| w > 0 && h > 0 && x + w <= size[0] && y + h <= size[1];
@@ -184,6 +200,17 @@ impl Fxaa {
 /// one).
 const REACH: u32 = 9;
 
+/// The cells [`edge_rects`] found, and its scratch, kept from frame to frame.
+#[derive(Debug, Default)]
+pub(super) struct Cells {
+    /// Whether each vertex's normal faces the eye.
+    facing: Vec<bool>,
+    /// Each cell of the target, row by row: whether the pass runs over it.
+    marked: Vec<bool>,
+    /// The marked cells as runs along each row: x, y, width, height in pixels.
+    pub rects: Vec<[u32; 4]>,
+}
+
 /// Side (pixels) of the cells the pass runs over.
 const CELL: u32 = 8;
 
@@ -197,7 +224,7 @@ const MARGIN: f32 = 3.0;
 /// another), grown by [`MARGIN`], merged into runs along each row. A software
 /// rasterizer pays the pass by the pixel: on Spot 1280 × 800 the cells are a fraction of
 /// its box on screen (`puppet bench draw`). The whole target where some corner lies
-/// behind the eye.
+/// behind the eye. Into `cells.rects`.
 pub(super) fn edge_rects(
     positions: &[Vec3],
     normals: &[Vec3],
@@ -205,17 +232,27 @@ pub(super) fn edge_rects(
     view_proj: Mat4,
     eye: Vec3,
     [width, height]: [u32; 2],
-) -> Vec<[u32; 4]> {
+    cells: &mut Cells,
+) {
     let (cols, rows) = (
         width.div_ceil(CELL) as usize,
         height.div_ceil(CELL) as usize,
     );
-    let mut marked = vec![false; cols * rows];
-    let facing: Vec<bool> = positions
-        .iter()
-        .zip(normals)
-        .map(|(&p, &n)| n.dot(eye - p) > 0.0)
-        .collect();
+    let Cells {
+        facing,
+        marked,
+        rects,
+    } = cells;
+    rects.clear();
+    marked.clear();
+    marked.resize(cols * rows, false);
+    facing.clear();
+    facing.extend(
+        positions
+            .iter()
+            .zip(normals)
+            .map(|(&p, &n)| n.dot(eye - p) > 0.0),
+    );
     let size = Vec2::new(width as f32, height as f32);
     let pixel = |i: u32| -> Option<Vec2> {
         let clip = view_proj * positions.get(i as usize)?.extend(1.0);
@@ -230,7 +267,8 @@ pub(super) fn edge_rects(
             continue;
         }
         let (Some(a), Some(b), Some(c)) = (pixel(t[0]), pixel(t[1]), pixel(t[2])) else {
-            return vec![[0, 0, width, height]];
+            rects.push([0, 0, width, height]);
+            return;
         };
         let lo = (a.min(b).min(c) - MARGIN).max(Vec2::ZERO);
         let hi = (a.max(b).max(c) + MARGIN).min(size - 1.0);
@@ -243,7 +281,6 @@ pub(super) fn edge_rects(
             marked[r * cols + c0..=r * cols + c1.min(cols - 1)].fill(true);
         }
     }
-    let mut rects = Vec::new();
     for r in 0..rows {
         let row = &marked[r * cols..(r + 1) * cols];
         let mut c = 0;
@@ -265,7 +302,6 @@ pub(super) fn edge_rects(
             ]);
         }
     }
-    rects
 }
 
 #[cfg(test)]
@@ -285,7 +321,17 @@ mod tests {
         let size = [640, 400];
         let view_proj = camera.view_proj(640.0 / 400.0);
         let eye = camera.eye();
-        let rects = edge_rects(&positions, &normals, &mesh.triangles, view_proj, eye, size);
+        let mut cells = Cells::default();
+        edge_rects(
+            &positions,
+            &normals,
+            &mesh.triangles,
+            view_proj,
+            eye,
+            size,
+            &mut cells,
+        );
+        let rects = cells.rects.clone();
         let inside = |p: Vec2| {
             rects.iter().any(|&[x, y, w, h]| {
                 p.x >= x as f32 && p.x < (x + w) as f32 && p.y >= y as f32 && p.y < (y + h) as f32
@@ -328,8 +374,16 @@ mod tests {
         let behind = positions.iter().map(|&p| p + eye * 1.5).collect::<Vec<_>>();
         let far = positions.iter().map(|&p| p * 1e30).collect::<Vec<_>>();
         for (what, p) in [("NaN", &broken), ("behind", &behind), ("far", &far)] {
-            let rects = edge_rects(p, &normals, &mesh.triangles, view_proj, eye, size);
-            for &[x, y, w, h] in &rects {
+            edge_rects(
+                p,
+                &normals,
+                &mesh.triangles,
+                view_proj,
+                eye,
+                size,
+                &mut cells,
+            );
+            for &[x, y, w, h] in &cells.rects {
                 assert!(w > 0 && h > 0 && x + w <= 640 && y + h <= 400, "{what}");
             }
         }

@@ -32,7 +32,8 @@ pub enum AntiAliasing {
     /// [`scene::MSAA`] samples a pixel: the best edges, two to three times the frame on
     /// a software rasterizer.
     Msaa,
-    /// One sample, the edges smoothed after (FXAA) over the surface's box on screen.
+    /// One sample, the edges smoothed after (FXAA) over the cells the surface's silhouette
+    /// crosses.
     Fxaa,
     /// One sample, the edges stepped while anything moves.
     #[default]

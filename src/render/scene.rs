@@ -6,8 +6,8 @@
 //! only when the surface or the ground moved), then the scene into a multisampled target
 //! ([`MSAA`] samples where the adapter has them, else one) resolved into the caller's.
 //! A renderer made [`SceneRenderer::with_fxaa`] draws one sample and smooths the edges
-//! after: the surface and the ground into a texture of its own, that picture smoothed into
-//! the caller's target, then the overlays over it, crisp.
+//! after: the surface and the ground into the caller's target, the cells the silhouette
+//! crosses smoothed there (`render::fxaa`), then the overlays over them, crisp.
 //! A closed surface turned outward (most puppets: loading closes holes and turns parts
 //! inside out the right way) is drawn without the faces turned away from the eye, which
 //! never show; an open one with both sides, its inside lit as seen.
@@ -584,15 +584,13 @@ impl SceneRenderer {
             let mut pass = scene_pass(encoder, "scene", (color, None), depth, clear, overlays);
             self.paint_surface(&mut pass);
         }
-        let rects = super::fxaa::edge_rects(
-            &self.cpu_positions,
-            &self.cpu_normals,
-            &self.cpu_triangles,
-            self.view_proj,
-            self.eye,
-            [width, height],
+        let surface = (
+            &self.cpu_positions[..],
+            &self.cpu_normals[..],
+            &self.cpu_triangles[..],
         );
-        fxaa.smooth(gpu, encoder, target, &rects);
+        fxaa.find(surface, self.view_proj, self.eye, [width, height]);
+        fxaa.smooth(gpu, encoder, target);
         if overlays {
             let load = (wgpu::LoadOp::Load, wgpu::LoadOp::Load);
             let mut pass = scene_pass(encoder, "overlays", (color, None), depth, load, false);
