@@ -100,12 +100,12 @@ fn beyond_volume(table: &str) -> usize {
 /// BENCHMARKS' claims on the 45 downloads of `tests/data/population` (20 seeds each,
 /// settled, the joints suggested from the skeleton): no pose gives a NaN, no edge
 /// stretches past 4.5× (the adventurer's body, 3.97×), at most 4 poses pass 3×, 43
-/// characters stay within 3× on every pose, and at most 75
+/// characters stay within 3× on every pose, and at most 74
 /// poses change a section's volume by more than 5 % (what each change did to that
 /// count: `docs/performance-log.md`). Half a minute in CI.
 #[test]
 fn the_downloads_poses_hold_what_benchmarks_says() {
-    holds("tests/data/population", 45, 4.5, 4, 43, 75);
+    holds("tests/data/population", 45, 4.5, 4, 43, 74);
 }
 
 /// BENCHMARKS' claims on the 12 characters in pieces of `tests/data/pieces` (20 seeds
@@ -196,7 +196,7 @@ fn collision_on_a_drag_is_never_worse() {
         *m = r["crossing"].as_u64().unwrap().max(*m);
     }
     let none = most.values().filter(|&&m| m == 0).count();
-    assert!(none >= 17, "{most:?}");
+    assert!(none >= 16, "{most:?}");
 }
 
 /// The records of a `--json` run, one a line.

@@ -1284,9 +1284,9 @@ fn a_raised_arm_is_an_arm_and_a_snout_is_no_neck() {
 /// left; its beak, turned aside off the mirror plane, is its head's end, no joint, and the
 /// part cut at its neck is its `head`. A cat stretching (her head raised and looking back,
 /// her forelegs reaching forward together, her tail straight up) faces -x: the tail is the
-/// raised one at the back, not the forelegs, and the legs' sides follow; roughened, her
-/// head is cut otherwise, and her ears (on her body) tell its part on the plane from her
-/// raised tail.
+/// raised one at the back, not the forelegs, and the legs' sides follow; her muzzle, on a
+/// head that is part of her body, is no joint; roughened, her head is cut otherwise, and
+/// her ears (on her body) tell its part on the plane from her raised tail.
 #[test]
 fn a_character_faces_away_from_its_tail() {
     let build = suggested;
@@ -1321,6 +1321,19 @@ fn a_character_faces_away_from_its_tail() {
     assert!(tail.x > 1.0 && tail.y > 1.5, "{tail}");
     // Facing -x with +y up, her left is +z.
     assert!(pivot(&cat, "leg.L").z > pivot(&cat, "leg.R").z);
+    // Her head is part of her body (her ears hang from the root): her muzzle, a short part
+    // on the plane ahead of it, is its end, no joint and no `neck` (it was cut across her
+    // nose and named so).
+    let muzzle = glam::DVec3::new(-0.69, 1.0, -0.13);
+    for s in cat.joints.sections() {
+        assert!(
+            s.name != "neck" && s.pivot.distance(muzzle) > 0.2,
+            "{} at {}",
+            s.name,
+            s.pivot
+        );
+    }
+    assert!(cat.joints.find("ear.L").is_some() && cat.joints.find("ear.R").is_some());
 
     let (m, _) = mesh::load(&test_mesh("cat.obj")).unwrap();
     for seed in 1..=3 {

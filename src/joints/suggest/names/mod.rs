@@ -19,7 +19,9 @@
 //!   carries parts off the plane (ears, antennae), is the neck (or the head if nothing
 //!   follows it); one pointing back or growing from the back end is the tail (a
 //!   scorpion's, raised over its back), or the abdomen when it ends as thick as the head;
-//!   with no head, a short one (a snout on a head not cut from the body) is no joint.
+//!   with no head, a short one (a snout on a head not cut from the body) is no joint, and
+//!   so is one with nothing of its own on a root that carries ears (the head is part of
+//!   the body: a cat's or a wolf's muzzle, however thick it ends).
 //!   Down a limb the names go on: `arm`, `forearm`, `hand`; `leg`, `shin`, `foot`; `neck`,
 //!   `head`; four or five digits of a hand are `thumb`, `index`, `middle`, `ring`,
 //!   `little` (the thumb the one turned most from the others), of a foot `toe1`….

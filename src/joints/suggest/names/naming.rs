@@ -248,8 +248,18 @@ impl Naming<'_> {
             let bust = self
                 .on_the_bust()
                 .and_then(|b| midline.iter().copied().find(|l| l.0 == b));
-            bust.or_else(|| head_of(&on, thickest, frame.up).map(|h| ahead[h]))
-                .filter(|_| !only_a_head)
+            // With ears of its own the root holds the head (a head as thick as the body it
+            // sits on, part of the core): a short part on the plane ahead of it with
+            // nothing of its own is its snout, no joint (a cat's, a wolf's muzzle).
+            let snout = |h: &(usize, Reach)| {
+                !ears.is_empty() && short(&h.1) && self.children[h.0].is_empty()
+            };
+            bust.or_else(|| {
+                head_of(&on, thickest, frame.up)
+                    .map(|h| ahead[h])
+                    .filter(|h| !snout(h))
+            })
+            .filter(|_| !only_a_head)
         };
         for &(s, r) in &midline {
             let behind = behind(&r);
