@@ -220,7 +220,7 @@ fn fs_shade(@builtin(position) at: vec4<f32>) -> @location(0) vec4<f32> {
     // `render::scene::shadow_proj`).
     let w = 4.0 * u.ground.w;
     // The taps written out one by one: in a loop, the disc indexed by its counter is read
-    // from memory on a software rasterizer, which made this pass an eighth of a frame.
+    // from memory on a software rasterizer, which made this pass a seventh of a frame.
     let dark = casts(c + DISC[0] * r, size, w) + casts(c + DISC[1] * r, size, w)
         + casts(c + DISC[2] * r, size, w) + casts(c + DISC[3] * r, size, w)
         + casts(c + DISC[4] * r, size, w) + casts(c + DISC[5] * r, size, w)
