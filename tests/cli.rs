@@ -490,6 +490,16 @@ fn pose_bench_passes_and_fails_on_its_bounds() {
     };
     let rows = records(&["--max-stretch", "3", "--max-over", "2", "--max-open", "1e9"]);
     assert_eq!(rows.len(), 2);
+    // The hand's bounding box, from its file.
+    let (mut low, mut high) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    let obj = std::fs::read_to_string(hand).unwrap();
+    for line in obj.lines().filter(|l| l.starts_with("v ")) {
+        for (k, x) in line.split_whitespace().skip(1).take(3).enumerate() {
+            let x: f64 = x.parse().unwrap();
+            low[k] = low[k].min(x);
+            high[k] = high[k].max(x);
+        }
+    }
     for r in &rows {
         assert_eq!(r["character"], "hand");
         assert!(r["joints"].as_u64().unwrap() >= 10, "{r}");
@@ -502,13 +512,27 @@ fn pose_bench_passes_and_fails_on_its_bounds() {
             ends.len() == 2 && ends.iter().all(|s| !s.as_str().unwrap_or("").is_empty()),
             "{r}"
         );
+        // Where it lies at rest: on the hand (one piece holding every vertex).
+        let at: Vec<f64> = r["worst_at"]
+            .as_array()
+            .expect("worst_at")
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        assert!(
+            at.len() == 3 && (0..3).all(|k| (low[k]..=high[k]).contains(&at[k])),
+            "{r} outside {low:?}..{high:?}"
+        );
+        assert_eq!(r["worst_piece"], r["vertices"], "{r}");
     }
     // The summary names the most stretched edge and where it lies.
     let out = puppet(&["bench", "poses", hand, "--poses", "2"]);
     common::ok(&out);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
-        text.contains("The most stretched edge: ") && text.contains("(hand's, "),
+        text.contains("The most stretched edge: ")
+            && text.contains("(hand's, ")
+            && text.contains("on a piece of 7993 of its 7993 vertices"),
         "{text}"
     );
     // The character opens once: its time, from the file to its joints, on every record.

@@ -103,6 +103,14 @@ struct Row {
     volume_sections: [String; 2],
     /// The sections of the two ends of the most stretched edge (empty where none).
     worst_sections: [String; 2],
+    /// Where that edge lies at rest: its midpoint (mesh units; absent where none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    worst_at: Option<[f64; 3]>,
+    /// How many vertices the connected piece of the mesh holding that edge has (0 where
+    /// none): the body's, or a separate piece's (a backpack, a boot).
+    worst_piece: usize,
+    /// The mesh's vertices.
+    vertices: usize,
     /// Median step time while settling (ms).
     step_ms: f64,
     /// The pose limit's time in a step (ms): its median over the steps that reach the pose
@@ -316,6 +324,12 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             failures.push(format!("{name}: opens in {open_s:.2} s > {m} s"));
         }
         let joints = base.joints.cuts().len();
+        // Each vertex's connected piece, and each piece's size: where the worst edge lies.
+        let parts = puppet::mesh::Parts::of(&base.mesh);
+        let mut piece_size = vec![0usize; parts.len()];
+        for &p in &parts.part_of {
+            piece_size[p as usize] += 1;
+        }
         let mut mine = Vec::new();
         let runs: &[bool] = if args.compare {
             &[false, true]
@@ -363,6 +377,15 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                             .and_then(|&s| base.joints.sections().get(usize::from(s)))
                             .map_or_else(String::new, |s| s.name.clone())
                     }),
+                    worst_at: surface.worst_edge.and_then(|[a, b]| {
+                        let p = &base.mesh.positions;
+                        Some(((*p.get(a)? + *p.get(b)?) * 0.5).to_array())
+                    }),
+                    worst_piece: surface
+                        .worst_edge
+                        .and_then(|[a, _]| parts.part_of.get(a))
+                        .map_or(0, |&p| piece_size[p as usize]),
+                    vertices: base.mesh.positions.len(),
                     step_ms: median(0, times.len()),
                     limit_ms: [
                         median(1, ramp as usize),
@@ -503,8 +526,14 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             } else {
                 format!("between {a} and {b}")
             };
+            let at = r.worst_at.map_or_else(String::new, |[x, y, z]| {
+                format!(
+                    ", at ({x:.3}, {y:.3}, {z:.3}) on a piece of {} of its {} vertices",
+                    r.worst_piece, r.vertices
+                )
+            });
             println!(
-                "The most stretched edge: {:.2}× ({}'s, {between}, seed {}); {over} poses past {STRETCH}×",
+                "The most stretched edge: {:.2}× ({}'s, {between}{at}, seed {}); {over} poses past {STRETCH}×",
                 r.surface.worst, r.character, r.seed
             );
         }
