@@ -523,7 +523,7 @@ fn pose_bench_passes_and_fails_on_its_bounds() {
             at.len() == 3 && (0..3).all(|k| (low[k]..=high[k]).contains(&at[k])),
             "{r} outside {low:?}..{high:?}"
         );
-        assert_eq!(r["worst_piece"], r["vertices"], "{r}");
+        assert_eq!(r["worst_part"], r["vertices"], "{r}");
     }
     // The summary names the most stretched edge and where it lies.
     let out = puppet(&["bench", "poses", hand, "--poses", "2"]);
@@ -532,7 +532,7 @@ fn pose_bench_passes_and_fails_on_its_bounds() {
     assert!(
         text.contains("The most stretched edge: ")
             && text.contains("(hand's, ")
-            && text.contains("on a piece of 7993 of its 7993 vertices"),
+            && text.contains("on a part of 7993 of its 7993 vertices"),
         "{text}"
     );
     // The character opens once: its time, from the file to its joints, on every record.

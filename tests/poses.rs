@@ -99,22 +99,22 @@ fn beyond_volume(table: &str) -> usize {
 
 /// BENCHMARKS' claims on the 45 downloads of `tests/data/population` (20 seeds each,
 /// settled, the joints suggested from the skeleton): no pose gives a NaN, no edge
-/// stretches past 4.5× (the adventurer's body, 3.97×), at most 4 poses pass 3×, 43
-/// characters stay within 3× on every pose, and at most 74
+/// stretches past 4.5× (the king's, 3.42×), at most 2 poses pass 3×, 44
+/// characters stay within 3× on every pose, and at most 75
 /// poses change a section's volume by more than 5 % (what each change did to that
 /// count: `docs/performance-log.md`). Half a minute in CI.
 #[test]
 fn the_downloads_poses_hold_what_benchmarks_says() {
-    holds("tests/data/population", 45, 4.5, 4, 43, 74);
+    holds("tests/data/population", 45, 4.5, 2, 44, 75);
 }
 
 /// BENCHMARKS' claims on the 12 characters in pieces of `tests/data/pieces` (20 seeds
 /// each, settled): no NaN, no edge past 3× (the man on the beach, 2.85×), all 12
-/// characters within 3× on every pose, and at most 14 poses change a
+/// characters within 3× on every pose, and at most 13 poses change a
 /// section's volume by more than 5 %.
 #[test]
 fn the_pieces_poses_hold_what_benchmarks_says() {
-    holds("tests/data/pieces", 12, 3.0, 0, 12, 14);
+    holds("tests/data/pieces", 12, 3.0, 0, 12, 13);
 }
 
 /// BENCHMARKS' claim on collision over the 12 characters in pieces, which nobody tuned it
@@ -594,6 +594,50 @@ fn a_band_weight_steps_no_steeper_than_its_slope() {
         ("tests/data/pieces/woman-soldier.obj", 3.0),
         ("tests/data/population/fish3.glb", 3.0),
     ]);
+}
+
+/// A part of the mesh that a cut splits beside the limb goes whole to the section it hangs
+/// from (`joints::whole`): the downloaded adventurer's backpack, a part of 99 vertices
+/// that his waist's cut crosses behind his back, lies in one section, and where the bones
+/// hold the surface in `bench poses`' 20 seeds no edge of his stretches past 3.5× (4.04×
+/// with the backpack's halves in two sections). A band's width is measured on the
+/// sections as they were before pieces moved: the spacesuit's shoulder, whose cut crosses
+/// its helmet, stays within 3× (2.92×; measured without the helmet its band narrowed:
+/// 3.99×, and settled 3.69×).
+#[test]
+fn a_piece_beside_a_cut_turns_whole() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/population");
+    let p = common::suggested_from_shape(&root.join("man-adventurer.glb"));
+    let positions = &p.mesh.positions;
+    let parts = puppet::mesh::Parts::of(&p.mesh);
+    let at = glam::DVec3::new(0.05845, 1.39935, -0.20160);
+    let nearest = (0..positions.len())
+        .min_by(|&a, &b| {
+            positions[a]
+                .distance(at)
+                .total_cmp(&positions[b].distance(at))
+        })
+        .expect("a vertex");
+    let backpack: Vec<usize> = (0..positions.len())
+        .filter(|&v| parts.part_of[v] == parts.part_of[nearest])
+        .collect();
+    assert_eq!(backpack.len(), 99, "the backpack's part");
+    let sections: std::collections::BTreeSet<u16> =
+        backpack.iter().map(|&v| p.joints.section_of()[v]).collect();
+    assert_eq!(sections.len(), 1, "the backpack in sections {sections:?}");
+    for (name, most) in [("man-adventurer.glb", 3.5), ("man-spacesuit.glb", 3.0)] {
+        let p = common::suggested_from_shape(&root.join(name));
+        let bones = (1..=20)
+            .map(|seed| {
+                let target = poses::random_pose(&p.joints, Spread::default(), &mut SplitMix(seed));
+                poses::measure_at(&p, &poses::targets(&p, &target), &target).worst
+            })
+            .fold(0.0f64, f64::max);
+        assert!(
+            bones <= most,
+            "{name}: an edge stretched {bones:.2}× by the bones"
+        );
+    }
 }
 
 /// The parent's side of a band reaches `SEAM_REACH` seam radii into it (`joints::blend`),

@@ -331,6 +331,7 @@ impl Joints {
         self.changing();
         self.section_of.clone_from(&self.skeletal_of);
         self.borrowed.clear();
+        self.whole_part.clear();
         if whole && !self.body.rest.is_empty() && self.make_whole() > 0 {
             self.borrow_points();
         }

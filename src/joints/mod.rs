@@ -68,7 +68,8 @@
 //! * `pose`: composing a pose down the section tree;
 //! * `suggest`: joints suggested from the skeleton;
 //! * `skin`: joints from the skeleton the mesh file came with (a glTF skin);
-//! * `whole`: whole sections, a stray piece of one joining the section around it;
+//! * `whole`: whole sections, a stray piece of one joining the section around it, and a
+//!   part of the mesh a cut splits beside its limb turning whole;
 //! * `collide`: the pose limit, which stops a part where it meets another;
 //! * `spread`: random poses within a spread of angles.
 //!
@@ -316,6 +317,9 @@ struct Body {
 /// No host: a vertex of the body.
 const NO_HOST: u32 = u32::MAX;
 
+/// A vertex on no part made whole ([`Joints`]' `whole_part`).
+const NOT_MOVED: u16 = u16::MAX;
+
 /// The joints of one puppet: cuts, the sections they make and each vertex's section.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Joints {
@@ -332,6 +336,12 @@ pub struct Joints {
     /// Per vertex, the vertex whose skeletal point places it across the bands: itself,
     /// or one around the piece it was moved with (empty when none moved, see [`whole`]).
     borrowed: Vec<u32>,
+    /// Per vertex of a part made whole beside a cut ([`whole`]), the section it
+    /// had before ([`NOT_MOVED`] for every other vertex; empty when no part moved): no
+    /// band takes it by its skeletal point, and a band's width is measured as before.
+    whole_part: Vec<u16>,
+    /// Whether parts split beside a cut go whole to one section ([`whole`]).
+    parts_whole: bool,
     /// Sections parents-first (for composing transforms).
     order: Vec<usize>,
     /// Per cut, its joint band (see [`band`]).
@@ -455,6 +465,8 @@ impl Joints {
             section_of: vec![0; n],
             skeletal_of: vec![0; n],
             borrowed: Vec::new(),
+            whole_part: Vec::new(),
+            parts_whole: true,
             order: vec![0],
             bands: Vec::new(),
             band_of: vec![None],
@@ -566,6 +578,8 @@ impl Joints {
             section_of: vec![0; self.section_of.len()],
             skeletal_of: vec![0; self.section_of.len()],
             borrowed: Vec::new(),
+            whole_part: Vec::new(),
+            parts_whole: self.parts_whole,
             order: vec![0],
             bands: Vec::new(),
             band_of: vec![None],

@@ -20,7 +20,7 @@ impl Joints {
         let parent = self.sections[child].parent?;
         let normal = cut.normal.normalize_or_zero();
         let mut near: Vec<(f64, f64)> = (0..n)
-            .filter(|&i| !self.body.is_rider(i) && self.section_of[i] as usize == child)
+            .filter(|&i| !self.body.is_rider(i) && self.section_before(i) == child)
             .map(|i| {
                 let d = cut.signed(self.point(i), normal);
                 (d.abs(), self.body.radius[i])
@@ -34,6 +34,25 @@ impl Joints {
         let mut radii: Vec<f64> = near[..m].iter().map(|x| x.1).collect();
         let radius = crate::stats::median(&mut radii)?;
         (radius.is_finite() && radius > 0.0).then_some((radius, child, parent))
+    }
+
+    /// Is vertex `i` on a part made whole beside a cut ([`super::whole`])?
+    pub(super) fn on_whole_part(&self, i: usize) -> bool {
+        self.whole_part
+            .get(i)
+            .is_some_and(|&s| s != super::NOT_MOVED)
+    }
+
+    /// Vertex `i`'s section before parts went whole ([`super::whole`]): what a
+    /// band's width is measured on. A part beside a limb is no flesh of it, but the
+    /// band's width as the skeleton's sections set it is what the skin around the joint
+    /// was tuned on (with it measured without the part (its helmet), a spacesuit's shoulder band
+    /// narrowed and its skin stretched 2.49 → 3.69× in `bench poses`).
+    fn section_before(&self, i: usize) -> usize {
+        match self.whole_part.get(i) {
+            Some(&s) if s != super::NOT_MOVED => usize::from(s),
+            _ => usize::from(self.section_of[i]),
+        }
     }
 
     /// Where vertex `i` lies for the bands: its skeletal point, or, for a vertex of a piece
@@ -58,7 +77,7 @@ impl Joints {
         let normal = cut.normal.normalize_or_zero();
         let reach = 2.5 * radius;
         let members: Vec<(usize, f64)> = (0..self.section_of.len())
-            .filter(|&i| !self.body.is_rider(i))
+            .filter(|&i| !self.body.is_rider(i) && !self.on_whole_part(i))
             .filter_map(|i| {
                 let p = self.point(i);
                 let d = cut.signed(p, normal);

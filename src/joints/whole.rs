@@ -23,6 +23,22 @@
 //! its new section does ([`Joints::borrow_points`]): its own skeletal point, in another
 //! section, would put it at the wrong end of them.
 //!
+//! # Parts beside a cut
+//! A cut's plane crossing a limb crosses the mesh's parts around it (a sleeve, a trouser
+//! leg: each a connected component of its own triangles, whatever attaches it) around
+//! its pivot, and they bend with the limb. A part beside the limb does not: a backpack
+//! that the waist's cut split in two had its halves turned about a pivot far from them
+//! and torn apart (3.97× in `puppet bench poses`). So, once the sections are whole, a part
+//! (not the largest of those attached together) that the cuts split between two
+//! sections, and whose rest positions projected on each cut's plane between them leave
+//! the cut's pivot outside their hull (a gap of more than half a turn as seen from the
+//! pivot), goes whole to the section it hangs from: the one its attachments reach most (a
+//! bedroll on a back goes with the back, not the head), or without any, the one holding
+//! most of it. No band then takes it by its skeletal point, and a band's width is
+//! measured on the sections as they were before it moved ([`Joints::make_parts_whole`]).
+//! The suggestion weighs its cuts before parts go whole (its balloon check took an
+//! adventurer's head back once the bedroll by it had gone whole to his back).
+//!
 //! Cuts still split the sections by skeletal points (each vertex's is kept apart from its
 //! whole section), so what a cut takes does not depend on which pieces moved before it,
 //! and the suggestion, which reasons on the skeleton and has no surface, sees the
@@ -156,7 +172,189 @@ impl Joints {
                 break;
             }
         }
+        if self.parts_whole {
+            moved += self.make_parts_whole(&part);
+        }
         moved
+    }
+
+    /// Turns on or off whether parts split beside a cut go whole to one section (on
+    /// unless turned off; see [`Joints::make_parts_whole`]), and assigns the sections
+    /// again when that changes, and the bands where a part is or was whole.
+    pub(crate) fn set_parts_whole(&mut self, on: bool) {
+        self.changing();
+        if self.parts_whole == on {
+            return;
+        }
+        self.parts_whole = on;
+        let had = !self.whole_part.is_empty();
+        self.assign_sections(true);
+        if had || !self.whole_part.is_empty() {
+            self.refresh_bands();
+        }
+    }
+
+    /// Moves every part of the mesh that the cuts split in two and that lies beside each
+    /// cut between its two sections whole to the section it hangs from (see the module
+    /// docs); `joined` is each vertex's group of parts attached together. Returns how
+    /// many vertices moved.
+    fn make_parts_whole(&mut self, joined: &[u32]) -> usize {
+        let body = &self.body;
+        let n = self.section_of.len();
+        if body.rest.len() != n || body.triangles.is_empty() {
+            return 0;
+        }
+        // Each vertex's part: connected through its own triangles alone.
+        let mut root: Vec<u32> = (0..n as u32).collect();
+        fn find(root: &mut [u32], mut v: u32) -> u32 {
+            while root[v as usize] != v {
+                root[v as usize] = root[root[v as usize] as usize];
+                v = root[v as usize];
+            }
+            v
+        }
+        for t in &body.triangles {
+            let a = find(&mut root, t[0]);
+            for &w in &t[1..] {
+                let b = find(&mut root, w);
+                if a != b {
+                    root[b as usize] = a;
+                }
+            }
+        }
+        let mut members: HashMap<u32, Vec<u32>> = HashMap::new();
+        for v in 0..n {
+            if !body.is_rider(v) {
+                let r = find(&mut root, v as u32);
+                members.entry(r).or_default().push(v as u32);
+            }
+        }
+        // The largest part of each group attached together.
+        let mut largest: HashMap<u32, usize> = HashMap::new();
+        for vertices in members.values() {
+            let p = joined[vertices[0] as usize];
+            let m = largest.entry(p).or_default();
+            *m = (*m).max(vertices.len());
+        }
+        let mut moved = 0;
+        let mut parts: Vec<&Vec<u32>> = members.values().collect();
+        parts.sort_unstable_by_key(|v| v[0]);
+        let mut counts: Vec<(u16, usize)> = Vec::new();
+        for vertices in parts {
+            if largest.get(&joined[vertices[0] as usize]) == Some(&vertices.len()) {
+                continue;
+            }
+            counts.clear();
+            for &v in vertices {
+                let s = self.section_of[v as usize];
+                match counts.iter_mut().find(|c| c.0 == s) {
+                    Some(c) => c.1 += 1,
+                    None => counts.push((s, 1)),
+                }
+            }
+            if counts.len() != 2 {
+                continue;
+            }
+            // The section it hangs from: the one its attachments reach most, or without
+            // any, the one holding most of it (the lower index on a tie).
+            let mut attached: Vec<(u16, usize)> = Vec::new();
+            let r = find(&mut root, vertices[0]);
+            for &v in vertices {
+                for &w in body.neighbours(v as usize) {
+                    if !body.is_rider(w as usize) && find(&mut root, w) != r {
+                        let s = self.section_of[w as usize];
+                        match attached.iter_mut().find(|c| c.0 == s) {
+                            Some(c) => c.1 += 1,
+                            None => attached.push((s, 1)),
+                        }
+                    }
+                }
+            }
+            let from = if attached.is_empty() {
+                &counts
+            } else {
+                &attached
+            };
+            let Some(&(to, _)) = from.iter().max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)))
+            else {
+                continue;
+            };
+            if !counts.iter().any(|c| c.0 == to) {
+                continue;
+            }
+            let beside = counts.iter().all(|&(s, _)| {
+                self.cuts_between(usize::from(s), usize::from(to))
+                    .iter()
+                    .all(|&k| self.beside_cut(k, vertices))
+            });
+            if !beside {
+                continue;
+            }
+            if self.whole_part.len() != n {
+                self.whole_part = vec![super::NOT_MOVED; n];
+            }
+            for &v in vertices {
+                let v = v as usize;
+                self.whole_part[v] = self.section_of[v];
+                if self.section_of[v] != to {
+                    self.section_of[v] = to;
+                    moved += 1;
+                }
+            }
+        }
+        moved
+    }
+
+    /// The cuts on the way from section `a` to section `b` in the section tree (cut `k`
+    /// made section `k + 1`).
+    fn cuts_between(&self, a: usize, b: usize) -> Vec<usize> {
+        let up = |mut s: usize| {
+            let mut chain = vec![s];
+            while let Some(p) = self.sections[s].parent {
+                chain.push(p);
+                s = p;
+            }
+            chain
+        };
+        let (from_a, from_b) = (up(a), up(b));
+        from_a
+            .iter()
+            .take_while(|s| !from_b.contains(s))
+            .chain(from_b.iter().take_while(|s| !from_a.contains(s)))
+            .filter_map(|&s| s.checked_sub(1))
+            .collect()
+    }
+
+    /// Do the rest positions of `vertices`, projected on cut `k`'s plane, leave its pivot
+    /// outside their hull? (Not for a sphere or a box.)
+    fn beside_cut(&self, k: usize, vertices: &[u32]) -> bool {
+        let Some(cut) = self.cuts.get(k) else {
+            return false;
+        };
+        if cut.shape != super::Shape::Plane {
+            return false;
+        }
+        let normal = cut.normal.normalize_or_zero();
+        let pivot = cut.pivot.unwrap_or(cut.point);
+        let (u, w) = normal.any_orthonormal_pair();
+        let mut angles: Vec<f64> = Vec::with_capacity(vertices.len());
+        for &v in vertices {
+            let d = self.body.rest[v as usize] - pivot;
+            let (x, y) = (d.dot(u), d.dot(w));
+            if x == 0.0 && y == 0.0 {
+                return false;
+            }
+            angles.push(y.atan2(x));
+        }
+        angles.sort_unstable_by(f64::total_cmp);
+        let (Some(&first), Some(&last)) = (angles.first(), angles.last()) else {
+            return false;
+        };
+        let gap = angles
+            .windows(2)
+            .map(|a| a[1] - a[0])
+            .fold(first + std::f64::consts::TAU - last, f64::max);
+        gap > std::f64::consts::PI
     }
 
     /// Gives each vertex of a moved piece the skeletal point of the nearest vertex (in

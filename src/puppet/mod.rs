@@ -286,7 +286,11 @@ impl Puppet {
         if skinned {
             joints.add_cuts(cuts)?;
         } else {
+            // The suggestion weighs its cuts on the sections before parts of the mesh go
+            // whole (see `joints::whole`), then the puppet takes them whole.
+            joints.set_parts_whole(false);
             crate::joints::suggest::seams::add(&mut joints, cuts);
+            joints.set_parts_whole(true);
         }
         let count = joints.cuts().len();
         self.joints = joints;

@@ -106,9 +106,9 @@ struct Row {
     /// Where that edge lies at rest: its midpoint (mesh units; absent where none).
     #[serde(skip_serializing_if = "Option::is_none")]
     worst_at: Option<[f64; 3]>,
-    /// How many vertices the connected piece of the mesh holding that edge has (0 where
-    /// none): the body's, or a separate piece's (a backpack, a boot).
-    worst_piece: usize,
+    /// How many vertices the part of the mesh holding that edge has (0 where
+    /// none): the body's, or a separate part's (a backpack, a boot).
+    worst_part: usize,
     /// The mesh's vertices.
     vertices: usize,
     /// Median step time while settling (ms).
@@ -381,7 +381,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                         let p = &base.mesh.positions;
                         Some(((*p.get(a)? + *p.get(b)?) * 0.5).to_array())
                     }),
-                    worst_piece: surface
+                    worst_part: surface
                         .worst_edge
                         .and_then(|[a, _]| parts.part_of.get(a))
                         .map_or(0, |&p| piece_size[p as usize]),
@@ -528,8 +528,8 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             };
             let at = r.worst_at.map_or_else(String::new, |[x, y, z]| {
                 format!(
-                    ", at ({x:.3}, {y:.3}, {z:.3}) on a piece of {} of its {} vertices",
-                    r.worst_piece, r.vertices
+                    ", at ({x:.3}, {y:.3}, {z:.3}) on a part of {} of its {} vertices",
+                    r.worst_part, r.vertices
                 )
             });
             println!(
