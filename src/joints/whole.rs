@@ -205,28 +205,11 @@ impl Joints {
             return 0;
         }
         // Each vertex's part: connected through its own triangles alone.
-        let mut root: Vec<u32> = (0..n as u32).collect();
-        fn find(root: &mut [u32], mut v: u32) -> u32 {
-            while root[v as usize] != v {
-                root[v as usize] = root[root[v as usize] as usize];
-                v = root[v as usize];
-            }
-            v
-        }
-        for t in &body.triangles {
-            let a = find(&mut root, t[0]);
-            for &w in &t[1..] {
-                let b = find(&mut root, w);
-                if a != b {
-                    root[b as usize] = a;
-                }
-            }
-        }
+        let part_of = crate::mesh::components(n, &body.triangles);
         let mut members: HashMap<u32, Vec<u32>> = HashMap::new();
         for v in 0..n {
             if !body.is_rider(v) {
-                let r = find(&mut root, v as u32);
-                members.entry(r).or_default().push(v as u32);
+                members.entry(part_of[v]).or_default().push(v as u32);
             }
         }
         // The largest part of each group attached together.
@@ -258,10 +241,10 @@ impl Joints {
             // The section it hangs from: the one its attachments reach most, or without
             // any, the one holding most of it (the lower index on a tie).
             let mut attached: Vec<(u16, usize)> = Vec::new();
-            let r = find(&mut root, vertices[0]);
+            let own = part_of[vertices[0] as usize];
             for &v in vertices {
                 for &w in body.neighbours(v as usize) {
-                    if !body.is_rider(w as usize) && find(&mut root, w) != r {
+                    if !body.is_rider(w as usize) && part_of[w as usize] != own {
                         let s = self.section_of[w as usize];
                         match attached.iter_mut().find(|c| c.0 == s) {
                             Some(c) => c.1 += 1,

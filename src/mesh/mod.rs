@@ -61,6 +61,7 @@ pub use load::{
 };
 pub use normals::{area_normals_into, vertex_normals};
 pub use obj::write as write_obj;
+pub(crate) use parts::components;
 pub use parts::{Parts, RIDER_AREA};
 pub use skin::Skin;
 pub use subdivide::{subdivide_loop, subdivide_loop_values, subdivide_midpoint};

@@ -215,7 +215,7 @@ pub(super) struct Measures {
 }
 
 /// Connected components by shared vertices, numbered in order of their first vertex.
-pub(super) fn components(n: usize, triangles: &[[u32; 3]]) -> Vec<u32> {
+pub(crate) fn components(n: usize, triangles: &[[u32; 3]]) -> Vec<u32> {
     let mut parent: Vec<u32> = (0..n as u32).collect();
     fn find(p: &mut [u32], mut x: u32) -> u32 {
         while p[x as usize] != x {
