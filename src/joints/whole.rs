@@ -207,9 +207,9 @@ impl Joints {
         // Each vertex's part: connected through its own triangles alone.
         let part_of = crate::mesh::components(n, &body.triangles);
         let mut members: HashMap<u32, Vec<u32>> = HashMap::new();
-        for v in 0..n {
+        for (v, &p) in part_of.iter().enumerate() {
             if !body.is_rider(v) {
-                members.entry(part_of[v]).or_default().push(v as u32);
+                members.entry(p).or_default().push(v as u32);
             }
         }
         // The largest part of each group attached together.
