@@ -699,11 +699,9 @@ impl Joints {
         self.sections.iter().position(|s| s.name == name)
     }
 
-    /// The sections whose joints lie between sections `a` and `b`: from each up to the
-    /// section both hang from, that one left out (turning it moves both alike), and the
-    /// sections whose bands carry one of those (turning them moves it too; see
-    /// [`band`]: *carried*).
-    pub fn path(&self, a: usize, b: usize) -> Vec<usize> {
+    /// The sections from `a` and from `b` up to the section both hang from, that one left
+    /// out: the sections whose own cuts lie between the two in the section tree.
+    fn between(&self, a: usize, b: usize) -> Vec<usize> {
         let up = |mut s: usize| {
             let mut chain = vec![s];
             while let Some(p) = self.sections.get(s).and_then(|x| x.parent) {
@@ -722,6 +720,15 @@ impl Joints {
             .take_while(|s| !from_b.contains(s))
             .collect();
         out.extend(from_b.iter().copied().take_while(|s| !from_a.contains(s)));
+        out
+    }
+
+    /// The sections whose joints lie between sections `a` and `b`: from each up to the
+    /// section both hang from, that one left out (turning it moves both alike), and the
+    /// sections whose bands carry one of those (turning them moves it too; see
+    /// [`band`]: *carried*).
+    pub fn path(&self, a: usize, b: usize) -> Vec<usize> {
+        let mut out = self.between(a, b);
         let mut at = 0;
         while at < out.len() {
             for &(k, _) in self.carried.get(out[at]).map_or(&[][..], Vec::as_slice) {

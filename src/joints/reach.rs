@@ -43,11 +43,11 @@ impl Joints {
             .is_some_and(|&s| s != super::NOT_MOVED)
     }
 
-    /// Vertex `i`'s section before parts went whole ([`super::whole`]): what a
-    /// band's width is measured on. A part beside a limb is no flesh of it, but the
-    /// band's width as the skeleton's sections set it is what the skin around the joint
-    /// was tuned on (with it measured without the part (its helmet), a spacesuit's shoulder band
-    /// narrowed and its skin stretched 2.49 → 3.69× in `bench poses`).
+    /// Vertex `i`'s section before parts went whole ([`super::whole`]): what a band's
+    /// width is measured on. A part beside a limb is no flesh of it, but the band's width
+    /// as the skeleton's sections set it is what the skin around the joint was tuned on
+    /// (measured without its helmet, a spacesuit's shoulder band narrowed and its skin
+    /// stretched 2.49 → 3.69× in `bench poses`).
     fn section_before(&self, i: usize) -> usize {
         match self.whole_part.get(i) {
             Some(&s) if s != super::NOT_MOVED => usize::from(s),

@@ -265,11 +265,12 @@ impl Joints {
             if !counts.iter().any(|c| c.0 == to) {
                 continue;
             }
-            let beside = counts.iter().all(|&(s, _)| {
-                self.cuts_between(usize::from(s), usize::from(to))
-                    .iter()
-                    .all(|&k| self.beside_cut(k, vertices))
-            });
+            // Beside every cut between its two sections (cut `k` made section `k + 1`).
+            let beside = self
+                .between(usize::from(counts[0].0), usize::from(counts[1].0))
+                .iter()
+                .filter_map(|&s| s.checked_sub(1))
+                .all(|k| self.beside_cut(k, vertices));
             if !beside {
                 continue;
             }
@@ -286,26 +287,6 @@ impl Joints {
             }
         }
         moved
-    }
-
-    /// The cuts on the way from section `a` to section `b` in the section tree (cut `k`
-    /// made section `k + 1`).
-    fn cuts_between(&self, a: usize, b: usize) -> Vec<usize> {
-        let up = |mut s: usize| {
-            let mut chain = vec![s];
-            while let Some(p) = self.sections[s].parent {
-                chain.push(p);
-                s = p;
-            }
-            chain
-        };
-        let (from_a, from_b) = (up(a), up(b));
-        from_a
-            .iter()
-            .take_while(|s| !from_b.contains(s))
-            .chain(from_b.iter().take_while(|s| !from_a.contains(s)))
-            .filter_map(|&s| s.checked_sub(1))
-            .collect()
     }
 
     /// Do the rest positions of `vertices`, projected on cut `k`'s plane, leave its pivot

@@ -324,11 +324,11 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
             failures.push(format!("{name}: opens in {open_s:.2} s > {m} s"));
         }
         let joints = base.joints.cuts().len();
-        // Each vertex's connected piece, and each piece's size: where the worst edge lies.
+        // Each vertex's part, and each part's size: where the worst edge lies.
         let parts = puppet::mesh::Parts::of(&base.mesh);
-        let mut piece_size = vec![0usize; parts.len()];
+        let mut part_size = vec![0usize; parts.len()];
         for &p in &parts.part_of {
-            piece_size[p as usize] += 1;
+            part_size[p as usize] += 1;
         }
         let mut mine = Vec::new();
         let runs: &[bool] = if args.compare {
@@ -384,7 +384,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                     worst_part: surface
                         .worst_edge
                         .and_then(|[a, _]| parts.part_of.get(a))
-                        .map_or(0, |&p| piece_size[p as usize]),
+                        .map_or(0, |&p| part_size[p as usize]),
                     vertices: base.mesh.positions.len(),
                     step_ms: median(0, times.len()),
                     limit_ms: [
