@@ -446,6 +446,27 @@ fn suggest_bench_draws_into_a_new_folder() {
     );
 }
 
+/// `bench suggest` names the sections that reach across the body's mirror plane (a
+/// limb's cut slipped into the body): the spacesuit's `arm.L`, whose plane, tilted up
+/// through its helmet, takes the head and the chest with the arm; none of the human's.
+#[test]
+fn suggest_bench_names_a_limb_that_reaches_across_the_body() {
+    let across = |only: &str| -> Vec<String> {
+        let out = puppet(&["bench", "suggest", "--only", only, "--json"]);
+        common::ok(&out);
+        let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let row = rows
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["character"] == only)
+            .unwrap_or_else(|| panic!("{only} in {rows}"));
+        serde_json::from_value(row["across"].clone()).unwrap()
+    };
+    assert_eq!(across("man-spacesuit"), ["arm.L"]);
+    assert!(across("human").is_empty());
+}
+
 /// Each target flag of `bench suggest` fails the bench with one error line, exit 2, when
 /// its target is missed (here, targets no character can meet), and passes when met.
 #[test]

@@ -770,3 +770,48 @@ fn slides_found_once_per_pose_are_each_band_s_own() {
         "no band with cross terms, or none slides"
     );
 }
+
+/// Skeletal points of a body along x from -1 to 1 at y = 0 and a head on it from y = 0.1
+/// to 1 at x = ±0.1: mirrored about x = 0.
+fn body_and_head() -> Vec<DVec3> {
+    (0..=20)
+        .map(|k| DVec3::new(-1.0 + k as f64 * 0.1, 0.0, 0.0))
+        .chain((1..=10).flat_map(|k| [-0.1, 0.1].map(|x| DVec3::new(x, k as f64 * 0.1, 0.0))))
+        .collect()
+}
+
+#[test]
+fn a_limb_cut_through_the_head_reaches_across_the_mirror_plane() {
+    let mirror = (DVec3::X, 0.0);
+    // Square across the arm: the arm alone.
+    let mut square = Joints::new(&body_and_head(), ROOT);
+    square
+        .add_cut(Cut::plane(
+            "arm.L",
+            ROOT,
+            DVec3::new(0.55, 0.0, 0.0),
+            DVec3::X,
+        ))
+        .unwrap();
+    assert!(square.across_mirror(mirror).is_empty());
+    // Tilted up through the head: the head's far side comes with the arm.
+    let mut tilted = Joints::new(&body_and_head(), ROOT);
+    let up = DVec3::new(0.6, 0.8, 0.0);
+    tilted
+        .add_cut(Cut::plane("arm.L", ROOT, DVec3::new(0.55, 0.0, 0.0), up))
+        .unwrap();
+    let across = tilted.across_mirror(mirror);
+    assert_eq!(across, [tilted.find("arm.L").unwrap()]);
+    // A section on the plane (a neck) is no limb on one side.
+    let mut neck = Joints::new(&body_and_head(), ROOT);
+    let at = DVec3::new(0.0, 0.45, 0.0);
+    neck.add_cut(Cut {
+        pivot: Some(at),
+        ..Cut::plane("neck", ROOT, at, DVec3::Y)
+    })
+    .unwrap();
+    assert!(neck.across_mirror(mirror).is_empty());
+    // No plane, nothing.
+    assert!(tilted.across_mirror((DVec3::ZERO, 0.0)).is_empty());
+    assert!(tilted.across_mirror((DVec3::X, f64::NAN)).is_empty());
+}

@@ -178,6 +178,54 @@ impl Joints {
         moved
     }
 
+    /// The sections that reach across the body's mirror plane `(n, o)` (unit normal,
+    /// offset): a section whose pivot lies off the plane by more than its band's local
+    /// medial radius `r` (a limb on one side: an arm, a leg; not a neck or a tail on the
+    /// plane) and that holds a skeletal point more than `r` across it. Such a limb's cut
+    /// slipped into the body: a shoulder's plane tilted up through the head takes the
+    /// head with the arm, and turning the arm turns the whole chest (a spacesuit's
+    /// `arm.L` in `puppet bench suggest`, its *across the body* column). Riders, which go
+    /// with their hosts, are not read. Sections in order; none without a finite plane.
+    pub fn across_mirror(&self, (n, o): (glam::DVec3, f64)) -> Vec<usize> {
+        if !(n.is_finite() && o.is_finite()) || n == glam::DVec3::ZERO {
+            return Vec::new();
+        }
+        let n = n.normalize();
+        // (A section on the plane is off it by rounding alone.)
+        let (lo, hi) = self.body.points.iter().fold(
+            (glam::DVec3::INFINITY, glam::DVec3::NEG_INFINITY),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let least = 1e-9 * (hi - lo).length();
+        let mut out = Vec::new();
+        for (k, section) in self.sections.iter().enumerate().skip(1) {
+            let r = self
+                .bands
+                .get(k - 1)
+                .and_then(Option::as_ref)
+                .map_or(0.0, |b| b.radius)
+                .max(least);
+            let off = section.pivot.dot(n) - o;
+            // (A pivot not finite is no limb on one side.)
+            if off.abs() <= r || !off.is_finite() {
+                continue;
+            }
+            let across = (0..self.section_of.len()).any(|i| {
+                usize::from(self.section_of[i]) == k
+                    && !self.body.is_rider(i)
+                    && self
+                        .body
+                        .points
+                        .get(i)
+                        .is_some_and(|p| -(p.dot(n) - o) * off.signum() > r)
+            });
+            if across {
+                out.push(k);
+            }
+        }
+        out
+    }
+
     /// Turns on or off whether parts split beside a cut go whole to one section (on
     /// unless turned off; see [`Joints::make_parts_whole`]), and assigns the sections
     /// again when that changes, and the bands where a part is or was whole.

@@ -97,6 +97,9 @@ struct Row {
     front_right: bool,
     #[serde(flatten)]
     score: Score,
+    /// The sections that reach across the body's mirror plane (`Joints::across_mirror`):
+    /// a limb's cut that slipped into the body.
+    across: Vec<String>,
     ms_skeleton: f64,
     ms_suggest: f64,
     /// Why the character could not be suggested on (the loader refused it).
@@ -149,6 +152,7 @@ pub fn run(args: &Args, load: &LoadArgs) -> Result<()> {
                 front: "none".into(),
                 front_right: false,
                 score: labels.score(&[], 1.0),
+                across: Vec::new(),
                 ms_skeleton: 0.0,
                 ms_suggest: 0.0,
                 refused: Some(e.to_string()),
@@ -256,6 +260,14 @@ fn measure(name: &str, labels: &Labels, file: &Path, args: &Args, load: &LoadArg
         .map(|f| Up::nearest(f.front).to_string())
         .unwrap_or_else(|| "none".into());
     let front_right = labels.front.is_none_or(|f| f.to_string() == front);
+    let across = puppet
+        .frame()
+        .and_then(|f| f.mirror)
+        .map(|m| puppet.joints.across_mirror(m))
+        .unwrap_or_default()
+        .into_iter()
+        .map(|k| puppet.joints.sections()[k].name.clone())
+        .collect();
     let vertices = puppet.mesh.positions.len();
     if let Some(dir) = &args.images {
         crate::cli::suggest::picture(puppet, &dir.join(format!("{name}.png")))?;
@@ -270,6 +282,7 @@ fn measure(name: &str, labels: &Labels, file: &Path, args: &Args, load: &LoadArg
         front,
         front_right,
         score,
+        across,
         ms_skeleton,
         ms_suggest,
         refused: None,
@@ -288,6 +301,7 @@ struct Totals {
     spurious: usize,
     matched: usize,
     named: usize,
+    across: usize,
     j2j: f64,
 }
 
@@ -304,6 +318,7 @@ impl Totals {
             spurious: sum(|s| s.spurious),
             matched: sum(|s| s.matched),
             named: sum(|s| s.named),
+            across: rows.iter().map(|r| r.across.len()).sum(),
             j2j: rows.iter().map(|r| r.score.j2j).sum::<f64>() / rows.len().max(1) as f64,
         }
     }
@@ -320,7 +335,7 @@ impl Totals {
 }
 
 /// The columns of `bench suggest`'s table.
-const COLUMNS: [Column; 13] = [
+const COLUMNS: [Column; 14] = [
     Column::Text("character"),
     Column::Text("kind"),
     Column::Figure("vertices"),
@@ -329,6 +344,7 @@ const COLUMNS: [Column; 13] = [
     Column::Figure("spurious cuts"),
     Column::Figure("named as the role"),
     Column::Figure("CD-J2J (% height)"),
+    Column::Figure("across the body"),
     Column::Figure("skeleton (ms)"),
     Column::Figure("suggestion (ms)"),
     Column::Text("front found"),
@@ -349,6 +365,7 @@ fn cells(r: &Row) -> Vec<String> {
         format!("{}/{}", s.spurious, s.cuts),
         format!("{}/{}", s.named, s.matched),
         format!("{:.1}", s.j2j),
+        r.across.len().to_string(),
         format!("{:.0}", r.ms_skeleton),
         format!("{:.1}", r.ms_suggest),
         format!("{}{}", r.front, wrong(r.front_right)),
@@ -358,7 +375,12 @@ fn cells(r: &Row) -> Vec<String> {
             s.missed.join(", "),
             match &r.refused {
                 Some(why) => format!("refused: {why}"),
-                None => s.extra.join(", "),
+                None if r.across.is_empty() => s.extra.join(", "),
+                None => format!(
+                    "{}; across the body: {}",
+                    s.extra.join(", "),
+                    r.across.join(", ")
+                ),
             }
         ),
     ]
@@ -376,6 +398,7 @@ fn total_cells(name: &str, t: &Totals) -> Vec<String> {
         format!("{}/{} ({:.0} %)", t.spurious, t.cuts, t.spurious_share()),
         format!("{}/{}", t.named, t.matched),
         format!("{:.1}", t.j2j),
+        t.across.to_string(),
         empty(),
         empty(),
         format!("{}/{} fronts right", t.fronts, t.characters),
