@@ -299,6 +299,9 @@ struct Body {
     /// The mesh's triangles (empty without a mesh): where a fan's slide is measured
     /// ([`slide`]).
     triangles: Vec<[u32; 3]>,
+    /// Each vertex's part of the mesh, connected through its own triangles alone,
+    /// whatever attaches it (empty without a mesh): what [`whole`] turns whole.
+    part_of: Vec<u32>,
     /// For each vertex of a rider, its host vertex; `u32::MAX` for the body's own.
     host: Vec<u32>,
     /// Skeletal distance (medial radius) of each vertex; empty when unknown (then every
@@ -435,6 +438,7 @@ impl Joints {
                 start,
                 neighbours,
                 triangles: triangles.to_vec(),
+                part_of: crate::mesh::components(n, triangles),
                 host,
                 radius: Vec::new(),
                 rest: Vec::new(),

@@ -249,11 +249,10 @@ impl Joints {
     fn make_parts_whole(&mut self, joined: &[u32]) -> usize {
         let body = &self.body;
         let n = self.section_of.len();
-        if body.rest.len() != n || body.triangles.is_empty() {
+        let part_of = &body.part_of;
+        if body.rest.len() != n || part_of.len() != n {
             return 0;
         }
-        // Each vertex's part: connected through its own triangles alone.
-        let part_of = crate::mesh::components(n, &body.triangles);
         let mut members: HashMap<u32, Vec<u32>> = HashMap::new();
         for (v, &p) in part_of.iter().enumerate() {
             if !body.is_rider(v) {
