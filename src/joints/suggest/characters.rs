@@ -15,8 +15,13 @@ pub(super) struct Character {
 /// The characters of `mesh`, largest first, when there are two or more: its body parts (not
 /// riders) grouped where their bounding boxes overlap or they are attached (an arm
 /// modelled apart and pushed into the torso is the torso's; two characters holding hands
-/// are one), each with the riders on its parts. `None` for one character.
-pub(super) fn of(mesh: &Mesh, skeleton: &Skeleton) -> Option<Vec<Character>> {
+/// are one), each with the riders on its parts; `attachments`, where its separate parts
+/// meet ([`crate::mesh::attachments`]). `None` for one character.
+pub(super) fn of(
+    mesh: &Mesh,
+    skeleton: &Skeleton,
+    attachments: &[(u32, u32)],
+) -> Option<Vec<Character>> {
     let parts = Parts::of(mesh);
     let body = parts.body_parts();
     if body.len() < 2 {
@@ -38,7 +43,7 @@ pub(super) fn of(mesh: &Mesh, skeleton: &Skeleton) -> Option<Vec<Character>> {
         }
     }
     // Attached parts are one character, whatever their boxes (a foot just below its shin).
-    for (a, b) in parts.attachments(mesh) {
+    for &(a, b) in attachments {
         groups.union(
             parts.part_of[a as usize] as usize,
             parts.part_of[b as usize] as usize,

@@ -74,10 +74,18 @@ impl Staged {
     /// The human through stage 4 (its cuts placed, under the root `root`).
     pub(crate) fn human() -> Staged {
         let (mesh, skeleton) = human();
-        let body = Body::of(mesh, skeleton, None);
+        let body = Body::of(mesh, skeleton, &crate::mesh::attachments(mesh), None);
         let mirror = body.cues.mirror;
         let limbs = limbs::of(&body.tree(), mirror);
-        let placed = place::place(mesh, skeleton, &body.hosts, "root", &limbs, mirror);
+        let placed = place::place(
+            mesh,
+            skeleton,
+            &body.hosts,
+            &crate::mesh::attachments(mesh),
+            "root",
+            &limbs,
+            mirror,
+        );
         Staged {
             mesh,
             skeleton,

@@ -81,13 +81,16 @@ use body::Body;
 /// other) each get their own cuts, the largest's names as they are and the others' with
 /// `.001`, `.002`… (see `characters`); the frame is the largest's.
 pub fn suggest(mesh: &Mesh, skeleton: &Skeleton, root: &str, given: Given) -> (Vec<Cut>, Frame) {
-    let Some(characters) = characters::of(mesh, skeleton) else {
-        return suggest_one(mesh, skeleton, root, given);
+    // Where the mesh's separate parts meet: found once, for every stage that walks them.
+    let attachments = crate::mesh::attachments(mesh);
+    let Some(characters) = characters::of(mesh, skeleton, &attachments) else {
+        return suggest_one(mesh, skeleton, &attachments, root, given);
     };
     let mut all = Vec::new();
     let mut first = None;
     for (k, c) in characters.iter().enumerate() {
-        let (cuts, frame) = suggest_one(&c.mesh, &c.skeleton, root, given);
+        let attachments = crate::mesh::attachments(&c.mesh);
+        let (cuts, frame) = suggest_one(&c.mesh, &c.skeleton, &attachments, root, given);
         first.get_or_insert(frame);
         let named = |n: &str| characters::name(n, k, root);
         all.extend(cuts.into_iter().map(|cut| Cut {
@@ -98,21 +101,36 @@ pub fn suggest(mesh: &Mesh, skeleton: &Skeleton, root: &str, given: Given) -> (V
     }
     match first {
         Some(frame) => (all, frame),
-        None => suggest_one(mesh, skeleton, root, given),
+        None => suggest_one(mesh, skeleton, &attachments, root, given),
     }
 }
 
-/// [`suggest`] for one character: the six stages of the module docs.
-fn suggest_one(mesh: &Mesh, skeleton: &Skeleton, root: &str, given: Given) -> (Vec<Cut>, Frame) {
+/// [`suggest`] for one character (its separate parts meeting at `attachments`): the six
+/// stages of the module docs.
+fn suggest_one(
+    mesh: &Mesh,
+    skeleton: &Skeleton,
+    attachments: &[(u32, u32)],
+    root: &str,
+    given: Given,
+) -> (Vec<Cut>, Frame) {
     // 1. Orientation: the body apart from its riders, its mirror plane and flat base.
-    let body = Body::of(mesh, skeleton, given.up);
+    let body = Body::of(mesh, skeleton, attachments, given.up);
     let mirror = body.cues.mirror;
     // 2. The tree of the body's protrusions.
     let tree = body.tree();
     // 3. Limbs: where each protrusion is cut.
     let limbs = limbs::of(&tree, mirror);
     // 4. Cuts: the limbs applied to the whole mesh's joints, riders going with their hosts.
-    let placed = place::place(mesh, skeleton, &body.hosts, root, &limbs, mirror);
+    let placed = place::place(
+        mesh,
+        skeleton,
+        &body.hosts,
+        attachments,
+        root,
+        &limbs,
+        mirror,
+    );
     // 5. Names by role, in the frame the root's limbs give.
     let named = names::name(
         &body.character,

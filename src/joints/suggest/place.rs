@@ -30,19 +30,20 @@ pub(crate) struct Placed {
 }
 
 /// `limbs` applied in order as cuts to the joints of `mesh` (its skeleton `skeleton`, its
-/// riders going with `hosts`) under the root section `root`; `mirror`, the body's mirror
-/// plane. One that cannot apply (a side left empty) is dropped, and what hangs from it
+/// riders going with `hosts`, its separate parts meeting at `attachments`) under the root
+/// section `root`; `mirror`, the body's mirror plane. One that cannot apply (a side left empty) is dropped, and what hangs from it
 /// hangs from its parent instead.
 pub(crate) fn place(
     mesh: &Mesh,
     skeleton: &Skeleton,
     hosts: &[Option<u32>],
+    attachments: &[(u32, u32)],
     root: &str,
     limbs: &[Limb],
     mirror: Option<(DVec3, f64)>,
 ) -> Placed {
     let mut joints = Joints::with_mesh(&skeleton.points, &mesh.triangles, hosts, root);
-    joints.attach_parts(&crate::mesh::attachments(mesh));
+    joints.attach_parts(attachments);
     let blank = joints.clone();
     let mut applied: Vec<Option<String>> = Vec::with_capacity(limbs.len());
     let mut count: HashMap<String, usize> = Default::default();
@@ -202,7 +203,15 @@ mod tests {
         let mut whole = limbs[0];
         whole.point -= whole.normal * 10.0 * mesh.longest_side();
         whole.parent = None;
-        let none = place(mesh, skeleton, &body.hosts, "root", &[whole], None);
+        let none = place(
+            mesh,
+            skeleton,
+            &body.hosts,
+            &crate::mesh::attachments(mesh),
+            "root",
+            &[whole],
+            None,
+        );
         assert!(none.cuts.is_empty());
     }
 }

@@ -7,6 +7,7 @@ use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 /// A mesh's skeletal graph: `S`'s edges as a CSR with their lengths.
+#[derive(Clone)]
 pub(crate) struct Graph {
     pub(crate) start: Vec<u32>,
     pub(crate) to: Vec<u32>,
@@ -14,15 +15,22 @@ pub(crate) struct Graph {
 }
 
 impl Graph {
-    /// The mesh's edges, each as long as it is in units of the skeletal distance at its
-    /// ends: a step of one is about one local radius, across a fat body or a thin finger.
-    pub(crate) fn new(mesh: &Mesh, points: &[DVec3], distance: &[f64]) -> Graph {
+    /// The mesh's edges and its `attachments` (where its separate parts meet:
+    /// [`crate::mesh::attachments`]), each as long as it is in units of the skeletal
+    /// distance at its ends: a step of one is about one local radius, across a fat body or
+    /// a thin finger.
+    pub(crate) fn new(
+        mesh: &Mesh,
+        attachments: &[(u32, u32)],
+        points: &[DVec3],
+        distance: &[f64],
+    ) -> Graph {
         let n = points.len();
         let mut positive: Vec<f64> = distance.iter().copied().filter(|d| *d > 0.0).collect();
         let floor = 1e-3 * crate::stats::median(&mut positive).unwrap_or(1.0);
         // The mesh's edges, and where its separate parts meet.
         let mut edges = crate::mesh::unique_edges(&mesh.triangles);
-        edges.extend(crate::mesh::attachments(mesh));
+        edges.extend_from_slice(attachments);
         let (start, to) = crate::mesh::neighbours(n, &edges);
         let mut len = vec![0.0; to.len()];
         for a in 0..n {
@@ -115,7 +123,7 @@ mod tests {
         let mesh = shapes::icosphere(2.0, 1);
         let n = mesh.positions.len();
         // Every skeletal distance 0.5: an edge of length l is 2 l long.
-        let graph = Graph::new(&mesh, &mesh.positions, &vec![0.5; n]);
+        let graph = Graph::new(&mesh, &[], &mesh.positions, &vec![0.5; n]);
         for v in 0..n {
             for (w, l) in graph.neighbours(v) {
                 let want = mesh.positions[v].distance(mesh.positions[w]) / 0.5;
@@ -128,7 +136,7 @@ mod tests {
     fn shortest_paths_are_shortest_and_follow_their_predecessors() {
         let mesh = shapes::icosphere(1.0, 2);
         let n = mesh.positions.len();
-        let graph = Graph::new(&mesh, &mesh.positions, &vec![1.0; n]);
+        let graph = Graph::new(&mesh, &[], &mesh.positions, &vec![1.0; n]);
         let (dist, pred) = graph.distances(0);
         assert_eq!(dist[0], 0.0);
         for v in 1..n {

@@ -55,12 +55,20 @@ pub(crate) struct Body<'a> {
     pub(crate) character: Cow<'a, Mesh>,
     /// The body's mirror plane and flat base.
     pub(crate) cues: Cues,
+    /// Where the body's separate parts meet ([`crate::mesh::attachments`]), by body vertex.
+    pub(crate) attachments: Vec<(u32, u32)>,
 }
 
 impl<'a> Body<'a> {
-    /// The body of `mesh`, whose skeleton is `skeleton`, standing along `up` where that is
-    /// given (its mirror plane then holds up: [`Cues::of`]).
-    pub(crate) fn of(mesh: &'a Mesh, skeleton: &'a Skeleton, up: Option<DVec3>) -> Body<'a> {
+    /// The body of `mesh`, whose skeleton is `skeleton` and whose separate parts meet at
+    /// `attachments` ([`crate::mesh::attachments`]: between body parts only), standing
+    /// along `up` where that is given (its mirror plane then holds up: [`Cues::of`]).
+    pub(crate) fn of(
+        mesh: &'a Mesh,
+        skeleton: &'a Skeleton,
+        attachments: &[(u32, u32)],
+        up: Option<DVec3>,
+    ) -> Body<'a> {
         if skeleton.riders == 0 {
             return Body {
                 mesh: Cow::Borrowed(mesh),
@@ -68,6 +76,7 @@ impl<'a> Body<'a> {
                 hosts: Vec::new(),
                 character: Cow::Borrowed(mesh),
                 cues: Cues::of(mesh, up),
+                attachments: attachments.to_vec(),
             };
         }
         let parts = crate::mesh::Parts::of(mesh);
@@ -90,12 +99,26 @@ impl<'a> Body<'a> {
             Cow::Borrowed(mesh)
         };
         let cues = Cues::of(&body, up);
+        // The body keeps the whole's vertices in their order, less the riders'.
+        let mut index = vec![u32::MAX; mesh.positions.len()];
+        for (new, &v) in old.iter().enumerate() {
+            index[v as usize] = new as u32;
+        }
+        let attachments = attachments
+            .iter()
+            .map(|&(a, b)| {
+                let at = |v: u32| index.get(v as usize).copied().unwrap_or(u32::MAX);
+                (at(a), at(b))
+            })
+            .filter(|&(a, b)| a != u32::MAX && b != u32::MAX)
+            .collect();
         Body {
             mesh: Cow::Owned(body),
             skeleton: Cow::Owned(body_skeleton),
             hosts,
             character,
             cues,
+            attachments,
         }
     }
 
@@ -106,7 +129,13 @@ impl<'a> Body<'a> {
             .cues
             .base
             .and_then(|down| on_the_base(&self.mesh, &self.skeleton.distance, down));
-        let mut tree = Tree::rooted(&self.mesh, &self.skeleton, root);
+        let graph = graph::Graph::new(
+            &self.mesh,
+            &self.attachments,
+            &self.mesh.positions,
+            &self.skeleton.distance,
+        );
+        let mut tree = Tree::rooted(&self.mesh, &self.skeleton, graph, root);
         tree.standing = root.is_some();
         tree
     }
@@ -135,7 +164,7 @@ mod tests {
     fn the_body_is_the_mesh_less_its_riders_and_its_cues_are_the_body_s() {
         // No riders: the mesh itself, mirrored across x.
         let (mesh, skeleton) = fixture::human();
-        let body = Body::of(mesh, skeleton, None);
+        let body = Body::of(mesh, skeleton, &crate::mesh::attachments(mesh), None);
         assert!(matches!(body.mesh, Cow::Borrowed(_)));
         assert!(body.hosts.is_empty());
         let (n, _) = body.cues.mirror.expect("the human is mirrored");
@@ -145,7 +174,7 @@ mod tests {
         // the character for naming has each eye's vertex where its host is.
         let (mesh, skeleton) = fixture::character("tests/data/population/snake.glb");
         assert!(skeleton.riders > 0);
-        let body = Body::of(mesh, skeleton, None);
+        let body = Body::of(mesh, skeleton, &crate::mesh::attachments(mesh), None);
         let n = mesh.positions.len();
         assert_eq!(body.mesh.positions.len(), n - skeleton.riders);
         assert_eq!(body.skeleton.points.len(), body.mesh.positions.len());
@@ -159,9 +188,21 @@ mod tests {
     }
 
     #[test]
+    fn the_body_s_attachments_are_the_whole_s_between_its_own_vertices() {
+        // A king in pieces: riders (a crown's jewels) and body parts that meet (a tunic
+        // over the trunk). The whole's attachments, found once, moved onto the body's
+        // vertices, are what the body's own mesh gives.
+        let (mesh, skeleton) = fixture::character("tests/data/population/man-king.glb");
+        assert!(skeleton.riders > 0);
+        let body = Body::of(mesh, skeleton, &crate::mesh::attachments(mesh), None);
+        assert!(!body.attachments.is_empty());
+        assert_eq!(body.attachments, crate::mesh::attachments(&body.mesh));
+    }
+
+    #[test]
     fn the_tree_grows_from_a_core_in_the_trunk_and_every_vertex_is_reached() {
         let (mesh, skeleton) = fixture::human();
-        let body = Body::of(mesh, skeleton, None);
+        let body = Body::of(mesh, skeleton, &crate::mesh::attachments(mesh), None);
         let tree = body.tree();
         assert!(!tree.standing);
         // The core's ball sits in the trunk: on the mirror plane, between hips and neck.

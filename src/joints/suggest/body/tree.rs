@@ -38,8 +38,14 @@ pub(crate) struct Tree<'a> {
 }
 
 impl<'a> Tree<'a> {
-    /// The tree from vertex `root`'s medial ball, or from the root found when `None`.
-    pub(crate) fn rooted(mesh: &'a Mesh, skeleton: &'a Skeleton, root: Option<usize>) -> Tree<'a> {
+    /// The tree from vertex `root`'s medial ball, or from the root found when `None`;
+    /// `graph`, the mesh's ([`Graph::new`]).
+    pub(crate) fn rooted(
+        mesh: &'a Mesh,
+        skeleton: &'a Skeleton,
+        graph: Graph,
+        root: Option<usize>,
+    ) -> Tree<'a> {
         let points = &skeleton.points;
         let n = points.len();
         let mut tree = Tree {
@@ -51,7 +57,7 @@ impl<'a> Tree<'a> {
             core: (DVec3::ZERO, 0.0),
             size_of_mesh: mesh.longest_side(),
             standing: false,
-            graph: Graph::new(mesh, &mesh.positions, &skeleton.distance),
+            graph,
         };
         if n < 4 {
             return tree;

@@ -69,7 +69,7 @@ pub(crate) fn of(tree: &Tree, mirror: Option<(DVec3, f64)>) -> Vec<Limb> {
         return limbs;
     };
     let mesh = tree.mesh;
-    let mut out = Tree::rooted(mesh, tree.skeleton, Some(root)).limbs(mirror);
+    let mut out = Tree::rooted(mesh, tree.skeleton, tree.graph.clone(), Some(root)).limbs(mirror);
     // The head the tree was first rooted in turns at the cut that hung the body from it,
     // the other way round, unless a cut from the body near there already takes it; what
     // hangs from the body past that cut hangs from the head.

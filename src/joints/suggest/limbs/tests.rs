@@ -164,7 +164,12 @@ fn a_long_flat_part_is_not_cut_in_its_middle() {
 #[test]
 fn the_human_s_limbs_come_parent_first_in_mirrored_pairs() {
     let (mesh, skeleton) = crate::joints::suggest::fixture::human();
-    let body = crate::joints::suggest::body::Body::of(mesh, skeleton, None);
+    let body = crate::joints::suggest::body::Body::of(
+        mesh,
+        skeleton,
+        &crate::mesh::attachments(mesh),
+        None,
+    );
     let mirror = body.cues.mirror;
     let limbs = super::of(&body.tree(), mirror);
     let size = mesh.longest_side();
@@ -201,7 +206,12 @@ fn the_human_s_limbs_come_parent_first_in_mirrored_pairs() {
 #[test]
 fn the_human_s_legs_are_a_pair_that_splits_the_trunk() {
     let (mesh, skeleton) = crate::joints::suggest::fixture::human();
-    let body = crate::joints::suggest::body::Body::of(mesh, skeleton, None);
+    let body = crate::joints::suggest::body::Body::of(
+        mesh,
+        skeleton,
+        &crate::mesh::attachments(mesh),
+        None,
+    );
     let mirror = body.cues.mirror;
     let tree = body.tree();
     let paired = |mirror| -> Vec<usize> {
@@ -263,7 +273,12 @@ fn a_copied_cut_carries_what_mirrors_the_cuts_below_its_source() {
         "tests/data/meshes/human.obj",
     ] {
         let (mesh, skeleton) = crate::joints::suggest::fixture::character(path);
-        let body = crate::joints::suggest::body::Body::of(mesh, skeleton, None);
+        let body = crate::joints::suggest::body::Body::of(
+            mesh,
+            skeleton,
+            &crate::mesh::attachments(mesh),
+            None,
+        );
         let Some((n, o)) = body.cues.mirror else {
             continue;
         };
@@ -323,7 +338,7 @@ fn a_cut_on_a_low_poly_limb_gets_a_normal_from_the_rows_past_its_windows() {
     for name in ["deer", "wolf", "velociraptor", "parasaurolophus"] {
         let path = format!("tests/data/population/{name}.glb");
         let (mesh, skeleton) = crate::joints::suggest::fixture::character(&path);
-        let body = Body::of(mesh, skeleton, None);
+        let body = Body::of(mesh, skeleton, &crate::mesh::attachments(mesh), None);
         let tree = body.tree();
         for (k, segment) in tree.segments.iter().enumerate() {
             let seg = &segment.vertices;
@@ -362,7 +377,7 @@ fn a_limb_whose_window_holds_no_vertex_is_measured_by_the_row_past_it() {
     for name in ["velociraptor", "parasaurolophus", "trex", "wasp"] {
         let path = format!("tests/data/population/{name}.glb");
         let (mesh, skeleton) = crate::joints::suggest::fixture::character(&path);
-        let body = Body::of(mesh, skeleton, None);
+        let body = Body::of(mesh, skeleton, &crate::mesh::attachments(mesh), None);
         let tree = body.tree();
         for segment in &tree.segments {
             let seg = &segment.vertices;
