@@ -100,12 +100,12 @@ fn beyond_volume(table: &str) -> usize {
 /// BENCHMARKS' claims on the 45 downloads of `tests/data/population` (20 seeds each,
 /// settled, the joints suggested from the skeleton): no pose gives a NaN, no edge
 /// stretches past 4.5× (the king's, 3.42×), at most 2 poses pass 3×, 44
-/// characters stay within 3× on every pose, and at most 75
+/// characters stay within 3× on every pose, and at most 67
 /// poses change a section's volume by more than 5 % (what each change did to that
 /// count: `docs/performance-log.md`). Half a minute in CI.
 #[test]
 fn the_downloads_poses_hold_what_benchmarks_says() {
-    holds("tests/data/population", 45, 4.5, 2, 44, 75);
+    holds("tests/data/population", 45, 4.5, 2, 44, 67);
 }
 
 /// BENCHMARKS' claims on the 12 characters in pieces of `tests/data/pieces` (20 seeds
@@ -135,7 +135,7 @@ fn collision_on_the_pieces_is_never_worse() {
     ok(&out);
 }
 
-/// BENCHMARKS' claim on collision over the 45 downloads (6 seeds each): at most 5 of the
+/// BENCHMARKS' claim on collision over the 45 downloads (6 seeds each): at most 7 of the
 /// 270 poses worse with collision on than off, and at most 3 of them still worse against
 /// the pose they reached settled with collision off (the JSON's `worse`: `pose` or
 /// `collision`).
@@ -164,7 +164,7 @@ fn collision_on_the_downloads_is_worse_on_few_poses() {
     let (not, pose, collision) = (poses("not"), poses("pose"), poses("collision"));
     assert_eq!(not.len() + pose.len() + collision.len(), 270);
     assert!(
-        pose.len() + collision.len() <= 5 && collision.len() <= 3,
+        pose.len() + collision.len() <= 7 && collision.len() <= 3,
         "worse on than off: {pose:?} (as much off at the pose reached), {collision:?}"
     );
 }
@@ -607,7 +607,7 @@ fn a_band_weight_steps_no_steeper_than_its_slope() {
 /// hold the surface in `bench poses`' 20 seeds no edge of his stretches past 3.5× (4.04×
 /// with the backpack's halves in two sections). A band's width is measured on the
 /// sections as they were before parts moved: the spacesuit's shoulder, whose cut crosses
-/// its helmet, stays within 3× (2.92×; measured without the helmet its band narrowed:
+/// its helmet, stays within 3× (2.94×; measured without the helmet its band narrowed:
 /// 3.99×, and settled 3.69×).
 #[test]
 fn a_part_beside_a_cut_turns_whole() {

@@ -1550,10 +1550,12 @@ fn the_population_scores_as_benchmarks_says() {
         (sum("found"), sum("required"))
     };
     let (dev, held) = (recall("development"), recall("held-out"));
-    // 55 and 53: two of the held-out stegosaurus's cuts that matched its joints lie
+    // 54 and 55: two of the held-out stegosaurus's cuts that matched its joints lie
     // with their pivots far off their seams, balloon its body when turned, and are
-    // taken back (`BALLOON`).
-    assert!(dev.0 >= 55 && held.0 >= 53, "{dev:?} {held:?}");
+    // taken back (`BALLOON`); a shoulder or hip plane reaching through the body turned
+    // toward its side (`TURNS`) finds the spacesuit's neck and right arm, and loses the
+    // frog's right shin (55 and 53 before).
+    assert!(dev.0 >= 54 && held.0 >= 55, "{dev:?} {held:?}");
     // Named as their role: 47 of the development half's matched cuts, 47 held out (the
     // mirror planes of a low-poly alpaca with its head turned, a trex and a velociraptor
     // are read against the surface: without them, they read as hands).

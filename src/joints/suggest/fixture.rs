@@ -73,7 +73,12 @@ pub(crate) struct Staged {
 impl Staged {
     /// The human through stage 4 (its cuts placed, under the root `root`).
     pub(crate) fn human() -> Staged {
-        let (mesh, skeleton) = human();
+        Staged::of("tests/data/meshes/human.obj")
+    }
+
+    /// The mesh at `path` (from the repository's root) through stage 4.
+    pub(crate) fn of(path: &str) -> Staged {
+        let (mesh, skeleton) = character(path);
         let body = Body::of(mesh, skeleton, &crate::mesh::attachments(mesh), None);
         let mirror = body.cues.mirror;
         let limbs = limbs::of(&body.tree(), mirror);

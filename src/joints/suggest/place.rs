@@ -6,10 +6,12 @@
 //! leave a section of fewer than `SMALLEST` of the vertices, or whose plane takes more
 //! than twice what lies past it in the join tree (it slipped past the limb into the
 //! body), is dropped; a limb's root plane that slips so first tries the mirror image of
-//! its partner's on the other side (an arm hanging closer to the body on one side).
+//! its partner's on the other side (an arm hanging closer to the body on one side). A
+//! limb's root plane that reaches through the body across its mirror plane is turned
+//! toward the limb's side (by [`TURNS`]) where that leaves nothing across.
 
 use super::limbs::Limb;
-use super::rules::{PAIRED, SMALLEST};
+use super::rules::{PAIRED, SMALLEST, TURNS};
 use crate::joints::{Cut, Joints, Shape};
 use crate::mesh::Mesh;
 use crate::skeleton::Skeleton;
@@ -111,6 +113,37 @@ pub(crate) fn place(
                 }
             }
         }
+        // A limb's root plane that reaches through the body across its mirror plane (a
+        // shoulder's plane tilted up through the collar takes the head with the arm) is
+        // turned toward the limb's side by the first of `TURNS` that leaves nothing
+        // across, takes less, and still leaves both sections big enough.
+        if let (true, None, Some(mirror)) = (big_enough, limb.parent, mirror) {
+            let reach = |c: &Cut| {
+                let s = joints.find(&c.section)?;
+                let taken = joints.preview(s, c);
+                let pivot = c.pivot.unwrap_or(limb.pivot);
+                let across = across(mirror, pivot, 0.5 * limb.width, &skeleton.points, &taken);
+                Some((taken.iter().filter(|&&t| t).count(), across))
+            };
+            if let Some((before, true)) = reach(&cut) {
+                let pivot = cut.pivot.unwrap_or(limb.pivot);
+                let side = mirror.0 * (pivot.dot(mirror.0) - mirror.1).signum();
+                let turned = TURNS.iter().find_map(|&t| {
+                    let normal = cut.normal.normalize_or_zero().lerp(side, t);
+                    let turned = plane(cut.point, normal.normalize_or_zero(), pivot);
+                    let (after, across) = reach(&turned)?;
+                    (normal != DVec3::ZERO
+                        && !across
+                        && after < before
+                        && big_enough_for(&turned, limb.expected))
+                    .then_some(turned)
+                });
+                if let Some(turned) = turned {
+                    log::debug!("suggested joint {} turned toward its side", cut.name);
+                    cut = turned;
+                }
+            }
+        }
         if !big_enough {
             *count.entry(cut.section).or_default() -= 1;
             applied.push(None);
@@ -135,6 +168,25 @@ pub(crate) fn place(
         cuts,
         sockets,
     }
+}
+
+/// Whether a plane through `pivot`, off the mirror plane `(n, o)` (unit normal, offset) by
+/// more than `radius`, takes (`taken`, per skeletal point of `points`) a point more than
+/// `radius` across it: a limb's cut that reaches through the body to its other side. A
+/// pivot within `radius` of the plane (a neck, a tail) never does.
+fn across(
+    (n, o): (DVec3, f64),
+    pivot: DVec3,
+    radius: f64,
+    points: &[DVec3],
+    taken: &[bool],
+) -> bool {
+    let off = pivot.dot(n) - o;
+    off.abs() > radius
+        && points
+            .iter()
+            .zip(taken)
+            .any(|(p, &t)| t && -(p.dot(n) - o) * off.signum() > radius)
 }
 
 /// The root limb whose pivot's mirror image (through `mirror`) lies nearest root limb
@@ -213,5 +265,38 @@ mod tests {
             None,
         );
         assert!(none.cuts.is_empty());
+    }
+
+    #[test]
+    fn a_shoulder_plane_reaching_through_the_body_turns_toward_its_side() {
+        // The spacesuit's shoulder planes, tilted up through its collar, reach across its
+        // mirror plane (they took its head and chest with an arm); placed, none does.
+        let Staged {
+            skeleton,
+            body,
+            limbs,
+            placed,
+            ..
+        } = Staged::of("tests/data/population/man-spacesuit.glb");
+        let mirror = body.cues.mirror.expect("the spacesuit is mirrored");
+        let reaches = |cut: &Cut, width: f64| {
+            let taken = placed.blank.preview(0, cut);
+            let pivot = cut.pivot.expect("a suggested cut has its pivot");
+            across(mirror, pivot, 0.5 * width, &skeleton.points, &taken)
+        };
+        let planes = limbs.iter().filter(|l| l.parent.is_none()).filter(|l| {
+            let cut = Cut {
+                pivot: Some(l.pivot),
+                connected: true,
+                ..Cut::plane("limb", "root", l.point, l.normal)
+            };
+            reaches(&cut, l.width)
+        });
+        assert!(planes.count() >= 1);
+        for (cut, &(_, width)) in placed.cuts.iter().zip(&placed.sockets) {
+            if cut.section == "root" {
+                assert!(!reaches(cut, width), "{} reaches across", cut.name);
+            }
+        }
     }
 }

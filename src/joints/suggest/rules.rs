@@ -110,6 +110,14 @@ pub(crate) const STANDING: f64 = 0.25;
 /// and hanging down, whose last carries two parts off the plane, is a waist and the hips
 /// the legs hang from (a shirt's hem, the trousers' waist, then the crotch).
 pub(crate) const WAIST: usize = 3;
+/// How far a limb's root plane that reaches through the body across its mirror plane is
+/// turned toward the limb's side, in turn, as a share of the way from its normal to the
+/// mirror plane's: the first that leaves no skeletal point more than half the limb's
+/// width across, takes less, and leaves both sections big enough. At most half way: a
+/// plane turned further lies nearer the mirror plane's than its limb's own, and no longer
+/// crosses the limb. On the development half turning further turns no other plane; on the
+/// held-out half it turns the bull's hips into its flanks (`docs/performance-log.md`).
+pub(crate) const TURNS: [f64; 2] = [0.25, 0.5];
 /// Sections smaller than this share of the vertices (or 12 vertices) are not suggested.
 pub(crate) const SMALLEST: f64 = 0.002;
 
