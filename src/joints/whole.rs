@@ -205,21 +205,10 @@ impl Joints {
                 .and_then(Option::as_ref)
                 .map_or(0.0, |b| b.radius)
                 .max(least);
-            let off = section.pivot.dot(n) - o;
-            // (A pivot not finite is no limb on one side.)
-            if off.abs() <= r || !off.is_finite() {
-                continue;
-            }
-            let across = (0..self.section_of.len()).any(|i| {
-                usize::from(self.section_of[i]) == k
-                    && !self.body.is_rider(i)
-                    && self
-                        .body
-                        .points
-                        .get(i)
-                        .is_some_and(|p| -(p.dot(n) - o) * off.signum() > r)
-            });
-            if across {
+            let points = (0..self.section_of.len())
+                .filter(|&i| usize::from(self.section_of[i]) == k && !self.body.is_rider(i))
+                .filter_map(|i| self.body.points.get(i).copied());
+            if crate::mesh::mirror::reaches_across((n, o), section.pivot, r, points) {
                 out.push(k);
             }
         }

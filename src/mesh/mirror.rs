@@ -20,6 +20,25 @@ pub fn reflect(n: DVec3, v: DVec3) -> DVec3 {
     v - n * 2.0 * v.dot(n)
 }
 
+/// Whether a limb turning about `pivot` reaches across the mirror plane `(n, o)` (unit
+/// normal, offset) with one of its `points`: its pivot lies off the plane by more than
+/// `radius` (a limb on one side, an arm, a leg; not a neck or a tail on the plane) and a
+/// point lies more than `radius` across it, on the other side. Such a limb's cut slipped
+/// through the body: a shoulder's plane tilted up through the collar takes the head and
+/// the chest with the arm. A pivot not finite reaches nowhere.
+pub fn reaches_across(
+    (n, o): (DVec3, f64),
+    pivot: DVec3,
+    radius: f64,
+    points: impl IntoIterator<Item = DVec3>,
+) -> bool {
+    let off = pivot.dot(n) - o;
+    off.abs() > radius
+        && points
+            .into_iter()
+            .any(|p| -(p.dot(n) - o) * off.signum() > radius)
+}
+
 /// The mirror plane across one of the axes, if the mesh has one (see the module docs).
 ///
 /// How far a mirrored vertex lands from the surface is read off the faces around the

@@ -170,23 +170,22 @@ pub(crate) fn place(
     }
 }
 
-/// Whether a plane through `pivot`, off the mirror plane `(n, o)` (unit normal, offset) by
-/// more than `radius`, takes (`taken`, per skeletal point of `points`) a point more than
-/// `radius` across it: a limb's cut that reaches through the body to its other side. A
-/// pivot within `radius` of the plane (a neck, a tail) never does.
+/// Whether `taken` (per skeletal point of `points`, what a plane through `pivot` takes)
+/// reaches across the mirror plane `mirror` by more than `radius`
+/// ([`crate::mesh::mirror::reaches_across`]).
 fn across(
-    (n, o): (DVec3, f64),
+    mirror: (DVec3, f64),
     pivot: DVec3,
     radius: f64,
     points: &[DVec3],
     taken: &[bool],
 ) -> bool {
-    let off = pivot.dot(n) - o;
-    off.abs() > radius
-        && points
-            .iter()
-            .zip(taken)
-            .any(|(p, &t)| t && -(p.dot(n) - o) * off.signum() > radius)
+    let taken = points
+        .iter()
+        .zip(taken)
+        .filter(|(_, &t)| t)
+        .map(|(p, _)| *p);
+    crate::mesh::mirror::reaches_across(mirror, pivot, radius, taken)
 }
 
 /// The root limb whose pivot's mirror image (through `mirror`) lies nearest root limb
