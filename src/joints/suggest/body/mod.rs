@@ -189,9 +189,9 @@ mod tests {
 
     #[test]
     fn the_body_s_attachments_are_the_whole_s_between_its_own_vertices() {
-        // A king in pieces: riders (a crown's jewels) and body parts that meet (a tunic
-        // over the trunk). The whole's attachments, found once, moved onto the body's
-        // vertices, are what the body's own mesh gives.
+        // A king in pieces: riders (46 small separate parts) and body parts that meet.
+        // The whole's attachments, found once, moved onto the body's vertices, are what
+        // the body's own mesh gives.
         let (mesh, skeleton) = fixture::character("tests/data/population/man-king.glb");
         assert!(skeleton.riders > 0);
         let body = Body::of(mesh, skeleton, &crate::mesh::attachments(mesh), None);
