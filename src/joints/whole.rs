@@ -192,10 +192,7 @@ impl Joints {
         }
         let n = n.normalize();
         // (A section on the plane is off it by rounding alone.)
-        let (lo, hi) = self.body.points.iter().fold(
-            (glam::DVec3::INFINITY, glam::DVec3::NEG_INFINITY),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        );
+        let (lo, hi) = crate::mesh::bounds(&self.body.points);
         let least = 1e-9 * (hi - lo).length();
         let mut out = Vec::new();
         for (k, section) in self.sections.iter().enumerate().skip(1) {
