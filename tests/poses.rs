@@ -100,12 +100,12 @@ fn beyond_volume(table: &str) -> usize {
 /// BENCHMARKS' claims on the 45 downloads of `tests/data/population` (20 seeds each,
 /// settled, the joints suggested from the skeleton): no pose gives a NaN, no edge
 /// stretches past 4.5× (the king's, 3.42×), at most 2 poses pass 3×, 44
-/// characters stay within 3× on every pose, and at most 67
+/// characters stay within 3× on every pose, and at most 66
 /// poses change a section's volume by more than 5 % (what each change did to that
 /// count: `docs/performance-log.md`). Half a minute in CI.
 #[test]
 fn the_downloads_poses_hold_what_benchmarks_says() {
-    holds("tests/data/population", 45, 4.5, 2, 44, 67);
+    holds("tests/data/population", 45, 4.5, 2, 44, 66);
 }
 
 /// BENCHMARKS' claims on the 12 characters in pieces of `tests/data/pieces` (20 seeds

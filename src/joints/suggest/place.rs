@@ -11,7 +11,7 @@
 //! toward the limb's side (by [`TURNS`]) where that leaves nothing across.
 
 use super::limbs::Limb;
-use super::rules::{PAIRED, SMALLEST, TURNS};
+use super::rules::{MATCHED, PAIRED, SMALLEST, TURNS};
 use crate::joints::{Cut, Joints, Shape};
 use crate::mesh::Mesh;
 use crate::skeleton::Skeleton;
@@ -87,7 +87,7 @@ pub(crate) fn place(
         };
         // Too small a piece, or too little left, is no joint worth a section.
         let smallest = (SMALLEST * skeleton.points.len() as f64).max(12.0) as usize;
-        let big_enough_for = |cut: &Cut, expected: usize| {
+        let big_enough_for = |joints: &Joints, cut: &Cut, expected: usize| {
             joints.find(&cut.section).is_some_and(|s| {
                 let taken = joints.preview(s, cut).iter().filter(|&&t| t).count();
                 taken >= smallest
@@ -95,22 +95,26 @@ pub(crate) fn place(
                     && taken <= 2 * expected + smallest
             })
         };
-        // A limb's root plane that slips past it into the body (an arm hanging close to
-        // it) may take the mirror image of its partner's on the other side instead.
+        // Its partner's plane mirrored, its partner within `within` of the mesh's size.
+        let mirrored = |joints: &Joints, within: f64| {
+            let m = mirror?;
+            let o = partner(limbs, limb, m, within * mesh.longest_side())?;
+            let image = |p: DVec3| crate::mesh::orientation::image(m, p);
+            let cut = plane(
+                image(o.point),
+                crate::mesh::orientation::reflect(m.0, o.normal),
+                image(o.pivot),
+            );
+            big_enough_for(joints, &cut, o.expected).then_some(cut)
+        };
+        // A root limb's plane that slips past it into the body (an arm hanging close to
+        // it) may take the mirror image of its partner's (within `PAIRED`) instead.
         let mut cut = plane(limb.point, limb.normal, limb.pivot);
-        let mut big_enough = big_enough_for(&cut, limb.expected);
-        if let (false, Some(m)) = (big_enough, mirror) {
-            if let Some(o) = partner(limbs, limb, m, mesh.longest_side()) {
-                let image = |p: DVec3| crate::mesh::orientation::image(m, p);
-                let mirrored = plane(
-                    image(o.point),
-                    crate::mesh::orientation::reflect(m.0, o.normal),
-                    image(o.pivot),
-                );
-                if big_enough_for(&mirrored, o.expected) {
-                    cut = mirrored;
-                    big_enough = true;
-                }
+        let mut big_enough = big_enough_for(&joints, &cut, limb.expected);
+        if !big_enough && limb.parent.is_none() {
+            if let Some(m) = mirrored(&joints, PAIRED) {
+                cut = m;
+                big_enough = true;
             }
         }
         // A limb's root plane that reaches through the body across its mirror plane (a
@@ -135,7 +139,7 @@ pub(crate) fn place(
                     (normal != DVec3::ZERO
                         && !across
                         && after < before
-                        && big_enough_for(&turned, limb.expected))
+                        && big_enough_for(&joints, &turned, limb.expected))
                     .then_some(turned)
                 });
                 if let Some(turned) = turned {
@@ -149,7 +153,24 @@ pub(crate) fn place(
             applied.push(None);
             continue;
         }
-        match joints.add_cut_unbanded(cut.clone()) {
+        // One whose plane leaves nothing on the other side (a leg's plane tilted along
+        // the crotch, which the hips would not keep) takes its partner's image
+        // (within `MATCHED`: the legs as they hang from the hips).
+        let added = match joints.add_cut_unbanded(cut.clone()) {
+            Err(e) => match mirrored(&joints, MATCHED).filter(|m| *m != cut) {
+                Some(m) => {
+                    log::debug!(
+                        "suggested joint {}: {e}; its partner's image instead",
+                        cut.name
+                    );
+                    cut = m;
+                    joints.add_cut_unbanded(cut.clone())
+                }
+                None => Err(e),
+            },
+            added => added,
+        };
+        match added {
             Ok(_) => {
                 applied.push(Some(name));
                 cuts.push(cut);
@@ -188,28 +209,26 @@ fn across(
     crate::mesh::mirror::reaches_across(mirror, pivot, radius, taken)
 }
 
-/// The root limb whose pivot's mirror image (through `mirror`) lies nearest root limb
-/// `limb`'s pivot, within [`PAIRED`] of the mesh's `size`; `None` for a nested limb and
-/// for one nearest its own image.
+/// The sibling of `limb` (a limb hanging from the same cut, or like it from the root)
+/// whose pivot's mirror image (through `mirror`) lies nearest `limb`'s pivot, no farther
+/// than `within`: two legs from the hips, two arms from the body. `None` for one nearest
+/// its own image.
 fn partner<'a>(
     limbs: &'a [Limb],
     limb: &Limb,
     mirror: (DVec3, f64),
-    size: f64,
+    within: f64,
 ) -> Option<&'a Limb> {
-    if limb.parent.is_some() {
-        return None;
-    }
     limbs
         .iter()
-        .filter(|o| o.parent.is_none())
+        .filter(|o| o.parent == limb.parent)
         .map(|o| {
             (
                 o,
                 crate::mesh::orientation::image(mirror, o.pivot).distance(limb.pivot),
             )
         })
-        .filter(|&(_, d)| d <= PAIRED * size)
+        .filter(|&(_, d)| d <= within)
         .min_by(|a, b| a.1.total_cmp(&b.1))
         .map(|(o, _)| o)
         // (A limb on the mirror plane is its own image: it has no partner.)
@@ -297,5 +316,29 @@ mod tests {
                 assert!(!reaches(cut, width), "{} reaches across", cut.name);
             }
         }
+    }
+
+    #[test]
+    fn a_leg_plane_that_leaves_nothing_beside_it_takes_its_partners_image() {
+        // Woman-casual's right leg: its plane from stage 3 runs along the crotch and
+        // leaves the hips no skeletal point on their side, so the cut would not apply
+        // and the leg would turn only at the knee. Both legs hang from the hips, mirror
+        // images of each other.
+        let Staged { body, placed, .. } = Staged::of("tests/data/population/woman-casual.glb");
+        let mirror = body.cues.mirror.expect("woman-casual is mirrored");
+        let image = |p: DVec3| crate::mesh::orientation::image(mirror, p);
+        let nested = |c: &&Cut| c.section != "root";
+        let paired = placed.cuts.iter().filter(nested).any(|a| {
+            let (pa, qa) = (a.pivot.unwrap_or(a.point), a.point);
+            placed.cuts.iter().filter(nested).any(|b| {
+                let pb = b.pivot.unwrap_or(b.point);
+                b.name != a.name
+                    && b.section == a.section
+                    && image(pa).distance(pb) < 1e-3
+                    && image(qa).distance(b.point) < 1e-3
+                    && (pa - pb).length() > 0.1
+            })
+        });
+        assert!(paired, "{:#?}", placed.cuts);
     }
 }
