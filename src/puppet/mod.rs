@@ -88,6 +88,9 @@ pub struct Puppet {
     format_axes: Option<crate::mesh::orientation::Axes>,
     /// Suggest joints from the skeleton even when the mesh file has a skin.
     pub ignore_skin: bool,
+    /// Where the mesh's separate parts meet ([`crate::mesh::attachments`]), found once
+    /// when it is built: its joints join the parts there, and the suggestion walks them.
+    attachments: Vec<(u32, u32)>,
 }
 
 impl Puppet {
@@ -126,7 +129,8 @@ impl Puppet {
         };
         let mut uncut =
             Joints::with_mesh(&skeleton.points, &mesh.triangles, &hosts, &rig_file.root);
-        uncut.attach_parts(&parts.attachments(&mesh));
+        let attachments = parts.attachments(&mesh);
+        uncut.attach_parts(&attachments);
         uncut.set_surface(&mesh.positions, &skeleton.distance);
         uncut.set_skin(report.and_then(|r| r.skin.clone()));
         let joints = rig_file.joints(uncut)?;
@@ -155,6 +159,7 @@ impl Puppet {
                 .is_some_and(|r| r.format == mesh::Format::Gltf)
                 .then_some(crate::mesh::orientation::Axes::GLTF),
             ignore_skin: false,
+            attachments,
         };
         let regions = puppet.regions(true).map_err(BuildError::Regions)?;
         puppet.sim.set_regions(regions);
@@ -271,8 +276,13 @@ impl Puppet {
             self.rig_file.up,
             self.rig_file.front,
         );
-        let (mut cuts, frame) =
-            crate::joints::suggest::suggest(&self.mesh, &self.skeleton, &root, given);
+        let (mut cuts, frame) = crate::joints::suggest::suggest(
+            &self.mesh,
+            &self.skeleton,
+            &self.attachments,
+            &root,
+            given,
+        );
         self.frame = Some(frame);
         let mut skinned = false;
         if let Some(skin) = self.skin_joints() {

@@ -79,12 +79,18 @@ use body::Body;
 /// left) they were named in: up and front as far as `given`, the rest found. Every cut
 /// applies, in order, to joints without cuts. Two or more characters in the file (body parts apart from each
 /// other) each get their own cuts, the largest's names as they are and the others' with
-/// `.001`, `.002`… (see `characters`); the frame is the largest's.
-pub fn suggest(mesh: &Mesh, skeleton: &Skeleton, root: &str, given: Given) -> (Vec<Cut>, Frame) {
-    // Where the mesh's separate parts meet: found once, for every stage that walks them.
-    let attachments = crate::mesh::attachments(mesh);
-    let Some(characters) = characters::of(mesh, skeleton, &attachments) else {
-        return suggest_one(mesh, skeleton, &attachments, root, given);
+/// `.001`, `.002`… (see `characters`); the frame is the largest's. `attachments`: where
+/// the mesh's separate parts meet ([`crate::mesh::attachments`]), found once by the
+/// caller (the puppet's build joins its parts there too) for every stage that walks them.
+pub fn suggest(
+    mesh: &Mesh,
+    skeleton: &Skeleton,
+    attachments: &[(u32, u32)],
+    root: &str,
+    given: Given,
+) -> (Vec<Cut>, Frame) {
+    let Some(characters) = characters::of(mesh, skeleton, attachments) else {
+        return suggest_one(mesh, skeleton, attachments, root, given);
     };
     let mut all = Vec::new();
     let mut first = None;
@@ -101,7 +107,7 @@ pub fn suggest(mesh: &Mesh, skeleton: &Skeleton, root: &str, given: Given) -> (V
     }
     match first {
         Some(frame) => (all, frame),
-        None => suggest_one(mesh, skeleton, &attachments, root, given),
+        None => suggest_one(mesh, skeleton, attachments, root, given),
     }
 }
 
