@@ -89,14 +89,24 @@ pub fn suggest(
     root: &str,
     given: Given,
 ) -> (Vec<Cut>, Frame) {
+    let whole = Input {
+        mesh,
+        skeleton,
+        attachments,
+    };
     let Some(characters) = characters::of(mesh, skeleton, attachments) else {
-        return suggest_one(mesh, skeleton, attachments, root, given);
+        return suggest_one(whole, root, given);
     };
     let mut all = Vec::new();
     let mut first = None;
     for (k, c) in characters.iter().enumerate() {
         let attachments = crate::mesh::attachments(&c.mesh);
-        let (cuts, frame) = suggest_one(&c.mesh, &c.skeleton, &attachments, root, given);
+        let one = Input {
+            mesh: &c.mesh,
+            skeleton: &c.skeleton,
+            attachments: &attachments,
+        };
+        let (cuts, frame) = suggest_one(one, root, given);
         first.get_or_insert(frame);
         let named = |n: &str| characters::name(n, k, root);
         all.extend(cuts.into_iter().map(|cut| Cut {
@@ -107,19 +117,26 @@ pub fn suggest(
     }
     match first {
         Some(frame) => (all, frame),
-        None => suggest_one(mesh, skeleton, attachments, root, given),
+        None => suggest_one(whole, root, given),
     }
 }
 
-/// [`suggest`] for one character (its separate parts meeting at `attachments`): the six
-/// stages of the module docs.
-fn suggest_one(
-    mesh: &Mesh,
-    skeleton: &Skeleton,
-    attachments: &[(u32, u32)],
-    root: &str,
-    given: Given,
-) -> (Vec<Cut>, Frame) {
+/// What the stages read of one character: its mesh, its skeleton, and where its separate
+/// parts meet ([`crate::mesh::attachments`]).
+#[derive(Clone, Copy)]
+struct Input<'a> {
+    mesh: &'a Mesh,
+    skeleton: &'a Skeleton,
+    attachments: &'a [(u32, u32)],
+}
+
+/// [`suggest`] for one character: the six stages of the module docs.
+fn suggest_one(input: Input<'_>, root: &str, given: Given) -> (Vec<Cut>, Frame) {
+    let Input {
+        mesh,
+        skeleton,
+        attachments,
+    } = input;
     // 1. Orientation: the body apart from its riders, its mirror plane and flat base.
     let body = Body::of(mesh, skeleton, attachments, given.up);
     let mirror = body.cues.mirror;
