@@ -6,9 +6,11 @@
 //! leave a section of fewer than `SMALLEST` of the vertices, or whose plane takes more
 //! than twice what lies past it in the join tree (it slipped past the limb into the
 //! body), is dropped; a limb's root plane that slips so first tries the mirror image of
-//! its partner's on the other side (an arm hanging closer to the body on one side). A
-//! limb's root plane that reaches through the body across its mirror plane is turned
-//! toward the limb's side (by [`TURNS`]) where that leaves nothing across.
+//! its partner's on the other side (an arm hanging closer to the body on one side), and
+//! a plane that leaves its parent nothing on the other side (a leg's plane along the
+//! crotch) tries its sibling's image (the other leg's from the same hips). A limb's root
+//! plane that reaches through the body across its mirror plane is turned toward the
+//! limb's side (by [`TURNS`]) where that leaves nothing across.
 
 use super::limbs::Limb;
 use super::rules::{MATCHED, PAIRED, SMALLEST, TURNS};
