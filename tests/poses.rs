@@ -99,13 +99,12 @@ fn beyond_volume(table: &str) -> usize {
 
 /// BENCHMARKS' claims on the 45 downloads of `tests/data/population` (20 seeds each,
 /// settled, the joints suggested from the skeleton): no pose gives a NaN, no edge
-/// stretches past 4.5× (the king's, 3.42×), at most 2 poses pass 3×, 44
-/// characters stay within 3× on every pose, and at most 66
-/// poses change a section's volume by more than 5 % (what each change did to that
-/// count: `docs/performance-log.md`). Half a minute in CI.
+/// stretches past 3× (the adventurer's, 2.98×), all 45 characters stay within 3× on
+/// every pose, and at most 68 poses change a section's volume by more than 5 % (what
+/// each change did to that count: `docs/performance-log.md`). Half a minute in CI.
 #[test]
 fn the_downloads_poses_hold_what_benchmarks_says() {
-    holds("tests/data/population", 45, 4.5, 2, 44, 66);
+    holds("tests/data/population", 45, 3.0, 0, 45, 68);
 }
 
 /// BENCHMARKS' claims on the 12 characters in pieces of `tests/data/pieces` (20 seeds
@@ -599,6 +598,19 @@ fn a_band_weight_steps_no_steeper_than_its_slope() {
         ("tests/data/pieces/woman-soldier.obj", 3.0),
         ("tests/data/population/fish3.glb", 3.0),
     ]);
+}
+
+/// Where bands overlap on their parent's side, their slopes are bounded together
+/// (`joints::blend`: *Where bands overlap*): the downloaded king's armpit, which his arm's,
+/// his neck's and his waist's bands each move partly, stays within 3× where the bones
+/// hold the surface in `bench poses`' 20 seeds (3.48× with each band's own bound, 2.72×
+/// now).
+#[test]
+fn bands_that_overlap_share_their_slope() {
+    bones_within_of(
+        &[("tests/data/population/man-king.glb", 3.0)],
+        common::suggested_from_shape,
+    );
 }
 
 /// A part of the mesh that a cut splits beside the limb goes whole to the section it hangs

@@ -126,7 +126,7 @@
 //! contacts would pass 65,536 transforms in all (a limb of tens of thousands of vertices)
 //! bends without them.
 
-use super::blend::{Guess, Hold};
+use super::blend::{Guess, Harmonic, Hold};
 use super::{Cut, Joints};
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 
@@ -138,6 +138,21 @@ struct Computed {
     levels: Vec<(u32, u16)>,
     /// The sections it carries, each at its level.
     carried: Vec<(usize, u16)>,
+    /// Its weights before their slope was bounded, for the second pass.
+    blended: Blended,
+}
+
+/// A band's weights before their slope is bounded, and what made them: what the second
+/// pass bounds again ([`Joints::bound_again`]).
+struct Blended {
+    hold: Hold,
+    guess: Vec<Guess>,
+    /// Without the sections it carries.
+    alone: Harmonic,
+    /// The sections it carries, each at its position across it.
+    carried: Vec<(usize, f64)>,
+    /// With them, where it carries any.
+    with_carried: Option<Harmonic>,
 }
 
 /// Band half-width in local medial radii when a cut does not say, chosen by
@@ -341,6 +356,16 @@ pub(super) fn weight(x: f64) -> f64 {
 }
 
 impl Band {
+    /// The share of the turn at position `x` across the band (`0..=1`): `x` itself on an
+    /// arc, [`weight`] of it on a fan.
+    fn share(&self, x: f64) -> f64 {
+        if self.arc {
+            x
+        } else {
+            weight(x)
+        }
+    }
+
     /// The band's parent end and child end on its centre line at rest, and its length.
     pub(super) fn ends(&self) -> (DVec3, DVec3, f64) {
         (
@@ -352,11 +377,7 @@ impl Band {
 
     /// The weight at the cut's surface: where a vertex's side of the bend changes.
     pub(super) fn weight_at_cut(&self) -> f64 {
-        if self.arc {
-            self.cut_share()
-        } else {
-            weight(self.cut_share())
-        }
+        self.share(self.cut_share())
     }
 
     /// The share of the band at the cut's surface (its parent side's share of its
@@ -593,45 +614,126 @@ impl Joints {
                 seam,
             }
         };
-        let share = |x: f64| if arc { x } else { weight(x) };
-        let mut weights = self.blend(child, parent, pivot, normal, hold, &guess, &[]);
+        let band = Band {
+            child,
+            parent,
+            width,
+            child_width: reach,
+            radius,
+            pivot,
+            normal,
+            arc,
+            ..Band::default()
+        };
+        let alone = self.harmonic(child, parent, pivot, normal, hold, &guess, &[]);
+        let weights = self.bounded(&alone, &[]);
         // The parent's thinner children whose seams the band moves ride on it whole
         // (see the module docs: carried).
-        let carried: Vec<(usize, f64)> = self
-            .seam_positions(child, parent, &weights, |s| rank_of_section(s) > rank[k])
+        let carried = self.carried_by(&band, &weights, |s| rank_of_section(s) > rank[k]);
+        let (weights, with_carried) = if carried.is_empty() {
+            (weights, None)
+        } else {
+            let h = self.harmonic(child, parent, pivot, normal, hold, &guess, &carried);
+            (self.bounded(&h, &[]), Some(h))
+        };
+        let blended = Blended {
+            hold,
+            guess,
+            alone,
+            carried,
+            with_carried,
+        };
+        Some(self.leveled(band, weights, blended))
+    }
+
+    /// A band computed on the first pass ([`Joints::compute_band`]) with its slope bounded
+    /// again, together with the other bands' where `overlap` counts two or more
+    /// ([`super::blend`]: *Where bands overlap*): the harmonic weights it kept are bounded
+    /// again, and solved again only where that carries other sections.
+    fn bound_again(
+        &self,
+        computed: Computed,
+        overlap: &[u8],
+        carries: impl Fn(usize) -> bool,
+    ) -> Computed {
+        let Computed { band, blended, .. } = computed;
+        let Blended {
+            hold,
+            guess,
+            alone,
+            carried: was,
+            with_carried,
+        } = blended;
+        let weights = self.bounded(&alone, overlap);
+        let carried = self.carried_by(&band, &weights, carries);
+        let (weights, with_carried) = match with_carried {
+            _ if carried.is_empty() => (weights, None),
+            Some(h) if carried == was => (self.bounded(&h, overlap), Some(h)),
+            _ => {
+                let (child, parent) = (band.child, band.parent);
+                let h = self.harmonic(
+                    child,
+                    parent,
+                    band.pivot,
+                    band.normal,
+                    hold,
+                    &guess,
+                    &carried,
+                );
+                (self.bounded(&h, overlap), Some(h))
+            }
+        };
+        let blended = Blended {
+            hold,
+            guess,
+            alone,
+            carried,
+            with_carried,
+        };
+        self.leveled(band, weights, blended)
+    }
+
+    /// The sections `band` carries (those `carries` allows, whose seams its `weights`
+    /// move by at least [`CARRY_MIN`] of the turn), each at its position across it.
+    fn carried_by(
+        &self,
+        band: &Band,
+        weights: &[(usize, f64)],
+        carries: impl Fn(usize) -> bool,
+    ) -> Vec<(usize, f64)> {
+        self.seam_positions(band.child, band.parent, weights, carries)
             .into_iter()
-            .filter(|&(_, x)| share(x) >= CARRY_MIN)
-            .collect();
-        if !carried.is_empty() {
-            weights = self.blend(child, parent, pivot, normal, hold, &guess, &carried);
-        }
-        let carried = carried
-            .into_iter()
-            .map(|(s, x)| (s, (share(x).clamp(0.0, 1.0) * LEVELS as f64).round() as u16))
+            .filter(|&(_, x)| band.share(x) >= CARRY_MIN)
+            .collect()
+    }
+
+    /// `band` with its `weights` as levels and its `carried` sections at theirs.
+    fn leveled(&self, band: Band, weights: Vec<(usize, f64)>, blended: Blended) -> Computed {
+        let carried = blended
+            .carried
+            .iter()
+            .map(|&(s, x)| {
+                let level = (band.share(x).clamp(0.0, 1.0) * LEVELS as f64).round();
+                (s, level as u16)
+            })
             .collect();
         // Each vertex's share of the motion, rounded to the band's levels.
-        let shares: Vec<(usize, f64)> = weights.into_iter().map(|(i, x)| (i, share(x))).collect();
+        let shares: Vec<(usize, f64)> = weights
+            .into_iter()
+            .map(|(i, x)| (i, band.share(x)))
+            .collect();
         let levels = self.levels(&shares);
         let levels = shares
             .iter()
             .zip(levels)
             .map(|(&(i, _), level)| (i as u32, level))
             .collect();
-        Some(Computed {
-            band: Band {
-                child,
-                parent,
-                width,
-                child_width: reach,
-                radius,
-                pivot,
-                normal,
-                arc,
-                ..Band::default()
-            },
+        Computed {
+            band,
             levels,
             carried,
-        })
+            blended,
+        }
     }
 
     /// How many riders' hosts move with a band (a level, a blend, a contact, a mix), each
@@ -719,13 +821,39 @@ impl Joints {
         let mut carries: Vec<(usize, usize, u16)> = Vec::new();
         // Each cut's band on its own (in parallel: each reads the joints only), then
         // numbered in the cuts' order.
-        let computed: Vec<Option<Computed>> = {
-            use rayon::prelude::*;
-            (0..self.cuts.len())
-                .into_par_iter()
-                .map(|k| self.compute_band(k, radii[k], &rank, &rank_of_section))
-                .collect()
+        use rayon::prelude::*;
+        let mut computed: Vec<Option<Computed>> = (0..self.cuts.len())
+            .into_par_iter()
+            .map(|k| self.compute_band(k, radii[k], &rank, &rank_of_section))
+            .collect();
+        // Where two or more bands move a vertex partly, their slopes add: the bands
+        // with such a vertex on their parent's side are computed again, bounded together
+        // there (`blend`: *Where bands overlap*).
+        let mut overlap = vec![0u8; n];
+        for c in computed.iter().flatten() {
+            for &(i, level) in &c.levels {
+                if level > 0 && usize::from(level) < LEVELS {
+                    let o = &mut overlap[i as usize];
+                    *o = o.saturating_add(1);
+                }
+            }
+        }
+        let shares = |c: &Computed| {
+            c.levels.iter().any(|&(i, _)| {
+                overlap[i as usize] >= 2
+                    && usize::from(self.section_of[i as usize]) == c.band.parent
+            })
         };
+        computed = computed
+            .into_par_iter()
+            .enumerate()
+            .map(|(k, c)| match c {
+                Some(c) if shares(&c) => {
+                    Some(self.bound_again(c, &overlap, |s| rank_of_section(s) > rank[k]))
+                }
+                c => c,
+            })
+            .collect();
         for (k, c) in computed.into_iter().enumerate() {
             let first = sections + slot * (LEVELS - 1);
             if first + LEVELS - 1 > MAX_TRANSFORMS {

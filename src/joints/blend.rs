@@ -43,6 +43,23 @@
 //! move its free end, so each free weight is first held within the slope of every fixed
 //! one: a neck beside a hindquarters' band stays within the slope of the head, which that
 //! band does not move (a downloaded deer tore 5.0× there when the mean halved the step).
+//!
+//! **Where bands overlap** on a parent's side, their turns add: three limbs of one trunk
+//! (an arm, a neck and a waist) each move the skin of an armpit partly, each within its
+//! own slope, and a pose that turns all three stretched an edge there 3.4× (a downloaded
+//! king). So a band's slope is bounded twice: the first pass counts, per vertex, the
+//! bands that move it partly (a level strictly between the parent's and the child's);
+//! the second bounds again, from the same harmonic weights, the slope of each band with
+//! such a vertex on its parent's side, along an edge whose two ends lie on that side and
+//! are moved by `o ≥ 2` bands (the larger count), by `SLOPE / √o`. A gentler slope
+//! spreads a step wider, and where the free strip has no room for it the step stays
+//! against a fixed weight or at the strip's edge: so each edge that the shared bound
+//! leaves steeper than the bound alone did gets the bound alone back at its ends and
+//! their neighbours, up to [`SHARED_TRIES`] times, then the band keeps the bound alone.
+//! Only the parent's side shares: the child's side of one band where another's parent
+//! side overlaps it (a rat's head under its ears) tore more when shared. `SLOPE / o` and
+//! `SLOPE / o^¼` were measured too, chosen on half of `puppet bench poses`' characters
+//! (every other one); the other half is in `docs/performance-log.md`.
 
 use super::Joints;
 use glam::DVec3;
@@ -75,6 +92,56 @@ pub const JUMP: f64 = 2.0;
 /// spreads a step farther than the free strip reaches and tears at its edge.
 /// `docs/performance-log.md` has the other half.
 pub const SLOPE: f64 = 1.0;
+
+/// How many times a band's slope bounded together with the others' ([`Joints::limit_slope`])
+/// gives the bound alone back around the edges it leaves steeper, before it keeps the
+/// bound alone everywhere (see the module docs: *Where bands overlap*).
+const SHARED_TRIES: usize = 4;
+
+/// What a band's slope is bounded together with: per vertex, how many bands move it
+/// partly (`overlap`, empty on the first pass), on the band's `parent`'s side; and its
+/// free weights as the first pass bounded them (`alone`).
+#[derive(Clone, Copy)]
+struct Shared<'a> {
+    overlap: &'a [u8],
+    parent: usize,
+    alone: &'a [f64],
+}
+
+/// A band's weight over the surface before its slope is bounded ([`Joints::harmonic`]).
+pub(super) enum Harmonic {
+    /// Nothing to solve: the weights as they stand (no seam: the first guess, its slope
+    /// bounded on its own).
+    Done(Vec<(usize, f64)>),
+    /// The harmonic extension over the free region.
+    Solved(Solved),
+}
+
+/// The harmonic weight of a band's free vertices, and what bounding its slope reads.
+pub(super) struct Solved {
+    /// The free vertices.
+    free: Vec<usize>,
+    /// The free vertices' weights.
+    x: Vec<f64>,
+    /// The same with the slope bounded by each band alone (the first pass).
+    alone: Vec<f64>,
+    /// The band's vertices held exactly at their first guess.
+    kept: Vec<(usize, f64)>,
+    /// The pivot the slope is measured from, and the least distance from it.
+    pivot: DVec3,
+    radius: f64,
+    /// The band's sections, and those it carries at their positions: what the fixed
+    /// vertices' weights are made from again (`Joints::labels`; kept small, where a
+    /// vertex's weight for every band would not be).
+    child: usize,
+    parent: usize,
+    carried: Vec<(usize, f64)>,
+}
+
+/// A vertex's place in a band's free weights when it has none: fixed at its label.
+const NOT: u32 = u32::MAX;
+/// … when it is the band's own, held exactly at its first guess.
+const KEPT: u32 = u32::MAX - 1;
 
 /// Conjugate-gradient steps at most, and the residual (relative to the first) at which
 /// the weights are taken as solved.
@@ -119,13 +186,13 @@ pub(super) struct Guess {
 
 impl Joints {
     /// Band `k`'s free vertices with their position across it (`0..=1`, see the module
-    /// docs), from `guess` (the band's own vertices, by their skeletal points), `child`
-    /// and `parent` its sections and `pivot`, `normal` its frame. The parent's other
-    /// children in `carried` (section, position) ride on the band at that position, their
-    /// subtrees with them, and the parent's skin around their seams is free too (see
-    /// [`super::band`]: *carried*).
+    /// docs) before its slope is bounded ([`Joints::bounded`]), from `guess` (the band's
+    /// own vertices, by their skeletal points), `child` and `parent` its sections and
+    /// `pivot`, `normal` its frame. The parent's other children in `carried` (section,
+    /// position) ride on the band at that position, their subtrees with them, and the
+    /// parent's skin around their seams is free too (see [`super::band`]: *carried*).
     #[allow(clippy::too_many_arguments)]
-    pub(super) fn blend(
+    pub(super) fn harmonic(
         &self,
         child: usize,
         parent: usize,
@@ -134,7 +201,7 @@ impl Joints {
         hold: Hold,
         guess: &[Guess],
         carried: &[(usize, f64)],
-    ) -> Vec<(usize, f64)> {
+    ) -> Harmonic {
         let (exact, width, smooth, seam_share) = match hold {
             Hold::Exact { smooth, seam, .. } => (true, 0.0, smooth, seam),
             Hold::Soft {
@@ -148,23 +215,13 @@ impl Joints {
         let n = self.section_of.len();
         let body = &self.body;
         if body.start.len() != n + 1 || body.rest.len() != n {
-            return guess.iter().map(|g| (g.vertex, g.x)).collect();
+            return Harmonic::Done(guess.iter().map(|g| (g.vertex, g.x)).collect());
         }
         // Which sections move with the child.
         let moves = self.moves_with(child);
         let label = |i: usize| f64::from(u8::from(moves[usize::from(self.section_of[i])]));
         // The sections carried, each at its position, their subtrees with them.
-        let mut carry: Vec<Option<f64>> = vec![None; self.sections.len()];
-        for &(s, x) in carried {
-            if let Some(c) = carry.get_mut(s) {
-                *c = Some(x);
-            }
-        }
-        for &s in &self.order {
-            if let Some(p) = self.sections[s].parent.filter(|&p| p != parent) {
-                carry[s] = carry[s].or(carry[p]);
-            }
-        }
+        let carry = self.carry_of(parent, carried);
         let ours = |i: usize| {
             let s = usize::from(self.section_of[i]);
             !self.body.is_rider(i) && (s == child || s == parent)
@@ -199,21 +256,16 @@ impl Joints {
             // No seam: the child is a piece that meets its parent only where the two
             // pass into each other (a walker's leg). Nothing blends across, but its
             // first guess still keeps the slope (module docs).
-            let fixed: Vec<f64> = (0..n)
-                .map(|i| carry[usize::from(self.section_of[i])].unwrap_or_else(|| label(i)))
-                .collect();
-            return self.sloped_guess(guess, &fixed, pivot, normal);
+            let fixed = self.labels(&moves, &carry);
+            return Harmonic::Done(self.sloped_guess(guess, &fixed, pivot, normal));
         };
         let reach = seam_reach * radius;
         // Free: the band, and the parent's vertices within `reach` of the seam.
-        const NOT: u32 = u32::MAX;
         let mut index = vec![NOT; n];
         let mut free: Vec<usize> = Vec::new();
         let mut x: Vec<f64> = Vec::new();
         // A fixed vertex's weight: its label, or (held exactly) its first guess.
-        let mut fixed: Vec<f64> = (0..n)
-            .map(|i| carry[usize::from(self.section_of[i])].unwrap_or_else(|| label(i)))
-            .collect();
+        let mut fixed = self.labels(&moves, &carry);
         let mut kept: Vec<(usize, f64)> = Vec::new();
         let loose = match hold {
             Hold::Exact { span, smooth, .. } => {
@@ -225,14 +277,13 @@ impl Joints {
             if exact && !loose.get(g.vertex).copied().unwrap_or(false) {
                 fixed[g.vertex] = g.x;
                 kept.push((g.vertex, g.x));
-                index[g.vertex] = u32::MAX - 1;
+                index[g.vertex] = KEPT;
             } else if index[g.vertex] == NOT && (ours(g.vertex) || exact) {
                 index[g.vertex] = free.len() as u32;
                 free.push(g.vertex);
                 x.push(g.x);
             }
         }
-        const KEPT: u32 = u32::MAX - 1;
         // The parent's side within `reach` of the seam; the child's within the band's
         // width of it (across a face, a lip whose skeletal point lies deep in the head),
         // unless that frees the whole child (it must keep vertices that turn whole).
@@ -348,11 +399,98 @@ impl Joints {
             }
         };
         conjugate_gradient(&multiply, &diagonal, &rhs, &mut x);
-        self.limit_slope(&free, &index, &fixed, &mut x, pivot, radius);
-        free.into_iter()
+        let mut alone = x.clone();
+        self.limit_slope(&free, &index, &fixed, &mut alone, (pivot, radius), None);
+        Harmonic::Solved(Solved {
+            free,
+            x,
+            alone,
+            kept,
+            pivot,
+            radius,
+            child,
+            parent,
+            carried: carried.to_vec(),
+        })
+    }
+
+    /// Per section, the position across a band of `parent` at which it is carried
+    /// (`carried`, each with its subtree), `None` for the others.
+    fn carry_of(&self, parent: usize, carried: &[(usize, f64)]) -> Vec<Option<f64>> {
+        let mut carry: Vec<Option<f64>> = vec![None; self.sections.len()];
+        for &(s, x) in carried {
+            if let Some(c) = carry.get_mut(s) {
+                *c = Some(x);
+            }
+        }
+        for &s in &self.order {
+            if let Some(p) = self.sections[s].parent.filter(|&p| p != parent) {
+                carry[s] = carry[s].or(carry[p]);
+            }
+        }
+        carry
+    }
+
+    /// Per vertex, its section's label: the position it is carried at (`carry`), else 1
+    /// where the section `moves` with the child and 0 elsewhere.
+    fn labels(&self, moves: &[bool], carry: &[Option<f64>]) -> Vec<f64> {
+        self.section_of
+            .iter()
+            .map(|&s| {
+                let s = usize::from(s);
+                carry[s].unwrap_or(f64::from(u8::from(moves[s])))
+            })
+            .collect()
+    }
+
+    /// The weights of `harmonic` with their slope bounded (`limit_slope`), together with
+    /// the other bands' where `overlap` (per vertex, how many bands move it partly; empty
+    /// on the first pass) counts two or more on the parent's side (the module docs:
+    /// *Where bands overlap*).
+    pub(super) fn bounded(&self, harmonic: &Harmonic, overlap: &[u8]) -> Vec<(usize, f64)> {
+        let h = match harmonic {
+            Harmonic::Done(weights) => return weights.clone(),
+            Harmonic::Solved(h) => h,
+        };
+        let shares = overlap.len() == self.section_of.len()
+            && h.free
+                .iter()
+                .any(|&i| overlap[i] >= 2 && usize::from(self.section_of[i]) == h.parent);
+        let x = if shares {
+            // The fixed weights and each vertex's place, as the first pass had them.
+            let moves = self.moves_with(h.child);
+            let mut fixed = self.labels(&moves, &self.carry_of(h.parent, &h.carried));
+            let mut index = vec![NOT; fixed.len()];
+            for &(i, w) in &h.kept {
+                fixed[i] = w;
+                index[i] = KEPT;
+            }
+            for (r, &i) in h.free.iter().enumerate() {
+                index[i] = r as u32;
+            }
+            let mut x = h.x.clone();
+            let shared = Shared {
+                overlap,
+                parent: h.parent,
+                alone: &h.alone,
+            };
+            self.limit_slope(
+                &h.free,
+                &index,
+                &fixed,
+                &mut x,
+                (h.pivot, h.radius),
+                Some(shared),
+            );
+            x
+        } else {
+            h.alone.clone()
+        };
+        h.free
+            .iter()
             .zip(x)
-            .map(|(i, x)| (i, x.clamp(0.0, 1.0)))
-            .chain(kept)
+            .map(|(&i, x)| (i, x.clamp(0.0, 1.0)))
+            .chain(h.kept.iter().copied())
             .collect()
     }
 
@@ -367,7 +505,6 @@ impl Joints {
         pivot: DVec3,
         normal: DVec3,
     ) -> Vec<(usize, f64)> {
-        const NOT: u32 = u32::MAX;
         let rest = &self.body.rest;
         let mut index = vec![NOT; fixed.len()];
         let (mut free, mut x, mut across, mut riders) =
@@ -383,7 +520,7 @@ impl Joints {
             }
         }
         let radius = crate::stats::median(&mut across).unwrap_or(0.0);
-        self.limit_slope(&free, &index, fixed, &mut x, pivot, radius);
+        self.limit_slope(&free, &index, fixed, &mut x, (pivot, radius), None);
         free.into_iter()
             .zip(x)
             .map(|(i, x)| (i, x.clamp(0.0, 1.0)))
@@ -450,34 +587,116 @@ impl Joints {
     /// Bounds the weight's slope over the free vertices `free` (their weights `x`, each
     /// one's place in `x` by `index`, every other vertex's weight in `fixed`, which stays):
     /// along an edge it changes by at most [`SLOPE`] times the edge's length over its
-    /// distance from `pivot` (at least `radius`). Each free weight is first held within that
-    /// slope of every fixed weight (where they leave room), then becomes the mean of the
-    /// largest function under the weights with that slope and the smallest over them (see
-    /// the module docs), each by Dijkstra seeded at the ends of the edges that step more
-    /// steeply: no other weight can lower or raise a neighbour.
+    /// distance from `pivot` (at least `radius`), and less where `shared` counts other
+    /// bands moving the band's parent's side there (the module docs: *Where bands
+    /// overlap*), where that leaves no step steeper than the bound alone left it.
     fn limit_slope(
         &self,
         free: &[usize],
         index: &[u32],
         fixed: &[f64],
         x: &mut [f64],
-        pivot: DVec3,
-        radius: f64,
+        (pivot, radius): (DVec3, f64),
+        shared: Option<Shared<'_>>,
     ) {
         if free.is_empty() {
             return;
         }
         let rest = &self.body.rest;
-        let value = |i: usize, x: &[f64]| match index[i] {
-            k if (k as usize) < x.len() => x[k as usize],
-            _ => fixed[i],
-        };
-        let cost = |i: usize, j: usize| {
+        let bound = |i: usize, j: usize| {
             let far = rest[i]
                 .distance(pivot)
                 .max(rest[j].distance(pivot))
                 .max(radius);
             SLOPE * rest[i].distance(rest[j]) / far
+        };
+        // Per vertex on the band's parent's side, how many bands move it partly.
+        let shared_by = |i: usize| match shared {
+            Some(Shared {
+                overlap, parent, ..
+            }) if overlap.len() == rest.len() && usize::from(self.section_of[i]) == parent => {
+                Some(overlap[i])
+            }
+            _ => None,
+        };
+        let shares = free.iter().any(|&i| shared_by(i).is_some_and(|o| o >= 2));
+        let alone = match shared.map(|s| s.alone) {
+            Some(alone) if !shares => {
+                x.copy_from_slice(alone);
+                return;
+            }
+            Some(alone) => alone.to_vec(),
+            None => {
+                let mut alone = x.to_vec();
+                self.bound_slope(free, index, fixed, &mut alone, &bound);
+                if !shares {
+                    x.copy_from_slice(&alone);
+                    return;
+                }
+                alone
+            }
+        };
+        let value = |i: usize, x: &[f64]| match index[i] {
+            k if (k as usize) < x.len() => x[k as usize],
+            _ => fixed[i],
+        };
+        // Vertices where the strip has no room for the shared bound: each edge whose step
+        // it leaves steeper than the bound alone did, its ends and their neighbours.
+        let mut no_room = vec![false; rest.len()];
+        for _ in 0..SHARED_TRIES {
+            let cost = |i: usize, j: usize| {
+                let o = shared_by(i).zip(shared_by(j)).map_or(0, |(a, b)| a.max(b));
+                if o >= 2 && !no_room[i] && !no_room[j] {
+                    bound(i, j) / f64::from(o).sqrt()
+                } else {
+                    bound(i, j)
+                }
+            };
+            let mut together = x.to_vec();
+            self.bound_slope(free, index, fixed, &mut together, &cost);
+            let mut steeper = Vec::new();
+            for &i in free {
+                for &j in self.body.neighbours(i) {
+                    let j = j as usize;
+                    if self.body.is_rider(j) {
+                        continue;
+                    }
+                    let past = |w: &[f64]| (value(i, w) - value(j, w)).abs() - bound(i, j);
+                    if past(&together) > past(&alone).max(0.0) + 1e-9 {
+                        steeper.extend([i, j]);
+                    }
+                }
+            }
+            if steeper.is_empty() {
+                x.copy_from_slice(&together);
+                return;
+            }
+            for i in steeper {
+                no_room[i] = true;
+                for &j in self.body.neighbours(i) {
+                    no_room[j as usize] = true;
+                }
+            }
+        }
+        x.copy_from_slice(&alone);
+    }
+
+    /// [`Joints::limit_slope`] by the bound `cost` per edge: each free weight is first
+    /// held within that slope of every fixed weight (where they leave room), then becomes
+    /// the mean of the largest function under the weights with that slope and the
+    /// smallest over them (see the module docs), each by Dijkstra seeded at the ends of
+    /// the edges that step more steeply: no other weight can lower or raise a neighbour.
+    fn bound_slope(
+        &self,
+        free: &[usize],
+        index: &[u32],
+        fixed: &[f64],
+        x: &mut [f64],
+        cost: &impl Fn(usize, usize) -> f64,
+    ) {
+        let value = |i: usize, x: &[f64]| match index[i] {
+            k if (k as usize) < x.len() => x[k as usize],
+            _ => fixed[i],
         };
         let len = x.len();
         let is_free = |j: usize| (index[j] as usize) < len;

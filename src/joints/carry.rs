@@ -7,7 +7,7 @@ use super::Joints;
 
 impl Joints {
     /// The parent's other children that a band's `weights` (vertex, position; see
-    /// [`Joints::blend`]) move at their seam with the parent, each with its seam's mean
+    /// [`Joints::bounded`]) move at their seam with the parent, each with its seam's mean
     /// position (its vertices next to the parent's, 0 where the band leaves them): what
     /// carries them (see [`super::band`]: *carried*). `carries(s)` says which may be.
     pub(super) fn seam_positions(
