@@ -143,7 +143,7 @@ struct Computed {
 }
 
 /// A band's weights before their slope is bounded, and what made them: what the second
-/// pass bounds again ([`Joints::bound_again`]).
+/// pass bounds again ([`Joints::bound`]).
 struct Blended {
     hold: Hold,
     guess: Vec<Guess>,
@@ -626,37 +626,30 @@ impl Joints {
             ..Band::default()
         };
         let alone = self.harmonic(child, parent, pivot, normal, hold, &guess, &[]);
-        let weights = self.bounded(&alone, &[]);
-        // The parent's thinner children whose seams the band moves ride on it whole
-        // (see the module docs: carried).
-        let carried = self.carried_by(&band, &weights, |s| rank_of_section(s) > rank[k]);
-        let (weights, with_carried) = if carried.is_empty() {
-            (weights, None)
-        } else {
-            let h = self.harmonic(child, parent, pivot, normal, hold, &guess, &carried);
-            (self.bounded(&h, &[]), Some(h))
-        };
         let blended = Blended {
             hold,
             guess,
             alone,
-            carried,
-            with_carried,
+            carried: Vec::new(),
+            with_carried: None,
         };
-        Some(self.leveled(band, weights, blended))
+        // The parent's thinner children whose seams the band moves ride on it whole
+        // (see the module docs: carried).
+        Some(self.bound(band, blended, &[], |s| rank_of_section(s) > rank[k]))
     }
 
-    /// A band computed on the first pass ([`Joints::compute_band`]) with its slope bounded
-    /// again, together with the other bands' where `overlap` counts two or more
-    /// ([`super::blend`]: *Where bands overlap*): the harmonic weights it kept are bounded
-    /// again, and solved again only where that carries other sections.
-    fn bound_again(
+    /// `band` from its harmonic weights (`blended`) with their slope bounded, together
+    /// with the other bands' where `overlap` counts two or more ([`super::blend`]: *Where
+    /// bands overlap*; empty on the first pass): the sections it carries (those `carries`
+    /// allows) found from the weights without them, and the weights solved again with
+    /// them unless `blended` already holds them so.
+    fn bound(
         &self,
-        computed: Computed,
+        band: Band,
+        blended: Blended,
         overlap: &[u8],
         carries: impl Fn(usize) -> bool,
     ) -> Computed {
-        let Computed { band, blended, .. } = computed;
         let Blended {
             hold,
             guess,
@@ -670,10 +663,9 @@ impl Joints {
             _ if carried.is_empty() => (weights, None),
             Some(h) if carried == was => (self.bounded(&h, overlap), Some(h)),
             _ => {
-                let (child, parent) = (band.child, band.parent);
                 let h = self.harmonic(
-                    child,
-                    parent,
+                    band.child,
+                    band.parent,
                     band.pivot,
                     band.normal,
                     hold,
@@ -848,9 +840,9 @@ impl Joints {
             .into_par_iter()
             .enumerate()
             .map(|(k, c)| match c {
-                Some(c) if shares(&c) => {
-                    Some(self.bound_again(c, &overlap, |s| rank_of_section(s) > rank[k]))
-                }
+                Some(c) if shares(&c) => Some(self.bound(c.band, c.blended, &overlap, |s| {
+                    rank_of_section(s) > rank[k]
+                })),
                 c => c,
             })
             .collect();
