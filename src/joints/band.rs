@@ -136,10 +136,19 @@ struct Computed {
     band: Band,
     /// Each of its vertices with its level.
     levels: Vec<(u32, u16)>,
-    /// The sections it carries, each at its level.
-    carried: Vec<(usize, u16)>,
-    /// Its weights before their slope was bounded, for the second pass.
+    /// Its weights before their slope was bounded, for the second pass, and the
+    /// sections it carries.
     blended: Blended,
+}
+
+impl Computed {
+    /// The sections the band carries, each at its level.
+    fn carried(&self) -> impl Iterator<Item = (usize, u16)> + '_ {
+        self.blended.carried.iter().map(|&(s, x)| {
+            let level = (self.band.share(x).clamp(0.0, 1.0) * LEVELS as f64).round();
+            (s, level as u16)
+        })
+    }
 }
 
 /// A band's weights before their slope is bounded, and what made them: what the second
@@ -699,16 +708,8 @@ impl Joints {
             .collect()
     }
 
-    /// `band` with its `weights` as levels and its `carried` sections at theirs.
+    /// `band` with its `weights` as levels.
     fn leveled(&self, band: Band, weights: Vec<(usize, f64)>, blended: Blended) -> Computed {
-        let carried = blended
-            .carried
-            .iter()
-            .map(|&(s, x)| {
-                let level = (band.share(x).clamp(0.0, 1.0) * LEVELS as f64).round();
-                (s, level as u16)
-            })
-            .collect();
         // Each vertex's share of the motion, rounded to the band's levels.
         let shares: Vec<(usize, f64)> = weights
             .into_iter()
@@ -723,7 +724,6 @@ impl Joints {
         Computed {
             band,
             levels,
-            carried,
             blended,
         }
     }
@@ -854,7 +854,7 @@ impl Joints {
             let Some(c) = c else {
                 continue;
             };
-            for &(s, level) in &c.carried {
+            for (s, level) in c.carried() {
                 carries.push((s, k, level));
             }
             for &(i, level) in &c.levels {

@@ -619,23 +619,18 @@ impl Joints {
             }
             _ => None,
         };
-        let shares = free.iter().any(|&i| shared_by(i).is_some_and(|o| o >= 2));
-        let alone = match shared.map(|s| s.alone) {
-            Some(alone) if !shares => {
-                x.copy_from_slice(alone);
-                return;
-            }
-            Some(alone) => alone.to_vec(),
+        let alone = match shared {
+            Some(s) => s.alone.to_vec(),
             None => {
                 let mut alone = x.to_vec();
                 self.bound_slope(free, index, fixed, &mut alone, &bound);
-                if !shares {
-                    x.copy_from_slice(&alone);
-                    return;
-                }
                 alone
             }
         };
+        if !free.iter().any(|&i| shared_by(i).is_some_and(|o| o >= 2)) {
+            x.copy_from_slice(&alone);
+            return;
+        }
         let value = |i: usize, x: &[f64]| match index[i] {
             k if (k as usize) < x.len() => x[k as usize],
             _ => fixed[i],
