@@ -1585,13 +1585,14 @@ fn the_population_scores_as_benchmarks_says() {
         fronts("development"),
         fronts("held-out")
     );
-    // The shape alone (the file's axes set aside): up right on 23 and 18, fronts on 20
-    // and 11.
+    // The shape alone (the file's axes set aside): up right on 23 and 18, fronts on 21
+    // and 13 (20 and 11 before a long body's finer end told its face: the low-poly
+    // horse's, the spider's, the velociraptor's).
     let alone = &population(&["--ignore-format-axes"]);
     let figures = ["up_right", "front_right"]
         .map(|what| ["development", "held-out"].map(|half| right(alone, half, what)));
     assert!(
-        figures[0][0] >= 23 && figures[0][1] >= 18 && figures[1][0] >= 20 && figures[1][1] >= 11,
+        figures[0][0] >= 23 && figures[0][1] >= 18 && figures[1][0] >= 21 && figures[1][1] >= 13,
         "the shape alone: up right {:?}, fronts right {:?}",
         figures[0],
         figures[1]

@@ -132,7 +132,7 @@ pub(crate) fn roles(
     given: Given,
     cues: Cues,
 ) -> Roles {
-    let Cues { mirror, base } = cues;
+    let Cues { mirror, base, .. } = cues;
     let sections = joints.sections();
     let n = sections.len();
     let mut children = vec![Vec::new(); n];
