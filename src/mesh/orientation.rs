@@ -760,6 +760,16 @@ mod tests {
         assert_eq!(frame(&plane, cues, &limbs, Given::default()).up, DVec3::Y);
     }
 
+    /// A leg hanging straight down from (x, 0.5, z) to the ground, its far half `end` thick.
+    fn hanging(x: f64, z: f64, end: f64) -> Reach {
+        Reach {
+            pivot: DVec3::new(x, 0.5, z),
+            tip: DVec3::new(x, 0.0, z),
+            end,
+            carried: None,
+        }
+    }
+
     /// Two legs standing either side of the mirror plane x = 0, their tips (the heels)
     /// a little behind (−z), and the cues that plane gives.
     fn standing_legs() -> ([Reach; 2], Cues) {
@@ -859,12 +869,7 @@ mod tests {
                 [DVec3::new(-0.4, 0.0, z), DVec3::new(0.4, 1.0, z)]
             })
             .collect();
-        let leg = |x: f64, z: f64| Reach {
-            pivot: DVec3::new(x, 0.5, z),
-            tip: DVec3::new(x, 0.0, z),
-            end: 0.2,
-            carried: None,
-        };
+        let leg = |x: f64, z: f64| hanging(x, z, 0.2);
         let part = |end: f64| Reach {
             pivot: DVec3::new(0.0, 0.6, -0.8),
             tip: DVec3::new(0.0, 0.7, -1.6),
@@ -952,12 +957,7 @@ mod tests {
                 })
                 .collect()
         };
-        let leg = |x: f64, z: f64| Reach {
-            pivot: DVec3::new(x, 0.5, z),
-            tip: DVec3::new(x, 0.0, z),
-            end: 0.05,
-            carried: None,
-        };
+        let leg = |x: f64, z: f64| hanging(x, z, 0.05);
         let tail = |length: f64| Reach {
             pivot: DVec3::new(0.0, 0.6, -0.4 * length),
             tip: DVec3::new(0.0, 0.7, -0.5 * length),
