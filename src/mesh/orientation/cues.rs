@@ -1,0 +1,107 @@
+//! What says how a body stands before its limbs are cut (the suggestion's first stage):
+//! its mirror plane, its flat base, and how much finer one half of it is modelled than
+//! the other.
+
+use super::{mirror_plane, AXES, BASE_AREA};
+use crate::mesh::Mesh;
+use glam::DVec3;
+
+/// The outward normal of the mesh's flat base, if it has one: of the six axis directions,
+/// the one whose flat faces at the mesh's far end that way cover the most area, when that
+/// is at least [`BASE_AREA`] of the whole.
+pub fn flat_base(mesh: &Mesh) -> Option<DVec3> {
+    let (lo, hi) = crate::mesh::bounds(&mesh.positions);
+    let size = (hi - lo).max_element();
+    if !(size > 0.0 && size.is_finite()) {
+        return None;
+    }
+    let cos = 5f64.to_radians().cos();
+    let mut area = [0.0; 6];
+    let mut total = 0.0;
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|v| mesh.positions[v as usize]);
+        let cross = (b - a).cross(c - a);
+        let twice = cross.length();
+        if !(twice > 0.0 && twice.is_finite()) {
+            continue;
+        }
+        total += 0.5 * twice;
+        let (normal, centre) = (cross / twice, (a + b + c) / 3.0);
+        for (k, d) in AXES.iter().enumerate() {
+            let end = if d.max_element() > 0.0 {
+                hi.dot(*d)
+            } else {
+                lo.dot(*d)
+            };
+            if normal.dot(*d) > cos && (end - centre.dot(*d)).abs() < 0.01 * size {
+                area[k] += 0.5 * twice;
+            }
+        }
+    }
+    let k = (0..6).max_by(|&a, &b| area[a].total_cmp(&area[b]))?;
+    (total > 0.0 && area[k] >= BASE_AREA * total).then_some(AXES[k])
+}
+
+/// What says how a body stands before its limbs are cut: its mirror plane and its flat
+/// base (the suggestion's first stage; up and front come from the limbs, [`super::frame`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Cues {
+    /// The mirror plane (unit normal, offset along it), if the mesh has one
+    /// ([`mirror_plane`]).
+    pub mirror: Option<(DVec3, f64)>,
+    /// The outward normal of its flat base, if it has one ([`flat_base`]).
+    pub base: Option<DVec3>,
+    /// Per axis (x, y, z), how much finer the surface is made in the half of the mesh on
+    /// the axis's positive side than in the other ([`detail`]): 0 where alike or unknown.
+    pub detail: [f64; 3],
+}
+
+impl Cues {
+    /// The cues of `mesh`, standing along `up` where that is given: its mirror plane then
+    /// holds up, and is read against the surface (see the module docs).
+    pub fn of(mesh: &Mesh, up: Option<DVec3>) -> Cues {
+        let surface: &[[u32; 3]] = if up.is_some() { &mesh.triangles } else { &[] };
+        Cues {
+            mirror: mirror_plane(&mesh.positions, surface, up),
+            base: flat_base(mesh),
+            detail: detail(mesh),
+        }
+    }
+}
+
+/// Per axis, the natural log of the ratio of the triangles per unit of area in the half of
+/// the mesh's box on the axis's positive side (by where each triangle's centroid lies) to
+/// those in the other half: where an artist modelled a face (eyes, a mouth, a muzzle's
+/// nostrils), triangles are smaller than over a rump or a back (0 where a half has no
+/// area).
+pub fn detail(mesh: &Mesh) -> [f64; 3] {
+    let (lo, hi) = crate::mesh::bounds(&mesh.positions);
+    let mid = (lo + hi) * 0.5;
+    // Per axis and side: triangles and their area.
+    let mut count = [[0.0f64; 2]; 3];
+    let mut area = [[0.0f64; 2]; 3];
+    for t in &mesh.triangles {
+        let [Some(a), Some(b), Some(c)] = t.map(|v| mesh.positions.get(v as usize).copied()) else {
+            continue;
+        };
+        let size = 0.5 * (b - a).cross(c - a).length();
+        if !(size > 0.0 && size.is_finite()) {
+            continue;
+        }
+        let centroid = (a + b + c) / 3.0;
+        for axis in 0..3 {
+            let side = usize::from(centroid[axis] > mid[axis]);
+            count[axis][side] += 1.0;
+            area[axis][side] += size;
+        }
+    }
+    std::array::from_fn(|axis| {
+        let [n0, n1] = count[axis];
+        let [a0, a1] = area[axis];
+        if a0 > 0.0 && a1 > 0.0 && n0 > 0.0 && n1 > 0.0 {
+            ((n1 / a1) / (n0 / a0)).ln()
+        } else {
+            0.0
+        }
+    })
+}
