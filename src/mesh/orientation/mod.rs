@@ -38,6 +38,9 @@
 //!   lie ahead of the shins ([`TOES`]) or else the limbs' tips point, else the convention
 //!   (+z for y up, −y for z up).
 //!   **Left** = up × front: a character's own left, as `.L` in Blender's names.
+//!
+//! Files: `cues` (the mirror plane, the flat base, how finely each half is modelled:
+//! what the first stage reads), `frame` (up, front and left: the fifth stage), `tests`.
 pub use crate::mesh::mirror::{image, mirror_plane, reflect, MIRRORED};
 pub use cues::{detail, flat_base, Cues};
 pub use frame::frame;
