@@ -530,3 +530,91 @@ fn a_recorded_take_exports_as_simulate_bakes_its_saved_file() {
     assert!(a.len() > 32 + 12 * 2930, "several frames");
     assert!(a == b, "the window's export and simulate's bake differ");
 }
+
+/// *Export animation* to a video draws what `simulate --out TAKE.mp4` draws, frame by
+/// frame (with the window's camera where it has one: here the one the window opens with),
+/// and a cancelled one leaves no file: no video, no partial video, no frames' folder.
+#[cfg(feature = "gui")]
+#[test]
+fn the_windows_video_export_draws_simulates_frames_and_can_be_cancelled() {
+    use puppet::render::video::TakeVideo;
+    use puppet::render::Image;
+    let dir = scratch("export_video");
+    // `simulate`'s frames, as PNG files (no `ffmpeg` for it).
+    let cli = dir.join("cli.mp4");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_puppet"))
+        .args(["simulate", "--rig", &example("spot-jaw.rig.toml")])
+        .args(["--anim", &example("spot-jaw.anim.toml"), "--frames", "30"])
+        .args(["--video-size", "160x120", "--out", cli.to_str().unwrap()])
+        .env("PUPPET_FFMPEG", "")
+        .output()
+        .unwrap();
+    ok(&out);
+    let cli_frame =
+        |k: usize| Image::load_png(&dir.join(format!("cli-frames/frame_{k:05}.png"))).unwrap();
+
+    let rig = puppet::RigFile::load(Path::new(&example("spot-jaw.rig.toml"))).unwrap();
+    let (mesh, _) = puppet::mesh::load(&rig.mesh.clone().unwrap()).unwrap();
+    let built = puppet::Puppet::build(mesh, rig, puppet::progress::silent()).unwrap();
+    let mut session = puppet::session::Session::new(built, "spot");
+    let text = std::fs::read_to_string(example("spot-jaw.anim.toml")).unwrap();
+    let anim = puppet::anim::Animation::parse(&text, puppet::files::Format::Toml).unwrap();
+    session.set_animation(anim).unwrap();
+    session.advance(0.3, 20);
+    session.export_settings = puppet::session::ExportSettings {
+        fps: 30.0,
+        first: 1,
+        last: 30,
+        step: 1,
+        quantize: false,
+    };
+    let lighting = puppet::session::Lighting::default();
+    let video = |path: &Path| TakeVideo::create(path, (160, 120), lighting, None, 30.0).unwrap();
+    let win = dir.join("window.mp4");
+    session
+        .start_export_with(&win, Box::new(video(&win)))
+        .unwrap();
+    let said = session.wait_export().unwrap().unwrap();
+    // With `ffmpeg` the video, each frame decoded; without it, the frames as PNG files.
+    let frame = |k: usize| -> Image {
+        if win.exists() {
+            let decoded = dir.join(format!("window_{k}.png"));
+            ok(&std::process::Command::new("ffmpeg")
+                .args(["-v", "error", "-y", "-i", win.to_str().unwrap()])
+                .args([
+                    "-vf",
+                    &format!("select=eq(n\\,{})", k - 1),
+                    "-frames:v",
+                    "1",
+                ])
+                .arg(&decoded)
+                .output()
+                .unwrap());
+            Image::load_png(&decoded).unwrap()
+        } else {
+            Image::load_png(&dir.join(format!("window-frames/frame_{k:05}.png"))).unwrap()
+        }
+    };
+    assert!(said.contains("30 frames"), "{said}");
+    for k in [1, 15, 30] {
+        let d = frame(k).mean_abs_diff(&cli_frame(k)).unwrap();
+        assert!(d < 3.0, "frame {k} differs from simulate's by {d:.2}");
+    }
+    assert!(
+        frame(30).mean_abs_diff(&frame(1)).unwrap() > 0.5,
+        "the jaw moves"
+    );
+
+    // Cancelled: nothing left.
+    session.export_settings.last = 2000;
+    let long = dir.join("long.mp4");
+    session
+        .start_export_with(&long, Box::new(video(&long)))
+        .unwrap();
+    session.cancel_export();
+    let said = session.wait_export().unwrap();
+    assert!(said.unwrap_err().contains("cancelled"));
+    for gone in ["long.mp4", "long.partial.mp4", "long-frames"] {
+        assert!(!dir.join(gone).exists(), "{gone} left behind");
+    }
+}

@@ -10,6 +10,10 @@ use crate::ui::{Action, FilePurpose};
 use std::path::{Path, PathBuf};
 use winit::keyboard::{Key, NamedKey};
 
+/// A video exported from the window is this many pixels (`simulate --video-size`'s
+/// default).
+const VIDEO_SIZE: (u32, u32) = (1280, 720);
+
 /// What a key asks of the event loop.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum KeyOutcome {
@@ -294,7 +298,22 @@ impl WindowState {
             },
             FilePurpose::ExportAnimation => {
                 let source = self.panel.source.clone();
+                let (camera, lighting) = (self.camera, self.panel.overlays.lighting);
                 match &mut self.session {
+                    // A video draws what the window shows: its camera and lighting.
+                    Some(s) if crate::export::is_video(&path) => {
+                        let settings = &s.export_settings;
+                        let fps = settings.fps / settings.step.max(1) as f64;
+                        crate::render::video::TakeVideo::create(
+                            &path,
+                            VIDEO_SIZE,
+                            lighting,
+                            Some(camera),
+                            fps,
+                        )
+                        .map_err(|e| e.to_string())
+                        .and_then(|video| s.start_export_with(&path, Box::new(video)))
+                    }
                     Some(s) => s.start_export(&path, source.as_deref()),
                     None => return,
                 }

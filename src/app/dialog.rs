@@ -61,6 +61,7 @@ impl Dialog {
                     .set_title("Export the animation")
                     .add_filter("glTF binary (shape keys)", &["glb"])
                     .add_filter("PC2 point cache", &["pc2"])
+                    .add_filter("video (ffmpeg)", &crate::export::VIDEO_EXTENSIONS)
                     .set_file_name("take.glb")
                     .save_file(),
                 FilePurpose::SaveAnimation => d

@@ -441,16 +441,10 @@ fn print_summary(s: &Summary) {
     }
 }
 
-/// A take drawn into a video (see the module docs).
+/// A take drawn into a video (see the module docs): [`puppet::render::video::TakeVideo`]
+/// with the camera the window opens with.
 #[cfg(feature = "gui")]
-struct VideoTake {
-    gpu: puppet::render::Gpu,
-    renderer: puppet::render::SceneRenderer,
-    lighting: puppet::session::Lighting,
-    camera: Option<puppet::session::Camera>,
-    video: puppet::render::video::Video,
-    size: (u32, u32),
-}
+struct VideoTake(puppet::render::video::TakeVideo);
 
 #[cfg(feature = "gui")]
 impl VideoTake {
@@ -462,47 +456,15 @@ impl VideoTake {
         fps: f64,
     ) -> Result<VideoTake> {
         let size = video_size(size)?;
-        let gpu = puppet::render::Gpu::headless()?;
-        let renderer = puppet::render::SceneRenderer::new(&gpu, puppet::render::OFFSCREEN_FORMAT);
-        let video = puppet::render::video::Video::create(path, size.0, size.1, fps)
-            .map_err(|e| FileError::new(e.path, e.message))?;
-        Ok(VideoTake {
-            gpu,
-            renderer,
-            lighting,
-            camera: None,
-            video,
-            size,
-        })
+        puppet::render::video::TakeVideo::create(path, size, lighting, None, fps)
+            .map(VideoTake)
+            .map_err(|e| FileError::new(e.path, e.message).into())
     }
 
     /// Draws the session's puppet as the window would and adds it to the video.
     fn add(&mut self, session: &Session) -> Result<()> {
-        let puppet = &session.puppet;
-        let camera = self.camera.get_or_insert_with(|| {
-            let (lo, hi) = puppet.mesh.bounds();
-            let mut c = puppet::session::Camera {
-                up: puppet.up().as_vec3(),
-                ..Default::default()
-            };
-            c.frame(lo.as_vec3(), hi.as_vec3());
-            c
-        });
-        let overlays = puppet::session::Overlays {
-            pivots: false,
-            lighting: self.lighting,
-            ..Default::default()
-        };
-        let image = puppet::render::render_image(
-            &self.gpu,
-            &mut self.renderer,
-            &session.view(overlays),
-            camera,
-            self.size.0,
-            self.size.1,
-        )?;
-        self.video
-            .add(&image)
+        self.0
+            .add(session)
             .map_err(|e| FileError::new(e.path, e.message).into())
     }
 
@@ -510,7 +472,7 @@ impl VideoTake {
     /// the video from them.
     fn finish(self) -> Result<(Option<String>, Option<String>)> {
         match self
-            .video
+            .0
             .finish()
             .map_err(|e| FileError::new(e.path, e.message))?
         {

@@ -164,19 +164,46 @@ pub fn bake(
     sink: &mut dyn FnMut(u64, &Puppet) -> Result<(), String>,
     go: &mut dyn FnMut(f64) -> bool,
 ) -> Result<(), BakeError> {
+    bake_in(
+        puppet,
+        bound,
+        range,
+        &mut |f, p: &mut Puppet| sink(f, p),
+        go,
+    )
+}
+
+/// [`bake`] of the puppet `owner` holds, handing `sink` the owner (a session, whose view
+/// a video draws, woken for it).
+///
+/// # Errors
+/// As [`bake`].
+pub fn bake_in<T: AsMut<Puppet>>(
+    owner: &mut T,
+    bound: Option<Bound>,
+    range: &FrameRange,
+    sink: &mut dyn FnMut(u64, &mut T) -> Result<(), String>,
+    go: &mut dyn FnMut(f64) -> bool,
+) -> Result<(), BakeError> {
     range.check().map_err(BakeError::Range)?;
-    puppet.sim.reset();
+    owner.as_mut().sim.reset();
     let mut player = Player::new(bound, range.fps);
     for frame in 1..=range.last {
-        player.play_to(puppet, frame);
+        player.play_to(owner.as_mut(), frame);
         if range.keeps(frame) {
-            sink(frame, puppet).map_err(BakeError::Sink)?;
+            sink(frame, owner).map_err(BakeError::Sink)?;
         }
         if !go(frame as f64 / range.last as f64) {
             return Err(BakeError::Cancelled);
         }
     }
     Ok(())
+}
+
+impl AsMut<Puppet> for Puppet {
+    fn as_mut(&mut self) -> &mut Puppet {
+        self
+    }
 }
 
 #[cfg(test)]

@@ -5,7 +5,8 @@
 //! file takes the video's name once it is finished, so a video that is not finished (an
 //! error, a cancel) leaves no file behind and a video already there stays until then.
 
-use super::Image;
+use super::{Gpu, Image, SceneRenderer};
+use crate::session::{Camera, Lighting, Overlays, Session, TakeWriter};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -261,6 +262,103 @@ impl Drop for Video {
                 let _ = std::fs::remove_dir(dir);
             }
             None => {}
+        }
+    }
+}
+
+/// A take drawn into a video as the window draws the puppet (no pivots), frame by
+/// frame: `simulate --out TAKE.mp4` with the camera the window opens with, the window's
+/// *Export animation* with its own camera and lighting.
+pub struct TakeVideo {
+    gpu: Gpu,
+    renderer: SceneRenderer,
+    lighting: Lighting,
+    /// `None`: framed on the puppet's bounds at the first frame, as the window opens.
+    camera: Option<Camera>,
+    video: Video,
+    size: (u32, u32),
+}
+
+impl TakeVideo {
+    /// Finds a GPU (a headless one of its own: it draws on the export's thread) and
+    /// starts the video of `size` pixels (both even) at `fps` frames a second.
+    ///
+    /// # Errors
+    /// No GPU, or a video that cannot start (a bad size, a folder that cannot be written).
+    pub fn create(
+        path: &Path,
+        size: (u32, u32),
+        lighting: Lighting,
+        camera: Option<Camera>,
+        fps: f64,
+    ) -> Result<TakeVideo, VideoError> {
+        let gpu = Gpu::headless().map_err(|e| VideoError::new(path, e.to_string()))?;
+        let renderer = SceneRenderer::new(&gpu, super::OFFSCREEN_FORMAT);
+        let video = Video::create(path, size.0, size.1, fps)?;
+        Ok(TakeVideo {
+            gpu,
+            renderer,
+            lighting,
+            camera,
+            video,
+            size,
+        })
+    }
+
+    /// Draws the session's puppet as the window would and adds it to the video.
+    ///
+    /// # Errors
+    /// The picture could not be drawn, or the video took no more frames.
+    pub fn add(&mut self, session: &Session) -> Result<(), VideoError> {
+        let puppet = &session.puppet;
+        let camera = self.camera.get_or_insert_with(|| {
+            let (lo, hi) = puppet.mesh.bounds();
+            let mut c = Camera {
+                up: puppet.up().as_vec3(),
+                ..Default::default()
+            };
+            c.frame(lo.as_vec3(), hi.as_vec3());
+            c
+        });
+        let overlays = Overlays {
+            pivots: false,
+            lighting: self.lighting,
+            ..Default::default()
+        };
+        let image = super::render_image(
+            &self.gpu,
+            &mut self.renderer,
+            &session.view(overlays),
+            camera,
+            self.size.0,
+            self.size.1,
+        )
+        .map_err(|e| VideoError::new(&self.video.path, e.to_string()))?;
+        self.video.add(&image)
+    }
+
+    /// Ends the video (see [`Video::finish`]).
+    ///
+    /// # Errors
+    /// As [`Video::finish`].
+    pub fn finish(self) -> Result<Written, VideoError> {
+        self.video.finish()
+    }
+}
+
+impl TakeWriter for TakeVideo {
+    fn add(&mut self, _frame: u64, session: &Session) -> Result<(), String> {
+        TakeVideo::add(self, session).map_err(|e| e.to_string())
+    }
+
+    fn finish(self: Box<Self>) -> Result<String, String> {
+        let frames = self.video.frames;
+        match TakeVideo::finish(*self).map_err(|e| e.to_string())? {
+            Written::Video(path) => Ok(format!("exported {frames} frames to {}", path.display())),
+            Written::Frames { dir, command } => Ok(format!(
+                "no ffmpeg: {frames} frames written as PNG files in {}; make the video with: {command}",
+                dir.display()
+            )),
         }
     }
 }

@@ -4,6 +4,7 @@
 //! `simulate`'s give the same frames.
 
 use super::Session;
+use crate::anim::Bound;
 use crate::export::{FileOrder, Kind, TakeFiles, TakeOptions};
 use crate::puppet::bake::{self, BakeError, FrameRange};
 use std::path::{Path, PathBuf};
@@ -52,6 +53,30 @@ pub struct ExportJob {
 /// Progress is kept in millionths.
 const SCALE: f64 = 1e6;
 
+/// Writes an export's frames from the session baking them (a video draws each as the
+/// window does: `render::video::TakeVideo`); the kinds [`Kind`] names write through
+/// [`Session::start_export`] instead.
+pub trait TakeWriter: Send {
+    /// Adds frame `frame` (1-based) of `session`'s puppet.
+    ///
+    /// # Errors
+    /// A message when the frame cannot be written.
+    fn add(&mut self, frame: u64, session: &Session) -> Result<(), String>;
+
+    /// Ends the file once every frame is in: what the export says (`exported 9 frames to
+    /// take.mp4`). A writer dropped without it (a cancel, a failed frame) leaves no file.
+    ///
+    /// # Errors
+    /// A message when the file cannot be finished.
+    fn finish(self: Box<Self>) -> Result<String, String>;
+}
+
+impl AsMut<crate::Puppet> for Session {
+    fn as_mut(&mut self) -> &mut crate::Puppet {
+        &mut self.puppet
+    }
+}
+
 impl ExportJob {
     /// The fraction done, 0..1.
     pub fn progress(&self) -> f64 {
@@ -79,23 +104,12 @@ impl Session {
     /// plays are not touched.
     pub fn start_export(&mut self, path: &Path, source: Option<&Path>) -> Result<String, String> {
         let name = path.display().to_string();
-        if self.export.is_some() {
-            return Err("an export is running (cancel it first)".into());
-        }
-        let Some(playback) = &self.playback else {
-            return Err("no animation to export: open or record one first".into());
-        };
+        let (range, bound) = self.export_plan()?;
         let Some(kind) = Kind::of(path) else {
             return Err(format!(
-                "{name}: choose a .glb, a .pc2 or a folder (ending in /) to export to"
+                "{name}: choose a .glb, a .pc2, a video (.mp4, .webm, .mkv, .mov) or a folder (ending in /) to export to"
             ));
         };
-        let range = self.export_range().ok_or("no animation")?;
-        range.check().map_err(|e| format!("export: {e}"))?;
-        let bound = playback
-            .animation
-            .bind(&self.puppet.joints)
-            .map_err(|e| e.to_string())?;
         let order = match (kind, source) {
             (Kind::Pc2, Some(src)) => FileOrder::of_file(src, &self.puppet.mesh)
                 .map_err(|e| format!("{}: {e}", src.display()))?,
@@ -116,21 +130,15 @@ impl Session {
         )
         .map_err(|e| e.to_string())?;
         let mut puppet = self.puppet.clone();
-        let done = Arc::new(AtomicU64::new(0));
-        let cancel = Arc::new(AtomicBool::new(false));
-        let (d, c, target) = (done.clone(), cancel.clone(), path.to_path_buf());
-        let thread = std::thread::spawn(move || {
+        let target = path.to_path_buf();
+        Ok(self.spawn_export(path, range.count(), move |go| {
             let mut sink = |frame: u64, p: &crate::Puppet| {
                 let x = p.sim.positions();
                 take.add(frame, (0..x.len()).map(|i| x.get(i)).collect())
                     .map_err(|e| e.to_string())
             };
-            let mut go = |f: f64| {
-                d.store((f * SCALE) as u64, Ordering::Relaxed);
-                !c.load(Ordering::Relaxed)
-            };
             let shown = target.display().to_string();
-            match bake::bake(&mut puppet, Some(bound), &range, &mut sink, &mut go) {
+            match bake::bake(&mut puppet, Some(bound), &range, &mut sink, go) {
                 Ok(()) => {
                     let frames = take.frames_added();
                     let bytes = take.finish().map_err(|e| e.to_string())?;
@@ -155,15 +163,79 @@ impl Session {
                 }
                 Err(e) => Err(e.to_string()),
             }
+        }))
+    }
+
+    /// Starts exporting the loaded animation to `path` through `writer` (a video), on a
+    /// copy of this session baking it from rest: the window's camera and lighting are the
+    /// writer's, the frames those of [`Session::start_export`]. The take being recorded and
+    /// what plays are not touched.
+    pub fn start_export_with(
+        &mut self,
+        path: &Path,
+        mut writer: Box<dyn TakeWriter>,
+    ) -> Result<String, String> {
+        let (range, bound) = self.export_plan()?;
+        let mut copy = Session::new(self.puppet.clone(), self.name.clone());
+        let shown = path.display().to_string();
+        Ok(self.spawn_export(path, range.count(), move |go| {
+            // Each frame drawn anew: the view uploads what the session's revision says moved.
+            let mut sink = |frame: u64, s: &mut Session| {
+                s.wake();
+                writer.add(frame, s)
+            };
+            match bake::bake_in(&mut copy, Some(bound), &range, &mut sink, go) {
+                Ok(()) => writer.finish(),
+                Err(BakeError::Cancelled) => Err(format!("export to {shown} cancelled")),
+                Err(e) => Err(e.to_string()),
+            }
+        }))
+    }
+
+    /// What an export plays, once none is running: its frames and the loaded animation
+    /// bound to the joints.
+    fn export_plan(&self) -> Result<(FrameRange, Bound), String> {
+        if self.export.is_some() {
+            return Err("an export is running (cancel it first)".into());
+        }
+        let Some(playback) = &self.playback else {
+            return Err("no animation to export: open or record one first".into());
+        };
+        let range = self.export_range().ok_or("no animation")?;
+        range.check().map_err(|e| format!("export: {e}"))?;
+        let bound = playback
+            .animation
+            .bind(&self.puppet.joints)
+            .map_err(|e| e.to_string())?;
+        Ok((range, bound))
+    }
+
+    /// Runs `work` on a thread of its own as the export to `path` of `frames` frames:
+    /// `work` bakes with the `go` it is given (the progress bar's fraction, and false once
+    /// the puppeteer cancels) and says what it wrote.
+    fn spawn_export(
+        &mut self,
+        path: &Path,
+        frames: u64,
+        work: impl FnOnce(&mut dyn FnMut(f64) -> bool) -> Result<String, String> + Send + 'static,
+    ) -> String {
+        let done = Arc::new(AtomicU64::new(0));
+        let cancel = Arc::new(AtomicBool::new(false));
+        let (d, c) = (done.clone(), cancel.clone());
+        let thread = std::thread::spawn(move || {
+            work(&mut |f: f64| {
+                d.store((f * SCALE) as u64, Ordering::Relaxed);
+                !c.load(Ordering::Relaxed)
+            })
         });
         self.export = Some(ExportJob {
             path: path.to_path_buf(),
-            frames: range.count(),
+            frames,
             done,
             cancel,
             thread,
         });
-        Ok(format!("exporting {} frames to {name}", range.count()))
+        format!("exporting {frames} frames to {}", path.display())
     }
 
     /// The running export, if any.

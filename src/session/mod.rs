@@ -11,7 +11,8 @@
 //! * [`paint_tool`]: the brush that paints material regions and pinning;
 //! * [`playback`]: playing an animation file (what `simulate` bakes, bit for bit);
 //! * [`recording`]: recording a take from the puppeteer's hands;
-//! * [`export`]: baking the animation to `.glb`, `.pc2` or OBJ files on a thread;
+//! * [`export`]: baking the animation to `.glb`, `.pc2`, OBJ files or a video (through a
+//!   [`TakeWriter`] the shell gives) on a thread;
 //! * [`view`]: what a renderer draws (surface colours, overlay lines) and when it changed;
 //! * [`loader`]: reading a mesh and building its puppet on a background thread;
 //! * [`live`]: live controls (a glove, MIDI, a gamepad) turning sections.
@@ -31,7 +32,7 @@ pub mod view;
 
 pub use camera::Camera;
 pub use cut_tool::{CutAxis, CutDraft, CutTool, ShapeKind};
-pub use export::{ExportJob, ExportSettings};
+pub use export::{ExportJob, ExportSettings, TakeWriter};
 pub use paint_tool::PaintTool;
 pub use pick::Hit;
 pub use playback::Playback;

@@ -55,7 +55,10 @@ pub(super) fn export_section(ui: &mut egui::Ui, session: &mut Session, actions: 
         });
         if ui
             .button("Export animation…")
-            .on_hover_text(".glb (shape keys, game engines), .pc2 + .obj (Mesh Cache), or a folder of OBJ files")
+            .on_hover_text(
+                ".glb (shape keys, game engines), .pc2 + .obj (Mesh Cache), a folder of OBJ files, \
+                 or a video (.mp4: the view as the window shows it)",
+            )
             .clicked()
         {
             actions.push(Action::Browse(FilePurpose::ExportAnimation));

@@ -36,7 +36,7 @@ pub enum FilePurpose {
     OpenAnimation,
     /// Save the animation loaded.
     SaveAnimation,
-    /// Bake the animation to `.glb`, `.pc2` or a folder of OBJ files.
+    /// Bake the animation to `.glb`, `.pc2`, a folder of OBJ files or a video.
     ExportAnimation,
     /// Load a controls file (live devices mapped to sections).
     LoadControls,
