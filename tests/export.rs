@@ -435,14 +435,10 @@ fn a_quantized_glb_decodes_to_the_take_and_is_smaller() {
     }
 }
 
-/// *Export animation* in a session gives the bytes `simulate` writes for the same range,
-/// a bad path is a message that leaves the take being recorded alone, and a cancel
-/// removes the partial file.
-#[test]
-fn the_windows_export_equals_simulates_and_can_be_cancelled() {
-    let dir = scratch("export_session");
-    let cli = dir.join("cli.pc2");
-    simulate(&cli, &["--first-frame", "5", "--frame-step", "5"]);
+/// A session of the jaw example with its animation loaded and played a little (an export
+/// starts from rest whatever the window shows), exporting with `settings`; and the mesh
+/// file it was opened from.
+fn jaw_session(settings: puppet::session::ExportSettings) -> (puppet::session::Session, PathBuf) {
     let rig = puppet::RigFile::load(Path::new(&example("spot-jaw.rig.toml"))).unwrap();
     let source = rig.mesh.clone().unwrap();
     let (mesh, _) = puppet::mesh::load(&source).unwrap();
@@ -451,15 +447,26 @@ fn the_windows_export_equals_simulates_and_can_be_cancelled() {
     let text = std::fs::read_to_string(example("spot-jaw.anim.toml")).unwrap();
     let anim = puppet::anim::Animation::parse(&text, puppet::files::Format::Toml).unwrap();
     session.set_animation(anim).unwrap();
-    // Play a little: the export starts from rest whatever the window shows.
     session.advance(0.3, 20);
-    session.export_settings = puppet::session::ExportSettings {
+    session.export_settings = settings;
+    (session, source)
+}
+
+/// *Export animation* in a session gives the bytes `simulate` writes for the same range,
+/// a bad path is a message that leaves the take being recorded alone, and a cancel
+/// removes the partial file.
+#[test]
+fn the_windows_export_equals_simulates_and_can_be_cancelled() {
+    let dir = scratch("export_session");
+    let cli = dir.join("cli.pc2");
+    simulate(&cli, &["--first-frame", "5", "--frame-step", "5"]);
+    let (mut session, source) = jaw_session(puppet::session::ExportSettings {
         fps: 30.0,
         first: 5,
         last: 45,
         step: 5,
         quantize: false,
-    };
+    });
     let win = dir.join("window.pc2");
     session.start_export(&win, Some(&source)).unwrap();
     let said = session.wait_export().unwrap().unwrap();
@@ -553,21 +560,13 @@ fn the_windows_video_export_draws_simulates_frames_and_can_be_cancelled() {
     let cli_frame =
         |k: usize| Image::load_png(&dir.join(format!("cli-frames/frame_{k:05}.png"))).unwrap();
 
-    let rig = puppet::RigFile::load(Path::new(&example("spot-jaw.rig.toml"))).unwrap();
-    let (mesh, _) = puppet::mesh::load(&rig.mesh.clone().unwrap()).unwrap();
-    let built = puppet::Puppet::build(mesh, rig, puppet::progress::silent()).unwrap();
-    let mut session = puppet::session::Session::new(built, "spot");
-    let text = std::fs::read_to_string(example("spot-jaw.anim.toml")).unwrap();
-    let anim = puppet::anim::Animation::parse(&text, puppet::files::Format::Toml).unwrap();
-    session.set_animation(anim).unwrap();
-    session.advance(0.3, 20);
-    session.export_settings = puppet::session::ExportSettings {
+    let (mut session, _) = jaw_session(puppet::session::ExportSettings {
         fps: 30.0,
         first: 1,
         last: 30,
         step: 1,
         quantize: false,
-    };
+    });
     let lighting = puppet::session::Lighting::default();
     let video = |path: &Path| TakeVideo::create(path, (160, 120), lighting, None, 30.0).unwrap();
     let win = dir.join("window.mp4");
@@ -578,19 +577,7 @@ fn the_windows_video_export_draws_simulates_frames_and_can_be_cancelled() {
     // With `ffmpeg` the video, each frame decoded; without it, the frames as PNG files.
     let frame = |k: usize| -> Image {
         if win.exists() {
-            let decoded = dir.join(format!("window_{k}.png"));
-            ok(&std::process::Command::new("ffmpeg")
-                .args(["-v", "error", "-y", "-i", win.to_str().unwrap()])
-                .args([
-                    "-vf",
-                    &format!("select=eq(n\\,{})", k - 1),
-                    "-frames:v",
-                    "1",
-                ])
-                .arg(&decoded)
-                .output()
-                .unwrap());
-            Image::load_png(&decoded).unwrap()
+            common::decoded_frame(&win, k, &dir.join(format!("window_{k}.png")))
         } else {
             Image::load_png(&dir.join(format!("window-frames/frame_{k:05}.png"))).unwrap()
         }

@@ -358,20 +358,8 @@ fn a_take_renders_to_a_video_or_to_png_frames_without_ffmpeg() {
     assert!((duration - 1.0).abs() < 1e-3, "{duration} s");
     // Frames 1 and 30 of the video, decoded, against the PNGs of the same frames.
     for k in [1usize, 30] {
-        let decoded = dir.join(format!("decoded_{k}.png"));
-        let out = std::process::Command::new("ffmpeg")
-            .args(["-v", "error", "-y", "-i", mp4])
-            .args([
-                "-vf",
-                &format!("select=eq(n\\,{})", k - 1),
-                "-frames:v",
-                "1",
-            ])
-            .arg(&decoded)
-            .output()
-            .unwrap();
-        ok(&out);
-        let decoded = puppet::render::Image::load_png(&decoded).unwrap();
+        let decoded =
+            common::decoded_frame(Path::new(mp4), k, &dir.join(format!("decoded_{k}.png")));
         let d = decoded.mean_abs_diff(&png(k)).unwrap();
         assert!(
             d < 3.0,

@@ -461,3 +461,22 @@ fn built(path: &Path) -> puppet::Puppet {
     )
     .expect("a puppet")
 }
+
+/// Frame `k` (1-based) of `video`, decoded by `ffmpeg` into `png` and read back.
+#[cfg(feature = "gui")]
+#[allow(dead_code)]
+pub fn decoded_frame(video: &Path, k: usize, png: &Path) -> puppet::render::Image {
+    ok(&Command::new("ffmpeg")
+        .args(["-v", "error", "-y", "-i"])
+        .arg(video)
+        .args([
+            "-vf",
+            &format!("select=eq(n\\,{})", k - 1),
+            "-frames:v",
+            "1",
+        ])
+        .arg(png)
+        .output()
+        .expect("run ffmpeg"));
+    puppet::render::Image::load_png(png).expect("a decoded frame")
+}
