@@ -583,6 +583,13 @@ fn the_windows_video_export_draws_simulates_frames_and_can_be_cancelled() {
         }
     };
     assert!(said.contains("30 frames"), "{said}");
+    if win.exists() {
+        // As long as the take, a picture a frame (`ffprobe` comes with `ffmpeg`).
+        let stream = common::probed(&win);
+        assert_eq!(stream["nb_read_frames"], "30", "{stream}");
+        let duration: f64 = stream["duration"].as_str().unwrap().parse().unwrap();
+        assert!((duration - 1.0).abs() < 1e-3, "{duration} s");
+    }
     for k in [1, 15, 30] {
         let d = frame(k).mean_abs_diff(&cli_frame(k)).unwrap();
         assert!(d < 3.0, "frame {k} differs from simulate's by {d:.2}");

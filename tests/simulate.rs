@@ -337,19 +337,8 @@ fn a_take_renders_to_a_video_or_to_png_frames_without_ffmpeg() {
         return;
     }
     ok(&simulate_with(None, &jaw_video(mp4, "30", &rig, &anim)));
-    let out = std::process::Command::new("ffprobe")
-        .args(["-v", "error", "-count_frames", "-select_streams", "v:0"])
-        .args([
-            "-show_entries",
-            "stream=nb_read_frames,width,height,duration",
-        ])
-        .args(["-of", "json", mp4])
-        .output()
-        .unwrap();
-    ok(&out);
-    let probe: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    let stream = &probe["streams"][0];
-    assert_eq!(stream["nb_read_frames"], "30", "{probe}");
+    let stream = common::probed(Path::new(mp4));
+    assert_eq!(stream["nb_read_frames"], "30", "{stream}");
     assert_eq!(
         (stream["width"].as_u64(), stream["height"].as_u64()),
         (Some(160), Some(120))

@@ -480,3 +480,22 @@ pub fn decoded_frame(video: &Path, k: usize, png: &Path) -> puppet::render::Imag
         .expect("run ffmpeg"));
     puppet::render::Image::load_png(png).expect("a decoded frame")
 }
+
+/// What `ffprobe` reads of `video`'s first video stream: frames counted, width, height,
+/// duration (JSON, as `ffprobe` writes it).
+#[allow(dead_code)]
+pub fn probed(video: &Path) -> serde_json::Value {
+    let out = Command::new("ffprobe")
+        .args(["-v", "error", "-count_frames", "-select_streams", "v:0"])
+        .args([
+            "-show_entries",
+            "stream=nb_read_frames,width,height,duration",
+        ])
+        .args(["-of", "json"])
+        .arg(video)
+        .output()
+        .expect("run ffprobe");
+    ok(&out);
+    let probe: serde_json::Value = serde_json::from_slice(&out.stdout).expect("ffprobe's JSON");
+    probe["streams"][0].clone()
+}
