@@ -567,8 +567,8 @@ fn the_windows_video_export_draws_simulates_frames_and_can_be_cancelled() {
         step: 1,
         quantize: false,
     });
-    let lighting = puppet::session::Lighting::default();
-    let video = |path: &Path| TakeVideo::create(path, (160, 120), lighting, None, 30.0).unwrap();
+    let look = puppet::session::Overlays::default();
+    let video = |path: &Path| TakeVideo::create(path, (160, 120), look, None, 30.0).unwrap();
     let win = dir.join("window.mp4");
     session
         .start_export_with(&win, Box::new(video(&win)))

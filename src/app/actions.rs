@@ -298,16 +298,16 @@ impl WindowState {
             },
             FilePurpose::ExportAnimation => {
                 let source = self.panel.source.clone();
-                let (camera, lighting) = (self.camera, self.panel.overlays.lighting);
+                let (camera, look) = (self.camera, self.panel.overlays);
                 match &mut self.session {
-                    // A video draws what the window shows: its camera and lighting.
+                    // A video draws what the window shows: its camera and look.
                     Some(s) if crate::export::is_video(&path) => {
                         let settings = &s.export_settings;
                         let fps = settings.fps / settings.step.max(1) as f64;
                         crate::render::video::TakeVideo::create(
                             &path,
                             VIDEO_SIZE,
-                            lighting,
+                            look,
                             Some(camera),
                             fps,
                         )

@@ -456,7 +456,11 @@ impl VideoTake {
         fps: f64,
     ) -> Result<VideoTake> {
         let size = video_size(size)?;
-        puppet::render::video::TakeVideo::create(path, size, lighting, None, fps)
+        let look = puppet::session::Overlays {
+            lighting,
+            ..Default::default()
+        };
+        puppet::render::video::TakeVideo::create(path, size, look, None, fps)
             .map(VideoTake)
             .map_err(|e| FileError::new(e.path, e.message).into())
     }

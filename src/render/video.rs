@@ -6,7 +6,7 @@
 //! error, a cancel) leaves no file behind and a video already there stays until then.
 
 use super::{Gpu, Image, SceneRenderer};
-use crate::session::{Camera, Lighting, Overlays, Session, TakeWriter};
+use crate::session::{Camera, Overlays, Session, TakeWriter};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -266,13 +266,13 @@ impl Drop for Video {
     }
 }
 
-/// A take drawn into a video as the window draws the puppet (no pivots), frame by
-/// frame: `simulate --out TAKE.mp4` with the camera the window opens with, the window's
-/// *Export animation* with its own camera and lighting.
+/// A take drawn into a video as the window draws the puppet (its look, no marks for
+/// editing: [`Overlays::for_video`]), frame by frame: `simulate --out TAKE.mp4` with the
+/// camera and look the window opens with, the window's *Export animation* with its own.
 pub struct TakeVideo {
     gpu: Gpu,
     renderer: SceneRenderer,
-    lighting: Lighting,
+    look: Overlays,
     /// `None`: framed on the puppet's bounds at the first frame, as the window opens.
     camera: Option<Camera>,
     video: Video,
@@ -288,7 +288,7 @@ impl TakeVideo {
     pub fn create(
         path: &Path,
         size: (u32, u32),
-        lighting: Lighting,
+        look: Overlays,
         camera: Option<Camera>,
         fps: f64,
     ) -> Result<TakeVideo, VideoError> {
@@ -298,7 +298,7 @@ impl TakeVideo {
         Ok(TakeVideo {
             gpu,
             renderer,
-            lighting,
+            look: look.for_video(),
             camera,
             video,
             size,
@@ -320,15 +320,10 @@ impl TakeVideo {
             c.frame(lo.as_vec3(), hi.as_vec3());
             c
         });
-        let overlays = Overlays {
-            pivots: false,
-            lighting: self.lighting,
-            ..Default::default()
-        };
         let image = super::render_image(
             &self.gpu,
             &mut self.renderer,
-            &session.view(overlays),
+            &session.view(self.look),
             camera,
             self.size.0,
             self.size.1,

@@ -167,7 +167,7 @@ impl Session {
     }
 
     /// Starts exporting the loaded animation to `path` through `writer` (a video), on a
-    /// copy of this session baking it from rest: the window's camera and lighting are the
+    /// copy of this session baking it from rest: the window's camera and look are the
     /// writer's, the frames those of [`Session::start_export`]. The take being recorded and
     /// what plays are not touched.
     pub fn start_export_with(

@@ -821,3 +821,37 @@ fn the_ground_lies_under_the_rest_mesh_or_at_the_floor_and_goes_when_hidden() {
     };
     assert_eq!(s.view(hidden).ground(), None);
 }
+
+#[test]
+fn a_video_keeps_the_windows_look_and_drops_the_marks_for_editing() {
+    let shown = Overlays {
+        wireframe: true,
+        skeleton: true,
+        bone_points: true,
+        bone_springs: true,
+        cuts: true,
+        pivots: true,
+        repairs: true,
+        ground: false,
+        occlusion: false,
+        lighting: Lighting::Jelly,
+    };
+    let video = shown.for_video();
+    assert_eq!(
+        (
+            video.wireframe,
+            video.ground,
+            video.occlusion,
+            video.lighting
+        ),
+        (true, false, false, Lighting::Jelly)
+    );
+    assert!(
+        !(video.skeleton
+            || video.bone_points
+            || video.bone_springs
+            || video.cuts
+            || video.pivots
+            || video.repairs)
+    );
+}

@@ -92,6 +92,20 @@ impl Default for Overlays {
 }
 
 impl Overlays {
+    /// What a video of the take shows of these: the look (lighting, the ground, shaded
+    /// creases, the wireframe), none of the marks for editing (pivots, cut planes, the
+    /// skeleton, bone points and springs, repairs).
+    pub fn for_video(self) -> Overlays {
+        Overlays {
+            wireframe: self.wireframe,
+            ground: self.ground,
+            occlusion: self.occlusion,
+            lighting: self.lighting,
+            pivots: false,
+            ..Overlays::default()
+        }
+    }
+
     /// True when any overlay line is shown (the ground is drawn apart from them).
     pub fn any(&self) -> bool {
         self.wireframe
