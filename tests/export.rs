@@ -568,11 +568,16 @@ fn the_windows_video_export_draws_simulates_frames_and_can_be_cancelled() {
         quantize: false,
     });
     let look = puppet::session::Overlays::default();
-    let video = |path: &Path| TakeVideo::create(path, (160, 120), look, None, 30.0).unwrap();
+    let video = |path: PathBuf| {
+        move |fps: f64| {
+            assert_eq!(fps, 30.0);
+            TakeVideo::create(&path, (160, 120), look, None, fps)
+                .map(|v| Box::new(v) as Box<dyn puppet::session::TakeWriter>)
+                .map_err(|e| e.to_string())
+        }
+    };
     let win = dir.join("window.mp4");
-    session
-        .start_export_with(&win, Box::new(video(&win)))
-        .unwrap();
+    session.start_export_with(&win, video(win.clone())).unwrap();
     let said = session.wait_export().unwrap().unwrap();
     // With `ffmpeg` the video, each frame decoded; without it, the frames as PNG files.
     let frame = |k: usize| -> Image {
@@ -603,8 +608,13 @@ fn the_windows_video_export_draws_simulates_frames_and_can_be_cancelled() {
     session.export_settings.last = 2000;
     let long = dir.join("long.mp4");
     session
-        .start_export_with(&long, Box::new(video(&long)))
+        .start_export_with(&long, video(long.clone()))
         .unwrap();
+    // While it runs another is refused before its writer is made (no second `ffmpeg`).
+    let refused = session.start_export_with(&dir.join("other.mp4"), |_| -> Result<_, _> {
+        panic!("a writer made for an export that cannot start")
+    });
+    assert!(refused.unwrap_err().contains("an export is running"));
     session.cancel_export();
     let said = session.wait_export().unwrap();
     assert!(said.unwrap_err().contains("cancelled"));

@@ -302,17 +302,17 @@ impl WindowState {
                 match &mut self.session {
                     // A video draws what the window shows: its camera and look.
                     Some(s) if crate::export::is_video(&path) => {
-                        let settings = &s.export_settings;
-                        let fps = settings.fps / settings.step.max(1) as f64;
-                        crate::render::video::TakeVideo::create(
-                            &path,
-                            VIDEO_SIZE,
-                            look,
-                            Some(camera),
-                            fps,
-                        )
-                        .map_err(|e| e.to_string())
-                        .and_then(|video| s.start_export_with(&path, Box::new(video)))
+                        s.start_export_with(&path, |fps| {
+                            crate::render::video::TakeVideo::create(
+                                &path,
+                                VIDEO_SIZE,
+                                look,
+                                Some(camera),
+                                fps,
+                            )
+                            .map(|video| Box::new(video) as Box<dyn crate::session::TakeWriter>)
+                            .map_err(|e| e.to_string())
+                        })
                     }
                     Some(s) => s.start_export(&path, source.as_deref()),
                     None => return,

@@ -342,7 +342,7 @@ impl TakeVideo {
 }
 
 impl TakeWriter for TakeVideo {
-    fn add(&mut self, _frame: u64, session: &Session) -> Result<(), String> {
+    fn add(&mut self, session: &Session) -> Result<(), String> {
         TakeVideo::add(self, session).map_err(|e| e.to_string())
     }
 

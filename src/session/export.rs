@@ -57,11 +57,11 @@ const SCALE: f64 = 1e6;
 /// window does: `render::video::TakeVideo`); the kinds [`Kind`] names write through
 /// [`Session::start_export`] instead.
 pub trait TakeWriter: Send {
-    /// Adds frame `frame` (1-based) of `session`'s puppet.
+    /// Adds the next frame: `session`'s puppet as it is now.
     ///
     /// # Errors
     /// A message when the frame cannot be written.
-    fn add(&mut self, frame: u64, session: &Session) -> Result<(), String>;
+    fn add(&mut self, session: &Session) -> Result<(), String>;
 
     /// Ends the file once every frame is in: what the export says (`exported 9 frames to
     /// take.mp4`). A writer dropped without it (a cancel, a failed frame) leaves no file.
@@ -166,23 +166,26 @@ impl Session {
         }))
     }
 
-    /// Starts exporting the loaded animation to `path` through `writer` (a video), on a
-    /// copy of this session baking it from rest: the window's camera and look are the
-    /// writer's, the frames those of [`Session::start_export`]. The take being recorded and
-    /// what plays are not touched.
+    /// Starts exporting the loaded animation to `path` through the writer `make` gives for
+    /// the frames' rate (a video), on a copy of this session baking it from rest: the
+    /// window's camera and look are the writer's, the frames those of
+    /// [`Session::start_export`]. The writer is made once the export can start (none
+    /// running, an animation loaded, a valid range); the take being recorded and what
+    /// plays are not touched.
     pub fn start_export_with(
         &mut self,
         path: &Path,
-        mut writer: Box<dyn TakeWriter>,
+        make: impl FnOnce(f64) -> Result<Box<dyn TakeWriter>, String>,
     ) -> Result<String, String> {
         let (range, bound) = self.export_plan()?;
+        let mut writer = make(range.fps / range.step as f64)?;
         let mut copy = Session::new(self.puppet.clone(), self.name.clone());
         let shown = path.display().to_string();
         Ok(self.spawn_export(path, range.count(), move |go| {
             // Each frame drawn anew: the view uploads what the session's revision says moved.
-            let mut sink = |frame: u64, s: &mut Session| {
+            let mut sink = |_: u64, s: &mut Session| {
                 s.wake();
-                writer.add(frame, s)
+                writer.add(s)
             };
             match bake::bake_in(&mut copy, Some(bound), &range, &mut sink, go) {
                 Ok(()) => writer.finish(),
