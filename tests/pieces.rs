@@ -71,7 +71,8 @@ fn outside(p: &Puppet) -> usize {
 /// Every downloaded character in pieces becomes one puppet: it has cuts, the suggestion
 /// finds the arms, legs and head of the people among them (scored against what every
 /// person has; the floors are today's: both arms on 8 of 8, both legs on 7, a head or
-/// neck on 8), every skeletal point lies inside the whole (exact winding number), and in
+/// neck on 8), each is found standing as modelled, +y up (the cartoon hero, a huge head
+/// with ears on top and legs hanging from a child section, by its soles), every skeletal point lies inside the whole (exact winding number), and in
 /// random poses no vertex is left behind its bones by more than its own medial radius,
 /// and none is NaN.
 #[test]
@@ -88,6 +89,8 @@ fn downloaded_characters_in_pieces_are_puppets() {
         );
         let names: Vec<&str> = p.joints.cuts().iter().map(|c| c.name.as_str()).collect();
         assert!(names.len() >= 4, "{name}: {names:?}");
+        let up = p.frame().map(|f| f.up);
+        assert_eq!(up, Some(DVec3::Y), "{name}: up");
         if name.starts_with("man-") || name.starts_with("woman-") {
             people += 1;
             let has = |n: &str| names.contains(&n);

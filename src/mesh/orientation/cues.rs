@@ -6,14 +6,15 @@ use super::{mirror_plane, AXES, BASE_AREA};
 use crate::mesh::Mesh;
 use glam::DVec3;
 
-/// The outward normal of the mesh's flat base, if it has one: of the six axis directions,
-/// the one whose flat faces at the mesh's far end that way cover the most area, when that
-/// is at least [`BASE_AREA`] of the whole.
-pub fn flat_base(mesh: &Mesh) -> Option<DVec3> {
+/// Per axis direction (in [`AXES`]' order), the share of the mesh's area in flat faces at
+/// its far end that way: faces within 5° of facing along it and within 1 % of the mesh's
+/// size of that end (a bust's base, a statue's plinth, the soles of feet; 0 for a mesh
+/// with no area).
+pub fn flat_ends(mesh: &Mesh) -> [f64; 6] {
     let (lo, hi) = crate::mesh::bounds(&mesh.positions);
     let size = (hi - lo).max_element();
     if !(size > 0.0 && size.is_finite()) {
-        return None;
+        return [0.0; 6];
     }
     let cos = 5f64.to_radians().cos();
     let mut area = [0.0; 6];
@@ -38,8 +39,24 @@ pub fn flat_base(mesh: &Mesh) -> Option<DVec3> {
             }
         }
     }
-    let k = (0..6).max_by(|&a, &b| area[a].total_cmp(&area[b]))?;
-    (total > 0.0 && area[k] >= BASE_AREA * total).then_some(AXES[k])
+    if total > 0.0 {
+        area.map(|a| a / total)
+    } else {
+        [0.0; 6]
+    }
+}
+
+/// The outward normal of the mesh's flat base, if it has one: of the six axis directions,
+/// the one whose flat faces at the mesh's far end that way cover the most area
+/// ([`flat_ends`]), when that is at least [`BASE_AREA`] of the whole.
+pub fn flat_base(mesh: &Mesh) -> Option<DVec3> {
+    base_of(&flat_ends(mesh))
+}
+
+/// [`flat_base`] from the shares [`flat_ends`] gives.
+fn base_of(flat: &[f64; 6]) -> Option<DVec3> {
+    let k = (0..6).max_by(|&a, &b| flat[a].total_cmp(&flat[b]))?;
+    (flat[k] >= BASE_AREA).then_some(AXES[k])
 }
 
 /// What says how a body stands before its limbs are cut: its mirror plane and its flat
@@ -51,6 +68,9 @@ pub struct Cues {
     pub mirror: Option<(DVec3, f64)>,
     /// The outward normal of its flat base, if it has one ([`flat_base`]).
     pub base: Option<DVec3>,
+    /// Per axis direction, the share of its area flat at its far end that way
+    /// ([`flat_ends`]: soles, a base).
+    pub flat: [f64; 6],
     /// Per axis (x, y, z), how much finer the surface is made in the half of the mesh on
     /// the axis's positive side than in the other ([`detail`]): 0 where alike or unknown.
     pub detail: [f64; 3],
@@ -61,9 +81,11 @@ impl Cues {
     /// holds up, and is read against the surface (see the module docs).
     pub fn of(mesh: &Mesh, up: Option<DVec3>) -> Cues {
         let surface: &[[u32; 3]] = if up.is_some() { &mesh.triangles } else { &[] };
+        let flat = flat_ends(mesh);
         Cues {
             mirror: mirror_plane(&mesh.positions, surface, up),
-            base: flat_base(mesh),
+            base: base_of(&flat),
+            flat,
             detail: detail(mesh),
         }
     }

@@ -3,7 +3,7 @@
 
 use super::{
     head_of, Cues, Frame, Given, Reach, APART, AXES, DETAIL, FEET, FRONT_END, GROUND, LONG,
-    OFF_PLANE, STANDING, TAIL_END, TOES,
+    OFF_PLANE, SOLES, STANDING, TAIL_END, TOES,
 };
 use glam::DVec3;
 
@@ -13,6 +13,7 @@ pub fn frame(positions: &[DVec3], cues: Cues, limbs: &[Reach], given: Given) -> 
     let Cues {
         mirror,
         base,
+        flat,
         detail,
     } = cues;
     let size = crate::mesh::longest_side(positions);
@@ -140,14 +141,21 @@ pub fn frame(positions: &[DVec3], cues: Cues, limbs: &[Reach], given: Given) -> 
             // (+y across the mirror plane cannot be up: a character lying on its side, or
             // modelled with x or z up, has only its limbs to say.)
             let y_along = DVec3::Y.dot(n).abs() < 0.5;
+            // (Soles at the end the limbs or the convention put on top, and hardly any
+            // flat at the other: that end is down. A cartoon hero's huge head may be the
+            // root, its ears the only limbs off the plane, its legs hanging from a child.
+            // A stance is left as it is.)
+            let flat_at = |d: DVec3| AXES.iter().position(|&a| a == d).map_or(0.0, |k| flat[k]);
+            let soles_on_top = |u: DVec3| flat_at(u) >= SOLES && flat_at(-u) <= flat_at(u) / 3.0;
+            let right_way_up = |u: DVec3| if soles_on_top(u) { -u } else { u };
             if let [down] = standing.as_slice() {
                 -*down
             } else if let (false, [down]) = (clearly, on_the_ground.as_slice()) {
-                -*down
+                right_way_up(-*down)
             } else if y_along && (y_as_well || !clearly) {
-                DVec3::Y
+                right_way_up(DVec3::Y)
             } else {
-                -best
+                right_way_up(-best)
             }
         }
     };

@@ -61,6 +61,7 @@ fn legs_hanging_along_an_axis_make_the_other_way_up() {
     let cues = Cues {
         mirror: mirror_plane(&plane, &[], None),
         base: None,
+        flat: [0.0; 6],
         detail: [0.0; 3],
     };
     let f = frame(&plane, cues, &limbs, Given::default());
@@ -105,6 +106,7 @@ fn standing_legs() -> ([Reach; 2], Cues) {
     let cues = Cues {
         mirror: Some((DVec3::X, 0.0)),
         base: None,
+        flat: [0.0; 6],
         detail: [0.0; 3],
     };
     ([leg(0.1), leg(-0.1)], cues)
@@ -202,6 +204,7 @@ fn a_lone_thin_part_on_the_plane_is_a_tail_that_leans_back() {
     let cues = Cues {
         mirror: Some((DVec3::X, 0.0)),
         base: None,
+        flat: [0.0; 6],
         detail: [0.0; 3],
     };
     let legs = [
@@ -290,6 +293,7 @@ fn a_long_bodys_finer_end_is_its_front_and_an_upright_ones_is_not() {
     let cues = |finer: f64| Cues {
         mirror: Some((DVec3::X, 0.0)),
         base: None,
+        flat: [0.0; 6],
         detail: [0.0, 0.0, finer],
     };
     let front = |length: f64, finer: f64| {
@@ -354,6 +358,7 @@ fn three_feet_apart_on_the_ground_say_down() {
         let cues = Cues {
             mirror: Some((DVec3::X, 0.0)),
             base: None,
+            flat: [0.0; 6],
             detail: [0.0; 3],
         };
         frame(&body, cues, &limbs, Given::default()).up
@@ -361,4 +366,44 @@ fn three_feet_apart_on_the_ground_say_down() {
     let apart = [DVec3::new(0.8, 0.0, 2.3), DVec3::new(-0.8, 0.0, 2.3)];
     assert_eq!(frame_of(apart, DVec3::new(-0.6, 0.0, -2.9)), DVec3::Y);
     assert_ne!(frame_of(apart, DVec3::new(-0.6, 0.5, -2.9)), DVec3::Y);
+}
+
+/// Two ears hanging up from a root that is all head say "down is +y"; soles at the −y end
+/// (and none on top) turn that round. Flat at both ends, or too little flat to be soles
+/// ([`SOLES`]), the limbs keep their say; a stance keeps its own.
+#[test]
+fn soles_at_the_end_the_ears_put_on_top_make_it_down() {
+    let body: Vec<DVec3> = [-1.0, 1.0]
+        .into_iter()
+        .flat_map(|x| {
+            [0.0, 4.0]
+                .into_iter()
+                .flat_map(move |y| [-1.0, 1.0].into_iter().map(move |z| DVec3::new(x, y, z)))
+        })
+        .collect();
+    let ear = |x: f64| Reach {
+        pivot: DVec3::new(x, 3.4, 0.0),
+        tip: DVec3::new(x, 4.0, 0.0),
+        end: 0.2,
+        carried: None,
+    };
+    let up_with = |bottom: f64, top: f64| {
+        let mut flat = [0.0; 6];
+        flat[2] = top;
+        flat[3] = bottom;
+        let cues = Cues {
+            mirror: Some((DVec3::X, 0.0)),
+            base: None,
+            flat,
+            detail: [0.0; 3],
+        };
+        frame(&body, cues, &[ear(0.6), ear(-0.6)], Given::default()).up
+    };
+    assert_eq!(up_with(0.0, 0.0), DVec3::NEG_Y);
+    assert_eq!(up_with(0.004, 0.0), DVec3::NEG_Y);
+    // Soles at the bottom (y = 0), the ears' end round.
+    assert_eq!(up_with(0.006, 0.0), DVec3::Y);
+    assert_eq!(up_with(0.006, 0.0015), DVec3::Y);
+    // Flat at both ends alike: no soles.
+    assert_eq!(up_with(0.006, 0.004), DVec3::NEG_Y);
 }
