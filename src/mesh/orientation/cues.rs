@@ -71,6 +71,9 @@ pub struct Cues {
     /// Per axis direction, the share of its area flat at its far end that way
     /// ([`flat_ends`]: soles, a base).
     pub flat: [f64; 6],
+    /// Where its volume lies: the centre of mass of the solid it encloses, if it encloses
+    /// any ([`bulk`]).
+    pub bulk: Option<DVec3>,
     /// Per axis (x, y, z), how much finer the surface is made in the half of the mesh on
     /// the axis's positive side than in the other ([`detail`]): 0 where alike or unknown.
     pub detail: [f64; 3],
@@ -86,6 +89,7 @@ impl Cues {
             mirror: mirror_plane(&mesh.positions, surface, up),
             base: base_of(&flat),
             flat,
+            bulk: bulk(mesh),
             detail: detail(mesh),
         }
     }
@@ -126,4 +130,25 @@ pub fn detail(mesh: &Mesh) -> [f64; 3] {
             0.0
         }
     })
+}
+
+/// The centre of mass of the solid the mesh encloses (uniform density: the signed
+/// tetrahedra from a point inside its box to each face), `None` where it encloses no
+/// volume. A fish's or a dinosaur's lies toward its head: the body thickest near the front,
+/// tapering to a tail.
+pub fn bulk(mesh: &Mesh) -> Option<DVec3> {
+    let (lo, hi) = crate::mesh::bounds(&mesh.positions);
+    let o = (lo + hi) * 0.5;
+    let (mut volume, mut moment) = (0.0, DVec3::ZERO);
+    for t in &mesh.triangles {
+        let [Some(a), Some(b), Some(c)] = t.map(|v| mesh.positions.get(v as usize).copied()) else {
+            continue;
+        };
+        let (a, b, c) = (a - o, b - o, c - o);
+        let v = a.dot(b.cross(c)) / 6.0;
+        volume += v;
+        moment += v * (a + b + c) / 4.0;
+    }
+    let centre = o + moment / volume;
+    (volume > 0.0 && centre.is_finite()).then_some(centre)
 }

@@ -2,7 +2,7 @@
 //! the rules in the parent module's docs).
 
 use super::{
-    head_of, Cues, Frame, Given, Reach, APART, AXES, DETAIL, FEET, FRONT_END, GROUND, LONG,
+    head_of, Cues, Frame, Given, Reach, APART, AXES, BULK, DETAIL, FEET, FRONT_END, GROUND, LONG,
     OFF_PLANE, SOLES, STANDING, TAIL_END, TOES,
 };
 use glam::DVec3;
@@ -14,6 +14,7 @@ pub fn frame(positions: &[DVec3], cues: Cues, limbs: &[Reach], given: Given) -> 
         mirror,
         base,
         flat,
+        bulk,
         detail,
     } = cues;
     let size = crate::mesh::longest_side(positions);
@@ -231,17 +232,36 @@ pub fn frame(positions: &[DVec3], cues: Cues, limbs: &[Reach], given: Given) -> 
             0.0
         }
     };
+    let legs_hang = limbs.iter().any(|l| l.direction().dot(up) < -0.5);
+    // How far the solid's centre of mass lies ahead of the middle of its length along
+    // `axis`, for that length.
+    let bulk_ahead = bulk.map_or(0.0, |b| {
+        let (a, z) = span(axis);
+        if z > a {
+            (b.dot(axis) - 0.5 * (a + z)) / (z - a)
+        } else {
+            0.0
+        }
+    });
+    // No limb off the plane and none reaching the ground: nothing to stand on.
+    let swims = off.is_empty() && {
+        let (near, far) = span(-up);
+        limbs
+            .iter()
+            .all(|l| far - l.tip.dot(-up) > GROUND * (far - near))
+    };
+    let long = {
+        let ((a, b), (c, d)) = (span(axis), span(up));
+        b - a >= LONG * (d - c)
+    };
     let sign = if let Some(declared) = declared {
         declared.signum()
-    } else if limbs.iter().any(|l| l.direction().dot(up) < -0.5)
-        && {
-            let ((a, b), (c, d)) = (span(axis), span(up));
-            b - a >= LONG * (d - c)
-        }
-        && finer.abs() >= DETAIL.ln()
-    {
+    } else if legs_hang && long && finer.abs() >= DETAIL.ln() {
         // Legs hang from a long body: the end modelled finer is the face.
         finer.signum()
+    } else if swims && long && bulk_ahead.abs() >= BULK {
+        // Nothing to stand on (a fish, a whale): its bulk lies toward its head.
+        bulk_ahead.signum()
     } else if placed.abs() > FRONT_END * size {
         placed.signum()
     } else if lean.abs() > 0.3 {

@@ -33,7 +33,9 @@
 //! * **Front.** Across up and the mirror plane: given (a rig's `front`, a glTF file's +z
 //!   as the format declares, [`Axes::GLTF`]) where it lies along that line; else, where
 //!   legs hang from a long body ([`LONG`]), the end of it modelled clearly finer
-//!   ([`DETAIL`], [`detail`]: a face is made of smaller triangles than a rump); else the end
+//!   ([`DETAIL`], [`detail`]: a face is made of smaller triangles than a rump); else, for
+//!   a long body with nothing to stand on (a fish), the end its bulk lies toward ([`BULK`],
+//!   [`bulk`]); else the end
 //!   of the body that the part on the plane most like a head grows from (with ears on the body, the one nearest them), away
 //!   from another part on the plane, a tail ([`FRONT_END`]: a cat stretching looks up and
 //!   back); else the way that part leans, else, with limbs hanging down, the way the soles
@@ -44,7 +46,7 @@
 //! Files: `cues` (the mirror plane, the flat base, how finely each half is modelled:
 //! what the first stage reads), `frame` (up, front and left: the fifth stage), `tests`.
 pub use crate::mesh::mirror::{image, mirror_plane, reflect, MIRRORED};
-pub use cues::{detail, flat_base, flat_ends, Cues};
+pub use cues::{bulk, detail, flat_base, flat_ends, Cues};
 pub use frame::frame;
 use glam::DVec3;
 
@@ -113,6 +115,15 @@ pub const LONG: f64 = 0.6;
 /// tops at most 0.44 % (a mech's cap); 0.5 is the round share above every top there. On
 /// the held-out half tops reach at most 0.23 %: no up changes on either half.
 pub const SOLES: f64 = 0.005;
+/// A long body ([`LONG`]) with nothing to stand on (no limb off the mirror plane, none
+/// reaching the ground: a fish, a whale) faces the end its bulk lies toward, when the
+/// solid's centre of mass lies this share of its length ahead of the middle ([`bulk`]):
+/// thickest near the head, tapering to a tail. On the development half of the labelled
+/// characters (read from shape alone) the four fish that reach this cue lie 0.09–0.23
+/// ahead: any share up to 0.088 turns the one that faced wrong right, and no other
+/// labelled front changes; 0.05 lies below. Held-out: two fish turn right (0.06 and
+/// 0.09 ahead), the whale stays right.
+pub const BULK: f64 = 0.05;
 /// A flat face of the mesh at its far end along an axis (faces within 5° of the axis and
 /// within 1 % of the mesh's size of that end) covering at least this share of its area is
 /// a base it stands on (a bust's, a statue's): where no limb off the mirror plane says

@@ -62,6 +62,7 @@ fn legs_hanging_along_an_axis_make_the_other_way_up() {
         mirror: mirror_plane(&plane, &[], None),
         base: None,
         flat: [0.0; 6],
+        bulk: None,
         detail: [0.0; 3],
     };
     let f = frame(&plane, cues, &limbs, Given::default());
@@ -107,6 +108,7 @@ fn standing_legs() -> ([Reach; 2], Cues) {
         mirror: Some((DVec3::X, 0.0)),
         base: None,
         flat: [0.0; 6],
+        bulk: None,
         detail: [0.0; 3],
     };
     ([leg(0.1), leg(-0.1)], cues)
@@ -205,6 +207,7 @@ fn a_lone_thin_part_on_the_plane_is_a_tail_that_leans_back() {
         mirror: Some((DVec3::X, 0.0)),
         base: None,
         flat: [0.0; 6],
+        bulk: None,
         detail: [0.0; 3],
     };
     let legs = [
@@ -294,6 +297,7 @@ fn a_long_bodys_finer_end_is_its_front_and_an_upright_ones_is_not() {
         mirror: Some((DVec3::X, 0.0)),
         base: None,
         flat: [0.0; 6],
+        bulk: None,
         detail: [0.0, 0.0, finer],
     };
     let front = |length: f64, finer: f64| {
@@ -359,6 +363,7 @@ fn three_feet_apart_on_the_ground_say_down() {
             mirror: Some((DVec3::X, 0.0)),
             base: None,
             flat: [0.0; 6],
+            bulk: None,
             detail: [0.0; 3],
         };
         frame(&body, cues, &limbs, Given::default()).up
@@ -395,6 +400,7 @@ fn soles_at_the_end_the_ears_put_on_top_make_it_down() {
             mirror: Some((DVec3::X, 0.0)),
             base: None,
             flat,
+            bulk: None,
             detail: [0.0; 3],
         };
         frame(&body, cues, &[ear(0.6), ear(-0.6)], Given::default()).up
@@ -406,4 +412,39 @@ fn soles_at_the_end_the_ears_put_on_top_make_it_down() {
     assert_eq!(up_with(0.006, 0.0015), DVec3::Y);
     // Flat at both ends alike: no soles.
     assert_eq!(up_with(0.006, 0.004), DVec3::NEG_Y);
+}
+
+/// A long body with nothing hanging from it (a fish) faces the end its bulk lies toward:
+/// thickest near the head, tapering to the tail, whichever end that is.
+#[test]
+fn a_body_with_nothing_hanging_faces_where_its_bulk_lies() {
+    // A ball stretched along z to six times its height, tapering to half its width at
+    // one end.
+    let fish = |thick_end: f64| {
+        let mut m = crate::mesh::shapes::icosphere(1.0, 3);
+        for p in &mut m.positions {
+            let s = 0.75 + 0.25 * p.z * thick_end;
+            *p = DVec3::new(p.x * s, p.y * s, 3.0 * p.z);
+        }
+        m
+    };
+    for thick_end in [1.0, -1.0] {
+        let m = fish(thick_end);
+        let centre = bulk(&m).unwrap();
+        assert!(centre.z * thick_end > 0.2, "{centre}");
+        let cues = Cues {
+            mirror: Some((DVec3::X, 0.0)),
+            bulk: Some(centre),
+            ..Cues::default()
+        };
+        let f = frame(&m.positions, cues, &[], Given::default());
+        assert_eq!(f.up, DVec3::Y);
+        assert_eq!(f.front, DVec3::Z * thick_end);
+    }
+    // Nothing enclosed (a sheet seen from both sides), no bulk.
+    let sheet = crate::mesh::Mesh {
+        positions: vec![DVec3::ZERO, DVec3::X, DVec3::Y],
+        triangles: vec![[0, 1, 2], [0, 2, 1]],
+    };
+    assert_eq!(bulk(&sheet), None);
 }
