@@ -135,6 +135,36 @@ impl Labels {
         file.parent().unwrap_or(Path::new(".")).join(&self.mesh)
     }
 
+    /// The labels of the character turned by `turn` about the origin: each joint, each
+    /// free stretch, up and front turned with it.
+    pub fn turned(&self, turn: glam::DQuat) -> Labels {
+        let at = |p: [f64; 3]| (turn * DVec3::from_array(p)).to_array();
+        let axis = |u: crate::mesh::orientation::Up| {
+            crate::mesh::orientation::Up::nearest(turn * u.vector())
+        };
+        Labels {
+            up: Some(axis(self.up.unwrap_or(crate::mesh::orientation::Up::PosY))),
+            front: self.front.map(axis),
+            joints: self
+                .joints
+                .iter()
+                .map(|j| Joint {
+                    at: at(j.at),
+                    ..j.clone()
+                })
+                .collect(),
+            free: self
+                .free
+                .iter()
+                .map(|f| Free {
+                    along: f.along.iter().map(|&p| at(p)).collect(),
+                    ..f.clone()
+                })
+                .collect(),
+            ..self.clone()
+        }
+    }
+
     /// Scores suggested cuts (`name`, pivot) on a character `height` tall.
     pub fn score(&self, cuts: &[(String, DVec3)], height: f64) -> Score {
         let tolerance = TOLERANCE * height;

@@ -53,6 +53,12 @@ pub struct Args {
     /// (a glTF file's +y up and +z front), to measure the suggestion's own cues.
     #[arg(long)]
     ignore_format_axes: bool,
+    /// Turn each character so that the up it is labelled with (+y where it says none)
+    /// becomes this axis, its labels with it, and find up and front from the shape alone
+    /// (as `--ignore-format-axes`): how the cues do on a file modelled with another axis
+    /// up, as CAD and Blender model +z.
+    #[arg(long, value_name = "AXIS", allow_hyphen_values = true)]
+    turn_up: Option<Up>,
     /// Print JSON instead of a Markdown table.
     #[arg(long)]
     json: bool,
@@ -229,6 +235,19 @@ fn measure(name: &str, labels: &Labels, file: &Path, args: &Args, load: &LoadArg
     if let Some(share) = args.jitter {
         mesh = puppet::mesh::shapes::roughen(&mesh, share, args.seed);
     }
+    let turned;
+    let labels = match args.turn_up {
+        Some(to) => {
+            let from = labels.up.unwrap_or(Up::PosY).vector();
+            let turn = glam::DQuat::from_rotation_arc(from, to.vector());
+            for p in &mut mesh.positions {
+                *p = turn * *p;
+            }
+            turned = labels.turned(turn);
+            &turned
+        }
+        None => labels,
+    };
     let height = mesh.longest_side();
     // The skeleton and rig's time, once (a second build would find the skeleton in
     // `skeleton::cache`), then the suggestion's, the median of three.
@@ -241,7 +260,7 @@ fn measure(name: &str, labels: &Labels, file: &Path, args: &Args, load: &LoadArg
     )
     .map_err(|e| anyhow!("{shown}: {e}"))?;
     let ms_skeleton = t.elapsed().as_secs_f64() * 1e3;
-    if args.ignore_format_axes {
+    if args.ignore_format_axes || args.turn_up.is_some() {
         built.ignore_format_axes();
     }
     let (puppet, ms_suggest) = median_of_three(|| {

@@ -145,11 +145,22 @@ pub fn frame(positions: &[DVec3], cues: Cues, limbs: &[Reach], given: Given) -> 
             // (Soles at the end the limbs or the convention put on top, and hardly any
             // flat at the other: that end is down. A cartoon hero's huge head may be the
             // root, its ears the only limbs off the plane, its legs hanging from a child.
-            // A stance is left as it is.)
+            // A stance is left as it is.) `soled_end(u)`: the end along `u` is flat as soles
+            // are, the other not.
             let flat_at = |d: DVec3| AXES.iter().position(|&a| a == d).map_or(0.0, |k| flat[k]);
-            let soles_on_top = |u: DVec3| flat_at(u) >= SOLES && flat_at(-u) <= flat_at(u) / 3.0;
-            let right_way_up = |u: DVec3| if soles_on_top(u) { -u } else { u };
+            let soled_end = |u: DVec3| flat_at(u) >= SOLES && flat_at(-u) <= flat_at(u) / 3.0;
+            let right_way_up = |u: DVec3| if soled_end(u) { -u } else { u };
+            // (Soles at one end along the plane only: that end is down, before what the
+            // limbs say or the convention: a quadruped whose legs are read as a hand's
+            // digits, modelled upside down or z up.)
+            let soled: Vec<DVec3> = axes
+                .iter()
+                .copied()
+                .filter(|&a| a.dot(n).abs() < 0.5 && soled_end(a))
+                .collect();
             if let [down] = standing.as_slice() {
+                -*down
+            } else if let [down] = soled.as_slice() {
                 -*down
             } else if let (false, [down]) = (clearly, on_the_ground.as_slice()) {
                 right_way_up(-*down)

@@ -32,13 +32,17 @@ fn a_bust_with_no_limbs_stands_on_its_flat_base() {
     assert_eq!(cues.mirror, Some((n, o)));
     let f = frame(&bust.positions, cues, &[], Given::default());
     assert_eq!(f.up, DVec3::Z);
-    // A given up wins, and without a base the convention stays.
+    // A given up wins, and with nothing flat the convention stays.
     let given = frame(&bust.positions, cues, &[], Given::with_up(DVec3::X));
     assert_eq!(given.up, DVec3::X);
     assert_eq!(
         frame(
             &bust.positions,
-            Cues { base: None, ..cues },
+            Cues {
+                base: None,
+                flat: [0.0; 6],
+                ..cues
+            },
             &[],
             Given::default()
         )
@@ -412,6 +416,23 @@ fn soles_at_the_end_the_ears_put_on_top_make_it_down() {
     assert_eq!(up_with(0.006, 0.0015), DVec3::Y);
     // Flat at both ends alike: no soles.
     assert_eq!(up_with(0.006, 0.004), DVec3::NEG_Y);
+    // With no limb to read, soles at one end along the plane say down whatever axis
+    // that is; none, the convention (+y).
+    let up_of = |k: usize| {
+        let mut flat = [0.0; 6];
+        flat[k] = 0.01;
+        let cues = Cues {
+            mirror: Some((DVec3::X, 0.0)),
+            flat,
+            ..Cues::default()
+        };
+        frame(&body, cues, &[], Given::default()).up
+    };
+    assert_eq!(up_of(5), DVec3::Z);
+    assert_eq!(up_of(4), DVec3::NEG_Z);
+    assert_eq!(up_of(2), DVec3::NEG_Y);
+    // Across the plane (x) it says nothing.
+    assert_eq!(up_of(1), DVec3::Y);
 }
 
 /// A long body with nothing hanging from it (a fish) faces the end its bulk lies toward:
