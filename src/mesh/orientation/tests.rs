@@ -341,14 +341,7 @@ fn a_long_bodys_finer_end_is_its_front_and_an_upright_ones_is_not() {
 /// `tests/suggest.rs`, a creature with its ears up and an arm raised high.)
 #[test]
 fn three_feet_apart_on_the_ground_say_down() {
-    let body: Vec<DVec3> = [-1.0, 1.0]
-        .into_iter()
-        .flat_map(|x| {
-            [0.0, 4.5]
-                .into_iter()
-                .flat_map(move |y| [-3.0, 3.0].into_iter().map(move |z| DVec3::new(x, y, z)))
-        })
-        .collect();
+    let body = box_corners(4.5, 3.0);
     let limb = |pivot: DVec3, tip: DVec3, end: f64| Reach {
         pivot,
         tip,
@@ -379,17 +372,10 @@ fn three_feet_apart_on_the_ground_say_down() {
 
 /// Two ears hanging up from a root that is all head say "down is +y"; soles at the −y end
 /// (and none on top) turn that round. Flat at both ends, or too little flat to be soles
-/// ([`SOLES`]), the limbs keep their say; a stance keeps its own.
+/// ([`SOLES`]), the limbs keep their say.
 #[test]
 fn soles_at_the_end_the_ears_put_on_top_make_it_down() {
-    let body: Vec<DVec3> = [-1.0, 1.0]
-        .into_iter()
-        .flat_map(|x| {
-            [0.0, 4.0]
-                .into_iter()
-                .flat_map(move |y| [-1.0, 1.0].into_iter().map(move |z| DVec3::new(x, y, z)))
-        })
-        .collect();
+    let body = box_corners(4.0, 1.0);
     let ear = |x: f64| Reach {
         pivot: DVec3::new(x, 3.4, 0.0),
         tip: DVec3::new(x, 4.0, 0.0),
@@ -468,4 +454,18 @@ fn a_body_with_nothing_hanging_faces_where_its_bulk_lies() {
         triangles: vec![[0, 1, 2], [0, 2, 1]],
     };
     assert_eq!(bulk(&sheet), None);
+}
+
+/// The corners of a box from x = −1 to 1, y = 0 to `height`, z = −`half_depth` to
+/// `half_depth`: a body's extent, for the rules that read only that.
+fn box_corners(height: f64, half_depth: f64) -> Vec<DVec3> {
+    let mut corners = Vec::new();
+    for x in [-1.0, 1.0] {
+        for y in [0.0, height] {
+            for z in [-half_depth, half_depth] {
+                corners.push(DVec3::new(x, y, z));
+            }
+        }
+    }
+    corners
 }
