@@ -2,7 +2,7 @@
 //! its mirror plane, its flat base, and how much finer one half of it is modelled than
 //! the other.
 
-use super::{mirror_plane, AXES, BASE_AREA};
+use super::{mirror_plane, AXES, BASE_AREA, SOLES};
 use crate::mesh::Mesh;
 use glam::DVec3;
 
@@ -81,12 +81,25 @@ pub struct Cues {
 
 impl Cues {
     /// The cues of `mesh`, standing along `up` where that is given: its mirror plane then
-    /// holds up, and is read against the surface (see the module docs).
+    /// holds up, and is read against the surface (see the module docs). Where up is not
+    /// given and no plane is found, soles at one end only ([`SOLES`]) stand for it.
     pub fn of(mesh: &Mesh, up: Option<DVec3>) -> Cues {
         let surface: &[[u32; 3]] = if up.is_some() { &mesh.triangles } else { &[] };
         let flat = flat_ends(mesh);
+        // Without up and without a plane, soles at one end only stand for up: the two
+        // planes that hold it are tried against the surface (a low-poly animal with its
+        // head turned has its plane).
+        let mirror = mirror_plane(&mesh.positions, surface, up).or_else(|| {
+            let soled: Vec<usize> = (0..6)
+                .filter(|&k| flat[k] >= SOLES && flat[k ^ 1] <= flat[k] / 3.0)
+                .collect();
+            match (up, soled.as_slice()) {
+                (None, [k]) => mirror_plane(&mesh.positions, &mesh.triangles, Some(-AXES[*k])),
+                _ => None,
+            }
+        });
         Cues {
-            mirror: mirror_plane(&mesh.positions, surface, up),
+            mirror,
             base: base_of(&flat),
             flat,
             bulk: bulk(mesh),

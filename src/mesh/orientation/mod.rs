@@ -11,7 +11,9 @@
 //!   on (a low-poly side triangulated one way on the left and another on the right, a
 //!   head turned a little). Without it, a vertex: the surface is the looser test, and a
 //!   flat-bodied fish is nearly as alike above and below as left and right, so it could
-//!   pass for a plane across up where its left and right, bent as it swims, do not.
+//!   pass for a plane across up where its left and right, bent as it swims, do not. Where
+//!   that finds none, soles at one end only ([`SOLES`]) stand for up, and the surface test
+//!   is tried on the two planes that hold it (a low-poly alpaca with its head turned).
 //! * **Up.** Given (`--up`, the rig file's `up`, a glTF file's +y: `Puppet` passes it), or
 //!   found: of the axis directions along the mirror plane, the one three feet or more
 //!   stand on the ground along, apart, when only one has them ([`STANDING`], [`APART`]);
