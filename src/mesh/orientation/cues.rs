@@ -46,6 +46,21 @@ pub fn flat_ends(mesh: &Mesh) -> [f64; 6] {
     }
 }
 
+/// Is the end along `AXES[k]` flat as soles are ([`SOLES`] of the area at least, the
+/// opposite end a third of that or less)? `flat` as [`flat_ends`] gives it.
+pub(super) fn soled(flat: &[f64; 6], k: usize) -> bool {
+    flat[k] >= SOLES && flat[k ^ 1] <= flat[k] / 3.0
+}
+
+/// The way down where exactly one axis direction's end is flat as soles are ([`soled`]).
+pub fn soles(flat: &[f64; 6]) -> Option<DVec3> {
+    let mut ends = (0..6).filter(|&k| soled(flat, k));
+    match (ends.next(), ends.next()) {
+        (Some(k), None) => Some(AXES[k]),
+        _ => None,
+    }
+}
+
 /// The outward normal of the mesh's flat base, if it has one: of the six axis directions,
 /// the one whose flat faces at the mesh's far end that way cover the most area
 /// ([`flat_ends`]), when that is at least [`BASE_AREA`] of the whole.
@@ -89,14 +104,10 @@ impl Cues {
         // Without up and without a plane, soles at one end only stand for up: the two
         // planes that hold it are tried against the surface (a low-poly animal with its
         // head turned has its plane).
-        let mirror = mirror_plane(&mesh.positions, surface, up).or_else(|| {
-            let soled: Vec<usize> = (0..6)
-                .filter(|&k| flat[k] >= SOLES && flat[k ^ 1] <= flat[k] / 3.0)
-                .collect();
-            match (up, soled.as_slice()) {
-                (None, [k]) => mirror_plane(&mesh.positions, &mesh.triangles, Some(-AXES[*k])),
-                _ => None,
-            }
+        let mirror = mirror_plane(&mesh.positions, surface, up).or_else(|| match up {
+            None => soles(&flat)
+                .and_then(|down| mirror_plane(&mesh.positions, &mesh.triangles, Some(-down))),
+            Some(_) => None,
         });
         Cues {
             mirror,

@@ -3,8 +3,9 @@
 
 use super::{
     head_of, Cues, Frame, Given, Reach, APART, AXES, BULK, DETAIL, FEET, FRONT_END, GROUND, LONG,
-    OFF_PLANE, SOLES, STANDING, TAIL_END, TOES,
+    OFF_PLANE, STANDING, TAIL_END, TOES,
 };
+use super::{soled, soles};
 use glam::DVec3;
 
 /// The frame of a mesh with the cues `cues` whose root has `limbs` (see the module docs);
@@ -39,7 +40,10 @@ pub fn frame(positions: &[DVec3], cues: Cues, limbs: &[Reach], given: Given) -> 
         .filter(|u| mirror.is_none_or(|(n, _)| u.dot(n).abs() < 0.5));
     let up = match (given.up, mirror) {
         (Some(u), _) => u.normalize_or(DVec3::Y),
-        (None, None) => base_up.unwrap_or(DVec3::Y),
+        // Without a plane, soles at one end only say down where no base does.
+        (None, None) => base_up
+            .or_else(|| soles(&flat).map(|down| -down))
+            .unwrap_or(DVec3::Y),
         (None, Some(_)) if base_up.is_some() && off.is_empty() => base_up.unwrap_or(DVec3::Y),
         (None, Some((n, _))) => {
             // How well each direction across the plane does as down, by where the tips
@@ -147,8 +151,11 @@ pub fn frame(positions: &[DVec3], cues: Cues, limbs: &[Reach], given: Given) -> 
             // root, its ears the only limbs off the plane, its legs hanging from a child.
             // A stance is left as it is.) `soled_end(u)`: the end along `u` is flat as soles
             // are, the other not.
-            let flat_at = |d: DVec3| AXES.iter().position(|&a| a == d).map_or(0.0, |k| flat[k]);
-            let soled_end = |u: DVec3| flat_at(u) >= SOLES && flat_at(-u) <= flat_at(u) / 3.0;
+            let soled_end = |u: DVec3| {
+                AXES.iter()
+                    .position(|&a| a == u)
+                    .is_some_and(|k| soled(&flat, k))
+            };
             let right_way_up = |u: DVec3| if soled_end(u) { -u } else { u };
             // (Soles at one end along the plane only: that end is down, before what the
             // limbs say or the convention: a quadruped whose legs are read as a hand's

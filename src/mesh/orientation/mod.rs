@@ -21,7 +21,7 @@
 //!   the mesh's centre, the legs hanging down, each limb counted as much as it is thick (legs carry the body; an armadillo's ears and raised arm say less).
 //!   With no mirror plane or no limb off it, a flat base at the mesh's far end along an
 //!   axis ([`BASE_AREA`] of its area: a bust's, a statue's) faces down, if that axis lies along
-//!   the plane. Else, when the limbs do not clearly hang, and two pairs or more all end
+//!   the plane; with no plane and no base, soles at one end only ([`soles`]) do. Else, when the limbs do not clearly hang, and two pairs or more all end
 //!   within [`FEET`] of the mesh's far end along one axis only, that way is down (a
 //!   lizard's, an insect's sprawled feet on the ground). Else, without a plane, when +y
 //!   does nearly as well, or when the limbs do not clearly hang along it, +y (the OBJ and
@@ -49,7 +49,8 @@
 //! Files: `cues` (the mirror plane, the flat base, how finely each half is modelled:
 //! what the first stage reads), `frame` (up, front and left: the fifth stage), `tests`.
 pub use crate::mesh::mirror::{image, mirror_plane, reflect, MIRRORED};
-pub use cues::{bulk, detail, flat_base, flat_ends, Cues};
+use cues::soled;
+pub use cues::{bulk, detail, flat_base, flat_ends, soles, Cues};
 pub use frame::frame;
 use glam::DVec3;
 

@@ -419,6 +419,18 @@ fn soles_at_the_end_the_ears_put_on_top_make_it_down() {
     assert_eq!(up_of(2), DVec3::NEG_Y);
     // Across the plane (x) it says nothing.
     assert_eq!(up_of(1), DVec3::Y);
+    // With no plane at all, soles at one end only say down; at two, nothing does.
+    let no_plane = |flat: [f64; 6]| {
+        let cues = Cues {
+            flat,
+            ..Cues::default()
+        };
+        frame(&body, cues, &[], Given::default()).up
+    };
+    assert_eq!(soles(&[0.0, 0.0, 0.0, 0.0, 0.0, 0.01]), Some(DVec3::NEG_Z));
+    assert_eq!(no_plane([0.0, 0.0, 0.0, 0.0, 0.0, 0.01]), DVec3::Z);
+    assert_eq!(soles(&[0.01, 0.0, 0.0, 0.0, 0.0, 0.01]), None);
+    assert_eq!(no_plane([0.01, 0.0, 0.0, 0.0, 0.0, 0.01]), DVec3::Y);
 }
 
 /// A long body with nothing hanging from it (a fish) faces the end its bulk lies toward:
