@@ -160,14 +160,14 @@ pub fn frame(positions: &[DVec3], cues: Cues, limbs: &[Reach], given: Given) -> 
             // (Soles at one end along the plane only: that end is down, before what the
             // limbs say or the convention: a quadruped whose legs are read as a hand's
             // digits, modelled upside down or z up.)
-            let soled: Vec<DVec3> = axes
+            let soled_ends: Vec<DVec3> = axes
                 .iter()
                 .copied()
                 .filter(|&a| a.dot(n).abs() < 0.5 && soled_end(a))
                 .collect();
             if let [down] = standing.as_slice() {
                 -*down
-            } else if let [down] = soled.as_slice() {
+            } else if let [down] = soled_ends.as_slice() {
                 -*down
             } else if let (false, [down]) = (clearly, on_the_ground.as_slice()) {
                 right_way_up(-*down)
