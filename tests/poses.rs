@@ -100,11 +100,11 @@ fn beyond_volume(table: &str) -> usize {
 /// BENCHMARKS' claims on the 45 downloads of `tests/data/population` (20 seeds each,
 /// settled, the joints suggested from the skeleton): no pose gives a NaN, no edge
 /// stretches past 3× (the adventurer's, 2.98×), all 45 characters stay within 3× on
-/// every pose, and at most 68 poses change a section's volume by more than 5 % (what
+/// every pose, and at most 67 poses change a section's volume by more than 5 % (what
 /// each change did to that count: `docs/performance-log.md`). Half a minute in CI.
 #[test]
 fn the_downloads_poses_hold_what_benchmarks_says() {
-    holds("tests/data/population", 45, 3.0, 0, 45, 68);
+    holds("tests/data/population", 45, 3.0, 0, 45, 67);
 }
 
 /// BENCHMARKS' claims on the 12 characters in pieces of `tests/data/pieces` (20 seeds

@@ -11,7 +11,10 @@
 //! * **A head on the shoulders.** A biped (arms hanging well above its legs) whose head
 //!   nothing cuts, a head as wide as the chest it sits on (Homer's), is cut across up at the
 //!   top of its shoulders, when what lies above is at least as tall as the slice there is
-//!   wide and no taller than the character below it; the ears on it turn with it (`head`).
+//!   wide and no taller than the character below it; the ears on it turn with it. A
+//!   quadruped (forelegs standing well ahead of its hind legs) whose head nothing cuts (a
+//!   wolf's, as thick as its chest all the way) is cut across its front a foreleg's width
+//!   ahead of its shoulders: its `neck`, with the head and ears on it (`head`).
 
 mod body;
 mod head;
@@ -93,8 +96,9 @@ pub(crate) fn fit(
         }
         .rounded();
     }
-    // A biped's head on its body with no neck to cut at turns at the top of its shoulders.
-    head::on_the_shoulders(character, points, blank, root, cuts, frame.up, balls)
+    // A biped's head on its body with no neck to cut at turns at the top of its shoulders;
+    // a quadruped's head and neck that nothing cuts, ahead of them.
+    head::on_the_shoulders(character, points, blank, root, cuts, frame, balls)
 }
 
 #[cfg(test)]
