@@ -663,15 +663,16 @@ fn an_elbow_bent_with_the_mouse_bends_and_settles() {
     assert!(w.quit().success());
 }
 
-/// A head nodded with the mouse keeps its skin whole: the human with its suggested joints
-/// (the head's cut runs across the face), the head dragged about 45°, settled; no edge of
+/// A head nodded with the mouse keeps its skin whole: the human, opened without a rig, opens
+/// with its suggested joints (the head's cut runs across the face), the head dragged about 45°, settled; no edge of
 /// the surface stretches past 3× (without the bands blended over the surface,
 /// `joints::blend`, the lips tear).
 #[test]
 fn a_head_nodded_with_the_mouse_keeps_its_skin_whole() {
     let dir = common::scratch("window-nod");
     let mesh = common::test_mesh("human.obj");
-    let mut w = common::Window::open(&dir, &[mesh.to_str().unwrap(), "--suggest-joints"]);
+    // A mesh opened without a rig opens with its suggested joints.
+    let mut w = common::Window::open(&dir, &[mesh.to_str().unwrap()]);
     let r = w.wait(
         |r| r["targets"]["head"].is_array(),
         "the head to be drawn with its suggested joints",

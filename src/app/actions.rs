@@ -25,8 +25,14 @@ pub enum KeyOutcome {
 
 impl WindowState {
     /// Starts loading a mesh (or the current one with a new rig) in the background; the
-    /// current puppet stays until the new one is ready.
+    /// current puppet stays until the new one is ready. A mesh opened without a rig opens
+    /// ready to play: with its suggested joints (a skinned file's own), as the embedded cow
+    /// does.
     pub fn start_loading(&mut self, path: Option<PathBuf>, rig_file: Option<RigFile>) {
+        let after = AfterLoad {
+            suggest: rig_file.is_none(),
+            ..AfterLoad::default()
+        };
         let rig_file = rig_file.unwrap_or_else(|| {
             let mut rig_file = self
                 .session
@@ -41,7 +47,7 @@ impl WindowState {
             Some(p) => {
                 self.settings.opened(&p);
                 self.panel.recent = self.settings.recent.clone();
-                self.loader = Some(Loader::open(p, rig_file, self.load));
+                self.loader = Some(Loader::open(p, rig_file, self.load, after));
             }
             None => {
                 if let Some(s) = &self.session {

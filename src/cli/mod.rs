@@ -64,8 +64,8 @@ pub struct Cli {
     /// Test hook: drag the last section with synthetic mouse events before the screenshot.
     #[arg(long, hide = true)]
     pub drive_test: bool,
-    /// Open with the joints the skeleton suggests (the default for the embedded cow when
-    /// no rig is given).
+    /// Open with the joints the skeleton suggests, or a skinned file's own, even over a
+    /// rig's cuts (the default when no rig is given).
     #[arg(long)]
     pub suggest_joints: bool,
     /// Write what the window shows (JSON) to this file whenever the puppet settles and when
@@ -346,8 +346,9 @@ fn open(cli: &Cli) -> Result<()> {
         // The window then knows nothing of the skin: our own suggestion, no clips.
         load_report.skin = None;
     }
-    // The embedded cow opens ready to play: with its suggested joints.
-    let suggest = cli.suggest_joints || (mesh_path.is_none() && cli.rig.is_none());
+    // A mesh opened without a rig opens ready to play: with its suggested joints (a skinned
+    // file's own), as the embedded cow does.
+    let suggest = cli.suggest_joints || cli.rig.is_none();
     let report = puppet::app::run(puppet::app::Options {
         mesh,
         load_report: Some(load_report),

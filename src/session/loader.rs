@@ -131,9 +131,15 @@ pub enum Status {
 }
 
 impl Loader {
-    /// Reads, repairs, validates and builds `path` (errors name the file as given).
-    pub fn open(path: PathBuf, rig_file: RigFile, options: LoadOptions) -> Loader {
-        Loader::spawn(AfterLoad::default(), move |progress| {
+    /// Reads, repairs, validates and builds `path` (errors name the file as given), then
+    /// does what `after` asks.
+    pub fn open(
+        path: PathBuf,
+        rig_file: RigFile,
+        options: LoadOptions,
+        after: AfterLoad,
+    ) -> Loader {
+        Loader::spawn(after, move |progress| {
             let given = path.display().to_string();
             let (mesh, report) =
                 mesh::load_with(&path, &options, progress).map_err(|error| LoadError::Mesh {
@@ -263,10 +269,15 @@ mod tests {
         let bad = dir.join("open.obj");
         std::fs::write(&bad, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
         let options = LoadOptions { fill_holes: 0 };
-        let err = wait(Loader::open(bad.clone(), RigFile::default(), options))
-            .err()
-            .unwrap()
-            .to_string();
+        let err = wait(Loader::open(
+            bad.clone(),
+            RigFile::default(),
+            options,
+            AfterLoad::default(),
+        ))
+        .err()
+        .unwrap()
+        .to_string();
         assert!(err.starts_with(&bad.display().to_string()), "{err}");
         assert!(err.contains("boundary edges"), "{err}");
         let good = crate::mesh::shapes::icosphere(1.0, 2);
