@@ -980,7 +980,7 @@ fn fan_turns_of(
 }
 
 /// Which sides of a fan slide (`joints::slide`): a limb's side under a turning child does
-/// (the dog's thighs under their shins), a trunk's does not (the dog's body under its legs
+/// (the dog's thighs under their hind feet, turned at the hock), a trunk's does not (the dog's body under its legs
 /// and head), nor the head's under the example's frog jaw, hinged at its cut's rim.
 #[test]
 fn a_limbs_side_slides_a_trunks_and_a_rim_hinges_do_not() {
@@ -991,9 +991,9 @@ fn a_limbs_side_slides_a_trunks_and_a_rim_hinges_do_not() {
         let band = p.joints.bands().iter().flatten().find(|b| b.child == s);
         band.expect("a band").clone()
     };
-    for shin in ["shin.L", "shin.R"] {
-        let b = band(&dog, shin);
-        assert!(!b.arc && b.parent_slide.length() > 0.0, "{shin}: {}", b.arc);
+    for foot in ["foot.L", "foot.R"] {
+        let b = band(&dog, foot);
+        assert!(!b.arc && b.parent_slide.length() > 0.0, "{foot}: {}", b.arc);
     }
     for on_trunk in ["leg.L", "leg.R", "head"] {
         let b = band(&dog, on_trunk);

@@ -1,10 +1,10 @@
-//! Down one limb: its chain of names (`arm`, `forearm`, `hand`; `leg`, `shin`, `foot`;
-//! `neck`, `head`) and what branches from it: the digits of a hand or a foot, a head's ears,
+//! Down one limb: its chain of names (`arm`, `forearm`, `hand`; `leg`, `shin`, `foot`, or
+//! `leg`, `foot` where the joint below the hip points back, a hock; `neck`, `head`) and what branches from it: the digits of a hand or a foot, a head's ears,
 //! horns and antennae.
 
 use super::naming::{short, Naming};
 use super::tagged;
-use crate::joints::suggest::rules::{ANTENNA, SLENDER};
+use crate::joints::suggest::rules::{ANTENNA, HOCK, SLENDER};
 use glam::DVec3;
 
 impl Naming<'_> {
@@ -14,11 +14,18 @@ impl Naming<'_> {
         let list = family.names();
         let mut at = s;
         let mut k = 0;
+        // A leg's next joint that points back is its ankle (a hock): its foot, with the
+        // knee hidden in the body above it.
+        let mut skip = 0;
         loop {
-            let base = if k < list.len() {
-                list[k].clone()
+            if family == Family::Leg && k == 1 && self.points_back(s, at) {
+                skip = 1;
+            }
+            let n = k + skip;
+            let base = if n < list.len() {
+                list[n].clone()
             } else {
-                format!("{}.{}", list[list.len() - 1], k - list.len() + 2)
+                format!("{}.{}", list[list.len() - 1], n - list.len() + 2)
             };
             self.names[at] = Some(tagged(&base, tag));
             match self.children[at].as_slice() {
@@ -226,6 +233,62 @@ impl Naming<'_> {
                 }
             }
         }
+    }
+
+    /// Whether the joint at the top of section `at`, the next down a leg from section `s`,
+    /// points back by more than [`HOCK`] ([`Naming::bend`]): a hock, the ankle, with the
+    /// knee hidden in the body above it (a knee points ahead, or not at all). A leg with a
+    /// mirror image (the other leg of the pair) is measured with it, so both get one name.
+    fn points_back(&self, s: usize, at: usize) -> bool {
+        let Some(own) = self.bend(s, at) else {
+            return false;
+        };
+        // The other leg: the section beside `s` nearest its mirror image, and its one part.
+        let other = self.frame.mirror.and_then(|plane| {
+            let parent = self.sections[s].parent?;
+            let image = crate::mesh::mirror::image(plane, self.sections[s].pivot);
+            let twin = (self.children[parent].iter().copied())
+                .filter(|&c| c != s)
+                .min_by(|&a, &b| {
+                    let d = |c: usize| self.sections[c].pivot.distance(image);
+                    d(a).total_cmp(&d(b))
+                })?;
+            let near = self.sections[twin].pivot.distance(image) <= self.reach(s).end;
+            match self.children[twin].as_slice() {
+                [next] if near => self.bend(twin, *next),
+                _ => None,
+            }
+        });
+        let bend = other.map_or(own, |o| 0.5 * (own + o));
+        bend < -HOCK
+    }
+
+    /// How far ahead the joint at the top of section `at` (the next down a limb from
+    /// section `s`) points: `(upper − lower) · front`, the unit directions from `s`'s pivot
+    /// to `at`'s and from `at`'s to the next joint's (or, at the limb's end, to the middle
+    /// of `at`'s own vertices). `None` where it has none.
+    fn bend(&self, s: usize, at: usize) -> Option<f64> {
+        let (top, joint) = (self.sections[s].pivot, self.sections[at].pivot);
+        let upper = (joint - top).normalize_or_zero();
+        let below = match self.children[at].as_slice() {
+            [next] => self.sections[*next].pivot,
+            kids => {
+                let under: std::collections::HashSet<usize> = kids
+                    .iter()
+                    .flat_map(|&c| self.within[c].iter().copied())
+                    .collect();
+                let own: Vec<DVec3> = (self.within[at].iter())
+                    .filter(|v| !under.contains(v))
+                    .map(|&v| self.mesh.positions[v])
+                    .collect();
+                if own.is_empty() {
+                    return None;
+                }
+                own.iter().sum::<DVec3>() / own.len() as f64
+            }
+        };
+        let lower = (below - joint).normalize_or_zero();
+        Some((upper - lower).dot(self.frame.front))
     }
 
     /// Names a digit's chain: `index`, `index.2`, `index.3`….

@@ -22,8 +22,8 @@
 //!   with no head, a short one (a snout on a head not cut from the body) is no joint, and
 //!   so is one with nothing of its own on a root that carries ears (the head is part of
 //!   the body: a cat's or a wolf's muzzle, however thick it ends).
-//!   Down a limb the names go on: `arm`, `forearm`, `hand`; `leg`, `shin`, `foot`; `neck`,
-//!   `head`; four or five digits of a hand are `thumb`, `index`, `middle`, `ring`,
+//!   Down a limb the names go on: `arm`, `forearm`, `hand`; `leg`, `shin`, `foot` (`leg`,
+//!   `foot` where the joint below the hip points back: a hock, `HOCK`); `neck`, `head`; four or five digits of a hand are `thumb`, `index`, `middle`, `ring`,
 //!   `little` (the thumb the one turned most from the others), of a foot `toe1`….
 //!   A neck's one short part with none of its own, thin beside it (a snout, a beak turned
 //!   aside), is the head's end, no joint, and the neck is the `head`.
