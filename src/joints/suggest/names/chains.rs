@@ -125,6 +125,30 @@ impl Naming<'_> {
             && self.reach(c).end <= SLENDER * self.reach(at).end
     }
 
+    /// A head's feelers ([`Naming::feeler`]) are an insect's, on a body whose legs are
+    /// numbered (three pairs or more): on any other, a head's long thin parts off the plane
+    /// are its ears (a donkey's, a fox's), unless an ear of that name is there already.
+    pub(super) fn ears_unless_insect(&mut self) {
+        let insect = self.names.iter().flatten().any(|n| {
+            n.strip_prefix("leg")
+                .is_some_and(|rest| rest.starts_with(|c: char| c.is_ascii_digit()))
+        });
+        if insect {
+            return;
+        }
+        let taken: std::collections::HashSet<String> =
+            self.names.iter().flatten().cloned().collect();
+        for name in self.names.iter_mut().flatten() {
+            if let Some(rest) = name.strip_prefix("antenna") {
+                let ear = format!("ear{rest}");
+                // (Not where an ear of that name is already: each name once.)
+                if !taken.contains(&ear) {
+                    *name = ear;
+                }
+            }
+        }
+    }
+
     /// Whether head part `c` is a feeler (an insect's antenna, not an ear or a horn): at
     /// least [`ANTENNA`] times as long as its far half is thick, and that far half round,
     /// no wider across than thick (a big flat ear is long against its thickness too).

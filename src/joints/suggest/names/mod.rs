@@ -173,6 +173,7 @@ pub(crate) fn roles(
     let reaches: Vec<Reach> = limbs.iter().map(|l| l.1).collect();
     naming.frame = frame(&mesh.positions, cues, &reaches, given);
     naming.root(&limbs);
+    naming.ears_unless_insect();
     Roles {
         names: naming.names,
         frame: naming.frame,
