@@ -187,5 +187,5 @@ pub(crate) const TWICE: f64 = 0.1;
 /// above and below it, in the frame the names are given in. Chosen on the development
 /// half of `bench suggest`: the hocks the artists name `foot` (a dog's, a low-poly cow's
 /// and horse's) point back by 0.38–0.77 (a pair's mean), the knees they name `shin` by at
-/// most 0.28 (a trex's, a rat's; a standing person's 0.05–0.13): 0.33, between them.
+/// most 0.28 (a trex's, a rat's; a standing person's within ±0.18): 0.33, between them.
 pub(crate) const HOCK: f64 = 0.33;

@@ -1,6 +1,7 @@
 //! Down one limb: its chain of names (`arm`, `forearm`, `hand`; `leg`, `shin`, `foot`, or
-//! `leg`, `foot` where the joint below the hip points back, a hock; `neck`, `head`) and what branches from it: the digits of a hand or a foot, a head's ears,
-//! horns and antennae.
+//! `leg`, `foot` where the joint below the hip points back, a hock; `neck`, `head`) and
+//! what branches from it: the digits of a hand or a foot, a head's ears, horns and
+//! antennae.
 
 use super::naming::{short, Naming};
 use super::tagged;

@@ -23,8 +23,10 @@
 //!   so is one with nothing of its own on a root that carries ears (the head is part of
 //!   the body: a cat's or a wolf's muzzle, however thick it ends).
 //!   Down a limb the names go on: `arm`, `forearm`, `hand`; `leg`, `shin`, `foot` (`leg`,
-//!   `foot` where the joint below the hip points back: a hock, `HOCK`); `neck`, `head`; four or five digits of a hand are `thumb`, `index`, `middle`, `ring`,
-//!   `little` (the thumb the one turned most from the others), of a foot `toe1`….
+//!   `foot` where the joint below the hip points back: a hock, `HOCK`); `neck`, `head`;
+//!   four or five digits of a hand are `thumb`, `index`, `middle`, `ring`, `little` (the
+//!   thumb the one turned most from the others), of a foot `toe1`…. A head's feelers are
+//!   an insect's antennae; on a body whose legs are not numbered, ears.
 //!   A neck's one short part with none of its own, thin beside it (a snout, a beak turned
 //!   aside), is the head's end, no joint, and the neck is the `head`.
 //!   A head's parts off the plane are ears; with two on a side, the one pointing most up
