@@ -30,7 +30,12 @@ impl Naming<'_> {
             };
             self.names[at] = Some(tagged(&base, tag));
             match self.children[at].as_slice() {
-                [] => return,
+                [] => {
+                    if family == Family::Leg && skip == 0 && k >= 3 {
+                        self.foot_ahead(s, at, tag);
+                    }
+                    return;
+                }
                 // A lone part with none of its own, at most SLENDER as thick as the limb it
                 // hangs from, is a digit on it (a thumb on an arm whose hand is not cut),
                 // not the limb's next stretch.
@@ -64,6 +69,9 @@ impl Naming<'_> {
             }
         }
         if family != Family::Neck {
+            if family == Family::Leg && skip == 0 && k >= 3 {
+                self.foot_ahead(s, at, tag);
+            }
             self.digits(at, tag);
             return;
         }
@@ -260,6 +268,86 @@ impl Naming<'_> {
         }
     }
 
+    /// A leg's chain from section `s` down to `at`, longer than its three names: its `foot`
+    /// is the first part below the knee that points ahead more than down (a foot off its
+    /// ankle: a person's leg cut at a boot's top and at the ankle), the parts between the
+    /// knee and it `shin.2`…, those below it `foot.2`…. A leg with a mirror image (the
+    /// other of the pair) is renamed only where the other's foot is found at the same
+    /// place down its chain, so the pair keeps one set of names.
+    fn foot_ahead(&mut self, s: usize, at: usize, tag: &str) {
+        let mut path = vec![at];
+        while let Some(&last) = path.last() {
+            if last == s {
+                break;
+            }
+            match self.sections[last].parent {
+                Some(p) => path.push(p),
+                None => return,
+            }
+        }
+        path.reverse();
+        let Some(foot) = self.ahead_at(&path) else {
+            return;
+        };
+        if let Some(twin) = self.twin(s) {
+            // The other leg's chain, down its single parts.
+            let mut other = vec![twin];
+            while let [next] = self.children[other[other.len() - 1]].as_slice() {
+                other.push(*next);
+            }
+            if other.len() != path.len() || self.ahead_at(&other) != Some(foot) {
+                return;
+            }
+        }
+        for (i, &c) in path.iter().enumerate().skip(2) {
+            let name = if i < foot {
+                format!("shin.{i}")
+            } else if i == foot {
+                "foot".to_string()
+            } else {
+                format!("foot.{}", i - foot + 1)
+            };
+            self.names[c] = Some(tagged(&name, tag));
+        }
+    }
+
+    /// Down a leg's chain `path` (hip first), the first part below the knee whose own
+    /// vertices lie more ahead of its pivot than below it.
+    fn ahead_at(&self, path: &[usize]) -> Option<usize> {
+        let (up, front) = (self.frame.up, self.frame.front);
+        (2..path.len()).find(|&i| {
+            let c = path[i];
+            let under: std::collections::HashSet<usize> = self.children[c]
+                .iter()
+                .flat_map(|&k| self.within[k].iter().copied())
+                .collect();
+            let own: Vec<DVec3> = (self.within[c].iter())
+                .filter(|v| !under.contains(v))
+                .map(|&v| self.mesh.positions[v])
+                .collect();
+            if own.is_empty() {
+                return false;
+            }
+            let d = own.iter().sum::<DVec3>() / own.len() as f64 - self.sections[c].pivot;
+            d.dot(front) > -d.dot(up)
+        })
+    }
+
+    /// The section beside `s` (of its parent) nearest its mirror image, within the
+    /// thickness of `s`'s far half: the other limb of its pair.
+    fn twin(&self, s: usize) -> Option<usize> {
+        let plane = self.frame.mirror?;
+        let parent = self.sections[s].parent?;
+        let image = crate::mesh::mirror::image(plane, self.sections[s].pivot);
+        let twin = (self.children[parent].iter().copied())
+            .filter(|&c| c != s)
+            .min_by(|&a, &b| {
+                let d = |c: usize| self.sections[c].pivot.distance(image);
+                d(a).total_cmp(&d(b))
+            })?;
+        (self.sections[twin].pivot.distance(image) <= self.reach(s).end).then_some(twin)
+    }
+
     /// Whether the joint at the top of section `at`, the next down a leg from section `s`,
     /// points back by more than [`HOCK`] ([`Naming::bend`]): a hock, the ankle, with the
     /// knee hidden in the body above it (a knee points ahead, or not at all). A leg with a
@@ -268,22 +356,13 @@ impl Naming<'_> {
         let Some(own) = self.bend(s, at) else {
             return false;
         };
-        // The other leg: the section beside `s` nearest its mirror image, and its one part.
-        let other = self.frame.mirror.and_then(|plane| {
-            let parent = self.sections[s].parent?;
-            let image = crate::mesh::mirror::image(plane, self.sections[s].pivot);
-            let twin = (self.children[parent].iter().copied())
-                .filter(|&c| c != s)
-                .min_by(|&a, &b| {
-                    let d = |c: usize| self.sections[c].pivot.distance(image);
-                    d(a).total_cmp(&d(b))
-                })?;
-            let near = self.sections[twin].pivot.distance(image) <= self.reach(s).end;
-            match self.children[twin].as_slice() {
-                [next] if near => self.bend(twin, *next),
+        // The other leg, and its one part.
+        let other = self
+            .twin(s)
+            .and_then(|twin| match self.children[twin].as_slice() {
+                [next] => self.bend(twin, *next),
                 _ => None,
-            }
-        });
+            });
         let bend = other.map_or(own, |o| 0.5 * (own + o));
         bend < -HOCK
     }

@@ -23,7 +23,8 @@
 //!   so is one with nothing of its own on a root that carries ears (the head is part of
 //!   the body: a cat's or a wolf's muzzle, however thick it ends).
 //!   Down a limb the names go on: `arm`, `forearm`, `hand`; `leg`, `shin`, `foot` (`leg`,
-//!   `foot` where the joint below the hip points back: a hock, `HOCK`); `neck`, `head`;
+//!   `foot` where the joint below the hip points back: a hock, `HOCK`; a leg cut more
+//!   often has its `foot` at the first part below the knee that points ahead); `neck`, `head`;
 //!   four or five digits of a hand are `thumb`, `index`, `middle`, `ring`, `little` (the
 //!   thumb the one turned most from the others), of a foot `toe1`…. A head's feelers are
 //!   an insect's antennae; on a body whose legs are not numbered, ears.
