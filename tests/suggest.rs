@@ -753,15 +753,20 @@ fn a_long_leg_s_foot_is_the_part_that_points_ahead() {
     let mut p = Puppet::build(m, RigFile::default(), puppet::progress::silent()).unwrap();
     p.ignore_skin = true;
     p.suggest_joints().unwrap();
-    let height = p.mesh.longest_side();
     for side in ["L", "R"] {
         let name = format!("foot.{side}");
-        let at = p.joints.sections()[section(&p, &name)].pivot;
-        let label = labels.joints.iter().find(|j| j.role == name).unwrap();
-        let off = at.distance(glam::DVec3::from(label.at));
-        assert!(off <= 0.05 * height, "{name} at {at}, {off:.3} off");
+        let off = off_its_label(&p, &labels, &name);
+        assert!(off <= 0.05, "{name}: {off:.3} of the height off");
         section(&p, &format!("shin.2.{side}"));
     }
+}
+
+/// How far section `name`'s pivot lies from the labelled joint of that role, as a share of
+/// the height.
+fn off_its_label(p: &Puppet, labels: &Labels, name: &str) -> f64 {
+    let at = p.joints.sections()[section(p, name)].pivot;
+    let label = labels.joints.iter().find(|j| j.role == name).unwrap();
+    at.distance(glam::DVec3::from(label.at)) / p.mesh.longest_side()
 }
 
 /// A leg's joint below the hip that points back is its ankle (a hock), named `foot` as the
@@ -778,15 +783,12 @@ fn a_hind_leg_bent_back_below_the_hip_turns_at_its_foot() {
         ("dino", "shin"),
     ] {
         let (labels, p) = labelled(character);
-        let height = p.mesh.longest_side();
         for side in ["L", "R"] {
             let name = format!("{role}.{side}");
-            let at = p.joints.sections()[section(&p, &name)].pivot;
-            let label = labels.joints.iter().find(|j| j.role == name).unwrap();
-            let off = at.distance(glam::DVec3::from(label.at));
+            let off = off_its_label(&p, &labels, &name);
             assert!(
-                off <= 0.05 * height,
-                "{character}'s {name} at {at}, {off:.3} from the artist's"
+                off <= 0.05,
+                "{character}'s {name}: {off:.3} of the height from the artist's"
             );
         }
     }

@@ -317,20 +317,25 @@ impl Naming<'_> {
         let (up, front) = (self.frame.up, self.frame.front);
         (2..path.len()).find(|&i| {
             let c = path[i];
-            let under: std::collections::HashSet<usize> = self.children[c]
-                .iter()
-                .flat_map(|&k| self.within[k].iter().copied())
-                .collect();
-            let own: Vec<DVec3> = (self.within[c].iter())
-                .filter(|v| !under.contains(v))
-                .map(|&v| self.mesh.positions[v])
-                .collect();
-            if own.is_empty() {
-                return false;
-            }
-            let d = own.iter().sum::<DVec3>() / own.len() as f64 - self.sections[c].pivot;
-            d.dot(front) > -d.dot(up)
+            self.own_middle(c).is_some_and(|m| {
+                let d = m - self.sections[c].pivot;
+                d.dot(front) > -d.dot(up)
+            })
         })
+    }
+
+    /// The middle of section `c`'s own vertices (not those of what hangs from it); `None`
+    /// where it has none.
+    fn own_middle(&self, c: usize) -> Option<DVec3> {
+        let under: std::collections::HashSet<usize> = self.children[c]
+            .iter()
+            .flat_map(|&k| self.within[k].iter().copied())
+            .collect();
+        let own: Vec<DVec3> = (self.within[c].iter())
+            .filter(|v| !under.contains(v))
+            .map(|&v| self.mesh.positions[v])
+            .collect();
+        (!own.is_empty()).then(|| own.iter().sum::<DVec3>() / own.len() as f64)
     }
 
     /// The section beside `s` (of its parent) nearest its mirror image, within the
@@ -376,20 +381,7 @@ impl Naming<'_> {
         let upper = (joint - top).normalize_or_zero();
         let below = match self.children[at].as_slice() {
             [next] => self.sections[*next].pivot,
-            kids => {
-                let under: std::collections::HashSet<usize> = kids
-                    .iter()
-                    .flat_map(|&c| self.within[c].iter().copied())
-                    .collect();
-                let own: Vec<DVec3> = (self.within[at].iter())
-                    .filter(|v| !under.contains(v))
-                    .map(|&v| self.mesh.positions[v])
-                    .collect();
-                if own.is_empty() {
-                    return None;
-                }
-                own.iter().sum::<DVec3>() / own.len() as f64
-            }
+            _ => self.own_middle(at)?,
         };
         let lower = (below - joint).normalize_or_zero();
         Some((upper - lower).dot(self.frame.front))
