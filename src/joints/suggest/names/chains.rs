@@ -32,7 +32,7 @@ impl Naming<'_> {
             match self.children[at].as_slice() {
                 [] => {
                     if family == Family::Leg && skip == 0 && k >= 3 {
-                        self.foot_ahead(s, at, tag);
+                        self.foot_ahead(s, tag);
                     }
                     return;
                 }
@@ -70,7 +70,7 @@ impl Naming<'_> {
         }
         if family != Family::Neck {
             if family == Family::Leg && skip == 0 && k >= 3 {
-                self.foot_ahead(s, at, tag);
+                self.foot_ahead(s, tag);
             }
             self.digits(at, tag);
             return;
@@ -268,33 +268,19 @@ impl Naming<'_> {
         }
     }
 
-    /// A leg's chain from section `s` down to `at`, longer than its three names: its `foot`
+    /// A leg's chain down from section `s`, longer than its three names: its `foot`
     /// is the first part below the knee that points ahead more than down (a foot off its
     /// ankle: a person's leg cut at a boot's top and at the ankle), the parts between the
     /// knee and it `shin.2`…, those below it `foot.2`…. A leg with a mirror image (the
     /// other of the pair) is renamed only where the other's foot is found at the same
     /// place down its chain, so the pair keeps one set of names.
-    fn foot_ahead(&mut self, s: usize, at: usize, tag: &str) {
-        let mut path = vec![at];
-        while let Some(&last) = path.last() {
-            if last == s {
-                break;
-            }
-            match self.sections[last].parent {
-                Some(p) => path.push(p),
-                None => return,
-            }
-        }
-        path.reverse();
+    fn foot_ahead(&mut self, s: usize, tag: &str) {
+        let path = self.down_from(s);
         let Some(foot) = self.ahead_at(&path) else {
             return;
         };
         if let Some(twin) = self.twin(s) {
-            // The other leg's chain, down its single parts.
-            let mut other = vec![twin];
-            while let [next] = self.children[other[other.len() - 1]].as_slice() {
-                other.push(*next);
-            }
+            let other = self.down_from(twin);
             if other.len() != path.len() || self.ahead_at(&other) != Some(foot) {
                 return;
             }
@@ -309,6 +295,15 @@ impl Naming<'_> {
             };
             self.names[c] = Some(tagged(&name, tag));
         }
+    }
+
+    /// Section `s` and the sections down from it, each its predecessor's only part.
+    fn down_from(&self, s: usize) -> Vec<usize> {
+        let mut path = vec![s];
+        while let [next] = self.children[path[path.len() - 1]].as_slice() {
+            path.push(*next);
+        }
+        path
     }
 
     /// Down a leg's chain `path` (hip first), the first part below the knee whose own
