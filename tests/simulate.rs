@@ -428,3 +428,47 @@ fn a_failed_video_leaves_nothing_behind() {
         "only the old video and the fake ffmpeg: {left:?}"
     );
 }
+
+/// A mesh played without a rig has the joints the window opens it with, its suggested
+/// ones: an animation made against them (the human's head, left leg and right arm) plays,
+/// where before it was `unknown section (the rig has: root)`.
+#[test]
+fn a_mesh_without_a_rig_plays_an_animation_of_its_suggested_joints() {
+    let dir = scratch("simulate_no_rig");
+    let final_obj = dir.join("final.obj");
+    let mesh = test_mesh("human.obj");
+    let out = puppet(&[
+        "simulate",
+        mesh.to_str().unwrap(),
+        "--anim",
+        &example("human-pose.anim.toml"),
+        "--frames",
+        "30",
+        "--out",
+        final_obj.to_str().unwrap(),
+        "--json",
+    ]);
+    ok(&out);
+    let s: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(s["sections"].as_u64().unwrap() >= 4, "{s}");
+    let read = |p: &Path| {
+        puppet::mesh::parse_obj(&std::fs::read(p).unwrap())
+            .unwrap()
+            .0
+    };
+    let (input, last) = (read(&mesh), read(&final_obj));
+    let height = {
+        let ys = input.positions.iter().map(|p| p.y);
+        ys.clone().fold(f64::NEG_INFINITY, f64::max) - ys.fold(f64::INFINITY, f64::min)
+    };
+    // The right hand's fingertips (her arms out along x, her right at −x), the arm
+    // lowered 70° at 0.5 s.
+    let tip = (0..input.positions.len())
+        .min_by(|&a, &b| input.positions[a].x.total_cmp(&input.positions[b].x))
+        .unwrap();
+    let moved = (last.positions[tip] - input.positions[tip]).length();
+    assert!(
+        moved > 0.2 * height,
+        "the right hand moved {moved} of {height}"
+    );
+}

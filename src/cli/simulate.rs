@@ -30,7 +30,8 @@ use std::time::Instant;
 pub struct Args {
     /// Mesh (OBJ, PLY, STL, glTF or glb); by default the rig's `mesh`, else the embedded Spot.
     pub mesh: Option<PathBuf>,
-    /// Rig file (TOML or JSON): material, constraint, cuts. Default: skin, no cuts.
+    /// Rig file (TOML or JSON): material, constraint, cuts. Default: the skin material and the
+    /// mesh's suggested joints (a skinned file's own), as the window opens it.
     #[arg(long)]
     pub rig: Option<PathBuf>,
     /// Animation file (TOML or JSON). Default: the rest pose.
@@ -81,11 +82,12 @@ pub struct Args {
     #[arg(long)]
     pub quantize: bool,
     /// Replace the rig's cuts with the joints the skeleton suggests (see `puppet suggest`
-    /// for their names).
+    /// for their names); without `--rig` they are used anyway, as the window opens a mesh.
     #[arg(long)]
     pub suggest_joints: bool,
-    /// Gravity in g pulling down (against the rig's `up`, or the one `--suggest-joints` finds; −y by default), over the rig's `gravity` (see `World::gravity`:
-    /// 1 is 9.81 m/s² on a puppet one metre across).
+    /// Gravity in g pulling down (against the rig's `up`, or the one the suggestion finds;
+    /// −y by default), over the rig's `gravity` (see `World::gravity`: 1 is 9.81 m/s² on a
+    /// puppet one metre across).
     #[arg(long, allow_negative_numbers = true)]
     pub gravity: Option<f32>,
     /// A floor this high above the mesh's lowest rest point (mesh units), over the rig's.
@@ -267,7 +269,12 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     })?;
     bar.finish();
     puppet.ignore_skin = args.ignore_skin;
-    if args.suggest_joints || (clip.is_some() && puppet.joints.cuts().is_empty()) {
+    // A mesh played without a rig has the joints the window opens it with: its suggested
+    // ones (a skinned file's own), so an animation made in the window plays here.
+    let suggest = args.suggest_joints
+        || args.rig.is_none()
+        || (clip.is_some() && puppet.joints.cuts().is_empty());
+    if suggest {
         puppet
             .suggest_joints()
             .map_err(|e| FileError::new(&mesh_name, e))?;
