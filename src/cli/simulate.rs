@@ -275,9 +275,15 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         || args.rig.is_none()
         || (clip.is_some() && puppet.joints.cuts().is_empty());
     if suggest {
-        puppet
-            .suggest_joints()
-            .map_err(|e| FileError::new(&mesh_name, e))?;
+        match puppet.suggest_joints() {
+            Ok(_) => {}
+            // Asked for, a failed suggestion is an error; taken by default, the puppet
+            // plays without joints, as the window keeps it open.
+            Err(e) if args.suggest_joints || clip.is_some() => {
+                return Err(FileError::new(&mesh_name, e).into())
+            }
+            Err(e) => log::warn!("{mesh_name}: no suggested joints: {e}"),
+        }
     }
     let mut params = *puppet.sim.params();
     if let Some(g) = args.gravity {
