@@ -79,6 +79,7 @@ fn the_example_plays_and_writes_frames_in_input_order() {
     }
     assert_eq!(s["vertices"], 2930);
     assert_eq!(s["sections"], 3);
+    assert_eq!(s["joints_from"], "rig");
     assert_eq!(s["frames"], 12);
     assert_eq!(
         s["steps"], 30,
@@ -451,6 +452,7 @@ fn a_mesh_without_a_rig_plays_an_animation_of_its_suggested_joints() {
     ok(&out);
     let s: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert!(s["sections"].as_u64().unwrap() >= 4, "{s}");
+    assert_eq!(s["joints_from"], "suggestion", "{s}");
     let read = |p: &Path| {
         puppet::mesh::parse_obj(&std::fs::read(p).unwrap())
             .unwrap()

@@ -116,6 +116,9 @@ struct Summary {
     mesh: String,
     rig: Option<String>,
     anim: Option<String>,
+    /// Where the joints come from: `rig` (its cuts), `suggestion`, `skin` (the file's
+    /// own), or `none`.
+    joints_from: &'static str,
     vertices: usize,
     springs: usize,
     sections: usize,
@@ -274,9 +277,10 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     let suggest = args.suggest_joints
         || args.rig.is_none()
         || (clip.is_some() && puppet.joints.cuts().is_empty());
+    let mut suggested = false;
     if suggest {
         match puppet.suggest_joints() {
-            Ok(_) => {}
+            Ok(_) => suggested = true,
             // Asked for, a failed suggestion is an error; taken by default, the puppet
             // plays without joints, as the window keeps it open.
             Err(e) if args.suggest_joints || clip.is_some() => {
@@ -285,6 +289,12 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
             Err(e) => log::warn!("{mesh_name}: no suggested joints: {e}"),
         }
     }
+    let joints_from = match (suggested, puppet.skin_joints().is_some()) {
+        (true, true) => "skin",
+        (true, false) => "suggestion",
+        _ if puppet.joints.cuts().is_empty() => "none",
+        _ => "rig",
+    };
     let mut params = *puppet.sim.params();
     if let Some(g) = args.gravity {
         // Down is against the puppet's up (the rig's, or as the suggestion found it).
@@ -387,6 +397,7 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         mesh: mesh_name,
         rig: args.rig.as_ref().map(|p| p.display().to_string()),
         anim: args.anim.as_ref().map(|p| p.display().to_string()),
+        joints_from,
         vertices: session.puppet.mesh.positions.len(),
         springs: session.puppet.sim.rig().spring_count(),
         sections: session.puppet.joints.sections().len(),
@@ -419,8 +430,8 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
 
 fn print_summary(s: &Summary) {
     println!(
-        "mesh      {} ({} vertices, {} springs, {} sections)",
-        s.mesh, s.vertices, s.springs, s.sections
+        "mesh      {} ({} vertices, {} springs, {} sections; joints from: {})",
+        s.mesh, s.vertices, s.springs, s.sections, s.joints_from
     );
     println!(
         "played    {} frames at {} fps = {} steps of {:.2} ms ({})",
