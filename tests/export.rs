@@ -498,6 +498,45 @@ fn the_windows_export_equals_simulates_and_can_be_cancelled() {
     assert!(!long.exists());
 }
 
+/// Records a take in `session` turning section `section` about x by `degrees` a frame for
+/// the first `turning` of `frames` frames (60 a second), saves it, exports it from the
+/// session as a `.pc2` against `source`, bakes the saved file with `simulate` (`args`, then
+/// `--anim` and `--out`), and asserts the two files are the same, byte for byte, with
+/// several frames of `vertices` points.
+fn take_bakes_as_exported(
+    mut session: puppet::session::Session,
+    section: usize,
+    (frames, turning, degrees): (usize, usize, f64),
+    source: &Path,
+    dir: &Path,
+    args: &[&str],
+    vertices: usize,
+) {
+    session.select(Some(section), false);
+    session.start_recording();
+    for frame in 0..frames {
+        if frame < turning {
+            session.rotate_selected(glam::DQuat::from_rotation_x(degrees.to_radians()));
+        }
+        session.advance(1.0 / 60.0, 8);
+    }
+    session.stop_recording().unwrap();
+    let anim = dir.join("take.anim.toml");
+    session.save_animation(&anim).unwrap();
+    let win = dir.join("window.pc2");
+    session.start_export(&win, Some(source)).unwrap();
+    session.wait_export().unwrap().unwrap();
+    let cli = dir.join("cli.pc2");
+    let mut all = vec!["simulate"];
+    all.extend_from_slice(args);
+    let (anim, out) = (anim.display().to_string(), cli.display().to_string());
+    all.extend_from_slice(&["--anim", &anim, "--out", &out]);
+    ok(&puppet(&all));
+    let (a, b) = (std::fs::read(&win).unwrap(), std::fs::read(&cli).unwrap());
+    assert!(a.len() > 32 + 12 * vertices, "several frames");
+    assert!(a == b, "the window's export and simulate's bake differ");
+}
+
 /// The bake equals the preview for a take recorded by hand: recorded in a session, saved,
 /// exported from the session, and the saved file baked by `simulate`, byte for byte.
 #[test]
@@ -508,34 +547,9 @@ fn a_recorded_take_exports_as_simulate_bakes_its_saved_file() {
     let source = rig.mesh.clone().unwrap();
     let (mesh, _) = puppet::mesh::load(&source).unwrap();
     let built = puppet::Puppet::build(mesh, rig, puppet::progress::silent()).unwrap();
-    let mut session = puppet::session::Session::new(built, "spot");
-    session.select(Some(1), false);
-    session.start_recording();
-    for frame in 0..50 {
-        if frame < 30 {
-            session.rotate_selected(glam::DQuat::from_rotation_x(0.7f64.to_radians()));
-        }
-        session.advance(1.0 / 60.0, 8);
-    }
-    session.stop_recording().unwrap();
-    let anim = dir.join("take.anim.toml");
-    session.save_animation(&anim).unwrap();
-    let win = dir.join("window.pc2");
-    session.start_export(&win, Some(&source)).unwrap();
-    session.wait_export().unwrap().unwrap();
-    let cli = dir.join("cli.pc2");
-    ok(&puppet(&[
-        "simulate",
-        "--rig",
-        &rig_path,
-        "--anim",
-        &anim.display().to_string(),
-        "--out",
-        &cli.display().to_string(),
-    ]));
-    let (a, b) = (std::fs::read(&win).unwrap(), std::fs::read(&cli).unwrap());
-    assert!(a.len() > 32 + 12 * 2930, "several frames");
-    assert!(a == b, "the window's export and simulate's bake differ");
+    let session = puppet::session::Session::new(built, "spot");
+    let args = ["--rig", rig_path.as_str()];
+    take_bakes_as_exported(session, 1, (50, 30, 0.7), &source, &dir, &args, 2930);
 }
 
 /// *Export animation* to a video draws what `simulate --out TAKE.mp4` draws, frame by
@@ -637,31 +651,7 @@ fn a_take_on_a_mesh_opened_without_a_rig_bakes_the_same_without_one() {
     // What the window does with a mesh opened without a rig.
     built.suggest_joints().unwrap();
     let leg = built.joints.find("leg.L").expect("a suggested leg");
-    let mut session = puppet::session::Session::new(built, "human");
-    session.select(Some(leg), false);
-    session.start_recording();
-    for frame in 0..40 {
-        if frame < 25 {
-            session.rotate_selected(glam::DQuat::from_rotation_x(-2f64.to_radians()));
-        }
-        session.advance(1.0 / 60.0, 8);
-    }
-    session.stop_recording().unwrap();
-    let anim = dir.join("take.anim.toml");
-    session.save_animation(&anim).unwrap();
-    let win = dir.join("window.pc2");
-    session.start_export(&win, Some(&source)).unwrap();
-    session.wait_export().unwrap().unwrap();
-    let cli = dir.join("cli.pc2");
-    ok(&puppet(&[
-        "simulate",
-        source.to_str().unwrap(),
-        "--anim",
-        &anim.display().to_string(),
-        "--out",
-        &cli.display().to_string(),
-    ]));
-    let (a, b) = (std::fs::read(&win).unwrap(), std::fs::read(&cli).unwrap());
-    assert!(a.len() > 32 + 12 * 6890, "several frames");
-    assert!(a == b, "the window's export and simulate's bake differ");
+    let session = puppet::session::Session::new(built, "human");
+    let args = [source.to_str().unwrap()];
+    take_bakes_as_exported(session, leg, (40, 25, -2.0), &source, &dir, &args, 6890);
 }
