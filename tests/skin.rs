@@ -476,3 +476,27 @@ fn blender_shows_a_take_baked_from_a_clip_in_time() {
         }
     }
 }
+
+/// `simulate` takes a skinned file's joints where the window does: with no rig, and with
+/// a rig that has no cuts (a material only); a rig's cuts, or `--ignore-skin`, win.
+#[test]
+fn simulate_takes_the_skin_s_joints_where_the_window_does() {
+    let dir = scratch("skin_simulate_joints");
+    let rig = dir.join("water.rig.toml");
+    std::fs::write(&rig, "material = \"water\"\n").unwrap();
+    let path = figure();
+    let from = |extra: &[&str]| {
+        let mut args = vec![
+            "simulate",
+            path.to_str().unwrap(),
+            "--frames",
+            "2",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        json(&args)["joints_from"].as_str().unwrap().to_string()
+    };
+    assert_eq!(from(&[]), "skin");
+    assert_eq!(from(&["--rig", rig.to_str().unwrap()]), "skin");
+    assert_eq!(from(&["--ignore-skin"]), "suggestion");
+}

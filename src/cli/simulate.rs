@@ -273,10 +273,12 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     bar.finish();
     puppet.ignore_skin = args.ignore_skin;
     // A mesh played without a rig has the joints the window opens it with: its suggested
-    // ones (a skinned file's own), so an animation made in the window plays here.
+    // ones (a skinned file's own), so an animation made in the window plays here; so has a
+    // skinned file whose rig has no cuts.
+    let uncut = puppet.joints.cuts().is_empty();
     let suggest = args.suggest_joints
         || args.rig.is_none()
-        || (clip.is_some() && puppet.joints.cuts().is_empty());
+        || (uncut && (clip.is_some() || puppet.skin_joints().is_some()));
     let mut suggested = false;
     if suggest {
         match puppet.suggest_joints() {
