@@ -740,6 +740,25 @@ fn a_donkey_s_long_ears_are_ears() {
     assert!(!n.iter().any(|x| x.starts_with("antenna")), "{n:?}");
 }
 
+/// A role found twice names both: the one that pairs with the other side's keeps the name,
+/// the other is numbered on. The man adventurer's second cut on one ear left its pair
+/// `joint 5`, and his right palm, found again below `hand.2.R` beside its thumb, was
+/// `joint 2.1.1.1.1`; the formal woman's hands below `hand` were unnamed on both sides.
+#[test]
+fn a_role_found_twice_names_both() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/population");
+    for (file, roles) in [
+        ("man-adventurer.glb", &["ear.L", "ear.R", "hand.3.R"][..]),
+        ("woman-formal.glb", &["hand.2.L", "hand.2.R"][..]),
+    ] {
+        let p = common::suggested_from_shape(&root.join(file));
+        let n = names(&p);
+        for role in roles {
+            assert!(n.iter().any(|x| x == role), "{file}: {role} in {n:?}");
+        }
+    }
+}
+
 /// A person's leg cut four or five times (at a boot's top, at the ankle) has its `foot` at
 /// the first part below the knee that points ahead more than down, and `shin.2`… between:
 /// the casual woman's feet within 5 % of the height of her artist's (they were her

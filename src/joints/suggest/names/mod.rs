@@ -32,7 +32,9 @@
 //!   aside), is the head's end, no joint, and the neck is the `head`.
 //!   A head's parts off the plane are ears; with two on a side, the one pointing most up
 //!   is a horn; one long and round (`ANTENNA`) is an antenna.
-//!   Side suffixes come from the side of the mirror plane; what fits no role keeps a
+//!   Side suffixes come from the side of the mirror plane; what fits no role keeps its
+//!   number (`joint 3`). A role found twice stays with the one that mirrors the other
+//!   side's, and the others are numbered on (`ear.2.L`, `hand.3.R`).
 //!
 //! * `naming`: what naming reads (the section tree, each subtree, the frame) and the root's
 //!   limbs: ears, arms, legs, the neck, the tail;
@@ -50,8 +52,8 @@ use std::collections::HashMap;
 
 /// Stage 5's output: the cuts named by role.
 pub(crate) struct Named {
-    /// The cuts renamed by role (a name taken twice, and a cut no role fits, keep their
-    /// numbers), a section that is its parent's end (a snout) taken back.
+    /// The cuts renamed by role (each name once; a cut no role fits keeps its number), a
+    /// section that is its parent's end (a snout) taken back.
     pub(crate) cuts: Vec<Cut>,
     /// The frame they were named in.
     pub(crate) frame: Frame,
@@ -71,8 +73,10 @@ pub(crate) fn name(
     cues: Cues,
     root: &str,
 ) -> Named {
-    // Names by role; a name taken twice, and a cut no role fits, keep their numbers.
-    let roles = roles(character, radius, &placed.joints, given, cues);
+    // Names by role, each given once ([`unique`]); a cut no role fits keeps its number.
+    let mut roles = roles(character, radius, &placed.joints, given, cues);
+    let pivots: Vec<glam::DVec3> = placed.joints.sections().iter().map(|s| s.pivot).collect();
+    unique(&mut roles.names, &pivots, roles.frame.mirror);
     let mut cuts = placed.cuts.clone();
     let sockets = &placed.sockets;
     let frame = roles.frame;
@@ -213,6 +217,77 @@ pub(crate) fn is_ball_joint(role: &str) -> bool {
 }
 
 /// `base` with its side: `arm.L`; `tail` on the plane.
+/// Each role given once (`names` per section, `pivots` theirs): of the sections given one
+/// name, the one nearest the mirror image (across `mirror`) of the section given the
+/// other side's keeps it (the first where there is none); the others take the next
+/// number of it (`ear.L` → `ear.2.L`, `hand.2.R` → `hand.3.R`, `finger1.L.2` →
+/// `finger1.L.3`) not given yet. A hand found twice down one arm (`hand`, `hand.2`, then
+/// a palm with a thumb beside it, `hand` again) is `hand.3` as its pair is, and a second
+/// cut on one ear no longer leaves its pair unnamed.
+fn unique(
+    names: &mut [Option<String>],
+    pivots: &[glam::DVec3],
+    mirror: Option<(glam::DVec3, f64)>,
+) {
+    let mut given: std::collections::HashSet<String> = names.iter().flatten().cloned().collect();
+    let n = names.len();
+    for s in 1..n {
+        let Some(name) = names[s].clone() else {
+            continue;
+        };
+        let same: Vec<usize> = (1..n)
+            .filter(|&t| names[t].as_deref() == Some(&name))
+            .collect();
+        if same.len() < 2 || same[0] != s {
+            continue;
+        }
+        let image = mirror.zip(other_side(&name)).and_then(|(plane, other)| {
+            let t = (1..n).find(|&t| names[t].as_deref() == Some(other.as_str()))?;
+            Some(crate::mesh::orientation::image(plane, pivots[t]))
+        });
+        let keeper = match image {
+            Some(at) => same
+                .iter()
+                .copied()
+                .min_by(|&a, &b| pivots[a].distance(at).total_cmp(&pivots[b].distance(at)))
+                .unwrap_or(s),
+            None => s,
+        };
+        for &t in &same {
+            if t == keeper {
+                continue;
+            }
+            let mut next = name.clone();
+            while given.contains(&next) {
+                next = numbered_again(&next);
+            }
+            given.insert(next.clone());
+            names[t] = Some(next);
+        }
+    }
+}
+
+/// `name` with its number one higher: the last part if it is a number, else the part
+/// before its side (`ear.L` → `ear.2.L`, `hand.2.R` → `hand.3.R`), else `.2` added.
+fn numbered_again(name: &str) -> String {
+    let mut parts: Vec<String> = name.split('.').map(str::to_string).collect();
+    let bump = |p: &str| p.parse::<u32>().ok().map(|k| (k + 1).to_string());
+    if let Some((last, k)) = parts.last_mut().and_then(|p| bump(p).map(|k| (p, k))) {
+        *last = k;
+        return parts.join(".");
+    }
+    let sided = parts.last().is_some_and(|p| p == "L" || p == "R");
+    if sided && parts.len() >= 2 {
+        let at = parts.len() - 2;
+        match bump(&parts[at]) {
+            Some(k) if at > 0 => parts[at] = k,
+            _ => parts.insert(at + 1, "2".into()),
+        }
+        return parts.join(".");
+    }
+    format!("{name}.2")
+}
+
 fn tagged(base: &str, tag: &str) -> String {
     if tag.is_empty() {
         base.to_string()
@@ -224,6 +299,35 @@ fn tagged(base: &str, tag: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_name_numbered_again_counts_on_before_its_side() {
+        assert_eq!(numbered_again("ear.L"), "ear.2.L");
+        assert_eq!(numbered_again("hand.2.R"), "hand.3.R");
+        assert_eq!(numbered_again("finger1.L.2"), "finger1.L.3");
+        assert_eq!(numbered_again("tail"), "tail.2");
+    }
+
+    #[test]
+    fn of_a_role_given_twice_the_one_mirroring_the_other_side_keeps_it() {
+        use glam::DVec3;
+        let plane = (DVec3::X, 0.0);
+        let pivots = [
+            DVec3::ZERO,
+            DVec3::new(-1.0, 2.0, 0.0),
+            DVec3::new(1.0, 2.0, -0.5),
+            DVec3::new(1.0, 2.0, 0.0),
+        ];
+        let mut names = vec![
+            None,
+            Some("ear.R".to_string()),
+            Some("ear.L".to_string()),
+            Some("ear.L".to_string()),
+        ];
+        unique(&mut names, &pivots, Some(plane));
+        assert_eq!(names[2].as_deref(), Some("ear.2.L"));
+        assert_eq!(names[3].as_deref(), Some("ear.L"));
+    }
     use glam::DVec3;
 
     #[test]
