@@ -118,7 +118,7 @@ struct Summary {
     anim: Option<String>,
     /// Where the joints come from: `rig` (its cuts), `suggestion`, `skin` (the file's
     /// own), or `none`.
-    joints_from: &'static str,
+    joints_from: puppet::puppet::JointsFrom,
     vertices: usize,
     springs: usize,
     sections: usize,
@@ -291,12 +291,7 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
             Err(e) => log::warn!("{mesh_name}: no suggested joints: {e}"),
         }
     }
-    let joints_from = match (suggested, puppet.skin_joints().is_some()) {
-        (true, true) => "skin",
-        (true, false) => "suggestion",
-        _ if puppet.joints.cuts().is_empty() => "none",
-        _ => "rig",
-    };
+    let joints_from = puppet.joints_from(suggested);
     let mut params = *puppet.sim.params();
     if let Some(g) = args.gravity {
         // Down is against the puppet's up (the rig's, or as the suggestion found it).
@@ -433,7 +428,11 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
 fn print_summary(s: &Summary) {
     println!(
         "mesh      {} ({} vertices, {} springs, {} sections; joints from: {})",
-        s.mesh, s.vertices, s.springs, s.sections, s.joints_from
+        s.mesh,
+        s.vertices,
+        s.springs,
+        s.sections,
+        s.joints_from.name()
     );
     println!(
         "played    {} frames at {} fps = {} steps of {:.2} ms ({})",

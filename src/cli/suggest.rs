@@ -5,6 +5,7 @@
 use super::progress_bar::ProgressBar;
 use super::{load_mesh, FileError};
 use anyhow::Result;
+use puppet::puppet::JointsFrom;
 use puppet::{Puppet, RigFile};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -49,7 +50,7 @@ struct Summary {
     up: [f64; 3],
     front: [f64; 3],
     /// Where the joints come from: `skin` (the file's) or `suggestion`.
-    joints_from: &'static str,
+    joints_from: JointsFrom,
     cuts: Vec<CutRow>,
     /// The file's skin: its joint count and its clips (none without a skin).
     skin: Option<SkinRow>,
@@ -108,7 +109,6 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
     let mut puppet = Puppet::build_loaded(mesh, Some(&report), rig, &|s, f| bar.update(s, f))
         .map_err(|e| FileError::new(&name, e))?;
     puppet.ignore_skin = args.ignore_skin;
-    let from_skin = puppet.skin_joints().is_some();
     bar.finish();
     let seconds_skeleton = t.elapsed().as_secs_f64();
     let t = Instant::now();
@@ -116,6 +116,8 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         .suggest_joints()
         .map_err(|e| FileError::new(&name, e))?;
     let seconds_suggest = t.elapsed().as_secs_f64();
+    let joints_from = puppet.joints_from(true);
+    let from_skin = joints_from == JointsFrom::Skin;
     // A front given along the mirror plane's normal, or along the up found, is overruled.
     if let (Some(given), Some(frame)) = (args.front, puppet.frame()) {
         if given.vector() != frame.front {
@@ -185,7 +187,7 @@ pub fn run(args: &Args, load: &super::LoadArgs) -> Result<()> {
         vertices,
         up: frame.up.to_array(),
         front: frame.front.to_array(),
-        joints_from: if from_skin { "skin" } else { "suggestion" },
+        joints_from,
         cuts,
         skin,
         seconds_skeleton,

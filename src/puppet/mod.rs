@@ -93,6 +93,32 @@ pub struct Puppet {
     attachments: Vec<(u32, u32)>,
 }
 
+/// Where a puppet's joints come from, as `suggest` and `simulate` report it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum JointsFrom {
+    /// The rig file's cuts.
+    Rig,
+    /// The suggestion from the skeleton.
+    Suggestion,
+    /// The mesh file's skin.
+    Skin,
+    /// None: one rigid section.
+    None,
+}
+
+impl JointsFrom {
+    /// Its name as `--json` writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            JointsFrom::Rig => "rig",
+            JointsFrom::Suggestion => "suggestion",
+            JointsFrom::Skin => "skin",
+            JointsFrom::None => "none",
+        }
+    }
+}
+
 impl Puppet {
     /// Builds the skeleton, rig, simulation and joints of a validated mesh.
     pub fn build(mesh: Mesh, rig_file: RigFile, progress: Progress) -> Result<Puppet, BuildError> {
@@ -306,6 +332,17 @@ impl Puppet {
         self.joints = joints;
         self.sync_sections();
         Ok(count)
+    }
+
+    /// Where its joints come from: after [`Puppet::suggest_joints`] (`suggested`) the skin
+    /// when it gives them, else the suggestion; otherwise the rig's cuts, or none.
+    pub fn joints_from(&self, suggested: bool) -> JointsFrom {
+        match (suggested, self.skin_joints().is_some()) {
+            (true, true) => JointsFrom::Skin,
+            (true, false) => JointsFrom::Suggestion,
+            _ if self.joints.cuts().is_empty() => JointsFrom::None,
+            _ => JointsFrom::Rig,
+        }
     }
 
     /// The joints the mesh file's skin gives, unless [`Puppet::ignore_skin`] is on.

@@ -216,7 +216,6 @@ pub(crate) fn is_ball_joint(role: &str) -> bool {
             .is_some_and(|k| k.chars().all(|c| c.is_ascii_digit()))
 }
 
-/// `base` with its side: `arm.L`; `tail` on the plane.
 /// Each role given once (`names` per section, `pivots` theirs): of the sections given one
 /// name, the one nearest the mirror image (across `mirror`) of the section given the
 /// other side's keeps it (the first where there is none); the others take the next
@@ -288,6 +287,7 @@ fn numbered_again(name: &str) -> String {
     format!("{name}.2")
 }
 
+/// `base` with its side: `arm.L`; `tail` on the plane.
 fn tagged(base: &str, tag: &str) -> String {
     if tag.is_empty() {
         base.to_string()
