@@ -53,10 +53,19 @@ impl Set {
         if self.at[i] == Some((lo, hi)) {
             return;
         }
-        if let Some((a, e)) = self.at[i].take() {
+        // Only the cells it leaves and those it enters change (a ball crossing a cell's
+        // side stays in most of its cells).
+        let within = |k: [i32; 3], (a, e): ([i32; 3], [i32; 3])| {
+            (0..3).all(|j| a[j] <= k[j] && k[j] <= e[j])
+        };
+        let was = self.at[i].replace((lo, hi));
+        if let Some((a, e)) = was {
             for x in a[0]..=e[0] {
                 for y in a[1]..=e[1] {
                     for z in a[2]..=e[2] {
+                        if within([x, y, z], (lo, hi)) {
+                            continue;
+                        }
                         if let Some(list) = self.grid.get_mut(&[x, y, z]) {
                             if let Some(k) = list.iter().position(|&o| o == b) {
                                 list.swap_remove(k);
@@ -66,10 +75,12 @@ impl Set {
                 }
             }
         }
-        self.at[i] = Some((lo, hi));
         for x in lo[0]..=hi[0] {
             for y in lo[1]..=hi[1] {
                 for z in lo[2]..=hi[2] {
+                    if was.is_some_and(|w| within([x, y, z], w)) {
+                        continue;
+                    }
                     self.grid.entry([x, y, z]).or_default().push(b);
                 }
             }

@@ -96,7 +96,14 @@ struct Buffers {
     spheres: Vec<(Vec4, Vec4)>,
     /// The tile's held flags before the stage.
     was: Vec<bool>,
+    /// Per group of the tile's points: its slots, its index and what they share
+    /// ([`Colliders::shared`]), read when the tile's list is gathered.
+    shares: Vec<Share>,
 }
+
+/// A group of a tile's points as [`Colliders::ignored_by_all`] reads it: its slots, its
+/// index among every tile's groups, and the joint section and joint they share.
+type Share = (std::ops::Range<usize>, usize, (Option<u16>, Option<u16>));
 
 /// A tile the contact stage moved a point of, or let go of one.
 #[derive(Clone, Copy, Debug)]
@@ -586,6 +593,23 @@ impl Colliders {
         if !kept {
             let (lo, hi) = (lo - skin, hi + skin);
             self.near(t, lo, hi, &mut near.tile.balls);
+            // A ball every group of the tile ignores (the flesh about their joint) is
+            // left out here: each group would leave it out of its own list, gathered
+            // again at every step the tile moves (a head turning beside its neck's flesh).
+            let shares = &mut buffers.shares;
+            shares.clear();
+            shares.extend((0..n).step_by(GROUP).map(|i0| {
+                let slots = start + i0..start + (i0 + GROUP).min(n);
+                let index = t * stage.layout.tile.div_ceil(GROUP) + i0 / GROUP;
+                let shared = self.shared(slots.clone());
+                (slots, index, shared)
+            }));
+            near.ignored
+                .retain(self.generation, &mut near.tile.balls, |b| {
+                    shares.iter().all(|(slots, index, shared)| {
+                        self.ignored_by_all(stage, (slots, *index), *shared, b as usize)
+                    })
+                });
             near.tile.keep(self.generation, lo, hi, since);
             near.gathered = near.gathered.wrapping_add(1);
         }

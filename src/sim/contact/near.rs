@@ -76,6 +76,59 @@ pub(super) struct Near {
     /// since (summed in `f64`, so that no step's motion is rounded away).
     pub(super) slack: f32,
     pub(super) drift: f64,
+    /// What the tile's groups said of the balls its list held ([`Ignored`]).
+    pub(super) ignored: Ignored,
+}
+
+/// The balls every point of a tile ignores (the flesh about their joint), and those some
+/// point heeds, as [`super::Colliders::ignored_by_all`] said for each of the tile's groups:
+/// it reads only where they lie at rest, the margin and the pairs of sections that
+/// collide, so it holds for a generation of the colliders. A tile turning beside its
+/// joint's flesh gathers its list again every few steps; each ball is asked once.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Ignored {
+    /// The generation it holds for (none yet: nothing known).
+    stamp: Option<u32>,
+    /// Each sorted.
+    ignored: Vec<u32>,
+    heeded: Vec<u32>,
+}
+
+impl Ignored {
+    /// Leaves out of `balls` (sorted) those every point ignores, by `ignored_by_all` for
+    /// a ball not known yet, under the colliders' generation `stamp`.
+    pub(super) fn retain(
+        &mut self,
+        stamp: u32,
+        balls: &mut Vec<u32>,
+        mut ignored_by_all: impl FnMut(u32) -> bool,
+    ) {
+        if self.stamp != Some(stamp) {
+            self.stamp = Some(stamp);
+            self.ignored.clear();
+            self.heeded.clear();
+        }
+        let (known_ignored, known_heeded) = (self.ignored.len(), self.heeded.len());
+        balls.retain(|&b| {
+            if self.ignored[..known_ignored].binary_search(&b).is_ok() {
+                false
+            } else if self.heeded[..known_heeded].binary_search(&b).is_ok() {
+                true
+            } else if ignored_by_all(b) {
+                self.ignored.push(b);
+                false
+            } else {
+                self.heeded.push(b);
+                true
+            }
+        });
+        if self.ignored.len() > known_ignored {
+            self.ignored.sort_unstable();
+        }
+        if self.heeded.len() > known_heeded {
+            self.heeded.sort_unstable();
+        }
+    }
 }
 
 impl Near {
@@ -96,5 +149,37 @@ impl Near {
     /// Marks the tile read, its points with `slack` to move (see [`Near::slack`]).
     pub(super) fn read(&mut self, slack: f32) {
         (self.slack, self.drift) = (slack, 0.0);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The balls kept are those the question keeps, in order; each ball is asked once
+    /// per generation, and again in a new one.
+    #[test]
+    fn a_ball_is_asked_once_a_generation() {
+        let ignored = |b: u32| b.is_multiple_of(3);
+        let mut known = Ignored::default();
+        let mut asked = Vec::new();
+        for (stamp, balls) in [
+            (1, vec![1, 3, 4, 6, 9]),
+            (1, vec![0, 3, 4, 7, 9]),
+            (2, vec![3, 4]),
+        ] {
+            let mut kept = balls.clone();
+            known.retain(stamp, &mut kept, |b| {
+                asked.push((stamp, b));
+                ignored(b)
+            });
+            let want: Vec<u32> = balls.into_iter().filter(|&b| !ignored(b)).collect();
+            assert_eq!(kept, want);
+        }
+        let mut once = asked.clone();
+        once.sort_unstable();
+        once.dedup();
+        assert_eq!(once.len(), asked.len(), "{asked:?}");
+        assert_eq!(asked.len(), 5 + 2 + 2);
     }
 }
