@@ -598,12 +598,7 @@ impl Colliders {
             // again at every step the tile moves (a head turning beside its neck's flesh).
             let shares = &mut buffers.shares;
             shares.clear();
-            shares.extend((0..n).step_by(GROUP).map(|i0| {
-                let slots = start + i0..start + (i0 + GROUP).min(n);
-                let index = t * stage.layout.tile.div_ceil(GROUP) + i0 / GROUP;
-                let shared = self.shared(slots.clone());
-                (slots, index, shared)
-            }));
+            shares.extend((0..n).step_by(GROUP).map(|i0| self.share(stage, t, n, i0)));
             near.ignored
                 .retain(self.generation, &mut near.tile.balls, |b| {
                     shares.iter().all(|(slots, index, shared)| {
@@ -652,9 +647,7 @@ impl Colliders {
                 // left out.
                 let grown = skin + self.motion;
                 let (lo, hi) = ((lo - grown).max(tile_lo), (hi + grown).min(tile_hi));
-                let slots = start + i0..start + i1;
-                let index = t * stage.layout.tile.div_ceil(GROUP) + i0 / GROUP;
-                let shared = self.shared(slots.clone());
+                let (slots, index, shared) = self.share(stage, t, n, i0);
                 if spheres.len() != near.tile.balls.len() {
                     spheres.clear();
                     spheres.extend(near.tile.balls.iter().map(|&b| self.swept(b as usize)));
@@ -736,6 +729,15 @@ impl Colliders {
             *bx = Some((lo, hi));
         }
         any.then_some(motion)
+    }
+
+    /// The group of tile `t`'s points (`n` of them) that starts at its `i0`-th ([`Share`]).
+    fn share(&self, stage: &Stage, t: usize, n: usize, i0: usize) -> Share {
+        let start = stage.layout.tile_range(t).start;
+        let slots = start + i0..start + (i0 + GROUP).min(n);
+        let index = t * stage.layout.tile.div_ceil(GROUP) + i0 / GROUP;
+        let shared = self.shared(slots.clone());
+        (slots, index, shared)
     }
 
     /// Where ball `b` went in this step: the box its centre swept, as its centre and half

@@ -299,6 +299,7 @@ fn tagged(base: &str, tag: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::DVec3;
 
     #[test]
     fn a_name_numbered_again_counts_on_before_its_side() {
@@ -310,7 +311,6 @@ mod tests {
 
     #[test]
     fn of_a_role_given_twice_the_one_mirroring_the_other_side_keeps_it() {
-        use glam::DVec3;
         let plane = (DVec3::X, 0.0);
         let pivots = [
             DVec3::ZERO,
@@ -328,7 +328,6 @@ mod tests {
         assert_eq!(names[2].as_deref(), Some("ear.2.L"));
         assert_eq!(names[3].as_deref(), Some("ear.L"));
     }
-    use glam::DVec3;
 
     #[test]
     fn a_side_s_name_has_its_other_side_and_a_shoulder_or_a_hip_is_a_ball() {
